@@ -1,0 +1,5 @@
+import sys
+
+from springcad.cli import main
+
+sys.exit(main())

@@ -1,0 +1,1 @@
+"""Reports, plots and file writing (the only layer besides the CLI that writes files)."""

@@ -1,0 +1,30 @@
+"""Unit conversions at the boundary (config, reports).
+
+Inside springcad: mm, N, MPa, N*mm, rad, kg.
+"""
+
+import math
+
+NMM_PER_NM = 1000.0
+"""N*mm in one N*m."""
+MM3_PER_CM3 = 1000.0
+KG_PER_MM3_PER_KG_PER_M3 = 1e-9
+"""Multiply a density in kg/m^3 by this to get kg/mm^3."""
+MPA_PER_GPA = 1000.0
+J_PER_NMM = 1e-3
+
+
+def deg_to_rad(deg: float) -> float:
+    return math.radians(deg)
+
+
+def rad_to_deg(rad: float) -> float:
+    return math.degrees(rad)
+
+
+def nm_to_nmm(torque_Nm: float) -> float:
+    return torque_Nm * NMM_PER_NM
+
+
+def nmm_to_nm(torque_Nmm: float) -> float:
+    return torque_Nmm / NMM_PER_NM
