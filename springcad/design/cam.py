@@ -61,7 +61,9 @@ def _unit(rc, rho, pitch, psi_end):
     right = left.mirrored().reversed()
     cusp = pts[0]
     beta = math.atan2(cusp[1] - rc, -cusp[0])
-    pocket = Arc((0.0, rc), rho, beta, -math.pi - beta)
+    # the cusp lies on the circle of radius 2 r_c sin(psi*/2) = rho (1 - O(rho^2/r_c^2)) about
+    # the ball centre; the pocket passes exactly through it (gap short by < 0.1 um at S1 sizes)
+    pocket = Arc((0.0, rc), float(np.hypot(cusp[0], cusp[1] - rc)), beta, -math.pi - beta)
     q = pts[-1]
     phi_q = math.atan2(q[1], q[0])
     tip = Arc((0.0, 0.0), float(np.hypot(*q)), phi_q, math.pi - phi_q + pitch)

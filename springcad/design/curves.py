@@ -158,11 +158,16 @@ class Spline:
     def end(self) -> Point:
         return self.points[-1]
 
+    def parameters(self) -> np.ndarray:
+        """Chord-length parameter of each fit point (mm)."""
+        p = np.asarray(self.points, dtype=float)
+        return np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
+
     def _spline(self):
         from scipy.interpolate import CubicSpline
 
         p = np.asarray(self.points, dtype=float)
-        u = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
+        u = self.parameters()
         if self.start_tangent is not None and self.end_tangent is not None:
             scale = 1.0  # chord-length parameter: |dp/du| ~ 1
             bc = ((1, np.asarray(self.start_tangent) * scale),
