@@ -19,6 +19,14 @@ BUSHING_CLEARANCE_MM = 0.05
 CENTRE_SPACER_OVERHANG_MM = 0.5
 #: thickness of an input/output rim flange adapter (mm)
 FLANGE_THICKNESS_MM = 3.0
+#: how far an input/output torque shaft sticks out beyond its camshaft (mm)
+TORQUE_SHAFT_STICKOUT_MM = 10.0
+#: radial wall of a torque-shaft socket over a camshaft hub (mm)
+SOCKET_WALL_MM = 2.0
+#: axial clearance between a hub socket and the spring face (mm)
+SOCKET_FACE_CLEARANCE_MM = 0.5
+#: drive flat on a D bore or a D hub, as a fraction of its radius (-)
+FLAT_RATIO = 0.8
 ALUMINIUM = ("aluminium 6061-T6", 2700.0)
 PLASTIC = ("acetal (POM)", 1420.0)
 
@@ -30,7 +38,7 @@ class Component:
     Attributes:
         name: unique part name, e.g. ``"camshaft_1"``.
         kind: flexure_ring, camshaft, rim_spacer, centre_spacer, rim_washer,
-            bushing, alignment_shaft, fastener, rim_flange.
+            bushing, alignment_shaft, fastener, rim_flange, torque_shaft.
         material: material name.
         count: number of identical parts.
         volume_mm3: volume of one part (mm^3).
@@ -68,6 +76,34 @@ def _ring_volume(r_in, r_out, length, holes=0, hole_d=0.0):
     return (math.pi * (r_out ** 2 - r_in ** 2) - holes * math.pi * hole_d ** 2 / 4) * length
 
 
+def _torque_shaft(role, drive, cam_start, cam_end, hub_radius, shaft_diameter, hub_length,
+                  steel) -> Component:
+    """Input/output torque shaft on an end camshaft (mm).
+
+    ``drive == "bore_flat"``: a D shaft through the camshaft's D bore, sticking out
+    beyond the hub. ``"hub_flat"``: a shaft whose D socket fits over the camshaft's
+    D hub (the bore is taken by the alignment shaft), stopping short of the spring.
+    """
+    out = TORQUE_SHAFT_STICKOUT_MM
+    if drive == "bore_flat":
+        r = 0.5 * shaft_diameter
+        length = cam_end - cam_start + out
+        z = cam_start - out if role == "input" else cam_start
+        dims = {"style": "d_shaft", "diameter_mm": shaft_diameter, "flat_ratio": FLAT_RATIO,
+                "engaged_length_mm": cam_end - cam_start, "stickout_mm": out}
+        volume = math.pi * r ** 2 * length
+    else:
+        depth = hub_length - SOCKET_FACE_CLEARANCE_MM
+        r_out = hub_radius + SOCKET_WALL_MM
+        length = depth + out
+        z = cam_start - out if role == "input" else cam_end - depth
+        dims = {"style": "hub_socket", "outer_radius_mm": r_out, "socket_depth_mm": depth,
+                "hub_radius_mm": hub_radius, "flat_ratio": FLAT_RATIO, "stickout_mm": out}
+        volume = math.pi * r_out ** 2 * length - math.pi * hub_radius ** 2 * depth
+    return Component(f"{role}_torque_shaft", "torque_shaft", steel[0], 1, volume, steel[1], z,
+                     length, dims, role, in_mass=False)
+
+
 def stack_components(springs, joints, input_connection, output_connection) -> tuple[Component, ...]:
     """Every part of a stack, with axial positions (input side first)."""
     from springcad.design.stack import SHAFT, camshaft_indices
@@ -99,20 +135,31 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
         members = [i for i in range(n) if cams[i] == c]
         first, last = members[0], members[-1]
         start, end = z0[first], z0[last] + springs[last].thickness_mm
-        s = springs[first]
+        # a shared camshaft is cut to the smallest member tooth (same pockets and flanks,
+        # which depend on r_c and the tip ball only): it clears every member ring
+        s = min((springs[i] for i in members), key=lambda sp: sp.cam_tip_radius_mm)
         role = ("input" if first == 0 and input_connection == SHAFT else
                 "output" if last == n - 1 and output_connection == SHAFT else "")
         hub = hw.camshaft_hub_length_mm if role else 0.0
         r_hub = s.cam_root_radius_mm
         bore = 0.5 * hw.shaft_diameter_mm
         vol = s.cam.area_mm2() * (end - start) + math.pi * (r_hub ** 2 - bore ** 2) * hub
+        # With an alignment shaft every camshaft runs on it (round bore) and an end camshaft
+        # takes its torque through a flat on its hub; otherwise the D bore takes a D shaft.
+        drive = ("" if not role else "hub_flat" if floating_cams else "bore_flat")
         comps.append(Component(
             f"camshaft_{c + 1}", "camshaft", steel[0], 1, vol, steel[1],
             start - hub if role == "input" else start, end - start + hub,
-            {"springs": members, "toothed_start_mm": start, "toothed_end_mm": end,
+            {"springs": members, "profile_spring": s.name, "toothed_start_mm": start, "toothed_end_mm": end,
              "hub_length_mm": hub, "hub_radius_mm": r_hub, "tip_radius_mm": s.cam_tip_radius_mm,
              "bore_diameter_mm": hw.shaft_diameter_mm,
-             "floating": not role}, role))
+             "bore": "round" if floating_cams else "d_flat", "drive": drive,
+             "flat_ratio": FLAT_RATIO, "floating": not role}, role))
+        if role:
+            cam_start = start - hub if role == "input" else start
+            cam_end = end + hub if role == "output" else end
+            comps.append(_torque_shaft(role, drive, cam_start, cam_end, r_hub,
+                                       hw.shaft_diameter_mm, hub, steel))
     fastener_len = lambda a, b: springs[a].thickness_mm + gap + springs[b].thickness_mm  # noqa: E731
     for j, kind in enumerate(joints):
         zj = z0[j] + springs[j].thickness_mm
@@ -121,7 +168,7 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
             comps.append(Component(
                 f"rim_washer_{j + 1}", "rim_washer", PLASTIC[0], 1,
                 _ring_volume(r_in, r_o, gap), PLASTIC[1], zj, gap,
-                {"inner_radius_mm": r_in, "outer_radius_mm": r_o}))
+                {"inner_radius_mm": r_in, "outer_radius_mm": r_o, "joint": j}))
             continue
         holes = min(hw.fastener_count, springs[j].n_flexures)
         hole_d = springs[j].hole_diameter_mm
@@ -129,14 +176,14 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
             f"rim_spacer_{j + 1}", "rim_spacer", ALUMINIUM[0], 1,
             _ring_volume(r_in, r_o, gap, holes, hole_d), ALUMINIUM[1], zj, gap,
             {"inner_radius_mm": r_in, "outer_radius_mm": r_o, "holes": holes,
-             "hole_diameter_mm": hole_d}))
+             "hole_diameter_mm": hole_d, "joint": j}))
         r_cs = max(springs[j].cam_tip_radius_mm, springs[j + 1].cam_tip_radius_mm) \
             + CENTRE_SPACER_OVERHANG_MM
         r_cs_in = 0.5 * hw.shaft_diameter_mm if floating_cams else 0.0
         comps.append(Component(
             f"centre_spacer_{j + 1}", "centre_spacer", PLASTIC[0], 1,
             _ring_volume(r_cs_in, r_cs, gap), PLASTIC[1], zj, gap,
-            {"inner_radius_mm": r_cs_in, "outer_radius_mm": r_cs}))
+            {"inner_radius_mm": r_cs_in, "outer_radius_mm": r_cs, "joint": j}))
         if holes:
             d = hw.fastener_diameter_mm
             length = fastener_len(j, j + 1)
@@ -144,7 +191,8 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
                 f"{hw.fastener}s_{j + 1}", "fastener", "steel", holes,
                 math.pi * d ** 2 / 4 * length, 7850.0, z0[j], length,
                 {"diameter_mm": d, "length_mm": length, "type": hw.fastener,
-                 "hole_circle_radius_mm": math.hypot(*springs[j].hole_centres_mm[0])}))
+                 "hole_circle_radius_mm": math.hypot(*springs[j].hole_centres_mm[0]),
+                 "joint": j}))
     if floating_cams:
         t = hw.bushing_wall_mm
         comps.append(Component(
@@ -165,5 +213,6 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
         comps.append(Component(
             f"{end}_rim_flange", "rim_flange", steel[0], 1,
             _ring_volume(r_in, r_o, FLANGE_THICKNESS_MM), steel[1], zf, FLANGE_THICKNESS_MM,
-            {"inner_radius_mm": r_in, "outer_radius_mm": r_o}, end, in_mass=False))
+            {"inner_radius_mm": r_in, "outer_radius_mm": r_o,
+             "spring_index": 0 if end == "input" else n - 1}, end, in_mass=False))
     return tuple(comps)

@@ -1,0 +1,80 @@
+"""Shafts and adapters: the internal alignment shaft, torque shafts and rim flanges.
+
+Part frames follow the *input* orientation: the end that meets the springs is
+at the top (+z); output instances are the same parts turned over. Units: mm.
+"""
+
+from __future__ import annotations
+
+from springcad.design.curves import Profile
+from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, circle_loop, d_loop
+from springcad.geometry.spacers import AnnularPart
+
+
+class AlignmentShaft(AnnularPart):
+    """Ground pin on which the floating camshafts run (stacks of three or more)."""
+
+    KIND, TITLE, PROCESS, COLOUR = "alignment_shaft", "Alignment shaft", "turned", "cam"
+    NOTES = ("Ground to g6; the camshaft bores and centre spacers run on it.",)
+
+
+class RimFlange(AnnularPart):
+    """Input/output adapter bolted to a stack-end rim (torque through the rim)."""
+
+    KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_flange", "Rim flange", "laser", "steel", True
+    NOTES = ("Holes match the flexure-ring rim holes; mounting to the system is "
+             "left to the user.",)
+
+
+class TorqueShaft(SpringcadPart):
+    """Input/output torque shaft on an end camshaft.
+
+    Styles (from the Component): ``"d_shaft"``, a D shaft that fills the
+    camshaft's D bore and sticks out beyond the hub; ``"hub_socket"``, a shaft
+    whose D socket fits over the camshaft's D hub (the bore is then taken by
+    the alignment shaft).
+
+    Args:
+        part_number: unique part id.
+        dims: the torque-shaft Component's ``dims``.
+        length_mm: overall length (mm).
+        material: (name, density kg/m^3).
+    """
+
+    def __init__(self, part_number: str, dims: dict, length_mm: float,
+                 material: tuple[str, float], heat_treatment: str = ""):
+        self.style = dims["style"]
+        self.length = length_mm
+        self.flat_ratio = dims["flat_ratio"]
+        self.stickout = dims["stickout_mm"]
+        if self.style == "d_shaft":
+            self.diameter = dims["diameter_mm"]
+            slabs = (Slab(0.0, length_mm,
+                          Profile(d_loop(0.5 * self.diameter, self.flat_ratio))),)
+            key = {"shaft diameter": self.diameter, "length": length_mm,
+                   "engaged length": dims["engaged_length_mm"]}
+            note = "D flat matches the camshaft bore (slip fit)."
+        else:
+            self.outer_radius = dims["outer_radius_mm"]
+            self.socket_depth = dims["socket_depth_mm"]
+            hub = d_loop(dims["hub_radius_mm"], self.flat_ratio)
+            slabs = (Slab(0.0, self.stickout, Profile(circle_loop(self.outer_radius))),
+                     Slab(self.stickout, length_mm,
+                          Profile(circle_loop(self.outer_radius), (hub,))))
+            key = {"outer diameter": 2 * self.outer_radius, "length": length_mm,
+                   "socket depth": self.socket_depth,
+                   "socket diameter": 2 * dims["hub_radius_mm"]}
+            note = "D socket matches the camshaft hub (slip fit)."
+        info = PartInfo(part_number=part_number, title="Torque shaft", kind="torque_shaft",
+                        material=material[0], heat_treatment=heat_treatment,
+                        density_kg_per_m3=material[1], process="turned",
+                        thickness_mm=length_mm, dimensions=key,
+                        notes=(note, "Coupling to the drive is left to the user."))
+        super().__init__(info, slabs, COLOURS["steel"])
+
+    @property
+    def tolerance_mm(self) -> float:
+        return 0.02
+
+    def describe(self, x: float, y: float) -> str:
+        return "shaft"

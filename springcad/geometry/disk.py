@@ -1,0 +1,183 @@
+"""The wire-EDM steel parts of a spring: the flexure ring and the camshaft.
+
+Both are z-prisms of the design's exact profiles (:mod:`springcad.design.ring`,
+:mod:`springcad.design.cam`); the camshaft of a stack end adds a turned hub.
+Part frame: the stack axis is z, flexure 0 / pocket 0 point along +y, the
+toothed section starts at z = 0 and a hub lies at z < 0. Units: mm, rad.
+"""
+
+from __future__ import annotations
+
+import math
+
+from springcad.design.curves import Profile
+from springcad.errors import GeometryError
+from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, circle_loop, d_loop
+
+PROFILE_NOTE = ("Cut the contour on the layer CUT of the DXF (true size, mm); "
+                "profile tolerance applies to every cut edge.")
+
+
+def _sector(x: float, y: float, n: int) -> int:
+    """Index of the flexure / tooth sector containing (x, y); sector 0 on +y."""
+    a = math.atan2(y, x) - math.pi / 2
+    return int(round(a / (2 * math.pi / n))) % n
+
+
+class FlexureRing(SpringcadPart):
+    """The spring disk: outer rim, N flexures with tip balls, root fillets and rim holes.
+
+    Args:
+        spring: a :class:`~springcad.design.spring.SpringDesign`.
+
+    Attributes:
+        spring: the design it was built from.
+        n_flexures: N.
+        outer_radius, root_radius, contact_radius, tip_radius, thickness: mm.
+        hole_centres: rim hole centres (mm); hole_diameter: mm.
+        root_fillet_radius, neck_fillet_radius: mm.
+    """
+
+    def __init__(self, spring):
+        self.spring = spring
+        self.n_flexures = spring.n_flexures
+        self.outer_radius = spring.outer_radius_mm
+        self.root_radius = spring.root_radius_mm
+        self.contact_radius = spring.contact_radius_mm
+        self.tip_radius = spring.tip_radius_mm
+        self.thickness = spring.thickness_mm
+        self.hole_centres = tuple(spring.hole_centres_mm)
+        self.hole_diameter = spring.hole_diameter_mm
+        self.root_fillet_radius = spring.root_fillet_radius_mm
+        self.neck_fillet_radius = spring.neck_fillet_radius_mm
+        mat = spring.material.material
+        dims = {
+            "outer diameter": 2 * self.outer_radius,
+            "contact radius r_c": self.contact_radius,
+            "tip radius r_b": self.tip_radius,
+            "root radius R_r": self.root_radius,
+            "thickness": self.thickness,
+        }
+        if self.hole_centres:
+            dims["bolt circle diameter"] = 2 * math.hypot(*self.hole_centres[0])
+            dims["hole diameter"] = self.hole_diameter
+        info = PartInfo(
+            part_number=f"{spring.name}-RING", title=f"Flexure ring {spring.name}",
+            kind="flexure_ring", material=mat.description or mat.name,
+            heat_treatment=mat.heat_treatment, density_kg_per_m3=mat.density_kg_per_m3,
+            process="wire_edm", thickness_mm=self.thickness, cut_profile=spring.ring,
+            dimensions=dims,
+            notes=(PROFILE_NOTE,
+                   f"{self.n_flexures} flexures, equally spaced; flexure 0 on +Y.",
+                   f"Tip balls R{self.tip_radius:g} at contact radius R{self.contact_radius:g}: "
+                   "critical to function (cam-to-tip gap "
+                   f"{spring.manufacturing.w_gap_mm:g} mm).",
+                   f"{len(self.hole_centres)} x {self.hole_diameter:g} holes "
+                   + ("for dowel pins (ream to H7)." if spring.hardware.fastener == "dowel"
+                      else "clearance for bolts.") if self.hole_centres else "No rim holes."))
+        super().__init__(info, (Slab(0.0, self.thickness, spring.ring),), COLOURS["steel"])
+
+    @property
+    def tolerance_mm(self) -> float:
+        return self.spring.manufacturing.t_spring_mm
+
+    def describe(self, x: float, y: float) -> str:
+        """Name the feature at (x, y): rim, or flexure k tip / edge / root (mm)."""
+        r = math.hypot(x, y)
+        if r > self.root_radius + 1e-6:
+            return "rim"
+        k = _sector(x, y, self.n_flexures)
+        where = ("tip" if r < self.contact_radius + 3 * self.tip_radius else
+                 "root" if r > self.root_radius - 2 * self.root_fillet_radius else "edge")
+        return f"flexure {k} {where}"
+
+
+class Camshaft(SpringcadPart):
+    """The gear-like camshaft: toothed section(s) and, at a stack end, a turned hub.
+
+    Args:
+        spring: the spring whose cam profile is cut (the smallest tooth of the members).
+        members: every spring design the camshaft engages (for the travel check).
+        toothed_length_mm: length of the toothed section (mm).
+        hub_length_mm: hub length (mm), 0 for a floating camshaft.
+        bore: "d_flat" (the design's D bore, takes a D shaft) or "round" (runs on
+            the alignment shaft).
+        drive: "bore_flat", "hub_flat" (D flat on the hub) or "" (floating).
+        bore_diameter_mm, flat_ratio: bore size (mm) and hub flat position (-).
+
+    Raises:
+        GeometryError: the cut tooth does not cover a member's full deflection.
+    """
+
+    def __init__(self, spring, members, toothed_length_mm: float, hub_length_mm: float,
+                 bore: str, drive: str, bore_diameter_mm: float, flat_ratio: float):
+        self.spring = spring
+        self.members = tuple(members)
+        self.n_teeth = spring.n_flexures
+        self.contact_radius = spring.contact_radius_mm
+        self.tip_radius = spring.cam_tip_radius_mm
+        self.root_radius = spring.cam_root_radius_mm
+        self.toothed_length = toothed_length_mm
+        self.hub_length = hub_length_mm
+        self.hub_radius = spring.cam_root_radius_mm
+        self.bore, self.drive = bore, drive
+        self.bore_diameter = bore_diameter_mm
+        self.gap = spring.manufacturing.w_gap_mm
+        self.travel_rad = spring.cam_overtravel * spring.max_deflection_rad
+        tag = f"{spring.name}-CAM-L{toothed_length_mm:g}"
+        if hub_length_mm:
+            tag += f"-H{hub_length_mm:g}"
+        tag += "-R" if bore == "round" else ""
+        for m in self.members:
+            if self.travel_rad < m.max_deflection_rad * (1 - 1e-9):
+                raise GeometryError(
+                    f"camshaft {tag}: its teeth (cut to spring {spring.name}) cover "
+                    f"{self.travel_rad:.4f} rad, less than spring {m.name}'s max deflection "
+                    f"{m.max_deflection_rad:.4f} rad; do not share a camshaft between these "
+                    "springs, or give them the same max deflection")
+        bore_loop = spring.cam.holes[0] if bore == "d_flat" else circle_loop(0.5 * bore_diameter_mm)
+        teeth = Profile(spring.cam.outer, (bore_loop,))
+        slabs = [Slab(0.0, toothed_length_mm, teeth)]
+        if hub_length_mm:
+            hub_outer = (d_loop(self.hub_radius, flat_ratio) if drive == "hub_flat"
+                         else circle_loop(self.hub_radius))
+            slabs.insert(0, Slab(-hub_length_mm, 0.0, Profile(hub_outer, (bore_loop,))))
+        mat = spring.material.material
+        names = "/".join(dict.fromkeys(m.name for m in self.members))
+        dims = {"tooth tip diameter": 2 * self.tip_radius,
+                "root diameter": 2 * self.root_radius,
+                "contact radius r_c": self.contact_radius,
+                "bore diameter": bore_diameter_mm,
+                "toothed length": toothed_length_mm}
+        if hub_length_mm:
+            dims["hub length"] = hub_length_mm
+            dims["hub diameter"] = 2 * self.hub_radius
+        notes = [PROFILE_NOTE,
+                 f"{self.n_teeth} teeth; pocket 0 on +Y. Tooth flanks keep a {self.gap:g} mm gap "
+                 f"to the flexure tips of spring {names}.",
+                 ("Bore: D flat at {:.2f} mm from the axis (takes the D torque shaft)."
+                  .format(flat_ratio * 0.5 * bore_diameter_mm)) if bore == "d_flat" else
+                 "Bore: running fit on the alignment shaft (H7/g6)."]
+        if hub_length_mm:
+            notes.append("Hub: turned, concentric to the bore within 0.01 mm; "
+                         + ("D flat on the hub drives the torque shaft." if drive == "hub_flat"
+                            else "torque through the D bore."))
+            notes.append("Cut the teeth through the toothed length only; the hub is "
+                         "inside the root circle and clears the wire.")
+        info = PartInfo(
+            part_number=tag, title=f"Camshaft {names}" + (" (end)" if hub_length_mm else ""),
+            kind="camshaft", material=mat.description or mat.name,
+            heat_treatment=mat.heat_treatment, density_kg_per_m3=mat.density_kg_per_m3,
+            process="wire_edm", thickness_mm=toothed_length_mm + hub_length_mm,
+            cut_profile=teeth, dimensions=dims, notes=tuple(notes))
+        super().__init__(info, tuple(slabs), COLOURS["cam"])
+
+    @property
+    def tolerance_mm(self) -> float:
+        return self.spring.manufacturing.t_shaft_mm
+
+    def describe(self, x: float, y: float) -> str:
+        """Name the feature at (x, y): bore, or tooth k (mm)."""
+        if math.hypot(x, y) < self.root_radius - 0.05:
+            return "bore"
+        return f"pocket {_sector(x, y, self.n_teeth)}"

@@ -1,0 +1,102 @@
+"""Annular parts: rim spacer, rim washer, centre spacer and the outer bushing.
+
+All are rings (or discs) of constant section along the axis, sized by the
+stack's :class:`~springcad.design.hardware.Component` numbers. Part frame:
+z from 0 to the part length. Units: mm.
+"""
+
+from __future__ import annotations
+
+import math
+
+from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, annulus, circle_loop
+
+
+class AnnularPart(SpringcadPart):
+    """A ring from ``inner_radius`` to ``outer_radius`` over ``length`` with optional holes.
+
+    Subclasses set ``KIND``, ``TITLE``, ``PROCESS``, ``COLOUR`` and ``NOTES``.
+
+    Args:
+        part_number: unique part id.
+        inner_radius_mm: bore radius, 0 for a disc (mm).
+        outer_radius_mm: outer radius (mm).
+        length_mm: axial length / sheet thickness (mm).
+        material: (name, density kg/m^3).
+        hole_centres: centres of axial holes (mm).
+        hole_diameter_mm: their diameter (mm).
+        heat_treatment: as written on the drawing.
+        standard: catalogue designation of a purchased part.
+    """
+
+    KIND = "annulus"
+    TITLE = "Ring"
+    PROCESS = "turned"
+    COLOUR = "steel"
+    NOTES: tuple[str, ...] = ()
+    #: planar sheet parts get a DXF cutting profile
+    SHEET = False
+
+    def __init__(self, part_number: str, inner_radius_mm: float, outer_radius_mm: float,
+                 length_mm: float, material: tuple[str, float], hole_centres=(),
+                 hole_diameter_mm: float = 0.0, heat_treatment: str = "", standard: str = ""):
+        self.inner_radius = inner_radius_mm
+        self.outer_radius = outer_radius_mm
+        self.length = length_mm
+        self.hole_centres = tuple(hole_centres)
+        self.hole_diameter = hole_diameter_mm
+        holes = tuple(circle_loop(0.5 * hole_diameter_mm, c) for c in self.hole_centres)
+        region = annulus(inner_radius_mm, outer_radius_mm, holes)
+        dims = {"outer diameter": 2 * outer_radius_mm}
+        if inner_radius_mm > 0:
+            dims["inner diameter"] = 2 * inner_radius_mm
+        dims["thickness" if self.SHEET else "length"] = length_mm
+        if self.hole_centres:
+            dims["bolt circle diameter"] = 2 * math.hypot(*self.hole_centres[0])
+            dims["hole diameter"] = hole_diameter_mm
+        info = PartInfo(part_number=part_number, title=self.TITLE, kind=self.KIND,
+                        material=material[0], heat_treatment=heat_treatment,
+                        density_kg_per_m3=material[1], process=self.PROCESS,
+                        thickness_mm=length_mm, cut_profile=region if self.SHEET else None,
+                        dimensions=dims, notes=self.NOTES, standard=standard)
+        super().__init__(info, (Slab(0.0, length_mm, region),), COLOURS[self.COLOUR])
+
+    @property
+    def tolerance_mm(self) -> float:
+        return 0.05
+
+    def describe(self, x: float, y: float) -> str:
+        return "ring"
+
+
+class RimSpacer(AnnularPart):
+    """Thin aluminium ring between two bolted rims (paper Fig. 2a): reduces friction."""
+
+    KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_spacer", "Rim spacer", "laser", "aluminium", True
+    NOTES = ("Cut from flat sheet; deburr both faces; flatness 0.02 mm.",
+             "Holes match the flexure-ring rim holes.")
+
+
+class RimWasher(AnnularPart):
+    """Plastic ring between the rims of two springs that share a camshaft."""
+
+    KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_washer", "Rim washer", "laser", "plastic", True
+    NOTES = ("Cut from flat sheet; low-friction grade.",)
+
+
+class CentreSpacer(AnnularPart):
+    """Low-friction plastic disc, larger than the cam teeth, between rim-joined springs.
+
+    It keeps either camshaft from loading both springs (paper Fig. 2a).
+    """
+
+    KIND, TITLE, PROCESS, COLOUR, SHEET = "centre_spacer", "Centre spacer", "laser", "plastic", True
+    NOTES = ("Low-friction grade; the flexure tips slide on both faces.",
+             "Outer diameter larger than the cam tooth tips on both sides.")
+
+
+class Bushing(AnnularPart):
+    """Plastic sleeve around the rims: keeps floating rims concentric (paper Section II-A)."""
+
+    KIND, TITLE, PROCESS, COLOUR = "bushing", "Outer bushing", "turned", "plastic"
+    NOTES = ("Running clearance over the rims; bore concentric to the housing seat.",)
