@@ -96,8 +96,8 @@ class Camshaft(SpringcadPart):
     """The gear-like camshaft: toothed section(s) and, at a stack end, a turned hub.
 
     Args:
-        spring: the spring whose cam profile is cut (the smallest tooth of the members).
-        members: every spring design the camshaft engages (for the travel check).
+        spring: the spring whose cam profile is cut (for a shared camshaft, the
+            member with the smallest tooth; see :meth:`check_members`).
         toothed_length_mm: length of the toothed section (mm).
         hub_length_mm: hub length (mm), 0 for a floating camshaft.
         bore: "d_flat" (the design's D bore, takes a D shaft) or "round" (runs on
@@ -105,14 +105,13 @@ class Camshaft(SpringcadPart):
         drive: "bore_flat", "hub_flat" (D flat on the hub) or "" (floating).
         bore_diameter_mm, flat_ratio: bore size (mm) and hub flat position (-).
 
-    Raises:
-        GeometryError: the cut tooth does not cover a member's full deflection.
+    Attributes:
+        travel_rad: cam rotation the tooth flank covers (rad).
     """
 
-    def __init__(self, spring, members, toothed_length_mm: float, hub_length_mm: float,
+    def __init__(self, spring, toothed_length_mm: float, hub_length_mm: float,
                  bore: str, drive: str, bore_diameter_mm: float, flat_ratio: float):
         self.spring = spring
-        self.members = tuple(members)
         self.n_teeth = spring.n_flexures
         self.contact_radius = spring.contact_radius_mm
         self.tip_radius = spring.cam_tip_radius_mm
@@ -128,13 +127,6 @@ class Camshaft(SpringcadPart):
         if hub_length_mm:
             tag += f"-H{hub_length_mm:g}"
         tag += "-R" if bore == "round" else ""
-        for m in self.members:
-            if self.travel_rad < m.max_deflection_rad * (1 - 1e-9):
-                raise GeometryError(
-                    f"camshaft {tag}: its teeth (cut to spring {spring.name}) cover "
-                    f"{self.travel_rad:.4f} rad, less than spring {m.name}'s max deflection "
-                    f"{m.max_deflection_rad:.4f} rad; do not share a camshaft between these "
-                    "springs, or give them the same max deflection")
         bore_loop = spring.cam.holes[0] if bore == "d_flat" else circle_loop(0.5 * bore_diameter_mm)
         teeth = Profile(spring.cam.outer, (bore_loop,))
         slabs = [Slab(0.0, toothed_length_mm, teeth)]
@@ -143,7 +135,7 @@ class Camshaft(SpringcadPart):
                          else circle_loop(self.hub_radius))
             slabs.insert(0, Slab(-hub_length_mm, 0.0, Profile(hub_outer, (bore_loop,))))
         mat = spring.material.material
-        names = "/".join(dict.fromkeys(m.name for m in self.members))
+        names = spring.name
         dims = {"tooth tip diameter": 2 * self.tip_radius,
                 "root diameter": 2 * self.root_radius,
                 "contact radius r_c": self.contact_radius,
@@ -171,6 +163,29 @@ class Camshaft(SpringcadPart):
             process="wire_edm", thickness_mm=toothed_length_mm + hub_length_mm,
             cut_profile=teeth, dimensions=dims, notes=tuple(notes))
         super().__init__(info, tuple(slabs), COLOURS["cam"])
+
+    def check_members(self, members) -> None:
+        """Check that the cut tooth serves every spring the camshaft engages.
+
+        Raises:
+            GeometryError: a member has another pocket (contact radius, tip ball,
+                gap or flexure count) or a larger deflection than the flank covers.
+        """
+        s = self.spring
+        for m in members:
+            same = (m.n_flexures, m.contact_radius_mm, m.tip_radius_mm, m.manufacturing.w_gap_mm) \
+                == (s.n_flexures, s.contact_radius_mm, s.tip_radius_mm, s.manufacturing.w_gap_mm)
+            if not same:
+                raise GeometryError(
+                    f"camshaft {self.part_number}: springs {s.name} and {m.name} share it but "
+                    "differ in flexure count, contact radius, tip radius or gap; give springs "
+                    "that share a camshaft the same n_flexures, contact_radius_mm and tip_radius_mm")
+            if self.travel_rad < m.max_deflection_rad * (1 - 1e-9):
+                raise GeometryError(
+                    f"camshaft {self.part_number}: its teeth (cut to spring {s.name}) cover "
+                    f"{self.travel_rad:.4f} rad, less than spring {m.name}'s max deflection "
+                    f"{m.max_deflection_rad:.4f} rad; do not share a camshaft between these "
+                    "springs, or give them the same max deflection")
 
     @property
     def tolerance_mm(self) -> float:

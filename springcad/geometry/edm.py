@@ -96,7 +96,7 @@ def _worst_per_cluster(values, xy, radius, describe, keep) -> tuple:
         members = idx[labels == lab]
         k = members[np.argmin(values[members])]
         out.append({"value_mm": float(values[k]), **_location(*xy[k], describe)})
-    return tuple(sorted(out, key=lambda v: (v["angle_deg"], v["r_mm"])))
+    return tuple(sorted(out, key=lambda v: ((v["angle_deg"] - 90.0) % 360.0, v["r_mm"])))
 
 
 def inside_corner_rule(profile: Profile, min_radius_mm: float, kink_limit_mm: float,

@@ -211,11 +211,12 @@ def build_stack(job_design, progress=None) -> StackAssembly:
             prof = next(m for m in members if m.name == d.get("profile_spring", members[0].name))
             length = d["toothed_end_mm"] - d["toothed_start_mm"]
             hub = d["hub_length_mm"]
-            key = ("cam", prof.name, tuple(m.name for m in members), _r(length), _r(hub),
-                   d.get("bore", "d_flat"), d.get("drive", ""))
+            key = ("cam", prof.name, _r(length), _r(hub), d.get("bore", "d_flat"),
+                   d.get("drive", ""))
             part = cache.get(key, lambda pn: Camshaft(
-                prof, members, length, hub, d.get("bore", "d_flat"), d.get("drive", ""),
+                prof, length, hub, d.get("bore", "d_flat"), d.get("drive", ""),
                 d["bore_diameter_mm"], d.get("flat_ratio", 0.8)))
+            part.check_members(members)
             flipped = comp.role == "output" and hub > 0
             z = d["toothed_start_mm"] + (length if flipped else 0.0)
             place(comp.name, part, comp, Placement(z, flipped=flipped), comp.role)

@@ -1,0 +1,177 @@
+"""``springcad build CONFIG --out DIR``: design, solids, checks, exports; writes build.json.
+
+The run is a pipeline of named steps over one :class:`BuildContext`
+(:data:`PIPELINE`); a step is a function ``(ctx) -> None``. A verification
+step (FEA) goes between "checks" and "exports" by adding it to
+:data:`STEPS` and :data:`PIPELINE`. Everything is written into a temporary
+folder that becomes ``DIR`` only when every step succeeded.
+"""
+
+from __future__ import annotations
+
+import datetime
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from springcad.cli.common import default_out, write_json
+
+SCHEMA = "springcad.build/1"
+
+
+def register(sub):
+    p = sub.add_parser("build", help="design, build solids, check them and export CAD files")
+    p.add_argument("config", type=Path, help="job TOML (see templates/)")
+    p.add_argument("--out", type=Path, default=None,
+                   help="output folder (default outputs/<config name>/)")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing output folder")
+    p.add_argument("--accept-violations", action="store_true",
+                   help="build even when a wire-EDM manufacturability rule is broken "
+                        "(the violations are recorded in build.json)")
+    p.add_argument("--revision", default="A", help="drawing revision (default A)")
+    p.add_argument("--title-block", type=Path, default=None,
+                   help="title block template (default templates/drawing_title_block.toml)")
+    p.add_argument("--no-render", action="store_true", help="skip the PNG render")
+    p.set_defaults(func=run)
+
+
+@dataclass
+class BuildContext:
+    """State passed from step to step."""
+
+    args: object
+    out_tmp: Path
+    job: object = None
+    design: object = None
+    assembly: object = None
+    report: object = None
+    files: list = field(default_factory=list)
+    roundtrip: list = field(default_factory=list)
+    timings: dict = field(default_factory=dict)
+    started: str = ""
+
+    def say(self, msg: str) -> None:
+        print(f"  {msg}", file=sys.stderr, flush=True)
+
+
+def step_design(ctx: BuildContext) -> None:
+    from springcad.config import load_job
+    from springcad.design.job import design_job
+
+    ctx.job = load_job(ctx.args.config)
+    ctx.design = design_job(ctx.job)
+    write_json(ctx.out_tmp / "design.json", ctx.design.to_dict())
+
+
+def step_solids(ctx: BuildContext) -> None:
+    from springcad.geometry.stack import build_stack
+
+    ctx.assembly = build_stack(ctx.design, progress=ctx.say)
+
+
+def step_checks(ctx: BuildContext) -> None:
+    from springcad.geometry.checks import run_checks
+
+    ctx.report = run_checks(ctx.assembly, progress=ctx.say)
+    ctx.report.raise_if_failed(ctx.args.accept_violations)
+
+
+def step_exports(ctx: BuildContext) -> None:
+    from springcad.export.bundle import export_parts, export_stack, roundtrip_checks
+    from springcad.export.drawing import load_title_block
+    from springcad.geometry.checks import CheckReport
+
+    template = load_title_block(ctx.args.title_block)
+    info = {"job": ctx.job.name, "revision": ctx.args.revision,
+            "date": datetime.date.today().isoformat(), "drawn_by": _drawn_by()}
+    parts = export_parts(ctx.assembly, ctx.out_tmp, info, template, progress=ctx.say)
+    ctx.files = parts + export_stack(ctx.assembly, ctx.out_tmp, parts,
+                                     render=not ctx.args.no_render, progress=ctx.say)
+    ctx.roundtrip = roundtrip_checks(ctx.assembly, ctx.out_tmp, ctx.files, progress=ctx.say)
+    CheckReport(ctx.roundtrip).raise_if_failed()
+
+
+STEPS = {"design": step_design, "solids": step_solids, "checks": step_checks,
+         "exports": step_exports}
+#: step order; a "verify" step belongs between "checks" and "exports"
+PIPELINE = ["design", "solids", "checks", "exports"]
+
+
+def _drawn_by() -> str:
+    from springcad import __version__
+
+    return f"springcad {__version__}"
+
+
+def build_json(ctx: BuildContext) -> dict:
+    """The ``build.json`` document: inputs, every file written, every check."""
+    from springcad import __version__
+
+    asm, st = ctx.assembly, ctx.design.stack
+    qty = asm.quantities()
+    report = ctx.report
+    checks = report.checks + ctx.roundtrip
+    return {
+        "schema": SCHEMA,
+        "springcad_version": __version__,
+        "job": {"name": ctx.job.name, "config": str(ctx.args.config)},
+        "started": ctx.started,
+        "options": {"accept_violations": ctx.args.accept_violations,
+                    "revision": ctx.args.revision, "render": not ctx.args.no_render},
+        "timings_s": ctx.timings,
+        "stack": {"sequence": list(st.sequence), "input": st.input, "output": st.output,
+                  "joints": list(st.joints), "input_parts": asm.input_names,
+                  "output_parts": asm.output_names, "instances": len(asm.instances)},
+        "parts": [{"part_number": pn, "title": p.info.title, "kind": p.info.kind,
+                   "quantity": qty[pn], "process": p.info.process,
+                   "dimensions_mm": p.info.dimensions} for pn, p in asm.parts.items()],
+        "files": [f.to_dict() for f in ctx.files] + [
+            {"path": "design.json", "kind": "design", "part": "", "bytes":
+             (ctx.out_tmp / "design.json").stat().st_size}],
+        "checks": {
+            "passed": all(c.passed for c in checks if c.kind == "error"),
+            "violations_accepted": bool(report.violations) and ctx.args.accept_violations,
+            "summary": report.summary(),
+            "n_checks": len(checks),
+            "n_failed": sum(not c.passed for c in checks),
+            "items": [c.to_dict() for c in checks]},
+    }
+
+
+def run(args) -> int:
+    from springcad.report.outdir import atomic_output_dir
+
+    out = args.out or default_out(args.config)
+    ctx = None
+    t_all = time.perf_counter()
+    with atomic_output_dir(out, overwrite=args.overwrite) as tmp:
+        ctx = BuildContext(args, Path(tmp), started=datetime.datetime.now().isoformat(timespec="seconds"))
+        for i, name in enumerate(PIPELINE, 1):
+            print(f"[{i}/{len(PIPELINE)}] {name}", file=sys.stderr, flush=True)
+            t0 = time.perf_counter()
+            STEPS[name](ctx)
+            ctx.timings[name] = round(time.perf_counter() - t0, 3)
+            print(f"      {name} done in {ctx.timings[name]:.1f} s", file=sys.stderr, flush=True)
+        ctx.timings["total"] = round(time.perf_counter() - t_all, 3)
+        write_json(Path(tmp) / "build.json", build_json(ctx))
+    _print_summary(ctx, out)
+    return 0
+
+
+def _print_summary(ctx: BuildContext, out: Path) -> None:
+    asm, rep = ctx.assembly, ctx.report
+    qty = asm.quantities()
+    rows = [("part", "qty", "title", "process")]
+    rows += [(pn, str(qty[pn]), p.info.title, p.info.process) for pn, p in asm.parts.items()]
+    w = [max(len(r[i]) for r in rows) for i in range(4)]
+    for r in rows:
+        print("  ".join(c.ljust(n) for c, n in zip(r, w)))
+    print(f"\n{rep.summary()}; {sum(c.passed for c in ctx.roundtrip)}/{len(ctx.roundtrip)} "
+          "export read-backs passed")
+    if rep.violations:
+        print("accepted manufacturability violations:")
+        for c in rep.violations:
+            print(f"  {c.subject}: {c.name}: {c.message}")
+    print(f"input: {', '.join(asm.input_names)}; output: {', '.join(asm.output_names)}")
+    print(f"wrote {len(ctx.files) + 2} files to {out} in {ctx.timings['total']:.1f} s")

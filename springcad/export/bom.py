@@ -1,0 +1,52 @@
+"""Bill of materials of a stack (CSV): one row per distinct part.
+
+Quantities count the placed instances; masses come from the solids (exact
+volume x density). Units: mm, g.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+from springcad.export.sheet import fmt
+
+COLUMNS = ("item", "part_number", "title", "kind", "quantity", "make_or_buy", "process",
+           "material", "heat_treatment", "standard", "thickness_or_length_mm",
+           "mass_each_g", "mass_total_g", "instances", "files")
+
+
+def bom_rows(assembly, files_by_part: dict | None = None) -> list[dict]:
+    """BOM rows, input side first (order of first appearance in the stack)."""
+    from springcad.geometry.base import solid_volume_mm3
+
+    files_by_part = files_by_part or {}
+    qty = assembly.quantities()
+    names: dict[str, list[str]] = {}
+    for inst in assembly.instances:
+        names.setdefault(inst.part.part_number, []).append(inst.name)
+    rows = []
+    for item, pn in enumerate(names, 1):
+        part = assembly.parts[pn]
+        info = part.info
+        mass = solid_volume_mm3(part.solid) * info.density_kg_per_m3 * 1e-6  # g
+        rows.append({
+            "item": item, "part_number": pn, "title": info.title, "kind": info.kind,
+            "quantity": qty[pn], "make_or_buy": "buy" if info.process == "purchased" else "make",
+            "process": info.process, "material": info.material,
+            "heat_treatment": info.heat_treatment, "standard": info.standard,
+            "thickness_or_length_mm": fmt(info.thickness_mm),
+            "mass_each_g": f"{mass:.3f}", "mass_total_g": f"{mass * qty[pn]:.3f}",
+            "instances": " ".join(names[pn]), "files": " ".join(files_by_part.get(pn, [])),
+        })
+    return rows
+
+
+def write_bom(assembly, path: Path, files_by_part: dict | None = None) -> Path:
+    """Write the BOM CSV; returns the path."""
+    rows = bom_rows(assembly, files_by_part)
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=COLUMNS)
+        writer.writeheader()
+        writer.writerows(rows)
+    return Path(path)

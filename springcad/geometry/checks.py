@@ -1,0 +1,291 @@
+"""Every check of a built stack, with its measured value and verdict.
+
+Two kinds of check:
+
+* ``error``: the geometry is wrong (invalid solid, volume off its profile,
+  parts overlapping or touching where they should not, a cam-to-tip gap other
+  than designed, a connection sequence against the paper's alternation rule).
+  A build with one of these always fails.
+* ``rule``: a wire-EDM manufacturability rule from ``[manufacturing]``
+  (:mod:`springcad.geometry.edm`). A violation fails the build unless the user
+  explicitly accepts violations.
+
+Units: mm, mm^3.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+from springcad.errors import GeometryError
+
+#: measured cam-to-tip clearance must equal the designed gap within this (mm): the
+#: kernel's spline edges match the design curves to ~1 um
+CLEARANCE_TOL_MM = 0.001
+#: solid volume against slab area x length (relative): the exact divergence volume
+#: agrees to ~1e-7; the sampled profile area to ~1e-5
+VOLUME_RTOL = 1e-4
+
+#: kind pairs that are meant to touch (faces along the axis or fits around it)
+MEANT_TO_TOUCH = {frozenset(p) for p in (
+    ("flexure_ring", "rim_spacer"), ("flexure_ring", "rim_washer"),
+    ("flexure_ring", "centre_spacer"), ("flexure_ring", "rim_flange"),
+    ("flexure_ring", "fastener"), ("fastener", "rim_spacer"), ("fastener", "rim_washer"),
+    ("fastener", "rim_flange"), ("fastener", "fastener"),
+    ("camshaft", "centre_spacer"), ("camshaft", "alignment_shaft"),
+    ("camshaft", "torque_shaft"), ("centre_spacer", "alignment_shaft"),
+)}
+
+
+@dataclass
+class Check:
+    """One check and its result.
+
+    Attributes:
+        name: check name, e.g. ``"solid_valid"``, ``"edm.min_web"``.
+        subject: what was checked (part number, instance names, "stack").
+        passed: the verdict.
+        kind: "error" or "rule" (see the module docstring).
+        value: measured value (unit in ``unit``), if any.
+        limit: the limit or design value it was held against.
+        unit: unit of value and limit.
+        message: one line for humans.
+        details: violations with locations, per-sector values, ...
+    """
+
+    name: str
+    subject: str
+    passed: bool
+    kind: str = "error"
+    value: float | None = None
+    limit: float | None = None
+    unit: str = "mm"
+    message: str = ""
+    details: list = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+@dataclass
+class CheckReport:
+    """All checks of one build."""
+
+    checks: list[Check]
+
+    @property
+    def errors(self) -> list[Check]:
+        return [c for c in self.checks if c.kind == "error" and not c.passed]
+
+    @property
+    def violations(self) -> list[Check]:
+        return [c for c in self.checks if c.kind == "rule" and not c.passed]
+
+    def passed(self, accept_violations: bool = False) -> bool:
+        return not self.errors and (accept_violations or not self.violations)
+
+    def summary(self) -> str:
+        n_err, n_rule = len(self.errors), len(self.violations)
+        return (f"{len(self.checks)} checks: {len(self.checks) - n_err - n_rule} passed, "
+                f"{n_err} geometry errors, {n_rule} manufacturability violations")
+
+    def to_dict(self) -> dict:
+        return {"summary": self.summary(), "checks": [c.to_dict() for c in self.checks]}
+
+    def raise_if_failed(self, accept_violations: bool = False) -> None:
+        """Raise :class:`ChecksFailed` unless the build may go on."""
+        if not self.passed(accept_violations):
+            raise ChecksFailed(self, accept_violations)
+
+
+class ChecksFailed(GeometryError):
+    """A build failed its checks; ``report`` holds every check."""
+
+    def __init__(self, report: CheckReport, accept_violations: bool):
+        self.report = report
+        lines = [report.summary()]
+        for c in report.errors + ([] if accept_violations else report.violations):
+            lines.append(f"  {c.subject}: {c.name}: {c.message}")
+            for v in c.details[:3] if c.kind == "rule" else ():
+                lines.append(f"    {v.get('value_mm', 0):.4f} mm at {v.get('feature', '')} "
+                             f"(x {v['x_mm']:.3f}, y {v['y_mm']:.3f})")
+            if c.kind == "rule" and len(c.details) > 3:
+                lines.append(f"    ... {len(c.details) - 3} more")
+        if report.violations and not report.errors and not accept_violations:
+            lines.append("change the design or pass --accept-violations to build anyway")
+        super().__init__("\n".join(lines))
+
+
+# --------------------------------------------------------------------------- part checks
+def part_checks(part) -> list[Check]:
+    """Validity, volume against its 2D description, and the EDM rules of its process."""
+    from springcad.geometry.base import solid_volume_mm3
+    from springcad.geometry.edm import edm_rules
+
+    pn = part.part_number
+    out = [Check("solid_valid", pn, bool(part.solid.is_valid), unit="",
+                 message="valid solid" if part.solid.is_valid else "the kernel reports an invalid solid")]
+    if part.exact_prism:
+        v, ref = solid_volume_mm3(part.solid), part.slab_volume_mm3()
+        ok = abs(v - ref) <= VOLUME_RTOL * ref
+        out.append(Check("volume_matches_profile", pn, ok, value=v, limit=ref, unit="mm^3",
+                         message=f"solid {v:.3f} mm^3 vs profile area x length {ref:.3f} mm^3 "
+                                 f"({100 * (v / ref - 1):+.4f} %)"))
+    info = part.info
+    if info.process == "wire_edm" and info.cut_profile is not None:
+        mfg = part.spring.manufacturing
+        for res in edm_rules(info.cut_profile, mfg, part.tolerance_mm, part.describe):
+            if res.value_mm is None:
+                msg = (f"nothing below {res.searched_to_mm:g} mm" if res.searched_to_mm
+                       else "no feature of this kind")
+            else:
+                msg = f"smallest {res.value_mm:.4f} mm, limit {res.limit_mm:g} mm"
+            if res.violations:
+                msg += f"; {len(res.violations)} violation(s)"
+            out.append(Check(f"edm.{res.rule}", pn, res.passed, "rule", res.value_mm,
+                             res.limit_mm, "mm", msg, list(res.violations)))
+            if res.notes:
+                out.append(Check(f"edm.{res.rule}.notes", pn, True, "rule", None, None, "",
+                                 f"{len(res.notes)} joins are not tangent but leave less than "
+                                 "a tenth of the profile tolerance uncut", list(res.notes)))
+    return out
+
+
+# ----------------------------------------------------------------------- assembly checks
+def interference_checks(assembly) -> list[Check]:
+    """Every pair that overlaps, or touches although not meant to, fails."""
+    from springcad.geometry.interference import InterferenceChecker
+
+    out = []
+    kinds = {i.name: i.component.kind for i in assembly.instances}
+    contacts = 0
+    for r in InterferenceChecker(assembly).all_pairs():
+        subject = f"{r.a} / {r.b}"
+        if r.relation == "overlap":
+            out.append(Check("interference", subject, False, value=r.depth_mm, limit=0.0,
+                             message=f"parts overlap by {r.depth_mm:.4f} mm",
+                             details=[{"x_mm": r.location[0], "y_mm": r.location[1],
+                                       "z_mm": r.location[2]}]))
+        elif r.relation != "clear":
+            contacts += 1
+            meant = frozenset((kinds[r.a], kinds[r.b])) in MEANT_TO_TOUCH
+            if not meant:
+                out.append(Check("unintended_contact", subject, False, value=0.0,
+                                 message=f"{r.relation.replace('_', ' ')} between a "
+                                         f"{kinds[r.a]} and a {kinds[r.b]}",
+                                 details=[{"x_mm": r.location[0], "y_mm": r.location[1],
+                                           "z_mm": r.location[2]}]))
+    n = len(assembly.instances)
+    if not out:
+        out.append(Check("interference", "stack", True, value=0.0, limit=0.0,
+                         message=f"{n * (n - 1) // 2} part pairs: no overlaps, "
+                                 f"{contacts} contacts, all where parts are meant to touch"))
+    return out
+
+
+def _shares_z(a, b, tol=1e-6) -> bool:
+    return min(a.z_range_mm[1], b.z_range_mm[1]) - max(a.z_range_mm[0], b.z_range_mm[0]) > tol
+
+
+def clearance_checks(assembly) -> list[Check]:
+    """Measured cam-to-tip gap of every ring against its camshaft equals the design gap."""
+    from springcad.geometry.interference import cam_clearance
+
+    rings = [i for i in assembly.instances if i.component.kind == "flexure_ring"]
+    cams = [i for i in assembly.instances if i.component.kind == "camshaft"]
+    cache: dict = {}
+    out = []
+    for ring in rings:
+        engaged = [c for c in cams if _shares_z(ring, c)]
+        if len(engaged) != 1:
+            out.append(Check("cam_clearance", ring.name, False,
+                             message=f"engaged by {len(engaged)} camshafts, expected 1"))
+            continue
+        cam = engaged[0]
+        # identical parts in identical relative placement measure identically
+        key = (ring.part.part_number, cam.part.part_number, cam.placement.flipped,
+               cam.placement.angle_rad - ring.placement.angle_rad)
+        if key not in cache:
+            cache[key] = cam_clearance(ring, cam)
+        res = cache[key]
+        gap = res.design_gap_mm
+        ok = (abs(res.kernel_min_mm - gap) <= CLEARANCE_TOL_MM
+              and abs(res.sampled_min_mm - gap) <= CLEARANCE_TOL_MM)
+        out.append(Check(
+            "cam_clearance", f"{ring.name} / {cam.name}", ok, value=res.kernel_min_mm, limit=gap,
+            message=f"min gap {res.kernel_min_mm:.5f} mm (B-rep) / {res.sampled_min_mm:.5f} mm "
+                    f"(all {ring.part.n_flexures} flexures, at flexure {res.sampled_flexure}); "
+                    f"design {gap:g} mm",
+            details=[{"flexure": k, "gap_mm": v} for k, v in res.kernel_by_flexure.items()]))
+    return out
+
+
+def connection_checks(assembly) -> list[Check]:
+    """The placed parts realise the design's connection sequence (paper Section II-A).
+
+    Joints are read from the geometry: two consecutive rings share a rim when a
+    fastener passes through both, a shaft when one camshaft engages both; joints
+    must alternate, and the input and output parts must be the first and last
+    spring's camshaft or rim as the sequence says.
+    """
+    stack = assembly.design.stack
+    inst = assembly.instances
+    rings = sorted((i for i in inst if i.component.kind == "flexure_ring"),
+                   key=lambda i: i.z_range_mm[0])
+    cams = [i for i in inst if i.component.kind == "camshaft"]
+    fasteners = [i for i in inst if i.component.kind == "fastener"]
+    out = []
+    seen = []
+    for a, b in zip(rings, rings[1:]):
+        shaft = any(_shares_z(c, a) and _shares_z(c, b) for c in cams)
+        rim = any(_shares_z(f, a) and _shares_z(f, b) for f in fasteners)
+        seen.append("shaft" if shaft and not rim else "rim" if rim and not shaft else "invalid")
+    ok = seen == list(stack.joints) and all(x != y for x, y in zip(seen, seen[1:]))
+    out.append(Check("connection_sequence", "stack", ok, unit="",
+                     message=f"joints from geometry {seen or ['none']}, design "
+                             f"{list(stack.joints) or ['none']}"
+                             + ("" if ok else ": joints must alternate rim/shaft")))
+    for end, ring, conn in (("input", rings[0], stack.input), ("output", rings[-1], stack.output)):
+        names = {i.name for i in inst if i.role == end}
+        if conn == "shaft":
+            cam = [c for c in cams if _shares_z(c, ring)]
+            good = bool(cam) and cam[0].name in names and ring.name not in names
+            what = f"camshaft {cam[0].name if cam else '?'}"
+        else:
+            good = ring.name in names and not any(c.name in names for c in cams)
+            what = f"rim of {ring.name}"
+        out.append(Check(f"{end}_connection", "stack", good, unit="",
+                         message=f"{end} through the {what} ({conn}); parts with role "
+                                 f"{end}: {sorted(names)}"))
+    n = len(rings)
+    rule = (stack.input == stack.output) if n % 2 == 0 else (stack.input != stack.output)
+    out.append(Check("alternation_rule", "stack", rule, unit="",
+                     message=f"{n} spring(s): input {stack.input}, output {stack.output} "
+                             f"({'same' if n % 2 == 0 else 'other'} kind expected)"))
+    if n >= 3:
+        kinds = {i.component.kind for i in inst}
+        good = {"bushing", "alignment_shaft"} <= kinds
+        out.append(Check("alignment_parts", "stack", good, unit="",
+                         message="outer bushing and alignment shaft present" if good else
+                         "three or more springs need an outer bushing and an alignment shaft"))
+    return out
+
+
+def run_checks(assembly, progress=None) -> CheckReport:
+    """Run every check on a built stack.
+
+    Args:
+        assembly: a :class:`~springcad.geometry.stack.StackAssembly`.
+        progress: optional callable taking a short message per step.
+    """
+    say = progress or (lambda msg: None)
+    checks: list[Check] = []
+    for part in assembly.parts.values():
+        say(f"checking {part.part_number}")
+        checks += part_checks(part)
+    say("checking interference")
+    checks += interference_checks(assembly)
+    say("measuring cam-to-tip clearance")
+    checks += clearance_checks(assembly)
+    checks += connection_checks(assembly)
+    return CheckReport(checks)
