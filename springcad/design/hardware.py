@@ -23,7 +23,7 @@ FLANGE_THICKNESS_MM = 3.0
 TORQUE_SHAFT_STICKOUT_MM = 10.0
 #: radial wall of a torque-shaft socket over a camshaft hub (mm)
 SOCKET_WALL_MM = 2.0
-#: axial clearance between a hub socket and the spring face (mm)
+#: axial clearance between a torque shaft's inner end and the spring face / spacer (mm)
 SOCKET_FACE_CLEARANCE_MM = 0.5
 #: drive flat on a D bore or a D hub, as a fraction of its radius (-)
 FLAT_RATIO = 0.8
@@ -87,10 +87,12 @@ def _torque_shaft(role, drive, cam_start, cam_end, hub_radius, shaft_diameter, h
     out = TORQUE_SHAFT_STICKOUT_MM
     if drive == "bore_flat":
         r = 0.5 * shaft_diameter
-        length = cam_end - cam_start + out
-        z = cam_start - out if role == "input" else cam_start
+        # stops short of the camshaft's inner face, clear of the centre spacer
+        engaged = cam_end - cam_start - SOCKET_FACE_CLEARANCE_MM
+        length = engaged + out
+        z = cam_start - out if role == "input" else cam_end - engaged
         dims = {"style": "d_shaft", "diameter_mm": shaft_diameter, "flat_ratio": FLAT_RATIO,
-                "engaged_length_mm": cam_end - cam_start, "stickout_mm": out}
+                "engaged_length_mm": engaged, "stickout_mm": out}
         volume = math.pi * r ** 2 * length
     else:
         depth = hub_length - SOCKET_FACE_CLEARANCE_MM
@@ -119,7 +121,6 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
         z += s.thickness_mm + (gap if i < n - 1 else 0.0)
     height = z
     r_o = max(s.outer_radius_mm for s in springs)
-    r_root = max(s.root_radius_mm for s in springs)
     floating_cams = n >= 3
     comps: list[Component] = []
     for i, s in enumerate(springs):
@@ -163,7 +164,9 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
     fastener_len = lambda a, b: springs[a].thickness_mm + gap + springs[b].thickness_mm  # noqa: E731
     for j, kind in enumerate(joints):
         zj = z0[j] + springs[j].thickness_mm
-        r_in = r_root + ROOT_CLEARANCE_MM
+        # clear the roots of the two springs it sits between (not the stack's largest root,
+        # which would leave a sliver of material inside the holes of a thicker rim)
+        r_in = max(springs[j].root_radius_mm, springs[j + 1].root_radius_mm) + ROOT_CLEARANCE_MM
         if kind == SHAFT:
             comps.append(Component(
                 f"rim_washer_{j + 1}", "rim_washer", PLASTIC[0], 1,
@@ -209,7 +212,7 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
                           ("output", output_connection, height)):
         if conn == SHAFT:
             continue
-        r_in = r_root + ROOT_CLEARANCE_MM
+        r_in = springs[0 if end == "input" else n - 1].root_radius_mm + ROOT_CLEARANCE_MM
         comps.append(Component(
             f"{end}_rim_flange", "rim_flange", steel[0], 1,
             _ring_volume(r_in, r_o, FLANGE_THICKNESS_MM), steel[1], zf, FLANGE_THICKNESS_MM,

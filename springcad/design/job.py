@@ -87,6 +87,23 @@ class JobDesign:
         return "\n".join(lines)
 
 
+def common_hole_circle(springs: dict[str, SpringDesign]) -> dict[str, SpringDesign]:
+    """Put the rim holes of every spring on one circle, so any two rims can be pinned.
+
+    The circle is the middle of the thinnest rim: half way between the largest
+    root radius and the smallest outer radius (mm).
+    """
+    from springcad.design.ring import with_hole_circle
+
+    with_holes = [s for s in springs.values() if s.hole_centres_mm]
+    if len(with_holes) < 2:
+        return springs
+    radius = 0.5 * (max(s.root_radius_mm for s in with_holes)
+                    + min(s.outer_radius_mm for s in with_holes))
+    return {name: with_hole_circle(s, radius) if s.hole_centres_mm else s
+            for name, s in springs.items()}
+
+
 def design_job(job: Job) -> JobDesign:
     """Design every spring named in the job and the stack.
 
@@ -95,6 +112,7 @@ def design_job(job: Job) -> JobDesign:
     """
     springs = {name: design_spring(spec, job.material, job.manufacturing, job.hardware)
                for name, spec in job.springs.items()}
+    springs = common_hole_circle(springs)
     stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
                          job.analysis.monte_carlo_samples, job.analysis.seed)
     return JobDesign(job, springs, stack)

@@ -143,6 +143,33 @@ def hole_centres_mm(n_flexures: int, count: int, radius_mm: float) -> tuple:
     return tuple(out)
 
 
+def with_hole_circle(d, radius_mm: float):
+    """The design with its rim holes moved onto a circle of ``radius_mm`` (mm).
+
+    Springs joined rim to rim are pinned through the same holes, so every spring
+    of a stack puts them on one circle (see :func:`springcad.design.job.design_job`).
+
+    Raises:
+        DesignError: the holes would not fit in this spring's rim.
+    """
+    import dataclasses
+
+    if not d.hole_centres_mm:
+        return d
+    r_hole = 0.5 * d.hole_diameter_mm
+    edge = d.manufacturing.min_hole_edge_mm
+    if radius_mm - r_hole - d.root_radius_mm < edge or d.outer_radius_mm - radius_mm - r_hole < edge:
+        raise DesignError(
+            f"spring '{d.name}': rim holes on the stack's common circle R{radius_mm:.3f} mm do not "
+            f"fit its rim ({d.root_radius_mm:.3f} to {d.outer_radius_mm:.3f} mm) with "
+            f"min_hole_edge_mm = {edge:g}; give the springs of a stack the same outer radius and "
+            "similar rims, or smaller fasteners")
+    holes = hole_centres_mm(d.n_flexures, len(d.hole_centres_mm), radius_mm)
+    loops = tuple(Loop((Circle(c, r_hole),)) for c in holes)
+    ring = Profile(d.ring.outer, (d.ring.holes[0], *loops))
+    return dataclasses.replace(d, ring=ring, hole_centres_mm=holes)
+
+
 def ring_profile(d) -> tuple[Profile, tuple, float]:
     """Build the flexure-ring profile of a :class:`~springcad.design.spring.SpringDesign`.
 

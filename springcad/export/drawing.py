@@ -263,10 +263,9 @@ def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
     scale = VIEWS.get(part.info.kind, _annulus_views)(sheet, part)
     fields = _fields(part, info, scale)
     x0, top = _title_block(sheet, template, fields)
-    general = [n.format(**fields) for n in template.get("notes", {}).get("general", [])]
-    if part.info.cut_profile is None:
-        general = general[:1]
-    _notes(sheet, x0, top, general + list(part.info.notes))
+    notes = template.get("notes", {})
+    lines = notes.get("general", []) + (notes.get("cut", []) if part.info.cut_profile else [])
+    _notes(sheet, x0, top, [n.format(**fields) for n in lines] + list(part.info.notes))
     sheet.text(20, sheet.height - 18, f"{part.info.title}  {part.part_number}", size=11,
                ha="left", weight="bold")
     dims = "   ".join(f"{k} {fmt(v)}" for k, v in part.info.dimensions.items())

@@ -10,12 +10,11 @@ slab area x length). Units: mm, mm^2, mm^3.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 from build123d import BasePartObject, Color, Solid
 
-from springcad.design.curves import Arc, Circle, Line, Loop, Profile
+from springcad.design.curves import Circle, Loop, Profile
 from springcad.errors import GeometryError
 
 #: display colours (RGB 0-1) by material family
@@ -135,34 +134,15 @@ def annulus(r_in_mm: float, r_out_mm: float, holes: tuple[Loop, ...] = ()) -> Pr
     return Profile(circle_loop(r_out_mm), (*inner, *holes))
 
 
-def d_loop(radius_mm: float, flat_ratio: float, corner_radius_mm: float = 0.0) -> Loop:
+def d_loop(radius_mm: float, flat_ratio: float) -> Loop:
     """Circle of ``radius_mm`` with a flat at ``flat_ratio * radius`` below the centre.
 
-    Same orientation and construction as the camshaft's D bore
-    (:func:`springcad.design.cam.d_bore`), optionally with rounded corners.
+    The same loop as the camshaft's D bore (:func:`springcad.design.cam.d_bore`),
+    so a D shaft or D hub built from it fits that bore line to line.
     """
     from springcad.design.cam import d_bore
 
-    if corner_radius_mm <= 0:
-        return d_bore(radius_mm, flat_ratio)
-    return rounded_d_loop(radius_mm, flat_ratio, corner_radius_mm)
-
-
-def rounded_d_loop(radius_mm: float, flat_ratio: float, corner_radius_mm: float) -> Loop:
-    """D shape whose two arc/flat corners are rounded with ``corner_radius_mm`` (mm).
-
-    The corner arc is tangent to the flat (y = -f) and internally tangent to the
-    circle: its centre lies at height -f + rho on the circle of radius R - rho.
-    """
-    R, f, rho = radius_mm, flat_ratio * radius_mm, corner_radius_mm
-    yc = -f + rho
-    xc = math.sqrt((R - rho) ** 2 - yc ** 2)
-    a_t = math.atan2(yc, xc)  # direction of the tangency point on the big circle
-    big = Arc((0.0, 0.0), R, a_t, math.pi - a_t)
-    left = Arc((-xc, yc), rho, math.pi - a_t, 1.5 * math.pi)
-    flat = Line((-xc, -f), (xc, -f))
-    right = Arc((xc, yc), rho, -0.5 * math.pi, a_t)
-    return Loop((big, left, flat, right))
+    return d_bore(radius_mm, flat_ratio)
 
 
 def prism_solid(slabs, part: str) -> Solid:

@@ -14,9 +14,6 @@ from springcad.design.curves import Profile
 from springcad.errors import GeometryError
 from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, circle_loop, d_loop
 
-PROFILE_NOTE = ("Cut the contour on the layer CUT of the DXF (true size, mm); "
-                "profile tolerance applies to every cut edge.")
-
 
 def _sector(x: float, y: float, n: int) -> int:
     """Index of the flexure / tooth sector containing (x, y); sector 0 on +y."""
@@ -67,8 +64,7 @@ class FlexureRing(SpringcadPart):
             heat_treatment=mat.heat_treatment, density_kg_per_m3=mat.density_kg_per_m3,
             process="wire_edm", thickness_mm=self.thickness, cut_profile=spring.ring,
             dimensions=dims,
-            notes=(PROFILE_NOTE,
-                   f"{self.n_flexures} flexures, equally spaced; flexure 0 on +Y.",
+            notes=(f"{self.n_flexures} flexures, equally spaced; flexure 0 on +Y.",
                    f"Tip balls R{self.tip_radius:g} at contact radius R{self.contact_radius:g}: "
                    "critical to function (cam-to-tip gap "
                    f"{spring.manufacturing.w_gap_mm:g} mm).",
@@ -144,8 +140,7 @@ class Camshaft(SpringcadPart):
         if hub_length_mm:
             dims["hub length"] = hub_length_mm
             dims["hub diameter"] = 2 * self.hub_radius
-        notes = [PROFILE_NOTE,
-                 f"{self.n_teeth} teeth; pocket 0 on +Y. Tooth flanks keep a {self.gap:g} mm gap "
+        notes = [f"{self.n_teeth} teeth; pocket 0 on +Y. Tooth flanks keep a {self.gap:g} mm gap "
                  f"to the flexure tips of spring {names}.",
                  ("Bore: D flat at {:.2f} mm from the axis (takes the D torque shaft)."
                   .format(flat_ratio * 0.5 * bore_diameter_mm)) if bore == "d_flat" else

@@ -68,7 +68,7 @@ class RimScrew(SpringcadPart):
                                 f"{grip_mm:g} mm grip and a nut; use dowels")
         screw = SocketHeadCapScrew(size, lengths[0], "iso4762", simple=True)
         solid = screw.solids()[0].moved(Rot(180, 0, 0))
-        self.size, self.length = size, lengths[0]
+        self.thread_size, self.length = size, lengths[0]
         self.head_height, self.head_diameter = screw.head_height, screw.head_diameter
         slabs = (Slab(-self.head_height, 0.0, Profile(circle_loop(0.5 * self.head_diameter))),
                  Slab(0.0, self.length, Profile(circle_loop(0.5 * screw.thread_diameter))))
@@ -91,12 +91,12 @@ class RimNut(SpringcadPart):
 
         size = _metric_size(HexNut, diameter_mm, "iso4032")
         nut = HexNut(size, "iso4032", simple=True)
-        self.height = nut.nut_thickness
-        slabs = (Slab(0.0, self.height, Profile(_hexagon(nut.nut_diameter),
+        self.nut_height = nut.nut_thickness
+        slabs = (Slab(0.0, self.nut_height, Profile(_hexagon(nut.nut_diameter),
                                                 (circle_loop(0.5 * nut.thread_diameter),))),)
         info = PartInfo(part_number=part_number, title="Hex nut", kind="fastener",
                         material=STEEL[0], heat_treatment="", density_kg_per_m3=STEEL[1],
-                        process="purchased", thickness_mm=self.height,
+                        process="purchased", thickness_mm=self.nut_height,
                         standard=f"ISO 4032 - {size.split('-')[0]}", notes=("Catalogue part.",))
         super().__init__(info, slabs, COLOURS["fastener"], solid=nut.solids()[0])
 

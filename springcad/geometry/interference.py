@@ -43,7 +43,8 @@ class PairResult:
             (side faces touch), or "overlap".
         clearance_mm: smallest in-plane boundary distance where the parts share z
             (mm; None when they share no z).
-        depth_mm: deepest in-plane penetration where they share z (mm).
+        depth_mm: deepest in-plane penetration where they share z (mm; at most
+            :data:`NEAR_MM`, a lower bound beyond it).
         location: (x, y, z) of the worst point (mm) or None.
     """
 
@@ -186,18 +187,18 @@ class InterferenceChecker:
         self._radii: dict = {}
 
     def _region(self, inst, k):
-        key = (inst.part.part_number, k, inst.placement.x_mm, inst.placement.y_mm,
+        key = (id(inst.part), k, inst.placement.x_mm, inst.placement.y_mm,
                inst.placement.flipped, inst.placement.angle_rad)
-        if key not in self._regions:
-            self._regions[key] = _Region(inst.part.slabs[k], inst.placement)
-        return key, self._regions[key]
+        if key not in self._regions:  # holding the part keeps its id unique
+            self._regions[key] = (inst.part, _Region(inst.part.slabs[k], inst.placement))
+        return key, self._regions[key][1]
 
     def _radial(self, inst):
         """(r_min, r_max) of an axis-centred part's material, or None when off-axis (mm)."""
         p = inst.placement
         if p.x_mm or p.y_mm:
             return None
-        key = inst.part.part_number
+        key = id(inst.part)
         if key not in self._radii:
             lo, hi = np.inf, 0.0
             for slab in inst.part.slabs:
@@ -205,8 +206,8 @@ class InterferenceChecker:
                 centre_in = bool(inside_region(slab.region, np.zeros((1, 2)), STEP_MM)[0])
                 lo = min(lo, 0.0 if centre_in else min(r.min() for r in rs))
                 hi = max(hi, rs[0].max())
-            self._radii[key] = (lo, hi)
-        return self._radii[key]
+            self._radii[key] = (inst.part, (lo, hi))
+        return self._radii[key][1]
 
     def pair(self, a, b) -> PairResult:
         """Relation of two placed parts."""

@@ -1,0 +1,102 @@
+"""Wire-EDM rules on profiles with known answers, and on the paper's ring."""
+
+import math
+
+import pytest
+
+from springcad.config import ManufacturingSpec
+from springcad.design.curves import Arc, Circle, Line, Loop, Profile
+from springcad.geometry.edm import edm_rules
+
+MFG = ManufacturingSpec()  # wire 0.25, spark gap 0.025 -> inside radius 0.15; slot 0.35; web 0.4
+
+
+def square(half, cx=0.0, cy=0.0, ccw=True):
+    p = [(cx - half, cy - half), (cx + half, cy - half), (cx + half, cy + half), (cx - half, cy + half)]
+    if not ccw:
+        p = p[::-1]
+    return Loop(tuple(Line(p[i], p[(i + 1) % 4]) for i in range(4)))
+
+
+def slot(width, length, cx=0.0, cy=0.0):
+    """Obround hole along x, full-round ends (radius width/2)."""
+    r, h = 0.5 * width, 0.5 * length
+    return Loop((Line((cx - h, cy - r), (cx + h, cy - r)),
+                 Arc((cx + h, cy), r, -math.pi / 2, math.pi / 2),
+                 Line((cx + h, cy + r), (cx - h, cy + r)),
+                 Arc((cx - h, cy), r, math.pi / 2, 1.5 * math.pi)))
+
+
+def rules(profile, tol=0.02, describe=lambda x, y: ""):
+    return {r.rule: r for r in edm_rules(profile, MFG, tol, describe)}
+
+
+def test_outside_corners_may_be_sharp_inside_corners_may_not():
+    plate = rules(Profile(square(10.0)))
+    assert plate["inside_corner_radius"].passed
+    square_hole = rules(Profile(square(10.0), (square(1.0),)))
+    res = square_hole["inside_corner_radius"]
+    assert not res.passed and len(res.violations) == 4
+    corners = sorted((round(v["x_mm"], 6), round(v["y_mm"], 6)) for v in res.violations)
+    assert corners == [(-1, -1), (-1, 1), (1, -1), (1, 1)]
+    assert all(v["value_mm"] == 0.0 for v in res.violations)
+
+
+def test_slot_width_closed_form():
+    res = rules(Profile(square(10.0), (slot(0.3, 4.0, cy=2.0),)))
+    assert res["min_slot_width"].value_mm == pytest.approx(0.3, abs=1e-3)
+    assert not res["min_slot_width"].passed
+    assert all(abs(v["y_mm"] - 2.0) < 0.2 for v in res["min_slot_width"].violations)
+    # full-round ends of radius 0.15 are exactly the smallest radius the wire cuts
+    assert res["inside_corner_radius"].passed
+    assert res["inside_corner_radius"].value_mm == pytest.approx(0.15, abs=1e-9)
+    wide = rules(Profile(square(10.0), (slot(0.5, 4.0),)))
+    assert wide["min_slot_width"].passed
+    assert wide["min_slot_width"].value_mm == pytest.approx(0.5, abs=1e-3)
+
+
+def test_web_and_hole_edge_closed_form():
+    """Two holes of radius 1 with centres 2.3 apart leave a 0.3 mm ligament."""
+    holes = (Loop((Circle((-1.15, 0.0), 1.0),)), Loop((Circle((1.15, 0.0), 1.0),)))
+    res = rules(Profile(square(10.0), holes))
+    web = res["min_web"]
+    assert web.value_mm == pytest.approx(0.3, abs=1e-3)
+    assert [round(v["x_mm"], 2) for v in web.violations] == [0.0]
+    edge = res["hole_edge"]
+    assert edge.value_mm == pytest.approx(0.3, abs=1e-4)
+    assert len(edge.violations) == 2  # both holes are too close to each other
+    far = rules(Profile(square(10.0), (Loop((Circle((0.0, 0.0), 1.0),)),)))
+    assert far["hole_edge"].value_mm == pytest.approx(9.0, abs=1e-4)
+    assert far["min_web"].passed and far["hole_edge"].passed
+
+
+def test_s1_ring_against_its_design(ring_s1):
+    s = ring_s1.spring
+    res = rules(s.ring, s.manufacturing.t_spring_mm, ring_s1.describe)
+    # the narrowest void between neighbouring flexures is the design's own clearance
+    assert res["min_slot_width"].value_mm == pytest.approx(s.min_neighbour_clearance_mm, abs=2e-3)
+    # the flexure is thinnest where its edges meet the neck fillets: no wider than the
+    # distance between the two tangency points, and a violation of the 0.4 mm default
+    unit = s.ring.holes[0].segments
+    neck = math.dist(unit[1].end, unit[5].start)
+    web = res["min_web"]
+    assert 0.9 * neck <= web.value_mm <= neck + 1e-3
+    assert len(web.violations) == s.n_flexures
+    assert {v["feature"].split()[-1] for v in web.violations} == {"tip"}
+    # fillets are at least the wire radius + spark gap; the non-tangent joins are notes
+    corner = res["inside_corner_radius"]
+    assert corner.passed and corner.value_mm == pytest.approx(s.neck_fillet_radius_mm)
+    uncut = [n["uncut_mm"] for n in corner.notes if n["inside"]]
+    assert uncut and max(uncut) < 0.1 * s.manufacturing.t_spring_mm
+    assert res["hole_edge"].value_mm == pytest.approx(
+        0.5 * (s.outer_radius_mm - s.root_radius_mm) - 0.5 * s.hole_diameter_mm, abs=1e-3)
+
+
+def test_violation_locations_name_flexures(ring_s1):
+    res = rules(ring_s1.spring.ring, describe=ring_s1.describe)
+    feats = [v["feature"] for v in res["min_web"].violations]
+    assert sorted(feats) == sorted(f"flexure {k} tip" for k in range(ring_s1.n_flexures))
+    for v in res["min_web"].violations:  # each location lies at its flexure's angle
+        k = int(v["feature"].split()[1])
+        expected = 90.0 + 360.0 * k / ring_s1.n_flexures
+        assert abs((v["angle_deg"] - expected + 180) % 360 - 180) < 180 / ring_s1.n_flexures
