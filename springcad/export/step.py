@@ -29,11 +29,21 @@ def write_part_step(part, path: Path) -> Path:
 
 
 def write_part_stl(part, path: Path) -> Path:
-    """Write one part as binary STL (mm)."""
-    import build123d as bd
+    """Write one part as binary STL (mm), meshed to an absolute chord tolerance.
 
-    bd.export_stl(part.solid, str(path), tolerance=STL_TOLERANCE_MM,
-                  angular_tolerance=STL_ANGULAR_RAD)
+    The part's own solid keeps no mesh: a copy is triangulated (build123d's
+    exporter uses a tolerance relative to the edge size, too coarse here).
+    """
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_Copy
+    from OCP.BRepMesh import BRepMesh_IncrementalMesh
+    from OCP.StlAPI import StlAPI_Writer
+
+    copy = BRepBuilderAPI_Copy(part.solid.wrapped, True, False).Shape()
+    BRepMesh_IncrementalMesh(copy, STL_TOLERANCE_MM, False, STL_ANGULAR_RAD, True)
+    writer = StlAPI_Writer()
+    writer.ASCIIMode = False
+    if not writer.Write(copy, str(path)):
+        raise OSError(f"could not write the STL {path}")
     return Path(path)
 
 

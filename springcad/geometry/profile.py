@@ -68,6 +68,18 @@ def _where(x: float, y: float) -> str:
             f"{math.degrees(math.atan2(y, x)):.1f} deg")
 
 
+def _cause(la: int, lb: int) -> str:
+    """What probably went wrong when loops ``la`` and ``lb`` meet, and what to change."""
+    if max(la, lb) >= 2:
+        return ("a hole does not fit where it is (it cuts the rim or a flexure): use smaller "
+                "fasteners (hardware.fastener_diameter_mm) or a wider rim")
+    if la == lb:
+        return ("the contour is self-intersecting (flexures too wide or too curved for their "
+                "pitch, or a fillet that does not fit its corner): fewer flexures, a larger "
+                "outer radius or a lower stiffness")
+    return "the contours must stay apart: change the design"
+
+
 def check_loops(profile: Profile, part: str = "part", step_mm: float = 0.02) -> None:
     """Check that no loop crosses itself or another loop and that holes lie inside.
 
@@ -112,10 +124,7 @@ def check_loops(profile: Profile, part: str = "part", step_mm: float = 0.02) -> 
         x, y = mid[a[k]]
         what = (f"the {_loop_name(la)} crosses itself" if la == lb else
                 f"the {_loop_name(la)} and the {_loop_name(lb)} cross")
-        raise GeometryError(
-            f"{part}: {what} at {_where(x, y)}; the profile is self-intersecting (flexures "
-            "too wide or too curved for their pitch, a fillet that does not fit, or a hole "
-            "cutting a flexure): change the design so the contours stay apart")
+        raise GeometryError(f"{part}: {what} at {_where(x, y)}; {_cause(la, lb)}")
     # contours that touch without crossing (a fillet swept the long way, a hole tangent
     # to an edge): samples of far-apart stretches closer than half a step
     index = np.arange(len(p0)) - np.repeat(np.cumsum([0] + [len(q) for q in pts[:-1]]),
@@ -132,9 +141,7 @@ def check_loops(profile: Profile, part: str = "part", step_mm: float = 0.02) -> 
             la, lb = loop_of[a[k]], loop_of[b[k]]
             what = (f"the {_loop_name(la)} touches itself" if la == lb else
                     f"the {_loop_name(la)} touches the {_loop_name(lb)}")
-            raise GeometryError(
-                f"{part}: {what} at {_where(*p0[a[k]])}; contours must stay apart (a fillet "
-                "that does not fit its corner, or a hole on an edge): change the design")
+            raise GeometryError(f"{part}: {what} at {_where(*p0[a[k]])}; {_cause(la, lb)}")
     from matplotlib.path import Path
 
     outer = Path(pts[0])

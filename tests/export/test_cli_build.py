@@ -1,0 +1,95 @@
+"""``springcad build`` in-process: atomic output, violations, build.json, read-backs."""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from cad_fixtures import TEMPLATES, job_data, toml_text
+from springcad.cli import main
+
+S1 = TEMPLATES / "paper_S1.toml"
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    """One accepted S1 build shared by the tests below."""
+    out = tmp_path_factory.mktemp("build") / "s1"
+    code = main(["build", str(S1), "--out", str(out), "--accept-violations", "--revision", "B"])
+    return code, out
+
+
+def test_violations_fail_without_acceptance(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["build", str(S1), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "manufacturability violations" in err and "edm.min_web" in err
+    assert "--accept-violations" in err
+    assert not out.exists() and list(tmp_path.iterdir()) == []  # nothing half-written
+
+
+def test_build_writes_everything_it_lists(built):
+    code, out = built
+    assert code == 0
+    doc = json.loads((out / "build.json").read_text())
+    paths = {f["path"] for f in doc["files"]}
+    for f in doc["files"]:
+        assert (out / f["path"]).stat().st_size == f["bytes"] > 0
+    on_disk = {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()} - {"build.json"}
+    assert on_disk == paths
+    for pn in ("S1-RING", "S1-CAM-L4.5-H6"):
+        for ext in ("step", "stl", "dxf", "svg", "pdf"):
+            assert f"parts/{pn}.{ext}" in paths
+    assert {"assembly.step", "bom.csv", "assembly.png", "design.json"} <= paths
+    stack = doc["stack"]
+    assert stack["input"] == "shaft" and stack["output"] == "rim"
+    assert set(stack["input_parts"]) == {"camshaft_1", "input_torque_shaft"}
+    assert set(stack["output_parts"]) == {"spring_1_S1", "output_rim_flange"}
+
+
+def test_build_json_records_every_check(built):
+    _, out = built
+    checks = json.loads((out / "build.json").read_text())["checks"]
+    items = checks["items"]
+    assert checks["passed"] and checks["violations_accepted"]
+    names = {c["name"] for c in items}
+    assert {"solid_valid", "volume_matches_profile", "interference", "cam_clearance",
+            "connection_sequence", "step_roundtrip", "dxf_roundtrip", "edm.min_web"} <= names
+    gap = next(c for c in items if c["name"] == "cam_clearance")
+    assert gap["passed"] and gap["value"] == pytest.approx(0.025, abs=1e-3)
+    failed = [c for c in items if not c["passed"]]
+    assert failed and all(c["kind"] == "rule" for c in failed)
+    web = next(c for c in failed if c["name"] == "edm.min_web")
+    assert len(web["details"]) == 28 and {"x_mm", "y_mm", "feature", "value_mm"} <= set(web["details"][0])
+    rt = [c for c in items if c["name"].endswith("_roundtrip")]
+    assert rt and all(c["passed"] for c in rt)
+
+
+def test_existing_output_is_never_overwritten_silently(built, tmp_path, capsys):
+    _, out = built
+    before = (out / "build.json").read_text()
+    assert main(["build", str(S1), "--out", str(out), "--accept-violations"]) == 2
+    assert "already exists" in capsys.readouterr().err
+    assert (out / "build.json").read_text() == before
+
+
+@pytest.mark.slow
+def test_overwrite_replaces_the_folder(tmp_path):
+    out = tmp_path / "out"
+    (out / "old").mkdir(parents=True)
+    (out / "old" / "stale.txt").write_text("x")
+    assert main(["build", str(S1), "--out", str(out), "--accept-violations", "--overwrite",
+                 "--no-render"]) == 0
+    assert not (out / "old").exists() and (out / "build.json").exists()
+
+
+def test_unbuildable_geometry_stops_with_the_part_named(tmp_path, capsys):
+    """Rim holes too large for the rim: the kernel is never asked, the part is named."""
+    cfg = tmp_path / "bad.toml"
+    cfg.write_text(toml_text(job_data(["S1"], "shaft", hardware={"fastener_diameter_mm": 3.0})))
+    out = tmp_path / "out"
+    assert main(["build", str(cfg), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "S1-RING:" in err and "hole" in err and "fastener_diameter_mm" in err
+    assert not out.exists()
+    assert [p.name for p in tmp_path.iterdir()] == ["bad.toml"]
