@@ -1,7 +1,6 @@
 """``springcad build`` in-process: atomic output, violations, build.json, read-backs."""
 
 import json
-from pathlib import Path
 
 import pytest
 
