@@ -25,6 +25,8 @@ TORQUE_SHAFT_STICKOUT_MM = 10.0
 SOCKET_WALL_MM = 2.0
 #: axial clearance between a torque shaft's inner end and the spring face / spacer (mm)
 SOCKET_FACE_CLEARANCE_MM = 0.5
+#: camshaft hub radius below the cam root radius, so the EDM wire clears the hub (mm)
+HUB_WIRE_CLEARANCE_MM = 0.1
 #: drive flat on a D bore or a D hub, as a fraction of its radius (-)
 FLAT_RATIO = 0.8
 ALUMINIUM = ("aluminium 6061-T6", 2700.0)
@@ -142,7 +144,8 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
         role = ("input" if first == 0 and input_connection == SHAFT else
                 "output" if last == n - 1 and output_connection == SHAFT else "")
         hub = hw.camshaft_hub_length_mm if role else 0.0
-        r_hub = s.cam_root_radius_mm
+        # the wire cutting the pockets runs the full length: keep the turned hub inside it
+        r_hub = s.cam_root_radius_mm - HUB_WIRE_CLEARANCE_MM
         bore = 0.5 * hw.shaft_diameter_mm
         vol = s.cam.area_mm2() * (end - start) + math.pi * (r_hub ** 2 - bore ** 2) * hub
         # With an alignment shaft every camshaft runs on it (round bore) and an end camshaft

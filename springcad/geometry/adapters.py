@@ -75,6 +75,3 @@ class TorqueShaft(SpringcadPart):
     @property
     def tolerance_mm(self) -> float:
         return 0.02
-
-    def describe(self, x: float, y: float) -> str:
-        return "shaft"

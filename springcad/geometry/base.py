@@ -29,6 +29,10 @@ COLOURS = {
 }
 
 
+#: tolerance of turned, sheet and catalogue parts unless a part says otherwise (mm)
+GENERAL_TOLERANCE_MM = 0.05
+
+
 @dataclass(frozen=True)
 class Slab:
     """A planar region swept along z from ``z0_mm`` to ``z1_mm`` (part frame, mm)."""
@@ -108,6 +112,15 @@ class SpringcadPart(BasePartObject):
     @property
     def part_number(self) -> str:
         return self.info.part_number
+
+    @property
+    def tolerance_mm(self) -> float:
+        """General tolerance of the part (mm); profile-cut parts override it."""
+        return GENERAL_TOLERANCE_MM
+
+    def describe(self, x: float, y: float) -> str:
+        """Name the feature at part-frame (x, y) mm for check reports."""
+        return ""
 
     @property
     def solid(self) -> Solid:

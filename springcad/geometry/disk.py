@@ -100,13 +100,15 @@ class Camshaft(SpringcadPart):
             the alignment shaft).
         drive: "bore_flat", "hub_flat" (D flat on the hub) or "" (floating).
         bore_diameter_mm, flat_ratio: bore size (mm) and hub flat position (-).
+        hub_radius_mm: hub radius (mm), inside the cam root radius.
 
     Attributes:
         travel_rad: cam rotation the tooth flank covers (rad).
     """
 
     def __init__(self, spring, toothed_length_mm: float, hub_length_mm: float,
-                 bore: str, drive: str, bore_diameter_mm: float, flat_ratio: float):
+                 bore: str, drive: str, bore_diameter_mm: float, flat_ratio: float,
+                 hub_radius_mm: float = 0.0):
         self.spring = spring
         self.n_teeth = spring.n_flexures
         self.contact_radius = spring.contact_radius_mm
@@ -114,7 +116,7 @@ class Camshaft(SpringcadPart):
         self.root_radius = spring.cam_root_radius_mm
         self.toothed_length = toothed_length_mm
         self.hub_length = hub_length_mm
-        self.hub_radius = spring.cam_root_radius_mm
+        self.hub_radius = hub_radius_mm
         self.bore, self.drive = bore, drive
         self.bore_diameter = bore_diameter_mm
         self.gap = spring.manufacturing.w_gap_mm
@@ -149,8 +151,9 @@ class Camshaft(SpringcadPart):
             notes.append("Hub: turned, concentric to the bore within 0.01 mm; "
                          + ("D flat on the hub drives the torque shaft." if drive == "hub_flat"
                             else "torque through the D bore."))
-            notes.append("Cut the teeth through the toothed length only; the hub is "
-                         "inside the root circle and clears the wire.")
+            notes.append(f"Hub diameter {2 * self.hub_radius:.3f} is "
+                         f"{self.root_radius - self.hub_radius:.2f} mm inside the root radius: "
+                         "the wire cutting the teeth passes it.")
         info = PartInfo(
             part_number=tag, title=f"Camshaft {names}" + (" (end)" if hub_length_mm else ""),
             kind="camshaft", material=mat.description or mat.name,

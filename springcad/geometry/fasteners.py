@@ -79,9 +79,6 @@ class RimScrew(SpringcadPart):
                         notes=("Catalogue part.",))
         super().__init__(info, slabs, COLOURS["fastener"], solid=solid)
 
-    def describe(self, x, y):
-        return "screw"
-
 
 class RimNut(SpringcadPart):
     """ISO 4032 hex nut (bd_warehouse) on the far rim face, z from 0 to its height."""
@@ -99,9 +96,6 @@ class RimNut(SpringcadPart):
                         process="purchased", thickness_mm=self.nut_height,
                         standard=f"ISO 4032 - {size.split('-')[0]}", notes=("Catalogue part.",))
         super().__init__(info, slabs, COLOURS["fastener"], solid=nut.solids()[0])
-
-    def describe(self, x, y):
-        return "nut"
 
 
 def nut_height_mm(diameter_mm: float) -> float:

@@ -5,9 +5,12 @@ placed parts overlap exactly when two of their slabs overlap both along z and
 in the plane. The plane test uses dense boundary samples of the exact profiles:
 a boundary point of one region lying inside the other region's material by more
 than :data:`CONTACT_TOL_MM` is a penetration; boundaries closer than that are a
-contact. The cam-to-tip clearance is measured twice: on the sampled profiles
-over every flexure, and with the kernel's exact B-rep distance on a few sectors
-of the placed solids. Units: mm.
+contact. For prism parts the slabs are the solid (their volumes are checked
+against each other); for catalogue screws and nuts they are enclosing
+cylinders and prisms, so the test errs on the safe side. The cam-to-tip
+clearance is measured twice: on the sampled profiles over every flexure, and
+with the kernel's exact B-rep distance on a few sectors of the placed solids.
+Units: mm.
 """
 
 from __future__ import annotations
@@ -285,7 +288,7 @@ def _faces_with_boxes(inst):
     """The placed solid's side faces with their bounding boxes (cached on the instance)."""
     from build123d import GeomType
 
-    cached = getattr(inst, "_face_boxes", None)
+    cached = inst._face_boxes
     if cached is None:
         cached = []
         for f in inst.shape.faces():

@@ -61,12 +61,6 @@ class AnnularPart(SpringcadPart):
                         dimensions=dims, notes=self.NOTES, standard=standard)
         super().__init__(info, (Slab(0.0, length_mm, region),), COLOURS[self.COLOUR])
 
-    @property
-    def tolerance_mm(self) -> float:
-        return 0.05
-
-    def describe(self, x: float, y: float) -> str:
-        return "ring"
 
 
 class RimSpacer(AnnularPart):

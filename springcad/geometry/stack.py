@@ -74,6 +74,7 @@ class Instance:
     role: str = ""
     colour: tuple = ()
     _shape: object = field(default=None, repr=False)
+    _face_boxes: object = field(default=None, repr=False)
 
     @property
     def shape(self):
@@ -211,11 +212,11 @@ def build_stack(job_design, progress=None) -> StackAssembly:
             prof = next(m for m in members if m.name == d.get("profile_spring", members[0].name))
             length = d["toothed_end_mm"] - d["toothed_start_mm"]
             hub = d["hub_length_mm"]
-            key = ("cam", prof.name, _r(length), _r(hub), d.get("bore", "d_flat"),
-                   d.get("drive", ""))
+            key = ("cam", prof.name, _r(length), _r(hub), _r(d["hub_radius_mm"]),
+                   d.get("bore", "d_flat"), d.get("drive", ""))
             part = cache.get(key, lambda pn: Camshaft(
                 prof, length, hub, d.get("bore", "d_flat"), d.get("drive", ""),
-                d["bore_diameter_mm"], d.get("flat_ratio", 0.8)))
+                d["bore_diameter_mm"], d.get("flat_ratio", 0.8), d["hub_radius_mm"]))
             part.check_members(members)
             flipped = comp.role == "output" and hub > 0
             z = d["toothed_start_mm"] + (length if flipped else 0.0)

@@ -66,6 +66,9 @@ def test_camshaft_teeth_and_hub(cam_s1, s1_design):
     hub = cam_s1.slabs[0].region.area_mm2() * cam_s1.hub_length
     assert solid_volume_mm3(solid) == pytest.approx(teeth + hub, rel=1e-5)
     assert cam_s1.bore == "d_flat"  # no alignment shaft in a single spring
+    # the turned hub stays inside the wire path at the pocket bottoms
+    wire = s.manufacturing.min_inside_radius_mm
+    assert cam_s1.hub_radius + 1e-9 < cam_s1.root_radius - 0.0 <= cam_s1.hub_radius + wire
 
 
 def test_d_shaft_area_closed_form(s1_stack):
