@@ -8,6 +8,7 @@ along x. Units: mm, N, MPa, rad. Equations follow
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -102,11 +103,11 @@ class Centreline:
     def is_straight(self) -> bool:
         return all(abs(x) < 1e-12 for x in self.x_mm)
 
+    @functools.cached_property
     def _cs(self):
-        from scipy.interpolate import CubicSpline
+        from springcad.design.numeric import ClampedCubic
 
-        return CubicSpline(self.y_mm, self.x_mm,
-                           bc_type=((1, self.end_slopes[0]), (1, self.end_slopes[1])))
+        return ClampedCubic(self.y_mm, self.x_mm, *self.end_slopes)
 
     def evaluate(self, y):
         """x, dx/dy, d2x/dy2 at y (arrays)."""
@@ -114,7 +115,7 @@ class Centreline:
         if self.is_straight:
             z = np.zeros_like(y)
             return z, z, z
-        cs = self._cs()
+        cs = self._cs
         x, dx, ddx = cs(y), cs(y, 1), cs(y, 2)
         # beyond the root station the flexure runs on straight along its root tangent
         y_end, x_end, slope = self.y_mm[-1], self.x_mm[-1], self.end_slopes[1]
@@ -223,8 +224,7 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
     Raises:
         DesignError: no candidate meets all constraints.
     """
-    from scipy.integrate import cumulative_trapezoid
-    from scipy.optimize import brentq
+    from springcad.design.numeric import cumtrapz, find_root
 
     rc, rr = contact_radius_mm, root_radius_mm
     L = rr - rc
@@ -238,7 +238,7 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
 
     def build(lam, budget, h):
         tan_b = lam * budget * h
-        theta = cumulative_trapezoid(tan_b / r, r, initial=0.0)
+        theta = cumtrapz(tan_b / r, r)
         x, y = r * np.sin(theta), r * np.cos(theta)
         w = width_fn(y)
         area = float(np.trapezoid(w * np.sqrt(1.0 + tan_b ** 2), r))
@@ -288,8 +288,8 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
                 if build(1.0, budget, h)[4] < target_area_ratio:
                     result, why = None, "tilt budget too small"
                     break
-                lam = brentq(lambda v: build(v, budget, h)[4] - target_area_ratio, 0.0, 1.0,
-                             xtol=1e-10)
+                lam = find_root(lambda v: build(v, budget, h)[4] - target_area_ratio, 0.0, 1.0,
+                                xtol=1e-10)
                 x, y, _, theta, _ = build(lam, budget, h)
                 result, why = check(x, y, theta)
                 if result is None or result[2] >= min_clearance_mm:

@@ -91,7 +91,7 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
             "output" if i == n - 1 and output_connection != SHAFT else "")
         comps.append(Component(
             f"spring_{i + 1}_{s.name}", "flexure_ring", steel[0], 1,
-            s.ring.area_mm2() * s.thickness_mm, steel[1], z0[i], s.thickness_mm,
+            s.profile_area_mm2 * s.thickness_mm, steel[1], z0[i], s.thickness_mm,
             {"outer_radius_mm": s.outer_radius_mm, "root_radius_mm": s.root_radius_mm,
              "spring_index": i}, role))
     cams = camshaft_indices(joints)
@@ -105,7 +105,7 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
         hub = hw.camshaft_hub_length_mm if role else 0.0
         r_hub = s.cam_root_radius_mm
         bore = 0.5 * hw.shaft_diameter_mm
-        vol = s.cam.area_mm2() * (end - start) + math.pi * (r_hub ** 2 - bore ** 2) * hub
+        vol = s.cam_area_mm2 * (end - start) + math.pi * (r_hub ** 2 - bore ** 2) * hub
         comps.append(Component(
             f"camshaft_{c + 1}", "camshaft", steel[0], 1, vol, steel[1],
             start - hub if role == "input" else start, end - start + hub,

@@ -55,7 +55,7 @@ class _Edge:
 
 def _solve(f, start, stop, what, step=0.02):
     """First root of f met when scanning from ``start`` toward ``stop`` (mm)."""
-    from scipy.optimize import brentq
+    from springcad.design.numeric import find_root
 
     n = max(2, int(abs(stop - start) / step) + 1)
     grid = np.linspace(start, stop, n)
@@ -65,7 +65,7 @@ def _solve(f, start, stop, what, step=0.02):
         if prev == 0.0:
             return a
         if prev * cur < 0:
-            return brentq(f, min(a, b), max(a, b), xtol=1e-12)
+            return find_root(f, min(a, b), max(a, b), xtol=1e-12)
         prev = cur
     raise DesignError(what)
 

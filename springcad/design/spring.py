@@ -19,6 +19,7 @@ Units: mm, N, MPa, N*mm, rad, kg.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -114,7 +115,17 @@ class SpringDesign:
 
     @property
     def profile_area_mm2(self) -> float:
-        return self.ring.area_mm2() if self.ring is not None else float("nan")
+        return self._areas[0]
+
+    @property
+    def cam_area_mm2(self) -> float:
+        return self._areas[1]
+
+    @functools.cached_property
+    def _areas(self) -> tuple[float, float]:
+        nan = float("nan")
+        return (self.ring.area_mm2() if self.ring is not None else nan,
+                self.cam.area_mm2() if self.cam is not None else nan)
 
     @property
     def model_area_mm2(self) -> float:
@@ -192,7 +203,7 @@ class SpringDesign:
 # --------------------------------------------------------------------- layout rules
 def _rim_root_radius(outer_radius_mm, n, contact_radius_mm, root_width_fn) -> float:
     """Solve R_o - R_r = (2 pi R_r / N - w0(R_r)) / 1.5 for R_r by bracketing (eq. 8)."""
-    from scipy.optimize import brentq
+    from springcad.design.numeric import find_root
 
     def f(rr):
         return (outer_radius_mm - rr
@@ -204,7 +215,7 @@ def _rim_root_radius(outer_radius_mm, n, contact_radius_mm, root_width_fn) -> fl
             f"{n} flexures do not fit between r_c = {contact_radius_mm:.3g} mm and "
             f"R_o = {outer_radius_mm:.3g} mm: the flexure roots are wider than the rim circle "
             "allows; use fewer flexures, a larger outer radius or a lower stiffness")
-    return brentq(f, lo, hi, xtol=1e-10)
+    return find_root(f, lo, hi, xtol=1e-10)
 
 
 @dataclass(frozen=True)
