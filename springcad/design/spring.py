@@ -282,6 +282,8 @@ def _choose_layout(spec: SpringSpec, sigma, E) -> _Layout:
             return lay
         if spec.tip_radius_mm is not None:
             return _layout(spec, sigma, E, fx.max_flexures(spec.tip_radius_mm, rc), rc)
+        if peak > cap(rc, z, sigma):
+            raise cap_error(rc)
         for n in range(fx.max_flexures(spec.min_tip_radius_mm, rc), 1, -1):
             lay = _layout(spec, sigma, E, n, rc)
             if _fits(spec, lay):
