@@ -66,7 +66,7 @@ BAD = {
     "bad output": (lambda d: d["stack"].update(output="shaft"),
                    r"stack\.output.*must be 'rim' for 1 spring"),
     "design stress above yield": (lambda d: d["material"].update(design_stress_MPa=1500),
-                                  r"design_stress_MPa.*below the yield strength 1360"),
+                                  r"design_stress_MPa.*below the yield strength 1344"),
     "custom material incomplete": (lambda d: d["material"].update(name="unobtainium"),
                                    r"material\.name.*unobtainium.*needs youngs_modulus_GPa"),
     "not a number": (lambda d: d["springs"]["S1"].update(thickness_mm="thick"),
@@ -111,7 +111,7 @@ def test_material_defaults_and_overrides():
     d["material"] = {"name": "420_ht", "youngs_modulus_GPa": 210, "safety_factor": 2.0}
     job = job_from_dict(d)
     assert job.material.material.youngs_modulus_MPa == 210e3
-    assert job.material.design_stress_MPa == pytest.approx(1360 / 2.0)
+    assert job.material.design_stress_MPa == pytest.approx(1344 / 2.0)
 
 
 def test_unreadable_file(tmp_path):
