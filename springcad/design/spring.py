@@ -113,6 +113,25 @@ class SpringDesign:
         return fx.constant_stress_width_mm(y, self.tip_load_N, self.contact_radius_mm,
                                            self.thickness_mm, self.material.design_stress_MPa)
 
+    def beam_stiffness_Nmm_per_rad(self, width_offset_mm: float = 0.0,
+                                   youngs_modulus_MPa: float | None = None) -> float:
+        """Beam-theory stiffness of this geometry (N*mm/rad), optionally perturbed.
+
+        K = N r_c^2 / (delta/F) with delta/F = integral 12 (y - r_c)^2 / (E z w^3) ds
+        (Castigliano, Euler-Bernoulli bending only).
+
+        Args:
+            width_offset_mm: every flexure edge moved outward by this much (the flexure
+                gets 2x wider), as a wire-EDM profile error would (mm).
+            youngs_modulus_MPa: E to use instead of the material's (MPa).
+        """
+        E = youngs_modulus_MPa or self.material.material.youngs_modulus_MPa
+        y = np.linspace(self.contact_radius_mm, self.root_radius_mm, 4001)
+        w = np.maximum(self.width_mm(y) + 2.0 * width_offset_mm, 1e-6)
+        c = fx.compliance_mm_per_N(self.centreline, y, w, self.thickness_mm, E,
+                                   self.contact_radius_mm)
+        return self.n_flexures * self.contact_radius_mm ** 2 / c
+
     @property
     def profile_area_mm2(self) -> float:
         return self._areas[0]
@@ -389,16 +408,6 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
             root_zone_mm=2.0 * (spec.outer_radius_mm - rr))
         centre, ratio, clearance = res.centreline, res.area_ratio, res.min_clearance_mm
 
-    # beam prediction of the generated centreline (Castigliano)
-    y = np.linspace(rc, rr, 4001)
-    if width_law == "stiffness":
-        w = w0 * np.sqrt((y - rc) / L)
-    else:
-        w = fx.constant_stress_width_mm(y, lay.load, rc, z, sigma)
-    c = fx.compliance_mm_per_N(centre, y, w, z, E, rc)
-    k_beam = n * rc ** 2 / c
-    load_at_max = k_beam * theta_d / (n * rc)
-    peak_stress = 6 * load_at_max * L / (z * w0 ** 2)  # uniform along a constant-stress flexure
 
     t_rim = spec.outer_radius_mm - rr
     gap_root = 2 * math.pi * rr / n - w0
@@ -418,8 +427,14 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
         straight_limit_rad=lay.theta_s, serpentine_factor=s_req, centreline=centre,
         area_ratio=ratio, min_neighbour_clearance_mm=clearance, rim_thickness_mm=t_rim,
         root_fillet_radius_mm=root_fillet, neck_fillet_radius_mm=neck_fillet,
-        torque_cap_Nmm=fx.torque_cap_Nmm(rc, z, sigma), stiffness_beam_Nmm_per_rad=k_beam,
-        peak_stress_MPa=peak_stress, warnings=tuple(warnings))
+        torque_cap_Nmm=fx.torque_cap_Nmm(rc, z, sigma), stiffness_beam_Nmm_per_rad=float("nan"),
+        peak_stress_MPa=float("nan"), warnings=tuple(warnings))
+    # beam prediction of the generated centreline (Castigliano); the flexure is a
+    # constant-stress beam, so the peak stress is uniform along it
+    k_beam = design.beam_stiffness_Nmm_per_rad()
+    load_at_max = k_beam * theta_d / (n * rc)
+    design = _replace(design, stiffness_beam_Nmm_per_rad=k_beam,
+                      peak_stress_MPa=6 * load_at_max * L / (z * w0 ** 2))
     ring, holes, hole_d = ring_profile(design)
     cam, cam_info = cam_profile(design)
     return _replace(design, ring=ring, hole_centres_mm=holes, hole_diameter_mm=hole_d, cam=cam,
