@@ -122,15 +122,26 @@ class SpringDesign:
 
         Args:
             width_offset_mm: every flexure edge moved outward by this much (the flexure
-                gets 2x wider), as a wire-EDM profile error would (mm).
+                gets 2 x offset wider), as a wire-EDM profile error would (mm). The
+                perturbation is applied to the real section, the width law or the tip
+                ball's chord, whichever is wider, and scales the nominal prediction:
+                K(offset) = K_law * C_real(0) / C_real(offset).
             youngs_modulus_MPa: E to use instead of the material's (MPa).
         """
         E = youngs_modulus_MPa or self.material.material.youngs_modulus_MPa
-        y = np.linspace(self.contact_radius_mm, self.root_radius_mm, 4001)
-        w = np.maximum(self.width_mm(y) + 2.0 * width_offset_mm, 1e-6)
-        c = fx.compliance_mm_per_N(self.centreline, y, w, self.thickness_mm, E,
-                                   self.contact_radius_mm)
-        return self.n_flexures * self.contact_radius_mm ** 2 / c
+        rc, z = self.contact_radius_mm, self.thickness_mm
+        y = np.linspace(rc, self.root_radius_mm, 4001)
+        w = self.width_mm(y)
+
+        def compliance(width):
+            return fx.compliance_mm_per_N(self.centreline, y, width, z, E, rc)
+
+        k = self.n_flexures * rc ** 2 / compliance(w)
+        if width_offset_mm:
+            chord = 2 * np.sqrt(np.maximum(self.tip_radius_mm ** 2 - (y - rc) ** 2, 0.0))
+            real = np.maximum(w, chord)
+            k *= compliance(real) / compliance(np.maximum(real + 2 * width_offset_mm, 1e-3))
+        return k
 
     @property
     def profile_area_mm2(self) -> float:
