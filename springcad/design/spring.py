@@ -22,6 +22,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
+from dataclasses import replace as _replace
 
 import numpy as np
 
@@ -453,9 +454,3 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
                     cam_root_radius_mm=cam_info.root_radius_mm,
                     cam_overtravel=cam_info.overtravel,
                     warnings=design.warnings + cam_info.warnings)
-
-
-def _replace(obj, **kw):
-    import dataclasses
-
-    return dataclasses.replace(obj, **kw)
