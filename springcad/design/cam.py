@@ -129,7 +129,7 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
             near = ring_pts[np.hypot(*ring_pts.T) < tip.radius + 0.5]
             clearance = _min_distance(cam_pts, near)
         tried.append((f, tip_w, clearance))
-        if tip_w >= min_web and clearance >= g - 1e-4:  # 1e-4 mm: sampling at 0.01 mm
+        if tip_w >= min_web and clearance >= g - 5e-4:  # 0.5 um: sampling at 0.01 mm + cusp
             break
     else:
         raise DesignError(
