@@ -80,7 +80,9 @@ class SpringDesign:
     cam_overtravel: float = 0.0
     warnings: tuple[str, ...] = field(default_factory=tuple)
     width_scale: float = 1.0
-    """Factor on the width law (1.0 as designed; set by FEA stiffness correction)."""
+    """Factor on every flexure width (1.0 = the beam-theory widths; set by the FEA
+    stiffness correction). ``root_width_mm`` and ``tip_load_N`` stay the beam-theory
+    values; ``width_mm`` and the ring profile include the factor."""
     width_offset_mm: float = 0.0
     """Outward offset of every flexure edge and of the tip ball (a profile error, mm)."""
 
@@ -116,10 +118,9 @@ class SpringDesign:
             w = self.root_width_mm * np.sqrt(np.maximum(y - self.contact_radius_mm, 0.0)
                                              / self.length_mm)
         else:
-            w = self.width_scale * fx.constant_stress_width_mm(
-                y, self.tip_load_N, self.contact_radius_mm, self.thickness_mm,
-                self.material.design_stress_MPa)
-        return w + 2.0 * self.width_offset_mm
+            w = fx.constant_stress_width_mm(y, self.tip_load_N, self.contact_radius_mm,
+                                            self.thickness_mm, self.material.design_stress_MPa)
+        return self.width_scale * w + 2.0 * self.width_offset_mm
 
     def beam_stiffness_Nmm_per_rad(self, width_offset_mm: float = 0.0,
                                    youngs_modulus_MPa: float | None = None) -> float:
@@ -234,6 +235,8 @@ class SpringDesign:
             "envelope_volume_cm3": self.envelope_volume_mm3 / MM3_PER_CM3,
             "energy_density_J_per_cm3": self.energy_density_J_per_cm3,
             "specific_energy_J_per_kg": self.specific_energy_J_per_kg,
+            "width_scale": self.width_scale,
+            "width_offset_mm": self.width_offset_mm,
             "warnings": list(self.warnings),
         }
 
@@ -252,11 +255,8 @@ def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0)
     from springcad.design.cam import cam_profile
     from springcad.design.ring import ring_profile
 
-    base = design
-    w0 = base.root_width_mm / base.width_scale * scale if base.width_law == "stress" else \
-        base.root_width_mm / (base.width_scale or 1.0) * scale
-    d = _replace(base, width_scale=scale, width_offset_mm=offset_mm, root_width_mm=w0,
-                 tip_radius_mm=base.tip_radius_mm - base.width_offset_mm + offset_mm)
+    d = _replace(design, width_scale=scale, width_offset_mm=offset_mm,
+                 tip_radius_mm=design.tip_radius_mm - design.width_offset_mm + offset_mm)
     y = np.linspace(d.contact_radius_mm, d.root_radius_mm, 1201)
     mfg = d.manufacturing
     clearance = None
@@ -282,6 +282,11 @@ def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0)
     cam, info = cam_profile(d)
     return _replace(d, cam=cam, cam_tip_radius_mm=info.tip_radius_mm,
                     cam_root_radius_mm=info.root_radius_mm, cam_overtravel=info.overtravel)
+
+
+def with_width_scale(design: SpringDesign, scale: float) -> SpringDesign:
+    """Every flexure width multiplied by ``scale`` (the FEA correction): :func:`with_width`."""
+    return with_width(design, scale)
 
 
 # --------------------------------------------------------------------- layout rules
