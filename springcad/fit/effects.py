@@ -15,7 +15,7 @@ The common model, in evaluation order::
     θ₁ = θ(t - δ) - θ₀                       angle stage   (time_lag, angle_offset)
     x  = θ_spring(θ₁; h, l)                   map stage     (backlash, eq. 9)
     τ  = K · x · (1 + a·sign x) · (1 + α·(x/θ_ref)²)   factor stage (asymmetric_stiffness, stiffening)
-       + H·d·(1 - 2·exp(-|θ - θ_rev|/θ_p))    torque stage  (hysteresis)
+       + H·d·(1 - 2·exp(-|θ - θ_rev|/θ_p))    torque stage  (hysteresis; 1·exp before the first reversal)
        + τ₀ + ṙ·(t - t₀)                      torque stage  (torque_offset, drift)
 
 ``outliers`` changes which samples are fitted and scored, and
@@ -140,7 +140,9 @@ class Hysteresis(Effect):
 
     def torque(self, p, sig, idx):
         away = np.abs(sig.theta_smooth[idx] - sig.reversal[idx])
-        return p[0] * sig.direction[idx] * (1.0 - 2.0 * np.exp(-away / p[1]))
+        # after a reversal friction swings from -H to +H; from rest it rises from 0
+        swing = np.where(sig.virgin[idx], 1.0, 2.0)
+        return p[0] * sig.direction[idx] * (1.0 - swing * np.exp(-away / p[1]))
 
     def report(self, p, stiffness, sc):
         return {"friction_torque_Nm": float(p[0]), "presliding_rad": float(p[1])}
@@ -158,7 +160,10 @@ class TimeLag(Effect):
         return (Param("lag", -0.5, 0.5, 0.0, 2.0 / sc.sample_rate_hz),)
 
     def angle(self, theta, p, sig, idx):
-        return np.interp(sig.t[idx] - p[0], sig.t, sig.theta)
+        # shift the smooth motion only: the noise of each sample stays its own,
+        # so a fractional lag cannot pose as noise averaging
+        shifted = np.interp(sig.t[idx] - p[0], sig.t, sig.theta_smooth)
+        return theta + (shifted - sig.theta_smooth[idx])
 
     def report(self, p, stiffness, sc):
         return {"lag_s": float(p[0])}

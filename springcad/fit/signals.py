@@ -49,6 +49,7 @@ class Signals:
     rate: np.ndarray
     encoder: np.ndarray | None
     fold: np.ndarray
+    virgin: np.ndarray
     scales: Scales
 
     @property
@@ -97,4 +98,4 @@ def make_signals(record: BenchRecord, seg: Segmentation) -> Signals:
     )
     return Signals(record.time_s, record.deflection_rad, seg.theta_smooth_rad, record.torque_Nm,
                    seg.direction.astype(float), seg.reversal_rad, seg.rate_rad_per_s,
-                   record.encoder_deflection_rad, seg.fold, scales)
+                   record.encoder_deflection_rad, seg.fold, seg.virgin, scales)
