@@ -9,6 +9,7 @@ the measured torque range (Table I).
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -91,6 +92,7 @@ class FitResult:
                       "noise_floor_nrmse_pct": 100.0 * loop.noise_Nm / self.half_range_Nm,
                       "unexplained": loop.unexplained,
                       "unexplained_evidence": loop.structure},
+            "loop_settings": dataclasses.asdict(loop.settings),
             "last_round_candidates": [c.to_dict() for c in loop.rounds[-1]] if loop.rounds else [],
             "target_stiffness_Nm_per_rad": target,
             "stiffness_error_pct": None,

@@ -10,7 +10,7 @@ The design dict is what ``JobDesign.to_dict()`` returns: ``stack.stiffness_Nm_pe
 
 from __future__ import annotations
 
-from springcad.errors import ConfigError
+from springcad.errors import ConfigError, SpringcadError
 from springcad.fit.models import stiffness_error_pct
 
 #: (name, low key, high key) of the backlash ranges in ``stack.backlash_rad``
@@ -114,3 +114,25 @@ def _backlash_statement(measured: float, nominal: float | None, ranges: dict) ->
         verdicts.append(f"{where} the {name.replace('_', ' ')} range "
                         f"[{r['min_rad']:.4g}, {r['max_rad']:.4g}] rad")
     return " ".join(parts) + " is " + "; ".join(verdicts)
+
+
+def design_from_config(path) -> dict:
+    """Design a job config with the design core and return its design dict.
+
+    The design core (``springcad.config``, ``springcad.design.job``) is imported
+    here, so fitting works without it when no config is given.
+
+    Raises:
+        SpringcadError: the design core is not available in this installation.
+        ConfigError: the config is invalid (raised by the design core).
+    """
+    try:
+        from springcad.config import load_job
+        from springcad.design.job import design_job
+    except ModuleNotFoundError as err:
+        if err.name not in ("springcad.config", "springcad.design.job", "springcad.design"):
+            raise
+        raise SpringcadError(
+            f"--config needs the design core ({err.name}), which this installation does not "
+            "have; use --target-stiffness to compare with a target instead") from None
+    return design_job(load_job(path)).to_dict()

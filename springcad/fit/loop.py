@@ -199,6 +199,7 @@ class LoopResult:
         unexplained: whether structure remains that no effect explains.
         noise_Nm: white-noise level of the final residual (N·m).
         half_range_Nm: NRMSE normaliser (N·m).
+        settings: the settings used.
     """
 
     baseline: State
@@ -209,6 +210,7 @@ class LoopResult:
     unexplained: bool
     noise_Nm: float
     half_range_Nm: float
+    settings: LoopSettings
 
     def nrmse_pct(self, state: State, sig: Signals) -> float:
         return _nrmse(state, sig, self.half_range_Nm)
@@ -453,7 +455,7 @@ def run_loop(sig: Signals, settings: LoopSettings = LoopSettings()) -> LoopResul
     state, score_now = _backward(state, score_now, f_scale, lp, steps)
     structure, unexplained, noise = residual_structure(state, sig, settings)
     return LoopResult(baseline, tuple(steps), state, tuple(rounds), structure, unexplained,
-                      noise, lp.half_range)
+                      noise, lp.half_range, settings)
 
 
 def _refresh_mask(state: State, lp: _Loop, f_scale: float) -> State:
