@@ -158,11 +158,16 @@ class BenchNoise:
         deflection_rad: optical deflection noise (the paper's calibrated error
             was about 1e-3 rad).
         encoder_rad: motor encoder noise.
+        camera_fps: if set, the deflection noise is drawn once per camera frame
+            and interpolated linearly to the sample times, as when optical
+            deflection (60 fps in the paper) is resampled to the torque rate;
+            the noise is then correlated over several samples.
     """
 
     torque_Nm: float = 0.03
     deflection_rad: float = 1e-3
     encoder_rad: float = 1e-4
+    camera_fps: float | None = None
 
 
 @dataclass(frozen=True)
@@ -174,7 +179,9 @@ class SimulatedRecord:
         spring: the injected truth.
         noise: the noise levels.
         noise_floor_Nm: RMS torque error of a perfect model of the measured
-            deflection: ``sqrt(mean(σ_τ² + (dτ/dθ)²·σ_θ²))`` over glitch-free samples.
+            deflection: ``sqrt(mean(σ_τ² + (dτ/dθ)²·σ_θ²))`` over glitch-free
+            samples (σ_θ² is the realised variance for camera-rate noise, which
+            interpolation makes smaller than the per-frame variance).
         torque_half_range_Nm: half the noise-free torque range.
         glitch_mask: samples hit by a glitch.
     """
@@ -241,7 +248,12 @@ def simulate(spring: BenchSpring, protocol: Protocol = Protocol(), noise: BenchN
         glitch[where] = True
         size = spring.outlier_size_Nm * rng.uniform(0.5, 1.5, n_glitch)
         torque_meas[where] += size * rng.choice([-1.0, 1.0], n_glitch)
-    theta_meas = theta + spring.angle_offset_rad + rng.normal(0.0, noise.deflection_rad, t.size)
+    if noise.camera_fps:
+        frames = np.arange(t[0], t[-1] + 2.0 / noise.camera_fps, 1.0 / noise.camera_fps)
+        theta_noise = np.interp(t, frames, rng.normal(0.0, noise.deflection_rad, frames.size))
+    else:
+        theta_noise = rng.normal(0.0, noise.deflection_rad, t.size)
+    theta_meas = theta + spring.angle_offset_rad + theta_noise
     if encoders is None:
         encoders = spring.series_stiffness_Nm_per_rad is not None
     encoder = None
@@ -253,7 +265,8 @@ def simulate(spring: BenchSpring, protocol: Protocol = Protocol(), noise: BenchN
         encoder = theta + wind_up + rng.normal(0.0, noise.encoder_rad, t.size)
     eps = 1e-6
     slope = (spring.spring_torque(theta + eps) - spring.spring_torque(theta - eps)) / (2 * eps)
-    floor_sq = noise.torque_Nm ** 2 + (slope * noise.deflection_rad) ** 2
+    theta_var = float(np.var(theta_noise)) if noise.camera_fps else noise.deflection_rad ** 2
+    floor_sq = noise.torque_Nm ** 2 + slope ** 2 * theta_var
     floor = float(np.sqrt(np.mean(floor_sq[~glitch])))
     clean = torque_lag + sensor
     record = make_record(t, torque_meas, theta_meas, encoder, source="simulated")

@@ -154,7 +154,7 @@ def report_blocks(result: FitResult, data: dict, images: dict[str, str]) -> list
                             "NRMSE before (%)", "NRMSE after (%)"], rows))
         for i, s in enumerate(data["steps"]):
             b.append(("p", f"**Step {i + 1}: {s['action']} `{s['effect']}`.** "
-                           f"{s['evidence'].get('meaning', '')}. "
+                           f"{_sentence(s['evidence'].get('meaning', ''))} "
                            + ("Parameters: " + ", ".join(f"{k} = {_f(v)}" for k, v in s["params"].items())
                               if s["params"] else "")))
             if f"step{i}" in images:
@@ -376,3 +376,7 @@ def _plot_residuals(plt, result: FitResult, before: State, after: State | None, 
     fig.savefig(path, dpi=100)
     plt.close(fig)
     return path
+
+
+def _sentence(text: str) -> str:
+    return (text[:1].upper() + text[1:] + ".") if text else ""
