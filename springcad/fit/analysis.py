@@ -93,6 +93,7 @@ class FitResult:
                       "unexplained": loop.unexplained,
                       "unexplained_evidence": loop.structure},
             "loop_settings": dataclasses.asdict(loop.settings),
+            "search_log": list(loop.search_log),
             "last_round_candidates": [c.to_dict() for c in loop.rounds[-1]] if loop.rounds else [],
             "target_stiffness_Nm_per_rad": target,
             "stiffness_error_pct": None,

@@ -200,6 +200,8 @@ class LoopResult:
         noise_Nm: white-noise level of the final residual (N·m).
         half_range_Nm: NRMSE normaliser (N·m).
         settings: the settings used.
+        search_log: every add and remove of the search, in order (the steps
+            are re-derived without the removed effects when there were any).
     """
 
     baseline: State
@@ -211,6 +213,7 @@ class LoopResult:
     noise_Nm: float
     half_range_Nm: float
     settings: LoopSettings
+    search_log: tuple[dict, ...] = ()
 
     def nrmse_pct(self, state: State, sig: Signals) -> float:
         return _nrmse(state, sig, self.half_range_Nm)
@@ -396,8 +399,9 @@ class _Loop:
         return out[False][0], out[True][0], z, out[False][1], out[True][1]
 
     # --- one round -----------------------------------------------------------
-    def round(self, state: State, score_now: float, f_scale: float):
-        """Evaluate all candidates; return the candidate list and the best proposal."""
+    def round(self, state: State, score_now: float, f_scale: float,
+              allowed: set[str] | None = None):
+        """Evaluate the candidates (all, or ``allowed``); return them and the proposals."""
         sig = self.sig
         idx = state.inliers(self.cv)
         residual = state.model.residual(state.x, sig, idx)
@@ -406,6 +410,8 @@ class _Loop:
         cands, proposals = [], []
         for effect in LIBRARY:
             if effect.name in active or not effect.applicable(active, sig):
+                continue
+            if allowed is not None and effect.name not in allowed:
                 continue
             if effect.stage == "mask":
                 full_r = state.model.residual(state.x, sig, self.all)
@@ -457,6 +463,12 @@ def _line_fit(x: np.ndarray, y: np.ndarray, with_slope: bool) -> tuple[float, fl
 def run_loop(sig: Signals, settings: LoopSettings = LoopSettings()) -> LoopResult:
     """Run the residual loop on one record.
 
+    A forward search adds effects greedily; a backward pass removes effects
+    made redundant by later ones. If anything was removed, the path is derived
+    again, forward, over the surviving effects only, so that every reported
+    step adds an effect of the final model with its own fresh evidence; the
+    search itself is kept in :attr:`LoopResult.search_log`.
+
     Args:
         sig: signals of the segmented record.
         settings: loop settings.
@@ -468,15 +480,33 @@ def run_loop(sig: Signals, settings: LoopSettings = LoopSettings()) -> LoopResul
     model = TorqueModel((), sig.scales)
     k_ls = float(sig.theta @ sig.torque / (sig.theta @ sig.theta))
     state = State(model, np.array([k_ls]))
-    state = State(model, model.fit(sig, lp.all, state.x, lp.f_scale(state), max_nfev=200))
-    baseline = state
-    steps: list[Step] = []
-    rounds = []
+    baseline = State(model, model.fit(sig, lp.all, state.x, lp.f_scale(state), max_nfev=200))
+    search: list[Step] = []
+    rounds: list = []
+    state, score_now, f_scale = _forward(baseline, lp, search, rounds, None)
+    state, score_now = _backward(state, score_now, f_scale, lp, search)
+    steps = search
+    if any(s.action == "remove" for s in search):
+        steps, rounds = [], []
+        state, score_now, f_scale = _forward(baseline, lp, steps, rounds, set(state.effects))
+    structure, unexplained, noise = residual_structure(state, sig, settings)
+    log = tuple({"action": s.action, "effect": s.effect,
+                 "heldout_gain": s.evidence.get("heldout_gain",
+                                                -s.evidence.get("heldout_loss_when_removed", 0.0))}
+                for s in search)
+    return LoopResult(baseline, tuple(steps), state, tuple(rounds), structure, unexplained,
+                      noise, lp.half_range, settings, log)
+
+
+def _forward(state: State, lp: _Loop, steps: list[Step], rounds: list,
+             allowed: set[str] | None) -> tuple[State, float, float]:
+    """Add the best candidate while its evidence clears the threshold."""
+    sig, settings = lp.sig, lp.s
     f_scale = lp.f_scale(state)
     lp.update_noise(state)
     score_now, heldout_now = lp.cv_score(state.model, state.x, state.mask, f_scale)
-    while len([s for s in steps if s.action == "add"]) < settings.max_steps:
-        cands, proposals = lp.round(state, score_now, f_scale)
+    while len(steps) < settings.max_steps:
+        cands, proposals = lp.round(state, score_now, f_scale, allowed)
         rounds.append(tuple(cands))
         if not proposals or proposals[0][0] <= settings.gain_threshold:
             break
@@ -505,10 +535,7 @@ def run_loop(sig: Signals, settings: LoopSettings = LoopSettings()) -> LoopResul
         f_scale = lp.f_scale(state)
         lp.update_noise(state)
         score_now, heldout_now = lp.cv_score(state.model, state.x, state.mask, f_scale)
-    state, score_now = _backward(state, score_now, f_scale, lp, steps)
-    structure, unexplained, noise = residual_structure(state, sig, settings)
-    return LoopResult(baseline, tuple(steps), state, tuple(rounds), structure, unexplained,
-                      noise, lp.half_range, settings)
+    return state, score_now, f_scale
 
 
 def _refresh_mask(state: State, lp: _Loop, f_scale: float) -> State:
