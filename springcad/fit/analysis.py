@@ -21,6 +21,7 @@ from springcad.fit.models import PaperModelFit, fit_paper_models, rmse, stiffnes
 from springcad.fit.segment import (CycleEnergy, Segmentation, cycle_energies, energy_loss_pct,
                                    segment)
 from springcad.fit.signals import Signals, make_signals
+from springcad.fit.torque_model import single_threaded_blas
 
 SCHEMA = "springcad.fit/1"
 
@@ -128,9 +129,10 @@ def fit_record(record: BenchRecord, target_stiffness_Nm_per_rad: float | None = 
     seg = segment(record)
     sig = make_signals(record, seg)
     half = sig.scales.torque_ref
-    paper = fit_paper_models(record.deflection_rad, record.torque_Nm, half)
+    with single_threaded_blas():
+        paper = fit_paper_models(record.deflection_rad, record.torque_Nm, half)
+        loop = run_loop(sig, settings)
     cycles = cycle_energies(record, seg)
-    loop = run_loop(sig, settings)
     comparison = None
     if design is not None:
         dead = paper["deadband"]

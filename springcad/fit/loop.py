@@ -39,7 +39,7 @@ from springcad.fit.effects import LIBRARY, Effect, get_effect
 from springcad.fit.models import nrmse_pct, rmse
 from springcad.fit.segment import noise_std
 from springcad.fit.signals import Signals, find_glitches
-from springcad.fit.torque_model import TorqueModel
+from springcad.fit.torque_model import TorqueModel, single_threaded_blas
 
 
 @dataclass(frozen=True)
@@ -302,16 +302,23 @@ class _Loop:
 
     def cv_score(self, model: TorqueModel, x0: np.ndarray, mask: np.ndarray | None,
                  f_scale: float) -> tuple[float, float]:
-        """Two-fold held-out criterion and held-out RMSE (N·m)."""
+        """Two-fold held-out criterion and held-out RMSE (N·m).
+
+        The mean of the two fold fits is kept in ``self.last_fit``: a close
+        start for the fit on all samples.
+        """
         sse, m = 0.0, 0
+        fits = []
         for k in (0, 1):
             train, test = self.folds[k], self.folds[1 - k]
             if mask is not None:
                 train, test = train[~mask[train]], test[~mask[test]]
-            xk = model.fit(self.sig, train, x0, f_scale)
+            xk = model.fit(self.sig, train, fits[0] if fits else x0, f_scale)
+            fits.append(xk)
             r = model.residual(xk, self.sig, test)
             sse += float(r @ r)
             m += r.size
+        self.last_fit = 0.5 * (fits[0] + fits[1])
         n_masked = 0 if mask is None else int(mask[self.cv].sum())
         k_par = model.size + n_masked
         score = self.n_eff * math.log(max(sse, 1e-300) / self.n_cv) + k_par * self.log_n
@@ -365,7 +372,7 @@ class _Loop:
             if sse < best_sse:
                 best_x, best_sse = x_s, sse
         score, heldout = self.cv_score(m2, best_x, state.mask, f_scale)
-        return m2, best_x, score, heldout
+        return m2, self.last_fit, score, heldout
 
     def series_scores(self, state: State) -> tuple[float, float, float, float, float]:
         """Held-out criterion of the encoder channel without and with the slope.
@@ -476,6 +483,11 @@ def run_loop(sig: Signals, settings: LoopSettings = LoopSettings()) -> LoopResul
     Returns:
         Baseline, steps, final model, evidence of leftover structure.
     """
+    with single_threaded_blas():
+        return _run_loop(sig, settings)
+
+
+def _run_loop(sig: Signals, settings: LoopSettings) -> LoopResult:
     lp = _Loop(sig, settings)
     model = TorqueModel((), sig.scales)
     k_ls = float(sig.theta @ sig.torque / (sig.theta @ sig.theta))
