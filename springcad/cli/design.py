@@ -1,0 +1,32 @@
+"""``springcad design CONFIG [--out DIR]``: design math only, writes design.json."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from springcad.cli.common import default_out, write_json
+
+
+def register(sub):
+    p = sub.add_parser("design", help="design springs and the stack; write design.json")
+    p.add_argument("config", type=Path, help="job TOML (see templates/)")
+    p.add_argument("--out", type=Path, default=None,
+                   help="output folder (default outputs/<config name>/)")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing output folder")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from springcad.config import load_job
+    from springcad.design.job import design_job
+    from springcad.report.outdir import atomic_output_dir
+
+    job = load_job(args.config)
+    design = design_job(job)
+    out = args.out or default_out(args.config)
+    with atomic_output_dir(out, overwrite=args.overwrite) as tmp:
+        write_json(tmp / "design.json", design.to_dict())
+    print(design.summary())
+    print(f"\nwrote {out / 'design.json'}")
+    return 0

@@ -1,0 +1,151 @@
+"""Cam tooth profile (the gear-like camshaft that pushes the flexure tips).
+
+Kinematics: a cam rotation psi must move each ball centre tangentially by
+r_c*psi with the contact normal perpendicular to the flexure (so the tip load is
+tangential and the torque arm is r_c). In the cam frame the ball centre then
+traces an involute of the contact circle, c(psi) = R(psi) (r_c psi, r_c), and
+the flank is that path offset by rho = r_b + w_gap along its normal:
+
+    p(psi) = R(psi) (r_c psi - rho, r_c),   psi in [rho / r_c, psi_end].
+
+Below psi* = rho/r_c the offset curve would fold (its radius of curvature
+r_c psi is smaller than rho), so the flank starts there, exactly on the pocket
+arc of radius rho about the resting ball centre: the pocket keeps the gap
+w_gap along the profile normal all around the lower half of the ball. The
+flank runs to psi_end = psi* + f * theta_d (overtravel f = 1.25 when the tooth
+fits, never below 1.0). Units: mm, rad.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from springcad.design.curves import Arc, Line, Loop, Profile, Spline, chain
+from springcad.errors import DesignError
+
+OVERTRAVELS = (1.25, 1.2, 1.15, 1.1, 1.05, 1.0)
+
+
+@dataclass(frozen=True)
+class CamInfo:
+    tip_radius_mm: float
+    root_radius_mm: float
+    overtravel: float
+    tooth_tip_width_mm: float
+    clearance_at_rest_mm: float
+    warnings: tuple[str, ...] = ()
+
+
+def _R(a):
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, -s], [s, c]])
+
+
+def flank_point(psi: float, contact_radius_mm: float, offset_mm: float) -> np.ndarray:
+    """Flank point p(psi) for cam rotation psi (mm)."""
+    return _R(psi) @ np.array([contact_radius_mm * psi - offset_mm, contact_radius_mm])
+
+
+def _unit(rc, rho, pitch, psi_end):
+    """Segments of one pocket (ball 0 on +y) and the following tooth tip arc."""
+    psi0 = rho / rc
+    s_end = 0.5 * rc * (psi_end - psi0) ** 2
+    psis = psi0 + np.sqrt(2 * np.linspace(0.0, s_end, 24) / rc)  # uniform arc length
+    pts = np.array([flank_point(p, rc, rho) for p in psis])
+    t0 = _R(psi0) @ np.array([0.0, 1.0])
+    t1 = _R(psi_end) @ np.array([0.0, 1.0])
+    left = Spline(tuple(map(tuple, pts)), tuple(t0), tuple(t1))
+    right = left.mirrored().reversed()
+    cusp = pts[0]
+    beta = math.atan2(cusp[1] - rc, -cusp[0])
+    # the cusp lies on the circle of radius 2 r_c sin(psi*/2) = rho (1 - O(rho^2/r_c^2)) about
+    # the ball centre; the pocket passes exactly through it (gap short by < 0.1 um at S1 sizes)
+    pocket = Arc((0.0, rc), float(np.hypot(cusp[0], cusp[1] - rc)), beta, -math.pi - beta)
+    q = pts[-1]
+    phi_q = math.atan2(q[1], q[0])
+    tip = Arc((0.0, 0.0), float(np.hypot(*q)), phi_q, math.pi - phi_q + pitch)
+    return chain(right, pocket, left, tip), tip
+
+
+def _ring_points_near_ball0(d) -> np.ndarray:
+    """Samples of the ring's inner contour around flexures -1, 0 and 1 (mm)."""
+    pitch = 2 * math.pi / d.n_flexures
+    pts = []
+    for s in d.ring.holes[0].segments:
+        a = np.array([s.start, s.end])
+        ang = np.abs(np.arctan2(a[:, 0], a[:, 1]))  # angle from +y
+        if ang.min() < 1.6 * pitch:
+            pts.append(s.sample(0.01))
+    return np.vstack(pts)
+
+
+def _min_distance(a: np.ndarray, b: np.ndarray, chunk: int = 2000) -> float:
+    """Smallest distance between two point sets (mm)."""
+    best = np.inf
+    for i in range(0, len(a), chunk):
+        d2 = ((a[i:i + chunk, None, :] - b[None, :, :]) ** 2).sum(-1)
+        best = min(best, float(d2.min()))
+    return float(np.sqrt(best))
+
+
+def d_bore(radius_mm: float, flat_ratio: float = 0.8) -> Loop:
+    """D-shaped shaft bore: circle with a flat at ``flat_ratio * r`` from the centre (mm)."""
+    h = math.acos(flat_ratio)
+    arc = Arc((0.0, 0.0), radius_mm, -math.pi / 2 + h, 1.5 * math.pi - h)
+    return Loop((arc, Line(arc.end, arc.start)))
+
+
+def cam_profile(d) -> tuple[Profile, CamInfo]:
+    """Cam profile for a :class:`~springcad.design.spring.SpringDesign`.
+
+    Tries overtravel factors from 1.25 down to 1.0 and keeps the first whose
+    tooth tip is at least ``min_web_mm`` wide and which keeps the gap to the
+    resting flexure ring everywhere.
+
+    Raises:
+        DesignError: no tooth covering the full deflection fits, or the bore
+            leaves too thin a web.
+    """
+    rc, rb, n = d.contact_radius_mm, d.tip_radius_mm, d.n_flexures
+    g = d.manufacturing.w_gap_mm
+    rho = rb + g
+    pitch = 2 * math.pi / n
+    theta = d.max_deflection_rad
+    min_web = d.manufacturing.min_web_mm
+    ring_pts = _ring_points_near_ball0(d) if d.ring is not None else None
+    tried = []
+    for f in OVERTRAVELS:
+        psi_end = rho / rc + f * theta
+        unit, tip = _unit(rc, rho, pitch, psi_end)
+        tip_w = tip.length
+        segs = tuple(s.rotated(i * pitch) for i in range(n) for s in unit)
+        loop = Loop(segs)
+        clearance = float("inf")
+        if ring_pts is not None:  # N-fold symmetric: one tooth and its pockets suffice
+            cam_pts = np.vstack([s.sample(0.01) for s in (*unit, *(s.rotated(-pitch) for s in unit))])
+            near = ring_pts[np.hypot(*ring_pts.T) < tip.radius + 0.5]
+            clearance = _min_distance(cam_pts, near)
+        tried.append((f, tip_w, clearance))
+        if tip_w >= min_web and clearance >= g * (1 - 1e-3):
+            break
+    else:
+        raise DesignError(
+            f"spring '{d.name}': no cam tooth covers the full deflection {theta:.3g} rad: "
+            + "; ".join(f"overtravel {f:g}: tooth tip {w:.3f} mm wide (min_web_mm {min_web:g}), "
+                        f"clearance {c:.4f} mm (w_gap_mm {g:g})" for f, w, c in tried)
+            + "; use fewer flexures, a larger contact radius or a smaller tip radius")
+    root = rc - rho
+    bore_r = 0.5 * d.hardware.shaft_diameter_mm
+    if root - bore_r < min_web:
+        raise DesignError(
+            f"hardware.shaft_diameter_mm = {d.hardware.shaft_diameter_mm:g}: leaves "
+            f"{root - bore_r:.3g} mm of cam below the pockets (root radius {root:.3g} mm); "
+            f"needs at least min_web_mm = {min_web:g} mm")
+    warnings = ()
+    if f < OVERTRAVELS[0]:
+        warnings = (f"cam flank overtravel reduced to {f:g} x max deflection to fit the tooth",)
+    info = CamInfo(tip.radius, root, f, tip_w, clearance, warnings)
+    return Profile(loop, (d_bore(bore_r),)), info

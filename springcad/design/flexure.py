@@ -1,0 +1,317 @@
+"""Flexure laws: constant-stress width, straight limit, tip ball, serpentine centreline.
+
+Local flexure frame: the flexure axis is +y, the tip-ball centre sits at
+``(0, r_c)`` and the root meets the rim at ``y = R_r``; the cam pushes the tip
+along x. Units: mm, N, MPa, rad. Equations follow
+``shared/notes/design-method.md`` (numbered there 1-9).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from springcad.errors import DesignError
+
+
+# ----------------------------------------------------------------- closed forms
+def tip_load_N(stiffness_Nmm_per_rad: float, deflection_rad: float, n_flexures: int,
+               contact_radius_mm: float) -> float:
+    """Tangential tip load per flexure F = K*theta/(N*r_c) (N). Eq. 1."""
+    return stiffness_Nmm_per_rad * deflection_rad / (n_flexures * contact_radius_mm)
+
+
+def constant_stress_width_mm(y_mm, load_N: float, contact_radius_mm: float,
+                             thickness_mm: float, stress_MPa: float):
+    """In-plane width w(y) = sqrt(6 F (y - r_c) / (z sigma)) (mm). Eq. 2."""
+    arm = np.maximum(np.asarray(y_mm, dtype=float) - contact_radius_mm, 0.0)
+    return np.sqrt(6.0 * load_N * arm / (thickness_mm * stress_MPa))
+
+
+def straight_limit_rad(n_flexures: int, thickness_mm: float, stress_MPa: float,
+                       length_mm: float, youngs_modulus_MPa: float,
+                       stiffness_Nmm_per_rad: float, contact_radius_mm: float) -> float:
+    """Largest deflection of a straight constant-stress flexure ring of stiffness K (rad). Eq. 3."""
+    return (8.0 * n_flexures * thickness_mm * stress_MPa ** 3 * length_mm ** 3
+            / (27.0 * youngs_modulus_MPa ** 2 * stiffness_Nmm_per_rad
+               * contact_radius_mm)) ** (1.0 / 3.0)
+
+
+def straight_root_width_for_stiffness_mm(stiffness_Nmm_per_rad: float, n_flexures: int,
+                                         contact_radius_mm: float, length_mm: float,
+                                         youngs_modulus_MPa: float, thickness_mm: float) -> float:
+    """Root width w0 of a straight parabolic flexure ring with stiffness K (mm).
+
+    From K = N r_c^2 E z w0^3 / (8 L^3).
+    """
+    return (8.0 * stiffness_Nmm_per_rad * length_mm ** 3
+            / (n_flexures * contact_radius_mm ** 2 * youngs_modulus_MPa * thickness_mm)) ** (1 / 3)
+
+
+def serpentine_factor(target_rad: float, straight_limit: float) -> float:
+    """Required area ratio s = (theta_d / theta_s)^(3/2) (-). Eq. 4."""
+    return (target_rad / straight_limit) ** 1.5
+
+
+def tip_ball_required_radius_mm(load_N: float, thickness_mm: float, stress_MPa: float) -> float:
+    """Tip-ball radius that carries the load at the design stress: 3*sqrt(3)*F/(z*sigma) (mm). Eq. 5."""
+    return 3.0 * math.sqrt(3.0) * load_N / (thickness_mm * stress_MPa)
+
+
+def max_flexures(tip_radius_mm: float, contact_radius_mm: float) -> int:
+    """Most flexures whose balls and equal cam teeth fit around r_c. Eq. 6."""
+    return int(math.floor(math.pi * math.hypot(tip_radius_mm, contact_radius_mm)
+                          / (2.0 * tip_radius_mm)))
+
+
+def torque_cap_Nmm(contact_radius_mm: float, thickness_mm: float, stress_MPa: float) -> float:
+    """Peak torque a ring can carry with load-sized tip balls at r_c (N*mm). Eq. 6."""
+    return math.pi * contact_radius_mm ** 2 * thickness_mm * stress_MPa / (6.0 * math.sqrt(3.0))
+
+
+def energy_bound_J_per_mm3(stress_MPa: float, youngs_modulus_MPa: float) -> float:
+    """Bending energy per unit volume at uniform outer-fibre stress: sigma^2/(6E) (J/mm^3)."""
+    return stress_MPa ** 2 / (6.0 * youngs_modulus_MPa) * 1e-3
+
+
+# ----------------------------------------------------------------- centreline
+@dataclass(frozen=True)
+class Centreline:
+    """Flexure centreline x(y): clamped cubic spline through stations.
+
+    The tangent is radial at the tip (slope 0) and at the root (slope
+    ``end_slopes[1]`` = x/y there, so the flexure meets the rim radially).
+
+    Attributes:
+        y_mm: stations from r_c to R_r (mm), increasing.
+        x_mm: lateral offsets at the stations (mm); 0 at both ends.
+    """
+
+    y_mm: tuple[float, ...]
+    x_mm: tuple[float, ...]
+    end_slopes: tuple[float, float] = (0.0, 0.0)
+    """dx/dy at the tip and at the root (the root may be tilted on a swept flexure)."""
+
+    @classmethod
+    def straight(cls, contact_radius_mm: float, root_radius_mm: float) -> "Centreline":
+        return cls((contact_radius_mm, root_radius_mm), (0.0, 0.0))
+
+    @property
+    def is_straight(self) -> bool:
+        return all(abs(x) < 1e-12 for x in self.x_mm)
+
+    @functools.cached_property
+    def _cs(self):
+        from springcad.design.numeric import ClampedCubic
+
+        return ClampedCubic(self.y_mm, self.x_mm, *self.end_slopes)
+
+    def evaluate(self, y):
+        """x, dx/dy, d2x/dy2 at y (arrays)."""
+        y = np.asarray(y, dtype=float)
+        if self.is_straight:
+            z = np.zeros_like(y)
+            return z, z, z
+        cs = self._cs
+        x, dx, ddx = cs(y), cs(y, 1), cs(y, 2)
+        # beyond the root station the flexure runs on straight along its root tangent
+        y_end, x_end, slope = self.y_mm[-1], self.x_mm[-1], self.end_slopes[1]
+        past = y > y_end
+        if np.any(past):
+            x = np.where(past, x_end + slope * (y - y_end), x)
+            dx = np.where(past, slope, dx)
+            ddx = np.where(past, 0.0, ddx)
+        return x, dx, ddx
+
+
+def edges(centreline: Centreline, y, width):
+    """Right (+x) and left edges offset by +-w/2 along the centreline normal.
+
+    Returns:
+        (right, left, normal): arrays of shape (n, 2); ``normal`` points to +x.
+    """
+    x, dx, _ = centreline.evaluate(y)
+    norm = np.sqrt(1.0 + dx ** 2)
+    n = np.column_stack([1.0 / norm, -dx / norm])
+    c = np.column_stack([x, y])
+    half = 0.5 * np.asarray(width)[:, None]
+    return c + half * n, c - half * n, n
+
+
+def compliance_mm_per_N(centreline: Centreline, y, width, thickness_mm: float,
+                        youngs_modulus_MPa: float, contact_radius_mm: float) -> float:
+    """Tangential tip compliance delta/F of one flexure by Castigliano (mm/N).
+
+    delta/F = integral 12 (y - r_c)^2 / (E z w^3) ds along the centreline
+    (Euler-Bernoulli bending only).
+    """
+    _, dx, _ = centreline.evaluate(y)
+    ds = np.sqrt(1.0 + dx ** 2)
+    w = np.maximum(np.asarray(width), 1e-12)
+    integrand = 12.0 * (y - contact_radius_mm) ** 2 / (youngs_modulus_MPa * thickness_mm * w ** 3) * ds
+    return float(np.trapezoid(integrand, y))
+
+
+def area_mm2(centreline: Centreline, y, width) -> float:
+    """Flexure area integral w ds (mm^2)."""
+    _, dx, _ = centreline.evaluate(y)
+    return float(np.trapezoid(np.asarray(width) * np.sqrt(1.0 + dx ** 2), y))
+
+
+# ----------------------------------------------------------------- serpentine optimiser
+@dataclass(frozen=True)
+class SerpentineResult:
+    centreline: Centreline
+    area_ratio: float
+    min_clearance_mm: float
+    min_edge_radius_mm: float
+    fairness: float
+    start: int
+
+
+def _grid(contact_radius_mm: float, root_radius_mm: float, n: int = 161) -> np.ndarray:
+    # denser near the tip, where the width changes fastest
+    u = np.linspace(0.0, 1.0, n)
+    return contact_radius_mm + (root_radius_mm - contact_radius_mm) * u ** 1.5
+
+
+def _point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """Distance from each point to a polyline (mm)."""
+    a, b = poly[:-1], poly[1:]
+    ab = b - a
+    t = ((points[:, None, :] - a[None]) * ab[None]).sum(-1) / (ab ** 2).sum(-1)[None]
+    t = np.clip(t, 0.0, 1.0)
+    foot = a[None] + t[..., None] * ab[None]
+    return np.sqrt(((points[:, None, :] - foot) ** 2).sum(-1)).min(axis=1)
+
+
+def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
+                      root_radius_mm: float, n_flexures: int, width_fn,
+                      tip_radius_mm: float, min_clearance_mm: float,
+                      min_inside_radius_mm: float, root_zone_mm: float = 0.0) -> SerpentineResult:
+    """Find a curved (serpentine) centreline with a given area ratio, deterministically.
+
+    Neighbouring flexures are copies rotated by the pitch 2 pi/N, so in polar
+    coordinates (r, theta) they are exact angular translates and nest when each
+    is tilted from radial by an angle beta(r) with
+
+        r * pitch * cos(beta) - w(r) >= clearance,   i.e.   tan(beta) <= T(r).
+
+    The centreline is built in closed form from that tilt budget,
+
+        tan(beta(r)) = lam * T(r) * h_k(u),   h_k(u) = tanh(a sin(k pi u)) / tanh(a),
+
+    u = (r - r_c)/L, with k tilt reversals (k = 1 a swept arm, k >= 2 a
+    serpentine) and turn sharpness a. The tilt is zero at tip and root, so the
+    flexure leaves the ball and meets the rim radially; within ``root_zone_mm``
+    of the root the tilt fades out (smoothstep) so both root fillets sit
+    evenly on the rim. For every (k, a) of a
+    fixed list, lam follows from the area ratio by bracketing; the candidate is
+    then held to the hard constraints on its stored spline: exact clearance to
+    the neighbour >= ``min_clearance_mm``, concave edge radius
+    1/|kappa| - w/2 >= ``min_inside_radius_mm`` (curvature vs half-width and
+    what the wire can cut), y increasing along the flexure. The clearance
+    margin used in T(r) is raised until the exact check holds. Among feasible
+    candidates the smallest curved-beam measure integral (kappa w/2)^2 ds / L
+    wins (inner-edge stress raise of a curved beam grows with w/(2R)). For
+    k >= 2 the reversed lobes are scaled so the root lines up with the tip
+    (balanced, like the reference tool); the swept arm (k = 1) is used only
+    when no balanced shape fits. No random starts, no time budget.
+
+    Raises:
+        DesignError: no candidate meets all constraints.
+    """
+    from springcad.design.numeric import cumtrapz, find_root
+
+    rc, rr = contact_radius_mm, root_radius_mm
+    L = rr - rc
+    u = np.linspace(0.0, 1.0, 241) ** 1.3
+    r = rc + L * u
+    y_s = r  # straight flexure
+    straight_area = float(np.trapezoid(width_fn(y_s), y_s))
+    pitch = 2.0 * math.pi / n_flexures
+    c, s = math.cos(-pitch), math.sin(-pitch)
+    rot = np.array([[c, -s], [s, c]])
+
+    def build(lam, budget, h):
+        tan_b = lam * budget * h
+        theta = cumtrapz(tan_b / r, r)
+        x, y = r * np.sin(theta), r * np.cos(theta)
+        w = width_fn(y)
+        area = float(np.trapezoid(w * np.sqrt(1.0 + tan_b ** 2), r))
+        return x, y, w, theta, area / straight_area
+
+    def check(x, y, theta):
+        if np.any(np.diff(y) <= 0):
+            return None, "flexure turns back on itself"
+        st = slice(None, None, 4)
+        ys, xs = y[st], x[st]
+        if ys[-1] != y[-1]:
+            ys, xs = np.append(ys, y[-1]), np.append(xs, x[-1])
+        line = Centreline(tuple(map(float, ys)), tuple(map(float, xs)),
+                          (0.0, float(math.tan(theta[-1]))))
+        yy = np.linspace(rc, y[-1], 600)
+        w = width_fn(yy)
+        xx, dx, ddx = line.evaluate(yy)
+        kappa = ddx / (1.0 + dx ** 2) ** 1.5
+        if np.max(np.abs(kappa) * (0.5 * w + min_inside_radius_mm)) > 1.0:
+            return None, "edge radius"
+        right, left, _ = edges(line, yy, w)
+        m = yy > rc + 2.0 * tip_radius_mm
+        clear = float(_point_polyline_distance(right[m], left @ rot.T).min())
+        ratio = area_mm2(line, yy, w) / straight_area
+        ds = np.sqrt(1.0 + dx ** 2)
+        measure = float(np.trapezoid((kappa * 0.5 * w) ** 2 * ds, yy)) / L
+        edge_r = float(np.min(1.0 / np.maximum(np.abs(kappa), 1e-12) - 0.5 * w))
+        return (line, ratio, clear, edge_r, measure), ""
+
+    q = np.clip((rr - r) / root_zone_mm, 0.0, 1.0) if root_zone_mm > 0 else np.ones_like(r)
+    taper = q * q * (3.0 - 2.0 * q)
+    best, best_key, failures, start = None, None, [], 0
+    for k in (1, 2, 3, 4, 5, 6):
+        for a in (1.0, 2.0, 3.0):
+            start += 1
+            h0 = np.tanh(a * np.sin(k * math.pi * u)) / math.tanh(a) * taper
+            margin = min_clearance_mm
+            for _ in range(6):
+                w_r = width_fn(r)
+                budget = np.sqrt(np.maximum((r * pitch / (w_r + margin)) ** 2 - 1.0, 0.0))
+                h = h0
+                if k > 1:  # balance: scale the reversed lobes so the root lines up with the tip
+                    pos = np.trapezoid(budget * np.maximum(h0, 0) / r, r)
+                    neg = np.trapezoid(budget * np.minimum(h0, 0) / r, r)
+                    h = np.maximum(h0, 0) - pos / neg * np.minimum(h0, 0)
+                    h = h / np.max(np.abs(h))
+                if build(1.0, budget, h)[4] < target_area_ratio:
+                    result, why = None, "tilt budget too small"
+                    break
+                lam = find_root(lambda v: build(v, budget, h)[4] - target_area_ratio, 0.0, 1.0,
+                                xtol=1e-10)
+                x, y, _, theta, _ = build(lam, budget, h)
+                result, why = check(x, y, theta)
+                if result is None or result[2] >= min_clearance_mm:
+                    break
+                margin += min_clearance_mm - result[2] + 0.01
+                why = f"clearance {result[2]:.3f} mm"
+                result = None
+            if result is None:
+                failures.append(f"k={k}, a={a:g}: {why}")
+                continue
+            line, ratio, clear, edge_r, measure = result
+            if abs(ratio - target_area_ratio) > 2e-3:
+                failures.append(f"k={k}, a={a:g}: spline area ratio {ratio:.4f}")
+                continue
+            key = (k == 1, round(measure, 4))
+            if best is None or key < best_key:
+                best, best_key = SerpentineResult(line, ratio, clear, edge_r, measure, start), key
+    if best is None:
+        raise DesignError(
+            f"no curved flexure between r_c = {rc:.3g} mm and R_r = {rr:.3g} mm with "
+            f"{n_flexures} flexures reaches the area ratio {target_area_ratio:.3f} while keeping "
+            f"{min_clearance_mm:g} mm to its neighbour and edge radii >= {min_inside_radius_mm:g} mm "
+            f"({'; '.join(failures[:3])}); increase outer_radius_mm or thickness_mm, lower the "
+            "deflection, or put springs in series")
+    return best

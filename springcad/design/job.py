@@ -1,0 +1,100 @@
+"""Design a whole job: every named spring once, then the stack."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from springcad import __version__
+from springcad.config import Job
+from springcad.design.spring import SpringDesign, design_spring
+from springcad.design.stack import StackDesign, design_stack
+from springcad.units import NMM_PER_NM
+
+SCHEMA = "springcad.design/1"
+
+
+@dataclass(frozen=True)
+class JobDesign:
+    """Designed springs (by name) and the stack built from them."""
+
+    job: Job
+    springs: dict[str, SpringDesign]
+    stack: StackDesign
+
+    def notes(self) -> list[str]:
+        out = []
+        for s in self.springs.values():
+            out.extend(f"spring {s.name}: {w}" for w in s.warnings)
+        out.extend(self.stack.notes())
+        return out
+
+    def to_dict(self) -> dict:
+        """The ``design.json`` document (units in key names)."""
+        mat = self.job.material
+        return {
+            "schema": SCHEMA,
+            "springcad_version": __version__,
+            "job": {"name": self.job.name, "description": self.job.description,
+                    "config": self.job.source},
+            "material": {
+                "name": mat.material.name, "description": mat.material.description,
+                "youngs_modulus_MPa": mat.material.youngs_modulus_MPa,
+                "poisson_ratio": mat.material.poisson_ratio,
+                "yield_strength_MPa": mat.material.yield_strength_MPa,
+                "density_kg_per_m3": mat.material.density_kg_per_m3,
+                "heat_treatment": mat.material.heat_treatment,
+                "design_stress_MPa": mat.design_stress_MPa,
+                "safety_factor": mat.safety_factor},
+            "manufacturing": {k: getattr(self.job.manufacturing, k) for k in (
+                "process", "t_spring_mm", "t_shaft_mm", "w_gap_mm", "wire_diameter_mm",
+                "spark_gap_mm", "min_slot_width_mm", "min_web_mm", "min_hole_edge_mm",
+                "tolerance_distribution")},
+            "springs": {name: s.to_dict() for name, s in self.springs.items()},
+            "stack": self.stack.to_dict(),
+            "notes": self.notes(),
+        }
+
+    def summary(self) -> str:
+        """A short plain-text table for the terminal."""
+        rows = [("spring", "K N*m/rad", "target", "theta_max deg", "N", "r_c mm", "R_r mm",
+                 "tip mm", "flexure", "J/cm3", "J/kg")]
+        for s in self.springs.values():
+            rows.append((s.name, f"{s.stiffness_beam_Nmm_per_rad / NMM_PER_NM:.2f}",
+                         f"{s.target_stiffness_Nmm_per_rad / NMM_PER_NM:.2f}",
+                         f"{math.degrees(s.max_deflection_rad):.2f}", str(s.n_flexures),
+                         f"{s.contact_radius_mm:.3f}", f"{s.root_radius_mm:.3f}",
+                         f"{s.tip_radius_mm:.3f}", s.flexure,
+                         f"{s.energy_density_J_per_cm3:.3f}", f"{s.specific_energy_J_per_kg:.1f}"))
+        widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+        lines = ["  ".join(c.rjust(w) for c, w in zip(r, widths)) for r in rows]
+        st = self.stack
+        b = st.backlash
+        lines += [
+            "",
+            f"stack {' + '.join(st.sequence)}: input {st.input}, output {st.output}, joints "
+            f"{', '.join(j + '-to-' + j for j in st.joints) or 'none'}",
+            f"  K = {st.stiffness_Nmm_per_rad / NMM_PER_NM:.2f} N*m/rad "
+            f"(target {st.target_stiffness_Nmm_per_rad / NMM_PER_NM:.2f}), max deflection "
+            f"{st.max_deflection_rad:.3f} rad ({math.degrees(st.max_deflection_rad):.1f} deg, eq. 10)",
+            f"  backlash rad: nominal {b.nominal:.4f}, worst [{b.worst_min:.4f}, {b.worst_max:.4f}], "
+            f"RSS [{b.rss_min:.4f}, {b.rss_max:.4f}], MC p1-p99 [{b.mc_p01:.4f}, {b.mc_p99:.4f}]",
+            f"  energy {st.energy_J:.2f} J, mass {st.mass_kg * 1000:.1f} g, "
+            f"{st.energy_J / (st.envelope_volume_mm3 / 1000):.3f} J/cm3, "
+            f"{st.energy_J / st.mass_kg:.1f} J/kg",
+        ]
+        lines += [f"note: {n}" for n in self.notes()]
+        return "\n".join(lines)
+
+
+def design_job(job: Job) -> JobDesign:
+    """Design every spring named in the job and the stack.
+
+    Raises:
+        DesignError: a spring cannot be made as specified.
+    """
+    springs = {name: design_spring(spec, job.material, job.manufacturing, job.hardware)
+               for name, spec in job.springs.items()}
+    stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
+                         job.analysis.monte_carlo_samples, job.analysis.seed)
+    return JobDesign(job, springs, stack)

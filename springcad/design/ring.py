@@ -1,0 +1,174 @@
+"""Exact 2D profile of the flexure ring (the spring disk).
+
+Flexure 0 lies along +y; flexure i is rotated by 2*pi*i/N counter-clockwise.
+The inner contour runs counter-clockwise about the centre: rim arc, root
+fillet, right flexure edge down to the tip, neck fillet, tip ball, neck fillet,
+left edge up, root fillet, next rim arc. Rim holes sit midway between flexures.
+Units: mm, rad.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from springcad.design import flexure as fx
+from springcad.design.curves import Arc, Circle, Loop, Profile, Spline, chain
+from springcad.errors import DesignError
+
+
+def _wrap(a: float) -> float:
+    return (a + math.pi) % (2 * math.pi) - math.pi
+
+
+def fillet_arc(center, radius, start_pt, end_pt) -> Arc:
+    """Short arc about ``center`` from ``start_pt`` to ``end_pt``."""
+    a1 = math.atan2(start_pt[1] - center[1], start_pt[0] - center[0])
+    a2 = math.atan2(end_pt[1] - center[1], end_pt[0] - center[0])
+    return Arc(tuple(center), radius, a1, a1 + _wrap(a2 - a1))
+
+
+class _Edge:
+    """One flexure edge as a function of y, with its void-side unit normal."""
+
+    def __init__(self, design, side: int):
+        self.d, self.side = design, side
+
+    def point_normal(self, y: float):
+        yy = np.array([y, y + 1e-7])
+        w = self.d.width_mm(yy)
+        right, left, n = fx.edges(self.d.centreline, yy, w)
+        p = right[0] if self.side > 0 else left[0]
+        return p, self.side * n[0]
+
+    def points(self, ys):
+        ys = np.asarray(ys, dtype=float)
+        right, left, _ = fx.edges(self.d.centreline, ys, self.d.width_mm(ys))
+        return right if self.side > 0 else left
+
+    def tangent_up(self, y: float, h: float = 1e-6):
+        p = self.points([y - h, y + h])
+        t = p[1] - p[0]
+        return t / np.linalg.norm(t)
+
+
+def _solve(f, start, stop, what, step=0.02):
+    """First root of f met when scanning from ``start`` toward ``stop`` (mm)."""
+    from springcad.design.numeric import find_root
+
+    n = max(2, int(abs(stop - start) / step) + 1)
+    grid = np.linspace(start, stop, n)
+    prev = f(grid[0])
+    for a, b in zip(grid[:-1], grid[1:]):
+        cur = f(b)
+        if prev == 0.0:
+            return a
+        if prev * cur < 0:
+            return find_root(f, min(a, b), max(a, b), xtol=1e-12)
+        prev = cur
+    raise DesignError(what)
+
+
+def _flexure_unit(d) -> tuple:
+    """Segments of flexure 0 from the right root fillet to the left root fillet."""
+    rc, rr, rb = d.contact_radius_mm, d.root_radius_mm, d.tip_radius_mm
+    rn, rf = d.neck_fillet_radius_mm, d.root_fillet_radius_mm
+    ball = np.array([0.0, rc])
+    y_hi = rr + d.rim_thickness_mm
+    parts = {}
+    for side in (+1, -1):
+        e = _Edge(d, side)
+
+        def neck(y):
+            p, n = e.point_normal(y)
+            return np.linalg.norm(p + rn * n - ball) - (rb + rn)
+
+        def root(y):
+            p, n = e.point_normal(y)
+            return np.linalg.norm(p + rf * n) - (rr - rf)
+
+        y_n = _solve(neck, rc + 1e-9, rc + 0.5 * (rr - rc),
+                     f"spring '{d.name}': the neck fillet (r = {rn:.3g} mm) between the tip ball and "
+                     "the flexure edge cannot be placed")
+        y_r = _solve(root, y_hi, rc + 0.5 * (rr - rc),
+                     f"spring '{d.name}': the root fillet (r = {rf:.3g} mm) between the flexure edge "
+                     "and the rim cannot be placed")
+        if y_r <= y_n:
+            raise DesignError(f"spring '{d.name}': neck and root fillets overlap; the flexure is too short")
+        p_n, n_n = e.point_normal(y_n)
+        c_n = p_n + rn * n_n
+        t_ball = ball + rb * (c_n - ball) / np.linalg.norm(c_n - ball)
+        p_r, n_r = e.point_normal(y_r)
+        c_r = p_r + rf * n_r
+        t_rim = c_r * rr / np.linalg.norm(c_r)
+        u = np.linspace(0.0, 1.0, 41 if not d.centreline.is_straight else 25)
+        ys = y_n + (y_r - y_n) * u ** 1.6
+        pts = e.points(ys)
+        pts[0], pts[-1] = p_n, p_r
+        parts[side] = dict(c_n=c_n, t_ball=t_ball, p_n=p_n, c_r=c_r, t_rim=t_rim, p_r=p_r,
+                           pts=pts, tan_n=e.tangent_up(y_n), tan_r=e.tangent_up(y_r))
+    R, Lf = parts[+1], parts[-1]
+    right_edge = Spline(tuple(map(tuple, R["pts"][::-1])), tuple(-R["tan_r"]), tuple(-R["tan_n"]))
+    left_edge = Spline(tuple(map(tuple, Lf["pts"])), tuple(Lf["tan_n"]), tuple(Lf["tan_r"]))
+    a_r = math.atan2(R["t_ball"][1] - rc, R["t_ball"][0])
+    a_l = math.atan2(Lf["t_ball"][1] - rc, Lf["t_ball"][0])
+    ball_arc = Arc((0.0, rc), rb, a_r, a_l - 2 * math.pi)
+    return chain(
+        fillet_arc(R["c_r"], rf, R["t_rim"], R["p_r"]),
+        right_edge,
+        fillet_arc(R["c_n"], rn, R["p_n"], R["t_ball"]),
+        ball_arc,
+        fillet_arc(Lf["c_n"], rn, Lf["t_ball"], Lf["p_n"]),
+        left_edge,
+        fillet_arc(Lf["c_r"], rf, Lf["p_r"], Lf["t_rim"]),
+    ), R["t_rim"], Lf["t_rim"]
+
+
+def hole_diameter_mm(hardware) -> float:
+    """Hole for the rim fastener: dowel press fit at nominal, bolt clearance per ISO 273 medium."""
+    d = hardware.fastener_diameter_mm
+    if hardware.fastener == "dowel":
+        return d
+    return d + (0.4 if d <= 3.0 else 0.5)
+
+
+def hole_centres_mm(n_flexures: int, count: int, radius_mm: float) -> tuple:
+    """Hole centres midway between flexures, spread evenly over the N gaps."""
+    out = []
+    for j in range(count):
+        k = (j * n_flexures) // count
+        a = math.pi / 2 + (k + 0.5) * 2 * math.pi / n_flexures
+        out.append((radius_mm * math.cos(a), radius_mm * math.sin(a)))
+    return tuple(out)
+
+
+def ring_profile(d) -> tuple[Profile, tuple, float]:
+    """Build the flexure-ring profile of a :class:`~springcad.design.spring.SpringDesign`.
+
+    Returns:
+        (profile, hole centres (mm), hole diameter (mm)).
+    """
+    unit, t_right, t_left = _flexure_unit(d)
+    n = d.n_flexures
+    pitch = 2 * math.pi / n
+    a_left = math.atan2(t_left[1], t_left[0])
+    a_right_next = math.atan2(t_right[1], t_right[0]) + pitch
+    if a_right_next <= a_left:
+        raise DesignError(f"spring '{d.name}': root fillets of neighbouring flexures overlap at "
+                          f"R_r = {d.root_radius_mm:.3g} mm; use fewer flexures or a smaller root fillet")
+    rim_arc = Arc((0.0, 0.0), d.root_radius_mm, a_left, a_right_next)
+    segs = []
+    for i in range(n):
+        segs.extend(s.rotated(i * pitch) for s in (*unit, rim_arc))
+    inner = Loop(tuple(segs))
+    hw = d.hardware
+    holes = ()
+    hd = 0.0
+    if hw.fastener_count > 0:
+        hd = hole_diameter_mm(hw)
+        holes = hole_centres_mm(n, min(hw.fastener_count, n),
+                                0.5 * (d.root_radius_mm + d.outer_radius_mm))
+    hole_loops = tuple(Loop((Circle(c, 0.5 * hd),)) for c in holes)
+    profile = Profile(Loop((Circle((0.0, 0.0), d.outer_radius_mm),)), (inner, *hole_loops))
+    return profile, holes, hd

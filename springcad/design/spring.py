@@ -1,0 +1,456 @@
+"""Single-spring synthesis: from a :class:`~springcad.config.SpringSpec` to a :class:`SpringDesign`.
+
+Follows the reference method (``shared/notes/design-method.md``) with these
+deliberate deviations, each covered by a test in ``tests/test_spring.py``:
+
+1. The tip ball is sized for the *peak* load at the target deflection, not the
+   load at the straight limit. When the spec exceeds the torque cap
+   pi r_c^2 z sigma / (6 sqrt 3), the design stops and says so, unless the user
+   fixed ``tip_radius_mm`` (as-built parts), in which case it warns.
+2. N, r_c and R_r are found by exact enumeration and bracketing (no random search).
+3. The serpentine optimiser is deterministic, with neighbour clearance and
+   concave-edge radius as hard constraints (:func:`flexure.design_serpentine`).
+4. Rim holes sit between flexures, fully inside the rim (``ring.py``).
+5. The cam flank keeps the contact normal tangential and the gap is offset
+   along the profile normal (``cam.py``).
+
+Units: mm, N, MPa, N*mm, rad, kg.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass, field
+from dataclasses import replace as _replace
+
+import numpy as np
+
+from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
+from springcad.design import flexure as fx
+from springcad.design.curves import Profile
+from springcad.errors import DesignError
+from springcad.units import J_PER_NMM, MM3_PER_CM3, NMM_PER_NM
+
+#: gap between flexure roots over rim thickness (reference rim rule, eq. 8)
+RIM_GAP_RATIO = 1.5
+
+
+@dataclass(frozen=True)
+class SpringDesign:
+    """A complete single-spring design with its beam-theory predictions.
+
+    Lengths mm, forces N, stresses MPa, torques N*mm, angles rad, mass kg.
+    """
+
+    name: str
+    spec: SpringSpec
+    material: MaterialSpec
+    manufacturing: ManufacturingSpec
+    hardware: HardwareSpec
+    n_flexures: int
+    contact_radius_mm: float
+    root_radius_mm: float
+    outer_radius_mm: float
+    thickness_mm: float
+    tip_radius_mm: float
+    tip_radius_required_mm: float
+    flexure: str
+    width_law: str
+    """"stress" (w sized for the design stress at peak load) or "stiffness" (straight, w0 sized for K)."""
+    root_width_mm: float
+    tip_load_N: float
+    straight_limit_rad: float
+    serpentine_factor: float
+    centreline: fx.Centreline
+    area_ratio: float
+    min_neighbour_clearance_mm: float | None
+    rim_thickness_mm: float
+    root_fillet_radius_mm: float
+    neck_fillet_radius_mm: float
+    torque_cap_Nmm: float
+    stiffness_beam_Nmm_per_rad: float
+    peak_stress_MPa: float
+    ring: Profile | None = None
+    cam: Profile | None = None
+    hole_centres_mm: tuple[tuple[float, float], ...] = ()
+    hole_diameter_mm: float = 0.0
+    cam_tip_radius_mm: float = 0.0
+    cam_root_radius_mm: float = 0.0
+    cam_overtravel: float = 0.0
+    warnings: tuple[str, ...] = field(default_factory=tuple)
+
+    # ------------------------------------------------------------- predictions
+    @property
+    def length_mm(self) -> float:
+        return self.root_radius_mm - self.contact_radius_mm
+
+    @property
+    def max_deflection_rad(self) -> float:
+        return self.spec.max_deflection_rad
+
+    @property
+    def target_stiffness_Nmm_per_rad(self) -> float:
+        return self.spec.stiffness_Nmm_per_rad
+
+    @property
+    def peak_torque_Nmm(self) -> float:
+        return self.stiffness_beam_Nmm_per_rad * self.max_deflection_rad
+
+    @property
+    def yield_margin(self) -> float:
+        return self.material.material.yield_strength_MPa / self.peak_stress_MPa
+
+    @property
+    def energy_J(self) -> float:
+        return 0.5 * self.stiffness_beam_Nmm_per_rad * self.max_deflection_rad ** 2 * J_PER_NMM
+
+    def width_mm(self, y_mm):
+        """Flexure width normal to the centreline at radius y (mm)."""
+        y = np.asarray(y_mm, dtype=float)
+        if self.width_law == "stiffness":
+            return self.root_width_mm * np.sqrt(np.maximum(y - self.contact_radius_mm, 0.0)
+                                                / self.length_mm)
+        return fx.constant_stress_width_mm(y, self.tip_load_N, self.contact_radius_mm,
+                                           self.thickness_mm, self.material.design_stress_MPa)
+
+    def beam_stiffness_Nmm_per_rad(self, width_offset_mm: float = 0.0,
+                                   youngs_modulus_MPa: float | None = None) -> float:
+        """Beam-theory stiffness of this geometry (N*mm/rad), optionally perturbed.
+
+        K = N r_c^2 / (delta/F) with delta/F = integral 12 (y - r_c)^2 / (E z w^3) ds
+        (Castigliano, Euler-Bernoulli bending only).
+
+        Args:
+            width_offset_mm: every flexure edge moved outward by this much (the flexure
+                gets 2 x offset wider), as a wire-EDM profile error would (mm). The
+                perturbation is applied to the real section, the width law or the tip
+                ball's chord, whichever is wider, and scales the nominal prediction:
+                K(offset) = K_law * C_real(0) / C_real(offset).
+            youngs_modulus_MPa: E to use instead of the material's (MPa).
+        """
+        E = youngs_modulus_MPa or self.material.material.youngs_modulus_MPa
+        rc, z = self.contact_radius_mm, self.thickness_mm
+        y = np.linspace(rc, self.root_radius_mm, 4001)
+        w = self.width_mm(y)
+
+        def compliance(width):
+            return fx.compliance_mm_per_N(self.centreline, y, width, z, E, rc)
+
+        k = self.n_flexures * rc ** 2 / compliance(w)
+        if width_offset_mm:
+            chord = 2 * np.sqrt(np.maximum(self.tip_radius_mm ** 2 - (y - rc) ** 2, 0.0))
+            real = np.maximum(w, chord)
+            k *= compliance(real) / compliance(np.maximum(real + 2 * width_offset_mm, 1e-3))
+        return k
+
+    @property
+    def profile_area_mm2(self) -> float:
+        return self._areas[0]
+
+    @property
+    def cam_area_mm2(self) -> float:
+        return self._areas[1]
+
+    @functools.cached_property
+    def _areas(self) -> tuple[float, float]:
+        nan = float("nan")
+        return (self.ring.area_mm2() if self.ring is not None else nan,
+                self.cam.area_mm2() if self.cam is not None else nan)
+
+    @property
+    def model_area_mm2(self) -> float:
+        """Flexures (width law x area ratio) plus rim annulus: the reference tool's area (mm^2)."""
+        y = np.linspace(self.contact_radius_mm, self.root_radius_mm, 2001)
+        flex = fx.area_mm2(self.centreline, y, self.width_mm(y))
+        rim = math.pi * (self.outer_radius_mm ** 2 - self.root_radius_mm ** 2)
+        return self.n_flexures * flex + rim
+
+    @property
+    def mass_kg(self) -> float:
+        """Disk mass from the exact profile area (kg)."""
+        area = self.profile_area_mm2 if self.ring is not None else self.model_area_mm2
+        return area * self.thickness_mm * self.material.material.density_kg_per_mm3
+
+    @property
+    def envelope_volume_mm3(self) -> float:
+        return math.pi * self.outer_radius_mm ** 2 * self.thickness_mm
+
+    @property
+    def energy_density_J_per_cm3(self) -> float:
+        return self.energy_J / (self.envelope_volume_mm3 / MM3_PER_CM3)
+
+    @property
+    def specific_energy_J_per_kg(self) -> float:
+        return self.energy_J / self.mass_kg
+
+    def to_dict(self) -> dict:
+        """The ``design.json`` entry of this spring (units in key names)."""
+        return {
+            "stiffness_Nm_per_rad": self.stiffness_beam_Nmm_per_rad / NMM_PER_NM,
+            "target_stiffness_Nm_per_rad": self.target_stiffness_Nmm_per_rad / NMM_PER_NM,
+            "max_deflection_rad": self.max_deflection_rad,
+            "straight_limit_rad": self.straight_limit_rad,
+            "peak_torque_Nm": self.peak_torque_Nmm / NMM_PER_NM,
+            "torque_cap_Nm": self.torque_cap_Nmm / NMM_PER_NM,
+            "peak_stress_MPa": self.peak_stress_MPa,
+            "design_stress_MPa": self.material.design_stress_MPa,
+            "yield_margin": self.yield_margin,
+            "n_flexures": self.n_flexures,
+            "contact_radius_mm": self.contact_radius_mm,
+            "root_radius_mm": self.root_radius_mm,
+            "outer_radius_mm": self.outer_radius_mm,
+            "thickness_mm": self.thickness_mm,
+            "tip_radius_mm": self.tip_radius_mm,
+            "tip_radius_required_mm": self.tip_radius_required_mm,
+            "root_width_mm": self.root_width_mm,
+            "tip_load_N": self.tip_load_N,
+            "flexure": self.flexure,
+            "width_law": self.width_law,
+            "serpentine_factor": self.serpentine_factor,
+            "area_ratio": self.area_ratio,
+            "min_neighbour_clearance_mm": self.min_neighbour_clearance_mm,
+            "centreline_mm": {"y": list(self.centreline.y_mm), "x": list(self.centreline.x_mm)},
+            "rim_thickness_mm": self.rim_thickness_mm,
+            "root_fillet_radius_mm": self.root_fillet_radius_mm,
+            "neck_fillet_radius_mm": self.neck_fillet_radius_mm,
+            "hole_diameter_mm": self.hole_diameter_mm,
+            "hole_count": len(self.hole_centres_mm),
+            "hole_circle_radius_mm": (math.hypot(*self.hole_centres_mm[0])
+                                      if self.hole_centres_mm else None),
+            "cam_tip_radius_mm": self.cam_tip_radius_mm,
+            "cam_root_radius_mm": self.cam_root_radius_mm,
+            "cam_overtravel": self.cam_overtravel,
+            "profile_area_mm2": self.profile_area_mm2,
+            "mass_kg": self.mass_kg,
+            "energy_J": self.energy_J,
+            "envelope_volume_cm3": self.envelope_volume_mm3 / MM3_PER_CM3,
+            "energy_density_J_per_cm3": self.energy_density_J_per_cm3,
+            "specific_energy_J_per_kg": self.specific_energy_J_per_kg,
+            "warnings": list(self.warnings),
+        }
+
+
+# --------------------------------------------------------------------- layout rules
+def _rim_root_radius(outer_radius_mm, n, contact_radius_mm, root_width_fn) -> float:
+    """Solve R_o - R_r = (2 pi R_r / N - w0(R_r)) / 1.5 for R_r by bracketing (eq. 8)."""
+    from springcad.design.numeric import find_root
+
+    def f(rr):
+        return (outer_radius_mm - rr
+                - (2 * math.pi * rr / n - root_width_fn(rr - contact_radius_mm)) / RIM_GAP_RATIO)
+
+    lo, hi = contact_radius_mm * (1 + 1e-6) + 1e-6, outer_radius_mm
+    if f(lo) <= 0 or f(hi) >= 0:
+        raise DesignError(
+            f"{n} flexures do not fit between r_c = {contact_radius_mm:.3g} mm and "
+            f"R_o = {outer_radius_mm:.3g} mm: the flexure roots are wider than the rim circle "
+            "allows; use fewer flexures, a larger outer radius or a lower stiffness")
+    return find_root(f, lo, hi, xtol=1e-10)
+
+
+@dataclass(frozen=True)
+class _Layout:
+    n: int
+    rc: float
+    rb: float
+    rb_req: float
+    rr: float
+    theta_s: float
+    load: float
+
+
+def _tip_ball(spec: SpringSpec, sigma, n, rc):
+    load = fx.tip_load_N(spec.stiffness_Nmm_per_rad, spec.max_deflection_rad, n, rc)
+    rb_req = fx.tip_ball_required_radius_mm(load, spec.thickness_mm, sigma)
+    rb = spec.tip_radius_mm if spec.tip_radius_mm is not None else max(spec.min_tip_radius_mm, rb_req)
+    return load, rb_req, rb
+
+
+def _layout(spec: SpringSpec, sigma, E, n, rc) -> _Layout:
+    """Tip ball, root radius (rim rule unless given) and straight limit for (N, r_c)."""
+    load, rb_req, rb = _tip_ball(spec, sigma, n, rc)
+    z = spec.thickness_mm
+    if spec.root_radius_mm is not None:
+        rr = spec.root_radius_mm
+    else:
+        rr = _rim_root_radius(spec.outer_radius_mm, n, rc,
+                              lambda L: math.sqrt(6 * load * L / (z * sigma)))
+    theta_s = fx.straight_limit_rad(n, z, sigma, rr - rc, E, spec.stiffness_Nmm_per_rad, rc)
+    return _Layout(n, rc, rb, rb_req, rr, theta_s, load)
+
+
+def _fits(spec: SpringSpec, lay: _Layout) -> bool:
+    return lay.n <= fx.max_flexures(lay.rb, lay.rc)
+
+
+def _choose_layout(spec: SpringSpec, sigma, E) -> _Layout:
+    """N and r_c by exact enumeration (eqs. 6-7); deterministic."""
+    z = spec.thickness_mm
+    cap = fx.torque_cap_Nmm
+    peak = spec.stiffness_Nmm_per_rad * spec.max_deflection_rad
+
+    def cap_error(rc):
+        return DesignError(
+            f"spring '{spec.name}': peak torque {peak / NMM_PER_NM:.3g} N*m exceeds the torque cap "
+            f"{cap(rc, z, sigma) / NMM_PER_NM:.3g} N*m of tip balls sized for the peak load at "
+            f"contact radius {rc:.3g} mm (cap = pi r_c^2 z sigma / (6 sqrt 3)); raise "
+            "contact_radius_mm or thickness_mm, lower the deflection, or fix tip_radius_mm to "
+            "accept an undersized ball")
+
+    if spec.contact_radius_mm is not None:
+        rc = spec.contact_radius_mm
+        if spec.n_flexures is not None:
+            lay = _layout(spec, sigma, E, spec.n_flexures, rc)
+            if not _fits(spec, lay):
+                nmax = fx.max_flexures(lay.rb, rc)
+                if spec.tip_radius_mm is None and peak > cap(rc, z, sigma):
+                    raise cap_error(rc)
+                raise DesignError(
+                    f"spring '{spec.name}': n_flexures = {spec.n_flexures} do not fit: tip balls of "
+                    f"radius {lay.rb:.3g} mm and equal cam teeth leave room for at most {nmax} "
+                    f"flexures at contact radius {rc:.3g} mm")
+            return lay
+        if spec.tip_radius_mm is not None:
+            return _layout(spec, sigma, E, fx.max_flexures(spec.tip_radius_mm, rc), rc)
+        if peak > cap(rc, z, sigma):
+            raise cap_error(rc)
+        for n in range(fx.max_flexures(spec.min_tip_radius_mm, rc), 1, -1):
+            lay = _layout(spec, sigma, E, n, rc)
+            if _fits(spec, lay):
+                return lay
+        raise cap_error(rc)
+
+    # r_c free: maximise the straight limit over a fixed grid, then refine (eq. 7)
+    ro = spec.outer_radius_mm
+    rc_min = max(ro / 30, math.sqrt(6 * math.sqrt(3) * peak / (math.pi * z * sigma)) * 1.001
+                 if spec.tip_radius_mm is None else ro / 30)
+    ns = [spec.n_flexures] if spec.n_flexures is not None else range(3, 200)
+    best: _Layout | None = None
+    for rc in np.linspace(rc_min, 0.6 * ro, 60):
+        for n in ns:
+            try:
+                lay = _layout(spec, sigma, E, n, float(rc))
+            except DesignError:
+                continue
+            if not _fits(spec, lay):
+                continue
+            if best is None or lay.theta_s > best.theta_s:
+                best = lay
+    if best is None:
+        raise cap_error(0.6 * ro)
+    return best
+
+
+# --------------------------------------------------------------------- synthesis
+def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
+                  hardware: HardwareSpec) -> SpringDesign:
+    """Synthesise one spring: layout, flexure shape, predictions and exact profiles.
+
+    Raises:
+        DesignError: the spec cannot be met in its envelope (the message says why
+            and what to change).
+    """
+    from springcad.design.cam import cam_profile
+    from springcad.design.ring import ring_profile
+
+    sigma = material.design_stress_MPa
+    E = material.material.youngs_modulus_MPa
+    z, K, theta_d = spec.thickness_mm, spec.stiffness_Nmm_per_rad, spec.max_deflection_rad
+    warnings: list[str] = []
+
+    # energy bound: no geometry can store more than sigma^2/(6E) per unit flexure volume
+    annulus = math.pi * (spec.outer_radius_mm ** 2) * z
+    bound_J = fx.energy_bound_J_per_mm3(sigma, E) * annulus
+    need_J = 0.5 * K * theta_d ** 2 * J_PER_NMM
+    if need_J > bound_J:
+        raise DesignError(
+            f"spring '{spec.name}': storing {need_J:.3g} J at {theta_d:.3g} rad needs more than the "
+            f"whole disk can hold at the design stress (sigma^2/(6E) x disk volume = {bound_J:.3g} J); "
+            "no flexure geometry in this envelope can reach that deflection: lower the stiffness or "
+            "deflection, enlarge the disk, or put springs in series")
+
+    lay = _choose_layout(spec, sigma, E)
+    n, rc, rb, rr = lay.n, lay.rc, lay.rb, lay.rr
+    if rb < lay.rb_req:
+        warnings.append(
+            f"tip ball {rb:.3f} mm is below the {lay.rb_req:.3f} mm the peak load "
+            f"{lay.load:.1f} N needs at the design stress; torque cap at r_c = {rc:g} mm is "
+            f"{fx.torque_cap_Nmm(rc, z, sigma) / NMM_PER_NM:.2f} N*m vs peak "
+            f"{K * theta_d / NMM_PER_NM:.2f} N*m: expect higher stress at the tip neck")
+
+    shape = spec.flexure
+    if shape == "straight" and lay.theta_s < theta_d:
+        raise DesignError(
+            f"spring '{spec.name}': straight flexures reach only {lay.theta_s:.4f} rad "
+            f"({math.degrees(lay.theta_s):.2f} deg) < max deflection {theta_d:.4f} rad; "
+            "allow flexure = \"serpentine\" or \"auto\"")
+    use_straight = lay.theta_s >= theta_d
+    if shape == "serpentine" and use_straight:
+        warnings.append("serpentine requested but straight flexures already reach the target "
+                        "deflection; straight flexures used")
+    L = rr - rc
+    clearance = None
+    if use_straight:
+        def w0_stiff(length):
+            return fx.straight_root_width_for_stiffness_mm(K, n, rc, length, E, z)
+        rr_s = spec.root_radius_mm or _rim_root_radius(spec.outer_radius_mm, n, rc, w0_stiff)
+        theta_s2 = fx.straight_limit_rad(n, z, sigma, rr_s - rc, E, K, rc)
+        if theta_s2 >= theta_d:
+            rr, L = rr_s, rr_s - rc
+            lay = _Layout(n, rc, rb, lay.rb_req, rr, theta_s2, lay.load)
+            width_law, w0 = "stiffness", w0_stiff(L)
+            centre = fx.Centreline.straight(rc, rr)
+            s_req = ratio = 1.0
+        else:
+            use_straight = False
+    if not use_straight:
+        width_law = "stress"
+        w0 = math.sqrt(6 * lay.load * L / (z * sigma))
+        s_req = fx.serpentine_factor(theta_d, lay.theta_s)
+
+        def width_fn(y):
+            return fx.constant_stress_width_mm(y, lay.load, rc, z, sigma)
+
+        res = fx.design_serpentine(
+            target_area_ratio=s_req, contact_radius_mm=rc, root_radius_mm=rr, n_flexures=n,
+            width_fn=width_fn, tip_radius_mm=rb,
+            min_clearance_mm=max(manufacturing.min_slot_width_mm, 2 * manufacturing.min_inside_radius_mm),
+            min_inside_radius_mm=manufacturing.min_inside_radius_mm,
+            root_zone_mm=2.0 * (spec.outer_radius_mm - rr))
+        centre, ratio, clearance = res.centreline, res.area_ratio, res.min_clearance_mm
+
+
+    t_rim = spec.outer_radius_mm - rr
+    gap_root = 2 * math.pi * rr / n - w0
+    if gap_root <= 2 * manufacturing.min_inside_radius_mm:
+        raise DesignError(f"spring '{spec.name}': flexure roots ({w0:.3g} mm wide) leave "
+                          f"{gap_root:.3g} mm between them at R_r = {rr:.3g} mm; the wire needs "
+                          f"{2 * manufacturing.min_inside_radius_mm:.3g} mm")
+    root_fillet = max(min(0.5 * t_rim, gap_root / 3.0), manufacturing.min_inside_radius_mm)
+    neck_fillet = max(0.5 * rb, manufacturing.min_inside_radius_mm)
+
+    design = SpringDesign(
+        name=spec.name, spec=spec, material=material, manufacturing=manufacturing,
+        hardware=hardware, n_flexures=n, contact_radius_mm=rc, root_radius_mm=rr,
+        outer_radius_mm=spec.outer_radius_mm, thickness_mm=z, tip_radius_mm=rb,
+        tip_radius_required_mm=lay.rb_req, flexure="straight" if use_straight else "serpentine",
+        width_law=width_law, root_width_mm=w0, tip_load_N=lay.load,
+        straight_limit_rad=lay.theta_s, serpentine_factor=s_req, centreline=centre,
+        area_ratio=ratio, min_neighbour_clearance_mm=clearance, rim_thickness_mm=t_rim,
+        root_fillet_radius_mm=root_fillet, neck_fillet_radius_mm=neck_fillet,
+        torque_cap_Nmm=fx.torque_cap_Nmm(rc, z, sigma), stiffness_beam_Nmm_per_rad=float("nan"),
+        peak_stress_MPa=float("nan"), warnings=tuple(warnings))
+    # beam prediction of the generated centreline (Castigliano); the flexure is a
+    # constant-stress beam, so the peak stress is uniform along it
+    k_beam = design.beam_stiffness_Nmm_per_rad()
+    load_at_max = k_beam * theta_d / (n * rc)
+    design = _replace(design, stiffness_beam_Nmm_per_rad=k_beam,
+                      peak_stress_MPa=6 * load_at_max * L / (z * w0 ** 2))
+    ring, holes, hole_d = ring_profile(design)
+    cam, cam_info = cam_profile(design)
+    return _replace(design, ring=ring, hole_centres_mm=holes, hole_diameter_mm=hole_d, cam=cam,
+                    cam_tip_radius_mm=cam_info.tip_radius_mm,
+                    cam_root_radius_mm=cam_info.root_radius_mm,
+                    cam_overtravel=cam_info.overtravel,
+                    warnings=design.warnings + cam_info.warnings)

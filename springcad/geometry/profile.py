@@ -1,0 +1,93 @@
+"""Turn exact 2D profiles (:mod:`springcad.design.curves`) into build123d faces and solids.
+
+Lines, arcs and circles become true lines and circles in the kernel; splines
+become B-spline edges interpolating the same fit points with the same end
+tangents. Units: mm.
+"""
+
+from __future__ import annotations
+
+import math
+
+from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
+from springcad.errors import GeometryError
+
+
+def segment_edge(seg):
+    """One build123d ``Edge`` for a profile segment."""
+    import build123d as bd
+
+    if isinstance(seg, Line):
+        return bd.Edge.make_line((*seg.start, 0.0), (*seg.end, 0.0))
+    if isinstance(seg, Circle):
+        return bd.Edge.make_circle(seg.radius, bd.Plane.XY.move(bd.Location((*seg.center, 0.0))))
+    if isinstance(seg, Arc):
+        plane = bd.Plane.XY.move(bd.Location((*seg.center, 0.0)))
+        a0, a1 = math.degrees(seg.start_angle), math.degrees(seg.end_angle)
+        if a1 >= a0:
+            edge = bd.Edge.make_circle(seg.radius, plane, a0, a1)
+        else:
+            edge = bd.Edge.make_circle(seg.radius, plane, a1, a0).reversed()
+        return edge
+    if isinstance(seg, Spline):
+        # same chord-length parameters and end derivatives as Spline._spline, so the kernel's
+        # C2 cubic interpolant is the curve the design evaluated
+        u = seg.parameters()
+        total = u[-1]
+        tangents = None
+        if seg.start_tangent is not None and seg.end_tangent is not None:
+            tangents = [(seg.start_tangent[0] * total, seg.start_tangent[1] * total, 0.0),
+                        (seg.end_tangent[0] * total, seg.end_tangent[1] * total, 0.0)]
+        return bd.Edge.make_spline([(x, y, 0.0) for x, y in seg.points], tangents=tangents,
+                                   parameters=list(u / total), scale=False)
+    raise TypeError(f"unknown segment {type(seg).__name__}")
+
+
+def loop_wire(loop: Loop):
+    """A closed build123d ``Wire`` for a loop (endpoints snapped by the kernel)."""
+    import build123d as bd
+
+    edges = [segment_edge(s) for s in loop.segments]
+    try:
+        wire = bd.Wire(edges)
+    except ValueError:
+        wire = None
+    if wire is None or not wire.is_closed:
+        wire = bd.Wire.combine(edges, tol=1e-5)[0]
+    if not wire.is_closed:
+        raise GeometryError("profile loop does not close in the CAD kernel")
+    return wire
+
+
+def profile_face(profile: Profile, part: str = "part"):
+    """Planar face (z = 0) with holes for a profile.
+
+    Raises:
+        GeometryError: the kernel cannot make a valid face (names ``part``).
+    """
+    import build123d as bd
+
+    try:
+        outer = loop_wire(profile.outer)
+        inner = [loop_wire(h) for h in profile.holes]
+        face = bd.Face(outer, inner)
+    except GeometryError as err:
+        raise GeometryError(f"{part}: {err}") from err
+    except Exception as err:  # kernel failure
+        raise GeometryError(f"{part}: the CAD kernel could not make the profile face ({err})") from err
+    if not face.is_valid:
+        raise GeometryError(f"{part}: the profile face is not valid (self-intersecting contour?)")
+    return face
+
+
+def extrude_profile(profile: Profile, thickness_mm: float, part: str = "part", z_mm: float = 0.0):
+    """Prism of a profile from z to z + thickness (mm)."""
+    import build123d as bd
+
+    face = profile_face(profile, part)
+    solid = bd.Solid.extrude(face, (0, 0, thickness_mm))
+    if z_mm:
+        solid = solid.moved(bd.Location((0, 0, z_mm)))
+    if not solid.is_valid:
+        raise GeometryError(f"{part}: extruded solid is not valid")
+    return solid
