@@ -175,3 +175,29 @@ def test_config_compares_with_the_design(bench_csv, tmp_path, monkeypatch):
     assert comp["stiffness"]["target_Nm_per_rad"] == 37.5
     assert set(comp["backlash"]["ranges"]) == {"worst_case", "rss", "monte_carlo_p01_p99"}
     assert "## Comparison with the design" in (out / "report.md").read_text()
+
+
+def test_config_with_the_design_core_and_a_simulated_designed_stack(tmp_path):
+    # the paper's 4xS1 stack (Mfr. 2 tolerances) designed by springcad, put on the simulated
+    # bench at its beam stiffness and nominal backlash, then fitted against its own config
+    pytest.importorskip("springcad.config")
+    from pathlib import Path
+    from springcad.fit.compare import design_from_config
+
+    config = Path(__file__).resolve().parents[2] / "templates" / "paper_4xS1_mfr2.toml"
+    if not config.exists():
+        pytest.skip("paper templates not in this checkout")
+    design = design_from_config(config)
+    bench_spring = BenchSpring.from_design(design, friction_torque_Nm=0.1)
+    sim = simulate(bench_spring, protocol=FAST, seed=13)
+    path = tmp_path / "stack.csv"
+    path.write_text(to_csv_text(sim.record))
+    out = tmp_path / "o"
+    assert main(["fit", str(path), "--out", str(out), "--config", str(config), "--no-plots"]) == 0
+    d = json.loads((out / "fit.json").read_text())
+    comp = d["design_comparison"]["residual_loop"]
+    assert abs(comp["stiffness"]["error_vs_beam_pct"]) < 1.0
+    assert comp["measured"]["backlash_rad"] == pytest.approx(
+        design["stack"]["backlash_rad"]["nominal"], rel=0.05)
+    assert all(r["inside"] for r in comp["backlash"]["ranges"].values())
+    assert d["final"]["effects"] == ["backlash", "hysteresis"]
