@@ -1,4 +1,4 @@
-"""``springcad fit DATA.csv --out DIR``: fit bench data and close the loop on the residual.
+"""``springcad fit DATA.csv [--out DIR]``: fit bench data and close the loop on the residual.
 
 Writes ``DIR/fit.json``, ``DIR/report.md`` (or ``.html``) and PNG plots, and
 prints a short summary. The input file is only read.
@@ -31,7 +31,8 @@ def register(subparsers) -> None:
                     "add physical effects the residual asks for, one at a time, and report the "
                     "error before and after each step.")
     p.add_argument("data", type=Path, help="bench CSV (header: time_s, torque_Nm, deflection_rad)")
-    p.add_argument("--out", type=Path, required=True, help="output folder (must not exist or be empty)")
+    p.add_argument("--out", type=Path, default=None,
+                   help="output folder (default outputs/<data file name>/; must not exist or be empty)")
     p.add_argument("--config", type=Path, help="job config: compare with the designed stack")
     p.add_argument("--target-stiffness", type=_positive, metavar="K",
                    help="target stiffness (N·m/rad) for the stiffness error")
@@ -54,6 +55,7 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     """Run ``springcad fit``; returns the exit status."""
+    from springcad.cli.common import default_out
     from springcad.fit.analysis import fit_record
     from springcad.fit.compare import design_from_config
     from springcad.fit.data import ColumnMap, read_bench_csv
@@ -69,9 +71,10 @@ def run(args) -> int:
         print(f"springcad fit: warning: {w}", file=sys.stderr)
     design = design_from_config(args.config) if args.config else None
     result = fit_record(record, args.target_stiffness, design)
-    with atomic_output_dir(args.out, overwrite=args.overwrite) as tmp:
+    out = args.out or default_out(args.data)
+    with atomic_output_dir(out, overwrite=args.overwrite) as tmp:
         written = write_fit_outputs(result, tmp, fmt=args.format, plots=not args.no_plots)
-    _print_summary(result, args.out, [p.name for p in written])
+    _print_summary(result, out, [p.name for p in written])
     return 0
 
 

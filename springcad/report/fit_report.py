@@ -29,24 +29,6 @@ from springcad.fit.loop import State
 _MAX_POINTS = 6000
 
 
-def jsonable(obj):
-    """``obj`` with numpy scalars and arrays made plain, non-finite floats as ``None``."""
-    if isinstance(obj, dict):
-        return {str(k): jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return jsonable(obj.tolist())
-    if isinstance(obj, (np.bool_, bool)):
-        return bool(obj)
-    if isinstance(obj, (np.integer,)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    return obj
-
-
 def write_fit_outputs(result: FitResult, out_dir: Path | str, fmt: str = "md",
                       plots: bool = True) -> list[Path]:
     """Write ``fit.json``, the report and the plots into ``out_dir``.
@@ -62,10 +44,12 @@ def write_fit_outputs(result: FitResult, out_dir: Path | str, fmt: str = "md",
     """
     if fmt not in ("md", "html"):
         raise ValueError(f"report format {fmt!r} is not 'md' or 'html'")
+    from springcad.cli.common import write_json
+
     out_dir = Path(out_dir)
-    data = jsonable(result.to_dict())
     written = [out_dir / "fit.json"]
-    written[0].write_text(json.dumps(data, indent=2, allow_nan=False) + "\n", encoding="utf-8")
+    write_json(written[0], result.to_dict())
+    data = json.loads(written[0].read_text(encoding="utf-8"))  # exactly what the file says
     images = _plot_all(result, out_dir) if plots else {}
     written += list(images.values())
     blocks = report_blocks(result, data, {k: p.name for k, p in images.items()})

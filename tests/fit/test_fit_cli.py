@@ -201,3 +201,9 @@ def test_config_with_the_design_core_and_a_simulated_designed_stack(tmp_path):
         design["stack"]["backlash_rad"]["nominal"], rel=0.05)
     assert all(r["inside"] for r in comp["backlash"]["ranges"].values())
     assert d["final"]["effects"] == ["backlash", "hysteresis"]
+
+
+def test_default_output_folder_is_outputs_data_name(bench_csv, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["fit", str(bench_csv), "--no-plots"]) == 0
+    assert (tmp_path / "outputs" / "bench" / "fit.json").exists()
