@@ -22,7 +22,8 @@ crossover was modelled, say). Finally the residual is tested for structure
 left over: mean residual in bins of deflection (per direction of motion) and of
 time, compared with the white-noise level estimated from lagged differences.
 Structure that is both statistically significant and larger than a quarter of
-the noise level is reported as ``unexplained``, with its evidence.
+the noise level is reported as ``unexplained``, with its evidence (see
+:mod:`springcad.fit.residual`).
 
 Torque in N·m, angles in rad, time in s.
 """
@@ -30,14 +31,13 @@ Torque in N·m, angles in rad, time in s.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage, stats
 
-from springcad.fit.effects import LIBRARY, Effect, get_effect
+from springcad.fit.effects import LIBRARY, Effect
 from springcad.fit.models import nrmse_pct, rmse
-from springcad.fit.segment import noise_std
+from springcad.fit.residual import noise_model, residual_structure
 from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel, single_threaded_blas
 
@@ -137,7 +137,7 @@ class Candidate:
     heldout_rmse: float | None = None
 
     def to_dict(self) -> dict:
-        return {"effect": self.effect, "detector_z": self.z, "fitted": self.fitted,
+        return {"effect": self.effect, "detector": self.z, "fitted": self.fitted,
                 "heldout_gain": self.gain, "heldout_rmse": self.heldout_rmse}
 
 
@@ -173,10 +173,7 @@ class Step:
         if self.effect == "series_compliance":
             return {k: v for k, v in self.after.params().items()
                     if k in ("series_stiffness_Nm_per_rad", "encoder_offset_rad")}
-        model = self.after.model
-        e = get_effect(self.effect)
-        sl = model._slices[self.effect]
-        return e.report(self.after.x[sl], float(self.after.x[0]), model.scales)
+        return self.after.model.effect_report(self.effect, self.after.x)
 
     def to_dict(self) -> dict:
         return {"action": self.action, "effect": self.effect, "evidence": self.evidence,
@@ -222,46 +219,6 @@ class LoopResult:
 def _nrmse(state: State, sig: Signals, half_range: float) -> float:
     idx = state.inliers(np.arange(sig.n))
     return nrmse_pct(state.model.residual(state.x, sig, idx), half_range)
-
-
-@dataclass(frozen=True)
-class NoiseModel:
-    """Level and correlation of the noise in a residual.
-
-    Attributes:
-        sigma: white-equivalent standard deviation (N·m), from differences at
-            ``lag`` samples, where the noise no longer correlates.
-        lag: first lag (samples) at which the noise autocorrelation is below 0.05.
-        tau: integrated autocorrelation time (samples, ≥ 1): each ``tau``
-            samples carry one sample's worth of independent information.
-    """
-
-    sigma: float
-    lag: int
-    tau: float
-
-
-def noise_model(r: np.ndarray, sample_rate_hz: float) -> NoiseModel:
-    """Estimate the noise of a residual sampled at ``sample_rate_hz``.
-
-    The residual is high-passed (minus its 0.2 s moving average) so slow
-    structure does not pass for correlated noise; its autocorrelation over the
-    first 50 ms gives the decorrelation lag and ``tau``. White noise gives
-    ``lag = 1, tau = 1``; deflection noise interpolated from a 60 fps camera
-    gives a lag of several samples at 500 Hz.
-    """
-    width = max(5, int(round(0.2 * sample_rate_hz)))
-    hp = r - ndimage.uniform_filter1d(r, width, mode="nearest")
-    hp = hp - hp.mean()
-    den = float(hp @ hp)
-    kmax = max(1, min(int(round(0.05 * sample_rate_hz)), r.size // 4))
-    if den == 0.0:
-        return NoiseModel(0.0, 1, 1.0)
-    acf = np.array([float(hp[k:] @ hp[:-k]) / den for k in range(1, kmax + 1)])
-    below = np.flatnonzero(acf < 0.05)
-    lag = int(below[0]) + 1 if below.size else kmax
-    tau = max(1.0, 1.0 + 2.0 * float(np.sum(acf[:lag - 1])))
-    return NoiseModel(noise_std(r, lag), lag, tau)
 
 
 class _Loop:
@@ -501,7 +458,13 @@ def _run_loop(sig: Signals, settings: LoopSettings) -> LoopResult:
     if any(s.action == "remove" for s in search):
         steps, rounds = [], []
         state, score_now, f_scale = _forward(baseline, lp, steps, rounds, set(state.effects))
-    structure, unexplained, noise = residual_structure(state, sig, settings)
+        # the evidence that nothing else helps: one round over the whole library
+        rounds.append(tuple(lp.round(state, score_now, f_scale)[0]))
+    idx = state.inliers(np.arange(sig.n))
+    structure, unexplained, noise = residual_structure(
+        state.model.residual(state.x, sig, idx), idx, sig, bins=settings.structure_bins,
+        min_rms=settings.structure_min_rms, p_level=settings.structure_p,
+        excess_ratio=settings.excess_ratio)
     log = tuple({"action": s.action, "effect": s.effect,
                  "heldout_gain": s.evidence.get("heldout_gain",
                                                 -s.evidence.get("heldout_loss_when_removed", 0.0))}
@@ -609,74 +572,3 @@ def _backward(state: State, score_now: float, f_scale: float, lp: _Loop,
         state = after
         score_now = score
     return state, score_now
-
-
-def residual_structure(state: State, sig: Signals,
-                       settings: LoopSettings = LoopSettings()) -> tuple[dict, bool, float]:
-    """Test the residual of ``state`` for structure beyond white noise.
-
-    The residual is averaged in bins of deflection (separately for each
-    direction of motion) and in bins of time. Each bin mean is compared with
-    its white-noise standard error ``σ/sqrt(n)``, with ``σ`` from lagged
-    differences of the residual at a lag where the noise no longer correlates,
-    and the standard error widened by the noise correlation time. A chi-square over bins gives the significance;
-    the noise-corrected RMS of the bin means gives the size of the structure.
-
-    Returns:
-        ``(evidence, unexplained, σ)``: evidence dict, whether structure remains
-        (significant and at least ``structure_min_rms``·σ, or residual RMS above
-        ``excess_ratio``·σ), and σ (N·m).
-    """
-    idx = state.inliers(np.arange(sig.n))
-    r = state.model.residual(state.x, sig, idx)
-    noise = noise_model(r, sig.scales.sample_rate_hz)
-    sigma = noise.sigma
-    ratio = rmse(r) / sigma if sigma > 0 else math.inf
-    theta = sig.theta_smooth[idx]
-    nb = settings.structure_bins
-    edges = np.linspace(theta.min(), theta.max(), nb + 1)
-    b_theta = np.clip(np.searchsorted(edges, theta, side="right") - 1, 0, nb - 1)
-    key_theta = 2 * b_theta + (sig.direction[idx] > 0)
-    t = sig.t[idx]
-    key_time = np.clip(((t - t[0]) / (t[-1] - t[0]) * nb).astype(int), 0, nb - 1)
-    tests = {}
-    unexplained = ratio > settings.excess_ratio
-    for name, key, centre in (("by_deflection_and_direction", key_theta, theta),
-                              ("by_time", key_time, t)):
-        cnt = np.bincount(key)
-        tot = np.bincount(key, weights=r)
-        ok = cnt >= 20
-        means = tot[ok] / cnt[ok]
-        # bin means of correlated noise vary as σ²·tau/n
-        var_noise = sigma ** 2 * noise.tau
-        chi2 = float(np.sum(cnt[ok] * means ** 2) / var_noise) if sigma > 0 else math.inf
-        dof = int(ok.sum())
-        p = float(stats.chi2.sf(chi2, dof)) if dof else 1.0
-        excess = np.sum(cnt[ok] * means ** 2 - var_noise) / np.sum(cnt[ok])
-        struct_rms = math.sqrt(max(float(excess), 0.0))
-        worst = int(np.argmax(np.abs(means))) if dof else 0
-        where = np.flatnonzero(ok)[worst] if dof else 0
-        at = float(np.mean(centre[key == where])) if dof else 0.0
-        significant = p < settings.structure_p and struct_rms > settings.structure_min_rms * sigma
-        unexplained = unexplained or significant
-        tests[name] = {"chi2": chi2, "bins": dof, "p_value": p,
-                       "structure_rms_Nm": struct_rms,
-                       "structure_rms_over_noise": struct_rms / sigma if sigma > 0 else math.inf,
-                       "largest_bin_mean_Nm": float(means[worst]) if dof else 0.0,
-                       ("largest_at_rad" if "deflection" in name else "largest_at_s"): at,
-                       "significant": bool(significant)}
-    evidence = {"noise_Nm": sigma, "noise_decorrelation_lag_samples": noise.lag,
-                "noise_correlation_samples": noise.tau, "residual_rms_Nm": rmse(r),
-                "residual_rms_over_noise": ratio,
-                "lag1_autocorrelation": _autocorr(r, 1),
-                "tests": tests,
-                "thresholds": {"p_value": settings.structure_p,
-                               "structure_rms_over_noise": settings.structure_min_rms,
-                               "residual_rms_over_noise": settings.excess_ratio}}
-    return evidence, bool(unexplained), sigma
-
-
-def _autocorr(r: np.ndarray, lag: int) -> float:
-    r = r - r.mean()
-    den = float(r @ r)
-    return float(r[lag:] @ r[:-lag]) / den if den > 0 else 0.0

@@ -136,8 +136,13 @@ class TorqueModel:
         """Fitted parameters with units in the names (stiffness first)."""
         out = {"stiffness_Nm_per_rad": float(x[0])}
         for e in self.effects:
-            out.update(e.report(x[self._slices[e.name]], float(x[0]), self.scales))
+            out.update(self.effect_report(e.name, x))
         return out
+
+    def effect_report(self, name: str, x: np.ndarray) -> dict:
+        """Fitted parameters of one effect, with units in the names."""
+        e = next(e for e in self.effects if e.name == name)
+        return e.report(x[self._slices[name]], float(x[0]), self.scales)
 
     def solve_stiffness(self, x: np.ndarray, sig: Signals, idx: np.ndarray,
                         weights: np.ndarray | None = None) -> np.ndarray:

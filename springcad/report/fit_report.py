@@ -151,7 +151,7 @@ def report_blocks(result: FitResult, data: dict, images: dict[str, str]) -> list
     if data["last_round_candidates"]:
         b.append(("p", "Candidates in the last round (none cleared the threshold):"))
         b.append(("table", ["effect", "detector", "fitted", "held-out gain"],
-                  [[c["effect"], _f(c["detector_z"], 3), _f(c["fitted"]), _f(c["heldout_gain"])]
+                  [[c["effect"], _f(c["detector"], 3), _f(c["fitted"]), _f(c["heldout_gain"])]
                    for c in data["last_round_candidates"]]))
 
     b.append(("h2", "Final model"))

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from springcad.errors import DataError
-from springcad.fit.bench import BenchNoise, BenchSpring, Protocol, simulate
+from springcad.fit.bench import BenchNoise, BenchSpring, simulate
 from springcad.fit.data import make_record
 from springcad.fit.segment import cycle_energies, energy_loss_pct, noise_std, segment
 from fit_helpers import FAST, K
