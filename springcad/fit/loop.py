@@ -10,20 +10,23 @@ Each round:
    are not fitted;
 3. fit the current model plus the candidate on half of the cycles and score it
    on the other half, and vice versa (two-fold cross-validation over whole
-   excursions). The criterion is ``N·ln(SSE/N) + k·ln(N)`` over the held-out
-   samples (Gaussian log-likelihood with a BIC parameter penalty), so an
-   effect must both predict unseen cycles better and pay for its parameters;
+   excursions). The criterion is ``N'·ln(SSE/N) + k·ln(N')`` over the N
+   held-out samples, with ``N' = N/τ`` the number of independent samples for
+   noise correlated over τ samples (Gaussian log-likelihood with a BIC
+   parameter penalty), so an effect must both predict unseen cycles better
+   and pay for its parameters;
 4. add the effect with the largest drop of the criterion if the drop exceeds
    ``gain_threshold``, refit everything on all samples, record the step.
 
 The loop stops when no candidate clears the threshold. A backward pass then
 removes effects made redundant by later ones (an offset added before the
-crossover was modelled, say). Finally the residual is tested for structure
-left over: mean residual in bins of deflection (per direction of motion) and of
-time, compared with the white-noise level estimated from lagged differences.
-Structure that is both statistically significant and larger than a quarter of
-the noise level is reported as ``unexplained``, with its evidence (see
-:mod:`springcad.fit.residual`).
+crossover was modelled, say); if it removed any, the path is derived again
+over the surviving effects, so every reported step belongs to the final model.
+Finally the residual is tested for structure left over: mean residual in bins
+of deflection (per direction of motion) and of time, compared with the noise
+level. Structure that is both statistically significant and larger than a
+quarter of the noise level is reported as ``unexplained``, with its evidence
+(see :mod:`springcad.fit.residual`).
 
 Torque in N·m, angles in rad, time in s.
 """
@@ -318,12 +321,10 @@ class _Loop:
         """Best start and the cross-validated score of ``state`` plus ``effect``."""
         m2 = state.model.with_effect(effect)
         idx = state.inliers(self.cv)
-        w = None
-        starts = list(effect.starts(m2.scales))
         best_x, best_sse = None, np.inf
-        for s in starts:
+        for s in effect.starts(m2.scales):
             x_s = m2.solve_stiffness(m2.transfer(state.model, state.x, {effect.name: s}),
-                                     self.sig, idx, w)
+                                     self.sig, idx)
             r = m2.residual(x_s, self.sig, idx)
             sse = float(r @ r)
             if sse < best_sse:
@@ -341,6 +342,12 @@ class _Loop:
         e = sig.encoder - sig.theta
         tau = sig.torque
         keep = ~find_glitches(tau, self.s.glitch_threshold)
+        idx = self.cv[keep[self.cv]]
+        slope, offset = _line_fit(tau[idx], e[idx], True)
+        r = e[idx] - offset - slope * tau[idx]
+        corr = noise_model(r, self.cv_rate_hz).tau  # this channel's own noise correlation
+        se = rmse(r) * math.sqrt(corr) / (float(np.std(tau[idx])) * math.sqrt(idx.size))
+        z = slope / se if se > 0 else 0.0
         out = {}
         for with_slope in (False, True):
             sse, m = 0.0, 0
@@ -352,14 +359,9 @@ class _Loop:
                 sse += float(r @ r)
                 m += r.size
             k_par = 2 if with_slope else 1
-            m_eff = m / self.tau
+            m_eff = m / corr
             out[with_slope] = (m_eff * math.log(sse / m) + k_par * math.log(m_eff),
                                math.sqrt(sse / m))
-        idx = self.cv[keep[self.cv]]
-        slope, offset = _line_fit(tau[idx], e[idx], True)
-        r = e[idx] - offset - slope * tau[idx]
-        se = rmse(r) / (float(np.std(tau[idx])) * math.sqrt(idx.size))
-        z = slope / se if se > 0 else 0.0
         return out[False][0], out[True][0], z, out[False][1], out[True][1]
 
     # --- one round -----------------------------------------------------------
