@@ -207,3 +207,17 @@ def test_default_output_folder_is_outputs_data_name(bench_csv, tmp_path, monkeyp
     monkeypatch.chdir(tmp_path)
     assert main(["fit", str(bench_csv), "--no-plots"]) == 0
     assert (tmp_path / "outputs" / "bench" / "fit.json").exists()
+
+
+def test_encoder_column_lets_the_loop_find_series_compliance(tmp_path):
+    sim = simulate(spring("series_compliance"), protocol=FAST, seed=14)
+    path = tmp_path / "enc.csv"
+    path.write_text(to_csv_text(sim.record))
+    assert "encoder_in_rad" in path.read_text().splitlines()[0]
+    out = tmp_path / "o"
+    assert main(["fit", str(path), "--out", str(out), "--no-plots"]) == 0
+    d = json.loads((out / "fit.json").read_text())
+    assert [s["effect"] for s in d["steps"]] == ["series_compliance"]
+    step = d["steps"][0]
+    assert step["params"]["series_stiffness_Nm_per_rad"] == pytest.approx(200.0, rel=0.05)
+    assert step["evidence"]["heldout_rmse_after_rad"] < step["evidence"]["heldout_rmse_before_rad"]
