@@ -128,3 +128,22 @@ def test_rim_rule(paper_designs):
 def test_straight_forced_but_too_far():
     with pytest.raises(DesignError, match="straight flexures reach only"):
         design(flexure="straight")
+
+
+def test_width_hooks_follow_beam_theory(paper_designs):
+    """with_width: K scales as scale^3 (beam theory) and an edge offset matches the beam model."""
+    from springcad.design.spring import with_width
+
+    s = paper_designs["paper_S1"].springs["S1"]
+    k0 = s.stiffness_beam_Nmm_per_rad
+    for scale in (0.98, 1.02):
+        e = with_width(s, scale)
+        assert e.stiffness_beam_Nmm_per_rad / k0 == pytest.approx(scale ** 3, rel=1e-6)
+        assert e.peak_stress_MPa / s.peak_stress_MPa == pytest.approx(scale, rel=1e-6)
+        assert e.ring.area_mm2() != s.ring.area_mm2()
+    off = with_width(s, 1.0, 0.02)
+    assert off.stiffness_beam_Nmm_per_rad / k0 == pytest.approx(
+        s.beam_stiffness_Nmm_per_rad(0.02) / k0, rel=1e-3)
+    assert off.tip_radius_mm == pytest.approx(0.32)
+    with pytest.raises(DesignError, match="to their neighbours"):
+        with_width(s, 1.3)

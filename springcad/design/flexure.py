@@ -188,6 +188,27 @@ def _point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> np.ndarray
     return np.sqrt(((points[:, None, :] - foot) ** 2).sum(-1)).min(axis=1)
 
 
+def neighbour_clearance_mm(centreline: Centreline, y, width, n_flexures: int,
+                           tip_radius_mm: float) -> float:
+    """Exact smallest gap between a flexure's edge and its neighbour's, above the tip ball (mm).
+
+    The neighbour is the same flexure rotated by 2 pi / N about the centre.
+    """
+    pitch = 2.0 * math.pi / n_flexures
+    c, s = math.cos(-pitch), math.sin(-pitch)
+    rot = np.array([[c, -s], [s, c]])
+    right, left, _ = edges(centreline, y, width)
+    m = np.asarray(y) > y[0] + 2.0 * tip_radius_mm
+    return float(_point_polyline_distance(right[m], left @ rot.T).min())
+
+
+def concave_edge_radius_mm(centreline: Centreline, y, width) -> float:
+    """Smallest radius of the concave flexure edge, 1/|kappa| - w/2 (mm); inf if straight."""
+    _, dx, ddx = centreline.evaluate(y)
+    kappa = np.abs(ddx) / (1.0 + dx ** 2) ** 1.5
+    return float(np.min(1.0 / np.maximum(kappa, 1e-12) - 0.5 * np.asarray(width)))
+
+
 def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
                       root_radius_mm: float, n_flexures: int, width_fn,
                       tip_radius_mm: float, min_clearance_mm: float,
@@ -233,8 +254,6 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
     y_s = r  # straight flexure
     straight_area = float(np.trapezoid(width_fn(y_s), y_s))
     pitch = 2.0 * math.pi / n_flexures
-    c, s = math.cos(-pitch), math.sin(-pitch)
-    rot = np.array([[c, -s], [s, c]])
 
     def build(lam, budget, h):
         tan_b = lam * budget * h
@@ -255,17 +274,15 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
                           (0.0, float(math.tan(theta[-1]))))
         yy = np.linspace(rc, y[-1], 600)
         w = width_fn(yy)
-        xx, dx, ddx = line.evaluate(yy)
-        kappa = ddx / (1.0 + dx ** 2) ** 1.5
-        if np.max(np.abs(kappa) * (0.5 * w + min_inside_radius_mm)) > 1.0:
+        edge_r = concave_edge_radius_mm(line, yy, w)
+        if edge_r < min_inside_radius_mm:
             return None, "edge radius"
-        right, left, _ = edges(line, yy, w)
-        m = yy > rc + 2.0 * tip_radius_mm
-        clear = float(_point_polyline_distance(right[m], left @ rot.T).min())
+        clear = neighbour_clearance_mm(line, yy, w, n_flexures, tip_radius_mm)
         ratio = area_mm2(line, yy, w) / straight_area
+        _, dx, ddx = line.evaluate(yy)
+        kappa = ddx / (1.0 + dx ** 2) ** 1.5
         ds = np.sqrt(1.0 + dx ** 2)
         measure = float(np.trapezoid((kappa * 0.5 * w) ** 2 * ds, yy)) / L
-        edge_r = float(np.min(1.0 / np.maximum(np.abs(kappa), 1e-12) - 0.5 * w))
         return (line, ratio, clear, edge_r, measure), ""
 
     q = np.clip((rr - r) / root_zone_mm, 0.0, 1.0) if root_zone_mm > 0 else np.ones_like(r)

@@ -79,6 +79,10 @@ class SpringDesign:
     cam_root_radius_mm: float = 0.0
     cam_overtravel: float = 0.0
     warnings: tuple[str, ...] = field(default_factory=tuple)
+    width_scale: float = 1.0
+    """Factor on the width law (1.0 as designed; set by FEA stiffness correction)."""
+    width_offset_mm: float = 0.0
+    """Outward offset of every flexure edge and of the tip ball (a profile error, mm)."""
 
     # ------------------------------------------------------------- predictions
     @property
@@ -109,10 +113,13 @@ class SpringDesign:
         """Flexure width normal to the centreline at radius y (mm)."""
         y = np.asarray(y_mm, dtype=float)
         if self.width_law == "stiffness":
-            return self.root_width_mm * np.sqrt(np.maximum(y - self.contact_radius_mm, 0.0)
-                                                / self.length_mm)
-        return fx.constant_stress_width_mm(y, self.tip_load_N, self.contact_radius_mm,
-                                           self.thickness_mm, self.material.design_stress_MPa)
+            w = self.root_width_mm * np.sqrt(np.maximum(y - self.contact_radius_mm, 0.0)
+                                             / self.length_mm)
+        else:
+            w = self.width_scale * fx.constant_stress_width_mm(
+                y, self.tip_load_N, self.contact_radius_mm, self.thickness_mm,
+                self.material.design_stress_MPa)
+        return w + 2.0 * self.width_offset_mm
 
     def beam_stiffness_Nmm_per_rad(self, width_offset_mm: float = 0.0,
                                    youngs_modulus_MPa: float | None = None) -> float:
@@ -229,6 +236,52 @@ class SpringDesign:
             "specific_energy_J_per_kg": self.specific_energy_J_per_kg,
             "warnings": list(self.warnings),
         }
+
+
+def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0) -> SpringDesign:
+    """The same spring with its flexure widths scaled and/or offset, profiles rebuilt.
+
+    ``scale`` multiplies the width law (K grows as scale^3 in beam theory): the
+    FEA stiffness correction. ``offset_mm`` moves every flexure edge and the tip
+    ball outward (a wire-EDM profile error): the tolerance study.
+
+    Raises:
+        DesignError: the new flexures break the neighbour clearance or the
+            concave edge radius the wire can cut.
+    """
+    from springcad.design.cam import cam_profile
+    from springcad.design.ring import ring_profile
+
+    base = design
+    w0 = base.root_width_mm / base.width_scale * scale if base.width_law == "stress" else \
+        base.root_width_mm / (base.width_scale or 1.0) * scale
+    d = _replace(base, width_scale=scale, width_offset_mm=offset_mm, root_width_mm=w0,
+                 tip_radius_mm=base.tip_radius_mm - base.width_offset_mm + offset_mm)
+    y = np.linspace(d.contact_radius_mm, d.root_radius_mm, 1201)
+    mfg = d.manufacturing
+    clearance = None
+    if not d.centreline.is_straight:
+        clearance = fx.neighbour_clearance_mm(d.centreline, y, d.width_mm(y), d.n_flexures,
+                                              d.tip_radius_mm)
+        if clearance < mfg.min_slot_width_mm:
+            raise DesignError(
+                f"spring '{d.name}': flexures {scale:.4f} x wider leave {clearance:.3f} mm to their "
+                f"neighbours (min_slot_width_mm {mfg.min_slot_width_mm:g})")
+        edge = fx.concave_edge_radius_mm(d.centreline, y, d.width_mm(y))
+        if edge < mfg.min_inside_radius_mm:
+            raise DesignError(
+                f"spring '{d.name}': flexures {scale:.4f} x wider have a concave edge radius "
+                f"{edge:.3f} mm < wire radius + spark gap {mfg.min_inside_radius_mm:g} mm")
+    k = d.beam_stiffness_Nmm_per_rad()
+    load = k * d.max_deflection_rad / (d.n_flexures * d.contact_radius_mm)
+    w_root = float(d.width_mm(d.root_radius_mm))
+    d = _replace(d, stiffness_beam_Nmm_per_rad=k, min_neighbour_clearance_mm=clearance,
+                 peak_stress_MPa=6 * load * d.length_mm / (d.thickness_mm * w_root ** 2))
+    ring, holes, hole_d = ring_profile(d)
+    d = _replace(d, ring=ring, hole_centres_mm=holes, hole_diameter_mm=hole_d)
+    cam, info = cam_profile(d)
+    return _replace(d, cam=cam, cam_tip_radius_mm=info.tip_radius_mm,
+                    cam_root_radius_mm=info.root_radius_mm, cam_overtravel=info.overtravel)
 
 
 # --------------------------------------------------------------------- layout rules
@@ -448,8 +501,9 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
     design = _replace(design, stiffness_beam_Nmm_per_rad=k_beam,
                       peak_stress_MPa=6 * load_at_max * L / (z * w0 ** 2))
     ring, holes, hole_d = ring_profile(design)
-    cam, cam_info = cam_profile(design)
-    return _replace(design, ring=ring, hole_centres_mm=holes, hole_diameter_mm=hole_d, cam=cam,
+    design = _replace(design, ring=ring, hole_centres_mm=holes, hole_diameter_mm=hole_d)
+    cam, cam_info = cam_profile(design)  # checks the gap against the ring
+    return _replace(design, cam=cam,
                     cam_tip_radius_mm=cam_info.tip_radius_mm,
                     cam_root_radius_mm=cam_info.root_radius_mm,
                     cam_overtravel=cam_info.overtravel,

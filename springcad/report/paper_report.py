@@ -115,12 +115,15 @@ def markdown(v) -> str:
         lines.append(f"| {c.configuration} | {c.nominal_backlash_rad:.4f} | {lo:.4f} | {hi:.4f} "
                      f"| {c.measured_backlash_rad:.4f} | {c.backlash_position} |")
     lines += ["", "Manufacturer comparison (4xS1, Table II):", "",
-              "| manufacturer | t_shaft | t_spring | worst max | measured | where |",
-              "|---|---|---|---|---|---|"]
+              "| manufacturer | t_shaft | t_spring | backlash worst max | measured | where "
+              "| K range at ±t_spring | measured K | where |",
+              "|---|---|---|---|---|---|---|---|---|"]
     for m in d["manufacturers"]:
+        lo, hi = m["predicted_stiffness_range_at_t_spring"]
         lines.append(f"| {m['manufacturer']} | {m['t_shaft_mm']} | {m['t_spring_mm']} "
                      f"| {m['predicted_backlash_range_rad'][1]:.4f} | {m['measured_backlash_rad']:.4f} "
-                     f"| {m['backlash_position']} |")
+                     f"| {m['backlash_position']} | [{lo:.2f}, {hi:.2f}] | {m['measured_stiffness']:.2f} "
+                     f"| {m['stiffness_position']} |")
     lines += ["", "## Energy", "", "| configuration | J/cm³ | J/kg |", "|---|---|---|"]
     for c in v.configurations:
         lines.append(f"| {c.configuration} | {c.energy_density_J_per_cm3:.3f} "

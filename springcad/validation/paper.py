@@ -296,8 +296,14 @@ def validate_paper(data_dir: Path | None = None, templates_dir: Path | None = No
         meas = row["measured_backlash_rad"]
         where = ("above the worst case" if meas > st.backlash.worst_max else
                  "below the worst case" if meas < st.backlash.worst_min else "inside the range")
+        t_sp = st.springs[0].manufacturing.t_spring_mm
+        k_range = [series([springs[s].stiffness(d) for s in st.sequence]) for d in (-t_sp, t_sp)]
+        k_meas = row["measured_stiffness_Nm_per_rad"]
         manufacturers.append({
             "manufacturer": mfr, "configuration": row["configuration"],
+            "predicted_stiffness_range_at_t_spring": k_range,
+            "stiffness_position": ("inside the range" if k_range[0] <= k_meas <= k_range[1] else
+                                   "above the range" if k_meas > k_range[1] else "below the range"),
             "t_shaft_mm": row["t_shaft_mm"], "t_spring_mm": row["t_spring_mm"],
             "predicted_backlash_range_rad": [st.backlash.worst_min, st.backlash.worst_max],
             "paper_max_expected_backlash_rad": row["max_expected_backlash_rad"],
