@@ -100,7 +100,11 @@ def _print_summary(result, out: Path, files: list[str]) -> None:
         print(f"  unexplained: structure remains in the residual ({worst[0]}: "
               f"{worst[1]['structure_rms_over_noise']:.2f} x noise, p = {worst[1]['p_value']:.2g}); "
               "see the report")
-    print(f"  energy loss: {d['energy_loss_pct']:.3g} % (largest amplitude)")
+    loss = f"  energy loss: {d['energy_loss_pct']:.3g} % (largest amplitude)"
+    if d.get("energy_loss_corrected_pct") is not None:
+        loss += (f"; {d['energy_loss_corrected_pct']:.3g} % without "
+                 f"{', '.join(d['energy_loss_corrections'])}")
+    print(loss)
     if d.get("stiffness_error_pct"):
         print(f"  stiffness error vs target {d['target_stiffness_Nm_per_rad']:.4g} N·m/rad: "
               f"{d['stiffness_error_pct']['deadband']:+.3g} % (deadband)")

@@ -25,6 +25,9 @@ from springcad.fit.torque_model import single_threaded_blas
 
 SCHEMA = "springcad.fit/1"
 
+#: effects of the measurement, not of the spring: removed before the corrected energy loss
+MEASUREMENT_EFFECTS = ("time_lag", "drift", "torque_offset", "angle_offset", "outliers")
+
 
 @dataclass(frozen=True)
 class FitResult:
@@ -36,7 +39,10 @@ class FitResult:
         signals: per-sample signals used by the loop.
         paper_models: linear, deadband and logit fits.
         cycles: energy of each loading–unloading cycle.
-        energy_loss_pct: loss at the largest amplitude (%).
+        energy_loss_pct: loss at the largest amplitude (%), from the measured data.
+        energy_loss_corrected_pct: the same after removing the measurement
+            effects the loop found (lag, drift, offsets, glitches), or ``None``.
+        energy_loss_corrections: the effects removed for the corrected loss.
         loop: the residual loop's outcome.
         target_stiffness_Nm_per_rad: target given by the user or the design.
         design_comparison: comparison with the design, if a design was given.
@@ -48,6 +54,8 @@ class FitResult:
     paper_models: dict[str, PaperModelFit]
     cycles: list[CycleEnergy]
     energy_loss_pct: float
+    energy_loss_corrected_pct: float | None
+    energy_loss_corrections: tuple[str, ...]
     loop: LoopResult
     target_stiffness_Nm_per_rad: float | None
     design_comparison: dict | None
@@ -80,6 +88,8 @@ class FitResult:
                              "reversal_threshold_rad": seg.threshold_rad},
             "paper_models": {k: m.to_dict(target) for k, m in self.paper_models.items()},
             "energy_loss_pct": self.energy_loss_pct,
+            "energy_loss_corrected_pct": self.energy_loss_corrected_pct,
+            "energy_loss_corrections": list(self.energy_loss_corrections),
             "energy_by_cycle": [{"sign": c.sign, "amplitude_rad": c.amplitude_rad,
                                  "stored_J": c.stored_J, "returned_J": c.returned_J,
                                  "loss_pct": c.loss_pct} for c in self.cycles],
@@ -144,5 +154,31 @@ def fit_record(record: BenchRecord, target_stiffness_Nm_per_rad: float | None = 
             comparison["residual_loop"] = compare_with_design(
                 design, final["stiffness_Nm_per_rad"], final["backlash_rad"],
                 method=f"residual loop final model ({loop.final.label})")
-    return FitResult(record, seg, sig, paper, cycles, energy_loss_pct(cycles), loop,
-                     target_stiffness_Nm_per_rad, comparison)
+    corrected, corrections = _corrected_energy_loss(record, seg, sig, loop)
+    return FitResult(record, seg, sig, paper, cycles, energy_loss_pct(cycles), corrected,
+                     corrections, loop, target_stiffness_Nm_per_rad, comparison)
+
+
+def _corrected_energy_loss(record: BenchRecord, seg: Segmentation, sig: Signals,
+                           loop: LoopResult) -> tuple[float | None, tuple[str, ...]]:
+    """Energy loss (%) with the measurement effects of the final model removed.
+
+    A lagging torque channel draws a loop of its own (of either sign) and a
+    drifting zero adds or removes energy over a cycle; neither belongs to the
+    spring. The torque loses the fitted offset and drift terms, the deflection
+    is shifted by the fitted lag and offset, and glitches are replaced by the
+    model torque, before the loop areas are integrated again.
+    """
+    final = loop.final
+    corrections = tuple(e for e in final.effects if e in MEASUREMENT_EFFECTS)
+    if not corrections:
+        return None, ()
+    idx = np.arange(sig.n)
+    model, x = final.model, final.x
+    sensor = model.torque_terms(x, sig, idx, {"drift", "torque_offset"})
+    torque = sig.torque - sensor
+    if final.mask is not None:
+        torque[final.mask] = (model.predict(x, sig, idx) - sensor)[final.mask]
+    corrected = dataclasses.replace(record, torque_Nm=torque,
+                                    deflection_rad=model.effective_angle(x, sig, idx))
+    return energy_loss_pct(cycle_energies(corrected, seg)), corrections

@@ -108,7 +108,9 @@ class Backlash(Effect):
     stage = "map"
 
     def params(self, sc):
-        return (Param("half_backlash", 0.0, 0.45 * sc.theta_ref, 0.0, 0.03 * sc.theta_ref),
+        # a crossover narrower than the deflection noise cannot be told from it: with samples
+        # resting at zero deflection, a tiny deadband would only shrink the noise there
+        return (Param("half_backlash", sc.theta_noise, 0.45 * sc.theta_ref, 0.0, 0.03 * sc.theta_ref),
                 Param("transition", 0.0, sc.theta_ref, 0.0, 0.01 * sc.theta_ref))
 
     def starts(self, sc):

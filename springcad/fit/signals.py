@@ -27,6 +27,9 @@ class Scales:
         t0: first sample time (s).
         t_span: record duration (s).
         sample_rate_hz: median sample rate (Hz).
+        theta_noise: deflection noise (rad): robust spread of the deflection
+            about its smoothed curve. Features narrower than this (a backlash,
+            say) cannot be resolved.
     """
 
     theta_ref: float
@@ -34,6 +37,7 @@ class Scales:
     t0: float
     t_span: float
     sample_rate_hz: float
+    theta_noise: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -95,6 +99,7 @@ def make_signals(record: BenchRecord, seg: Segmentation) -> Signals:
         t0=float(record.time_s[0]),
         t_span=record.duration_s,
         sample_rate_hz=record.sample_rate_hz,
+        theta_noise=1.4826 * float(np.median(np.abs(record.deflection_rad - seg.theta_smooth_rad))),
     )
     return Signals(record.time_s, record.deflection_rad, seg.theta_smooth_rad, record.torque_Nm,
                    seg.direction.astype(float), seg.reversal_rad, seg.rate_rad_per_s,

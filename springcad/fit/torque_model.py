@@ -107,14 +107,32 @@ class TorqueModel:
                 x[sl] = [p.null if use_null else p.probe for p in self._params[e.name]]
         return x
 
-    def predict(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
-        """Model torque (N·m) at samples ``idx``."""
+    def _parts(self, x: np.ndarray) -> dict[str, np.ndarray]:
+        return {e.name: x[self._slices[e.name]] for e in self.effects}
+
+    def effective_angle(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
+        """Deflection (rad) after the angle stage (time lag, angle offset) at samples ``idx``."""
         theta = sig.theta[idx]
-        parts = {e.name: x[self._slices[e.name]] for e in self.effects}
+        parts = self._parts(x)
         for e in self.effects:
             if e.stage == "angle":
                 theta = e.angle(theta, parts[e.name], sig, idx)
-        spring = theta
+        return theta
+
+    def torque_terms(self, x: np.ndarray, sig: Signals, idx: np.ndarray,
+                     names: set[str] | None = None) -> np.ndarray:
+        """Sum of the additive torque terms (N·m) of the effects in ``names`` (default all)."""
+        parts = self._parts(x)
+        out = np.zeros(idx.size)
+        for e in self.effects:
+            if e.stage == "torque" and (names is None or e.name in names):
+                out = out + e.torque(parts[e.name], sig, idx)
+        return out
+
+    def predict(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
+        """Model torque (N·m) at samples ``idx``."""
+        parts = self._parts(x)
+        spring = self.effective_angle(x, sig, idx)
         for e in self.effects:
             if e.stage == "map":
                 spring = e.map(spring, parts[e.name])
@@ -122,11 +140,7 @@ class TorqueModel:
         for e in self.effects:
             if e.stage == "factor":
                 stiff = stiff * e.factor(spring, parts[e.name], self.scales)
-        tau = stiff * spring
-        for e in self.effects:
-            if e.stage == "torque":
-                tau = tau + e.torque(parts[e.name], sig, idx)
-        return tau
+        return stiff * spring + self.torque_terms(x, sig, idx)
 
     def residual(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
         """Measured minus model torque (N·m) at samples ``idx``."""

@@ -109,8 +109,13 @@ def report_blocks(result: FitResult, data: dict, images: dict[str, str]) -> list
     b.append(("p", "Deadband fitted as in the paper (backlash centred on zero, one K, least "
                    "absolute error); logit K, h and l fitted together from it. NRMSE is the RMSE "
                    "over half the measured torque range (Table I)."))
-    b.append(("p", f"Energy loss at the largest amplitude: {_f(data['energy_loss_pct'])} % "
-                   "(loop area over energy stored on loading)."))
+    text = (f"Energy loss at the largest amplitude: {_f(data['energy_loss_pct'])} % "
+            "(loop area over energy stored on loading, from the measured data).")
+    if data.get("energy_loss_corrected_pct") is not None:
+        text += (f" With the measurement effects found by the loop removed "
+                 f"({', '.join(data['energy_loss_corrections'])}): "
+                 f"{_f(data['energy_loss_corrected_pct'])} %.")
+    b.append(("p", text))
     b.append(("table", ["cycle", "amplitude (rad)", "stored (J)", "returned (J)", "loss (%)"],
               [[str(i + 1), _f(c["sign"] * c["amplitude_rad"], 3), _f(c["stored_J"]),
                 _f(c["returned_J"]), _f(c["loss_pct"], 3)]
@@ -139,7 +144,7 @@ def report_blocks(result: FitResult, data: dict, images: dict[str, str]) -> list
         for i, s in enumerate(data["steps"]):
             b.append(("p", f"**Step {i + 1}: {s['action']} `{s['effect']}`.** "
                            f"{_sentence(s['evidence'].get('meaning', ''))} "
-                           + ("Parameters: " + ", ".join(f"{k} = {_f(v)}" for k, v in s["params"].items())
+                           + ("Parameters right after this step (later steps refit them): " + ", ".join(f"{k} = {_f(v)}" for k, v in s["params"].items())
                               if s["params"] else "")))
             if f"step{i}" in images:
                 b.append(("img", images[f"step{i}"], f"residual before and after step {i + 1}"))
