@@ -99,6 +99,8 @@ class Effect:
 
 
 class Backlash(Effect):
+    """Crossover of width b = 2h (rad) with a logit transition l (rad): paper eqs. 4, 9."""
+
     name = "backlash"
     meaning = ("air gap at the camshaft-flexure interfaces: no torque is transmitted across "
                "the gap, so the curve has a flat crossover of width b around zero torque "
@@ -125,6 +127,8 @@ class Backlash(Effect):
 
 
 class Hysteresis(Effect):
+    """Friction torque H (N·m) that reverses over a presliding angle θ_p (rad)."""
+
     name = "hysteresis"
     meaning = ("friction at the flexure tips, spacers and bushings: the torque is higher "
                "while loading than while unloading at the same deflection, by 2H, with the "
@@ -151,6 +155,8 @@ class Hysteresis(Effect):
 
 
 class TimeLag(Effect):
+    """Torque channel late by ``lag`` (s) relative to the deflection channel."""
+
     name = "time_lag"
     meaning = ("torque and deflection channels out of step (camera latency, filter delay, "
                "unsynchronised clocks): the torque at time t belongs to the deflection at t - lag")
@@ -172,6 +178,8 @@ class TimeLag(Effect):
 
 
 class AngleOffset(Effect):
+    """Deflection zero offset θ₀ (rad): the crossover sits at θ₀, not at zero."""
+
     name = "angle_offset"
     meaning = ("deflection zero not at the spring's rest position (optical calibration or "
                "mounting offset): the crossover is not centred on zero deflection")
@@ -193,6 +201,8 @@ class AngleOffset(Effect):
 
 
 class Stiffening(Effect):
+    """Cubic stiffening or softening: factor ``1 + α·(x/θ_ref)²`` on K."""
+
     name = "stiffening"
     meaning = ("stiffness that changes with deflection (contact point moving along the "
                "flexure, large-deflection geometry): stiffening if positive, softening if negative")
@@ -211,6 +221,8 @@ class Stiffening(Effect):
 
 
 class AsymmetricStiffness(Effect):
+    """K(1 + a) for positive and K(1 - a) for negative spring deflection."""
+
     name = "asymmetric_stiffness"
     meaning = ("different stiffness for positive and negative deflection (flexure or cam "
                "teeth cut unevenly, one-sided contact)")
@@ -229,6 +241,8 @@ class AsymmetricStiffness(Effect):
 
 
 class TorqueOffset(Effect):
+    """Constant torque offset τ₀ (N·m)."""
+
     name = "torque_offset"
     meaning = "torque sensor zero not tared: a constant torque added to every sample"
     looks_for = "residual with a non-zero mean"
@@ -246,6 +260,8 @@ class TorqueOffset(Effect):
 
 
 class Drift(Effect):
+    """Torque zero drifting linearly from the record start (parameter: total drift, N·m)."""
+
     name = "drift"
     meaning = ("torque zero that moves with time (sensor or amplifier thermal drift after "
                "taring): an offset growing linearly from the start of the record")
@@ -266,6 +282,8 @@ class Drift(Effect):
 
 
 class Outliers(Effect):
+    """Isolated glitches, excluded from fit and score (one parameter per glitch)."""
+
     name = "outliers"
     meaning = ("sensor glitches (ADC spikes, lost camera frames): isolated samples far from "
                "their neighbours; they are excluded from the fit and from the NRMSE")
@@ -278,6 +296,8 @@ class Outliers(Effect):
 
 
 class SeriesCompliance(Effect):
+    """Encoder minus optical deflection = torque/K_series + offset (second channel)."""
+
     name = "series_compliance"
     meaning = ("compliance of shafts and couplers between the motors and the spring: the "
                "encoder deflection exceeds the optical deflection by torque/K_series")

@@ -201,6 +201,7 @@ def report_blocks(result: FitResult, data: dict, images: dict[str, str]) -> list
 
 
 def render_markdown(blocks: list[tuple]) -> str:
+    """Report blocks as Markdown text."""
     out = []
     for blk in blocks:
         kind = blk[0]
@@ -221,6 +222,7 @@ def render_markdown(blocks: list[tuple]) -> str:
 
 
 def render_html(blocks: list[tuple]) -> str:
+    """Report blocks as a self-contained HTML page (images by relative file name)."""
     import re
 
     def inline(text):
