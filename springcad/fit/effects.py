@@ -159,7 +159,9 @@ class TimeLag(Effect):
 
     name = "time_lag"
     meaning = ("torque and deflection channels out of step (camera latency, filter delay, "
-               "unsynchronised clocks): the torque at time t belongs to the deflection at t - lag")
+               "unsynchronised clocks): the torque at time t belongs to the deflection at t - lag; "
+               "a negative lag (torque leading) is also what rate-proportional (viscous) damping "
+               "c = -K·lag looks like, which this bench cannot tell apart")
     looks_for = "residual proportional to the deflection rate (largest mid-ramp, zero at turns)"
     stage = "angle"
     order = 0
@@ -174,7 +176,8 @@ class TimeLag(Effect):
         return theta + (shifted - sig.theta_smooth[idx])
 
     def report(self, p, stiffness, sc):
-        return {"lag_s": float(p[0])}
+        return {"lag_s": float(p[0]),
+                "equivalent_viscous_damping_Nms_per_rad": float(-stiffness * p[0])}
 
 
 class AngleOffset(Effect):
