@@ -16,7 +16,7 @@ Units: N·m, rad, s.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -272,7 +272,3 @@ def simulate(spring: BenchSpring, protocol: Protocol = Protocol(), noise: BenchN
     record = make_record(t, torque_meas, theta_meas, encoder, source="simulated")
     return SimulatedRecord(record, spring, noise, floor, 0.5 * float(np.ptp(clean)), glitch)
 
-
-def field_names() -> tuple[str, ...]:
-    """Names of the :class:`BenchSpring` fields (for planning scripts)."""
-    return tuple(f.name for f in fields(BenchSpring))
