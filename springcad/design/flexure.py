@@ -8,6 +8,7 @@ along x. Units: mm, N, MPa, rad. Equations follow
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -102,11 +103,11 @@ class Centreline:
     def is_straight(self) -> bool:
         return all(abs(x) < 1e-12 for x in self.x_mm)
 
+    @functools.cached_property
     def _cs(self):
-        from scipy.interpolate import CubicSpline
+        from springcad.design.numeric import ClampedCubic
 
-        return CubicSpline(self.y_mm, self.x_mm,
-                           bc_type=((1, self.end_slopes[0]), (1, self.end_slopes[1])))
+        return ClampedCubic(self.y_mm, self.x_mm, *self.end_slopes)
 
     def evaluate(self, y):
         """x, dx/dy, d2x/dy2 at y (arrays)."""
@@ -114,7 +115,7 @@ class Centreline:
         if self.is_straight:
             z = np.zeros_like(y)
             return z, z, z
-        cs = self._cs()
+        cs = self._cs
         x, dx, ddx = cs(y), cs(y, 1), cs(y, 2)
         # beyond the root station the flexure runs on straight along its root tangent
         y_end, x_end, slope = self.y_mm[-1], self.x_mm[-1], self.end_slopes[1]
@@ -187,6 +188,27 @@ def _point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> np.ndarray
     return np.sqrt(((points[:, None, :] - foot) ** 2).sum(-1)).min(axis=1)
 
 
+def neighbour_clearance_mm(centreline: Centreline, y, width, n_flexures: int,
+                           tip_radius_mm: float) -> float:
+    """Exact smallest gap between a flexure's edge and its neighbour's, above the tip ball (mm).
+
+    The neighbour is the same flexure rotated by 2 pi / N about the centre.
+    """
+    pitch = 2.0 * math.pi / n_flexures
+    c, s = math.cos(-pitch), math.sin(-pitch)
+    rot = np.array([[c, -s], [s, c]])
+    right, left, _ = edges(centreline, y, width)
+    m = np.asarray(y) > y[0] + 2.0 * tip_radius_mm
+    return float(_point_polyline_distance(right[m], left @ rot.T).min())
+
+
+def concave_edge_radius_mm(centreline: Centreline, y, width) -> float:
+    """Smallest radius of the concave flexure edge, 1/|kappa| - w/2 (mm); inf if straight."""
+    _, dx, ddx = centreline.evaluate(y)
+    kappa = np.abs(ddx) / (1.0 + dx ** 2) ** 1.5
+    return float(np.min(1.0 / np.maximum(kappa, 1e-12) - 0.5 * np.asarray(width)))
+
+
 def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
                       root_radius_mm: float, n_flexures: int, width_fn,
                       tip_radius_mm: float, min_clearance_mm: float,
@@ -223,8 +245,7 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
     Raises:
         DesignError: no candidate meets all constraints.
     """
-    from scipy.integrate import cumulative_trapezoid
-    from scipy.optimize import brentq
+    from springcad.design.numeric import cumtrapz, find_root
 
     rc, rr = contact_radius_mm, root_radius_mm
     L = rr - rc
@@ -233,12 +254,10 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
     y_s = r  # straight flexure
     straight_area = float(np.trapezoid(width_fn(y_s), y_s))
     pitch = 2.0 * math.pi / n_flexures
-    c, s = math.cos(-pitch), math.sin(-pitch)
-    rot = np.array([[c, -s], [s, c]])
 
     def build(lam, budget, h):
         tan_b = lam * budget * h
-        theta = cumulative_trapezoid(tan_b / r, r, initial=0.0)
+        theta = cumtrapz(tan_b / r, r)
         x, y = r * np.sin(theta), r * np.cos(theta)
         w = width_fn(y)
         area = float(np.trapezoid(w * np.sqrt(1.0 + tan_b ** 2), r))
@@ -255,17 +274,15 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
                           (0.0, float(math.tan(theta[-1]))))
         yy = np.linspace(rc, y[-1], 600)
         w = width_fn(yy)
-        xx, dx, ddx = line.evaluate(yy)
-        kappa = ddx / (1.0 + dx ** 2) ** 1.5
-        if np.max(np.abs(kappa) * (0.5 * w + min_inside_radius_mm)) > 1.0:
+        edge_r = concave_edge_radius_mm(line, yy, w)
+        if edge_r < min_inside_radius_mm:
             return None, "edge radius"
-        right, left, _ = edges(line, yy, w)
-        m = yy > rc + 2.0 * tip_radius_mm
-        clear = float(_point_polyline_distance(right[m], left @ rot.T).min())
+        clear = neighbour_clearance_mm(line, yy, w, n_flexures, tip_radius_mm)
         ratio = area_mm2(line, yy, w) / straight_area
+        _, dx, ddx = line.evaluate(yy)
+        kappa = ddx / (1.0 + dx ** 2) ** 1.5
         ds = np.sqrt(1.0 + dx ** 2)
         measure = float(np.trapezoid((kappa * 0.5 * w) ** 2 * ds, yy)) / L
-        edge_r = float(np.min(1.0 / np.maximum(np.abs(kappa), 1e-12) - 0.5 * w))
         return (line, ratio, clear, edge_r, measure), ""
 
     q = np.clip((rr - r) / root_zone_mm, 0.0, 1.0) if root_zone_mm > 0 else np.ones_like(r)
@@ -288,8 +305,8 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
                 if build(1.0, budget, h)[4] < target_area_ratio:
                     result, why = None, "tilt budget too small"
                     break
-                lam = brentq(lambda v: build(v, budget, h)[4] - target_area_ratio, 0.0, 1.0,
-                             xtol=1e-10)
+                lam = find_root(lambda v: build(v, budget, h)[4] - target_area_ratio, 0.0, 1.0,
+                                xtol=1e-10)
                 x, y, _, theta, _ = build(lam, budget, h)
                 result, why = check(x, y, theta)
                 if result is None or result[2] >= min_clearance_mm:

@@ -130,7 +130,7 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
             "output" if i == n - 1 and output_connection != SHAFT else "")
         comps.append(Component(
             f"spring_{i + 1}_{s.name}", "flexure_ring", steel[0], 1,
-            s.ring.area_mm2() * s.thickness_mm, steel[1], z0[i], s.thickness_mm,
+            s.profile_area_mm2 * s.thickness_mm, steel[1], z0[i], s.thickness_mm,
             {"outer_radius_mm": s.outer_radius_mm, "root_radius_mm": s.root_radius_mm,
              "spring_index": i}, role))
     cams = camshaft_indices(joints)
@@ -147,7 +147,7 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
         # the wire cutting the pockets runs the full length: keep the turned hub inside it
         r_hub = s.cam_root_radius_mm - HUB_WIRE_CLEARANCE_MM
         bore = 0.5 * hw.shaft_diameter_mm
-        vol = s.cam.area_mm2() * (end - start) + math.pi * (r_hub ** 2 - bore ** 2) * hub
+        vol = s.cam_area_mm2 * (end - start) + math.pi * (r_hub ** 2 - bore ** 2) * hub
         # With an alignment shaft every camshaft runs on it (round bore) and an end camshaft
         # takes its torque through a flat on its hub; otherwise the D bore takes a D shaft.
         drive = ("" if not role else "hub_flat" if floating_cams else "bore_flat")

@@ -19,8 +19,10 @@ Units: mm, N, MPa, N*mm, rad, kg.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
+from dataclasses import replace as _replace
 
 import numpy as np
 
@@ -77,6 +79,12 @@ class SpringDesign:
     cam_root_radius_mm: float = 0.0
     cam_overtravel: float = 0.0
     warnings: tuple[str, ...] = field(default_factory=tuple)
+    width_scale: float = 1.0
+    """Factor on every flexure width (1.0 = the beam-theory widths; set by the FEA
+    stiffness correction). ``root_width_mm`` and ``tip_load_N`` stay the beam-theory
+    values; ``width_mm`` and the ring profile include the factor."""
+    width_offset_mm: float = 0.0
+    """Outward offset of every flexure edge and of the tip ball (a profile error, mm)."""
 
     # ------------------------------------------------------------- predictions
     @property
@@ -107,14 +115,56 @@ class SpringDesign:
         """Flexure width normal to the centreline at radius y (mm)."""
         y = np.asarray(y_mm, dtype=float)
         if self.width_law == "stiffness":
-            return self.root_width_mm * np.sqrt(np.maximum(y - self.contact_radius_mm, 0.0)
-                                                / self.length_mm)
-        return fx.constant_stress_width_mm(y, self.tip_load_N, self.contact_radius_mm,
-                                           self.thickness_mm, self.material.design_stress_MPa)
+            w = self.root_width_mm * np.sqrt(np.maximum(y - self.contact_radius_mm, 0.0)
+                                             / self.length_mm)
+        else:
+            w = fx.constant_stress_width_mm(y, self.tip_load_N, self.contact_radius_mm,
+                                            self.thickness_mm, self.material.design_stress_MPa)
+        return self.width_scale * w + 2.0 * self.width_offset_mm
+
+    def beam_stiffness_Nmm_per_rad(self, width_offset_mm: float = 0.0,
+                                   youngs_modulus_MPa: float | None = None) -> float:
+        """Beam-theory stiffness of this geometry (N*mm/rad), optionally perturbed.
+
+        K = N r_c^2 / (delta/F) with delta/F = integral 12 (y - r_c)^2 / (E z w^3) ds
+        (Castigliano, Euler-Bernoulli bending only).
+
+        Args:
+            width_offset_mm: every flexure edge moved outward by this much (the flexure
+                gets 2 x offset wider), as a wire-EDM profile error would (mm). The
+                perturbation is applied to the real section, the width law or the tip
+                ball's chord, whichever is wider, and scales the nominal prediction:
+                K(offset) = K_law * C_real(0) / C_real(offset).
+            youngs_modulus_MPa: E to use instead of the material's (MPa).
+        """
+        E = youngs_modulus_MPa or self.material.material.youngs_modulus_MPa
+        rc, z = self.contact_radius_mm, self.thickness_mm
+        y = np.linspace(rc, self.root_radius_mm, 4001)
+        w = self.width_mm(y)
+
+        def compliance(width):
+            return fx.compliance_mm_per_N(self.centreline, y, width, z, E, rc)
+
+        k = self.n_flexures * rc ** 2 / compliance(w)
+        if width_offset_mm:
+            chord = 2 * np.sqrt(np.maximum(self.tip_radius_mm ** 2 - (y - rc) ** 2, 0.0))
+            real = np.maximum(w, chord)
+            k *= compliance(real) / compliance(np.maximum(real + 2 * width_offset_mm, 1e-3))
+        return k
 
     @property
     def profile_area_mm2(self) -> float:
-        return self.ring.area_mm2() if self.ring is not None else float("nan")
+        return self._areas[0]
+
+    @property
+    def cam_area_mm2(self) -> float:
+        return self._areas[1]
+
+    @functools.cached_property
+    def _areas(self) -> tuple[float, float]:
+        nan = float("nan")
+        return (self.ring.area_mm2() if self.ring is not None else nan,
+                self.cam.area_mm2() if self.cam is not None else nan)
 
     @property
     def model_area_mm2(self) -> float:
@@ -185,14 +235,64 @@ class SpringDesign:
             "envelope_volume_cm3": self.envelope_volume_mm3 / MM3_PER_CM3,
             "energy_density_J_per_cm3": self.energy_density_J_per_cm3,
             "specific_energy_J_per_kg": self.specific_energy_J_per_kg,
+            "width_scale": self.width_scale,
+            "width_offset_mm": self.width_offset_mm,
             "warnings": list(self.warnings),
         }
+
+
+def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0) -> SpringDesign:
+    """The same spring with its flexure widths scaled and/or offset, profiles rebuilt.
+
+    ``scale`` multiplies the width law (K grows as scale^3 in beam theory): the
+    FEA stiffness correction. ``offset_mm`` moves every flexure edge and the tip
+    ball outward (a wire-EDM profile error): the tolerance study.
+
+    Raises:
+        DesignError: the new flexures break the neighbour clearance or the
+            concave edge radius the wire can cut.
+    """
+    from springcad.design.cam import cam_profile
+    from springcad.design.ring import ring_profile
+
+    d = _replace(design, width_scale=scale, width_offset_mm=offset_mm,
+                 tip_radius_mm=design.tip_radius_mm - design.width_offset_mm + offset_mm)
+    y = np.linspace(d.contact_radius_mm, d.root_radius_mm, 1201)
+    mfg = d.manufacturing
+    clearance = None
+    if not d.centreline.is_straight:
+        clearance = fx.neighbour_clearance_mm(d.centreline, y, d.width_mm(y), d.n_flexures,
+                                              d.tip_radius_mm)
+        if clearance < mfg.min_slot_width_mm:
+            raise DesignError(
+                f"spring '{d.name}': flexures {scale:.4f} x wider leave {clearance:.3f} mm to their "
+                f"neighbours (min_slot_width_mm {mfg.min_slot_width_mm:g})")
+        edge = fx.concave_edge_radius_mm(d.centreline, y, d.width_mm(y))
+        if edge < mfg.min_inside_radius_mm:
+            raise DesignError(
+                f"spring '{d.name}': flexures {scale:.4f} x wider have a concave edge radius "
+                f"{edge:.3f} mm < wire radius + spark gap {mfg.min_inside_radius_mm:g} mm")
+    k = d.beam_stiffness_Nmm_per_rad()
+    load = k * d.max_deflection_rad / (d.n_flexures * d.contact_radius_mm)
+    w_root = float(d.width_mm(d.root_radius_mm))
+    d = _replace(d, stiffness_beam_Nmm_per_rad=k, min_neighbour_clearance_mm=clearance,
+                 peak_stress_MPa=6 * load * d.length_mm / (d.thickness_mm * w_root ** 2))
+    ring, holes, hole_d = ring_profile(d)
+    d = _replace(d, ring=ring, hole_centres_mm=holes, hole_diameter_mm=hole_d)
+    cam, info = cam_profile(d)
+    return _replace(d, cam=cam, cam_tip_radius_mm=info.tip_radius_mm,
+                    cam_root_radius_mm=info.root_radius_mm, cam_overtravel=info.overtravel)
+
+
+def with_width_scale(design: SpringDesign, scale: float) -> SpringDesign:
+    """Every flexure width multiplied by ``scale`` (the FEA correction): :func:`with_width`."""
+    return with_width(design, scale)
 
 
 # --------------------------------------------------------------------- layout rules
 def _rim_root_radius(outer_radius_mm, n, contact_radius_mm, root_width_fn) -> float:
     """Solve R_o - R_r = (2 pi R_r / N - w0(R_r)) / 1.5 for R_r by bracketing (eq. 8)."""
-    from scipy.optimize import brentq
+    from springcad.design.numeric import find_root
 
     def f(rr):
         return (outer_radius_mm - rr
@@ -204,7 +304,7 @@ def _rim_root_radius(outer_radius_mm, n, contact_radius_mm, root_width_fn) -> fl
             f"{n} flexures do not fit between r_c = {contact_radius_mm:.3g} mm and "
             f"R_o = {outer_radius_mm:.3g} mm: the flexure roots are wider than the rim circle "
             "allows; use fewer flexures, a larger outer radius or a lower stiffness")
-    return brentq(f, lo, hi, xtol=1e-10)
+    return find_root(f, lo, hi, xtol=1e-10)
 
 
 @dataclass(frozen=True)
@@ -271,6 +371,8 @@ def _choose_layout(spec: SpringSpec, sigma, E) -> _Layout:
             return lay
         if spec.tip_radius_mm is not None:
             return _layout(spec, sigma, E, fx.max_flexures(spec.tip_radius_mm, rc), rc)
+        if peak > cap(rc, z, sigma):
+            raise cap_error(rc)
         for n in range(fx.max_flexures(spec.min_tip_radius_mm, rc), 1, -1):
             lay = _layout(spec, sigma, E, n, rc)
             if _fits(spec, lay):
@@ -376,16 +478,6 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
             root_zone_mm=2.0 * (spec.outer_radius_mm - rr))
         centre, ratio, clearance = res.centreline, res.area_ratio, res.min_clearance_mm
 
-    # beam prediction of the generated centreline (Castigliano)
-    y = np.linspace(rc, rr, 4001)
-    if width_law == "stiffness":
-        w = w0 * np.sqrt((y - rc) / L)
-    else:
-        w = fx.constant_stress_width_mm(y, lay.load, rc, z, sigma)
-    c = fx.compliance_mm_per_N(centre, y, w, z, E, rc)
-    k_beam = n * rc ** 2 / c
-    load_at_max = k_beam * theta_d / (n * rc)
-    peak_stress = 6 * load_at_max * L / (z * w0 ** 2)  # uniform along a constant-stress flexure
 
     t_rim = spec.outer_radius_mm - rr
     gap_root = 2 * math.pi * rr / n - w0
@@ -405,18 +497,19 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
         straight_limit_rad=lay.theta_s, serpentine_factor=s_req, centreline=centre,
         area_ratio=ratio, min_neighbour_clearance_mm=clearance, rim_thickness_mm=t_rim,
         root_fillet_radius_mm=root_fillet, neck_fillet_radius_mm=neck_fillet,
-        torque_cap_Nmm=fx.torque_cap_Nmm(rc, z, sigma), stiffness_beam_Nmm_per_rad=k_beam,
-        peak_stress_MPa=peak_stress, warnings=tuple(warnings))
+        torque_cap_Nmm=fx.torque_cap_Nmm(rc, z, sigma), stiffness_beam_Nmm_per_rad=float("nan"),
+        peak_stress_MPa=float("nan"), warnings=tuple(warnings))
+    # beam prediction of the generated centreline (Castigliano); the flexure is a
+    # constant-stress beam, so the peak stress is uniform along it
+    k_beam = design.beam_stiffness_Nmm_per_rad()
+    load_at_max = k_beam * theta_d / (n * rc)
+    design = _replace(design, stiffness_beam_Nmm_per_rad=k_beam,
+                      peak_stress_MPa=6 * load_at_max * L / (z * w0 ** 2))
     ring, holes, hole_d = ring_profile(design)
-    cam, cam_info = cam_profile(design)
-    return _replace(design, ring=ring, hole_centres_mm=holes, hole_diameter_mm=hole_d, cam=cam,
+    design = _replace(design, ring=ring, hole_centres_mm=holes, hole_diameter_mm=hole_d)
+    cam, cam_info = cam_profile(design)  # checks the gap against the ring
+    return _replace(design, cam=cam,
                     cam_tip_radius_mm=cam_info.tip_radius_mm,
                     cam_root_radius_mm=cam_info.root_radius_mm,
                     cam_overtravel=cam_info.overtravel,
                     warnings=design.warnings + cam_info.warnings)
-
-
-def _replace(obj, **kw):
-    import dataclasses
-
-    return dataclasses.replace(obj, **kw)

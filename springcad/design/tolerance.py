@@ -74,6 +74,7 @@ class StackBacklash:
     def to_dict(self) -> dict:
         return {
             "nominal": self.nominal, "worst_min": self.worst_min, "worst_max": self.worst_max,
+            "rss": [self.rss_min, self.rss_max],
             "rss_min": self.rss_min, "rss_max": self.rss_max,
             "mc_mean": self.mc_mean, "mc_std": self.mc_std,
             "mc_p01": self.mc_p01, "mc_p99": self.mc_p99,

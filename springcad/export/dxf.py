@@ -31,11 +31,9 @@ def spline_bspline(seg: Spline):
 
     u = seg.parameters()
     p = np.asarray(seg.points, dtype=float)
-    if seg.start_tangent is not None and seg.end_tangent is not None:
-        bc = ([(1, np.asarray(seg.start_tangent, dtype=float))],
-              [(1, np.asarray(seg.end_tangent, dtype=float))])
-    else:
-        bc = None  # not-a-knot, as the design's CubicSpline
+    # clamped end derivatives = the unit end tangents (chord-length parameter), as the design
+    bc = ([(1, np.asarray(seg.start_tangent, dtype=float))],
+          [(1, np.asarray(seg.end_tangent, dtype=float))])
     b = make_interp_spline(u, p, k=3, bc_type=bc)
     return np.asarray(b.t), np.asarray(b.c)
 

@@ -62,7 +62,7 @@ def _segment(seg, step: float):
         tan = sign * np.column_stack([-np.sin(a), np.cos(a)])
         return p, tan, np.full(n, sign / seg.radius)
     if isinstance(seg, Spline):
-        u, cs = seg._spline()  # the design's own interpolant (chord-length parameter)
+        u, cs = seg._spline  # the design's own interpolant (chord-length parameter)
         n = max(len(seg.points) * 2, int(math.ceil(u[-1] / step)))
         uu = np.linspace(0.0, u[-1], n + 1)[:-1]
         p, d1, d2 = cs(uu), cs(uu, 1), cs(uu, 2)
@@ -80,7 +80,7 @@ def _end_tangent(seg) -> np.ndarray:
         a, sign = seg.end_angle, (1.0 if seg.sweep > 0 else -1.0)
         return sign * np.array([-math.sin(a), math.cos(a)])
     if isinstance(seg, Spline):
-        u, cs = seg._spline()
+        u, cs = seg._spline
         d = cs(u[-1], 1)
         return d / np.linalg.norm(d)
     raise TypeError(type(seg).__name__)

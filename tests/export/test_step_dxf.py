@@ -85,7 +85,7 @@ def test_dxf_spline_is_the_design_spline(ring_s1):
     b = BSpline(knots, ctrl, 3)
     u = seg.parameters()
     assert np.abs(b(u) - np.asarray(seg.points)).max() < 1e-9
-    _, cs = seg._spline()
+    _, cs = seg._spline
     uu = np.linspace(0, u[-1], 997)
     assert np.abs(b(uu) - cs(uu)).max() < 1e-9
     d0 = b.derivative()(0.0)

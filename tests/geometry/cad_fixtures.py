@@ -14,15 +14,21 @@ import pytest
 
 TEMPLATES = Path(__file__).resolve().parents[2] / "templates"
 
-#: paper Table I configurations: sequence of spring names, input connection
+#: paper Table I configurations: template file (all drive the first camshaft)
 TABLE_I = {
-    "S1": (["S1"], "shaft"),
-    "S2": (["S2"], "shaft"),
-    "2xS1": (["S1", "S1"], "shaft"),
-    "2xS2": (["S2", "S2"], "rim"),
-    "4xS1": (["S1"] * 4, "shaft"),
-    "S1+2xS2": (["S1", "S2", "S2"], "shaft"),
-    "S2+3xS1": (["S2", "S1", "S1", "S1"], "rim"),
+    "S1": "paper_S1.toml",
+    "S2": "paper_S2.toml",
+    "2xS1": "paper_2xS1.toml",
+    "2xS2": "paper_2xS2.toml",
+    "4xS1": "paper_4xS1.toml",
+    "S1+2xS2": "paper_S1_2xS2.toml",
+    "S2+3xS1": "paper_S2_3xS1.toml",
+}
+#: the same springs driven through the first rim (built in-process): rim flanges at the
+#: input, and for S2+3xS1 only floating camshafts
+RIM_INPUT = {
+    "2xS2 rim": (["S2", "S2"], "rim"),
+    "S2+3xS1 rim": (["S2", "S1", "S1", "S1"], "rim"),
 }
 
 
@@ -66,17 +72,19 @@ def toml_text(data: dict) -> str:
 
 @functools.cache
 def design(name: str):
-    """JobDesign of a Table I configuration (cached for the session)."""
-    from springcad.config import job_from_dict
+    """JobDesign of a Table I template or a rim-input variant (cached for the session)."""
+    from springcad.config import job_from_dict, load_job
     from springcad.design.job import design_job
 
-    sequence, inp = TABLE_I[name]
+    if name in TABLE_I:
+        return design_job(load_job(TEMPLATES / TABLE_I[name]))
+    sequence, inp = RIM_INPUT[name]
     return design_job(job_from_dict(job_data(sequence, inp)))
 
 
 @functools.cache
 def assembly(name: str):
-    """Built StackAssembly of a Table I configuration (cached for the session)."""
+    """Built StackAssembly of :func:`design` (cached for the session)."""
     from springcad.geometry.stack import build_stack
 
     return build_stack(design(name))

@@ -2,10 +2,10 @@
 
 import pytest
 
-from cad_fixtures import TABLE_I, assembly
+from cad_fixtures import RIM_INPUT, TABLE_I, assembly
 from springcad.geometry.checks import run_checks
 
-HEAVY = {"S1+2xS2", "S2+3xS1"}
+HEAVY = {"S1+2xS2", "S2+3xS1", "2xS2 rim", "S2+3xS1 rim"}
 
 
 def expected_joints(n, inp):
@@ -17,10 +17,13 @@ def expected_joints(n, inp):
 
 
 @pytest.mark.parametrize("config", [
-    pytest.param(c, marks=pytest.mark.slow) if c in HEAVY else c for c in TABLE_I])
+    pytest.param(c, marks=pytest.mark.slow) if c in HEAVY else c
+    for c in [*TABLE_I, *RIM_INPUT]])
 def test_table_i_stack_builds_and_checks(config):
-    sequence, inp = TABLE_I[config]
     asm = assembly(config)
+    sequence, inp = list(asm.design.stack.sequence), asm.design.stack.input
+    assert (sequence, inp) == (tuple(RIM_INPUT[config]) if config in RIM_INPUT
+                               else (sequence, "shaft"))
     n = len(sequence)
     joints, out = expected_joints(n, inp)
     stack = asm.design.stack

@@ -1,0 +1,125 @@
+"""Small numerical kernels for the design math (numpy only).
+
+The design step must start and finish in well under two seconds; importing
+``scipy.optimize``/``scipy.interpolate`` alone costs ~1 s, so the three
+things design needs are here: a bracketed scalar root, a clamped cubic
+spline and a cumulative trapezoid. Each is checked against scipy in
+``tests/test_numeric.py``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def find_root(f, a: float, b: float, xtol: float = 1e-12, maxiter: int = 200) -> float:
+    """Root of ``f`` in [a, b] with f(a), f(b) of opposite sign (Illinois method).
+
+    Regula falsi with the Illinois modification converges superlinearly and,
+    unlike Newton or secant, never leaves the bracket.
+
+    Raises:
+        ValueError: f(a) and f(b) have the same sign.
+    """
+    fa, fb = f(a), f(b)
+    if fa == 0.0:
+        return a
+    if fb == 0.0:
+        return b
+    if fa * fb > 0:
+        raise ValueError(f"root not bracketed: f({a:g}) = {fa:g}, f({b:g}) = {fb:g}")
+    side = 0
+    c = a
+    for _ in range(maxiter):
+        c = (a * fb - b * fa) / (fb - fa)
+        if not (min(a, b) < c < max(a, b)):
+            c = 0.5 * (a + b)
+        fc = f(c)
+        if fc == 0.0 or abs(b - a) < xtol:
+            return c
+        if fc * fb > 0:
+            b, fb = c, fc
+            if side == -1:
+                fa *= 0.5
+            side = -1
+        else:
+            a, fa = c, fc
+            if side == 1:
+                fb *= 0.5
+            side = 1
+        if abs(b - a) < xtol:
+            break
+    return c
+
+
+def cumtrapz(y, x) -> np.ndarray:
+    """Cumulative trapezoid integral of y(x), starting at 0."""
+    y, x = np.asarray(y, dtype=float), np.asarray(x, dtype=float)
+    return np.concatenate([[0.0], np.cumsum(0.5 * (y[1:] + y[:-1]) * np.diff(x))])
+
+
+class ClampedCubic:
+    """C2 cubic spline through (x_i, y_i) with given end slopes dy/dx.
+
+    ``y`` may be (n,) or (n, d). Same curve as
+    ``scipy.interpolate.CubicSpline(x, y, bc_type=((1, s0), (1, s1)))``.
+    """
+
+    def __init__(self, x, y, start_slope, end_slope):
+        x = np.asarray(x, dtype=float)
+        y = np.asarray(y, dtype=float)
+        self._scalar = y.ndim == 1
+        if self._scalar:
+            y = y[:, None]
+        s0 = np.broadcast_to(np.asarray(start_slope, dtype=float), y.shape[1:])
+        s1 = np.broadcast_to(np.asarray(end_slope, dtype=float), y.shape[1:])
+        n = len(x)
+        h = np.diff(x)
+        if np.any(h <= 0):
+            raise ValueError("spline abscissae must increase")
+        # tridiagonal system for the second derivatives m_i
+        lower = np.zeros(n)
+        diag = np.zeros(n)
+        upper = np.zeros(n)
+        rhs = np.zeros((n, y.shape[1]))
+        dy = np.diff(y, axis=0) / h[:, None]
+        diag[0], upper[0] = 2 * h[0], h[0]
+        rhs[0] = 6 * (dy[0] - s0)
+        diag[-1], lower[-1] = 2 * h[-1], h[-1]
+        rhs[-1] = 6 * (s1 - dy[-1])
+        for i in range(1, n - 1):
+            lower[i], diag[i], upper[i] = h[i - 1], 2 * (h[i - 1] + h[i]), h[i]
+            rhs[i] = 6 * (dy[i] - dy[i - 1])
+        # Thomas algorithm
+        c = np.zeros(n)
+        d = np.zeros_like(rhs)
+        c[0] = upper[0] / diag[0]
+        d[0] = rhs[0] / diag[0]
+        for i in range(1, n):
+            den = diag[i] - lower[i] * c[i - 1]
+            c[i] = upper[i] / den if i < n - 1 else 0.0
+            d[i] = (rhs[i] - lower[i] * d[i - 1]) / den
+        m = np.zeros_like(rhs)
+        m[-1] = d[-1]
+        for i in range(n - 2, -1, -1):
+            m[i] = d[i] - c[i] * m[i + 1]
+        self.x, self.y, self.m, self.h = x, y, m, h
+
+    def __call__(self, t, nu: int = 0):
+        """Value (nu = 0), first (1) or second (2) derivative at t."""
+        t = np.asarray(t, dtype=float)
+        i = np.clip(np.searchsorted(self.x, t, side="right") - 1, 0, len(self.x) - 2)
+        h = self.h[i][..., None]
+        a = (self.x[i + 1][..., None] - t[..., None]) / h
+        b = (t[..., None] - self.x[i][..., None]) / h
+        y0, y1 = self.y[i], self.y[i + 1]
+        m0, m1 = self.m[i], self.m[i + 1]
+        if nu == 0:
+            out = a * y0 + b * y1 + ((a ** 3 - a) * m0 + (b ** 3 - b) * m1) * h ** 2 / 6
+        elif nu == 1:
+            out = (y1 - y0) / h + ((1 - 3 * a ** 2) * m0 + (3 * b ** 2 - 1) * m1) * h / 6
+        elif nu == 2:
+            out = a * m0 + b * m1
+        else:
+            raise ValueError("nu must be 0, 1 or 2")
+        return out[..., 0] if self._scalar else out

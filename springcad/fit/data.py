@@ -1,0 +1,306 @@
+"""Bench records: read, validate and describe measured torque–deflection data.
+
+Units inside ``springcad.fit``: torque in N·m, angles in rad, time in s (the
+bench CSV is in N·m, and the paper quotes stiffness in N·m/rad). This module is
+the one place where bench units are converted (degrees → rad, N·mm → N·m).
+
+The input file is only ever opened for reading.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from springcad import units
+from springcad.errors import DataError
+
+#: Fewer samples than this cannot be segmented into cycles and cross-validated.
+MIN_SAMPLES = 200
+
+#: Encoder column names picked up without being named on the command line.
+AUTO_ENCODER_COLUMNS = {
+    "rad": ("encoder_in_rad", "encoder_out_rad"),
+    "deg": ("encoder_in_deg", "encoder_out_deg"),
+}
+
+ANGLE_UNITS = ("rad", "deg")
+TORQUE_UNITS = ("Nm", "Nmm")
+
+
+@dataclass(frozen=True)
+class ColumnMap:
+    """Names of the CSV columns to read.
+
+    Attributes:
+        time: time column (s).
+        torque: measured torque column (``torque_unit``).
+        deflection: optically measured spring deflection column (``angle_unit``).
+        encoder: one or two encoder angle columns (``angle_unit``). With two,
+            the encoder deflection is ``first - second`` (input minus output
+            motor); with one, that column is the encoder deflection. ``None``
+            picks up ``encoder_in_rad``/``encoder_out_rad`` (or ``_deg``) when
+            present.
+    """
+
+    time: str = "time_s"
+    torque: str = "torque_Nm"
+    deflection: str = "deflection_rad"
+    encoder: tuple[str, ...] | None = None
+
+
+@dataclass(frozen=True)
+class BenchRecord:
+    """One validated bench record in internal units.
+
+    Attributes:
+        time_s: sample times, strictly increasing (s).
+        torque_Nm: measured torque (N·m).
+        deflection_rad: measured spring deflection (rad).
+        encoder_deflection_rad: motor-encoder deflection (rad) or ``None``.
+        source: where the record came from (file path or ``"simulated"``).
+        warnings: plausibility warnings (suspicious magnitudes); never fatal.
+    """
+
+    time_s: np.ndarray
+    torque_Nm: np.ndarray
+    deflection_rad: np.ndarray
+    encoder_deflection_rad: np.ndarray | None = None
+    source: str = ""
+    warnings: tuple[str, ...] = field(default=())
+
+    @property
+    def n_samples(self) -> int:
+        return int(self.time_s.size)
+
+    @property
+    def duration_s(self) -> float:
+        return float(self.time_s[-1] - self.time_s[0])
+
+    @property
+    def sample_rate_hz(self) -> float:
+        """Median sample rate (Hz)."""
+        return float(1.0 / np.median(np.diff(self.time_s)))
+
+
+def read_bench_csv(path: Path | str, columns: ColumnMap = ColumnMap(),
+                   angle_unit: str = "rad", torque_unit: str = "Nm") -> BenchRecord:
+    """Read and validate a bench CSV.
+
+    Lines starting with ``#`` and blank lines are skipped; the first other line
+    is the header. Columns not named in ``columns`` are ignored.
+
+    Args:
+        path: CSV file (read only).
+        columns: which columns hold time, torque, deflection and encoders.
+        angle_unit: ``"rad"`` or ``"deg"`` for every angle column.
+        torque_unit: ``"Nm"`` or ``"Nmm"`` for the torque column.
+
+    Returns:
+        The record in s, N·m and rad.
+
+    Raises:
+        DataError: missing file or columns, non-numeric or non-finite values,
+            time not strictly increasing, too few samples, constant channels.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise DataError(f"bench data file '{path}' does not exist or is not a file")
+    with open(path, newline="", encoding="utf-8-sig") as fh:
+        text = fh.read()
+    return parse_bench_csv(text, columns, angle_unit, torque_unit, source=str(path))
+
+
+def parse_bench_csv(text: str, columns: ColumnMap = ColumnMap(), angle_unit: str = "rad",
+                    torque_unit: str = "Nm", source: str = "<text>") -> BenchRecord:
+    """Parse and validate bench CSV text (see :func:`read_bench_csv`)."""
+    if angle_unit not in ANGLE_UNITS:
+        raise DataError(f"angle unit {angle_unit!r} is not one of {ANGLE_UNITS}")
+    if torque_unit not in TORQUE_UNITS:
+        raise DataError(f"torque unit {torque_unit!r} is not one of {TORQUE_UNITS}")
+    header, line_numbers, rows = _split_rows(text, source)
+    encoder = columns.encoder
+    if encoder is None:
+        auto = AUTO_ENCODER_COLUMNS[angle_unit]
+        encoder = tuple(c for c in auto if c in header)
+    if len(encoder) > 2:
+        raise DataError(f"at most two encoder columns (input, output) can be given, got {list(encoder)}")
+    wanted = {"time": columns.time, "torque": columns.torque, "deflection": columns.deflection}
+    option = {"time": "--time-col", "torque": "--torque-col", "deflection": "--deflection-col"}
+    missing = [f"'{name}' ({role}; choose another with {option[role]})"
+               for role, name in wanted.items() if name not in header]
+    missing += [f"'{name}' (encoder; see --encoder-cols)" for name in encoder if name not in header]
+    if missing:
+        raise DataError(f"{source}: missing column(s) {', '.join(missing)}; "
+                        f"the header has: {', '.join(header)}")
+    data = {name: _numeric_column(name, header.index(name), rows, line_numbers, source)
+            for name in (*wanted.values(), *encoder)}
+    angle_scale = units.deg_to_rad(1.0) if angle_unit == "deg" else 1.0
+    time_s = data[columns.time]
+    torque_Nm = units.nmm_to_nm(data[columns.torque]) if torque_unit == "Nmm" else data[columns.torque]
+    deflection_rad = data[columns.deflection] * angle_scale
+    encoder_rad = None
+    if encoder:
+        encoder_rad = data[encoder[0]] * angle_scale
+        if len(encoder) == 2:
+            encoder_rad = encoder_rad - data[encoder[1]] * angle_scale
+    names = {"time": columns.time, "torque": columns.torque, "deflection": columns.deflection}
+    return make_record(time_s, torque_Nm, deflection_rad, encoder_rad, source=source,
+                       line_numbers=line_numbers, names=names, angle_unit=angle_unit)
+
+
+def make_record(time_s, torque_Nm, deflection_rad, encoder_deflection_rad=None, *,
+                source: str = "", line_numbers: np.ndarray | None = None,
+                names: dict | None = None, angle_unit: str = "rad") -> BenchRecord:
+    """Validate arrays in internal units and wrap them in a :class:`BenchRecord`.
+
+    Args:
+        time_s: sample times (s).
+        torque_Nm: torque (N·m).
+        deflection_rad: spring deflection (rad).
+        encoder_deflection_rad: optional encoder deflection (rad).
+        source: description for messages.
+        line_numbers: file line of each sample, for messages (default: index + 2).
+        names: column names for messages (keys ``time``, ``torque``, ``deflection``).
+        angle_unit: unit the angles were given in, for unit warnings.
+
+    Raises:
+        DataError: see :func:`read_bench_csv`.
+    """
+    names = names or {"time": "time_s", "torque": "torque_Nm", "deflection": "deflection_rad"}
+    arrays = {"time": np.asarray(time_s, float), "torque": np.asarray(torque_Nm, float),
+              "deflection": np.asarray(deflection_rad, float)}
+    sizes = {k: v.shape for k, v in arrays.items()}
+    if len({s for s in sizes.values()}) != 1 or arrays["time"].ndim != 1:
+        raise DataError(f"channels must be 1-D and of equal length, got shapes {sizes}")
+    n = arrays["time"].size
+    if line_numbers is None:
+        line_numbers = np.arange(n) + 2
+    for role, values in arrays.items():
+        bad = ~np.isfinite(values)
+        if bad.any():
+            first = int(np.argmax(bad))
+            raise DataError(f"{source}: column '{names[role]}' has {int(bad.sum())} non-finite "
+                            f"value(s) (NaN or inf), first at line {line_numbers[first]}")
+    if n < MIN_SAMPLES:
+        raise DataError(f"{source}: too few samples: {n}; need at least {MIN_SAMPLES} "
+                        "(several loading-unloading cycles)")
+    dt = np.diff(arrays["time"])
+    if (dt <= 0).any():
+        i = int(np.argmax(dt <= 0))
+        raise DataError(
+            f"{source}: time column '{names['time']}' must increase strictly, but line "
+            f"{line_numbers[i + 1]} has t = {arrays['time'][i + 1]:g} after "
+            f"t = {arrays['time'][i]:g} on line {line_numbers[i]}")
+    for role in ("torque", "deflection"):
+        if np.ptp(arrays[role]) == 0.0:
+            raise DataError(f"{source}: {role} channel '{names[role]}' never changes "
+                            f"(constant {arrays[role][0]:g}); is the sensor connected and logged?")
+    encoder = None
+    if encoder_deflection_rad is not None:
+        encoder = np.asarray(encoder_deflection_rad, float)
+        if encoder.shape != arrays["time"].shape:
+            raise DataError(f"encoder channel has shape {encoder.shape}, expected ({n},)")
+        bad = ~np.isfinite(encoder)
+        if bad.any():
+            raise DataError(f"{source}: encoder column(s) have {int(bad.sum())} non-finite value(s), "
+                            f"first at line {line_numbers[int(np.argmax(bad))]}")
+    warnings = _unit_warnings(arrays, names, angle_unit)
+    return BenchRecord(arrays["time"], arrays["torque"], arrays["deflection"], encoder,
+                       source=source, warnings=tuple(warnings))
+
+
+def to_csv_text(record: BenchRecord) -> str:
+    """Format a record as bench CSV text (s, N·m, rad; encoder as one column).
+
+    The inverse of :func:`parse_bench_csv` with the default column names.
+    """
+    cols = [record.time_s, record.torque_Nm, record.deflection_rad]
+    header = ["time_s", "torque_Nm", "deflection_rad"]
+    if record.encoder_deflection_rad is not None:
+        cols.append(record.encoder_deflection_rad)
+        header.append("encoder_in_rad")
+    buf = io.StringIO()
+    buf.write(",".join(header) + "\n")
+    np.savetxt(buf, np.column_stack(cols), delimiter=",", fmt="%.9g")
+    return buf.getvalue()
+
+
+def _split_rows(text: str, source: str) -> tuple[list[str], np.ndarray, list[list[str]]]:
+    header = None
+    rows, line_numbers = [], []
+    reader = csv.reader(io.StringIO(text))
+    for fields in reader:
+        line = reader.line_num
+        if not fields or all(not f.strip() for f in fields) or fields[0].lstrip().startswith("#"):
+            continue
+        if header is None:
+            header = [f.strip() for f in fields]
+            dup = sorted({h for h in header if header.count(h) > 1})
+            if dup:
+                raise DataError(f"{source}: duplicate column name(s) in header: {', '.join(dup)}")
+            continue
+        if len(fields) != len(header):
+            raise DataError(f"{source}: line {line} has {len(fields)} field(s) but the header "
+                            f"has {len(header)}")
+        rows.append(fields)
+        line_numbers.append(line)
+    if header is None:
+        raise DataError(f"{source}: no header line found (the file is empty or only comments)")
+    if not rows:
+        raise DataError(f"{source}: the file has a header but no data rows")
+    return header, np.asarray(line_numbers), rows
+
+
+def _numeric_column(name: str, col: int, rows: list[list[str]], line_numbers: np.ndarray,
+                    source: str) -> np.ndarray:
+    out = np.empty(len(rows))
+    for i, fields in enumerate(rows):
+        cell = fields[col].strip()
+        try:
+            out[i] = float(cell)
+        except ValueError:
+            shown = repr(cell) if cell else "an empty cell"
+            raise DataError(f"{source}: column '{name}', line {line_numbers[i]}: {shown} is not "
+                            "a number") from None
+    return out
+
+
+def _unit_warnings(arrays: dict, names: dict, angle_unit: str) -> list[str]:
+    """Warnings where magnitudes suggest a wrong unit (never fatal)."""
+    out = []
+    theta_max = float(np.max(np.abs(arrays["deflection"])))
+    torque_max = float(np.max(np.abs(arrays["torque"])))
+    rate_hz = 1.0 / float(np.median(np.diff(arrays["time"])))
+    if theta_max > 2.0:
+        hint = ("pass --angle-unit deg if the column is in degrees" if angle_unit == "rad"
+                else "check the angle unit")
+        out.append(f"deflection reaches {theta_max:.3g} rad ({units.rad_to_deg(theta_max):.0f} deg), "
+                   f"more than any compact torsion spring deflects: {hint}")
+    elif theta_max < 2e-3:
+        out.append(f"deflection never exceeds {theta_max:.3g} rad: is the column in rad "
+                   "(not revolutions or a scaled unit)?")
+    if torque_max > 2000.0:
+        out.append(f"torque reaches {torque_max:.4g} N·m: if the column is in N·mm, "
+                   "pass --torque-unit Nmm")
+    elif torque_max < 1e-2:
+        out.append(f"torque never exceeds {torque_max:.3g} N·m: is the column in N·m?")
+    if rate_hz < 5.0:
+        out.append(f"sample rate is {rate_hz:.3g} Hz: is the time column '{names['time']}' in "
+                   "seconds (not milliseconds or sample indices)?")
+    elif rate_hz > 1e5:
+        out.append(f"sample rate is {rate_hz:.3g} Hz: is the time column '{names['time']}' in "
+                   "seconds (not hours or minutes)?")
+    if names["deflection"].endswith("_deg") and angle_unit == "rad":
+        out.append(f"column '{names['deflection']}' is named as degrees but is read as rad; "
+                   "pass --angle-unit deg")
+    ptp_theta = float(np.ptp(arrays["deflection"]))
+    implied = float(np.ptp(arrays["torque"])) / ptp_theta
+    if implied < 0.05 or implied > 1e5:
+        out.append(f"torque range over deflection range is {implied:.3g} N·m/rad, far from any "
+                   "compact torsion spring: check the units of both columns")
+    return out

@@ -1,0 +1,328 @@
+"""The effect library: physical effects a bench record may show beyond ``τ = K·θ``.
+
+Each effect is one small class with
+
+* a physical meaning (``meaning``) and the signature its detector looks for
+  in the residual (``looks_for``);
+* a model term: a hook into the common torque model (see
+  :mod:`springcad.fit.torque_model`), with parameters, bounds, the value where
+  the term vanishes (``null``) and a small ``probe`` value from which the
+  detector builds the term's signature;
+* a report of its fitted parameters with units in the names.
+
+The common model, in evaluation order::
+
+    θ₁ = θ(t - δ) - θ₀                       angle stage   (time_lag, angle_offset)
+    x  = θ_spring(θ₁; h, l)                   map stage     (backlash, eq. 9)
+    τ  = K · x · (1 + a·sign x) · (1 + α·(x/θ_ref)²)   factor stage (asymmetric_stiffness, stiffening)
+       + H·d·(1 - 2·exp(-|θ - θ_rev|/θ_p))    torque stage  (hysteresis; 1·exp before the first reversal)
+       + τ₀ + ṙ·(t - t₀)                      torque stage  (torque_offset, drift)
+
+``outliers`` changes which samples are fitted and scored, and
+``series_compliance`` models a second channel (encoder minus optical
+deflection), so neither adds a torque term.
+
+Units: N·m, rad, s.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from springcad.fit.models import spring_angle
+from springcad.fit.signals import Scales, Signals
+
+#: evaluation order of the stages of the torque model
+STAGES = ("angle", "map", "factor", "torque", "mask", "encoder")
+
+
+@dataclass(frozen=True)
+class Param:
+    """One model parameter.
+
+    Attributes:
+        name: short internal name.
+        lower: lower bound.
+        upper: upper bound.
+        null: value at which the effect vanishes.
+        probe: small non-null value used to form the detector signature.
+    """
+
+    name: str
+    lower: float
+    upper: float
+    null: float
+    probe: float
+
+
+class Effect:
+    """Base class of one effect (see module docstring)."""
+
+    name: str = ""
+    meaning: str = ""
+    looks_for: str = ""
+    stage: str = "torque"
+    order: int = 0
+    #: applicable only when at least one of these effects is in the model
+    needs_any: tuple[str, ...] = ()
+
+    def params(self, sc: Scales) -> tuple[Param, ...]:
+        """Parameters of the term for a record with scales ``sc``."""
+        return ()
+
+    def applicable(self, active: set[str], sig: Signals) -> bool:
+        """Whether the effect can be told apart from the current model."""
+        return not self.needs_any or bool(active.intersection(self.needs_any))
+
+    def starts(self, sc: Scales) -> list[np.ndarray]:
+        """Initial values to try (each: one value per parameter)."""
+        return [np.array([p.probe for p in self.params(sc)])]
+
+    def report(self, p: np.ndarray, stiffness: float, sc: Scales) -> dict:
+        """Fitted parameters with units in the key names."""
+        return {}
+
+    # hooks of the torque model; the defaults leave the torque unchanged
+    def angle(self, theta: np.ndarray, p: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
+        return theta
+
+    def map(self, x: np.ndarray, p: np.ndarray) -> np.ndarray:
+        return x
+
+    def factor(self, x: np.ndarray, p: np.ndarray, sc: Scales) -> np.ndarray | float:
+        return 1.0
+
+    def torque(self, p: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray | float:
+        return 0.0
+
+
+class Backlash(Effect):
+    """Crossover of width b = 2h (rad) with a logit transition l (rad): paper eqs. 4, 9."""
+
+    name = "backlash"
+    meaning = ("air gap at the camshaft-flexure interfaces: no torque is transmitted across "
+               "the gap, so the curve has a flat crossover of width b around zero torque "
+               "(paper eqs. 4 and 9, with the logit transition l)")
+    looks_for = ("residual of the opposite sign to the deflection, stepping across zero "
+                 "deflection (torque overestimated near the crossover)")
+    stage = "map"
+
+    def params(self, sc):
+        # a crossover narrower than the deflection noise cannot be told from it: with samples
+        # resting at zero deflection, a tiny deadband would only shrink the noise there
+        return (Param("half_backlash", sc.theta_noise, 0.45 * sc.theta_ref, 0.0, 0.03 * sc.theta_ref),
+                Param("transition", 0.0, sc.theta_ref, 0.0, 0.01 * sc.theta_ref))
+
+    def starts(self, sc):
+        return [np.array([f * sc.theta_ref, 0.25 * f * sc.theta_ref])
+                for f in (0.01, 0.03, 0.06, 0.1, 0.16)]
+
+    def map(self, x, p):
+        return spring_angle(x, p[0], p[1])
+
+    def report(self, p, stiffness, sc):
+        return {"backlash_rad": 2.0 * float(p[0]), "transition_rad": float(p[1])}
+
+
+class Hysteresis(Effect):
+    """Friction torque H (N·m) that reverses over a presliding angle θ_p (rad)."""
+
+    name = "hysteresis"
+    meaning = ("friction at the flexure tips, spacers and bushings: the torque is higher "
+               "while loading than while unloading at the same deflection, by 2H, with the "
+               "friction reversing over a presliding angle after each turn (energy loss)")
+    looks_for = "residual that follows the direction of motion and flips after each reversal"
+    stage = "torque"
+
+    def params(self, sc):
+        return (Param("friction", 0.0, 0.5 * sc.torque_ref, 0.0, 0.01 * sc.torque_ref),
+                Param("presliding", 1e-4 * sc.theta_ref, 0.3 * sc.theta_ref, 0.01 * sc.theta_ref,
+                      0.01 * sc.theta_ref))
+
+    def starts(self, sc):
+        return [np.array([0.02 * sc.torque_ref, f * sc.theta_ref]) for f in (0.003, 0.02, 0.08)]
+
+    def torque(self, p, sig, idx):
+        away = np.abs(sig.theta_smooth[idx] - sig.reversal[idx])
+        # after a reversal friction swings from -H to +H; from rest it rises from 0
+        swing = np.where(sig.virgin[idx], 1.0, 2.0)
+        return p[0] * sig.direction[idx] * (1.0 - swing * np.exp(-away / p[1]))
+
+    def report(self, p, stiffness, sc):
+        return {"friction_torque_Nm": float(p[0]), "presliding_rad": float(p[1])}
+
+
+class TimeLag(Effect):
+    """Torque channel late by ``lag`` (s) relative to the deflection channel."""
+
+    name = "time_lag"
+    meaning = ("torque and deflection channels out of step (camera latency, filter delay, "
+               "unsynchronised clocks): the torque at time t belongs to the deflection at t - lag; "
+               "a negative lag (torque leading) is also what rate-proportional (viscous) damping "
+               "c = -K·lag looks like, which this bench cannot tell apart")
+    looks_for = "residual proportional to the deflection rate (largest mid-ramp, zero at turns)"
+    stage = "angle"
+    order = 0
+
+    def params(self, sc):
+        return (Param("lag", -0.5, 0.5, 0.0, 2.0 / sc.sample_rate_hz),)
+
+    def angle(self, theta, p, sig, idx):
+        # shift the smooth motion only: the noise of each sample stays its own,
+        # so a fractional lag cannot pose as noise averaging
+        shifted = np.interp(sig.t[idx] - p[0], sig.t, sig.theta_smooth)
+        return theta + (shifted - sig.theta_smooth[idx])
+
+    def report(self, p, stiffness, sc):
+        return {"lag_s": float(p[0]),
+                "equivalent_viscous_damping_Nms_per_rad": float(-stiffness * p[0])}
+
+
+class AngleOffset(Effect):
+    """Deflection zero offset θ₀ (rad): the crossover sits at θ₀, not at zero."""
+
+    name = "angle_offset"
+    meaning = ("deflection zero not at the spring's rest position (optical calibration or "
+               "mounting offset): the crossover is not centred on zero deflection")
+    looks_for = ("residual shaped like the model's slope, visible where the crossover or a "
+                 "kink sits off zero; indistinguishable from a torque offset without one")
+    stage = "angle"
+    order = 1
+    needs_any = ("backlash", "asymmetric_stiffness")
+
+    def params(self, sc):
+        return (Param("angle_offset", -0.2 * sc.theta_ref, 0.2 * sc.theta_ref, 0.0,
+                      0.005 * sc.theta_ref),)
+
+    def angle(self, theta, p, sig, idx):
+        return theta - p[0]
+
+    def report(self, p, stiffness, sc):
+        return {"angle_offset_rad": float(p[0])}
+
+
+class Stiffening(Effect):
+    """Cubic stiffening or softening: factor ``1 + α·(x/θ_ref)²`` on K."""
+
+    name = "stiffening"
+    meaning = ("stiffness that changes with deflection (contact point moving along the "
+               "flexure, large-deflection geometry): stiffening if positive, softening if negative")
+    looks_for = "residual odd in deflection and growing faster than linearly (cubic) with it"
+    stage = "factor"
+
+    def params(self, sc):
+        return (Param("alpha", -0.6, 2.0, 0.0, 0.02),)
+
+    def factor(self, x, p, sc):
+        return 1.0 + p[0] * np.square(x / sc.theta_ref)
+
+    def report(self, p, stiffness, sc):
+        return {"cubic_stiffness_Nm_per_rad3": float(stiffness * p[0] / sc.theta_ref ** 2),
+                "tangent_stiffness_change_at_max_pct": float(300.0 * p[0])}
+
+
+class AsymmetricStiffness(Effect):
+    """K(1 + a) for positive and K(1 - a) for negative spring deflection."""
+
+    name = "asymmetric_stiffness"
+    meaning = ("different stiffness for positive and negative deflection (flexure or cam "
+               "teeth cut unevenly, one-sided contact)")
+    looks_for = "residual even in deflection, proportional to |deflection|"
+    stage = "factor"
+
+    def params(self, sc):
+        return (Param("asymmetry", -0.6, 0.6, 0.0, 0.01),)
+
+    def factor(self, x, p, sc):
+        return 1.0 + p[0] * np.sign(x)
+
+    def report(self, p, stiffness, sc):
+        return {"stiffness_pos_Nm_per_rad": float(stiffness * (1.0 + p[0])),
+                "stiffness_neg_Nm_per_rad": float(stiffness * (1.0 - p[0]))}
+
+
+class TorqueOffset(Effect):
+    """Constant torque offset τ₀ (N·m)."""
+
+    name = "torque_offset"
+    meaning = "torque sensor zero not tared: a constant torque added to every sample"
+    looks_for = "residual with a non-zero mean"
+    stage = "torque"
+    order = 0
+
+    def params(self, sc):
+        return (Param("torque_offset", -sc.torque_ref, sc.torque_ref, 0.0, 0.01 * sc.torque_ref),)
+
+    def torque(self, p, sig, idx):
+        return p[0]
+
+    def report(self, p, stiffness, sc):
+        return {"torque_offset_Nm": float(p[0])}
+
+
+class Drift(Effect):
+    """Torque zero drifting linearly from the record start (parameter: total drift, N·m)."""
+
+    name = "drift"
+    meaning = ("torque zero that moves with time (sensor or amplifier thermal drift after "
+               "taring): an offset growing linearly from the start of the record")
+    looks_for = "residual trending with time, independent of deflection"
+    stage = "torque"
+    order = 1
+
+    def params(self, sc):
+        # parameter: drift over the whole record (N·m)
+        return (Param("drift", -sc.torque_ref, sc.torque_ref, 0.0, 0.01 * sc.torque_ref),)
+
+    def torque(self, p, sig, idx):
+        sc = sig.scales
+        return p[0] * (sig.t[idx] - sc.t0) / sc.t_span
+
+    def report(self, p, stiffness, sc):
+        return {"drift_Nm_per_s": float(p[0] / sc.t_span)}
+
+
+class Outliers(Effect):
+    """Isolated glitches, excluded from fit and score (one parameter per glitch)."""
+
+    name = "outliers"
+    meaning = ("sensor glitches (ADC spikes, lost camera frames): isolated samples far from "
+               "their neighbours; they are excluded from the fit and from the NRMSE")
+    looks_for = ("isolated samples more than 6 noise standard deviations from the running "
+                 "median of the residual")
+    stage = "mask"
+
+    def report(self, p, stiffness, sc):
+        return {}
+
+
+class SeriesCompliance(Effect):
+    """Encoder minus optical deflection = torque/K_series + offset (second channel)."""
+
+    name = "series_compliance"
+    meaning = ("compliance of shafts and couplers between the motors and the spring: the "
+               "encoder deflection exceeds the optical deflection by torque/K_series")
+    looks_for = "encoder minus optical deflection proportional to the torque"
+    stage = "encoder"
+
+    def applicable(self, active, sig):
+        return sig.encoder is not None
+
+
+#: the library, in the order candidates are listed
+LIBRARY: tuple[Effect, ...] = (
+    Backlash(), Hysteresis(), TimeLag(), Drift(), TorqueOffset(), AngleOffset(),
+    Stiffening(), AsymmetricStiffness(), Outliers(), SeriesCompliance(),
+)
+
+EFFECT_NAMES = tuple(e.name for e in LIBRARY)
+
+
+def get_effect(name: str) -> Effect:
+    """The library effect called ``name``."""
+    for e in LIBRARY:
+        if e.name == name:
+            return e
+    raise KeyError(f"unknown effect {name!r}; known: {', '.join(EFFECT_NAMES)}")

@@ -1,0 +1,106 @@
+"""Per-sample signals shared by the torque model, the effects and the loop.
+
+Everything a model term may depend on is computed once per record: time,
+measured and smoothed deflection, torque, direction of motion, the deflection
+at the last reversal, the optional encoder deflection and the cross-validation
+fold of each sample. Units: s, rad, N·m.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+
+from springcad.fit.data import BenchRecord
+from springcad.fit.segment import Segmentation, noise_std
+
+
+@dataclass(frozen=True)
+class Scales:
+    """Magnitudes of a record, used to bound and start parameters.
+
+    Attributes:
+        theta_ref: largest |deflection| (rad, 99.9th percentile of the smoothed signal).
+        torque_ref: half the measured torque range, glitches excluded (N·m).
+        t0: first sample time (s).
+        t_span: record duration (s).
+        sample_rate_hz: median sample rate (Hz).
+        theta_noise: deflection noise (rad): robust spread of the deflection
+            about its smoothed curve. Features narrower than this (a backlash,
+            say) cannot be resolved.
+    """
+
+    theta_ref: float
+    torque_ref: float
+    t0: float
+    t_span: float
+    sample_rate_hz: float
+    theta_noise: float = 0.0
+
+
+@dataclass(frozen=True)
+class Signals:
+    """Full-length per-sample arrays of one record (see module docstring)."""
+
+    t: np.ndarray
+    theta: np.ndarray
+    theta_smooth: np.ndarray
+    torque: np.ndarray
+    direction: np.ndarray
+    reversal: np.ndarray
+    rate: np.ndarray
+    encoder: np.ndarray | None
+    fold: np.ndarray
+    virgin: np.ndarray
+    scales: Scales
+
+    @property
+    def n(self) -> int:
+        return int(self.t.size)
+
+
+def find_glitches(x: np.ndarray, threshold: float = 6.0, width: int = 9) -> np.ndarray:
+    """Isolated spikes: samples far from the median of their neighbours.
+
+    A sample is a glitch when it differs from the running median over ``width``
+    samples by more than ``threshold`` noise standard deviations (noise from
+    lagged differences). Slow structure, steps and the model's shortcomings
+    follow the running median, so only short sensor glitches are flagged.
+
+    Args:
+        x: a signal or a residual, sampled uniformly.
+        threshold: in noise standard deviations.
+        width: running-median window (samples).
+
+    Returns:
+        Boolean mask, True at glitches.
+    """
+    local = ndimage.median_filter(x, size=width, mode="nearest")
+    dev = x - local
+    sigma = noise_std(dev)
+    if sigma == 0.0:
+        return np.zeros(x.size, dtype=bool)
+    return np.abs(dev) > threshold * sigma
+
+
+def torque_half_range(torque: np.ndarray) -> float:
+    """Half the measured torque range (N·m), ignoring isolated glitches (NRMSE normaliser)."""
+    clean = torque[~find_glitches(torque)]
+    return 0.5 * float(np.ptp(clean))
+
+
+def make_signals(record: BenchRecord, seg: Segmentation) -> Signals:
+    """Collect the per-sample signals of a segmented record."""
+    scales = Scales(
+        theta_ref=float(np.percentile(np.abs(seg.theta_smooth_rad), 99.9)),
+        torque_ref=torque_half_range(record.torque_Nm),
+        t0=float(record.time_s[0]),
+        t_span=record.duration_s,
+        sample_rate_hz=record.sample_rate_hz,
+        theta_noise=1.4826 * float(np.median(np.abs(record.deflection_rad - seg.theta_smooth_rad))),
+    )
+    return Signals(record.time_s, record.deflection_rad, seg.theta_smooth_rad, record.torque_Nm,
+                   seg.direction.astype(float), seg.reversal_rad, seg.rate_rad_per_s,
+                   record.encoder_deflection_rad, seg.fold, seg.virgin, scales)

@@ -1,0 +1,198 @@
+"""The common parametric torque model: ``τ = K·θ`` plus any set of effect terms.
+
+The model is a tuple of effects (see :mod:`springcad.fit.effects`) over one
+parameter vector ``[K, effect params…]``. It is fitted by robust least squares
+(``scipy.optimize.least_squares`` with a soft-L1 loss whose scale is a few
+noise standard deviations, so Gaussian noise is fitted as by least squares and
+isolated glitches barely pull the fit).
+
+Torque in N·m, angles in rad, time in s, K in N·m/rad.
+"""
+
+from __future__ import annotations
+
+import contextlib
+
+import numpy as np
+from scipy import optimize
+
+from springcad.fit.effects import STAGES, Effect, Param
+from springcad.fit.signals import Scales, Signals
+
+_TORQUE_STAGES = ("angle", "map", "factor", "torque")
+
+
+@contextlib.contextmanager
+def single_threaded_blas():
+    """Run the block with one BLAS thread, when ``threadpoolctl`` is installed.
+
+    The fits factor tall, thin Jacobians (thousands × a few): a multi-threaded
+    BLAS gains nothing there and, on a busy 2-core machine, its spinning
+    threads made each fit several times slower in our measurements. Without
+    ``threadpoolctl`` the block runs unchanged.
+    """
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # optional: only a speed-up
+        yield
+        return
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield
+
+
+class TorqueModel:
+    """``τ(θ, t, direction)`` built from the base spring and torque-stage effects.
+
+    Args:
+        effects: effects whose stage is a torque stage (angle, map, factor, torque).
+        scales: record magnitudes (for bounds and normalisation).
+    """
+
+    def __init__(self, effects: tuple[Effect, ...], scales: Scales):
+        for e in effects:
+            if e.stage not in _TORQUE_STAGES:
+                raise ValueError(f"effect {e.name!r} is not a torque-model term")
+        self.effects = tuple(sorted(effects, key=lambda e: (STAGES.index(e.stage), e.order)))
+        self.scales = scales
+        self._params = {e.name: e.params(scales) for e in self.effects}
+        self._slices = {}
+        i = 1
+        for e in self.effects:
+            n = len(self._params[e.name])
+            self._slices[e.name] = slice(i, i + n)
+            i += n
+        self.size = i
+        lo = [1e-9] + [p.lower for e in self.effects for p in self._params[e.name]]
+        hi = [np.inf] + [p.upper for e in self.effects for p in self._params[e.name]]
+        self.bounds = (np.array(lo, float), np.array(hi, float))
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(e.name for e in self.effects)
+
+    @property
+    def label(self) -> str:
+        """``"linear"`` or ``"linear + backlash + …"`` in library order."""
+        return " + ".join(("linear",) + self.names)
+
+    def params_of(self, name: str) -> tuple[Param, ...]:
+        return self._params[name]
+
+    def with_effect(self, effect: Effect) -> "TorqueModel":
+        return TorqueModel(self.effects + (effect,), self.scales)
+
+    def without(self, name: str) -> "TorqueModel":
+        return TorqueModel(tuple(e for e in self.effects if e.name != name), self.scales)
+
+    def transfer(self, other: "TorqueModel", x_other: np.ndarray,
+                 fill: dict[str, np.ndarray] | None = None, use_null: bool = False) -> np.ndarray:
+        """A parameter vector for this model from ``other``'s, filling new effects.
+
+        Args:
+            other: model whose vector ``x_other`` is known.
+            x_other: its parameters.
+            fill: values for effects not in ``other`` (default: their probe values).
+            use_null: fill missing effects with their null values instead of probes.
+        """
+        x = np.empty(self.size)
+        x[0] = x_other[0]
+        fill = fill or {}
+        for e in self.effects:
+            sl = self._slices[e.name]
+            if e.name in other._slices:
+                x[sl] = x_other[other._slices[e.name]]
+            elif e.name in fill:
+                x[sl] = fill[e.name]
+            else:
+                x[sl] = [p.null if use_null else p.probe for p in self._params[e.name]]
+        return x
+
+    def _parts(self, x: np.ndarray) -> dict[str, np.ndarray]:
+        return {e.name: x[self._slices[e.name]] for e in self.effects}
+
+    def effective_angle(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
+        """Deflection (rad) after the angle stage (time lag, angle offset) at samples ``idx``."""
+        theta = sig.theta[idx]
+        parts = self._parts(x)
+        for e in self.effects:
+            if e.stage == "angle":
+                theta = e.angle(theta, parts[e.name], sig, idx)
+        return theta
+
+    def torque_terms(self, x: np.ndarray, sig: Signals, idx: np.ndarray,
+                     names: set[str] | None = None) -> np.ndarray:
+        """Sum of the additive torque terms (N·m) of the effects in ``names`` (default all)."""
+        parts = self._parts(x)
+        out = np.zeros(idx.size)
+        for e in self.effects:
+            if e.stage == "torque" and (names is None or e.name in names):
+                out = out + e.torque(parts[e.name], sig, idx)
+        return out
+
+    def predict(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
+        """Model torque (N·m) at samples ``idx``."""
+        parts = self._parts(x)
+        spring = self.effective_angle(x, sig, idx)
+        for e in self.effects:
+            if e.stage == "map":
+                spring = e.map(spring, parts[e.name])
+        stiff = x[0]
+        for e in self.effects:
+            if e.stage == "factor":
+                stiff = stiff * e.factor(spring, parts[e.name], self.scales)
+        return stiff * spring + self.torque_terms(x, sig, idx)
+
+    def residual(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
+        """Measured minus model torque (N·m) at samples ``idx``."""
+        return sig.torque[idx] - self.predict(x, sig, idx)
+
+    def report(self, x: np.ndarray) -> dict:
+        """Fitted parameters with units in the names (stiffness first)."""
+        out = {"stiffness_Nm_per_rad": float(x[0])}
+        for e in self.effects:
+            out.update(self.effect_report(e.name, x))
+        return out
+
+    def effect_report(self, name: str, x: np.ndarray) -> dict:
+        """Fitted parameters of one effect, with units in the names."""
+        e = next(e for e in self.effects if e.name == name)
+        return e.report(x[self._slices[name]], float(x[0]), self.scales)
+
+    def solve_stiffness(self, x: np.ndarray, sig: Signals, idx: np.ndarray,
+                        weights: np.ndarray | None = None) -> np.ndarray:
+        """Return ``x`` with K re-solved by linear least squares, the rest fixed.
+
+        The model is linear in K: ``τ = K·q + a`` with ``a`` the K-free terms.
+        """
+        x1, x0 = x.copy(), x.copy()
+        x1[0], x0[0] = 1.0, 0.0
+        a = self.predict(x0, sig, idx)
+        q = self.predict(x1, sig, idx) - a
+        w = 1.0 if weights is None else weights
+        den = float(np.sum(w * q * q))
+        out = x.copy()
+        if den > 0:
+            out[0] = max(float(np.sum(w * q * (sig.torque[idx] - a))) / den, 1e-9)
+        return out
+
+    def fit(self, sig: Signals, idx: np.ndarray, x0: np.ndarray, f_scale: float,
+            max_nfev: int = 100) -> np.ndarray:
+        """Robust least-squares fit on samples ``idx`` from ``x0``.
+
+        Args:
+            sig: record signals.
+            idx: sample indices to fit.
+            x0: start (clipped into the bounds).
+            f_scale: soft-L1 scale (N·m): residuals well below it count as squares.
+            max_nfev: function evaluations allowed.
+
+        Returns:
+            Fitted parameter vector.
+        """
+        lo, hi = self.bounds
+        span = np.where(np.isfinite(hi - lo), hi - lo, np.abs(x0) + 1.0)
+        x0 = np.clip(x0, lo + 1e-9 * span, hi - 1e-9 * span)
+        res = optimize.least_squares(self.residual, x0, args=(sig, idx), bounds=(lo, hi),
+                                     loss="soft_l1", f_scale=f_scale, x_scale="jac",
+                                     max_nfev=max_nfev, xtol=1e-8, ftol=1e-8)
+        return res.x

@@ -1,0 +1,1 @@
+"""Validation cases: the paper's measured springs against springcad's predictions."""

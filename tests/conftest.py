@@ -1,0 +1,26 @@
+"""Shared fixtures: template paths and designs built once per session."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+TEMPLATES = ROOT / "templates"
+SHARED = ROOT.parent / "shared"
+
+
+def template(name: str) -> Path:
+    return TEMPLATES / f"{name}.toml"
+
+
+@pytest.fixture(scope="session")
+def paper_designs():
+    """JobDesign of every paper template, keyed by template name."""
+    from springcad.config import load_job
+    from springcad.design.job import design_job
+
+    names = ["paper_S1", "paper_S2", "paper_2xS1", "paper_2xS2", "paper_4xS1", "paper_S1_2xS2",
+             "paper_S2_3xS1", "paper_4xS1_mfr1", "paper_4xS1_mfr2"]
+    return {n: design_job(load_job(template(n))) for n in names}

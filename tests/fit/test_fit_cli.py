@@ -1,0 +1,223 @@
+"""``springcad fit`` in process: outputs, fit.json schema, options, and errors (exit 2)."""
+
+import hashlib
+import json
+import sys
+import types
+
+import numpy as np
+import pytest
+
+from springcad.cli import main
+from springcad.fit.bench import BenchSpring, simulate
+from springcad.fit.data import to_csv_text
+from springcad.fit.effects import EFFECT_NAMES
+from fit_helpers import FAST, spring
+from test_fit_compare import DESIGN
+
+
+@pytest.fixture(scope="module")
+def bench_csv(tmp_path_factory):
+    sim = simulate(spring("backlash", "hysteresis"), protocol=FAST, seed=8)
+    path = tmp_path_factory.mktemp("data") / "bench.csv"
+    path.write_text(to_csv_text(sim.record))
+    return path
+
+
+@pytest.fixture(scope="module")
+def fitted(bench_csv, tmp_path_factory):
+    out = tmp_path_factory.mktemp("runs") / "fit1"
+    before = (hashlib.sha256(bench_csv.read_bytes()).hexdigest(), bench_csv.stat().st_mtime_ns)
+    rc = main(["fit", str(bench_csv), "--out", str(out), "--target-stiffness", "37.5"])
+    after = (hashlib.sha256(bench_csv.read_bytes()).hexdigest(), bench_csv.stat().st_mtime_ns)
+    return rc, out, before, after
+
+
+def test_cli_writes_json_report_and_plots(fitted):
+    rc, out, _, _ = fitted
+    assert rc == 0
+    names = {p.name for p in out.iterdir()}
+    assert {"fit.json", "report.md", "torque_deflection.png", "crossover.png",
+            "residual_step_1_backlash.png", "residual_step_2_hysteresis.png"} <= names
+    for png in out.glob("*.png"):
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    report = (out / "report.md").read_text()
+    assert "## Paper models" in report and "![crossover region](crossover.png)" in report
+
+
+def test_input_file_is_not_modified(fitted):
+    _, _, before, after = fitted
+    assert before == after
+
+
+def test_fit_json_schema(fitted):
+    rc, out, _, _ = fitted
+    d = json.loads((out / "fit.json").read_text())
+    assert d["baseline"]["model"] == "linear"
+    assert set(d["baseline"]) >= {"model", "params", "nrmse_pct"}
+    assert [s["effect"] for s in d["steps"]] == ["backlash", "hysteresis"]
+    for s in d["steps"]:
+        assert set(s) >= {"effect", "evidence", "params", "nrmse_before_pct", "nrmse_after_pct"}
+        assert s["effect"] in EFFECT_NAMES
+        assert s["nrmse_after_pct"] < s["nrmse_before_pct"]
+    assert d["steps"][0]["params"]["backlash_rad"] == pytest.approx(0.04, rel=0.05)
+    final = d["final"]
+    assert set(final) >= {"model", "params", "nrmse_pct", "unexplained"}
+    assert final["unexplained"] is False
+    assert final["nrmse_pct"] == pytest.approx(d["steps"][-1]["nrmse_after_pct"])
+    for name in ("linear", "deadband", "logit"):
+        m = d["paper_models"][name]
+        assert set(m) >= {"stiffness_Nm_per_rad", "backlash_rad", "nrmse_pct"}
+        assert m["stiffness_error_pct"] == pytest.approx(
+            100 * (m["stiffness_Nm_per_rad"] - 37.5) / 37.5)
+    assert d["paper_models"]["deadband"]["nrmse_pct"] < d["paper_models"]["linear"]["nrmse_pct"]
+    # NRMSE in percent of half the torque range: the linear misfit here is a few percent
+    assert 1.0 < d["paper_models"]["linear"]["nrmse_pct"] < 20.0
+    assert 0.5 < d["energy_loss_pct"] < 5.0
+
+
+def test_html_report_and_overwrite(bench_csv, tmp_path, capsys):
+    out = tmp_path / "html"
+    assert main(["fit", str(bench_csv), "--out", str(out), "--format", "html", "--no-plots"]) == 0
+    assert (out / "report.html").read_text().startswith("<!DOCTYPE html>")
+    assert not list(out.glob("*.png"))
+    assert main(["fit", str(bench_csv), "--out", str(out)]) == 2
+    assert "already exists" in capsys.readouterr().err
+    assert main(["fit", str(bench_csv), "--out", str(out), "--no-plots", "--overwrite"]) == 0
+    assert (out / "report.md").exists()
+
+
+def test_degrees_and_other_column_names(tmp_path):
+    sim = simulate(BenchSpring(40.0, backlash_rad=0.04), protocol=FAST, seed=4)
+    rec = sim.record
+    lines = ["t_s,T_Nmm,angle_deg"] + [f"{t:.4f},{1000 * q:.3f},{np.degrees(a):.6f}" for t, q, a in
+                                      zip(rec.time_s, rec.torque_Nm, rec.deflection_rad)]
+    path = tmp_path / "deg.csv"
+    path.write_text("\n".join(lines))
+    out = tmp_path / "out"
+    rc = main(["fit", str(path), "--out", str(out), "--no-plots", "--time-col", "t_s",
+               "--torque-col", "T_Nmm", "--deflection-col", "angle_deg", "--angle-unit", "deg",
+               "--torque-unit", "Nmm"])
+    assert rc == 0
+    d = json.loads((out / "fit.json").read_text())
+    assert d["paper_models"]["deadband"]["stiffness_Nm_per_rad"] == pytest.approx(40.0, rel=0.01)
+    assert d["paper_models"]["deadband"]["backlash_rad"] == pytest.approx(0.04, rel=0.05)
+
+
+@pytest.mark.parametrize("content, message", [
+    ("time_s,torque,deflection_rad\n0,1,2\n", "missing column(s) 'torque_Nm'"),
+    ("time_s,torque_Nm,deflection_rad\n0,x,2\n", "column 'torque_Nm', line 2: 'x' is not a number"),
+    ("time_s,torque_Nm,deflection_rad\n0,nan,2\n", "non-finite"),
+])
+def test_bad_input_exits_2_with_message(tmp_path, capsys, content, message):
+    path = tmp_path / "bad.csv"
+    path.write_text(content)
+    assert main(["fit", str(path), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("springcad fit: error: ") and message in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_too_few_cycles_exits_2(tmp_path, capsys):
+    t = np.arange(0, 2, 0.002)
+    theta = 0.2 * np.sin(np.pi * t / 2)
+    path = tmp_path / "one.csv"
+    path.write_text("time_s,torque_Nm,deflection_rad\n"
+                    + "\n".join(f"{a},{40 * b + 0.01 * np.cos(a)},{b}" for a, b in zip(t, theta)))
+    assert main(["fit", str(path), "--out", str(tmp_path / "o")]) == 2
+    assert "too few cycles" in capsys.readouterr().err
+
+
+def test_unit_warnings_are_printed(tmp_path, capsys):
+    sim = simulate(BenchSpring(40.0), protocol=FAST, seed=5)
+    rec = sim.record
+    path = tmp_path / "deg_as_rad.csv"
+    path.write_text("time_s,torque_Nm,deflection_rad\n" + "\n".join(
+        f"{t},{q},{np.degrees(a)}" for t, q, a in zip(rec.time_s, rec.torque_Nm, rec.deflection_rad)))
+    assert main(["fit", str(path), "--out", str(tmp_path / "o"), "--no-plots"]) == 0
+    assert "warning: deflection reaches" in capsys.readouterr().err
+
+
+def test_non_positive_target_is_rejected(bench_csv, tmp_path):
+    with pytest.raises(SystemExit) as exc:
+        main(["fit", str(bench_csv), "--out", str(tmp_path / "o"), "--target-stiffness", "-3"])
+    assert exc.value.code == 2
+
+
+def test_config_without_design_core_exits_2(bench_csv, tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "springcad.config", None)
+    cfg = tmp_path / "job.toml"
+    cfg.write_text("")
+    assert main(["fit", str(bench_csv), "--out", str(tmp_path / "o"), "--config", str(cfg)]) == 2
+    assert "--config needs the design core" in capsys.readouterr().err
+
+
+def test_config_compares_with_the_design(bench_csv, tmp_path, monkeypatch):
+    calls = []
+    config = types.ModuleType("springcad.config")
+    config.load_job = lambda path: calls.append(path) or "job"
+    job_mod = types.ModuleType("springcad.design.job")
+
+    class FakeDesign:
+        def to_dict(self):
+            return DESIGN
+
+    job_mod.design_job = lambda job: FakeDesign()
+    monkeypatch.setitem(sys.modules, "springcad.config", config)
+    monkeypatch.setitem(sys.modules, "springcad.design.job", job_mod)
+    cfg = tmp_path / "job.toml"
+    cfg.write_text("")
+    out = tmp_path / "o"
+    assert main(["fit", str(bench_csv), "--out", str(out), "--config", str(cfg), "--no-plots"]) == 0
+    assert [str(p) for p in calls] == [str(cfg)]
+    d = json.loads((out / "fit.json").read_text())
+    comp = d["design_comparison"]
+    assert comp["stiffness"]["target_Nm_per_rad"] == 37.5
+    assert set(comp["backlash"]["ranges"]) == {"worst_case", "rss", "monte_carlo_p01_p99"}
+    assert "## Comparison with the design" in (out / "report.md").read_text()
+
+
+def test_config_with_the_design_core_and_a_simulated_designed_stack(tmp_path):
+    # the paper's 4xS1 stack (Mfr. 2 tolerances) designed by springcad, put on the simulated
+    # bench at its beam stiffness and nominal backlash, then fitted against its own config
+    pytest.importorskip("springcad.config")
+    from pathlib import Path
+    from springcad.fit.compare import design_from_config
+
+    config = Path(__file__).resolve().parents[2] / "templates" / "paper_4xS1_mfr2.toml"
+    if not config.exists():
+        pytest.skip("paper templates not in this checkout")
+    design = design_from_config(config)
+    bench_spring = BenchSpring.from_design(design, friction_torque_Nm=0.1)
+    sim = simulate(bench_spring, protocol=FAST, seed=13)
+    path = tmp_path / "stack.csv"
+    path.write_text(to_csv_text(sim.record))
+    out = tmp_path / "o"
+    assert main(["fit", str(path), "--out", str(out), "--config", str(config), "--no-plots"]) == 0
+    d = json.loads((out / "fit.json").read_text())
+    comp = d["design_comparison"]["residual_loop"]
+    assert abs(comp["stiffness"]["error_vs_beam_pct"]) < 1.0
+    assert comp["measured"]["backlash_rad"] == pytest.approx(
+        design["stack"]["backlash_rad"]["nominal"], rel=0.05)
+    assert all(r["inside"] for r in comp["backlash"]["ranges"].values())
+    assert d["final"]["effects"] == ["backlash", "hysteresis"]
+
+
+def test_default_output_folder_is_outputs_data_name(bench_csv, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["fit", str(bench_csv), "--no-plots"]) == 0
+    assert (tmp_path / "outputs" / "bench" / "fit.json").exists()
+
+
+def test_encoder_column_lets_the_loop_find_series_compliance(tmp_path):
+    sim = simulate(spring("series_compliance"), protocol=FAST, seed=14)
+    path = tmp_path / "enc.csv"
+    path.write_text(to_csv_text(sim.record))
+    assert "encoder_in_rad" in path.read_text().splitlines()[0]
+    out = tmp_path / "o"
+    assert main(["fit", str(path), "--out", str(out), "--no-plots"]) == 0
+    d = json.loads((out / "fit.json").read_text())
+    assert [s["effect"] for s in d["steps"]] == ["series_compliance"]
+    step = d["steps"][0]
+    assert step["params"]["series_stiffness_Nm_per_rad"] == pytest.approx(200.0, rel=0.05)
+    assert step["evidence"]["heldout_rmse_after_rad"] < step["evidence"]["heldout_rmse_before_rad"]

@@ -1,0 +1,123 @@
+"""Config validation: every bad input gets one clear message, exit 2 and nothing written."""
+
+import math
+import tomllib
+
+import pytest
+
+from springcad.cli import main
+from springcad.config import job_from_dict, load_job
+from springcad.errors import ConfigError
+from tests.conftest import template
+
+
+def paper_s1():
+    return tomllib.loads(template("paper_S1").read_text())
+
+
+def write(tmp_path, data):
+    lines = []
+
+    def emit(prefix, table):
+        scalars = {k: v for k, v in table.items() if not isinstance(v, dict)}
+        if prefix:
+            lines.append(f"[{prefix}]")
+        for k, v in scalars.items():
+            lines.append(f"{k} = {tomllib_dump(v)}")
+        for k, v in table.items():
+            if isinstance(v, dict):
+                emit(f"{prefix}.{k}" if prefix else k, v)
+
+    emit("", data)
+    path = tmp_path / "job.toml"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def tomllib_dump(v):
+    if isinstance(v, str):
+        return f'"{v}"'
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, list):
+        return "[" + ", ".join(tomllib_dump(x) for x in v) + "]"
+    return repr(v)
+
+
+BAD = {
+    "negative stiffness": (lambda d: d["springs"]["S1"].update(stiffness_Nm_per_rad=-150),
+                           r"springs\.S1\.stiffness_Nm_per_rad.*-150.*greater than zero"),
+    "zero stiffness": (lambda d: d["springs"]["S1"].update(stiffness_Nm_per_rad=0),
+                       r"springs\.S1\.stiffness_Nm_per_rad.*greater than zero"),
+    "unreachable deflection": (lambda d: d["springs"]["S1"].update(max_deflection_deg=60),
+                               r"S1.*(no flexure geometry|no curved flexure).*series"),
+    "tip below wire": (lambda d: d["springs"]["S1"].update(tip_radius_mm=0.1),
+                       r"tip_radius_mm.*0\.1.*wire radius \+ spark gap = 0\.15"),
+    "too many flexures": (lambda d: d["springs"]["S1"].update(n_flexures=40),
+                          r"n_flexures = 40 do not fit.*at most 28"),
+    "empty stack": (lambda d: d["stack"].update(sequence=[]),
+                    r"stack\.sequence.*at least one spring.*S1"),
+    "unknown spring": (lambda d: d["stack"].update(sequence=["S1", "S9"]),
+                       r"stack\.sequence.*'S9'.*not a defined spring; defined: S1"),
+    "wrong units": (lambda d: d["springs"]["S1"].update(outer_radius_in=1.3),
+                    r"springs\.S1\.outer_radius_in.*not a known key.*outer_radius_mm"),
+    "deg and rad": (lambda d: d["springs"]["S1"].update(max_deflection_rad=0.3),
+                    r"either max_deflection_deg or max_deflection_rad"),
+    "bad output": (lambda d: d["stack"].update(output="shaft"),
+                   r"stack\.output.*must be 'rim' for 1 spring"),
+    "design stress above yield": (lambda d: d["material"].update(design_stress_MPa=1500),
+                                  r"design_stress_MPa.*below the yield strength 1344"),
+    "custom material incomplete": (lambda d: d["material"].update(name="unobtainium"),
+                                   r"material\.name.*unobtainium.*needs youngs_modulus_GPa"),
+    "not a number": (lambda d: d["springs"]["S1"].update(thickness_mm="thick"),
+                     r"springs\.S1\.thickness_mm.*'thick'.*must be a number"),
+}
+
+
+@pytest.mark.parametrize("case", list(BAD))
+def test_bad_config_message_exit_status_and_nothing_written(tmp_path, capsys, case):
+    mutate, pattern = BAD[case]
+    data = paper_s1()
+    mutate(data)
+    path = write(tmp_path, data)
+    before = path.read_text()
+    out = tmp_path / "out"
+    assert main(["design", str(path), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err  # one clear line
+    import re
+    assert re.search(pattern, err), err
+    assert not out.exists()
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".out")]  # no temp leftovers
+    assert path.read_text() == before  # input untouched
+
+
+def test_units_are_converted_once():
+    job = load_job(template("paper_S1"))
+    s = job.springs["S1"]
+    assert s.stiffness_Nmm_per_rad == 150_000
+    assert s.max_deflection_rad == pytest.approx(math.radians(16))
+    d = paper_s1()
+    d["springs"]["S1"].pop("max_deflection_deg")
+    d["springs"]["S1"]["max_deflection_rad"] = 0.25
+    assert job_from_dict(d).springs["S1"].max_deflection_rad == 0.25
+
+
+def test_material_defaults_and_overrides():
+    d = paper_s1()
+    job = job_from_dict(d)
+    assert job.material.material.name == "420_ht"
+    assert job.material.material.youngs_modulus_MPa == 200e3
+    d["material"] = {"name": "420_ht", "youngs_modulus_GPa": 210, "safety_factor": 2.0}
+    job = job_from_dict(d)
+    assert job.material.material.youngs_modulus_MPa == 210e3
+    assert job.material.design_stress_MPa == pytest.approx(1344 / 2.0)
+
+
+def test_unreadable_file(tmp_path):
+    with pytest.raises(ConfigError, match="cannot be read"):
+        load_job(tmp_path / "missing.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[springs.S1\n")
+    with pytest.raises(ConfigError, match="not valid TOML"):
+        load_job(bad)

@@ -1,0 +1,149 @@
+"""Single-spring synthesis: closed forms, hard constraints, determinism, deliberate deviations."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from springcad.config import job_from_dict
+from springcad.design import flexure as fx
+from springcad.design.spring import design_spring
+from springcad.errors import DesignError
+
+
+def job(**spring):
+    base = {"stiffness_Nm_per_rad": 150, "max_deflection_deg": 16, "outer_radius_mm": 33.5,
+            "thickness_mm": 4.5, "contact_radius_mm": 5.5, "tip_radius_mm": 0.3, "n_flexures": 28}
+    base.update(spring)
+    base = {k: v for k, v in base.items() if v is not None}
+    return job_from_dict({"material": {"design_stress_MPa": 912}, "springs": {"A": base}})
+
+
+def design(**spring):
+    j = job(**spring)
+    return design_spring(j.springs["A"], j.material, j.manufacturing, j.hardware)
+
+
+@pytest.fixture(scope="module")
+def straight():
+    return design(max_deflection_deg=10)
+
+
+def test_straight_flexure_meets_closed_form(straight):
+    s = straight
+    assert s.flexure == "straight" and s.width_law == "stiffness"
+    E, z, L = 200e3, 4.5, s.length_mm
+    k_closed = s.n_flexures * s.contact_radius_mm ** 2 * E * z * s.root_width_mm ** 3 / (8 * L ** 3)
+    assert k_closed == pytest.approx(150e3, rel=1e-9)
+    assert s.stiffness_beam_Nmm_per_rad == pytest.approx(k_closed, rel=1e-4)  # Castigliano integral
+    # below the straight limit the peak stress scales with theta_d / theta_s
+    assert s.peak_stress_MPa == pytest.approx(912 * s.max_deflection_rad / s.straight_limit_rad, rel=1e-3)
+    assert s.straight_limit_rad > s.max_deflection_rad
+
+
+def test_constant_stress_width_law():
+    y = np.linspace(5.5, 30, 50)
+    w = fx.constant_stress_width_mm(y, 272.0, 5.5, 4.5, 912)
+    stress = 6 * 272.0 * (y - 5.5) / (4.5 * np.maximum(w, 1e-12) ** 2)
+    assert np.allclose(stress[1:], 912)
+
+
+def test_serpentine_constraints_hold(paper_designs):
+    for name in ("paper_S1", "paper_S2"):
+        s = next(iter(paper_designs[name].springs.values()))
+        mfg = s.manufacturing
+        assert s.flexure == "serpentine"
+        assert s.area_ratio == pytest.approx(s.serpentine_factor, abs=2e-3)
+        assert s.min_neighbour_clearance_mm >= mfg.min_slot_width_mm
+        y = np.linspace(s.contact_radius_mm, s.root_radius_mm, 3000)
+        _, dx, ddx = s.centreline.evaluate(y)
+        kappa = np.abs(ddx) / (1 + dx ** 2) ** 1.5
+        edge_radius = 1 / np.maximum(kappa, 1e-12) - 0.5 * s.width_mm(y)
+        assert edge_radius.min() >= mfg.min_inside_radius_mm * (1 - 1e-3)
+        # beam theory of the curved flexure meets the target (the area ratio did its job)
+        assert s.stiffness_beam_Nmm_per_rad == pytest.approx(s.target_stiffness_Nmm_per_rad, rel=2e-3)
+
+
+def test_design_is_deterministic():
+    a, b = design(), design()
+    assert a.centreline == b.centreline
+    assert a.ring == b.ring and a.cam == b.cam
+
+
+def test_cam_keeps_the_designed_gap(paper_designs):
+    """Minimum distance between cam and ring at rest equals w_gap (along the profile normal)."""
+    from springcad.design.cam import _min_distance, _ring_points_near_ball0
+
+    s = paper_designs["paper_S1"].springs["S1"]
+    pitch = 2 * math.pi / s.n_flexures
+    cam = np.vstack([seg.sample(0.002) for seg in s.cam.outer.segments[:8]])
+    cam = np.vstack([cam, cam @ np.array([[math.cos(pitch), math.sin(pitch)],
+                                         [-math.sin(pitch), math.cos(pitch)]])])
+    ring = _ring_points_near_ball0(s)
+    assert _min_distance(cam, ring) == pytest.approx(s.manufacturing.w_gap_mm, abs=2e-3)
+
+
+def test_rim_holes_sit_between_flexures(paper_designs):
+    s = paper_designs["paper_S1"].springs["S1"]
+    pitch = 2 * math.pi / s.n_flexures
+    for x, y in s.hole_centres_mm:
+        phase = (math.atan2(y, x) - math.pi / 2) / pitch
+        assert phase % 1 == pytest.approx(0.5, abs=1e-9)  # midway, not on a flexure axis
+        r = math.hypot(x, y)
+        assert s.root_radius_mm < r - s.hole_diameter_mm / 2 < r + s.hole_diameter_mm / 2 < s.outer_radius_mm
+
+
+def test_deviation_tip_ball_sized_for_peak_load():
+    """Reference tool: ball sized at the straight-limit load, so S1 gets N = 28 and 0.300 mm.
+    springcad sizes it for the peak load (0.344 mm), which at r_c = 5.5 mm caps the torque at
+    37.5 N*m < 41.9 N*m: with N and the ball free it stops and says so."""
+    with pytest.raises(DesignError, match=r"torque cap 37\.5 N\*m"):
+        design(tip_radius_mm=None, n_flexures=None, min_tip_radius_mm=0.3)
+    as_built = design()  # N and ball fixed as the paper built them: a warning, not an error
+    assert as_built.tip_radius_required_mm == pytest.approx(0.344, abs=1e-3)
+    assert any("0.344" in w and "torque cap" in w for w in as_built.warnings)
+    # the reference rule (load at theta_s) would have accepted 0.300 mm
+    load_s = 150e3 * as_built.straight_limit_rad / (28 * 5.5)
+    assert fx.tip_ball_required_radius_mm(load_s, 4.5, 912) < 0.300
+
+
+def test_free_layout_is_chosen_and_consistent():
+    s = design(stiffness_Nm_per_rad=60, max_deflection_deg=14, outer_radius_mm=30,
+               contact_radius_mm=None, n_flexures=None, tip_radius_mm=None)
+    assert s.n_flexures <= fx.max_flexures(s.tip_radius_mm, s.contact_radius_mm)
+    assert s.tip_radius_mm >= s.tip_radius_required_mm - 1e-12
+    assert s.stiffness_beam_Nmm_per_rad == pytest.approx(60e3, rel=2e-3)
+    again = design(stiffness_Nm_per_rad=60, max_deflection_deg=14, outer_radius_mm=30,
+                   contact_radius_mm=None, n_flexures=None, tip_radius_mm=None)
+    assert (again.n_flexures, again.contact_radius_mm) == (s.n_flexures, s.contact_radius_mm)
+
+
+def test_rim_rule(paper_designs):
+    s = paper_designs["paper_S1"].springs["S1"]
+    gap = 2 * math.pi * s.root_radius_mm / s.n_flexures - s.root_width_mm
+    assert s.outer_radius_mm - s.root_radius_mm == pytest.approx(gap / 1.5, rel=1e-9)
+
+
+def test_straight_forced_but_too_far():
+    with pytest.raises(DesignError, match="straight flexures reach only"):
+        design(flexure="straight")
+
+
+def test_width_hooks_follow_beam_theory(paper_designs):
+    """with_width: K scales as scale^3 (beam theory) and an edge offset matches the beam model."""
+    from springcad.design.spring import with_width
+
+    s = paper_designs["paper_S1"].springs["S1"]
+    k0 = s.stiffness_beam_Nmm_per_rad
+    for scale in (0.98, 1.02):
+        e = with_width(s, scale)
+        assert e.stiffness_beam_Nmm_per_rad / k0 == pytest.approx(scale ** 3, rel=1e-6)
+        assert e.peak_stress_MPa / s.peak_stress_MPa == pytest.approx(scale, rel=1e-6)
+        assert e.ring.area_mm2() != s.ring.area_mm2()
+    off = with_width(s, 1.0, 0.02)
+    assert off.stiffness_beam_Nmm_per_rad / k0 == pytest.approx(
+        s.beam_stiffness_Nmm_per_rad(0.02) / k0, rel=1e-3)
+    assert off.tip_radius_mm == pytest.approx(0.32)
+    with pytest.raises(DesignError, match="to their neighbours"):
+        with_width(s, 1.3)
