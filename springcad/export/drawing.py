@@ -111,11 +111,11 @@ def _draw_clipped(sheet: Sheet, view: View, profile, window, step_mm: float):
 
 def _side_view(sheet: Sheet, x: float, y: float, scale: float, steps, caption="SIDE VIEW",
                horizontal=False):
-    """Elevation of stacked cylinders ((length, radius, label), ...) in sheet mm.
+    """Side view: stacked rectangles ((length, radius, label), ...) in sheet mm.
 
-    Vertical (axis up, first step at the bottom) from (x, y), or horizontal (axis
-    to the right... drawn as a band under the main view, centred on x) for flat parts.
-    Returns the far end of the axis.
+    The first step sits on (x, y) and the next ones on top of it; each gets a
+    length dimension. ``horizontal`` drops the axis line (flat parts under the
+    main view). Returns the top edge (sheet mm).
     """
     z = y
     for length, radius, label in steps:

@@ -126,12 +126,6 @@ def material_on_left(samples: LoopSamples, is_outer: bool) -> bool:
     return ccw if is_outer else not ccw
 
 
-def rotate_points(points: np.ndarray, angle_rad: float) -> np.ndarray:
-    """Rotate (n, 2) points about the origin (rad)."""
-    c, s = math.cos(angle_rad), math.sin(angle_rad)
-    return points @ np.array([[c, s], [-s, c]])
-
-
 def profile_paths(profile: Profile, step_mm: float = 0.02):
     """matplotlib Paths of every loop (for point-in-region tests)."""
     from matplotlib.path import Path
