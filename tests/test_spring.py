@@ -37,8 +37,11 @@ def test_straight_flexure_meets_closed_form(straight):
     k_closed = s.n_flexures * s.contact_radius_mm ** 2 * E * z * s.root_width_mm ** 3 / (8 * L ** 3)
     assert k_closed == pytest.approx(150e3, rel=1e-9)
     assert s.stiffness_beam_Nmm_per_rad == pytest.approx(k_closed, rel=1e-4)  # Castigliano integral
+    # the web kept at the tip (min_web_mm) costs a width factor within 0.5 % of 1
+    assert abs(s.width_scale - 1) < 5e-3
     # below the straight limit the peak stress scales with theta_d / theta_s
-    assert s.peak_stress_MPa == pytest.approx(912 * s.max_deflection_rad / s.straight_limit_rad, rel=1e-3)
+    assert s.peak_stress_MPa * s.width_scale ** 2 == pytest.approx(
+        912 * s.max_deflection_rad / s.straight_limit_rad, rel=1e-3)
     assert s.straight_limit_rad > s.max_deflection_rad
 
 
@@ -138,7 +141,7 @@ def test_width_hooks_follow_beam_theory(paper_designs):
     k0 = s.stiffness_beam_Nmm_per_rad
     for scale in (0.98, 1.02):
         e = with_width(s, scale)
-        assert e.stiffness_beam_Nmm_per_rad / k0 == pytest.approx(scale ** 3, rel=1e-6)
+        assert e.stiffness_beam_Nmm_per_rad / k0 == pytest.approx(scale ** 3, rel=2e-3)
         assert e.peak_stress_MPa / s.peak_stress_MPa == pytest.approx(scale, rel=1e-6)
         assert e.ring.area_mm2() != s.ring.area_mm2()
     off = with_width(s, 1.0, 0.02)

@@ -91,11 +91,25 @@ def _min_distance(a: np.ndarray, b: np.ndarray, chunk: int = 2000) -> float:
     return float(np.sqrt(best))
 
 
-def d_bore(radius_mm: float, flat_ratio: float = 0.8) -> Loop:
-    """D-shaped shaft bore: circle with a flat at ``flat_ratio * r`` from the centre (mm)."""
-    h = math.acos(flat_ratio)
-    arc = Arc((0.0, 0.0), radius_mm, -math.pi / 2 + h, 1.5 * math.pi - h)
-    return Loop((arc, Line(arc.end, arc.start)))
+def d_bore(radius_mm: float, flat_ratio: float = 0.8, corner_radius_mm: float = 0.0) -> Loop:
+    """D-shaped shaft bore: circle with a flat at ``flat_ratio * r`` below the centre (mm).
+
+    With ``corner_radius_mm`` > 0 the two corners between flat and arc are rounded
+    (tangent fillets), so the wire can cut them.
+    """
+    R, h, rf = radius_mm, flat_ratio * radius_mm, corner_radius_mm
+    if rf <= 0:
+        a = math.acos(flat_ratio)
+        arc = Arc((0.0, 0.0), R, -math.pi / 2 + a, 1.5 * math.pi - a)
+        return Loop((arc, Line(arc.end, arc.start)))
+    cy = -h + rf  # fillet centres sit rf above the flat, rf inside the circle
+    cx = math.sqrt((R - rf) ** 2 - cy ** 2)
+    a_right = math.atan2(cy, cx)  # direction of the right fillet centre = its circle tangent point
+    main = Arc((0.0, 0.0), R, a_right, math.pi - a_right)
+    left = Arc((-cx, cy), rf, math.pi - a_right, 1.5 * math.pi)
+    flat = Line((-cx, -h), (cx, -h))
+    right = Arc((cx, cy), rf, -0.5 * math.pi, a_right)
+    return Loop((main, left, flat, right))
 
 
 def cam_profile(d) -> tuple[Profile, CamInfo]:
@@ -148,4 +162,5 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
     if f < OVERTRAVELS[0]:
         warnings = (f"cam flank overtravel reduced to {f:g} x max deflection to fit the tooth",)
     info = CamInfo(tip.radius, root, f, tip_w, clearance, warnings)
-    return Profile(loop, (d_bore(bore_r),)), info
+    corner = d.manufacturing.min_inside_radius_mm
+    return Profile(loop, (d_bore(bore_r, corner_radius_mm=corner),)), info

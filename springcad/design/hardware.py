@@ -79,7 +79,7 @@ def _ring_volume(r_in, r_out, length, holes=0, hole_d=0.0):
 
 
 def _torque_shaft(role, drive, cam_start, cam_end, hub_radius, shaft_diameter, hub_length,
-                  steel) -> Component:
+                  steel, corner_radius_mm) -> Component:
     """Input/output torque shaft on an end camshaft (mm).
 
     ``drive == "bore_flat"``: a D shaft through the camshaft's D bore, sticking out
@@ -94,7 +94,8 @@ def _torque_shaft(role, drive, cam_start, cam_end, hub_radius, shaft_diameter, h
         length = engaged + out
         z = cam_start - out if role == "input" else cam_end - engaged
         dims = {"style": "d_shaft", "diameter_mm": shaft_diameter, "flat_ratio": FLAT_RATIO,
-                "engaged_length_mm": engaged, "stickout_mm": out}
+                "engaged_length_mm": engaged, "stickout_mm": out,
+                "corner_radius_mm": corner_radius_mm}
         volume = math.pi * r ** 2 * length
     else:
         depth = hub_length - SOCKET_FACE_CLEARANCE_MM
@@ -102,7 +103,8 @@ def _torque_shaft(role, drive, cam_start, cam_end, hub_radius, shaft_diameter, h
         length = depth + out
         z = cam_start - out if role == "input" else cam_end - depth
         dims = {"style": "hub_socket", "outer_radius_mm": r_out, "socket_depth_mm": depth,
-                "hub_radius_mm": hub_radius, "flat_ratio": FLAT_RATIO, "stickout_mm": out}
+                "hub_radius_mm": hub_radius, "flat_ratio": FLAT_RATIO, "stickout_mm": out,
+                "corner_radius_mm": corner_radius_mm}
         volume = math.pi * r_out ** 2 * length - math.pi * hub_radius ** 2 * depth
     return Component(f"{role}_torque_shaft", "torque_shaft", steel[0], 1, volume, steel[1], z,
                      length, dims, role, in_mass=False)
@@ -163,7 +165,8 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
             cam_start = start - hub if role == "input" else start
             cam_end = end + hub if role == "output" else end
             comps.append(_torque_shaft(role, drive, cam_start, cam_end, r_hub,
-                                       hw.shaft_diameter_mm, hub, steel))
+                                       hw.shaft_diameter_mm, hub, steel,
+                                       springs[0].manufacturing.min_inside_radius_mm))
     fastener_len = lambda a, b: springs[a].thickness_mm + gap + springs[b].thickness_mm  # noqa: E731
     for j, kind in enumerate(joints):
         zj = z0[j] + springs[j].thickness_mm

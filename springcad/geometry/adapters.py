@@ -50,14 +50,15 @@ class TorqueShaft(SpringcadPart):
         if self.style == "d_shaft":
             self.diameter = dims["diameter_mm"]
             slabs = (Slab(0.0, length_mm,
-                          Profile(d_loop(0.5 * self.diameter, self.flat_ratio))),)
+                          Profile(d_loop(0.5 * self.diameter, self.flat_ratio,
+                                         dims["corner_radius_mm"]))),)
             key = {"shaft diameter": self.diameter, "length": length_mm,
                    "engaged length": dims["engaged_length_mm"]}
             note = "D flat matches the camshaft bore (slip fit)."
         else:
             self.outer_radius = dims["outer_radius_mm"]
             self.socket_depth = dims["socket_depth_mm"]
-            hub = d_loop(dims["hub_radius_mm"], self.flat_ratio)
+            hub = d_loop(dims["hub_radius_mm"], self.flat_ratio, dims["corner_radius_mm"])
             slabs = (Slab(0.0, self.stickout, Profile(circle_loop(self.outer_radius))),
                      Slab(self.stickout, length_mm,
                           Profile(circle_loop(self.outer_radius), (hub,))))

@@ -147,15 +147,16 @@ def annulus(r_in_mm: float, r_out_mm: float, holes: tuple[Loop, ...] = ()) -> Pr
     return Profile(circle_loop(r_out_mm), (*inner, *holes))
 
 
-def d_loop(radius_mm: float, flat_ratio: float) -> Loop:
+def d_loop(radius_mm: float, flat_ratio: float, corner_radius_mm: float) -> Loop:
     """Circle of ``radius_mm`` with a flat at ``flat_ratio * radius`` below the centre.
 
     The same loop as the camshaft's D bore (:func:`springcad.design.cam.d_bore`),
-    so a D shaft or D hub built from it fits that bore line to line.
+    corners rounded by ``corner_radius_mm`` (what the wire leaves in the bore), so
+    a D shaft or D hub built from it fits that bore line to line.
     """
     from springcad.design.cam import d_bore
 
-    return d_bore(radius_mm, flat_ratio)
+    return d_bore(radius_mm, flat_ratio, corner_radius_mm)
 
 
 def prism_solid(slabs, part: str) -> Solid:

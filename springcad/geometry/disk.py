@@ -129,7 +129,8 @@ class Camshaft(SpringcadPart):
         teeth = Profile(spring.cam.outer, (bore_loop,))
         slabs = [Slab(0.0, toothed_length_mm, teeth)]
         if hub_length_mm:
-            hub_outer = (d_loop(self.hub_radius, flat_ratio) if drive == "hub_flat"
+            hub_outer = (d_loop(self.hub_radius, flat_ratio,
+                                spring.manufacturing.min_inside_radius_mm) if drive == "hub_flat"
                          else circle_loop(self.hub_radius))
             slabs.insert(0, Slab(-hub_length_mm, 0.0, Profile(hub_outer, (bore_loop,))))
         mat = spring.material.material

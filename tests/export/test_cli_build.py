@@ -19,12 +19,15 @@ def built(tmp_path_factory):
 
 
 def test_violations_fail_without_acceptance(tmp_path, capsys):
+    # the S1 rim leaves 0.505 mm beside each 1.5 mm dowel hole: ask for 0.6 mm
+    cfg = tmp_path / "job.toml"
+    cfg.write_text(toml_text(job_data(["S1"], manufacturing={"min_hole_edge_mm": 0.6})))
     out = tmp_path / "out"
-    assert main(["build", str(S1), "--out", str(out)]) == 2
+    assert main(["build", str(cfg), "--out", str(out)]) == 2
     err = capsys.readouterr().err
-    assert "manufacturability violations" in err and "edm.min_web" in err
+    assert "manufacturability violations" in err and "edm.hole_edge" in err
     assert "--accept-violations" in err
-    assert not out.exists() and list(tmp_path.iterdir()) == []  # nothing half-written
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["job.toml"]
 
 
 def test_build_writes_everything_it_lists(built):
@@ -50,16 +53,15 @@ def test_build_json_records_every_check(built):
     _, out = built
     checks = json.loads((out / "build.json").read_text())["checks"]
     items = checks["items"]
-    assert checks["passed"] and checks["violations_accepted"]
+    assert checks["passed"]
     names = {c["name"] for c in items}
     assert {"solid_valid", "volume_matches_profile", "interference", "cam_clearance",
             "connection_sequence", "step_roundtrip", "dxf_roundtrip", "edm.min_web"} <= names
     gap = next(c for c in items if c["name"] == "cam_clearance")
     assert gap["passed"] and gap["value"] == pytest.approx(0.025, abs=1e-3)
-    failed = [c for c in items if not c["passed"]]
-    assert failed and all(c["kind"] == "rule" for c in failed)
-    web = next(c for c in failed if c["name"] == "edm.min_web")
-    assert len(web["details"]) == 28 and {"x_mm", "y_mm", "feature", "value_mm"} <= set(web["details"][0])
+    assert not [c for c in items if not c["passed"]]
+    web = next(c for c in items if c["name"] == "edm.min_web")
+    assert web["value"] >= 0.4
     rt = [c for c in items if c["name"].endswith("_roundtrip")]
     assert rt and all(c["passed"] for c in rt)
 

@@ -72,11 +72,23 @@ def test_camshaft_teeth_and_hub(cam_s1, s1_design):
 
 
 def test_d_shaft_area_closed_form(s1_stack):
-    """Torque D shaft: circle minus the segment below the flat."""
+    """Torque D shaft: circle minus the segment below the flat, minus the two rounded corners."""
+    from springcad.design.cam import d_bore
+
     shaft = s1_stack.instance("input_torque_shaft").part
     r, f = 0.5 * shaft.diameter, shaft.flat_ratio
-    area = math.pi * r ** 2 - r ** 2 * (math.acos(f) - f * math.sqrt(1 - f ** 2))
-    assert solid_volume_mm3(shaft.solid) == pytest.approx(area * shaft.length, rel=1e-9)
+    sharp = math.pi * r ** 2 - r ** 2 * (math.acos(f) - f * math.sqrt(1 - f ** 2))
+    assert abs(d_bore(r, f).signed_area()) == pytest.approx(sharp, rel=1e-12)
+    rf = s1_stack.design.springs["S1"].manufacturing.min_inside_radius_mm
+    rounded = d_bore(r, f, rf)
+    # two straight-straight corners of the same interior angle would lose
+    # rf^2 (cot(a/2) - (pi - a)/2) each; the arc side loses a little more
+    a = math.pi - math.atan2(math.sqrt(1 - f * f), f)
+    lines_only = 2 * rf ** 2 * (1 / math.tan(a / 2) - (math.pi - a) / 2)
+    loss = sharp - abs(rounded.signed_area())
+    assert lines_only < loss < 1.2 * lines_only
+    assert solid_volume_mm3(shaft.solid) == pytest.approx(
+        abs(rounded.signed_area()) * shaft.length, rel=1e-6)
 
 
 def test_annular_parts_closed_form(stack_4xs1):

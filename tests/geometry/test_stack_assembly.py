@@ -45,8 +45,8 @@ def test_table_i_stack_builds_and_checks(config):
     assert ("centre_spacer" in kinds) == ("rim" in joints)
     report = run_checks(asm)
     assert not report.errors, [(c.subject, c.name, c.message) for c in report.errors]
-    # the only rules broken are the design's known ones (thin flexure necks, sharp D bores)
-    assert {c.name for c in report.violations} <= {"edm.min_web", "edm.inside_corner_radius"}
+    # the design keeps the neck web and rounds the D bore corners: no rule is broken
+    assert not report.violations, [(c.subject, c.name, c.message) for c in report.violations]
     by_name = {c.name: c for c in report.checks if c.subject == "stack"}
     assert by_name["connection_sequence"].passed and by_name["alternation_rule"].passed
     gaps = [c for c in report.checks if c.name == "cam_clearance"]
