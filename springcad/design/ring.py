@@ -36,11 +36,16 @@ class _Edge:
         self.d, self.side = design, side
 
     def point_normal(self, y: float):
-        yy = np.array([y, y + 1e-7])
-        w = self.d.width_mm(yy)
-        right, left, n = fx.edges(self.d.centreline, yy, w)
-        p = right[0] if self.side > 0 else left[0]
-        return p, self.side * n[0]
+        """Edge point at station y and the unit normal *of the edge curve* towards the void.
+
+        The edge's own normal, not the centreline's: near the tip the width
+        grows like sqrt(y - r_c) and the two differ by up to ~16 deg, which
+        left the neck fillet meeting the edge at a re-entrant kink (a stress
+        singularity found by the FEA convergence study).
+        """
+        p = self.points([y])[0]
+        t = self.tangent_up(y)
+        return p, self.side * np.array([t[1], -t[0]])
 
     def points(self, ys):
         ys = np.asarray(ys, dtype=float)
