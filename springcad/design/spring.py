@@ -77,6 +77,10 @@ class SpringDesign:
     cam_root_radius_mm: float = 0.0
     cam_overtravel: float = 0.0
     warnings: tuple[str, ...] = field(default_factory=tuple)
+    width_scale: float = 1.0
+    """Factor on every flexure width (FEA correction hook, :func:`with_width_scale`);
+    1.0 = the widths beam theory gives. ``root_width_mm`` and ``tip_load_N`` stay
+    the beam-theory values; ``width_mm`` and the ring profile include the factor."""
 
     # ------------------------------------------------------------- predictions
     @property
@@ -107,10 +111,11 @@ class SpringDesign:
         """Flexure width normal to the centreline at radius y (mm)."""
         y = np.asarray(y_mm, dtype=float)
         if self.width_law == "stiffness":
-            return self.root_width_mm * np.sqrt(np.maximum(y - self.contact_radius_mm, 0.0)
-                                                / self.length_mm)
-        return fx.constant_stress_width_mm(y, self.tip_load_N, self.contact_radius_mm,
-                                           self.thickness_mm, self.material.design_stress_MPa)
+            return self.width_scale * self.root_width_mm * np.sqrt(
+                np.maximum(y - self.contact_radius_mm, 0.0) / self.length_mm)
+        return self.width_scale * fx.constant_stress_width_mm(
+            y, self.tip_load_N, self.contact_radius_mm, self.thickness_mm,
+            self.material.design_stress_MPa)
 
     @property
     def profile_area_mm2(self) -> float:
@@ -185,6 +190,7 @@ class SpringDesign:
             "envelope_volume_cm3": self.envelope_volume_mm3 / MM3_PER_CM3,
             "energy_density_J_per_cm3": self.energy_density_J_per_cm3,
             "specific_energy_J_per_kg": self.specific_energy_J_per_kg,
+            "width_scale": self.width_scale,
             "warnings": list(self.warnings),
         }
 
@@ -414,6 +420,39 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
                     cam_root_radius_mm=cam_info.root_radius_mm,
                     cam_overtravel=cam_info.overtravel,
                     warnings=design.warnings + cam_info.warnings)
+
+
+def with_width_scale(design: SpringDesign, scale: float) -> SpringDesign:
+    """The same spring with every flexure width multiplied by ``scale`` (FEA correction).
+
+    Same centreline, tip ball, fillet radii, rim and holes; the ring profile is
+    rebuilt. Bending stiffness goes as w^3, so the beam prediction becomes
+    K_beam * scale^3 and the beam peak stress at the design deflection
+    sigma * scale (load ~ w^3, section modulus ~ w^2).
+
+    Args:
+        design: a designed spring (any current ``width_scale``).
+        scale: the total factor on the beam-theory widths (it replaces
+            ``design.width_scale``, it does not compound with it).
+
+    Raises:
+        DesignError: the scaled flexures no longer fit (fillets overlap, roots collide).
+    """
+    from springcad.design.ring import ring_profile
+
+    if not (scale > 0 and math.isfinite(scale)):
+        raise DesignError(f"spring '{design.name}': width scale {scale!r} must be a positive number")
+    rel = scale / design.width_scale
+    d = _replace(design, width_scale=float(scale), ring=None,
+                 stiffness_beam_Nmm_per_rad=design.stiffness_beam_Nmm_per_rad * rel ** 3,
+                 peak_stress_MPa=design.peak_stress_MPa * rel)
+    gap_root = 2 * math.pi * d.root_radius_mm / d.n_flexures - d.root_width_mm * scale
+    if gap_root <= 2 * d.manufacturing.min_inside_radius_mm:
+        raise DesignError(f"spring '{design.name}': flexure roots widened by {scale:.4f} "
+                          f"({d.root_width_mm * scale:.3g} mm) leave {gap_root:.3g} mm between them; "
+                          f"the wire needs {2 * d.manufacturing.min_inside_radius_mm:.3g} mm")
+    ring, holes, hole_d = ring_profile(d)
+    return _replace(d, ring=ring, hole_centres_mm=holes, hole_diameter_mm=hole_d)
 
 
 def _replace(obj, **kw):
