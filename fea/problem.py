@@ -1,0 +1,324 @@
+"""The elasticity problem of a flexure ring: material, supports and the cam load.
+
+Material
+    Linear isotropic elasticity from the job's material (E, nu). The 2D model
+    is plane stress with the disk thickness as its depth, so 2D forces are
+    total forces (N) and torques N*mm, as in 3D.
+
+Supports (``support``)
+    ``"rim"``: the outer cylindrical face (circle R_o) is held in all
+    directions. It stands for a rim clamped in a housing or bolted to the next
+    spring's rim; it is the sector model's support (N-fold symmetric).
+    ``"holes"``: only the rim holes' faces are held (press-fit dowels or
+    bolts), the rim is otherwise free: the full ring is modelled because the
+    holes break the N-fold symmetry. :func:`fea.verify.support_study` reports
+    the difference.
+
+Cam load (``load``)
+    ``"traction"`` (default): on each tip ball a smooth traction patch centred
+    on the contact point (the ball's point at the contact radius on the cam
+    side), magnitude cos^2(pi phi / (2 phi0)) over the ball angle |phi| < phi0
+    from the contact point, uniform through the thickness, pointing along the
+    direction of rotation (perpendicular to the flexure axis, as the cam
+    profile keeps it). The patch is scaled to exactly one unit of torque about
+    the ring axis per flexure. Its smooth, centred shape converges cleanly; a
+    sharp-edged patch does not.
+    ``"rigid_cam"``: the nodes of the same patch move with a rigid cam rotated
+    by a unit angle, in the push direction only (frictionless flank): the
+    constraint u . d = theta (e_z x x) . d, imposed by Lagrange multipliers.
+    Both give the same stiffness within the tolerance asserted in the tests.
+
+Stiffness is work-conjugate: with the load vector f scaled to one unit of
+torque T, the rotation is theta = f . u / T and K = T / theta = T^2 / (f . u);
+for the rigid cam K = u . A u / theta^2 (twice the stored energy).
+Units: mm, N, MPa, N*mm, rad.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from springcad.errors import SolverError
+
+SUPPORTS = ("rim", "holes")
+LOADS = ("traction", "rigid_cam")
+
+
+@dataclass(frozen=True)
+class Material:
+    """Isotropic linear-elastic material (MPa)."""
+
+    youngs_modulus_MPa: float
+    poisson_ratio: float
+    yield_strength_MPa: float
+
+    @classmethod
+    def from_spec(cls, spec) -> "Material":
+        """From a :class:`~springcad.config.MaterialSpec` (or a ``Material``) of the job.
+
+        Raises:
+            SolverError: a property is missing or not physical.
+        """
+        m = getattr(spec, "material", spec)
+        values = {}
+        for name in ("youngs_modulus_MPa", "poisson_ratio", "yield_strength_MPa"):
+            v = getattr(m, name, None)
+            if v is None or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise SolverError(f"material '{getattr(m, 'name', '?')}' has no valid {name} "
+                                  f"(got {v!r}); set it in the [material] table")
+            values[name] = float(v)
+        if values["youngs_modulus_MPa"] <= 0 or values["yield_strength_MPa"] <= 0:
+            raise SolverError(f"material '{getattr(m, 'name', '?')}': Young's modulus and yield "
+                              "strength must be positive")
+        if not -1.0 < values["poisson_ratio"] < 0.5:
+            raise SolverError(f"material '{getattr(m, 'name', '?')}': Poisson ratio "
+                              f"{values['poisson_ratio']} is outside (-1, 0.5)")
+        return cls(**values)
+
+    def lame(self, plane_stress: bool) -> tuple[float, float]:
+        """Lame parameters (lambda, mu) (MPa); plane-stress lambda for 2D."""
+        E, nu = self.youngs_modulus_MPa, self.poisson_ratio
+        mu = E / (2 * (1 + nu))
+        lam = E * nu / (1 - nu ** 2) if plane_stress else E * nu / ((1 + nu) * (1 - 2 * nu))
+        return lam, mu
+
+
+@dataclass(frozen=True)
+class LoadCase:
+    """How the ring is held and loaded.
+
+    Attributes:
+        support: "rim" (outer face held) or "holes" (rim-hole faces held).
+        load: "traction" (smooth tangential patch) or "rigid_cam" (patch nodes follow a
+            rigid cam in the push direction).
+        patch_half_angle_rad: half-angle phi0 of the contact patch on the tip ball (rad).
+    """
+
+    support: str = "rim"
+    load: str = "traction"
+    patch_half_angle_rad: float = math.radians(30.0)
+
+    def __post_init__(self):
+        if self.support not in SUPPORTS:
+            raise SolverError(f"support '{self.support}' is not one of {', '.join(SUPPORTS)}")
+        if self.load not in LOADS:
+            raise SolverError(f"load '{self.load}' is not one of {', '.join(LOADS)}")
+        if not 0.0 < self.patch_half_angle_rad <= math.pi / 2:
+            raise SolverError(f"patch half-angle {self.patch_half_angle_rad:g} rad must be in "
+                              "(0, pi/2]")
+
+    def patch_half_width_mm(self, tip_radius_mm: float) -> float:
+        return tip_radius_mm * self.patch_half_angle_rad
+
+
+@dataclass(eq=False)
+class System:
+    """Assembled linear system of one mesh and load case.
+
+    DOFs are interleaved by component: DOF ``n * dim + i`` is component i at
+    the scalar quadratic node n of ``basis`` (the mesh's node order).
+
+    Attributes:
+        basis: scalar quadratic scikit-fem ``CellBasis`` (quadrature order 2, the
+            rule CalculiX uses for C3D10/CPS6 too).
+        dim: 2 or 3.
+        A: stiffness matrix (N/mm).
+        f: load vector for one unit of torque per loaded flexure (N).
+        torque_Nmm: total torque of ``f`` about the ring axis (N*mm).
+        fixed: DOFs set to zero (supports and symmetry).
+        held: DOFs of the supports (clamp or holes) only.
+        rotation: nodal values of the rigid rotation field e_z x x (unit angle) (mm).
+        constraints: (B, c) rigid-cam rows B u = theta c, or None.
+    """
+
+    basis: object
+    dim: int
+    A: object
+    f: np.ndarray
+    torque_Nmm: float
+    fixed: np.ndarray
+    held: np.ndarray
+    rotation: np.ndarray
+    constraints: tuple | None
+    lam: float
+    mu: float
+    plane_stress: bool
+    thickness_mm: float
+
+    @property
+    def n_dofs(self) -> int:
+        return int(self.A.shape[0])
+
+
+def stiffness_matrix(basis, lam: float, mu: float, scale: float = 1.0, chunk: int = 8000):
+    """Isotropic elasticity stiffness matrix on a scalar quadratic basis (N/mm).
+
+    Vectorised over elements (scikit-fem's generic form kernel loops in Python
+    over the 30 x 30 local DOF pairs of a P2 tet and is ~30x slower):
+    K[a i, b j] = int lam d_i phi_a d_j phi_b + mu (delta_ij grad phi_a . grad phi_b
+    + d_j phi_a d_i phi_b) dx, times ``scale`` (2D: the thickness).
+    """
+    from scipy.sparse import coo_matrix
+
+    nloc = len(basis.basis)
+    dim = basis.mesh.dim()
+    G = np.stack([np.asarray(basis.basis[a][0].grad) for a in range(nloc)])  # (a, k, e, q)
+    dx = np.asarray(basis.dx)  # (e, q)
+    edofs = basis.element_dofs  # (a, e)
+    ne = dx.shape[0]
+    rows, cols, vals = [], [], []
+    for e0 in range(0, ne, chunk):
+        sl = slice(e0, min(ne, e0 + chunk))
+        g = G[:, :, sl]  # (a, k, e, q)
+        w = dx[sl] * scale
+        # S[e, a, b, i, j] = int d_i phi_a d_j phi_b
+        S = np.einsum("aieq,bjeq,eq->eabij", g, g, w, optimize=True)
+        tr = np.einsum("eabkk->eab", S)
+        K = lam * S + mu * np.swapaxes(S, 3, 4)
+        for i in range(dim):
+            K[:, :, :, i, i] += mu * tr
+        # (e, a, b, i, j) -> (e, a i, b j)
+        K = np.transpose(K, (0, 1, 3, 2, 4)).reshape(-1, nloc * dim, nloc * dim)
+        gd = (edofs[:, sl].T[:, :, None] * dim + np.arange(dim)[None, None, :]).reshape(-1, nloc * dim)
+        rows.append(np.repeat(gd, nloc * dim, axis=1).ravel())
+        cols.append(np.tile(gd, (1, nloc * dim)).ravel())
+        vals.append(K.ravel())
+    n = basis.N * dim
+    A = coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                   shape=(n, n)).tocsr()
+    return A
+
+
+def elasticity_form(lam: float, mu: float, scale: float = 1.0):
+    """Linear elasticity bilinear form (scikit-fem, for ``ElementVector`` bases); used by the
+    tests to check :func:`stiffness_matrix`."""
+    from skfem import BilinearForm
+    from skfem.helpers import ddot, sym_grad, trace, eye
+
+    @BilinearForm
+    def form(u, v, w):
+        eps = sym_grad(u)
+        sig = 2.0 * mu * eps + lam * eye(trace(eps), eps.shape[0])
+        return scale * ddot(sig, sym_grad(v))
+
+    return form
+
+
+def _push_frames(geometry, flexure: int):
+    """Ball centre, push direction d (rotation direction) and contact direction (unit)."""
+    a = geometry.flexure_angles_rad[flexure]
+    push = np.array([-math.sin(a), math.cos(a)])
+    centre = geometry.ball_centres_mm()[flexure]
+    return centre, push, -push
+
+
+def _bell(x, centre, towards, phi0):
+    """cos^2 patch weight at points x (dim, ...) on the ball around direction ``towards``."""
+    dx, dy = x[0] - centre[0], x[1] - centre[1]
+    ang = np.arctan2(dx * towards[1] - dy * towards[0], dx * towards[0] + dy * towards[1])
+    w = np.cos(0.5 * math.pi * ang / phi0) ** 2
+    return np.where(np.abs(ang) < phi0, w, 0.0)
+
+
+def _facet_nodes(basis, facets) -> np.ndarray:
+    """Scalar DOF (node) indices on given facets."""
+    return np.unique(basis.get_dofs(facets).flatten())
+
+
+def assemble(fm, material: Material, case: LoadCase = LoadCase()) -> System:
+    """Assemble stiffness, unit-torque cam load and supports on a :class:`~fea.mesh.FeaMesh`.
+
+    Raises:
+        SolverError: the supports or the loaded tip balls are not in the mesh.
+    """
+    from skfem import CellBasis, FacetBasis, LinearForm
+
+    g = fm.geometry
+    mesh = fm.mesh
+    dim = fm.dim
+    elem = mesh.elem()
+    basis = CellBasis(mesh, elem, intorder=2)
+    plane = dim == 2
+    lam, mu = material.lame(plane_stress=plane)
+    A = stiffness_matrix(basis, lam, mu, fm.thickness_mm if plane else 1.0)
+
+    def vec(nodes, comps=None):
+        comps = range(dim) if comps is None else comps
+        return np.sort(np.concatenate([nodes * dim + c for c in comps]))
+
+    # supports
+    if case.support == "rim":
+        keys = ["clamp"]
+    else:
+        if g is not None and g.sector:
+            raise SolverError("support 'holes' needs the full ring (the holes break the "
+                              "N-fold symmetry of the sector model)")
+        keys = [k for k in fm.boundaries if k.startswith("hole:")]
+    facets = [fm.boundaries[k] for k in keys if k in fm.boundaries and len(fm.boundaries[k])]
+    if not facets:
+        raise SolverError(f"no '{case.support}' support faces in the mesh: the model would be "
+                          "free to rotate (singular); check the mesh labels")
+    held = vec(_facet_nodes(basis, np.concatenate(facets)))
+    fixed = held
+    if "symmetry" in fm.boundaries:  # mid-plane of a half-thickness model: u_z = 0
+        fixed = np.union1d(held, vec(_facet_nodes(basis, fm.boundaries["symmetry"]), [2]))
+
+    # rigid rotation e_z x x at the nodes (exact in the isoparametric P2 space)
+    x = basis.doflocs
+    rot = np.zeros(basis.N * dim)
+    rot[0::dim] = -x[1]
+    rot[1::dim] = x[0]
+
+    phi0 = case.patch_half_angle_rad
+    n_model = len(g.flexure_angles_rad)
+    missing = [i for i in range(n_model) if f"ball:{i}" not in fm.boundaries]
+    if missing:
+        raise SolverError(f"tip ball(s) {missing} missing from the mesh; the cam load cannot "
+                          "be applied")
+    scale = fm.thickness_mm if plane else 1.0
+    f = np.zeros(basis.N * dim)
+    rows, rhs = [], []
+    for i in range(n_model):
+        centre, push, towards = _push_frames(g, i)
+        fb = FacetBasis(mesh, elem, facets=fm.boundaries[f"ball:{i}"], intorder=6)
+
+        @LinearForm
+        def patch(v, w, centre=centre, towards=towards):
+            return scale * _bell(w.x, centre, towards, phi0) * v
+
+        q = patch.assemble(fb)  # scalar nodal weights of the patch (N per unit traction)
+        fi = np.zeros_like(f)
+        fi[0::dim] = push[0] * q
+        fi[1::dim] = push[1] * q
+        ti = float(fi @ rot)
+        if not ti > 0:
+            raise SolverError(f"the contact patch on tip ball {i} carries no torque "
+                              "(patch outside the mesh?)")
+        f += fi / ti
+        if case.load == "rigid_cam":
+            nodes = _facet_nodes(basis, fm.boundaries[f"ball:{i}"])
+            inside = nodes[_bell(x[:, nodes], centre, towards, phi0) > 0]
+            for n in inside:
+                rows.append((n * dim, n * dim + 1, push))
+                rhs.append(push[0] * rot[n * dim] + push[1] * rot[n * dim + 1])
+    torque = float(f @ rot)
+    constraints = None
+    if case.load == "rigid_cam":
+        from scipy.sparse import coo_matrix
+
+        if not rows:
+            raise SolverError("no mesh nodes inside the rigid-cam contact patch; refine the "
+                              "mesh at the tip ball or widen the patch")
+        r, c, v = [], [], []
+        for k, (dx_, dy_, push) in enumerate(rows):
+            r += [k, k]
+            c += [dx_, dy_]
+            v += [push[0], push[1]]
+        B = coo_matrix((v, (r, c)), shape=(len(rows), basis.N * dim)).tocsr()
+        constraints = (B, np.asarray(rhs))
+    return System(basis=basis, dim=dim, A=A, f=f, torque_Nmm=torque, fixed=fixed, held=held,
+                  rotation=rot, constraints=constraints, lam=lam, mu=mu, plane_stress=plane,
+                  thickness_mm=fm.thickness_mm)
