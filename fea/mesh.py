@@ -104,38 +104,51 @@ class SizeField:
         self.g = g
         self.h_max = rules.rim_size_fraction * g.rim_thickness_mm
         self.tree = cKDTree(g.centreline_mm)
-        self.width = np.asarray(g.width_mm)
+        self.width = [float(w) for w in g.width_mm]
         h_tip = min(g.tip_radius_mm, g.neck_fillet_radius_mm) / rules.per_fillet_radius
-        self.h_flex = np.maximum(self.width / rules.across_width, h_tip)
-        self.rot = np.array([a - math.pi / 2 for a in g.flexure_angles_rad])
-        feats = []
-        for x, y, r, _kind in g.fillets_mm:
-            feats.append((x, y, r, r / rules.per_fillet_radius))
-        self.feat = np.array(feats)
-        self.patch = (np.asarray(g.contact_points_mm()), patch_half_width_mm / rules.patch_elements)
-        self.holes = np.array([(c[0], c[1]) for c in g.hole_centres_mm]).reshape(-1, 2)
-        self.h_hole = (g.hole_radius_mm * 2 * math.pi / 16) if len(self.holes) else 0.0
+        self.h_flex = [max(w / rules.across_width, h_tip) for w in self.width]
+        self.n = g.n_flexures
+        self.pitch = 2 * math.pi / g.n_flexures
+        # modelled flexures by index around the ring (flexure 0 along +y)
+        self.modelled = {int(round((a - math.pi / 2) / self.pitch)) % self.n
+                         for a in g.flexure_angles_rad}
+        # polar angle of the flexure-0 centreline as a function of radius: a point's
+        # nearest flexures are found from its angle in O(1), however many flexures
+        cl = np.asarray(g.centreline_mm)
+        r = np.hypot(cl[:, 0], cl[:, 1])
+        phi = np.arctan2(cl[:, 1], cl[:, 0])
+        order = np.argsort(r)
+        self.r_tab, self.phi_tab = r[order], phi[order]
+        self.feat = [(x, y, r_, r_ / rules.per_fillet_radius) for x, y, r_, _k in g.fillets_mm]
+        cp = g.contact_points_mm()
+        rb, rc = g.tip_radius_mm, g.contact_radius_mm
+        self.patch = ((rb, rc), patch_half_width_mm / rules.patch_elements)
+        del cp
+        self.holes = [(c[0], c[1]) for c in g.hole_centres_mm]
+        self.h_hole = (g.hole_radius_mm * 2 * math.pi / 16) if self.holes else 0.0
+
+    def _candidates(self, x: float, y: float):
+        r = math.hypot(x, y)
+        phi_c = float(np.interp(r, self.r_tab, self.phi_tab))
+        j = int(round((math.atan2(y, x) - phi_c) / self.pitch))
+        return [(j + d) % self.n for d in (-1, 0, 1) if (j + d) % self.n in self.modelled]
 
     def __call__(self, x: float, y: float) -> float:
         grad = self.rules.gradation
-        c, s = np.cos(self.rot), np.sin(self.rot)
-        # point in the frame of every modelled flexure
-        xl = c * x + s * y
-        yl = -s * x + c * y
-        d, i = self.tree.query(np.column_stack([xl, yl]))
-        h = np.min(self.h_flex[i] + grad * np.maximum(d - 0.5 * self.width[i], 0.0))
-        h = min(h, self.h_max)
-        fx, fy, fr, fh = self.feat.T
-        for cs, sn in zip(c, s):  # features of each flexure, rotated
-            px, py = cs * fx - sn * fy, sn * fx + cs * fy
-            dist = np.hypot(x - px, y - py)
-            h = min(h, float(np.min(fh + grad * np.maximum(dist - fr, 0.0))))
-        pts, hp = self.patch
-        dist = np.hypot(x - pts[:, 0], y - pts[:, 1])
-        h = min(h, float(np.min(hp + grad * dist)))
-        if len(self.holes):
-            dist = np.hypot(x - self.holes[:, 0], y - self.holes[:, 1]) - self.g.hole_radius_mm
-            h = min(h, float(np.min(self.h_hole + grad * np.maximum(dist, 0.0))))
+        h = self.h_max
+        for j in self._candidates(x, y):
+            a = -j * self.pitch
+            c, s = math.cos(a), math.sin(a)
+            xl, yl = c * x - s * y, s * x + c * y  # point in flexure 0's frame
+            d, i = self.tree.query((xl, yl))
+            h = min(h, self.h_flex[i] + grad * max(d - 0.5 * self.width[i], 0.0))
+            for fx_, fy_, fr, fh in self.feat:
+                h = min(h, fh + grad * max(math.hypot(xl - fx_, yl - fy_) - fr, 0.0))
+            (px, py), hp = self.patch
+            h = min(h, hp + grad * math.hypot(xl - px, yl - py))
+        for hx, hy in self.holes:
+            dist = math.hypot(x - hx, y - hy) - self.g.hole_radius_mm
+            h = min(h, self.h_hole + grad * max(dist, 0.0))
         return float(h * self.rules.factor)
 
 
@@ -347,6 +360,74 @@ def _extract_tri6(gmsh, curve_label):
                   n_vertices=len(corner))
 
 
+def _make_periodic(gmsh, sides, geometry):
+    """Mesh the two sector cuts identically (the right one rotated by the pitch onto
+    the left one), so that rotated copies of the sector mesh join node to node."""
+    pitch = 2 * math.pi / geometry.n_flexures
+
+    def angle(tag):
+        lo, hi = gmsh.model.getParametrizationBounds(1, tag)
+        x, y, _ = gmsh.model.getValue(1, tag, [0.5 * (lo[0] + hi[0])])
+        return math.atan2(y, x)
+
+    right, left = sorted(sides, key=angle)
+    c, s = math.cos(pitch), math.sin(pitch)
+    affine = [c, -s, 0, 0, s, c, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
+    gmsh.model.mesh.setPeriodic(1, [left], [right], affine)
+
+
+def pattern_sector(m2: Mesh2D, n_flexures: int, tol_mm: float = 1e-6) -> Mesh2D:
+    """The full ring mesh made of ``n_flexures`` rotated copies of a periodic sector mesh.
+
+    Copy i is rotated by 2 pi i / N; its labels "ball:0", "edge:0", ... become
+    "ball:i", ...; the sector cuts ("side") become interior and disappear.
+    The result has exactly the sector's elements, so sector and ring solutions
+    differ only by the sector's free-side idealisation.
+
+    Raises:
+        MeshingError: the sector's cut lines do not match after rotation.
+    """
+    from scipy.spatial import cKDTree
+
+    pitch = 2 * math.pi / n_flexures
+    npt = m2.points.shape[1]
+    pts, tris, edges, labels = [], [], [], []
+    for i in range(n_flexures):
+        c, s = math.cos(i * pitch), math.sin(i * pitch)
+        p = m2.points
+        pts.append(np.vstack([c * p[0] - s * p[1], s * p[0] + c * p[1]]))
+        tris.append(m2.tris + i * npt)
+        keep = m2.edge_labels != "side"
+        edges.append(m2.edges[:, keep] + i * npt)
+        labels += [lab.replace(":0", f":{i}") for lab in m2.edge_labels[keep]]
+    P = np.hstack(pts)
+    tree = cKDTree(P.T)
+    pairs = tree.query_pairs(tol_mm, output_type="ndarray")
+    rep = np.arange(P.shape[1])
+    # union duplicates onto the smaller index
+    for a, b in sorted(map(tuple, np.sort(pairs, axis=1)), key=lambda ab: ab[1]):
+        rep[b] = rep[a]
+    while True:
+        nxt = rep[rep]
+        if np.array_equal(nxt, rep):
+            break
+        rep = nxt
+    per_cut = int(np.sum(m2.edge_labels == "side")) // 2  # quadratic edges on one cut
+    expected = n_flexures * (2 * per_cut + 1)  # shared nodes: 2 per quadratic edge + 1
+    if len(pairs) != expected:
+        raise MeshingError(f"sector cuts do not match after rotation ({len(pairs)} shared nodes, "
+                           f"expected {expected}); was the sector meshed periodically?")
+    T = rep[np.hstack(tris)]
+    E = rep[np.hstack(edges)]
+    corner = np.unique(T[:3])
+    used = np.unique(T)
+    order = np.concatenate([corner, np.setdiff1d(used, corner)])
+    new = np.full(P.shape[1], -1, dtype=np.int64)
+    new[order] = np.arange(len(order))
+    return Mesh2D(points=np.ascontiguousarray(P[:, order]), tris=new[T], edges=new[E],
+                  edge_labels=np.asarray(labels), n_vertices=len(corner))
+
+
 def mesh_face_levels(geometry, size: MeshSize = MeshSize(), levels: int = 3,
                      patch_half_width_mm: float | None = None) -> list[Mesh2D]:
     """Quadratic triangle meshes of the ring face, nested by uniform refinement.
@@ -376,6 +457,9 @@ def mesh_face_levels(geometry, size: MeshSize = MeshSize(), levels: int = 3,
             gmsh.option.setNumber("Mesh.LcIntegrationPrecision", 1e-3)
             gmsh.option.setNumber("Mesh.MeshSizeMax", field_fn.h_max * size.factor)
             gmsh.model.mesh.setSizeCallback(lambda dim, tag, x, y, z, lc: field_fn(x, y))
+            sides = [t for t, lab in curve_label.items() if lab == "side"]
+            if geometry.sector and len(sides) == 2:
+                _make_periodic(gmsh, sides, geometry)
             gmsh.model.mesh.generate(2)
             for level in range(levels):
                 if level:

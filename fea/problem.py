@@ -23,9 +23,13 @@ Cam load (``load``)
     profile keeps it). The patch is scaled to exactly one unit of torque about
     the ring axis per flexure. Its smooth, centred shape converges cleanly; a
     sharp-edged patch does not.
-    ``"rigid_cam"``: the nodes of the same patch move with a rigid cam rotated
-    by a unit angle, in the push direction only (frictionless flank): the
-    constraint u . d = theta (e_z x x) . d, imposed by Lagrange multipliers.
+    ``"rigid_cam"``: the nodes of the same patch follow a rigid, flat cam pad
+    driven by the cam rotated by a unit angle: along the push direction d the
+    patch moves rigidly, d . u_i = theta (e_z x x_c) . d + beta s_i, with the
+    pad's own rotation beta free (no moment through the contact, as for the
+    real, very narrow Hertz contact: a bonded patch that must turn with the
+    cam would clamp the tip and triple K); tangential sliding is free
+    (frictionless flank). Imposed with Lagrange multipliers.
     Both give the same stiffness within the tolerance asserted in the tests.
 
 Stiffness is work-conjugate: with the load vector f scaled to one unit of
@@ -131,7 +135,8 @@ class System:
         fixed: DOFs set to zero (supports and symmetry).
         held: DOFs of the supports (clamp or holes) only.
         rotation: nodal values of the rigid rotation field e_z x x (unit angle) (mm).
-        constraints: (B, c) rigid-cam rows B u = theta c, or None.
+        constraints: rigid-cam rows (B, c, S): B u + S beta = theta c with free pad
+            rotations beta (one per flexure), or None.
     """
 
     basis: object
@@ -301,9 +306,13 @@ def assemble(fm, material: Material, case: LoadCase = LoadCase()) -> System:
         if case.load == "rigid_cam":
             nodes = _facet_nodes(basis, fm.boundaries[f"ball:{i}"])
             inside = nodes[_bell(x[:, nodes], centre, towards, phi0) > 0]
+            cp = centre - g.tip_radius_mm * push  # contact point
+            drive = push[0] * (-cp[1]) + push[1] * cp[0]  # (e_z x x_c) . d
+            tangent = np.array([-push[1], push[0]])
             for n in inside:
-                rows.append((n * dim, n * dim + 1, push))
-                rhs.append(push[0] * rot[n * dim] + push[1] * rot[n * dim + 1])
+                s_i = tangent @ (x[:2, n] - cp)
+                rows.append((n * dim, n * dim + 1, push, i, s_i))
+                rhs.append(drive)
     torque = float(f @ rot)
     constraints = None
     if case.load == "rigid_cam":
@@ -313,12 +322,14 @@ def assemble(fm, material: Material, case: LoadCase = LoadCase()) -> System:
             raise SolverError("no mesh nodes inside the rigid-cam contact patch; refine the "
                               "mesh at the tip ball or widen the patch")
         r, c, v = [], [], []
-        for k, (dx_, dy_, push) in enumerate(rows):
+        S = np.zeros((len(rows), n_model))
+        for k, (dx_, dy_, push, flex, s_i) in enumerate(rows):
             r += [k, k]
             c += [dx_, dy_]
             v += [push[0], push[1]]
+            S[k, flex] = -s_i
         B = coo_matrix((v, (r, c)), shape=(len(rows), basis.N * dim)).tocsr()
-        constraints = (B, np.asarray(rhs))
+        constraints = (B, np.asarray(rhs), S)
     return System(basis=basis, dim=dim, A=A, f=f, torque_Nmm=torque, fixed=fixed, held=held,
                   rotation=rot, constraints=constraints, lam=lam, mu=mu, plane_stress=plane,
                   thickness_mm=fm.thickness_mm)
