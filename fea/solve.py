@@ -51,22 +51,29 @@ def available_method(n_dofs: int = 10 ** 9, dim: int = 3) -> str:
     SuperLU is quicker for 2D and small systems (PARDISO's analysis phase
     costs ~0.5 s); PARDISO for 3D systems (10x faster than SuperLU at 36k DOFs).
     """
-    if (dim == 2 and n_dofs < 150_000) or n_dofs < 8_000:
+    import importlib.util
+
+    if (dim == 2 and n_dofs < 50_000) or n_dofs < 8_000:
         return "superlu"
-    try:
-        import pypardiso  # noqa: F401
-    except ImportError:
-        return "superlu"
-    return "pardiso"
+    return "pardiso" if importlib.util.find_spec("pypardiso") is not None else "superlu"
 
 
 _PARDISO: dict = {}
 
 
 def _pardiso(mtype: int):
-    """One PARDISO handle per matrix type per process (creating one costs ~1 s:
-    pypardiso searches the file system for the MKL library)."""
+    """One PARDISO handle per matrix type per process. pypardiso searches the whole
+    Python prefix for the MKL library when it is not given (~1.5 s): look in
+    ``<prefix>/lib`` first and tell it through ``PYPARDISO_MKL_RT``."""
     if mtype not in _PARDISO:
+        import glob
+        import os
+        import sys
+
+        if "PYPARDISO_MKL_RT" not in os.environ:  # skip pypardiso's recursive search
+            found = sorted(glob.glob(f"{sys.prefix}/lib/libmkl_rt.so*"), key=len)
+            if found:
+                os.environ["PYPARDISO_MKL_RT"] = found[0]
         import pypardiso
 
         _PARDISO[mtype] = pypardiso.PyPardisoSolver(mtype=mtype)
