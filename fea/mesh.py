@@ -248,6 +248,7 @@ def _gmsh_session(name: str):
         gmsh.initialize(interruptible=False)
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.option.setNumber("General.Verbosity", 1)
+    gmsh.option.setNumber("General.NumThreads", 1)  # deterministic meshes
     gmsh.model.add(name)
     try:
         yield gmsh
@@ -442,8 +443,12 @@ def mesh_face_levels(geometry, size: MeshSize = MeshSize(), levels: int = 3,
     Raises:
         MeshingError: gmsh failed or returned an unusable mesh.
     """
+    from fea.geometry import check_profile
+
     if patch_half_width_mm is None:
         patch_half_width_mm = 0.5 * geometry.tip_radius_mm
+    check_profile(geometry.profile, step_mm=min(0.05, 0.2 * geometry.tip_radius_mm),
+                  name="ring face" if not geometry.sector else "sector face")
     field_fn = SizeField(geometry, size, patch_half_width_mm)
     out = []
     with _gmsh_session("ring") as gmsh:
@@ -749,10 +754,15 @@ def _gmsh_solid(solid, size_mm):
 
 
 def label_by_position(mesh, geometry, tol_mm: float = 1e-3) -> dict:
-    """Label boundary facets of a 3D mesh by where they lie (clamp, ball:i, hole:j, side).
+    """Label boundary facets of a 3D mesh by where they lie.
 
     Used for meshes that do not carry the design's curve labels (pytetwild,
-    gmsh on an imported solid). Tolerances scale with the tip-ball radius.
+    gmsh on an imported solid): "clamp" (outer face), "ball:i", "root:i",
+    "neck:i" (on the tip-ball and fillet circles), "hole:j", "side" (sector
+    cuts), "rim" (root circle); other side faces are "edge:i" (flexure flanks,
+    i the nearest modelled flexure); top and bottom faces are left unlabelled.
+    Tolerances scale with the tip-ball radius (a tessellating mesher moves
+    nodes off the true surface).
     """
     g = geometry
     bf = mesh.boundary_facets()
@@ -760,17 +770,37 @@ def label_by_position(mesh, geometry, tol_mm: float = 1e-3) -> dict:
     r = np.hypot(mid[0], mid[1])
     labels = np.full(bf.shape, "", dtype=object)
     tol = max(tol_mm, 0.05 * g.tip_radius_mm)
-    labels[np.abs(r - g.outer_radius_mm) < max(tol, 0.01 * g.outer_radius_mm)] = "clamp"
-    for i, c in enumerate(g.ball_centres_mm()):
-        d = np.hypot(mid[0] - c[0], mid[1] - c[1])
-        labels[np.abs(d - g.tip_radius_mm) < tol] = f"ball:{i}"
+    zfaces = (np.abs(mid[2]) < tol) | (np.abs(mid[2] - g.thickness_mm) < tol)
+    # flanks: every side face not claimed below belongs to the nearest flexure
+    angles = np.array(g.flexure_angles_rad)
+    nearest = np.zeros(bf.shape, dtype=int)
+    if len(angles) > 1:
+        best = np.full(bf.shape, np.inf)
+        for k, a in enumerate(angles):
+            c, s_ = math.cos(a - math.pi / 2), math.sin(a - math.pi / 2)
+            xl, yl = c * mid[0] + s_ * mid[1], -s_ * mid[0] + c * mid[1]
+            d = np.min(np.hypot(xl[:, None] - g.centreline_mm[None, :, 0],
+                                yl[:, None] - g.centreline_mm[None, :, 1]), axis=1)
+            better = d < best
+            best[better], nearest[better] = d[better], k
+    labels[~zfaces] = np.array([f"edge:{k}" for k in nearest])[~zfaces]
+    labels[np.abs(r - g.root_radius_mm) < tol] = "rim"
+    for i, a in enumerate(angles):
+        c, s_ = math.cos(a - math.pi / 2), math.sin(a - math.pi / 2)
+        for x, y, rad, kind in g.fillets_mm:
+            cx, cy = c * x - s_ * y, s_ * x + c * y
+            d = np.hypot(mid[0] - cx, mid[1] - cy)
+            on = (np.abs(d - rad) < tol) & ~zfaces
+            labels[on] = f"{kind}:{i}"
+    labels[(np.abs(r - g.outer_radius_mm) < max(tol, 0.01 * g.outer_radius_mm)) & ~zfaces] = "clamp"
     for j, c in enumerate(g.hole_centres_mm):
         d = np.hypot(mid[0] - c[0], mid[1] - c[1])
-        labels[np.abs(d - g.hole_radius_mm) < max(tol, 0.05 * g.hole_radius_mm)] = f"hole:{j}"
+        labels[(np.abs(d - g.hole_radius_mm) < max(tol, 0.05 * g.hole_radius_mm)) & ~zfaces] = \
+            f"hole:{j}"
     if g.sector:
         ang = np.arctan2(mid[1], mid[0]) - math.pi / 2
         on_side = np.abs(np.abs(ang) - g.half_pitch_rad) * r < tol
-        labels[on_side & (r > g.root_radius_mm - tol)] = "side"
+        labels[on_side & (r > g.root_radius_mm - tol) & ~zfaces] = "side"
     keep = labels != ""
     return _group(labels[keep].astype(str), bf[keep])
 
