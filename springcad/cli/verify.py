@@ -84,12 +84,17 @@ def write_outputs(result, folder: Path, render: bool = True, progress=None) -> l
 def run(args) -> int:
     from springcad.config import load_job
     from springcad.design.job import design_job
+    from springcad.errors import OutputExistsError
     from springcad.report.outdir import atomic_output_dir
 
     from fea.problem import LoadCase
     from fea.verify import VerifyOptions, verify_job
 
     progress = _progress(args.quiet)
+    out = args.out or default_out(args.config) / "verify"
+    if out.exists() and any(out.iterdir()) and not args.overwrite:  # fail before the work
+        raise OutputExistsError(f"output folder '{out}' already exists and is not empty; "
+                                "choose another --out or pass --overwrite")
     job = load_job(args.config)
     options = VerifyOptions(model=args.model, levels=args.levels,
                             tolerance=args.tolerance_pct / 100.0, correct=not args.no_correct,
@@ -97,7 +102,6 @@ def run(args) -> int:
     progress("designing")
     design = design_job(job)
     result = verify_job(design, options, progress)
-    out = args.out or default_out(args.config) / "verify"
     with atomic_output_dir(out, overwrite=args.overwrite) as tmp:
         write_outputs(result, tmp, render=not args.no_render, progress=progress)
     print(result.summary())
