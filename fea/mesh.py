@@ -701,8 +701,12 @@ def _tetwild(solid, edge_length_fac):
     f = np.asarray(tris, dtype=np.int64)
     surf = pv.PolyData(v, np.hstack([np.full((len(f), 1), 3), f]).ravel())
     kw = {} if edge_length_fac is None else {"edge_length_fac": edge_length_fac}
+    import tempfile
+
     try:
-        grid = pytetwild.tetrahedralize_pv(surf, **kw)
+        # fTetWild writes a "__tracked_surface.stl" into the working folder: keep it out
+        with tempfile.TemporaryDirectory() as tmp, contextlib.chdir(tmp):
+            grid = pytetwild.tetrahedralize_pv(surf, **kw)
     except Exception as err:
         raise MeshingError(f"pytetwild could not tetrahedralise the solid ({err})") from err
     if grid.n_cells == 0:
