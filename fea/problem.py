@@ -240,6 +240,67 @@ def _bell(x, centre, towards, phi0):
     return np.where(np.abs(ang) < phi0, w, 0.0)
 
 
+def facet_load(basis, facets, weight) -> np.ndarray:
+    """Scalar consistent nodal loads q_i = int_facets weight(x) N_i dS on quadratic facets.
+
+    The trace of a quadratic element on a facet is the quadratic facet element
+    (3-node line in 2D, 6-node triangle in 3D) on the same, curved, nodes, so
+    the integral needs only the facets' own nodes. (scikit-fem's ``FacetBasis``
+    inverts the isoparametric map by Newton iteration, which fails on the long
+    thin tets of an extruded mesh.)
+
+    Args:
+        basis: scalar quadratic ``CellBasis``.
+        facets: boundary facet indices.
+        weight: callable, points (dim, n) -> values (n,) (load per unit area / length).
+    """
+    from skfem.quadrature import get_quadrature
+    from skfem.refdom import RefLine, RefTri
+
+    mesh = basis.mesh
+    X = basis.doflocs
+    facets = np.asarray(facets)
+    v = basis.nodal_dofs[0][mesh.facets[:, facets]]  # corner nodes (k, m)
+    if mesh.dim() == 2:
+        mid = basis.facet_dofs[0][facets]
+        nodes = np.vstack([v[0], v[1], mid])
+        (s_,), w = get_quadrature(RefLine, 8)
+        N = np.array([(1 - s_) * (1 - 2 * s_), s_ * (2 * s_ - 1), 4 * s_ * (1 - s_)])
+        dN = np.array([4 * s_ - 3, 4 * s_ - 1, 4 - 8 * s_])
+        P = X[:, nodes]  # (d, 3, m)
+        x = np.einsum("aq,dam->dmq", N, P)
+        jac = np.linalg.norm(np.einsum("aq,dam->dmq", dN, P), axis=0)
+    else:
+        e = mesh.f2e[:, facets]  # (3, m) edge ids, order unknown
+        ev = np.sort(mesh.edges[:, e], axis=0)  # (2, 3, m)
+        mids = []
+        for i, j in ((0, 1), (1, 2), (0, 2)):  # P2 triangle edge order
+            a = np.minimum(mesh.facets[i, facets], mesh.facets[j, facets])
+            b = np.maximum(mesh.facets[i, facets], mesh.facets[j, facets])
+            hit = (ev[0] == a) & (ev[1] == b)  # (3, m), one True per column
+            mids.append(basis.edge_dofs[0][e[np.argmax(hit, axis=0), np.arange(len(facets))]])
+        nodes = np.vstack([v, np.vstack(mids)])
+        (xi, eta), w = get_quadrature(RefTri, 6)
+        L = np.array([1 - xi - eta, xi, eta])
+        dL = np.array([[-1, -1], [1, 0], [0, 1]], dtype=float)  # dL_i / d(xi, eta)
+        N = np.vstack([L * (2 * L - 1), 4 * L[0] * L[1], 4 * L[1] * L[2], 4 * L[0] * L[2]])
+        dN = np.zeros((6, 2, len(w)))
+        for i in range(3):
+            dN[i] = (4 * L[i] - 1) * dL[i][:, None]
+        for k, (i, j) in enumerate(((0, 1), (1, 2), (0, 2))):
+            dN[3 + k] = 4 * (L[i] * dL[j][:, None] + L[j] * dL[i][:, None])
+        P = X[:, nodes]  # (3, 6, m)
+        x = np.einsum("aq,dam->dmq", N, P)
+        t1 = np.einsum("aq,dam->dmq", dN[:, 0], P)
+        t2 = np.einsum("aq,dam->dmq", dN[:, 1], P)
+        jac = np.linalg.norm(np.cross(t1, t2, axis=0), axis=0)
+    val = weight(x.reshape(x.shape[0], -1)).reshape(jac.shape)  # (m, q)
+    contrib = np.einsum("aq,mq,q->am", N, val * jac, w)
+    q = np.zeros(basis.N)
+    np.add.at(q, nodes.ravel(), contrib.ravel())
+    return q
+
+
 def _facet_nodes(basis, facets) -> np.ndarray:
     """Scalar DOF (node) indices on given facets."""
     return np.unique(basis.get_dofs(facets).flatten())
@@ -251,7 +312,7 @@ def assemble(fm, material: Material, case: LoadCase = LoadCase()) -> System:
     Raises:
         SolverError: the supports or the loaded tip balls are not in the mesh.
     """
-    from skfem import CellBasis, FacetBasis, LinearForm
+    from skfem import CellBasis
 
     g = fm.geometry
     mesh = fm.mesh
@@ -300,13 +361,8 @@ def assemble(fm, material: Material, case: LoadCase = LoadCase()) -> System:
     rows, rhs = [], []
     for i in range(n_model):
         centre, push, towards = _push_frames(g, i)
-        fb = FacetBasis(mesh, elem, facets=fm.boundaries[f"ball:{i}"], intorder=6)
-
-        @LinearForm
-        def patch(v, w, centre=centre, towards=towards):
-            return scale * _bell(w.x, centre, towards, phi0) * v
-
-        q = patch.assemble(fb)  # scalar nodal weights of the patch (N per unit traction)
+        q = scale * facet_load(basis, fm.boundaries[f"ball:{i}"],
+                               lambda pts, c=centre, t=towards: _bell(pts, c, t, phi0))
         fi = np.zeros_like(f)
         fi[0::dim] = push[0] * q
         fi[1::dim] = push[1] * q

@@ -15,9 +15,10 @@ Stress
     the convergence study extrapolates the nodal one.
 
 Peak search excludes
-    - the neighbourhood of held faces (within half the rim thickness): clamp
-      corners are singular, and the held faces stand for a housing or dowels
-      whose contact stresses this model does not resolve;
+    - the neighbourhood of held faces (within half the rim thickness of a held
+      outer rim, within half the hole radius of held rim holes): clamp corners
+      are singular, and the held faces stand for a housing or dowels whose
+      contact stresses this model does not resolve;
     - the contact patch on the tip ball (within twice the patch half-width of
       the contact point): its stresses belong to the idealised patch, not to
       the flexure; Hertz contact of ball and cam is a separate check.
@@ -183,7 +184,8 @@ def evaluate(fm, system, u: np.ndarray, case, max_deflection_rad: float, timings
     else:
         scale = max_deflection_rad  # unit rotation -> max rotation
     if support_exclusion_mm is None:
-        support_exclusion_mm = 0.5 * g.rim_thickness_mm
+        support_exclusion_mm = (0.5 * g.hole_radius_mm if case.support == "holes"
+                                else 0.5 * g.rim_thickness_mm)
     vm_nodes, vm_elem, sb = nodal_von_mises(system, u * scale)
     xyz = sb.doflocs
     excl = _excluded_mask(xyz, system, fm, case, support_exclusion_mm)

@@ -77,6 +77,8 @@ class VerifyOptions:
         max_iterations: correction iterations before giving up.
         correct: run the correction loop (False: verify the design as is).
         keep_fields: keep displacement/stress fields of the final meshes for output.
+        support_study: also solve the full ring with its rim holes held at the outer
+            rim and at the holes only (2D, one mesh) and report the difference.
     """
 
     model: str = "2d3d"
@@ -87,6 +89,7 @@ class VerifyOptions:
     max_iterations: int = 4
     correct: bool = True
     keep_fields: bool = True
+    support_study: bool = False
 
     def __post_init__(self):
         if self.model not in MODELS:
@@ -171,14 +174,14 @@ def run_model(design, material: Material, options: VerifyOptions, with_3d: bool,
                                    case.patch_half_width_mm(geometry.tip_radius_mm)))
     mesh_time = time.perf_counter() - t0
     keep = options.keep_fields
-    if options.model == "3d":
+    if options.model == "3d":  # levels 0 .. n-1, layers doubling: uniform 3D refinement
         res = []
-        for k in range(1, n + 1):
+        for k in range(n):
             progress(f"3D level {k}", None)
             t = time.perf_counter()
-            fm = fea_mesh_3d(faces[k], geometry, options.size.layers * 2 ** (k - 1), k)
+            fm = fea_mesh_3d(faces[k], geometry, options.size.layers * 2 ** k, k)
             mesh_time += time.perf_counter() - t
-            res.append(solve_mesh(fm, material, case, theta, keep and k == n))
+            res.append(solve_mesh(fm, material, case, theta, keep and k == n - 1))
         return ModelRun(study=cv.study(res, "3d"), geometry=geometry, faces=faces,
                         mesh_time_s=mesh_time)
     res2 = []
@@ -241,6 +244,7 @@ class SpringVerification:
     timings_s: dict
     case: LoadCase
     notes: list = field(default_factory=list)
+    support: dict | None = None
 
     @property
     def stiffness_fea_Nmm_per_rad(self) -> float:
@@ -343,6 +347,8 @@ class SpringVerification:
             "timings_s": dict(self.timings_s),
             "notes": list(self.notes),
         }
+        if self.support is not None:
+            out["support_study"] = dict(self.support)
         if run.check3d:
             c3 = run.check3d[-1]
             out["dofs_3d"] = c3.dofs
@@ -435,6 +441,10 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
     if options.model == "2d3d" and run.check3d:
         notes.append("2D plane-stress Richardson extrapolation x 3D factor from extruded "
                      "quadratic tets on the same in-plane meshes")
+    support = None
+    if options.support_study:
+        progress(f"spring {design.name}: support study on the full ring with its holes", None)
+        support = support_study(design, material, options.size)
     total = time.perf_counter() - t_start
     timings = {"mesh": run.mesh_time_s,
                "assemble": sum(r.timings_s["assemble"] for r in run.all_results()),
@@ -446,7 +456,38 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
         tolerance=options.tolerance, iterations=iterations,
         required_safety_factor=design.material.safety_factor,
         yield_strength_MPa=material.yield_strength_MPa, timings_s=timings, case=options.case,
-        notes=notes)
+        notes=notes, support=support)
+
+
+def support_study(design, material: Material | None = None, size: MeshSize = DEFAULT_SIZE,
+                  level: int = 0) -> dict:
+    """How the rim is held: outer rim (housing) vs rim holes only (dowels/bolts).
+
+    The full ring with its holes, 2D plane stress, one mesh, both supports.
+    Measured for S1 (7 dowels, 28 flexures): K(holes) / K(rim) = 0.991, the free
+    rim between dowels adding compliance. The sector model (outer rim held) is
+    the verification default; this ratio says how far a dowel-held rim sits
+    from it.
+    """
+    from fea.geometry import ring_geometry
+
+    material = material or Material.from_spec(design.material)
+    g = ring_geometry(design, holes=True)
+    if not g.hole_centres_mm:
+        return {"note": "the ring has no rim holes; held at the outer rim only"}
+    fm = fea_mesh_2d(mesh_face_levels(g, size, level + 1)[level], g, level)
+    theta = design.max_deflection_rad
+    out = {"model": "full ring with rim holes, 2D plane stress", "dofs": None}
+    for sup in ("rim", "holes"):
+        r = solve_mesh(fm, material, LoadCase(support=sup), theta)
+        out["dofs"] = r.dofs
+        out[sup] = {"stiffness_Nm_per_rad": r.stiffness_Nmm_per_rad / NMM_PER_NM,
+                    "peak_von_mises_MPa": r.peak_von_mises_MPa, "peak_region": r.peak_region,
+                    "peak_location_mm": list(r.peak_location_mm),
+                    "excluded_zone_peak_MPa": r.excluded_peak_MPa}
+    out["stiffness_holes_over_rim"] = (out["holes"]["stiffness_Nm_per_rad"]
+                                       / out["rim"]["stiffness_Nm_per_rad"])
+    return out
 
 
 # ================================================================== stacks
@@ -608,4 +649,5 @@ def with_options(options: VerifyOptions, **kw) -> VerifyOptions:
 
 __all__ = ["VerifyOptions", "SpringVerification", "StackVerification", "JobVerification",
            "VerificationFailed", "verify_spring", "verify_stack", "verify_job", "run_model",
+           "support_study",
            "solve_mesh", "DEFAULT_SIZE"]

@@ -35,6 +35,9 @@ def register(sub):
                    help="verify the design as it is, without the width correction")
     p.add_argument("--load", choices=("traction", "rigid_cam"), default="traction",
                    help="cam load model (default: smooth tangential traction patch)")
+    p.add_argument("--support-study", action="store_true",
+                   help="also compare the rim held at the outer face vs at the rim holes "
+                        "(full ring, ~10 s per spring)")
     p.add_argument("--no-render", action="store_true", help="skip .vtu and PNG outputs")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.set_defaults(func=run)
@@ -98,7 +101,8 @@ def run(args) -> int:
     job = load_job(args.config)
     options = VerifyOptions(model=args.model, levels=args.levels,
                             tolerance=args.tolerance_pct / 100.0, correct=not args.no_correct,
-                            case=LoadCase(load=args.load), keep_fields=not args.no_render)
+                            case=LoadCase(load=args.load), keep_fields=not args.no_render,
+                            support_study=args.support_study)
     progress("designing")
     design = design_job(job)
     result = verify_job(design, options, progress)
