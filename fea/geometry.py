@@ -1,0 +1,256 @@
+"""FE model geometry of a flexure ring: the one-flexure sector and the full ring.
+
+Works on the exact design curves (:mod:`springcad.design.curves`), so the CAD
+face that is meshed is the one the design produced, not a polyline.
+
+Frame: flexure 0 lies along +y, its tip-ball centre at ``(0, r_c)``; the cam
+pushes the tip towards -x (counter-clockwise torque about +z). The sector is
+the material of flexure 0 plus the rim wedge between the radial lines at
+``pi/2 -+ pi/N``; neighbouring flexures never reach into the wedge's rim part,
+and inside the root circle each flexure is a separate body, so the sector is
+exactly one repeating unit of the ring, however far a serpentine flexure
+wanders sideways.
+
+Units: mm, rad.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from springcad.design.curves import Arc, Line, Loop, Profile
+from springcad.errors import MeshingError
+
+#: segments per flexure in the ring's inner loop: root fillet, edge, neck fillet,
+#: ball, neck fillet, edge, root fillet, rim arc (``springcad.design.ring``)
+SEGMENTS_PER_FLEXURE = 8
+BALL_SEGMENT = 3
+_FLEXURE_LABELS = ("root", "edge", "neck", "ball", "neck", "edge", "root", "rim")
+_INDEXED = {"root", "edge", "neck", "ball"}
+
+
+def _angle_in(arc: Arc, a: float) -> float:
+    """``a`` shifted by whole turns into the angular range of ``arc`` (rad)."""
+    lo, hi = sorted((arc.start_angle, arc.end_angle))
+    k = math.floor((hi - a) / (2 * math.pi))
+    a2 = a + 2 * math.pi * k
+    if not lo - 1e-12 <= a2 <= hi + 1e-12:
+        raise MeshingError(
+            f"the sector side at {math.degrees(a):.3f} deg does not cut the rim arc between "
+            "flexures; the root fillets reach past the half pitch")
+    return a2
+
+
+@dataclass(frozen=True, eq=False)
+class RingGeometry:
+    """What the FE model needs to know about one flexure ring (mm, rad).
+
+    Attributes:
+        profile: the face to mesh (sector or full ring), counter-clockwise outer loop.
+        n_flexures: N of the ring.
+        sector: True for the one-flexure sector, False for the full ring.
+        outer_radius_mm, root_radius_mm, contact_radius_mm, tip_radius_mm: ring radii.
+        thickness_mm: disk thickness z.
+        hole_centres_mm, hole_radius_mm: rim holes present in ``profile``.
+        flexure_angles_rad: polar angle of each modelled flexure's axis.
+    """
+
+    profile: Profile
+    n_flexures: int
+    sector: bool
+    outer_radius_mm: float
+    root_radius_mm: float
+    contact_radius_mm: float
+    tip_radius_mm: float
+    thickness_mm: float
+    root_fillet_radius_mm: float
+    neck_fillet_radius_mm: float
+    hole_centres_mm: tuple[tuple[float, float], ...]
+    hole_radius_mm: float
+    flexure_angles_rad: tuple[float, ...]
+    centreline_mm: np.ndarray
+    """Flexure-0 centreline samples from tip to root, shape (m, 2) (mm)."""
+    width_mm: np.ndarray
+    """Flexure width at each centreline sample, shape (m,) (mm)."""
+    fillets_mm: tuple[tuple[float, float, float, str], ...]
+    """Flexure-0 fillets and tip ball as (x, y, radius, kind), kind "root", "neck" or "ball"."""
+    labels: tuple[tuple[str, ...], ...]
+    """Boundary label of every segment of every profile loop (outer first): "clamp"
+    (outer circle), "side" (sector cut), "rim" (root circle), "hole:j", and
+    "root:i", "edge:i", "neck:i", "ball:i" for flexure i."""
+
+    @property
+    def half_pitch_rad(self) -> float:
+        return math.pi / self.n_flexures
+
+    @property
+    def rim_thickness_mm(self) -> float:
+        return self.outer_radius_mm - self.root_radius_mm
+
+    def contact_points_mm(self) -> np.ndarray:
+        """Cam contact point on each modelled tip ball, shape (n, 2) (mm).
+
+        The point of the ball at the contact radius on the side the cam
+        pushes (+x side of flexure 0, load towards -x).
+        """
+        rb, rc = self.tip_radius_mm, self.contact_radius_mm
+        pts = []
+        for a in self.flexure_angles_rad:
+            c, s = math.cos(a - math.pi / 2), math.sin(a - math.pi / 2)
+            pts.append((c * rb - s * rc, s * rb + c * rc))
+        return np.asarray(pts)
+
+    def ball_centres_mm(self) -> np.ndarray:
+        rc = self.contact_radius_mm
+        return np.asarray([(rc * math.cos(a), rc * math.sin(a)) for a in self.flexure_angles_rad])
+
+    @property
+    def area_mm2(self) -> float:
+        return self.profile.area_mm2()
+
+    @property
+    def volume_mm3(self) -> float:
+        return self.area_mm2 * self.thickness_mm
+
+
+def _common(design):
+    y = design.contact_radius_mm + (design.root_radius_mm - design.contact_radius_mm) * \
+        np.linspace(0.0, 1.0, 400) ** 2
+    x, _, _ = design.centreline.evaluate(y)
+    segs = design.ring.holes[0].segments
+    kinds = {0: "root", 2: "neck", BALL_SEGMENT: "ball", 4: "neck", 6: "root"}
+    fillets = tuple((float(segs[i].center[0]), float(segs[i].center[1]), float(segs[i].radius), k)
+                    for i, k in kinds.items())
+    return dict(centreline_mm=np.column_stack([x, y]), width_mm=np.asarray(design.width_mm(y)),
+                fillets_mm=fillets,
+                n_flexures=design.n_flexures, outer_radius_mm=design.outer_radius_mm,
+                root_radius_mm=design.root_radius_mm, contact_radius_mm=design.contact_radius_mm,
+                tip_radius_mm=design.tip_radius_mm, thickness_mm=design.thickness_mm,
+                root_fillet_radius_mm=design.root_fillet_radius_mm,
+                neck_fillet_radius_mm=design.neck_fillet_radius_mm)
+
+
+def sector_geometry(design) -> RingGeometry:
+    """One flexure with its rim wedge, free sides at ``pi/2 -+ pi/N`` (no rim holes).
+
+    Args:
+        design: a :class:`~springcad.design.spring.SpringDesign` with its ``ring`` profile.
+
+    Raises:
+        MeshingError: the ring profile is missing or not laid out as expected.
+    """
+    if design.ring is None:
+        raise MeshingError(f"spring '{design.name}' has no ring profile to mesh")
+    n = design.n_flexures
+    segs = design.ring.holes[0].segments
+    if len(segs) != SEGMENTS_PER_FLEXURE * n:
+        raise MeshingError(f"spring '{design.name}': ring inner loop has {len(segs)} segments, "
+                           f"expected {SEGMENTS_PER_FLEXURE} per flexure")
+    ro, rr = design.outer_radius_mm, design.root_radius_mm
+    a_r, a_l = math.pi / 2 - math.pi / n, math.pi / 2 + math.pi / n
+    rim_before, rim_after = segs[-1], segs[SEGMENTS_PER_FLEXURE - 1]
+    a_r2 = _angle_in(rim_before, a_r)
+    a_l2 = _angle_in(rim_after, a_l)
+
+    def polar(r, a):
+        return (r * math.cos(a), r * math.sin(a))
+
+    loop = [Arc((0.0, 0.0), ro, a_r, a_l),
+            Line(polar(ro, a_l), polar(rr, a_l)),
+            Arc((0.0, 0.0), rr, a_l2, rim_after.start_angle)]
+    loop += [s.reversed() for s in reversed(segs[:SEGMENTS_PER_FLEXURE - 1])]
+    loop += [Arc((0.0, 0.0), rr, rim_before.end_angle, a_r2),
+             Line(polar(rr, a_r), polar(ro, a_r))]
+    profile = Profile(Loop(tuple(loop)))
+    if profile.outer.signed_area() <= 0:
+        raise MeshingError(f"spring '{design.name}': sector loop is not counter-clockwise")
+    labels = ("clamp", "side", "rim", *reversed(_FLEXURE_LABELS[:-1]), "rim", "side")
+    return RingGeometry(profile=profile, sector=True, hole_centres_mm=(), hole_radius_mm=0.0,
+                        labels=(tuple(f"{lab}:0" if lab in _INDEXED else lab for lab in labels),),
+                        flexure_angles_rad=(math.pi / 2,), **_common(design))
+
+
+def ring_geometry(design, holes: bool = True) -> RingGeometry:
+    """The full ring, with its rim holes unless ``holes`` is False."""
+    if design.ring is None:
+        raise MeshingError(f"spring '{design.name}' has no ring profile to mesh")
+    n = design.n_flexures
+    prof = design.ring if holes else Profile(design.ring.outer, design.ring.holes[:1])
+    inner = tuple(f"{lab}:{i}" if lab in _INDEXED else lab
+                  for i in range(n) for lab in _FLEXURE_LABELS)
+    holes_l = tuple((f"hole:{j}",) for j in range(len(prof.holes) - 1))
+    return RingGeometry(
+        profile=prof, sector=False, labels=(("clamp",), inner, *holes_l),
+        hole_centres_mm=tuple(design.hole_centres_mm) if holes else (),
+        hole_radius_mm=0.5 * design.hole_diameter_mm if holes else 0.0,
+        flexure_angles_rad=tuple(math.pi / 2 + 2 * math.pi * i / n for i in range(n)),
+        **_common(design))
+
+
+def _ccw(a, b, c):
+    return (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - \
+        (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])
+
+
+def _inside(point, poly) -> bool:
+    """Even-odd ray casting: is ``point`` inside the closed polyline ``poly`` (n, 2)?"""
+    x, y = point
+    a, b = poly, np.roll(poly, -1, axis=0)
+    cross = (a[:, 1] > y) != (b[:, 1] > y)
+    xs = a[cross, 0] + (y - a[cross, 1]) * (b[cross, 0] - a[cross, 0]) / (b[cross, 1] - a[cross, 1])
+    return bool(np.sum(xs > x) % 2)
+
+
+def check_profile(profile: Profile, step_mm: float = 0.02, name: str = "profile") -> None:
+    """Reject a face the mesher cannot handle before it reaches the mesher.
+
+    Checks on the loops sampled every ``step_mm``: no loop crosses itself or
+    another loop, every hole lies inside the outer contour and outside the
+    other holes. (gmsh does not fail cleanly on such faces: it can loop forever.)
+
+    Raises:
+        MeshingError: naming the loops and a point near the problem.
+    """
+    from scipy.spatial import cKDTree
+
+    polys = [lp.sample(step_mm) for lp in profile.loops]
+    seg_a, seg_b, owner, index = [], [], [], []
+    for k, p in enumerate(polys):
+        seg_a.append(p)
+        seg_b.append(np.roll(p, -1, axis=0))
+        owner.append(np.full(len(p), k))
+        index.append(np.arange(len(p)))
+    A, B = np.vstack(seg_a), np.vstack(seg_b)
+    own, idx = np.concatenate(owner), np.concatenate(index)
+    sizes = np.array([len(p) for p in polys])
+    lengths = np.linalg.norm(B - A, axis=1)
+    tree = cKDTree(0.5 * (A + B))
+    pairs = tree.query_pairs(float(lengths.max()) * 1.0001, output_type="ndarray")
+    if len(pairs):
+        i, j = pairs[:, 0], pairs[:, 1]
+        same = own[i] == own[j]
+        gap = np.abs(idx[i] - idx[j])
+        adjacent = same & ((gap <= 1) | (gap == sizes[own[i]] - 1))
+        i, j = i[~adjacent], j[~adjacent]
+        d1, d2 = _ccw(A[i], B[i], A[j]), _ccw(A[i], B[i], B[j])
+        d3, d4 = _ccw(A[j], B[j], A[i]), _ccw(A[j], B[j], B[i])
+        hit = (d1 * d2 < 0) & (d3 * d4 < 0)
+        if np.any(hit):
+            k = int(np.flatnonzero(hit)[0])
+            a, b = own[i[k]], own[j[k]]
+            where = A[i[k]]
+            what = (f"loop {a} crosses itself" if a == b else
+                    f"{'the outer contour' if a == 0 else f'hole loop {a}'} crosses hole loop {b}")
+            raise MeshingError(f"{name}: {what} near ({where[0]:.3f}, {where[1]:.3f}) mm; the "
+                               "face cannot be meshed (check hole positions and fillets)")
+    for k in range(1, len(polys)):
+        if not _inside(polys[k][0], polys[0]):
+            c = polys[k][0]
+            raise MeshingError(f"{name}: hole loop {k} near ({c[0]:.3f}, {c[1]:.3f}) mm lies "
+                               "outside the outer contour")
+        for m in range(1, len(polys)):
+            if m != k and _inside(polys[k][0], polys[m]):
+                raise MeshingError(f"{name}: hole loop {k} lies inside hole loop {m}")

@@ -1,0 +1,113 @@
+"""``springcad verify CONFIG [--out DIR]``: FEA-verify (and correct) every spring of a job.
+
+Writes ``DIR/fea.json`` (the :meth:`fea.verify.JobVerification.to_dict`
+document), per spring a 3D and a 2D ``.vtu`` of the sector at maximum
+deflection (displacement, von Mises) and PNG renders of the von Mises field.
+Exit status: 0 verified, 1 a spring or the stack fails its stiffness target or
+stress limit (the report is still written), 2 bad input or a failed solve
+(nothing written).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from pathlib import Path
+
+from springcad.cli.common import default_out, write_json
+
+
+def register(sub):
+    p = sub.add_parser("verify", help="FEA-verify and correct every spring; write fea.json, "
+                                      ".vtu and PNG renders")
+    p.add_argument("config", type=Path, help="job TOML (see templates/)")
+    p.add_argument("--out", type=Path, default=None,
+                   help="output folder (default outputs/<config name>/verify)")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing output folder")
+    p.add_argument("--model", choices=("2d3d", "2d", "3d"), default="2d3d",
+                   help="2d3d: plane-stress convergence study x 3D tet factor (default); "
+                        "3d: convergence study on quadratic tets (slow); 2d: plane stress only")
+    p.add_argument("--levels", type=int, default=3, help="mesh levels in the study (>= 3)")
+    p.add_argument("--tolerance-pct", type=float, default=1.0,
+                   help="accepted stiffness error vs target in %% (default 1)")
+    p.add_argument("--no-correct", action="store_true",
+                   help="verify the design as it is, without the width correction")
+    p.add_argument("--load", choices=("traction", "rigid_cam"), default="traction",
+                   help="cam load model (default: smooth tangential traction patch)")
+    p.add_argument("--support-study", action="store_true",
+                   help="also compare the rim held at the outer face vs at the rim holes "
+                        "(full ring, ~10 s per spring)")
+    p.add_argument("--no-render", action="store_true", help="skip .vtu and PNG outputs")
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
+    p.set_defaults(func=run)
+
+
+def _progress(quiet: bool):
+    t0 = time.perf_counter()
+
+    def report(message: str, fraction: float | None = None) -> None:
+        if not quiet:
+            pct = "" if fraction is None else f" {100 * fraction:3.0f}%"
+            print(f"[{time.perf_counter() - t0:6.1f} s{pct}] {message}", file=sys.stderr,
+                  flush=True)
+
+    return report
+
+
+def write_outputs(result, folder: Path, render: bool = True, progress=None) -> list[Path]:
+    """``fea.json`` plus, per spring, .vtu files and PNG renders into ``folder``."""
+    written = []
+    if render:
+        from springcad.report.fea_png import render_von_mises
+        from springcad.report.fea_vtu import write_vtu
+
+        for name, v in result.springs.items():
+            if progress:
+                progress(f"writing {name} .vtu and PNG renders")
+            r2 = v.run.study.finest
+            r3 = v.run.check3d[-1] if v.run.check3d else None
+            if r2.fields:
+                tag = "3d" if v.model == "3d" else "2d"
+                written.append(write_vtu(r2, folder / f"{name}_sector_{tag}.vtu"))
+                written.append(render_von_mises(
+                    r2, folder / f"{name}_von_mises.png",
+                    f"{name}: von Mises at {math.degrees(v.design.max_deflection_rad):.1f} deg "
+                    f"({tag}, finest level)"))
+                written.append(render_von_mises(
+                    r2, folder / f"{name}_von_mises_peak.png", f"{name}: at the peak",
+                    zoom_mm=max(1.0, 1.5 * v.design.root_fillet_radius_mm)))
+            if r3 is not None and r3.fields:
+                written.append(write_vtu(r3, folder / f"{name}_sector_3d.vtu"))
+    write_json(folder / "fea.json", result.to_dict())
+    written.append(folder / "fea.json")
+    return written
+
+
+def run(args) -> int:
+    from springcad.config import load_job
+    from springcad.design.job import design_job
+    from springcad.errors import OutputExistsError
+    from springcad.report.outdir import atomic_output_dir
+
+    from fea.problem import LoadCase
+    from fea.verify import VerifyOptions, verify_job
+
+    progress = _progress(args.quiet)
+    out = args.out or default_out(args.config) / "verify"
+    if out.exists() and any(out.iterdir()) and not args.overwrite:  # fail before the work
+        raise OutputExistsError(f"output folder '{out}' already exists and is not empty; "
+                                "choose another --out or pass --overwrite")
+    job = load_job(args.config)
+    options = VerifyOptions(model=args.model, levels=args.levels,
+                            tolerance=args.tolerance_pct / 100.0, correct=not args.no_correct,
+                            case=LoadCase(load=args.load), keep_fields=not args.no_render,
+                            support_study=args.support_study)
+    progress("designing")
+    design = design_job(job)
+    result = verify_job(design, options, progress)
+    with atomic_output_dir(out, overwrite=args.overwrite) as tmp:
+        write_outputs(result, tmp, render=not args.no_render, progress=progress)
+    print(result.summary())
+    print(f"\nwrote {out / 'fea.json'}")
+    return 0 if result.ok else 1

@@ -1,0 +1,64 @@
+"""VTU output of FEA results: quadratic cells with displacement and von Mises fields.
+
+The fields are those at the spring's maximum deflection. A half-thickness 3D
+model (mid-plane symmetry) is mirrored to the full disk for viewing.
+Units: mm, MPa.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+#: scikit-fem local node order equals VTK's for quadratic triangles and tetrahedra
+_VTK_QUADRATIC = {6: 22, 10: 24}  # nodes per cell -> VTK_QUADRATIC_TRIANGLE / _TETRA
+
+
+def result_grid(result):
+    """A pyvista ``UnstructuredGrid`` of a :class:`~fea.results.StaticResult` with fields."""
+    import pyvista as pv
+
+    f = result.fields
+    if not f:
+        raise ValueError("the result carries no fields (solve with keep_fields=True)")
+    fm = result.mesh
+    from skfem import CellBasis
+
+    sb = CellBasis(fm.mesh, fm.mesh.elem(), intorder=1)
+    cells = sb.element_dofs.T  # (elements, local nodes), scikit-fem = VTK order
+    pts = np.zeros((f["points_mm"].shape[1], 3))
+    pts[:, :f["points_mm"].shape[0]] = f["points_mm"].T
+    disp = f["displacement_mm"]
+    vm = f["von_mises_MPa"]
+    excluded = f["excluded"].astype(np.uint8)
+    if fm.thickness_fraction < 1.0:  # mirror the upper half about the mid-plane
+        z_mid = 0.5 * fm.thickness_mm
+        mirror = pts.copy()
+        mirror[:, 2] = 2 * z_mid - mirror[:, 2]
+        dmir = disp.copy()
+        dmir[:, 2] *= -1
+        n = len(pts)
+        c2 = cells.copy() + n
+        c2[:, [1, 2]] = c2[:, [2, 1]]  # keep positive orientation
+        c2[:, [4, 6, 8, 9]] = c2[:, [6, 4, 9, 8]]
+        pts = np.vstack([pts, mirror])
+        disp = np.vstack([disp, dmir])
+        vm = np.concatenate([vm, vm])
+        excluded = np.concatenate([excluded, excluded])
+        cells = np.vstack([cells, c2])
+    nloc = cells.shape[1]
+    ctype = np.full(len(cells), _VTK_QUADRATIC[nloc], dtype=np.uint8)
+    conn = np.hstack([np.full((len(cells), 1), nloc), cells]).ravel()
+    grid = pv.UnstructuredGrid(conn, ctype, pts)
+    grid.point_data["displacement_mm"] = disp
+    grid.point_data["von_mises_MPa"] = vm
+    grid.point_data["excluded_from_peak"] = excluded
+    return grid
+
+
+def write_vtu(result, path: Path | str) -> Path:
+    """Write the result's mesh and fields as ``.vtu`` (binary XML)."""
+    path = Path(path)
+    result_grid(result).save(str(path))
+    return path

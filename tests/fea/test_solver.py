@@ -1,0 +1,125 @@
+"""Assembly, loads, supports and checked solves."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from springcad.errors import SolverError
+
+
+def test_vectorised_stiffness_equals_scikit_fem_forms(s1_faces, material):
+    """The fast assembly is scikit-fem's linear elasticity form, entry for entry."""
+    from skfem import Basis, CellBasis, ElementVector
+
+    from fea.mesh import fea_mesh_2d, fea_mesh_3d
+    from fea.problem import elasticity_form, stiffness_matrix
+
+    g, faces = s1_faces
+    for fm in (fea_mesh_2d(faces[0], g), fea_mesh_3d(faces[0], g, 1)):
+        lam, mu = material.lame(plane_stress=fm.dim == 2)
+        sb = CellBasis(fm.mesh, fm.mesh.elem(), intorder=2)
+        A = stiffness_matrix(sb, lam, mu)
+        vb = Basis(fm.mesh, ElementVector(fm.mesh.elem()), intorder=2)
+        # skfem numbers vector DOFs as (scalar DOF) * dim + component, as we do
+        assert np.array_equal(vb.element_dofs[0::fm.dim], sb.element_dofs * fm.dim)
+        B = elasticity_form(lam, mu).assemble(vb)
+        assert abs(A - B).max() <= 1e-9 * abs(B).max()
+
+
+def test_unit_torque_load_and_equilibrium(s1_faces, material):
+    from fea.mesh import fea_mesh_2d
+    from fea.problem import LoadCase, assemble
+    from fea.solve import solve
+
+    g, faces = s1_faces
+    sys_ = assemble(fea_mesh_2d(faces[1], g), material, LoadCase())
+    assert sys_.torque_Nmm == pytest.approx(1.0, rel=1e-12)
+    # the patch pushes along the direction of rotation (-x at flexure 0's tip)
+    fx, fy = sys_.f[0::2].sum(), sys_.f[1::2].sum()
+    assert fx < 0 and abs(fy) < 1e-3 * abs(fx)
+    u, info = solve(sys_)
+    assert info.residual < 1e-8  # RESIDUAL_TOLERANCE; round-off floor ~1e-10
+    assert info.equilibrium_error < 1e-8
+
+
+def test_rigid_cam_agrees_with_traction_patch(s1_faces, s1, material):
+    """Two cam models, same K: the smooth traction patch and a rigid flat cam pad."""
+    from fea.mesh import fea_mesh_2d
+    from fea.problem import LoadCase
+    from fea.verify import solve_mesh
+
+    g, faces = s1_faces
+    fm = fea_mesh_2d(faces[2], g, 2)
+    k_t = solve_mesh(fm, material, LoadCase(load="traction"), s1.max_deflection_rad)
+    k_c = solve_mesh(fm, material, LoadCase(load="rigid_cam"), s1.max_deflection_rad)
+    assert k_c.stiffness_Nmm_per_rad / k_t.stiffness_Nmm_per_rad - 1 == pytest.approx(0, abs=2e-4)
+    assert k_c.peak_von_mises_MPa == pytest.approx(k_t.peak_von_mises_MPa, rel=5e-3)
+
+
+def test_patch_width_barely_moves_k(s1_faces, s1, material):
+    """A centred smooth patch: K is insensitive to its width while it stays on the ball's
+    face (15-30 deg: < 0.02 %); a 60 deg patch reaches the neck and moves K by ~0.4 %."""
+    from fea.mesh import fea_mesh_2d
+    from fea.problem import LoadCase
+    from fea.verify import solve_mesh
+
+    g, faces = s1_faces
+    fm = fea_mesh_2d(faces[2], g, 2)
+    ks = [solve_mesh(fm, material, LoadCase(patch_half_angle_rad=math.radians(a)),
+                     s1.max_deflection_rad).stiffness_Nmm_per_rad for a in (15, 30, 60)]
+    assert abs(ks[0] / ks[1] - 1) < 2e-4
+    assert abs(ks[2] / ks[1] - 1) < 1e-2
+
+
+def test_unsupported_model_is_singular_error(s1_faces, material):
+    from fea.mesh import fea_mesh_2d
+    from fea.problem import LoadCase, assemble
+
+    g, faces = s1_faces
+    fm = fea_mesh_2d(faces[0], g)
+    fm.boundaries = {k: v for k, v in fm.boundaries.items() if k != "clamp"}
+    with pytest.raises(SolverError, match="singular|support"):
+        assemble(fm, material, LoadCase())
+
+
+def test_singular_matrix_is_an_error_never_a_number(s1_faces, material):
+    """A held set that leaves a free rigid body (hold one node only) cannot be solved."""
+    from fea.mesh import fea_mesh_2d
+    from fea.problem import LoadCase, assemble
+    from fea.solve import solve
+
+    g, faces = s1_faces
+    sys_ = assemble(fea_mesh_2d(faces[0], g), material, LoadCase())
+    sys_.fixed = sys_.fixed[:2]  # one node: the part can still rotate about it
+    sys_.held = sys_.fixed
+    with pytest.raises(SolverError):
+        solve(sys_, "superlu")
+
+
+def test_impossible_load_cases(s1_faces, material):
+    from fea.mesh import fea_mesh_2d
+    from fea.problem import LoadCase, assemble
+
+    g, faces = s1_faces
+    fm = fea_mesh_2d(faces[0], g)
+    with pytest.raises(SolverError, match="full ring"):
+        assemble(fm, material, LoadCase(support="holes"))
+    with pytest.raises(SolverError):
+        LoadCase(patch_half_angle_rad=0.0)
+    with pytest.raises(SolverError):
+        LoadCase(load="torque wrench")
+
+
+def test_missing_material_data(s1):
+    from dataclasses import replace
+
+    from fea.problem import Material
+
+    bad = replace(s1.material.material, youngs_modulus_MPa=float("nan"))
+    with pytest.raises(SolverError, match="youngs_modulus"):
+        Material.from_spec(bad)
+    with pytest.raises(SolverError, match="Poisson"):
+        Material.from_spec(replace(s1.material.material, poisson_ratio=0.5))
