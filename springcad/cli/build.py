@@ -32,7 +32,9 @@ def register(sub):
     p.add_argument("--revision", default="A", help="drawing revision (default A)")
     p.add_argument("--title-block", type=Path, default=None,
                    help="title block template (default templates/drawing_title_block.toml)")
-    p.add_argument("--no-render", action="store_true", help="skip the PNG render")
+    p.add_argument("--no-render", action="store_true", help="skip the PNG renders")
+    p.add_argument("--no-verify", action="store_true",
+                   help="skip the FEA verification (and correction) before the CAD step")
     p.set_defaults(func=run)
 
 
@@ -44,6 +46,7 @@ class BuildContext:
     out_tmp: Path
     job: object = None
     design: object = None
+    verification: object = None
     assembly: object = None
     report: object = None
     files: list = field(default_factory=list)
@@ -61,6 +64,27 @@ def step_design(ctx: BuildContext) -> None:
 
     ctx.job = load_job(ctx.args.config)
     ctx.design = design_job(ctx.job)
+    write_json(ctx.out_tmp / "design.json", ctx.design.to_dict())
+
+
+def step_verify(ctx: BuildContext) -> None:
+    """FEA-verify (and correct) every spring; the corrected springs are what gets built."""
+    if ctx.args.no_verify:
+        ctx.say("skipped (--no-verify): the parts are beam-theory designs, not FEA-verified")
+        return
+    from fea.verify import VerifyOptions, verify_job
+    from springcad.cli.verify import write_outputs
+
+    def progress(message, fraction=None):
+        ctx.say(message)
+
+    result = verify_job(ctx.design, VerifyOptions(keep_fields=not ctx.args.no_render), progress)
+    ctx.verification = result
+    ctx.say(result.summary().replace("\n", "\n  "))
+    result.raise_for_failures()
+    (ctx.out_tmp / "fea").mkdir()
+    write_outputs(result, ctx.out_tmp / "fea", render=not ctx.args.no_render, progress=ctx.say)
+    ctx.design = ctx.design.with_springs(result.corrected_designs())
     write_json(ctx.out_tmp / "design.json", ctx.design.to_dict())
 
 
@@ -92,10 +116,11 @@ def step_exports(ctx: BuildContext) -> None:
     CheckReport(ctx.roundtrip).raise_if_failed()
 
 
-STEPS = {"design": step_design, "solids": step_solids, "checks": step_checks,
-         "exports": step_exports}
-#: step order; a "verify" step belongs between "checks" and "exports"
-PIPELINE = ["design", "solids", "checks", "exports"]
+STEPS = {"design": step_design, "verify": step_verify, "solids": step_solids,
+         "checks": step_checks, "exports": step_exports}
+#: step order: the FEA verification (and correction) comes before any solid is made, so
+#: the parts checked and exported are the corrected ones
+PIPELINE = ["design", "verify", "solids", "checks", "exports"]
 
 
 def _drawn_by() -> str:
@@ -117,7 +142,12 @@ def build_json(ctx: BuildContext) -> dict:
         "springcad_version": __version__,
         "job": {"name": ctx.job.name, "config": str(ctx.args.config)},
         "started": ctx.started,
-        "options": {"accept_violations": ctx.args.accept_violations,
+        "verification": ({"ok": ctx.verification.ok, "fea_json": "fea/fea.json",
+                          "springs": {n: {"stiffness_fea_Nm_per_rad": v.stiffness_fea_Nmm_per_rad / 1e3,
+                                          "yield_margin": v.yield_margin}
+                                      for n, v in ctx.verification.springs.items()}}
+                         if ctx.verification is not None else "skipped (--no-verify)"),
+        "options": {"accept_violations": ctx.args.accept_violations, "verify": not ctx.args.no_verify,
                     "revision": ctx.args.revision, "render": not ctx.args.no_render},
         "timings_s": ctx.timings,
         "stack": {"sequence": list(st.sequence), "input": st.input, "output": st.output,

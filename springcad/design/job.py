@@ -22,6 +22,13 @@ class JobDesign:
     springs: dict[str, SpringDesign]
     stack: StackDesign
 
+    def with_springs(self, springs: dict[str, SpringDesign]) -> "JobDesign":
+        """The same job with some springs replaced (e.g. FEA-corrected); the stack is redone."""
+        merged = common_hole_circle({**self.springs, **springs})
+        stack = design_stack([merged[n] for n in self.job.stack.sequence], self.job.stack.input,
+                             self.job.analysis.monte_carlo_samples, self.job.analysis.seed)
+        return JobDesign(self.job, merged, stack)
+
     def notes(self) -> list[str]:
         out = []
         for s in self.springs.values():

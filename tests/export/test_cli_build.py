@@ -14,7 +14,8 @@ S1 = TEMPLATES / "paper_S1.toml"
 def built(tmp_path_factory):
     """One accepted S1 build shared by the tests below."""
     out = tmp_path_factory.mktemp("build") / "s1"
-    code = main(["build", str(S1), "--out", str(out), "--accept-violations", "--revision", "B"])
+    code = main(["build", str(S1), "--out", str(out), "--accept-violations", "--revision", "B",
+                 "--no-verify"])
     return code, out
 
 
@@ -23,7 +24,7 @@ def test_violations_fail_without_acceptance(tmp_path, capsys):
     cfg = tmp_path / "job.toml"
     cfg.write_text(toml_text(job_data(["S1"], manufacturing={"min_hole_edge_mm": 0.6})))
     out = tmp_path / "out"
-    assert main(["build", str(cfg), "--out", str(out)]) == 2
+    assert main(["build", str(cfg), "--out", str(out), "--no-verify"]) == 2
     err = capsys.readouterr().err
     assert "manufacturability violations" in err and "edm.hole_edge" in err
     assert "--accept-violations" in err
@@ -69,7 +70,7 @@ def test_build_json_records_every_check(built):
 def test_existing_output_is_never_overwritten_silently(built, tmp_path, capsys):
     _, out = built
     before = (out / "build.json").read_text()
-    assert main(["build", str(S1), "--out", str(out), "--accept-violations"]) == 2
+    assert main(["build", str(S1), "--out", str(out), "--accept-violations", "--no-verify"]) == 2
     assert "already exists" in capsys.readouterr().err
     assert (out / "build.json").read_text() == before
 
@@ -80,7 +81,7 @@ def test_overwrite_replaces_the_folder(tmp_path):
     (out / "old").mkdir(parents=True)
     (out / "old" / "stale.txt").write_text("x")
     assert main(["build", str(S1), "--out", str(out), "--accept-violations", "--overwrite",
-                 "--no-render"]) == 0
+                 "--no-render", "--no-verify"]) == 0
     assert not (out / "old").exists() and (out / "build.json").exists()
 
 
@@ -89,8 +90,34 @@ def test_unbuildable_geometry_stops_with_the_part_named(tmp_path, capsys):
     cfg = tmp_path / "bad.toml"
     cfg.write_text(toml_text(job_data(["S1"], "shaft", hardware={"fastener_diameter_mm": 3.0})))
     out = tmp_path / "out"
-    assert main(["build", str(cfg), "--out", str(out)]) == 2
+    assert main(["build", str(cfg), "--out", str(out), "--no-verify"]) == 2
     err = capsys.readouterr().err
     assert "S1-RING:" in err and "hole" in err and "fastener_diameter_mm" in err
     assert not out.exists()
     assert [p.name for p in tmp_path.iterdir()] == ["bad.toml"]
+
+
+@pytest.mark.slow
+def test_build_verifies_before_exporting(tmp_path):
+    """The default job passes FEA verification; the corrected springs are what is exported."""
+    out = tmp_path / "default"
+    assert main(["build", str(TEMPLATES / "default.toml"), "--out", str(out), "--no-render"]) == 0
+    doc = json.loads((out / "build.json").read_text())
+    ver = doc["verification"]
+    assert ver["ok"] and (out / ver["fea_json"]).exists()
+    fea = json.loads((out / "fea" / "fea.json").read_text())
+    s1 = fea["springs"]["S1"]
+    assert abs(s1["error_vs_target_pct"]) <= 1.0 and s1["yield_margin"] >= 1.2
+    design = json.loads((out / "design.json").read_text())
+    # the exported ring carries the FEA width correction
+    assert design["springs"]["S1"]["width_scale"] == pytest.approx(
+        s1["correction_iterations"][-1]["width_scale"], rel=1e-9)
+
+
+def test_failed_verification_stops_the_build(tmp_path, capsys):
+    """The paper's S1 (912 MPa design stress) peaks above yield at the root fillet."""
+    out = tmp_path / "s1"
+    assert main(["build", str(S1), "--out", str(out), "--no-render"]) == 2
+    err = capsys.readouterr().err
+    assert "FEA verification failed" in err and "yield margin" in err and "root fillet" in err
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == []
