@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 
@@ -20,7 +21,10 @@ def run(args) -> int:
     from springcad.report.paper_report import write_paper_report
     from springcad.validation.paper import validate_paper
 
-    v = validate_paper(args.data, args.templates)
+    def progress(message):
+        print(f"  {message}", file=sys.stderr, flush=True)
+
+    v = validate_paper(args.data, args.templates, use_fea=not args.no_fea, progress=progress)
     with atomic_output_dir(args.out, overwrite=args.overwrite) as tmp:
         write_paper_report(v, tmp)
     s = v.to_dict()["summary"]
