@@ -9,6 +9,7 @@ from springcad.cli import main
 from springcad.config import job_from_dict, load_job
 from springcad.errors import ConfigError
 from tests.conftest import template
+from tests.geometry.cad_fixtures import toml_text
 
 
 def paper_s1():
@@ -16,32 +17,9 @@ def paper_s1():
 
 
 def write(tmp_path, data):
-    lines = []
-
-    def emit(prefix, table):
-        scalars = {k: v for k, v in table.items() if not isinstance(v, dict)}
-        if prefix:
-            lines.append(f"[{prefix}]")
-        for k, v in scalars.items():
-            lines.append(f"{k} = {tomllib_dump(v)}")
-        for k, v in table.items():
-            if isinstance(v, dict):
-                emit(f"{prefix}.{k}" if prefix else k, v)
-
-    emit("", data)
     path = tmp_path / "job.toml"
-    path.write_text("\n".join(lines) + "\n")
+    path.write_text(toml_text(data))
     return path
-
-
-def tomllib_dump(v):
-    if isinstance(v, str):
-        return f'"{v}"'
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, list):
-        return "[" + ", ".join(tomllib_dump(x) for x in v) + "]"
-    return repr(v)
 
 
 BAD = {
