@@ -79,6 +79,11 @@ class VerifyOptions:
         keep_fields: keep displacement/stress fields of the final meshes for output.
         support_study: also solve the full ring with its rim holes held at the outer
             rim and at the holes only (2D, one mesh) and report the difference.
+        mesher: "gmsh" (default: exact face, nested levels, extruded tets) or
+            "pytetwild" (the build123d sector solid tetrahedralised by fTetWild at
+            ``pytetwild_edge_fac`` levels; model "3d" only; ~1 min).
+        pytetwild_edge_fac: fTetWild ideal edge lengths (fraction of the bounding
+            box diagonal), coarse to fine.
     """
 
     model: str = "2d3d"
@@ -90,8 +95,14 @@ class VerifyOptions:
     correct: bool = True
     keep_fields: bool = True
     support_study: bool = False
+    mesher: str = "gmsh"
+    pytetwild_edge_fac: tuple = (0.04, 0.028, 0.02)
 
     def __post_init__(self):
+        if self.mesher not in ("gmsh", "pytetwild"):
+            raise SpringcadError(f"mesher '{self.mesher}' is not one of gmsh, pytetwild")
+        if self.mesher == "pytetwild" and self.model != "3d":
+            raise SpringcadError("the pytetwild mesher makes 3D meshes only: use model '3d'")
         if self.model not in MODELS:
             raise SpringcadError(f"FEA model '{self.model}' is not one of {', '.join(MODELS)}")
         if self.levels < 3:
@@ -169,6 +180,8 @@ def run_model(design, material: Material, options: VerifyOptions, with_3d: bool,
     theta = design.max_deflection_rad
     case = options.case
     n = options.levels
+    if options.mesher == "pytetwild":
+        return _run_pytetwild(design, geometry, material, options, progress)
     t0 = time.perf_counter()
     faces = tuple(mesh_face_levels(geometry, options.size, n + 1,
                                    case.patch_half_width_mm(geometry.tip_radius_mm)))
@@ -196,6 +209,27 @@ def run_model(design, material: Material, options: VerifyOptions, with_3d: bool,
     if with_3d:
         add_3d_factor(run, design, material, options, progress)
     return run
+
+
+def _run_pytetwild(design, geometry, material, options, progress) -> ModelRun:
+    """3D study on fTetWild meshes of the build123d sector solid (not nested)."""
+    from springcad.geometry.profile import extrude_profile
+
+    from fea.mesh import mesh_solid
+
+    solid = extrude_profile(geometry.profile, geometry.thickness_mm, f"{design.name} sector")
+    res, mesh_time = [], 0.0
+    facs = list(options.pytetwild_edge_fac)
+    for k, fac in enumerate(facs):
+        progress(f"pytetwild level {k} (edge length {fac:g} x diagonal)", None)
+        t = time.perf_counter()
+        fm = mesh_solid(solid, geometry, "pytetwild", edge_length_fac=fac)
+        fm.level = k
+        mesh_time += time.perf_counter() - t
+        res.append(solve_mesh(fm, material, options.case, design.max_deflection_rad,
+                              options.keep_fields and k == len(facs) - 1))
+    return ModelRun(study=cv.study(res, "3d", nested=False), geometry=geometry,
+                    mesh_time_s=mesh_time)
 
 
 def add_3d_factor(run: ModelRun, design, material: Material, options: VerifyOptions,
@@ -591,6 +625,7 @@ class JobVerification:
 
         return {"schema": SCHEMA, "springcad_version": __version__, "job": self.job_name,
                 "options": {"model": self.options.model, "levels": self.options.levels,
+                            "mesher": self.options.mesher,
                             "tolerance_pct": 100 * self.options.tolerance,
                             "support": self.options.case.support,
                             "load": self.options.case.load},
