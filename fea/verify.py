@@ -352,6 +352,8 @@ class SpringVerification:
             "peak_ip_von_mises_MPa": pr.peak_ip_von_mises_MPa,
             "peak_location_mm": list(pr.peak_location_mm),
             "peak_region": pr.peak_region,
+            "peak_by_region_MPa": dict(finest.peak_by_region_MPa),
+            "peak_by_region_note": f"{st.model} finest level, not extrapolated",
             "max_deflection_rad": d.max_deflection_rad,
             "torque_at_max_deflection_Nm": self.stiffness_fea_Nmm_per_rad * d.max_deflection_rad
             / NMM_PER_NM,
@@ -619,6 +621,20 @@ class JobVerification:
     def corrected_designs(self) -> dict:
         """Spring name -> the corrected :class:`SpringDesign` (what ``build`` should export)."""
         return {n: v.design for n, v in self.springs.items()}
+
+    def corrected_job_design(self, job_design):
+        """The job design with every spring replaced by its corrected design and the stack
+        rebuilt from them (what ``springcad build`` should export after verification)."""
+        from dataclasses import replace as dc_replace
+
+        from springcad.design.stack import design_stack
+
+        springs = {n: self.springs[n].design if n in self.springs else d
+                   for n, d in job_design.springs.items()}
+        job = job_design.job
+        stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
+                             job.analysis.monte_carlo_samples, job.analysis.seed)
+        return dc_replace(job_design, springs=springs, stack=stack)
 
     def to_dict(self) -> dict:
         from springcad import __version__
