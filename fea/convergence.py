@@ -58,9 +58,39 @@ class Extrapolation:
                 "error_pct": 100.0 * self.error, "behaviour": self.behaviour}
 
 
+def _order(e21: float, e32: float, r21: float, r32: float) -> float:
+    """Observed order from the changes e21 = f2 - f1, e32 = f3 - f2 (level 1 coarsest) and
+    the refinement ratios r21 = h1/h2, r32 = h2/h3.
+
+    Equal ratios: p = ln(e21/e32) / ln r. Otherwise the fixed-point iteration
+    of Celik et al. (2008, J. Fluids Eng. 130 078001), written for coarse-to-fine
+    numbering: p = |ln|e21/e32| + q(p)| / ln r32, q = ln((r32^p - s)/(r21^p - s)),
+    s = sign(e21/e32).
+    """
+    ratio = e21 / e32
+    p = math.log(abs(ratio)) / math.log(r32)
+    if abs(r21 - r32) < 1e-12:
+        return p
+    sgn = 1.0 if ratio > 0 else -1.0
+    for _ in range(200):
+        q = math.log((r32 ** p - sgn) / (r21 ** p - sgn))
+        p_new = abs(math.log(abs(ratio)) + q) / math.log(r32)
+        if abs(p_new - p) < 1e-12:
+            return p_new
+        p = p_new
+    return p
+
+
 def richardson(values, formal_order: float, min_order: float = 0.5,
-               ratio: float = RATIO) -> Extrapolation:
-    """Extrapolate a sequence of values on uniformly refined meshes (coarse to fine).
+               ratio: float = RATIO, ratios: tuple[float, float] | None = None) -> Extrapolation:
+    """Extrapolate a sequence of values on refined meshes (coarse to fine).
+
+    Args:
+        values: the quantity per level.
+        formal_order: the discretisation's theoretical order for this quantity.
+        min_order: the smallest order used for the error estimate.
+        ratio: refinement ratio h_coarse / h_fine of nested uniform levels.
+        ratios: (r21, r32) for non-nested meshes (e.g. (N2/N1)^(1/3) from DOF counts).
 
     Raises:
         ValueError: fewer than three values.
@@ -68,17 +98,18 @@ def richardson(values, formal_order: float, min_order: float = 0.5,
     v = [float(x) for x in values]
     if len(v) < 3:
         raise ValueError(f"Richardson extrapolation needs three mesh levels, got {len(v)}")
+    r21, r32 = ratios if ratios is not None else (ratio, ratio)
     f1, f2, f3 = v[-3:]
     e21, e32 = f2 - f1, f3 - f2
     scale = max(abs(f3), 1e-300)
     if abs(e32) <= 1e-13 * scale:
         return Extrapolation(tuple(v), f3, math.nan, formal_order, abs(e32) / scale, "converged")
     s = e21 / e32
-    if s > 1.0:  # same sign, shrinking changes
-        p = math.log(s) / math.log(ratio)
+    if s > 1.0 or (ratios is not None and s > 0 and abs(e32) < abs(e21)):  # shrinking changes
+        p = _order(e21, e32, r21, r32)
         pu = min(max(p, min_order), formal_order)
-        ext = f3 + e32 / (ratio ** pu - 1.0)
-        err = SAFETY_FACTOR * abs(e32) / (ratio ** pu - 1.0) / scale
+        ext = f3 + e32 / (r32 ** pu - 1.0)
+        err = SAFETY_FACTOR * abs(e32) / (r32 ** pu - 1.0) / scale
         return Extrapolation(tuple(v), ext, p, pu, err, "monotone")
     # not monotone: no extrapolation; the spread of the last three levels is the error
     err = SAFETY_FACTOR * max(abs(e21), abs(e32)) / scale
@@ -128,8 +159,18 @@ class ConvergenceStudy:
                 "peak_von_mises_MPa": self.peak_stress.to_dict()}
 
 
-def study(results, model: str) -> ConvergenceStudy:
-    """Richardson extrapolation of K and nodal peak stress over solved levels."""
-    k = richardson([r.stiffness_Nmm_per_rad for r in results], FORMAL_ORDER["stiffness"])
-    s = richardson([r.peak_von_mises_MPa for r in results], FORMAL_ORDER["stress"])
+def study(results, model: str, nested: bool = True) -> ConvergenceStudy:
+    """Richardson extrapolation of K and nodal peak stress over solved levels.
+
+    Nested levels have ratio 2; otherwise (pytetwild meshes) the ratios are
+    estimated from the DOF counts, h ~ DOFs^(-1/3).
+    """
+    ratios = None
+    if not nested:
+        n = [r.dofs for r in results[-3:]]
+        ratios = ((n[1] / n[0]) ** (1 / 3), (n[2] / n[1]) ** (1 / 3))
+    k = richardson([r.stiffness_Nmm_per_rad for r in results], FORMAL_ORDER["stiffness"],
+                   ratios=ratios)
+    s = richardson([r.peak_von_mises_MPa for r in results], FORMAL_ORDER["stress"],
+                   ratios=ratios)
     return ConvergenceStudy(model=model, stiffness=k, peak_stress=s, results=tuple(results))

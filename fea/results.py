@@ -72,6 +72,8 @@ class StaticResult:
     solve_info: object
     fields: dict = field(default_factory=dict, repr=False)
     mesh: object = field(default=None, repr=False)
+    peak_by_region_MPa: dict = field(default_factory=dict)
+    """Largest nodal von Mises on each kind of boundary (root fillet, flank, neck, ...)."""
 
     def to_dict(self) -> dict:
         return {"stiffness_Nm_per_rad": self.stiffness_Nmm_per_rad / 1000.0,
@@ -195,6 +197,15 @@ def evaluate(fm, system, u: np.ndarray, case, max_deflection_rad: float, timings
     loc = np.zeros(3)
     loc[:xyz.shape[0]] = xyz[:, i_peak]
     excluded_peak = float(np.max(vm_nodes[excl])) if np.any(excl) else 0.0
+    by_region: dict[str, float] = {}
+    for lab, facets in fm.boundaries.items():
+        name = REGION_NAMES.get(lab.split(":")[0])
+        if name is None or not len(facets) or lab == "symmetry":
+            continue
+        nodes = np.unique(sb.get_dofs(facets).flatten())
+        nodes = nodes[ok[nodes]]
+        if len(nodes):
+            by_region[name] = max(by_region.get(name, 0.0), float(vm_nodes[nodes].max()))
     # integration points of the assembly quadrature (the 3- / 4-point rule of CPS6 / C3D10)
     basis = system.basis
     vm_ip = _stress(_grad(basis, u * scale, system.dim), system.lam, system.mu,
@@ -215,7 +226,7 @@ def evaluate(fm, system, u: np.ndarray, case, max_deflection_rad: float, timings
         peak_ip_von_mises_MPa=peak_ip, peak_location_mm=tuple(float(v) for v in loc),
         peak_region=_region(loc, fm), excluded_peak_MPa=excluded_peak, dofs=system.n_dofs,
         n_elements=fm.n_elements, dim=fm.dim, level=fm.level, timings_s=dict(timings),
-        solve_info=info, fields=fields, mesh=fm)
+        solve_info=info, fields=fields, mesh=fm, peak_by_region_MPa=by_region)
 
 
 def richardson_ready(results) -> bool:

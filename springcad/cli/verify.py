@@ -29,6 +29,9 @@ def register(sub):
                    help="2d3d: plane-stress convergence study x 3D tet factor (default); "
                         "3d: convergence study on quadratic tets (slow); 2d: plane stress only")
     p.add_argument("--levels", type=int, default=3, help="mesh levels in the study (>= 3)")
+    p.add_argument("--mesher", choices=("gmsh", "pytetwild"), default="gmsh",
+                   help="gmsh: exact face, nested levels, extruded quadratic tets (default); "
+                        "pytetwild: fTetWild on the CAD solid (implies --model 3d, ~1 min)")
     p.add_argument("--tolerance-pct", type=float, default=1.0,
                    help="accepted stiffness error vs target in %% (default 1)")
     p.add_argument("--no-correct", action="store_true",
@@ -99,7 +102,8 @@ def run(args) -> int:
         raise OutputExistsError(f"output folder '{out}' already exists and is not empty; "
                                 "choose another --out or pass --overwrite")
     job = load_job(args.config)
-    options = VerifyOptions(model=args.model, levels=args.levels,
+    model = "3d" if args.mesher == "pytetwild" else args.model
+    options = VerifyOptions(model=model, levels=args.levels, mesher=args.mesher,
                             tolerance=args.tolerance_pct / 100.0, correct=not args.no_correct,
                             case=LoadCase(load=args.load), keep_fields=not args.no_render,
                             support_study=args.support_study)

@@ -20,6 +20,16 @@ def test_richardson_recovers_order_and_limit():
     assert r2.order_used == 4.0 and r2.error > 0
 
 
+def test_richardson_with_unequal_ratios():
+    """Non-nested meshes (pytetwild levels): ratios from DOF counts, Celik's iteration."""
+    from fea.convergence import richardson
+
+    h = [1.0, 0.7, 0.45]
+    r = richardson([2.0 + 0.3 * x ** 3 for x in h], 4.0, ratios=(1 / 0.7, 0.7 / 0.45))
+    assert r.observed_order == pytest.approx(3.0, abs=1e-9)
+    assert r.extrapolated == pytest.approx(2.0, abs=1e-12)
+
+
 def test_richardson_oscillating_and_diverging():
     from fea.convergence import richardson
 
