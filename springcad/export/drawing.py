@@ -18,8 +18,18 @@ import numpy as np
 
 from springcad.export.sheet import LABEL_FONT, NOTE_FONT, THICK, THIN, Sheet, View, fit_scale, fmt, scale_text
 
-#: default title block template (repository ``templates/``)
-TITLE_BLOCK = Path(__file__).resolve().parents[2] / "templates" / "drawing_title_block.toml"
+TITLE_BLOCK_NAME = "drawing_title_block.toml"
+
+
+def default_title_block() -> Path:
+    """``templates/drawing_title_block.toml`` of the working folder or of the source tree,
+    else the copy shipped in the package (``springcad/data``, kept identical by a test)."""
+    from importlib import resources
+
+    for folder in (Path.cwd() / "templates", Path(__file__).resolve().parents[2] / "templates"):
+        if (folder / TITLE_BLOCK_NAME).exists():
+            return folder / TITLE_BLOCK_NAME
+    return Path(str(resources.files("springcad.data").joinpath(TITLE_BLOCK_NAME)))
 #: A3 layout (sheet mm): main view (centre, box), a second view at the top right
 #: (centre, box), a side view of flat parts under the main view (centre x, base y)
 MAIN_CENTRE, MAIN_BOX = (130.0, 170.0), 180.0
@@ -42,7 +52,7 @@ class DrawingInfo:
 
 def load_title_block(path: Path | None = None) -> dict:
     """Read the title block template (TOML)."""
-    path = Path(path) if path else TITLE_BLOCK
+    path = Path(path) if path else default_title_block()
     with open(path, "rb") as fh:
         return tomllib.load(fh)
 

@@ -45,11 +45,16 @@ REPO = Path(__file__).resolve().parents[2]
 
 
 def default_data_dir() -> Path:
-    return REPO.parent / "shared" / "data"
+    """``../shared/data`` beside the source tree, else beside the working folder."""
+    for base in (REPO, Path.cwd()):
+        if (base.parent / "shared" / "data").exists():
+            return base.parent / "shared" / "data"
+    return Path.cwd().parent / "shared" / "data"
 
 
 def default_templates_dir() -> Path:
-    return REPO / "templates"
+    """``templates/`` of the source tree, else of the working folder."""
+    return REPO / "templates" if (REPO / "templates").exists() else Path.cwd() / "templates"
 
 
 def load_tables(data_dir: Path) -> tuple[dict, dict]:
