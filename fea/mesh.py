@@ -120,10 +120,9 @@ class SizeField:
         order = np.argsort(r)
         self.r_tab, self.phi_tab = r[order], phi[order]
         self.feat = [(x, y, r_, r_ / rules.per_fillet_radius) for x, y, r_, _k in g.fillets_mm]
-        cp = g.contact_points_mm()
-        rb, rc = g.tip_radius_mm, g.contact_radius_mm
-        self.patch = ((rb, rc), patch_half_width_mm / rules.patch_elements)
-        del cp
+        # contact point of flexure 0 (frame of flexure 0)
+        self.patch = ((g.tip_radius_mm, g.contact_radius_mm),
+                      patch_half_width_mm / rules.patch_elements)
         self.holes = [(c[0], c[1]) for c in g.hole_centres_mm]
         self.h_hole = (g.hole_radius_mm * 2 * math.pi / 16) if self.holes else 0.0
 
@@ -330,7 +329,8 @@ def _extract_tri6(gmsh, curve_label):
     index[tags.astype(np.int64)] = np.arange(len(tags))
     types, _, nodes = gmsh.model.mesh.getElements(2)
     if list(types) != [_GMSH_TRI6]:
-        raise MeshingError(f"gmsh produced element types {list(types)}, expected quadratic triangles")
+        raise MeshingError(f"gmsh produced element types {list(types)}, "
+                           "expected quadratic triangles")
     tri = index[nodes[0].astype(np.int64)].reshape(-1, 6)
     edges, labels = [], []
     for ctag, lab in curve_label.items():

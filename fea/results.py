@@ -33,8 +33,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 REGION_NAMES = {"root": "root fillet", "edge": "flexure flank", "neck": "tip-neck fillet",
-                "ball": "tip ball", "rim": "rim", "side": "rim (sector cut)", "clamp": "rim (held face)",
-                "hole": "rim hole", "face": "flexure flank"}
+                "ball": "tip ball", "rim": "rim", "side": "rim (sector cut)",
+                "clamp": "rim (held face)", "hole": "rim hole", "face": "flexure flank"}
 
 
 @dataclass(eq=False)

@@ -319,9 +319,10 @@ class SpringVerification:
         out = []
         if not self.stiffness_ok:
             out.append(f"spring {self.name}: FEA stiffness "
-                       f"{self.stiffness_fea_Nmm_per_rad / NMM_PER_NM:.2f} N*m/rad misses the target "
-                       f"{self.stiffness_target_Nmm_per_rad / NMM_PER_NM:.2f} by "
-                       f"{100 * self.error_vs_target:+.2f} % (tolerance {100 * self.tolerance:.2g} %)")
+                       f"{self.stiffness_fea_Nmm_per_rad / NMM_PER_NM:.2f} N*m/rad misses the "
+                       f"target {self.stiffness_target_Nmm_per_rad / NMM_PER_NM:.2f} by "
+                       f"{100 * self.error_vs_target:+.2f} % "
+                       f"(tolerance {100 * self.tolerance:.2g} %)")
         return out
 
     def stress_failures(self) -> list[str]:
@@ -345,7 +346,8 @@ class SpringVerification:
         out = {
             "stiffness_fea_Nm_per_rad": self.stiffness_fea_Nmm_per_rad / NMM_PER_NM,
             "stiffness_beam_Nm_per_rad": d.stiffness_beam_Nmm_per_rad / NMM_PER_NM,
-            "stiffness_beam_original_Nm_per_rad": self.original.stiffness_beam_Nmm_per_rad / NMM_PER_NM,
+            "stiffness_beam_original_Nm_per_rad":
+                self.original.stiffness_beam_Nmm_per_rad / NMM_PER_NM,
             "stiffness_target_Nm_per_rad": self.stiffness_target_Nmm_per_rad / NMM_PER_NM,
             "error_vs_target_pct": 100.0 * self.error_vs_target,
             "fea_vs_beam_pct": 100.0 * (self.stiffness_fea_Nmm_per_rad

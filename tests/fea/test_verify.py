@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import math
 
 import pytest
 
@@ -46,7 +45,7 @@ def test_s2_is_corrected_to_its_target(s2, s2_verified):
 
 def test_s1_stress_limit_is_reported_honestly(s1_verified):
     """S1 meets its stiffness after correction; its root fillet does not meet yield."""
-    from fea.verify import VerificationFailed
+    from fea.verify import JobVerification, StackVerification, VerificationFailed, VerifyOptions
 
     v = s1_verified
     assert abs(v.error_vs_target) <= 0.01
@@ -55,6 +54,16 @@ def test_s1_stress_limit_is_reported_honestly(s1_verified):
     assert not v.stress_ok and v.yield_margin < 1.0
     msg = " ".join(v.failures())
     assert "root fillet" in msg and "yield margin" in msg
+    # as a one-spring job (the template), the build must stop with that message
+    stack = StackVerification(("S1",), v.stiffness_fea_Nmm_per_rad, 150e3,
+                              v.design.max_deflection_rad,
+                              v.stiffness_fea_Nmm_per_rad * v.design.max_deflection_rad, "S1",
+                              [{"spring": "S1", "yield_margin": v.yield_margin,
+                                "torque_Nm": 41.9, "peak_von_mises_MPa": v.peak_von_mises_MPa}],
+                              1.0)
+    job = JobVerification("paper_S1", {"S1": v}, stack, VerifyOptions(), {})
+    with pytest.raises(VerificationFailed, match="yield margin"):
+        job.raise_for_failures()
 
 
 def test_stack_from_verified_springs(s1_verified, s2_verified):
