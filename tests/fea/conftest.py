@@ -11,7 +11,7 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:  # the worktree under test, whatever is pip-installed
     sys.path.insert(0, str(ROOT))
 
-TEMPLATES = ROOT / "templates"
+from fea_helpers import TEMPLATES  # noqa: E402, F401
 
 #: a straight constant-stiffness flexure ring (N = 24, K = 150 N*m/rad): beam theory is exact
 #: Euler-Bernoulli for its parabolic flexures, the closed form of check (a)
@@ -73,18 +73,3 @@ def s1_faces(s1):
 
     g = sector_geometry(s1)
     return g, mesh_face_levels(g, DEFAULT_SIZE, 3)
-
-
-def sector_2d(design, material, levels=(0, 1, 2)):
-    """2D plane-stress convergence study of a design's sector on the given levels."""
-    from fea.convergence import study
-    from fea.geometry import sector_geometry
-    from fea.mesh import fea_mesh_2d, mesh_face_levels
-    from fea.problem import LoadCase
-    from fea.verify import DEFAULT_SIZE, solve_mesh
-
-    g = sector_geometry(design)
-    faces = mesh_face_levels(g, DEFAULT_SIZE, max(levels) + 1)
-    res = [solve_mesh(fea_mesh_2d(faces[k], g, k), material, LoadCase(),
-                      design.max_deflection_rad) for k in levels]
-    return study(res, "2d")

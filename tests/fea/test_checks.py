@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import pytest
 
-from conftest import sector_2d
+from fea_helpers import sector_2d
 
 
 # ------------------------------------------------------------------ (a) beam theory

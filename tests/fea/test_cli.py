@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from conftest import TEMPLATES
+from fea_helpers import TEMPLATES
 
 
 @pytest.fixture(scope="module")

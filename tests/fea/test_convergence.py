@@ -46,7 +46,7 @@ def test_richardson_oscillating_and_diverging():
 def test_observed_stiffness_rate_2d(s1, material):
     """Quadratic triangles: K (an energy) converges at ~h^3.5 (formal 4; the clamp
     corners of the sector cost a little)."""
-    from conftest import sector_2d
+    from fea_helpers import sector_2d
 
     st = sector_2d(s1, material, levels=(1, 2, 3))
     assert st.stiffness.behaviour == "monotone"
