@@ -48,9 +48,22 @@ def markdown(v) -> str:
         + " models run on the paper templates; only the *measured* columns come from the "
           "paper's Tables I and II.",
         "",
+        "## Assumptions the paper leaves open",
+        "",
+        "| quantity | value | source |",
+        "|---|---|---|",
+        "| N, tip radius, contact radius | 28, 0.300 mm, 5.5 mm (S1 and S2) | paper Section II-C and shared/data README |",
+        "| outer radius | 33.5 mm | shared/notes/design-method.md check value (not in the paper) |",
+        "| thickness | 4.5 mm | design-method.md check value (not in the paper) |",
+        "| design stress | 912 MPa | design-method.md check value (not in the paper) |",
+        "| root radius | rim rule, R_o - R_r = (2 pi R_r/N - w0)/1.5 | reference tool's rule (design-method.md eq. 8) |",
+        "| material | 420 hardened, E 200 GPa, nu 0.28, yield 1344 MPa, 7740 kg/m³ | AK Steel 420 data sheet |",
+        "| tip-to-cam gap | 0.025 mm per side | paper Section II-B |",
+        "| tolerances (Table I) | Mfr. 2: t_shaft 0.02 mm, t_spring 0.05 mm | paper Table II |",
+        "",
         "## Stiffness (N·m/rad)",
         "",
-        "| configuration | measured | target (before) | beam | geometry model | after (LOO) "
+        "| configuration | measured | target (before) | beam | FEA of the design | after (LOO) "
         "| error before | error after |",
         "|---|---|---|---|---|---|---|---|",
     ]
