@@ -16,6 +16,8 @@ def main() -> int:
     worst = 0.0
     with tempfile.TemporaryDirectory() as tmp:
         for cfg in sorted((ROOT / "templates").glob("*.toml")):
+            if "[springs." not in cfg.read_text():  # the drawing title block is not a job
+                continue
             times = []
             for i in range(3):
                 t = time.perf_counter()
