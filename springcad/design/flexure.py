@@ -172,12 +172,6 @@ class SerpentineResult:
     start: int
 
 
-def _grid(contact_radius_mm: float, root_radius_mm: float, n: int = 161) -> np.ndarray:
-    # denser near the tip, where the width changes fastest
-    u = np.linspace(0.0, 1.0, n)
-    return contact_radius_mm + (root_radius_mm - contact_radius_mm) * u ** 1.5
-
-
 def _point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
     """Distance from each point to a polyline (mm)."""
     a, b = poly[:-1], poly[1:]

@@ -259,9 +259,6 @@ def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0)
         DesignError: the new flexures break the neighbour clearance or the
             concave edge radius the wire can cut.
     """
-    from springcad.design.cam import cam_profile
-    from springcad.design.ring import ring_profile
-
     d = _replace(design, width_scale=design.width_scale * scale, width_offset_mm=offset_mm,
                  tip_radius_mm=design.tip_radius_mm - design.width_offset_mm + offset_mm)
     y = np.linspace(d.contact_radius_mm, d.root_radius_mm, 1201)
@@ -279,16 +276,30 @@ def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0)
             raise DesignError(
                 f"spring '{d.name}': flexures {scale:.4f} x wider have a concave edge radius "
                 f"{edge:.3f} mm < wire radius + spark gap {mfg.min_inside_radius_mm:g} mm")
+    return _predictions_and_profiles(_replace(d, min_neighbour_clearance_mm=clearance))
+
+
+def _predictions_and_profiles(d: SpringDesign) -> SpringDesign:
+    """Beam stiffness and peak stress of the current widths, then the ring and cam profiles.
+
+    The flexure is a constant-stress beam, so the peak stress at the max deflection is
+    uniform along it: 6 F L / (z w_root^2). The cam is built last: it checks its gap
+    against the ring.
+    """
+    from springcad.design.cam import cam_profile
+    from springcad.design.ring import ring_profile
+
     k = d.beam_stiffness_Nmm_per_rad()
     load = k * d.max_deflection_rad / (d.n_flexures * d.contact_radius_mm)
     w_root = float(d.width_mm(d.root_radius_mm))
-    d = _replace(d, stiffness_beam_Nmm_per_rad=k, min_neighbour_clearance_mm=clearance,
+    d = _replace(d, stiffness_beam_Nmm_per_rad=k,
                  peak_stress_MPa=6 * load * d.length_mm / (d.thickness_mm * w_root ** 2))
     ring, holes, hole_d = ring_profile(d)
     d = _replace(d, ring=ring, hole_centres_mm=holes, hole_diameter_mm=hole_d)
     cam, info = cam_profile(d)
     return _replace(d, cam=cam, cam_tip_radius_mm=info.tip_radius_mm,
-                    cam_root_radius_mm=info.root_radius_mm, cam_overtravel=info.overtravel)
+                    cam_root_radius_mm=info.root_radius_mm, cam_overtravel=info.overtravel,
+                    warnings=tuple(dict.fromkeys(d.warnings + info.warnings)))
 
 
 def with_width_scale(design: SpringDesign, scale: float) -> SpringDesign:
@@ -416,9 +427,6 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
         DesignError: the spec cannot be met in its envelope (the message says why
             and what to change).
     """
-    from springcad.design.cam import cam_profile
-    from springcad.design.ring import ring_profile
-
     sigma = material.design_stress_MPa
     E = material.material.youngs_modulus_MPa
     z, K, theta_d = spec.thickness_mm, spec.stiffness_Nmm_per_rad, spec.max_deflection_rad
@@ -512,16 +520,4 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
     for _ in range(2):
         k_beam = design.beam_stiffness_Nmm_per_rad()
         design = _replace(design, width_scale=design.width_scale * (K / k_beam) ** (1 / 3))
-    k_beam = design.beam_stiffness_Nmm_per_rad()
-    load_at_max = k_beam * theta_d / (n * rc)
-    w_root = float(design.width_mm(rr))
-    design = _replace(design, stiffness_beam_Nmm_per_rad=k_beam,
-                      peak_stress_MPa=6 * load_at_max * L / (z * w_root ** 2))
-    ring, holes, hole_d = ring_profile(design)
-    design = _replace(design, ring=ring, hole_centres_mm=holes, hole_diameter_mm=hole_d)
-    cam, cam_info = cam_profile(design)  # checks the gap against the ring
-    return _replace(design, cam=cam,
-                    cam_tip_radius_mm=cam_info.tip_radius_mm,
-                    cam_root_radius_mm=cam_info.root_radius_mm,
-                    cam_overtravel=cam_info.overtravel,
-                    warnings=design.warnings + cam_info.warnings)
+    return _predictions_and_profiles(design)

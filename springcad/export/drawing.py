@@ -50,6 +50,18 @@ class DrawingInfo:
     drawn_by: str = "springcad"
 
 
+def _dim_hole_circle(sheet, v, centre, scale: float, part, start_offset: float = 0.0) -> None:
+    """Bolt circle (drawn and dimensioned) and a leader "n x diameter thru" to the first hole."""
+    if not part.hole_centres:
+        return
+    bc = math.hypot(*part.hole_centres[0])
+    sheet.circle(centre, bc * scale)
+    sheet.dim_diameter(centre, bc * scale, -35, f"Ø{fmt(2 * bc)} bolt circle")
+    h = v(part.hole_centres[0])
+    sheet.leader(h + np.array([start_offset, start_offset]), h + np.array([18.0, 14.0]),
+                 f"{len(part.hole_centres)}× Ø{fmt(part.hole_diameter)} thru")
+
+
 def load_title_block(path: Path | None = None) -> dict:
     """Read the title block template (TOML)."""
     path = Path(path) if path else default_title_block()
@@ -149,14 +161,7 @@ def _ring_views(sheet: Sheet, part):
     sheet.centre_mark(c, part.outer_radius * s + 4)
     sheet.dim_diameter(c, part.outer_radius * s, 35, f"Ø{fmt(2 * part.outer_radius)}")
     sheet.dim_radius(c, part.root_radius * s, 200, f"R{fmt(part.root_radius)} root (ref)")
-    if part.hole_centres:
-        bc = math.hypot(*part.hole_centres[0])
-        sheet.circle(c, bc * s)
-        sheet.dim_diameter(c, bc * s, -35, f"Ø{fmt(2 * bc)} bolt circle")
-        h = v(part.hole_centres[0])
-        sheet.leader(h + np.array([0.4, 0.4]) * part.hole_diameter * s,
-                     h + np.array([18.0, 14.0]),
-                     f"{len(part.hole_centres)}× Ø{fmt(part.hole_diameter)} thru")
+    _dim_hole_circle(sheet, v, c, s, part, start_offset=0.4 * part.hole_diameter * s)
     # detail A: flexure 0 tip, ball centre at (0, r_c)
     rc, rb = part.contact_radius, part.tip_radius
     half = 2.0 * math.pi * rc / part.n_flexures * 1.2
@@ -224,13 +229,7 @@ def _annulus_views(sheet: Sheet, part):
     sheet.dim_diameter(c, part.outer_radius * s, 35, f"Ø{fmt(2 * part.outer_radius)}")
     if part.inner_radius > 0:
         sheet.dim_diameter(c, part.inner_radius * s, 215, f"Ø{fmt(2 * part.inner_radius)}")
-    if part.hole_centres:
-        bc = math.hypot(*part.hole_centres[0])
-        sheet.circle(c, bc * s)
-        sheet.dim_diameter(c, bc * s, -35, f"Ø{fmt(2 * bc)} bolt circle")
-        h = v(part.hole_centres[0])
-        sheet.leader(h, h + np.array([18.0, 14.0]),
-                     f"{len(part.hole_centres)}× Ø{fmt(part.hole_diameter)} thru")
+    _dim_hole_circle(sheet, v, c, s, part)
     _side_view(sheet, BELOW[0], BELOW[1], s, [(part.length, part.outer_radius, fmt(part.length))],
                horizontal=True)
     return s

@@ -183,7 +183,6 @@ def build_stack(job_design, progress=None) -> StackAssembly:
 
     stack = job_design.stack
     springs = stack.springs
-    hw = springs[0].hardware
     mat = springs[0].material.material
     steel = (mat.description or mat.name, mat.density_kg_per_m3)
     cache = _PartCache(progress or (lambda msg: None))

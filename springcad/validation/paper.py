@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from springcad.design.stack import series_stiffness as series
 from springcad.errors import ConfigError
 from springcad.units import NMM_PER_NM
 
@@ -77,8 +78,6 @@ def load_tables(data_dir: Path) -> tuple[dict, dict]:
     return t1, t2
 
 
-def series(ks) -> float:
-    return 1.0 / sum(1.0 / k for k in ks)
 
 
 @dataclass
