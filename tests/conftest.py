@@ -9,6 +9,8 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 TEMPLATES = ROOT / "templates"
 SHARED = ROOT.parent / "shared"
+#: the paper's measured tables: ../shared/data beside the repository, else the shipped copy
+PAPER_DATA = SHARED / "data" if (SHARED / "data").exists() else ROOT / "springcad" / "data" / "paper"
 
 
 def template(name: str) -> Path:

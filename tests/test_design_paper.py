@@ -11,12 +11,12 @@ import pytest
 
 from springcad.design.stack import eq10_limit, series_stiffness
 from springcad.design.tolerance import backlash_rad, gap_range_mm
-from tests.conftest import SHARED
+from tests.conftest import PAPER_DATA
 
 TABLE1 = {row["configuration"]: row for row in csv.DictReader(
-    open(SHARED / "data" / "paper_table1_configurations.csv"))}
+    open(PAPER_DATA / "paper_table1_configurations.csv"))}
 TABLE2 = {row["manufacturer"]: row for row in csv.DictReader(
-    open(SHARED / "data" / "paper_table2_manufacturers.csv"))}
+    open(PAPER_DATA / "paper_table2_manufacturers.csv"))}
 TEMPLATE_OF = {"S1": "paper_S1", "S2": "paper_S2", "2xS1": "paper_2xS1", "2xS2": "paper_2xS2",
                "4xS1": "paper_4xS1", "S1+2xS2": "paper_S1_2xS2", "S2+3xS1": "paper_S2_3xS1"}
 

@@ -68,3 +68,14 @@ def test_fea_enriched_validation():
     assert all(abs(g) < 5 for g in geo.values())  # FEA within a few % of beam theory
     width = [e for e in v.effects if e["effect"] == "width_offset"]
     assert all(e["sensitivity_pct_per_0.01mm"] > 2 for e in width)  # thin flexures: ~w^3
+
+
+def test_shipped_paper_tables_are_the_shared_ones():
+    """springcad/data/paper holds a copy of ../shared/data for clones without shared/."""
+    from tests.conftest import ROOT, SHARED
+
+    if not (SHARED / "data").exists():
+        pytest.skip("no ../shared/data beside this clone")
+    for name in ("paper_table1_configurations.csv", "paper_table2_manufacturers.csv"):
+        assert (ROOT / "springcad" / "data" / "paper" / name).read_bytes() == \
+            (SHARED / "data" / name).read_bytes()

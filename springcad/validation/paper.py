@@ -46,11 +46,14 @@ REPO = Path(__file__).resolve().parents[2]
 
 
 def default_data_dir() -> Path:
-    """``../shared/data`` beside the source tree, else beside the working folder."""
+    """``../shared/data`` beside the source tree or the working folder, else the copy of
+    the paper's two tables shipped in ``springcad/data/paper`` (kept identical by a test)."""
+    from importlib import resources
+
     for base in (REPO, Path.cwd()):
         if (base.parent / "shared" / "data").exists():
             return base.parent / "shared" / "data"
-    return Path.cwd().parent / "shared" / "data"
+    return Path(str(resources.files("springcad.data").joinpath("paper")))
 
 
 def default_templates_dir() -> Path:
