@@ -15,7 +15,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from springcad.cli.common import default_out, write_json
+from springcad.cli.common import default_out
+from springcad.report.jsonio import write_json
 
 SCHEMA = "springcad.build/1"
 
@@ -73,7 +74,7 @@ def step_verify(ctx: BuildContext) -> None:
         ctx.say("skipped (--no-verify): the parts are beam-theory designs, not FEA-verified")
         return
     from fea.verify import VerifyOptions, verify_job
-    from springcad.cli.verify import write_outputs
+    from springcad.report.fea_outputs import write_outputs
 
     def progress(message, fraction=None):
         ctx.say(message)

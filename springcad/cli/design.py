@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from springcad.cli.common import default_out, write_json
+from springcad.cli.common import default_out
+from springcad.report.jsonio import write_json
 
 
 def register(sub):

@@ -10,12 +10,12 @@ stress limit (the report is still written), 2 bad input or a failed solve
 
 from __future__ import annotations
 
-import math
 import sys
 import time
 from pathlib import Path
 
-from springcad.cli.common import default_out, write_json
+from springcad.cli.common import default_out
+from springcad.report.fea_outputs import write_outputs
 
 
 def register(sub):
@@ -56,35 +56,6 @@ def _progress(quiet: bool):
                   flush=True)
 
     return report
-
-
-def write_outputs(result, folder: Path, render: bool = True, progress=None) -> list[Path]:
-    """``fea.json`` plus, per spring, .vtu files and PNG renders into ``folder``."""
-    written = []
-    if render:
-        from springcad.report.fea_png import render_von_mises
-        from springcad.report.fea_vtu import write_vtu
-
-        for name, v in result.springs.items():
-            if progress:
-                progress(f"writing {name} .vtu and PNG renders")
-            r2 = v.run.study.finest
-            r3 = v.run.check3d[-1] if v.run.check3d else None
-            if r2.fields:
-                tag = "3d" if v.model == "3d" else "2d"
-                written.append(write_vtu(r2, folder / f"{name}_sector_{tag}.vtu"))
-                written.append(render_von_mises(
-                    r2, folder / f"{name}_von_mises.png",
-                    f"{name}: von Mises at {math.degrees(v.design.max_deflection_rad):.1f} deg "
-                    f"({tag}, finest level)"))
-                written.append(render_von_mises(
-                    r2, folder / f"{name}_von_mises_peak.png", f"{name}: at the peak",
-                    zoom_mm=max(1.0, 1.5 * v.design.root_fillet_radius_mm)))
-            if r3 is not None and r3.fields:
-                written.append(write_vtu(r3, folder / f"{name}_sector_3d.vtu"))
-    write_json(folder / "fea.json", result.to_dict())
-    written.append(folder / "fea.json")
-    return written
 
 
 def run(args) -> int:

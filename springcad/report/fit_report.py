@@ -44,7 +44,7 @@ def write_fit_outputs(result: FitResult, out_dir: Path | str, fmt: str = "md",
     """
     if fmt not in ("md", "html"):
         raise ValueError(f"report format {fmt!r} is not 'md' or 'html'")
-    from springcad.cli.common import write_json
+    from springcad.report.jsonio import write_json
 
     out_dir = Path(out_dir)
     written = [out_dir / "fit.json"]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from springcad.cli.common import write_json
+from springcad.report.jsonio import write_json
 
 
 def plot_predicted_vs_measured(v, path: Path) -> None:
