@@ -24,12 +24,13 @@ import numpy as np
 from springcad.design.curves import Arc, Line, Loop, Profile
 from springcad.errors import MeshingError
 
-#: segments per flexure in the ring's inner loop: root fillet, edge, neck fillet,
-#: ball, neck fillet, edge, root fillet, rim arc (``springcad.design.ring``)
-SEGMENTS_PER_FLEXURE = 8
-BALL_SEGMENT = 3
-_FLEXURE_LABELS = ("root", "edge", "neck", "ball", "neck", "edge", "root", "rim")
+#: flexure features whose FE boundary label carries the flexure number ("root:3");
+#: the root-circle arcs between flexures are all labelled "rim"
 _INDEXED = {"root", "edge", "neck", "ball"}
+
+
+def _label(feature) -> str:
+    return feature.label if feature.kind in _INDEXED else feature.kind
 
 
 def _angle_in(arc: Arc, a: float) -> float:
@@ -116,14 +117,18 @@ class RingGeometry:
         return self.area_mm2 * self.thickness_mm
 
 
+def _fillets(flexures: Loop) -> tuple:
+    """Every arc of flexure 0's root, neck and ball as (x, y, radius, kind) (mm)."""
+    return tuple((float(s.center[0]), float(s.center[1]), float(s.radius), kind)
+                 for kind in ("root", "neck", "ball") for s in flexures.named(kind, 0)
+                 if isinstance(s, Arc))
+
+
 def _common(design):
     y = design.contact_radius_mm + (design.root_radius_mm - design.contact_radius_mm) * \
         np.linspace(0.0, 1.0, 400) ** 2
     x, _, _ = design.centreline.evaluate(y)
-    segs = design.ring.holes[0].segments
-    kinds = {0: "root", 2: "neck", BALL_SEGMENT: "ball", 4: "neck", 6: "root"}
-    fillets = tuple((float(segs[i].center[0]), float(segs[i].center[1]), float(segs[i].radius), k)
-                    for i, k in kinds.items())
+    fillets = _fillets(design.ring.loop("flexures"))
     return dict(centreline_mm=np.column_stack([x, y]), width_mm=np.asarray(design.width_mm(y)),
                 fillets_mm=fillets,
                 n_flexures=design.n_flexures, outer_radius_mm=design.outer_radius_mm,
@@ -145,13 +150,17 @@ def sector_geometry(design) -> RingGeometry:
     if design.ring is None:
         raise MeshingError(f"spring '{design.name}' has no ring profile to mesh")
     n = design.n_flexures
-    segs = design.ring.holes[0].segments
-    if len(segs) != SEGMENTS_PER_FLEXURE * n:
-        raise MeshingError(f"spring '{design.name}': ring inner loop has {len(segs)} segments, "
-                           f"expected {SEGMENTS_PER_FLEXURE} per flexure")
+    flexures = design.ring.loop("flexures")
+    try:
+        (rim_before,), (rim_after,) = flexures.named("rim", n - 1), flexures.named("rim", 0)
+    except (KeyError, ValueError) as err:
+        raise MeshingError(f"spring '{design.name}': the ring's flexure loop has no single rim "
+                           f"arc on each side of flexure 0 ({err})") from err
+    own = [i for i in flexures.indices(0) if flexures.features[i].kind != "rim"]
+    body = [flexures.segments[i] for i in own]
+    body_labels = [_label(flexures.features[i]) for i in own]
     ro, rr = design.outer_radius_mm, design.root_radius_mm
     a_r, a_l = math.pi / 2 - math.pi / n, math.pi / 2 + math.pi / n
-    rim_before, rim_after = segs[-1], segs[SEGMENTS_PER_FLEXURE - 1]
     a_r2 = _angle_in(rim_before, a_r)
     a_l2 = _angle_in(rim_after, a_l)
 
@@ -161,15 +170,15 @@ def sector_geometry(design) -> RingGeometry:
     loop = [Arc((0.0, 0.0), ro, a_r, a_l),
             Line(polar(ro, a_l), polar(rr, a_l)),
             Arc((0.0, 0.0), rr, a_l2, rim_after.start_angle)]
-    loop += [s.reversed() for s in reversed(segs[:SEGMENTS_PER_FLEXURE - 1])]
+    loop += [s.reversed() for s in reversed(body)]
     loop += [Arc((0.0, 0.0), rr, rim_before.end_angle, a_r2),
              Line(polar(rr, a_r), polar(ro, a_r))]
     profile = Profile(Loop(tuple(loop)))
     if profile.outer.signed_area() <= 0:
         raise MeshingError(f"spring '{design.name}': sector loop is not counter-clockwise")
-    labels = ("clamp", "side", "rim", *reversed(_FLEXURE_LABELS[:-1]), "rim", "side")
+    labels = ("clamp", "side", "rim", *reversed(body_labels), "rim", "side")
     return RingGeometry(profile=profile, sector=True, hole_centres_mm=(), hole_radius_mm=0.0,
-                        labels=(tuple(f"{lab}:0" if lab in _INDEXED else lab for lab in labels),),
+                        labels=(labels,),
                         flexure_angles_rad=(math.pi / 2,), **_common(design))
 
 
@@ -178,10 +187,13 @@ def ring_geometry(design, holes: bool = True) -> RingGeometry:
     if design.ring is None:
         raise MeshingError(f"spring '{design.name}' has no ring profile to mesh")
     n = design.n_flexures
-    prof = design.ring if holes else Profile(design.ring.outer, design.ring.holes[:1])
-    inner = tuple(f"{lab}:{i}" if lab in _INDEXED else lab
-                  for i in range(n) for lab in _FLEXURE_LABELS)
-    holes_l = tuple((f"hole:{j}",) for j in range(len(prof.holes) - 1))
+    ring = design.ring
+    flexures = ring.loop("flexures")
+    hole_loops = ring.loops_named("hole") if holes else ()
+    prof = Profile(ring.loop("outer"), (flexures, *hole_loops),
+                   ("outer", "flexures", *(f"hole:{j}" for j in range(len(hole_loops)))))
+    inner = tuple(_label(f) for f in flexures.features)
+    holes_l = tuple((f"hole:{j}",) for j in range(len(hole_loops)))
     return RingGeometry(
         profile=prof, sector=False, labels=(("clamp",), inner, *holes_l),
         hole_centres_mm=tuple(design.hole_centres_mm) if holes else (),

@@ -80,7 +80,9 @@ def test_cam_keeps_the_designed_gap(paper_designs):
 
     s = paper_designs["paper_S1"].springs["S1"]
     pitch = 2 * math.pi / s.n_flexures
-    cam = np.vstack([seg.sample(0.002) for seg in s.cam.outer.segments[:8]])
+    teeth = s.cam.loop("teeth")
+    cam = np.vstack([seg.sample(0.002) for i in (0, 1) for f in ("flank", "pocket", "tip")
+                     for seg in teeth.named(f, i)])
     cam = np.vstack([cam, cam @ np.array([[math.cos(pitch), math.sin(pitch)],
                                          [-math.sin(pitch), math.cos(pitch)]])])
     ring = _ring_points_near_ball0(s)

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from springcad.design.curves import Arc, Line, Loop, Profile, Spline, chain
+from springcad.design.curves import Arc, Feature, Line, Loop, Profile, Spline, named
 from springcad.errors import DesignError
 
 OVERTRAVELS = (1.25, 1.2, 1.15, 1.1, 1.05, 1.0)
@@ -50,7 +50,11 @@ def flank_point(psi: float, contact_radius_mm: float, offset_mm: float) -> np.nd
 
 
 def _unit(rc, rho, pitch, psi_end):
-    """Segments of one pocket (ball 0 on +y) and the following tooth tip arc."""
+    """Segments of one pocket (ball 0 on +y) and the following tooth tip arc, with their names.
+
+    Returns:
+        (segments, features, tooth tip arc).
+    """
     psi0 = rho / rc
     s_end = 0.5 * rc * (psi_end - psi0) ** 2
     psis = psi0 + np.sqrt(2 * np.linspace(0.0, s_end, 24) / rc)  # uniform arc length
@@ -67,14 +71,17 @@ def _unit(rc, rho, pitch, psi_end):
     q = pts[-1]
     phi_q = math.atan2(q[1], q[0])
     tip = Arc((0.0, 0.0), float(np.hypot(*q)), phi_q, math.pi - phi_q + pitch)
-    return chain(right, pocket, left, tip), tip
+    segs, feats = named((Feature("flank", 0, "right"), Feature("pocket", 0),
+                         Feature("flank", 0, "left"), Feature("tip", 0)),
+                        (right, pocket, left, tip))
+    return segs, feats, tip
 
 
 def _ring_points_near_ball0(d) -> np.ndarray:
     """Samples of the ring's inner contour around flexures -1, 0 and 1 (mm)."""
     pitch = 2 * math.pi / d.n_flexures
     pts = []
-    for s in d.ring.holes[0].segments:
+    for s in d.ring.loop("flexures").segments:
         a = np.array([s.start, s.end])
         ang = np.abs(np.arctan2(a[:, 0], a[:, 1]))  # angle from +y
         if ang.min() < 1.6 * pitch:
@@ -101,7 +108,7 @@ def d_bore(radius_mm: float, flat_ratio: float = 0.8, corner_radius_mm: float = 
     if rf <= 0:
         a = math.acos(flat_ratio)
         arc = Arc((0.0, 0.0), R, -math.pi / 2 + a, 1.5 * math.pi - a)
-        return Loop((arc, Line(arc.end, arc.start)))
+        return Loop((arc, Line(arc.end, arc.start)), (Feature("arc"), Feature("flat")))
     cy = -h + rf  # fillet centres sit rf above the flat, rf inside the circle
     cx = math.sqrt((R - rf) ** 2 - cy ** 2)
     a_right = math.atan2(cy, cx)  # direction of the right fillet centre = its circle tangent point
@@ -109,7 +116,9 @@ def d_bore(radius_mm: float, flat_ratio: float = 0.8, corner_radius_mm: float = 
     left = Arc((-cx, cy), rf, math.pi - a_right, 1.5 * math.pi)
     flat = Line((-cx, -h), (cx, -h))
     right = Arc((cx, cy), rf, -0.5 * math.pi, a_right)
-    return Loop((main, left, flat, right))
+    return Loop((main, left, flat, right),
+                (Feature("arc"), Feature("corner", 0, "left"), Feature("flat"),
+                 Feature("corner", 0, "right")))
 
 
 def cam_profile(d) -> tuple[Profile, CamInfo]:
@@ -133,10 +142,10 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
     tried = []
     for f in OVERTRAVELS:
         psi_end = rho / rc + f * theta
-        unit, tip = _unit(rc, rho, pitch, psi_end)
+        unit, unit_features, tip = _unit(rc, rho, pitch, psi_end)
         tip_w = tip.length
         segs = tuple(s.rotated(i * pitch) for i in range(n) for s in unit)
-        loop = Loop(segs)
+        loop = Loop(segs, tuple(f.reindexed(i) for i in range(n) for f in unit_features))
         clearance = float("inf")
         if ring_pts is not None:  # N-fold symmetric: one tooth and its pockets suffice
             cam_pts = np.vstack([s.sample(0.01) for s in (*unit, *(s.rotated(-pitch) for s in unit))])
@@ -163,4 +172,4 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
         warnings = (f"cam flank overtravel reduced to {f:g} x max deflection to fit the tooth",)
     info = CamInfo(tip.radius, root, f, tip_w, clearance, warnings)
     corner = d.manufacturing.min_inside_radius_mm
-    return Profile(loop, (d_bore(bore_r, corner_radius_mm=corner),)), info
+    return Profile(loop, (d_bore(bore_r, corner_radius_mm=corner),), ("teeth", "bore")), info

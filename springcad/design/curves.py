@@ -6,6 +6,13 @@ splines instead of polylines. Units: mm and rad. Points are ``(x, y)`` tuples.
 
 A :class:`Loop` is a closed chain of segments; a :class:`Profile` is one outer
 loop with any number of hole loops (a planar face with holes).
+
+Features by name: the builder of a profile names each loop (``"outer"``,
+``"flexures"``, ``"hole:0"``, ``"teeth"``, ``"bore"``) and each segment of a loop
+(a :class:`Feature`: kind, repeat index and side, e.g. the right root fillet of
+flexure 3). Code outside the builder asks for features by name
+(:meth:`Profile.loop`, :meth:`Loop.named`), never by position, so a builder can
+change how many segments a feature has without moving anybody's labels.
 """
 
 from __future__ import annotations
@@ -202,6 +209,38 @@ class Spline:
 Segment = Line | Arc | Spline
 
 
+@dataclass(frozen=True)
+class Feature:
+    """Name of one segment of a loop.
+
+    Attributes:
+        kind: what the segment is (``"root"``, ``"edge"``, ``"neck"``, ``"ball"``,
+            ``"rim"`` on a flexure ring; ``"flank"``, ``"pocket"``, ``"tip"`` on a cam;
+            ``"arc"``, ``"corner"``, ``"flat"`` on a D bore ...).
+        index: which repeat of the pattern it belongs to (flexure or tooth number).
+        side: ``"right"``, ``"left"`` or ``""`` for a feature with no side.
+    """
+
+    kind: str
+    index: int = 0
+    side: str = ""
+
+    @property
+    def label(self) -> str:
+        """``"kind:index"``: the boundary label the FE model uses."""
+        return f"{self.kind}:{self.index}"
+
+    def reindexed(self, shift: int) -> "Feature":
+        return Feature(self.kind, self.index + shift, self.side)
+
+
+def named(features: tuple[Feature, ...], segments: tuple) -> tuple[tuple, tuple[Feature, ...]]:
+    """Pair up segments and their features, dropping the zero-length lines :func:`chain` drops."""
+    keep = [(s, f) for s, f in zip(segments, features, strict=True)
+            if not (isinstance(s, Line) and s.length < JOIN_TOL_MM)]
+    return tuple(s for s, _ in keep), tuple(f for _, f in keep)
+
+
 def _area_term(seg, max_step_mm: float) -> float:
     """Contribution 1/2 * integral (x dy - y dx) of one segment (mm^2)."""
     if isinstance(seg, Circle):
@@ -219,12 +258,21 @@ def _area_term(seg, max_step_mm: float) -> float:
 
 @dataclass(frozen=True)
 class Loop:
-    """A closed contour: a single :class:`Circle` or a chain of segments."""
+    """A closed contour: a single :class:`Circle` or a chain of segments.
+
+    Attributes:
+        segments: the chain, each segment starting where the previous one ends.
+        features: the name of each segment (same length), or ``()`` for an
+            unnamed loop.
+    """
 
     segments: tuple
+    features: tuple[Feature, ...] = ()
 
     def __post_init__(self):
         segs = self.segments
+        if self.features and len(self.features) != len(segs):
+            raise ValueError(f"loop has {len(segs)} segments but {len(self.features)} feature names")
         if len(segs) == 1 and isinstance(segs[0], Circle):
             return
         for a, b in zip(segs, segs[1:] + segs[:1]):
@@ -235,8 +283,9 @@ class Loop:
 
     def sample(self, max_step_mm: float = 0.05) -> np.ndarray:
         """Closed polyline (first point not repeated), shape (n, 2), mm."""
-        if isinstance(self.segments[0], Circle):
-            return self.segments[0].sample(max_step_mm)[:-1]
+        if self.is_circle:
+            (circle,) = self.segments
+            return circle.sample(max_step_mm)[:-1]
         return np.vstack([s.sample(max_step_mm)[:-1] for s in self.segments])
 
     def signed_area(self, max_step_mm: float = 0.01) -> float:
@@ -247,8 +296,38 @@ class Loop:
         """
         return sum(_area_term(s, max_step_mm) for s in self.segments)
 
-    def rotated(self, angle: float) -> "Loop":
-        return Loop(tuple(s.rotated(angle) for s in self.segments))
+    def rotated(self, angle: float, index_shift: int = 0) -> "Loop":
+        """The loop turned by ``angle`` (rad); feature indices shifted by ``index_shift``."""
+        return Loop(tuple(s.rotated(angle) for s in self.segments),
+                    tuple(f.reindexed(index_shift) for f in self.features))
+
+    @property
+    def is_circle(self) -> bool:
+        """True for a loop that is one full circle (a round hole)."""
+        match self.segments:
+            case (Circle(),):
+                return True
+        return False
+
+    def named(self, kind: str, index: int | None = None, side: str | None = None) -> tuple:
+        """The segments whose feature matches (``None`` matches any index or side), in loop order.
+
+        Raises:
+            KeyError: the loop has no such feature.
+        """
+        out = tuple(s for s, f in zip(self.segments, self.features)
+                    if f.kind == kind and (index is None or f.index == index)
+                    and (side is None or f.side == side))
+        if not out:
+            raise KeyError(f"loop has no feature {kind!r}"
+                           + (f" index {index}" if index is not None else "")
+                           + (f" side {side!r}" if side else "")
+                           + f"; it has {sorted({f.kind for f in self.features})}")
+        return out
+
+    def indices(self, index: int) -> tuple[int, ...]:
+        """Positions of the segments of repeat ``index`` (for builders and labellers)."""
+        return tuple(i for i, f in enumerate(self.features) if f.index == index)
 
     @property
     def n_arcs(self) -> int:
@@ -261,6 +340,37 @@ class Profile:
 
     outer: Loop
     holes: tuple[Loop, ...] = field(default_factory=tuple)
+    names: tuple[str, ...] = ()
+    """Name of each loop, outer first (``()`` for an unnamed profile)."""
+
+    def __post_init__(self):
+        if self.names and len(self.names) != 1 + len(self.holes):
+            raise ValueError(f"profile has {1 + len(self.holes)} loops but {len(self.names)} names")
+
+    def loop(self, name: str) -> Loop:
+        """The loop called ``name``.
+
+        Raises:
+            KeyError: no loop has that name.
+        """
+        for n, lp in zip(self.names, self.loops):
+            if n == name:
+                return lp
+        raise KeyError(f"profile has no loop {name!r}; it has {list(self.names)}")
+
+    def loops_named(self, prefix: str) -> tuple[Loop, ...]:
+        """Every loop whose name is ``prefix`` or starts with ``prefix:`` (e.g. all ``hole:j``)."""
+        return tuple(lp for n, lp in zip(self.names, self.loops)
+                     if n == prefix or n.startswith(prefix + ":"))
+
+    def with_loops(self, prefix: str, loops: tuple[Loop, ...]) -> "Profile":
+        """The profile with its ``prefix:j`` hole loops replaced by ``loops`` (named ``prefix:0..``)."""
+        keep = [(n, lp) for n, lp in zip(self.names[1:], self.holes)
+                if not (n == prefix or n.startswith(prefix + ":"))]
+        new = [(f"{prefix}:{j}", lp) for j, lp in enumerate(loops)]
+        items = keep + new
+        return Profile(self.outer, tuple(lp for _, lp in items),
+                       (self.names[0], *(n for n, _ in items)))
 
     def area_mm2(self, max_step_mm: float = 0.01) -> float:
         return abs(self.outer.signed_area(max_step_mm)) - sum(

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from springcad.design import flexure as fx
-from springcad.design.curves import Arc, Circle, Loop, Profile, Spline, chain
+from springcad.design.curves import Arc, Circle, Feature, Loop, Profile, Spline, named
 from springcad.errors import DesignError
 
 
@@ -76,7 +76,11 @@ def _solve(f, start, stop, what, step=0.02):
 
 
 def _flexure_unit(d) -> tuple:
-    """Segments of flexure 0 from the right root fillet to the left root fillet."""
+    """Segments of flexure 0 from the right root fillet to the left root fillet, and their names.
+
+    Returns:
+        (segments, features, right root point on the rim, left root point on the rim).
+    """
     rc, rr, rb = d.contact_radius_mm, d.root_radius_mm, d.tip_radius_mm
     rn, rf = d.neck_fillet_radius_mm, d.root_fillet_radius_mm
     ball = np.array([0.0, rc])
@@ -119,15 +123,18 @@ def _flexure_unit(d) -> tuple:
     a_r = math.atan2(R["t_ball"][1] - rc, R["t_ball"][0])
     a_l = math.atan2(Lf["t_ball"][1] - rc, Lf["t_ball"][0])
     ball_arc = Arc((0.0, rc), rb, a_r, a_l - 2 * math.pi)
-    return chain(
-        fillet_arc(R["c_r"], rf, R["t_rim"], R["p_r"]),
-        right_edge,
-        fillet_arc(R["c_n"], rn, R["p_n"], R["t_ball"]),
-        ball_arc,
-        fillet_arc(Lf["c_n"], rn, Lf["t_ball"], Lf["p_n"]),
-        left_edge,
-        fillet_arc(Lf["c_r"], rf, Lf["p_r"], Lf["t_rim"]),
-    ), R["t_rim"], Lf["t_rim"]
+    segs, feats = named(
+        (Feature("root", 0, "right"), Feature("edge", 0, "right"), Feature("neck", 0, "right"),
+         Feature("ball", 0), Feature("neck", 0, "left"), Feature("edge", 0, "left"),
+         Feature("root", 0, "left")),
+        (fillet_arc(R["c_r"], rf, R["t_rim"], R["p_r"]),
+         right_edge,
+         fillet_arc(R["c_n"], rn, R["p_n"], R["t_ball"]),
+         ball_arc,
+         fillet_arc(Lf["c_n"], rn, Lf["t_ball"], Lf["p_n"]),
+         left_edge,
+         fillet_arc(Lf["c_r"], rf, Lf["p_r"], Lf["t_rim"])))
+    return segs, feats, R["t_rim"], Lf["t_rim"]
 
 
 def hole_diameter_mm(hardware) -> float:
@@ -170,18 +177,26 @@ def with_hole_circle(d, radius_mm: float):
             f"min_hole_edge_mm = {edge:g}; give the springs of a stack the same outer radius and "
             "similar rims, or smaller fasteners")
     holes = hole_centres_mm(d.n_flexures, len(d.hole_centres_mm), radius_mm)
-    loops = tuple(Loop((Circle(c, r_hole),)) for c in holes)
-    ring = Profile(d.ring.outer, (d.ring.holes[0], *loops))
+    ring = d.ring.with_loops("hole", _hole_loops(holes, r_hole))
     return dataclasses.replace(d, ring=ring, hole_centres_mm=holes)
+
+
+def _hole_loops(centres, radius_mm: float) -> tuple[Loop, ...]:
+    return tuple(Loop((Circle(c, radius_mm),), (Feature("hole", j),)) for j, c in enumerate(centres))
 
 
 def ring_profile(d) -> tuple[Profile, tuple, float]:
     """Build the flexure-ring profile of a :class:`~springcad.design.spring.SpringDesign`.
 
+    Loops are named ``"outer"``, ``"flexures"`` and ``"hole:j"``; the segments of
+    the flexure loop are named per flexure ``i``: ``root``, ``edge``, ``neck`` (each
+    with side ``right``/``left``), ``ball``, and ``rim`` (the root-circle arc from
+    flexure ``i`` to flexure ``i + 1``).
+
     Returns:
         (profile, hole centres (mm), hole diameter (mm)).
     """
-    unit, t_right, t_left = _flexure_unit(d)
+    unit, unit_features, t_right, t_left = _flexure_unit(d)
     n = d.n_flexures
     pitch = 2 * math.pi / n
     a_left = math.atan2(t_left[1], t_left[0])
@@ -190,10 +205,11 @@ def ring_profile(d) -> tuple[Profile, tuple, float]:
         raise DesignError(f"spring '{d.name}': root fillets of neighbouring flexures overlap at "
                           f"R_r = {d.root_radius_mm:.3g} mm; use fewer flexures or a smaller root fillet")
     rim_arc = Arc((0.0, 0.0), d.root_radius_mm, a_left, a_right_next)
-    segs = []
+    segs, feats = [], []
     for i in range(n):
         segs.extend(s.rotated(i * pitch) for s in (*unit, rim_arc))
-    inner = Loop(tuple(segs))
+        feats.extend(f.reindexed(i) for f in (*unit_features, Feature("rim", 0)))
+    inner = Loop(tuple(segs), tuple(feats))
     hw = d.hardware
     holes = ()
     hd = 0.0
@@ -201,6 +217,8 @@ def ring_profile(d) -> tuple[Profile, tuple, float]:
         hd = hole_diameter_mm(hw)
         holes = hole_centres_mm(n, min(hw.fastener_count, n),
                                 0.5 * (d.root_radius_mm + d.outer_radius_mm))
-    hole_loops = tuple(Loop((Circle(c, 0.5 * hd),)) for c in holes)
-    profile = Profile(Loop((Circle((0.0, 0.0), d.outer_radius_mm),)), (inner, *hole_loops))
+    hole_loops = _hole_loops(holes, 0.5 * hd)
+    profile = Profile(Loop((Circle((0.0, 0.0), d.outer_radius_mm),), (Feature("outer"),)),
+                      (inner, *hole_loops),
+                      ("outer", "flexures", *(f"hole:{j}" for j in range(len(hole_loops)))))
     return profile, holes, hd

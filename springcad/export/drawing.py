@@ -203,10 +203,10 @@ def _cam_views(sheet: Sheet, part):
     r_bore = 0.5 * part.bore_diameter
     sheet.dim_diameter(c, r_bore * s, 210, f"Ø{fmt(part.bore_diameter)} bore")
     if part.bore == "d_flat":
-        flat = next(seg for seg in prof.holes[0].segments if not hasattr(seg, "radius"))
+        flat, = prof.loop("bore").named("flat")
         y_flat = flat.start[1]
         sheet.dim_linear(c, v((0, y_flat)), 10.0, f"{fmt(abs(y_flat))} flat")
-    pocket = prof.outer.segments[1]
+    pocket, = prof.loop("teeth").named("pocket", 0)
     sheet.leader(v(pocket.point_at(-math.pi / 2)), v(pocket.point_at(-math.pi / 2)) + np.array([30, 40]),
                  f"R{fmt(pocket.radius)} pocket (gap {fmt(part.gap)} to tip)")
     steps = []

@@ -125,8 +125,9 @@ class Camshaft(SpringcadPart):
         if hub_length_mm:
             tag += f"-H{hub_length_mm:g}"
         tag += "-R" if bore == "round" else ""
-        bore_loop = spring.cam.holes[0] if bore == "d_flat" else circle_loop(0.5 * bore_diameter_mm)
-        teeth = Profile(spring.cam.outer, (bore_loop,))
+        bore_loop = (spring.cam.loop("bore") if bore == "d_flat"
+                     else circle_loop(0.5 * bore_diameter_mm))
+        teeth = Profile(spring.cam.loop("teeth"), (bore_loop,), ("teeth", "bore"))
         slabs = [Slab(0.0, toothed_length_mm, teeth)]
         if hub_length_mm:
             hub_outer = (d_loop(self.hub_radius, flat_ratio,

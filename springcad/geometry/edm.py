@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from springcad.design.curves import Circle, Profile
+from springcad.design.curves import Profile
 from springcad.geometry.sampling import material_on_left, sample_profile
 
 #: walk along the contour / straight distance above which two boundary points face each other
@@ -191,8 +191,7 @@ def hole_edge_rule(profile: Profile, min_edge_mm: float, describe) -> RuleResult
     from scipy.spatial import cKDTree
 
     loops = profile.loops
-    holes = [i for i, lp in enumerate(loops)
-             if i > 0 and len(lp.segments) == 1 and isinstance(lp.segments[0], Circle)]
+    holes = [i for i, lp in enumerate(loops) if i > 0 and lp.is_circle]
     if not holes:
         return RuleResult("hole_edge", min_edge_mm, None, None, ())
     pts = [lp.sample(CURVE_STEP_MM) for lp in loops]

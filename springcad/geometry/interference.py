@@ -319,9 +319,9 @@ def cam_clearance(ring_inst, cam_inst, sectors: int = 2) -> ClearanceResult:
     ring, cam = ring_inst.part, cam_inst.part
     n = ring.n_flexures
     r_lo, r_hi = ring.contact_radius - 2 * ring.tip_radius - 0.2, cam.tip_radius + 0.3
-    rp = _tip_zone(ring_inst.placement.map_xy(ring.spring.ring.holes[0].sample(TIP_STEP_MM)),
+    rp = _tip_zone(ring_inst.placement.map_xy(ring.spring.ring.loop("flexures").sample(TIP_STEP_MM)),
                    r_lo, r_hi)
-    cp = _tip_zone(cam_inst.placement.map_xy(cam.info.cut_profile.outer.sample(TIP_STEP_MM)),
+    cp = _tip_zone(cam_inst.placement.map_xy(cam.info.cut_profile.loop("teeth").sample(TIP_STEP_MM)),
                    r_lo, r_hi)
     d, _ = cKDTree(cp).query(rp)
     k = int(np.argmin(d))

@@ -80,7 +80,7 @@ def test_dxf_spline_is_the_design_spline(ring_s1):
     """The written B-spline passes through the design's fit points with its end tangents."""
     from scipy.interpolate import BSpline
 
-    seg = next(s for s in ring_s1.spring.ring.holes[0].segments if hasattr(s, "points"))
+    seg = next(s for s in ring_s1.spring.ring.loop("flexures").segments if hasattr(s, "points"))
     knots, ctrl = spline_bspline(seg)
     b = BSpline(knots, ctrl, 3)
     u = seg.parameters()

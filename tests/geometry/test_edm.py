@@ -92,8 +92,9 @@ def test_s1_ring_against_its_design(ring_s1):
     # the flexure is thinnest where its edges meet the neck fillets: no wider than the
     # distance between the two tangency points; the design keeps that web at
     # at least 1.002 x min_web_mm (smooth maximum), so the 0.4 mm rule holds
-    unit = s.ring.holes[0].segments
-    neck = math.dist(unit[1].end, unit[5].start)
+    flexures = s.ring.loop("flexures")
+    neck = math.dist(flexures.named("edge", 0, "right")[-1].end,
+                     flexures.named("edge", 0, "left")[0].start)
     web = res["min_web"]
     assert 0.9 * neck <= web.value_mm <= neck + 1e-3
     assert web.passed and 1.0 < web.value_mm / s.manufacturing.min_web_mm < 1.1
