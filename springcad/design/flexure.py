@@ -31,6 +31,21 @@ def constant_stress_width_mm(y_mm, load_N: float, contact_radius_mm: float,
     return np.sqrt(6.0 * load_N * arm / (thickness_mm * stress_MPa))
 
 
+def root_flare_factor(y_mm, root_radius_mm: float, flare: float, flare_length_mm: float):
+    """Width factor of the root flare: 1 below the flare zone, 1 + ``flare`` at the root (-).
+
+    The flexure widens over the last ``flare_length_mm`` before the root circle with a
+    smootherstep (C2: the edge keeps a continuous curvature, so the flare itself adds
+    no stress raiser). The flare lowers the bending stress where the root fillet and
+    the root-zone bend concentrate it.
+    """
+    y = np.asarray(y_mm, dtype=float)
+    if flare <= 0.0 or flare_length_mm <= 0.0:
+        return np.ones_like(y)
+    q = np.clip((y - (root_radius_mm - flare_length_mm)) / flare_length_mm, 0.0, 1.0)
+    return 1.0 + flare * q ** 3 * (10.0 + q * (6.0 * q - 15.0))
+
+
 def straight_limit_rad(n_flexures: int, thickness_mm: float, stress_MPa: float,
                        length_mm: float, youngs_modulus_MPa: float,
                        stiffness_Nmm_per_rad: float, contact_radius_mm: float) -> float:

@@ -43,9 +43,15 @@ class _Edge:
         left the neck fillet meeting the edge at a re-entrant kink (a stress
         singularity found by the FEA convergence study).
         """
-        p = self.points([y])[0]
-        t = self.tangent_up(y)
-        return p, self.side * np.array([t[1], -t[0]])
+        p, n = self.point_normals(np.array([y], dtype=float))
+        return p[0], n[0]
+
+    def point_normals(self, ys, h: float = 1e-6):
+        """:meth:`point_normal` at many stations: points and normals, shape (m, 2) each."""
+        ys = np.asarray(ys, dtype=float)
+        t = self.points(ys + h) - self.points(ys - h)
+        t /= np.linalg.norm(t, axis=1)[:, None]
+        return self.points(ys), self.side * np.column_stack([t[:, 1], -t[:, 0]])
 
     def points(self, ys):
         ys = np.asarray(ys, dtype=float)
@@ -59,20 +65,64 @@ class _Edge:
 
 
 def _solve(f, start, stop, what, step=0.02):
-    """First root of f met when scanning from ``start`` toward ``stop`` (mm)."""
+    """First root of f met when scanning from ``start`` toward ``stop`` (mm).
+
+    ``f`` takes an array of stations and returns an array: the scan is one call.
+    """
     from springcad.design.numeric import find_root
 
-    n = max(2, int(abs(stop - start) / step) + 1)
+    n = min(max(2, int(abs(stop - start) / step) + 1), 20001)
     grid = np.linspace(start, stop, n)
-    prev = f(grid[0])
-    for a, b in zip(grid[:-1], grid[1:]):
-        cur = f(b)
-        if prev == 0.0:
-            return a
-        if prev * cur < 0:
-            return find_root(f, min(a, b), max(a, b), xtol=1e-12)
-        prev = cur
-    raise DesignError(what)
+    vals = f(grid)
+    if vals[0] == 0.0:
+        return float(grid[0])
+    change = np.flatnonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)
+    if not len(change):
+        raise DesignError(what)
+    a, b = grid[change[0]], grid[change[0] + 1]
+    return find_root(lambda v: float(f(np.array([v]))[0]), min(a, b), max(a, b), xtol=1e-12)
+
+
+def _root_station(d, edge: "_Edge") -> float:
+    """Station y (mm) where the root fillet meets this flexure edge (tangent point)."""
+    rc, rr, rf = d.contact_radius_mm, d.root_radius_mm, d.root_fillet_radius_mm
+
+    def root(y):
+        p, n = edge.point_normals(y)
+        return np.linalg.norm(p + rf * n, axis=1) - (rr - rf)
+
+    return _solve(root, rr + d.rim_thickness_mm, rc + 0.5 * (rr - rc),
+                  f"spring '{d.name}': the root fillet (r = {rf:.3g} mm) between the flexure edge "
+                  "and the rim cannot be placed")
+
+
+def _neck_station(d, edge: "_Edge") -> float:
+    """Station y (mm) where the neck fillet meets this flexure edge (tangent point)."""
+    rc, rr, rb, rn = (d.contact_radius_mm, d.root_radius_mm, d.tip_radius_mm,
+                      d.neck_fillet_radius_mm)
+    ball = np.array([0.0, rc])
+
+    def neck(y):
+        p, n = edge.point_normals(y)
+        return np.linalg.norm(p + rn * n - ball, axis=1) - (rb + rn)
+
+    return _solve(neck, rc + 1e-9, rc + 0.5 * (rr - rc),
+                  f"spring '{d.name}': the neck fillet (r = {rn:.3g} mm) between the tip ball and "
+                  "the flexure edge cannot be placed")
+
+
+def neck_tangent_stations_mm(d) -> tuple[float, float]:
+    """Stations y (mm) of the right and left neck-fillet tangent points on flexure 0."""
+    return _neck_station(d, _Edge(d, +1)), _neck_station(d, _Edge(d, -1))
+
+
+def root_tangent_stations_mm(d) -> tuple[float, float]:
+    """Stations y (mm) of the right and left root-fillet tangent points on flexure 0.
+
+    The same solve the profile uses, without building the profile: the stress
+    model (:mod:`springcad.design.stress`) evaluates the root there.
+    """
+    return _root_station(d, _Edge(d, +1)), _root_station(d, _Edge(d, -1))
 
 
 def _flexure_unit(d) -> tuple:
@@ -84,25 +134,12 @@ def _flexure_unit(d) -> tuple:
     rc, rr, rb = d.contact_radius_mm, d.root_radius_mm, d.tip_radius_mm
     rn, rf = d.neck_fillet_radius_mm, d.root_fillet_radius_mm
     ball = np.array([0.0, rc])
-    y_hi = rr + d.rim_thickness_mm
     parts = {}
     for side in (+1, -1):
         e = _Edge(d, side)
 
-        def neck(y):
-            p, n = e.point_normal(y)
-            return np.linalg.norm(p + rn * n - ball) - (rb + rn)
-
-        def root(y):
-            p, n = e.point_normal(y)
-            return np.linalg.norm(p + rf * n) - (rr - rf)
-
-        y_n = _solve(neck, rc + 1e-9, rc + 0.5 * (rr - rc),
-                     f"spring '{d.name}': the neck fillet (r = {rn:.3g} mm) between the tip ball and "
-                     "the flexure edge cannot be placed")
-        y_r = _solve(root, y_hi, rc + 0.5 * (rr - rc),
-                     f"spring '{d.name}': the root fillet (r = {rf:.3g} mm) between the flexure edge "
-                     "and the rim cannot be placed")
+        y_n = _neck_station(d, e)
+        y_r = _root_station(d, e)
         if y_r <= y_n:
             raise DesignError(f"spring '{d.name}': neck and root fillets overlap; the flexure is too short")
         p_n, n_n = e.point_normal(y_n)

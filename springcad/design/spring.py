@@ -85,6 +85,10 @@ class SpringDesign:
     values; ``width_mm`` and the ring profile include the factor."""
     width_offset_mm: float = 0.0
     """Outward offset of every flexure edge and of the tip ball (a profile error, mm)."""
+    root_flare: float = 0.0
+    """Relative width added at the root (0.2 = 20 % wider), faded in over ``root_flare_length_mm``."""
+    root_flare_length_mm: float = 0.0
+    """Length of the root flare zone, from the root circle towards the tip (mm)."""
 
     # ------------------------------------------------------------- predictions
     @property
@@ -126,6 +130,7 @@ class SpringDesign:
         web = 1.002 * self.manufacturing.min_web_mm
         eps = 0.1 * web
         w = 0.5 * (w + web + np.sqrt((w - web) ** 2 + eps ** 2))
+        w = w * fx.root_flare_factor(y, self.root_radius_mm, self.root_flare, self.root_flare_length_mm)
         return self.width_scale * w + 2.0 * self.width_offset_mm
 
     def beam_stiffness_Nmm_per_rad(self, width_offset_mm: float = 0.0,
@@ -300,6 +305,31 @@ def _predictions_and_profiles(d: SpringDesign) -> SpringDesign:
     return _replace(d, cam=cam, cam_tip_radius_mm=info.tip_radius_mm,
                     cam_root_radius_mm=info.root_radius_mm, cam_overtravel=info.overtravel,
                     warnings=tuple(dict.fromkeys(d.warnings + info.warnings)))
+
+
+def with_root(design: SpringDesign, flare: float, flare_length_mm: float | None = None,
+              root_fillet_radius_mm: float | None = None) -> SpringDesign:
+    """The spring with another root shape, its widths rescaled back onto the beam stiffness.
+
+    Args:
+        flare: relative width added at the root (:func:`flexure.root_flare_factor`).
+        flare_length_mm: length of the flare zone (mm); default: the design's, or the
+            root zone (twice the rim thickness) when it has none.
+        root_fillet_radius_mm: root fillet radius (mm); default: unchanged.
+
+    Raises:
+        DesignError: the new flexures break the neighbour clearance or the concave
+            edge radius (:func:`with_width`).
+    """
+    length = (flare_length_mm if flare_length_mm is not None
+              else design.root_flare_length_mm or 2.0 * design.rim_thickness_mm)
+    d = _replace(design, root_flare=flare, root_flare_length_mm=length,
+                 root_fillet_radius_mm=(root_fillet_radius_mm if root_fillet_radius_mm is not None
+                                        else design.root_fillet_radius_mm))
+    target = design.beam_stiffness_Nmm_per_rad()
+    for _ in range(3):  # K ~ scale^3 away from the fixed tip web
+        d = _replace(d, width_scale=d.width_scale * (target / d.beam_stiffness_Nmm_per_rad()) ** (1 / 3))
+    return with_width(d, 1.0, d.width_offset_mm)
 
 
 def with_width_scale(design: SpringDesign, scale: float) -> SpringDesign:

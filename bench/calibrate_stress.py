@@ -1,0 +1,79 @@
+"""Re-fit the design-side stress model to FEA and write ``springcad/data/stress_calibration.json``.
+
+The calibration set: the springs of the bundled templates (paper S1 and S2, the
+default) and two more geometries (a thin, soft spring and a thick one with
+fewer flexures), each at root flares 0, 0.1, 0.2, 0.3, solved once in 2D.
+About 1-2 minutes on 2 cores.
+
+Run: python bench/calibrate_stress.py [--check]   (--check: fit and report, write nothing)
+"""
+
+from __future__ import annotations
+
+import argparse
+import copy
+import json
+import sys
+import tomllib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "springcad" / "data" / "stress_calibration.json"
+
+#: extra geometries: (label, template, overrides of its first spring)
+EXTRA = (
+    ("thin_soft", "default.toml", {"thickness_mm": 3.0, "stiffness_Nm_per_rad": 60.0,
+                                   "max_deflection_deg": 18.0}),
+    ("thick_few", "default.toml", {"thickness_mm": 6.0, "stiffness_Nm_per_rad": 250.0,
+                                   "max_deflection_deg": 12.0}),
+)
+
+
+def calibration_designs(flare_free: bool = True) -> dict:
+    """label -> SpringDesign of every calibration geometry (root flare 0)."""
+    from springcad.config import job_from_dict
+    from springcad.design.job import design_job
+    from springcad.design.spring import with_root
+
+    out = {}
+    cases = [(name, name, {}) for name in ("paper_S1.toml", "paper_S2.toml", "default.toml")]
+    for label, template, over in [*cases, *EXTRA]:
+        data = tomllib.loads((ROOT / "templates" / template).read_text())
+        data = copy.deepcopy(data)
+        first = next(iter(data["springs"]))
+        data["springs"][first].update(over)
+        data["stack"]["sequence"] = [first]
+        job = job_from_dict(data, label)
+        spring = next(iter(design_job(job).springs.values()))
+        out[label.removesuffix(".toml")] = with_root(spring, 0.0)
+    return out
+
+
+def main(argv=None) -> int:
+    from fea.calibrate import calibrate, calibration_rows
+    from springcad.design.stress import predict_row
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--check", action="store_true", help="fit and report, write nothing")
+    args = ap.parse_args(argv)
+
+    def progress(msg, frac):
+        print(f"[{100 * frac:3.0f} %] {msg}", file=sys.stderr, flush=True)
+
+    rows = calibration_rows(calibration_designs(), progress=progress)
+    cal = calibrate(rows)
+    print(json.dumps(cal.to_dict(), indent=2))
+    print(f"{'case':12s} {'flare':>5s} {'FEA peak':>9s} {'model':>7s} {'err %':>6s}  FEA region")
+    for r in rows:
+        m = predict_row(r, cal)
+        print(f"{r['case']:12s} {r['root_flare']:5.2f} {r['fea_peak_MPa']:9.0f} {m:7.0f} "
+              f"{100 * (m / r['fea_peak_MPa'] - 1):+6.1f}  {r['fea_peak_region']}")
+    if not args.check:
+        coefficients = {k: v for k, v in cal.to_dict().items()}
+        OUT.write_text(json.dumps({"coefficients": coefficients, "rows": rows}, indent=1) + "\n")
+        print(f"wrote {OUT}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,89 @@
+"""FEA calibration of the design-side stress model (:mod:`springcad.design.stress`).
+
+One calibration row is one spring geometry solved once in 2D (plane stress,
+quadratic triangles, the verification's mesh rules at a fixed level): the FEA
+peak von Mises by region next to the model's terms at the same load (the tip
+load of the FEA stiffness at the maximum deflection, so that a stiffness error
+does not leak into the stress fit). The set spans the templates' springs and
+root flares 0-0.3 (the range the design chooses from); :func:`calibrate` fits
+the coefficients. ``bench/calibrate_stress.py`` writes the shipped file;
+``tests/fea/test_stress_calibration.py`` re-runs part of it.
+
+Units: mm, N, MPa.
+"""
+
+from __future__ import annotations
+
+from fea.geometry import sector_geometry
+from fea.mesh import fea_mesh_2d, mesh_face_levels
+from fea.problem import LoadCase, Material
+from fea.verify import DEFAULT_SIZE, solve_mesh
+
+#: root flares of the calibration set (the design chooses within this range)
+FLARES = (0.0, 0.1, 0.2, 0.3)
+#: mesh level of the calibration solves (the verification's level 2: K within ~0.1 %)
+LEVEL = 2
+
+
+def solve_2d(design, level: int = LEVEL):
+    """One 2D solve of the spring's sector at mesh ``level``: a :class:`~fea.results.StaticResult`."""
+    geometry = sector_geometry(design)
+    case = LoadCase()
+    faces = mesh_face_levels(geometry, DEFAULT_SIZE, level + 1,
+                             case.patch_half_width_mm(geometry.tip_radius_mm))
+    fm = fea_mesh_2d(faces[level], geometry, level)
+    return solve_mesh(fm, Material.from_spec(design.material), case, design.max_deflection_rad)
+
+
+def calibration_row(design, label: str = "", level: int = LEVEL) -> dict:
+    """FEA peaks and model terms of one spring geometry (see the module docstring)."""
+    from springcad.design import stress
+
+    res = solve_2d(design, level)
+    load = (res.stiffness_Nmm_per_rad * design.max_deflection_rad
+            / (design.n_flexures * design.contact_radius_mm))
+    terms = stress.root_terms(design, load)
+    root = max(terms, key=lambda t: t["nominal_MPa"] * t["curvature_factor"])
+    by_region = res.peak_by_region_MPa
+    return {
+        "case": label, "root_flare": design.root_flare, "n_flexures": design.n_flexures,
+        "load_N": load, "root_fillet_radius_mm": design.root_fillet_radius_mm,
+        "root_nominal_MPa": root["nominal_MPa"], "root_width_mm": root["width_mm"],
+        "root_curvature_factor": root["curvature_factor"],
+        "model_flank_MPa": max(t["flank_max_MPa"] for t in terms),
+        "neck_nominal_MPa": stress.neck_nominal_MPa(design, load),
+        "fea_root_MPa": by_region.get("root fillet", 0.0),
+        "fea_flank_MPa": by_region.get("flexure flank", 0.0),
+        "fea_neck_MPa": by_region.get("tip-neck fillet", 0.0),
+        "fea_peak_MPa": res.peak_von_mises_MPa, "fea_peak_region": res.peak_region,
+        "mesh_level": level, "dofs": res.dofs,
+    }
+
+
+def calibration_rows(designs: dict, flares=FLARES, level: int = LEVEL, progress=None) -> list[dict]:
+    """Rows for every (spring, flare) pair.
+
+    Args:
+        designs: label -> :class:`~springcad.design.spring.SpringDesign` (flare 0).
+        flares: root flares to impose (:func:`springcad.design.spring.with_root`).
+        level: mesh level.
+        progress: optional ``progress(message, fraction)`` callable.
+    """
+    from springcad.design.spring import with_root
+
+    rows = []
+    total = len(designs) * len(flares)
+    for i, (label, design) in enumerate(designs.items()):
+        for j, flare in enumerate(flares):
+            if progress:
+                progress(f"{label} flare {flare:g}", (i * len(flares) + j) / total)
+            d = with_root(design, flare)
+            rows.append(calibration_row(d, label, level))
+    return rows
+
+
+def calibrate(rows: list[dict]):
+    """Fitted :class:`~springcad.design.stress.StressCalibration` of the rows."""
+    from springcad.design.stress import fit_calibration
+
+    return fit_calibration(rows)

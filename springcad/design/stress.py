@@ -1,0 +1,231 @@
+"""Peak stress of the real flexure geometry, predicted on the design side.
+
+The flexure is sized as a constant-stress Euler-Bernoulli beam (nominal stress
+``sigma_nom(y) = 6 F (y - r_c) / (z w(y)^2)``), but the FEA of the real ring sees
+two raisers the beam does not:
+
+* **curvature** of the serpentine centreline: the concave edge of a curved beam
+  carries more than 6M/(z w^2). The Winkler-Bach factor of a rectangular
+  section (exact for a curved bar in pure bending) gives it from w and the
+  centreline curvature at each station;
+* the **root fillet** between the flexure edge and the rim.
+
+The prediction is
+
+    flank:  sigma = c_flank * max_y sigma_nom(y) * k_inner(w(y), kappa(y))
+    root:   sigma = sigma_nom(y_t) * a * (w(y_t) / r_f)^b * k_inner(y_t)^c
+
+on both edges, with y_t the station where the root fillet meets the edge. The
+coefficients ``c_flank, a, b, c`` come from the project's own 2D FEA runs over
+the templates' springs and root flares (``fea/calibrate.py`` writes
+``springcad/data/stress_calibration.json``; a test re-runs part of it). The
+neck fillet is predicted the same way as the root, with its own factor.
+
+Units: mm, N, MPa.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import math
+from dataclasses import asdict, dataclass
+from importlib import resources
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class StressCalibration:
+    """Coefficients of the stress model (dimensionless), fitted to FEA.
+
+    Attributes:
+        flank_factor: c_flank on the Winkler flank stress.
+        root_coefficient, root_width_exponent, root_curvature_exponent: a, b, c.
+        neck_factor: peak neck-fillet stress over the nominal stress at the neck.
+        max_error_pct: largest |prediction/FEA - 1| over the calibration set (%).
+        cases: number of FEA cases the fit used.
+    """
+
+    flank_factor: float
+    root_coefficient: float
+    root_width_exponent: float
+    root_curvature_exponent: float
+    neck_factor: float
+    max_error_pct: float = float("nan")
+    cases: int = 0
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+@functools.cache
+def calibration() -> StressCalibration:
+    """The shipped calibration (``springcad/data/stress_calibration.json``)."""
+    text = resources.files("springcad.data").joinpath("stress_calibration.json").read_text()
+    data = json.loads(text)
+    return StressCalibration(**data["coefficients"])
+
+
+@dataclass(frozen=True)
+class StressPrediction:
+    """Predicted peak von Mises stress of one flexure at the maximum deflection (MPa).
+
+    Attributes:
+        nominal_MPa: largest beam-theory stress 6M/(z w^2) along the flexure.
+        flank_MPa: curved-beam flank peak.
+        root_MPa: root-fillet peak.
+        neck_MPa: tip-neck fillet peak.
+        peak_MPa: the largest of the three.
+        region: where the peak is ("flexure flank", "root fillet", "tip-neck fillet").
+    """
+
+    nominal_MPa: float
+    flank_MPa: float
+    root_MPa: float
+    neck_MPa: float
+
+    @property
+    def peak_MPa(self) -> float:
+        return max(self.flank_MPa, self.root_MPa, self.neck_MPa)
+
+    @property
+    def region(self) -> str:
+        return max((self.flank_MPa, "flexure flank"), (self.root_MPa, "root fillet"),
+                   (self.neck_MPa, "tip-neck fillet"))[1]
+
+    def to_dict(self) -> dict:
+        return {"nominal_beam_MPa": self.nominal_MPa, "flank_MPa": self.flank_MPa,
+                "root_fillet_MPa": self.root_MPa, "neck_fillet_MPa": self.neck_MPa,
+                "peak_MPa": self.peak_MPa, "region": self.region}
+
+
+def winkler_factors(width_mm, curvature_per_mm):
+    """Inner and outer fibre stress over 6M/(z w^2) for a curved rectangular bar (-).
+
+    Winkler-Bach: neutral radius r_n = w / ln(r_o/r_i), eccentricity e = R - r_n,
+    sigma_i = M (r_n - r_i) / (A e r_i). Tends to (1, 1) for a straight bar.
+    """
+    w = np.asarray(width_mm, dtype=float)
+    kappa = np.abs(np.asarray(curvature_per_mm, dtype=float))
+    inner, outer = np.ones_like(w * kappa), np.ones_like(w * kappa)
+    curved = kappa * w > 1e-6
+    if np.any(curved):
+        wc = np.broadcast_to(w, inner.shape)[curved]
+        R = 1.0 / np.broadcast_to(kappa, inner.shape)[curved]
+        ri, ro = R - 0.5 * wc, R + 0.5 * wc
+        ri = np.maximum(ri, 1e-9)
+        rn = wc / np.log(ro / ri)
+        e = R - rn
+        nominal = 6.0 / wc ** 2
+        inner[curved] = (rn - ri) / (wc * e * ri) / nominal
+        outer[curved] = (ro - rn) / (wc * e * ro) / nominal
+    return inner, outer
+
+
+def edge_stress_MPa(design, load_N: float, stations: int = 1500):
+    """Nominal and curved-beam stress along both edges of flexure 0.
+
+    Returns:
+        (y (mm), nominal (MPa), right edge (MPa), left edge (MPa)), arrays of ``stations``.
+    """
+    rc = design.contact_radius_mm
+    y = np.linspace(rc, design.root_radius_mm, stations)
+    _, dx, ddx = design.centreline.evaluate(y)
+    kappa = ddx / (1.0 + dx ** 2) ** 1.5
+    w = np.asarray(design.width_mm(y))
+    nominal = 6.0 * load_N * (y - rc) / (design.thickness_mm * w ** 2)
+    inner, outer = winkler_factors(w, kappa)
+    # centreline normal points to +x (right); x'' > 0 bends towards +x: the right edge is inner
+    right = nominal * np.where(kappa > 0, inner, outer)
+    left = nominal * np.where(kappa > 0, outer, inner)
+    return y, nominal, right, left
+
+
+def predict(design, load_N: float | None = None,
+            cal: StressCalibration | None = None) -> StressPrediction:
+    """Predicted peak stresses of a :class:`~springcad.design.spring.SpringDesign`.
+
+    Args:
+        design: the spring (its centreline, width law, root fillet and flare).
+        load_N: tip load (N); default the beam load at the maximum deflection.
+        cal: coefficients; default the shipped :func:`calibration`.
+    """
+    cal = cal or calibration()
+    rc = design.contact_radius_mm
+    if load_N is None:
+        load_N = (design.stiffness_beam_Nmm_per_rad * design.max_deflection_rad
+                  / (design.n_flexures * rc))
+    terms = root_terms(design, load_N)
+    root = max(_root_model(t["nominal_MPa"], t["width_mm"], design.root_fillet_radius_mm,
+                           t["curvature_factor"], cal) for t in terms)
+    flank = max(t["flank_max_MPa"] for t in terms)
+    _, nominal, _, _ = edge_stress_MPa(design, load_N)
+    neck = cal.neck_factor * neck_nominal_MPa(design, load_N)
+    return StressPrediction(nominal_MPa=float(np.max(nominal)), flank_MPa=cal.flank_factor * flank,
+                            root_MPa=float(root), neck_MPa=float(neck))
+
+
+def neck_nominal_MPa(design, load_N: float) -> float:
+    """Beam stress 6 F (y_n - r_c) / (z w^2) where the neck fillets meet the edges (MPa)."""
+    from springcad.design.ring import neck_tangent_stations_mm
+
+    y_n = np.asarray(neck_tangent_stations_mm(design))
+    w_n = np.asarray(design.width_mm(y_n))
+    return float(np.max(6.0 * load_N * (y_n - design.contact_radius_mm)
+                        / (design.thickness_mm * w_n ** 2)))
+
+
+def root_terms(design, load_N: float) -> list[dict]:
+    """Per edge: the nominal stress, width and curvature factor at the root tangent station."""
+    from springcad.design.ring import root_tangent_stations_mm
+
+    y, nominal, right, left = edge_stress_MPa(design, load_N)
+    out = []
+    for y_t, edge in zip(root_tangent_stations_mm(design), (right, left)):
+        k = int(np.clip(np.searchsorted(y, y_t), 0, len(y) - 1))
+        # the fillet feels the bend just before it: the largest curved-beam factor within
+        # one fillet radius of the tangent station
+        near = (y >= y[k]) & (y <= y_t + design.root_fillet_radius_mm)
+        factor = float(np.max(edge[near] / nominal[near])) if np.any(near) else 1.0
+        out.append({"station_mm": float(y[k]), "nominal_MPa": float(nominal[k]),
+                    "width_mm": float(design.width_mm(y[k])), "curvature_factor": factor,
+                    "flank_max_MPa": float(np.max(edge[: k + 1]))})
+    return out
+
+
+def fit_calibration(rows: list[dict]) -> StressCalibration:
+    """Fit the coefficients to FEA rows (see ``fea/calibrate.py`` for the row keys).
+
+    Root: least squares of log(sigma_fea / sigma_nom) on log(w/r_f) and log(k_inner).
+    Flank and neck: the mean ratio FEA / model. Deterministic.
+    """
+    X, Y, flank, neck = [], [], [], []
+    for r in rows:
+        X.append([1.0, math.log(r["root_width_mm"] / r["root_fillet_radius_mm"]),
+                  math.log(r["root_curvature_factor"])])
+        Y.append(math.log(r["fea_root_MPa"] / r["root_nominal_MPa"]))
+        flank.append(r["fea_flank_MPa"] / r["model_flank_MPa"])
+        neck.append(r["fea_neck_MPa"] / r["neck_nominal_MPa"])
+    coef, *_ = np.linalg.lstsq(np.asarray(X), np.asarray(Y), rcond=None)
+    cal = StressCalibration(flank_factor=float(np.median(flank)),
+                            root_coefficient=float(math.exp(coef[0])),
+                            root_width_exponent=float(coef[1]),
+                            root_curvature_exponent=float(coef[2]),
+                            neck_factor=float(np.max(neck)), cases=len(rows))
+    errors = [abs(predict_row(r, cal) / r["fea_peak_MPa"] - 1.0) for r in rows]
+    return StressCalibration(**{**cal.to_dict(), "max_error_pct": 100.0 * max(errors)})
+
+
+def _root_model(nominal_MPa, width_mm, fillet_radius_mm, curvature_factor, cal) -> float:
+    return (nominal_MPa * cal.root_coefficient
+            * (width_mm / fillet_radius_mm) ** cal.root_width_exponent
+            * max(curvature_factor, 1e-9) ** cal.root_curvature_exponent)
+
+
+def predict_row(row: dict, cal: StressCalibration) -> float:
+    """The model's peak for one calibration row (MPa)."""
+    root = _root_model(row["root_nominal_MPa"], row["root_width_mm"],
+                       row["root_fillet_radius_mm"], row["root_curvature_factor"], cal)
+    return max(root, cal.flank_factor * row["model_flank_MPa"],
+               cal.neck_factor * row["neck_nominal_MPa"])
