@@ -5,8 +5,9 @@ face that is meshed is the one the design produced, not a polyline.
 
 Frame: flexure 0 lies along +y, its tip-ball centre at ``(0, r_c)``; the cam
 pushes the tip towards -x (counter-clockwise torque about +z). The sector is
-the material of flexure 0 plus the rim wedge between the radial lines at
-``pi/2 -+ pi/N``; neighbouring flexures never reach into the wedge's rim part,
+the material of flexure 0 plus the rim wedge between the radial lines through
+the middles of the rim arcs on either side of it (``pi/2 -+ pi/N`` for a
+flexure whose root lines up with its tip); neighbouring flexures never reach into the wedge's rim part,
 and inside the root circle each flexure is a separate body, so the sector is
 exactly one repeating unit of the ring, however far a serpentine flexure
 wanders sideways.
@@ -78,6 +79,8 @@ class RingGeometry:
     """Flexure width at each centreline sample, shape (m,) (mm)."""
     fillets_mm: tuple[tuple[float, float, float, str], ...]
     """Flexure-0 fillets and tip ball as (x, y, radius, kind), kind "root", "neck" or "ball"."""
+    side_angles_rad: tuple[float, ...]
+    """Polar angles of the sector's two cuts (right, left); ``()`` for the full ring."""
     labels: tuple[tuple[str, ...], ...]
     """Boundary label of every segment of every profile loop (outer first): "clamp"
     (outer circle), "side" (sector cut), "rim" (root circle), "hole:j", and
@@ -160,7 +163,11 @@ def sector_geometry(design) -> RingGeometry:
     body = [flexures.segments[i] for i in own]
     body_labels = [_label(flexures.features[i]) for i in own]
     ro, rr = design.outer_radius_mm, design.root_radius_mm
-    a_r, a_l = math.pi / 2 - math.pi / n, math.pi / 2 + math.pi / n
+    # the sector sides cut the middle of the rim arcs on either side of flexure 0: a swept
+    # flexure whose root sits off its tip's radial line still gets a whole repeating unit
+    mid = 0.5 * (rim_before.start_angle + rim_before.end_angle)
+    a_r = mid + 2 * math.pi * round((math.pi / 2 - math.pi / n - mid) / (2 * math.pi))
+    a_l = a_r + 2 * math.pi / n
     a_r2 = _angle_in(rim_before, a_r)
     a_l2 = _angle_in(rim_after, a_l)
 
@@ -178,7 +185,7 @@ def sector_geometry(design) -> RingGeometry:
         raise MeshingError(f"spring '{design.name}': sector loop is not counter-clockwise")
     labels = ("clamp", "side", "rim", *reversed(body_labels), "rim", "side")
     return RingGeometry(profile=profile, sector=True, hole_centres_mm=(), hole_radius_mm=0.0,
-                        labels=(labels,),
+                        labels=(labels,), side_angles_rad=(a_r, a_l),
                         flexure_angles_rad=(math.pi / 2,), **_common(design))
 
 
@@ -195,7 +202,7 @@ def ring_geometry(design, holes: bool = True) -> RingGeometry:
     inner = tuple(_label(f) for f in flexures.features)
     holes_l = tuple((f"hole:{j}",) for j in range(len(hole_loops)))
     return RingGeometry(
-        profile=prof, sector=False, labels=(("clamp",), inner, *holes_l),
+        profile=prof, sector=False, labels=(("clamp",), inner, *holes_l), side_angles_rad=(),
         hole_centres_mm=tuple(design.hole_centres_mm) if holes else (),
         hole_radius_mm=0.5 * design.hole_diameter_mm if holes else 0.0,
         flexure_angles_rad=tuple(math.pi / 2 + 2 * math.pi * i / n for i in range(n)),

@@ -802,8 +802,10 @@ def label_by_position(mesh, geometry, tol_mm: float = 1e-3) -> dict:
         labels[(np.abs(d - g.hole_radius_mm) < max(tol, 0.05 * g.hole_radius_mm)) & ~zfaces] = \
             f"hole:{j}"
     if g.sector:
-        ang = np.arctan2(mid[1], mid[0]) - math.pi / 2
-        on_side = np.abs(np.abs(ang) - g.half_pitch_rad) * r < tol
+        ang = np.arctan2(mid[1], mid[0])
+        on_side = np.zeros(len(r), dtype=bool)
+        for a in g.side_angles_rad:
+            on_side |= np.abs((ang - a + math.pi) % (2 * math.pi) - math.pi) * r < tol
         labels[on_side & (r > g.root_radius_mm - tol) & ~zfaces] = "side"
     keep = labels != ""
     return _group(labels[keep].astype(str), bf[keep])

@@ -74,7 +74,9 @@ class VerifyOptions:
             the 2D study uses levels 1..levels).
         case: supports and cam load (:class:`~fea.problem.LoadCase`).
         tolerance: accepted |K_fea / K_target - 1| (-).
-        max_iterations: correction iterations before giving up.
+        max_iterations: stiffness correction iterations before giving up.
+        max_stress_passes: redesigns at a lower beam stress when the FEA peak misses the
+            required yield margin (each followed by stiffness correction).
         correct: run the correction loop (False: verify the design as is).
         keep_fields: keep displacement/stress fields of the final meshes for output.
         support_study: also solve the full ring with its rim holes held at the outer
@@ -92,6 +94,7 @@ class VerifyOptions:
     case: LoadCase = LoadCase()
     tolerance: float = 0.01
     max_iterations: int = 4
+    max_stress_passes: int = 3
     correct: bool = True
     keep_fields: bool = True
     support_study: bool = False
@@ -332,9 +335,9 @@ class SpringVerification:
             out.append(
                 f"spring {self.name}: peak von Mises {self.peak_von_mises_MPa:.0f} MPa at the "
                 f"{r.peak_region} gives a yield margin {self.yield_margin:.3f} below the required "
-                f"{self.required_safety_factor:.3g}; width scaling cannot fix this at the target "
-                "stiffness (stress ~ width): enlarge the root fillet or rim, lower "
-                "design_stress_MPa, or lower the deflection")
+                f"{self.required_safety_factor:.3g} after the stress correction (see the "
+                "correction iterations and notes): lower design_stress_MPa, thicken the disk "
+                "or lower the deflection")
         return out
 
     def to_dict(self) -> dict:
@@ -447,6 +450,7 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
     notes: list[str] = []
     previous = None  # run whose 3D factors are carried between 3D checks
     k = 0
+    stress_passes = 0
     while True:
         progress(f"spring {design.name}: iteration {k} (width scale {design.width_scale:.5f})",
                  None)
@@ -464,11 +468,33 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
         if with_3d and run.check3d:
             previous = run
         err = K / target - 1.0
+        margin = material.yield_strength_MPa / run.peak_stress_MPa
+        required = design.material.safety_factor
+        if (done and options.correct and margin < required
+                and stress_passes < options.max_stress_passes):
+            # K is right but the real geometry is over-stressed: redesign at a lower beam
+            # stress (the raisers scale with it), then correct K again
+            stress_passes += 1
+            derating = design.stress_derating * margin / required * 0.995
+            iterations.append(_iteration_record(
+                k, design, run, target, f"redesign at beam stress "
+                f"{design.material.design_stress_MPa * derating:.0f} MPa (yield margin "
+                f"{margin:.3f} < {required:g})"))
+            try:
+                from springcad.design.spring import with_stress_derating
+
+                design = with_stress_derating(design, derating)
+            except DesignError as exc:
+                notes.append(f"stress correction stopped: {exc}")
+                break
+            previous = None
+            k += 1
+            continue
         if done or not options.correct:
             iterations.append(_iteration_record(k, design, run, target,
                                                 "accepted" if done else "not corrected"))
             break
-        if k >= options.max_iterations:
+        if k >= options.max_iterations + stress_passes:
             iterations.append(_iteration_record(k, design, run, target, "stopped"))
             notes.append(f"correction stopped after {k} iterations at {100 * err:+.2f} % "
                          f"from the target")

@@ -31,7 +31,9 @@ def straight():
 
 
 def test_straight_flexure_meets_closed_form(straight):
-    s = straight
+    from springcad.design.spring import with_root
+
+    s = with_root(straight, 0.0)  # the closed form holds for the plain width law (no root flare)
     assert s.flexure == "straight" and s.width_law == "stiffness"
     E, z, L = 200e3, 4.5, s.length_mm
     k_closed = s.n_flexures * s.contact_radius_mm ** 2 * E * z * s.root_width_mm ** 3 / (8 * L ** 3)
@@ -152,3 +154,18 @@ def test_width_hooks_follow_beam_theory(paper_designs):
     assert off.tip_radius_mm == pytest.approx(0.32)
     with pytest.raises(DesignError, match="to their neighbours"):
         with_width(s, 1.3)
+
+
+def test_root_flare_is_the_lowest_predicted_peak(straight, paper_designs):
+    """The chosen root flare predicts no higher a peak than any other flare of the list."""
+    from springcad.design import stress
+    from springcad.design.spring import ROOT_FLARES, FLARE_GAIN, _with_flare
+
+    for s in (straight, paper_designs["paper_S1"].springs["S1"]):
+        peaks = {f: stress.predict(_with_flare(s, f)).peak_MPa for f in ROOT_FLARES}
+        assert s.predicted_peak_stress_MPa <= min(peaks.values()) * (1 + FLARE_GAIN) + 1e-6
+        assert s.stiffness_beam_Nmm_per_rad == pytest.approx(s.target_stiffness_Nmm_per_rad, rel=1e-3)
+    # S1's root flare lowers the predicted root-fillet stress below the flat root's
+    s1 = paper_designs["paper_S1"].springs["S1"]
+    assert s1.root_flare > 0
+    assert stress.predict(s1).root_MPa < stress.predict(_with_flare(s1, 0.0)).root_MPa

@@ -23,6 +23,7 @@ import functools
 import math
 from dataclasses import dataclass, field
 from dataclasses import replace as _replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -31,6 +32,9 @@ from springcad.design import flexure as fx
 from springcad.design.curves import Profile
 from springcad.errors import DesignError
 from springcad.units import J_PER_NMM, MM3_PER_CM3, NMM_PER_NM
+
+if TYPE_CHECKING:
+    from springcad.design.stress import StressPrediction
 
 #: gap between flexure roots over rim thickness (reference rim rule, eq. 8)
 RIM_GAP_RATIO = 1.5
@@ -89,6 +93,12 @@ class SpringDesign:
     """Relative width added at the root (0.2 = 20 % wider), faded in over ``root_flare_length_mm``."""
     root_flare_length_mm: float = 0.0
     """Length of the root flare zone, from the root circle towards the tip (mm)."""
+    stress_derating: float = 1.0
+    """Beam stress used to size the flexures over the configured design stress (-): below 1
+    when the predicted peak of the real geometry needed a lower beam stress to keep the
+    required yield margin (:func:`design_spring`)."""
+    stress: "StressPrediction | None" = None
+    """Predicted peak stresses of the real geometry (:mod:`springcad.design.stress`)."""
 
     # ------------------------------------------------------------- predictions
     @property
@@ -108,7 +118,23 @@ class SpringDesign:
         return self.stiffness_beam_Nmm_per_rad * self.max_deflection_rad
 
     @property
+    def beam_stress_MPa(self) -> float:
+        """Stress the constant-stress width law is sized to (MPa)."""
+        return self.material.design_stress_MPa * self.stress_derating
+
+    @property
+    def predicted_peak_stress_MPa(self) -> float:
+        """Peak von Mises of the real geometry at the max deflection, predicted (MPa)."""
+        return self.stress.peak_MPa if self.stress is not None else self.peak_stress_MPa
+
+    @property
     def yield_margin(self) -> float:
+        """Yield strength over the *predicted* peak of the real geometry (-)."""
+        return self.material.material.yield_strength_MPa / self.predicted_peak_stress_MPa
+
+    @property
+    def yield_margin_beam(self) -> float:
+        """Yield strength over the nominal beam stress (-): not a safety margin."""
         return self.material.material.yield_strength_MPa / self.peak_stress_MPa
 
     @property
@@ -123,7 +149,7 @@ class SpringDesign:
                                              / self.length_mm)
         else:
             w = fx.constant_stress_width_mm(y, self.tip_load_N, self.contact_radius_mm,
-                                            self.thickness_mm, self.material.design_stress_MPa)
+                                            self.thickness_mm, self.beam_stress_MPa)
         # near the tip the constant-stress law tends to zero: keep the web the wire can leave,
         # with a smooth maximum (blend 0.1 x web) so the edge has no kink for the spline,
         # the kernel or the stress field; 0.2 % above the web far from the blend
@@ -212,9 +238,18 @@ class SpringDesign:
             "straight_limit_rad": self.straight_limit_rad,
             "peak_torque_Nm": self.peak_torque_Nmm / NMM_PER_NM,
             "torque_cap_Nm": self.torque_cap_Nmm / NMM_PER_NM,
-            "peak_stress_MPa": self.peak_stress_MPa,
+            "peak_stress_beam_MPa": self.peak_stress_MPa,
+            "peak_stress_predicted_MPa": self.predicted_peak_stress_MPa,
+            "peak_stress_region": self.stress.region if self.stress is not None else None,
+            "stress_prediction_MPa": self.stress.to_dict() if self.stress is not None else None,
             "design_stress_MPa": self.material.design_stress_MPa,
+            "beam_stress_MPa": self.beam_stress_MPa,
+            "stress_derating": self.stress_derating,
+            "required_yield_margin": self.material.safety_factor,
             "yield_margin": self.yield_margin,
+            "yield_margin_beam": self.yield_margin_beam,
+            "root_flare": self.root_flare,
+            "root_flare_length_mm": self.root_flare_length_mm,
             "n_flexures": self.n_flexures,
             "contact_radius_mm": self.contact_radius_mm,
             "root_radius_mm": self.root_radius_mm,
@@ -285,20 +320,22 @@ def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0)
 
 
 def _predictions_and_profiles(d: SpringDesign) -> SpringDesign:
-    """Beam stiffness and peak stress of the current widths, then the ring and cam profiles.
+    """Beam stiffness and stresses of the current widths, then the ring and cam profiles.
 
-    The flexure is a constant-stress beam, so the peak stress at the max deflection is
-    uniform along it: 6 F L / (z w_root^2). The cam is built last: it checks its gap
+    The nominal (beam) stress 6 M / (z w^2) is uniform along a constant-stress flexure;
+    the predicted peak of the real geometry adds curvature and the root fillet
+    (:func:`springcad.design.stress.predict`). The cam is built last: it checks its gap
     against the ring.
     """
     from springcad.design.cam import cam_profile
     from springcad.design.ring import ring_profile
 
+    from springcad.design import stress
+
     k = d.beam_stiffness_Nmm_per_rad()
-    load = k * d.max_deflection_rad / (d.n_flexures * d.contact_radius_mm)
-    w_root = float(d.width_mm(d.root_radius_mm))
-    d = _replace(d, stiffness_beam_Nmm_per_rad=k,
-                 peak_stress_MPa=6 * load * d.length_mm / (d.thickness_mm * w_root ** 2))
+    d = _replace(d, stiffness_beam_Nmm_per_rad=k)
+    prediction = stress.predict(d)
+    d = _replace(d, peak_stress_MPa=prediction.nominal_MPa, stress=prediction)
     ring, holes, hole_d = ring_profile(d)
     d = _replace(d, ring=ring, hole_centres_mm=holes, hole_diameter_mm=hole_d)
     cam, info = cam_profile(d)
@@ -449,15 +486,17 @@ def _choose_layout(spec: SpringSpec, sigma, E) -> _Layout:
 
 
 # --------------------------------------------------------------------- synthesis
-def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
-                  hardware: HardwareSpec) -> SpringDesign:
-    """Synthesise one spring: layout, flexure shape, predictions and exact profiles.
+def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
+               hardware: HardwareSpec, derating: float = 1.0) -> SpringDesign:
+    """Layout, flexure shape and width calibration at beam stress ``derating`` x design stress.
+
+    No root flare, no profiles yet (:func:`design_spring` adds both).
 
     Raises:
         DesignError: the spec cannot be met in its envelope (the message says why
             and what to change).
     """
-    sigma = material.design_stress_MPa
+    sigma = material.design_stress_MPa * derating
     E = material.material.youngs_modulus_MPa
     z, K, theta_d = spec.thickness_mm, spec.stiffness_Nmm_per_rad, spec.max_deflection_rad
     warnings: list[str] = []
@@ -543,11 +582,167 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
         area_ratio=ratio, min_neighbour_clearance_mm=clearance, rim_thickness_mm=t_rim,
         root_fillet_radius_mm=root_fillet, neck_fillet_radius_mm=neck_fillet,
         torque_cap_Nmm=fx.torque_cap_Nmm(rc, z, sigma), stiffness_beam_Nmm_per_rad=float("nan"),
-        peak_stress_MPa=float("nan"), warnings=tuple(warnings))
+        peak_stress_MPa=float("nan"), warnings=tuple(warnings), stress_derating=derating)
     # beam prediction of the generated centreline (Castigliano). The web kept at the tip
     # stiffens the ring by ~0.1-0.3 %: a width factor brings beam theory back onto the
     # target (K ~ scale^3; two passes because the web itself does not scale)
     for _ in range(2):
         k_beam = design.beam_stiffness_Nmm_per_rad()
         design = _replace(design, width_scale=design.width_scale * (K / k_beam) ** (1 / 3))
-    return _predictions_and_profiles(design)
+    return design
+
+
+# --------------------------------------------------------------------- stress-aware root
+#: root flares the design chooses from (the range the stress model is calibrated on)
+ROOT_FLARES = (0.0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3)
+#: a flare must lower the predicted peak by more than this to be preferred to a smaller one
+FLARE_GAIN = 0.005
+#: design passes at lower beam stress before the stress correction gives up
+STRESS_PASSES = 5
+
+
+def _with_flare(d: SpringDesign, flare: float) -> SpringDesign:
+    """``d`` with a root flare, widths rescaled back onto its beam stiffness; no profiles."""
+    target = d.beam_stiffness_Nmm_per_rad()
+    c = _replace(d, root_flare=flare, root_flare_length_mm=2.0 * d.rim_thickness_mm if flare else 0.0)
+    for _ in range(3):
+        c = _replace(c, width_scale=c.width_scale * (target / c.beam_stiffness_Nmm_per_rad()) ** (1 / 3))
+    return _replace(c, stiffness_beam_Nmm_per_rad=target)
+
+
+def _choose_root(d: SpringDesign) -> SpringDesign:
+    """The root flare with the lowest predicted peak, with its profiles built.
+
+    Each flare of :data:`ROOT_FLARES` is rescaled to the same beam stiffness and its
+    peak predicted by the FEA-calibrated model (:mod:`springcad.design.stress`); a
+    larger flare must gain at least :data:`FLARE_GAIN`. Candidates whose profile
+    breaks a wire-EDM rule (neighbour clearance, fillets) fall back to the next best.
+    Deterministic; about 0.1 s per candidate.
+    """
+    from springcad.design import stress
+
+    scored = []
+    for flare in ROOT_FLARES:
+        c = _with_flare(d, flare)
+        try:
+            scored.append((stress.predict(c).peak_MPa, flare, c))
+        except DesignError:
+            continue
+    if not scored:
+        return with_width(d, 1.0, d.width_offset_mm)
+    best = min(p for p, _, _ in scored)
+    order = sorted(scored, key=lambda s: (s[0] > best * (1 + FLARE_GAIN), s[1] if s[0] <= best * (
+        1 + FLARE_GAIN) else s[0]))
+    error = None
+    for _, _, c in order:
+        try:
+            return with_width(c, 1.0, c.width_offset_mm)
+        except DesignError as err:
+            error = err
+    raise error
+
+
+def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
+                  hardware: HardwareSpec) -> SpringDesign:
+    """Synthesise one spring whose *predicted* peak stress keeps the required yield margin.
+
+    1. Layout, flexure shape and widths at the design stress (:func:`_design_at`).
+    2. The root flare with the lowest predicted peak (:func:`_choose_root`).
+    3. While yield / predicted peak < the required margin (``material.safety_factor``),
+       the beam stress is lowered by that ratio and the spring redesigned (longer,
+       more serpentine flexures store the same energy at a lower stress).
+
+    Raises:
+        DesignError: the spec cannot be met in its envelope, or no beam stress that
+            keeps the yield margin fits in it (the message names the binding
+            constraint and the thickness or deflection that would fit).
+    """
+    required = material.safety_factor
+    derating, history = 1.0, []
+    d = None
+    for _ in range(STRESS_PASSES):
+        try:
+            d = _choose_root(_design_at(spec, material, manufacturing, hardware, derating))
+        except DesignError as err:
+            if not history:
+                raise
+            raise _stress_infeasible(spec, material, manufacturing, hardware, history, err) from err
+        history.append((derating, d.predicted_peak_stress_MPa, d.stress.region))
+        if d.yield_margin >= required * (1.0 - 1e-3):
+            break
+        # the raisers scale with the beam stress: aim 0.5 % inside the margin
+        derating *= d.yield_margin / required * 0.995
+    else:
+        d = _replace(d, warnings=d.warnings + (
+            f"predicted peak {d.predicted_peak_stress_MPa:.0f} MPa ({d.stress.region}) leaves a "
+            f"yield margin {d.yield_margin:.3f} < required {required:g} after {STRESS_PASSES} "
+            "stress passes",))
+    if derating < 1.0:
+        d = _replace(d, warnings=d.warnings + (
+            f"beam stress lowered from {material.design_stress_MPa:.0f} to {d.beam_stress_MPa:.0f} "
+            f"MPa so the predicted peak ({d.predicted_peak_stress_MPa:.0f} MPa at the "
+            f"{d.stress.region}) keeps the yield margin {required:g}",))
+    return d
+
+
+def with_stress_derating(design: SpringDesign, derating: float) -> SpringDesign:
+    """The spring redesigned at beam stress ``derating`` x design stress (the FEA stress correction).
+
+    Layout, flexure shape and root flare are chosen again for the new beam stress; the
+    rim holes stay on the design's hole circle.
+
+    Raises:
+        DesignError: no flexure fits the envelope at that beam stress.
+    """
+    from springcad.design.ring import with_hole_circle
+
+    d = _choose_root(_design_at(design.spec, design.material, design.manufacturing,
+                                design.hardware, derating))
+    d = _replace(d, warnings=tuple(dict.fromkeys(d.warnings + (
+        f"beam stress lowered to {d.beam_stress_MPa:.0f} MPa by the FEA stress correction",))))
+    if design.hole_centres_mm:
+        d = with_hole_circle(d, math.hypot(*design.hole_centres_mm[0]))
+    return d
+
+
+def _stress_infeasible(spec, material, manufacturing, hardware, history, err) -> DesignError:
+    """Why no beam stress keeps the yield margin, with the changes that would fit (numbers)."""
+    derating, peak, region = history[-1]
+    required = material.safety_factor
+    sigma_need = material.design_stress_MPa * derating * (
+        material.material.yield_strength_MPa / required / peak)
+
+    def feasible(s):
+        try:
+            d = _choose_root(_design_at(s, material, manufacturing, hardware, derating))
+            return d.yield_margin >= required * (1 - 1e-3)
+        except DesignError:
+            return False
+
+    def bisect(lo, hi, make, want_low):
+        """Boundary between infeasible ``lo``/feasible ``hi`` (or reverse), 6 halvings."""
+        if not feasible(make(hi if want_low else lo)):
+            return None
+        for _ in range(6):
+            mid = 0.5 * (lo + hi)
+            if feasible(make(mid)) == want_low:
+                hi = mid
+            else:
+                lo = mid
+        return hi if want_low else lo
+
+    z = spec.thickness_mm
+    theta = spec.max_deflection_rad
+    z_fit = bisect(z, 2.5 * z, lambda v: _replace(spec, thickness_mm=v), True)
+    th_fit = bisect(0.3 * theta, theta, lambda v: _replace(spec, max_deflection_rad=v), False)
+    fixes = []
+    if z_fit is not None:
+        fixes.append(f"thickness_mm {z_fit:.2f}")
+    if th_fit is not None:
+        fixes.append(f"max_deflection_deg {math.degrees(th_fit):.2f}")
+    return DesignError(
+        f"spring '{spec.name}': the predicted peak {peak:.0f} MPa at the {region} leaves a yield "
+        f"margin {material.material.yield_strength_MPa / peak:.3f} < required {required:g}; the "
+        f"flexures would need a beam stress of about {sigma_need:.0f} MPa, and at that stress "
+        f"{err}. Feasible with: {' or '.join(fixes) if fixes else 'no change of thickness (up to 2.5x) or deflection alone'}"
+        " (other things equal)")

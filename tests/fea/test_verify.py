@@ -16,7 +16,9 @@ REQUIRED_KEYS = {"stiffness_fea_Nm_per_rad", "stiffness_beam_Nm_per_rad",
 def s2_verified(s2):
     from fea.verify import VerifyOptions, verify_spring
 
-    return verify_spring(s2, VerifyOptions(keep_fields=False))
+    # a 0.03 % tolerance: with its root flare S2 is only ~0.1 % stiff in FEA, so this makes the
+    # stiffness correction work
+    return verify_spring(s2, VerifyOptions(keep_fields=False, tolerance=3e-4))
 
 
 @pytest.fixture(scope="session")
@@ -29,11 +31,11 @@ def s1_verified(s1):
 def test_s2_is_corrected_to_its_target(s2, s2_verified):
     v = s2_verified
     it = v.iterations
-    # as designed by beam theory S2 is ~1 % stiff in FEA; one width rescale fixes it
-    assert it[0]["error_vs_target_pct"] > 0.5
+    # as designed by beam theory S2 is slightly stiff in FEA; width rescaling fixes it
+    assert it[0]["error_vs_target_pct"] > 0.03
     assert len(it) >= 2 and it[-1]["action"] == "accepted"
-    assert abs(v.error_vs_target) <= 0.01
-    assert v.design.width_scale < 1.0
+    assert abs(v.error_vs_target) <= 3e-4
+    assert v.design.width_scale < v.original.width_scale
     assert v.run.stiffness_error < 0.005  # stated discretisation error well below 1 %
     assert v.stiffness_ok
     d = v.to_dict()
@@ -43,27 +45,50 @@ def test_s2_is_corrected_to_its_target(s2, s2_verified):
     json.dumps(d, allow_nan=True)
 
 
-def test_s1_stress_limit_is_reported_honestly(s1_verified):
-    """S1 meets its stiffness after correction; its root fillet does not meet yield."""
-    from fea.verify import JobVerification, StackVerification, VerificationFailed, VerifyOptions
+def test_s1_passes_at_yield_by_construction(s1, s1_verified):
+    """The paper's S1 (fixed N, ball, r_c, R_o, z, 912 MPa) meets K and its yield margin in FEA.
+
+    The design chose a root flare from the FEA-calibrated stress model; the FEA peak is
+    within 5 % of the design's prediction for the same (corrected) geometry.
+    """
+    from springcad.design import stress
 
     v = s1_verified
     assert abs(v.error_vs_target) <= 0.01
-    assert v.run.peak_result.peak_region == "root fillet"
-    assert v.peak_von_mises_MPa > v.design.material.design_stress_MPa  # fillet concentration
-    assert not v.stress_ok and v.yield_margin < 1.0
-    msg = " ".join(v.failures())
-    assert "root fillet" in msg and "yield margin" in msg
-    # as a one-spring job (the template), the build must stop with that message
-    stack = StackVerification(("S1",), v.stiffness_fea_Nmm_per_rad, 150e3,
-                              v.design.max_deflection_rad,
-                              v.stiffness_fea_Nmm_per_rad * v.design.max_deflection_rad, "S1",
-                              [{"spring": "S1", "yield_margin": v.yield_margin,
-                                "torque_Nm": 41.9, "peak_von_mises_MPa": v.peak_von_mises_MPa}],
-                              1.0)
-    job = JobVerification("paper_S1", {"S1": v}, stack, VerifyOptions(), {})
-    with pytest.raises(VerificationFailed, match="yield margin"):
-        job.raise_for_failures()
+    assert v.design.root_flare > 0
+    assert v.stress_ok and v.yield_margin >= 1.0
+    predicted = stress.predict(v.design).peak_MPa
+    assert predicted == pytest.approx(v.peak_von_mises_MPa, rel=0.05)
+    assert not v.failures()
+
+
+def test_fea_stress_correction_redesigns_an_overstressed_spring(s2_job, monkeypatch):
+    """A design model that under-predicts the peak: FEA finds the margin short and the
+    correction redesigns at a lower beam stress until K and the margin both hold."""
+    import dataclasses
+
+    from springcad.config import job_from_dict
+    from springcad.design import stress
+    from springcad.design.job import design_job
+
+    from fea.verify import VerifyOptions, verify_spring
+
+    honest = stress.calibration()
+    fooled = dataclasses.replace(honest, flank_factor=0.85 * honest.flank_factor,
+                                 root_coefficient=0.85 * honest.root_coefficient)
+    monkeypatch.setattr(stress, "calibration", lambda: fooled)
+    data = {"material": {"name": "420_ht", "design_stress_MPa": 912, "safety_factor": 1.2},
+            "springs": {"S2": {"stiffness_Nm_per_rad": 75, "max_deflection_deg": 20,
+                               "outer_radius_mm": 33.5, "thickness_mm": 4.5,
+                               "contact_radius_mm": 5.5, "tip_radius_mm": 0.3,
+                               "n_flexures": 28}}}
+    d = design_job(job_from_dict(data)).springs["S2"]
+    assert d.yield_margin >= 1.2 * (1 - 1e-3)  # the fooled model thinks it is fine
+    v = verify_spring(d, VerifyOptions(model="2d", keep_fields=False))
+    actions = [it["action"] for it in v.iterations]
+    assert any(a.startswith("redesign at beam stress") for a in actions), actions
+    assert v.design.stress_derating < 1.0
+    assert v.stiffness_ok and v.stress_ok, v.failures()
 
 
 def test_stack_from_verified_springs(s1_verified, s2_verified):
@@ -84,10 +109,13 @@ def test_stack_from_verified_springs(s1_verified, s2_verified):
         assert s["peak_von_mises_MPa"] == pytest.approx(v.peak_von_mises_MPa * frac)
     # S2 limits the stack (26 N*m vs S1's 42 N*m): S1 stays at 62 % of its limit and passes
     assert st.limiting_spring == "S2" and st.ok
-    # two S1 in series reach S1's own limit: its thin margin fails the stack, clearly
+    # two S1 in series reach S1's own limit: it passes there by construction, and a stricter
+    # required margin fails the stack, clearly
     st2 = verify_stack(("S1", "S1"), verified, required_safety_factor=1.0)
-    assert not st2.ok
-    assert any("S1" in f and "yield margin" in f for f in st2.failures())
+    assert st2.ok
+    st3 = verify_stack(("S1", "S1"), verified, required_safety_factor=1.2)
+    assert not st3.ok
+    assert any("S1" in f and "yield margin" in f for f in st3.failures())
 
 
 def test_no_correction_mode(s2):
@@ -98,7 +126,7 @@ def test_no_correction_mode(s2):
     assert len(v.iterations) == 1 and v.iterations[0]["action"] == "not corrected"
     assert v.design is s2
     assert v.run.factor_K == 1.0
-    assert not v.stiffness_ok and v.error_vs_target > 0.001  # 2D alone: +0.55 %
+    assert not v.stiffness_ok and abs(v.error_vs_target) > 0.001  # 2D alone, as designed: -0.43 %
 
 
 def test_options_are_validated():
