@@ -304,6 +304,13 @@ class SpringVerification:
         return self.yield_strength_MPa / self.peak_von_mises_MPa
 
     @property
+    def fatigue(self):
+        """Fully reversed fatigue at +-theta_max from the FEA peak (or None without data)."""
+        from springcad.design import fatigue
+
+        return fatigue.check(self.design.material.material.name, self.peak_von_mises_MPa)
+
+    @property
     def stiffness_ok(self) -> bool:
         return abs(self.error_vs_target) <= self.tolerance
 
@@ -373,6 +380,7 @@ class SpringVerification:
             "peak_stress_beam_MPa": d.peak_stress_MPa,
             "yield_strength_MPa": self.yield_strength_MPa,
             "yield_margin": self.yield_margin,
+            "fatigue": self.fatigue.to_dict() if self.fatigue is not None else None,
             "required_safety_factor": self.required_safety_factor,
             "stiffness_ok": self.stiffness_ok,
             "stress_ok": self.stress_ok,
@@ -706,23 +714,29 @@ class JobVerification:
                 "notes": self.notes(), "timings_s": dict(self.timings_s)}
 
     def summary(self) -> str:
-        rows = [("spring", "K_fea", "K_beam", "target", "err %", "disc %", "sigma MPa", "where",
-                 "margin", "req", "iters", "ok alone")]
+        rows = [("spring", "K_fea", "K_beam", "target", "err %", "disc %", "sigma MPa", "design",
+                 "where", "margin", "req", "fatigue", "iters", "ok alone")]
         for n, v in self.springs.items():
             r = v.run.peak_result
+            fat = v.fatigue
+            fat_txt = ("-" if fat is None else f"{fat.margin:.2f}" if fat.margin >= 1
+                       else f"{fat.life_cycles:.2g} cyc")
             rows.append((n, f"{v.stiffness_fea_Nmm_per_rad / 1e3:.2f}",
                          f"{v.design.stiffness_beam_Nmm_per_rad / 1e3:.2f}",
                          f"{v.stiffness_target_Nmm_per_rad / 1e3:.2f}",
                          f"{100 * v.error_vs_target:+.2f}", f"{100 * v.run.stiffness_error:.3f}",
-                         f"{v.peak_von_mises_MPa:.0f}", r.peak_region,
-                         f"{v.yield_margin:.3f}", f"{v.required_safety_factor:.2f}",
-                         str(len(v.iterations) - 1), "yes" if v.ok else "NO"))
+                         f"{v.peak_von_mises_MPa:.0f}", f"{v.design.predicted_peak_stress_MPa:.0f}",
+                         r.peak_region, f"{v.yield_margin:.3f}", f"{v.required_safety_factor:.2f}",
+                         fat_txt, str(len(v.iterations) - 1), "yes" if v.ok else "NO"))
         widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
         lines = ["  ".join(c.rjust(w) for c, w in zip(r, widths)) for r in rows]
         st = self.stack
         lines.append(f"stack {' + '.join(st.sequence)}: K_fea {st.stiffness_Nmm_per_rad / 1e3:.2f} "
                      f"N*m/rad (target {st.target_Nmm_per_rad / 1e3:.2f}), limit "
                      f"{st.max_deflection_rad:.3f} rad at {st.torque_at_limit_Nmm / 1e3:.2f} N*m")
+        lines.append("sigma: FEA peak von Mises at the max deflection; design: the design's "
+                     "prediction for the same geometry; fatigue: endurance margin at +-theta_max "
+                     "(R = -1, wire-EDM surface), or the finite life")
         lines += [f"FAIL: {f}" for f in self.failures()]
         lines += [f"note: {n}" for n in self.notes()]
         return "\n".join(lines)

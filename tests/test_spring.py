@@ -169,3 +169,21 @@ def test_root_flare_is_the_lowest_predicted_peak(straight, paper_designs):
     s1 = paper_designs["paper_S1"].springs["S1"]
     assert s1.root_flare > 0
     assert stress.predict(s1).root_MPa < stress.predict(_with_flare(s1, 0.0)).root_MPa
+
+
+def test_fatigue_check_against_its_closed_forms():
+    """Endurance margin below the limit; Basquin life through (1e3, 0.9 S_ut) and (N_e, S_e)."""
+    from springcad.design import fatigue
+
+    props = fatigue.fatigue_table()["420_ht"]
+    se = props.endurance_limit_MPa * 0.70 * 1.0 * 0.897
+    low = fatigue.check("420_ht", 0.5 * se)
+    assert low.margin == pytest.approx(2.0) and low.life_cycles == float("inf")
+    at_f = fatigue.check("420_ht", 0.9 * props.ultimate_strength_MPa * (1 - 1e-12))
+    assert at_f.life_cycles == pytest.approx(1e3, rel=1e-6)
+    just_above = fatigue.check("420_ht", se * (1 + 1e-9))
+    assert just_above.life_cycles == pytest.approx(props.cycles_at_endurance, rel=1e-5)
+    assert fatigue.check("unobtainium", 100.0) is None
+    for name in ("420_ht", "17-4ph_h900", "maraging_300", "ti6al4v", "7075_t6"):
+        p = fatigue.fatigue_table()[name]
+        assert 0.25 < p.endurance_limit_MPa / p.ultimate_strength_MPa < 0.6

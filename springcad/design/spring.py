@@ -133,6 +133,14 @@ class SpringDesign:
         return self.material.material.yield_strength_MPa / self.predicted_peak_stress_MPa
 
     @property
+    def fatigue(self):
+        """Fully reversed fatigue at +-theta_max from the predicted peak
+        (:func:`springcad.design.fatigue.check`), or None without fatigue data."""
+        from springcad.design import fatigue
+
+        return fatigue.check(self.material.material.name, self.predicted_peak_stress_MPa)
+
+    @property
     def yield_margin_beam(self) -> float:
         """Yield strength over the nominal beam stress (-): not a safety margin."""
         return self.material.material.yield_strength_MPa / self.peak_stress_MPa
@@ -248,6 +256,7 @@ class SpringDesign:
             "required_yield_margin": self.material.safety_factor,
             "yield_margin": self.yield_margin,
             "yield_margin_beam": self.yield_margin_beam,
+            "fatigue": self.fatigue.to_dict() if self.fatigue is not None else None,
             "root_flare": self.root_flare,
             "root_flare_length_mm": self.root_flare_length_mm,
             "n_flexures": self.n_flexures,
