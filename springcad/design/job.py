@@ -90,6 +90,16 @@ class JobDesign:
             f"{st.energy_J / (st.envelope_volume_mm3 / 1000):.3f} J/cm3, "
             f"{st.energy_J / st.mass_kg:.1f} J/kg",
         ]
+        for s in self.springs.values():
+            fat = s.fatigue
+            fat_txt = ("" if fat is None else
+                       f", fatigue margin {fat.margin:.2f} at +-{math.degrees(s.max_deflection_rad):.1f} deg"
+                       + ("" if fat.margin >= 1 else f" (life {fat.life_cycles:.2g} cycles)"))
+            lines.append(
+                f"{s.name}: beam stress {s.peak_stress_MPa:.0f} MPa, predicted peak "
+                f"{s.predicted_peak_stress_MPa:.0f} MPa at the {s.stress.region if s.stress else '-'}, "
+                f"yield margin {s.yield_margin:.3f} (required {s.material.safety_factor:g})"
+                f"{fat_txt}, root flare {s.root_flare:g}")
         lines += [f"note: {n}" for n in self.notes()]
         return "\n".join(lines)
 

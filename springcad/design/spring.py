@@ -686,6 +686,10 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
             f"predicted peak {d.predicted_peak_stress_MPa:.0f} MPa ({d.stress.region}) leaves a "
             f"yield margin {d.yield_margin:.3f} < required {required:g} after {STRESS_PASSES} "
             "stress passes",))
+    if d.peak_torque_Nmm > d.torque_cap_Nmm * (1 + 1e-3) and not any("tip ball" in w for w in d.warnings):
+        d = _replace(d, warnings=d.warnings + (
+            f"peak torque {d.peak_torque_Nmm / NMM_PER_NM:.2f} N*m exceeds the tip-ball torque cap "
+            f"{d.torque_cap_Nmm / NMM_PER_NM:.2f} N*m at r_c = {d.contact_radius_mm:.3g} mm",))
     if derating < 1.0:
         d = _replace(d, warnings=d.warnings + (
             f"beam stress lowered from {material.design_stress_MPa:.0f} to {d.beam_stress_MPa:.0f} "
