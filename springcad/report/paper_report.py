@@ -139,6 +139,7 @@ def markdown(v) -> str:
                      f"| {m['predicted_backlash_range_rad'][1]:.4f} | {m['measured_backlash_rad']:.4f} "
                      f"| {m['backlash_position']} | [{lo:.2f}, {hi:.2f}] | {m['measured_stiffness']:.2f} "
                      f"| {m['stiffness_position']} |")
+    lines += _geometry_change_lines(v.geometry_changes)
     lines += ["", "## Energy", "", "| configuration | J/cm³ | J/kg |", "|---|---|---|"]
     for c in v.configurations:
         lines.append(f"| {c.configuration} | {c.energy_density_J_per_cm3:.3f} "
@@ -146,6 +147,34 @@ def markdown(v) -> str:
     lines += ["", "The paper reports 0.24-0.39 J/cm³ and 31-52 J/kg for its series stacks "
               "(measured hardware, thick bolted rims)."]
     return "\n".join(lines) + "\n"
+
+
+def _geometry_change_lines(changes: list[dict]) -> list[str]:
+    """Markdown: springcad's geometry against the reference tool's, per paper spring."""
+    if not changes:
+        return []
+    fea = "peak_fea_2d_MPa" in changes[0]["reference"]
+    lines = ["", "## What springcad changed against the reference geometry", "",
+             "The reference tool draws a plain circular root fillet and sizes the flexures to the "
+             "design stress as a beam. springcad adds a root flare (the flexure widens smoothly "
+             "over the last part before the rim, chosen by the FEA-calibrated stress model) and "
+             "rescales the widths so the beam stiffness is unchanged; it would lower the beam "
+             "stress if the predicted peak still missed the required yield margin.", "",
+             "| spring | geometry | root flare | beam K N·m/rad | nominal beam MPa | predicted peak MPa "
+             "| yield margin | mass g |" + (" FEA 2D K N·m/rad | FEA 2D peak MPa | FEA margin |" if fea else ""),
+             "|---|---|---|---|---|---|---|---|" + ("---|---|---|" if fea else "")]
+    for c in changes:
+        for tag in ("reference", "springcad"):
+            g = c[tag]
+            flare = "0" if tag == "reference" else f"{c['root_flare']:g} over {c['root_flare_length_mm']:.2f} mm"
+            row = (f"| {c['spring']} | {tag} | {flare} | {g['beam_stiffness_Nm_per_rad']:.2f} "
+                   f"| {g['nominal_beam_stress_MPa']:.0f} | {g['predicted_peak_MPa']:.0f} "
+                   f"({g['predicted_region']}) | {g['yield_margin_predicted']:.3f} | {g['mass_g']:.2f} |")
+            if fea:
+                row += (f" {g['stiffness_fea_2d_Nm_per_rad']:.2f} | {g['peak_fea_2d_MPa']:.0f} "
+                        f"({g['peak_fea_2d_region']}) | {g['yield_margin_fea_2d']:.3f} |")
+            lines.append(row)
+    return lines
 
 
 def write_paper_report(v, out_dir: Path) -> list[Path]:

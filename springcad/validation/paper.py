@@ -179,6 +179,8 @@ class Validation:
     width_offset_in_sample_mm: float
     manufacturers: list[dict]
     notes: list[str] = field(default_factory=list)
+    geometry_changes: list[dict] = field(default_factory=list)
+    """Per paper spring: springcad's geometry against the reference tool's (:func:`geometry_changes`)."""
 
     def errors(self, which: str) -> tuple[float, float]:
         e = [abs(getattr(c, f"error_{which}_pct")) for c in self.configurations]
@@ -198,6 +200,7 @@ class Validation:
                             "source": s.source} for n, s in self.springs.items()},
             "effects": self.effects,
             "manufacturers": self.manufacturers,
+            "geometry_changes": self.geometry_changes,
             "notes": self.notes,
         }
 
@@ -246,6 +249,48 @@ def fea_spring_effects(designs: dict, progress=lambda message: None) -> dict:
             "offset_stiffness_2d_Nm_per_rad": dict(zip(FEA_OFFSETS_MM, [k / NMM_PER_NM for k in ks])),
             "discretisation_error_pct": 100 * nominal.run.stiffness_error,
         }
+    return out
+
+
+def geometry_changes(designs: dict, use_fea: bool = False, progress=lambda message: None) -> list[dict]:
+    """What springcad changed against the reference tool's geometry, per paper spring.
+
+    The reference geometry is the same design with a plain root (no flare) at the
+    configured design stress, its widths rescaled to the same beam stiffness: what
+    the reference method (design-method.md) draws. Both are compared on beam
+    stiffness, predicted peak stress, yield margin and mass; with ``use_fea`` also on
+    a 2D FEA solve of each (stiffness and peak von Mises at the max deflection).
+    """
+    from springcad.design.spring import _design_at, with_root
+
+    out = []
+    seen = {}
+    for d in designs.values():
+        for name, s in d.springs.items():
+            seen.setdefault(name, s)
+    for name, s in seen.items():
+        ref = with_root(_design_at(s.spec, s.material, s.manufacturing, s.hardware, 1.0), 0.0)
+        row = {"spring": name, "root_flare": s.root_flare,
+               "root_flare_length_mm": s.root_flare_length_mm,
+               "beam_stress_MPa": s.beam_stress_MPa,
+               "design_stress_MPa": s.material.design_stress_MPa}
+        for tag, g in (("reference", ref), ("springcad", s)):
+            row[tag] = {"beam_stiffness_Nm_per_rad": g.stiffness_beam_Nmm_per_rad / NMM_PER_NM,
+                        "nominal_beam_stress_MPa": g.peak_stress_MPa,
+                        "predicted_peak_MPa": g.predicted_peak_stress_MPa,
+                        "predicted_region": g.stress.region,
+                        "yield_margin_predicted": g.yield_margin, "mass_g": 1e3 * g.mass_kg}
+            if use_fea:
+                from fea.calibrate import solve_2d
+
+                progress(f"FEA of {name}: {tag} geometry (2D)")
+                res = solve_2d(g)
+                row[tag].update({"stiffness_fea_2d_Nm_per_rad": res.stiffness_Nmm_per_rad / NMM_PER_NM,
+                                 "peak_fea_2d_MPa": res.peak_von_mises_MPa,
+                                 "peak_fea_2d_region": res.peak_region,
+                                 "yield_margin_fea_2d":
+                                     s.material.material.yield_strength_MPa / res.peak_von_mises_MPa})
+        out.append(row)
     return out
 
 
@@ -371,7 +416,8 @@ def validate_paper(data_dir: Path | None = None, templates_dir: Path | None = No
     notes = [f"{c.configuration}: eq. 10 limit {c.deflection_limit_rad:.3f} rad; Table I lists "
              f"{c.table_deflection_limit_rad:.3f} rad (the plain sum of the springs' limits)"
              for c in results if abs(c.deflection_limit_rad - c.table_deflection_limit_rad) > 1e-3]
-    return Validation(results, springs, effects, offset_all, manufacturers, notes)
+    changes = geometry_changes(designs, use_fea, progress)
+    return Validation(results, springs, effects, offset_all, manufacturers, notes, changes)
 
 
 def _effects(springs: dict[str, SpringModel], designs, offset_all: float) -> list[dict]:
