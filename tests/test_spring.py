@@ -187,3 +187,28 @@ def test_fatigue_check_against_its_closed_forms():
     for name in ("420_ht", "17-4ph_h900", "maraging_300", "ti6al4v", "7075_t6"):
         p = fatigue.fatigue_table()[name]
         assert 0.25 < p.endurance_limit_MPa / p.ultimate_strength_MPa < 0.6
+
+
+@pytest.mark.slow
+def test_stress_infeasible_names_the_binding_constraint_with_numbers():
+    """S1 asked for a yield margin of 1.6: no beam stress fits the disk; the error says which
+    deflection would, and that deflection really designs with the margin."""
+    import re
+
+    j = job_from_dict({"material": {"design_stress_MPa": 912, "safety_factor": 1.6},
+                       "springs": {"A": {"stiffness_Nm_per_rad": 150, "max_deflection_deg": 16,
+                                         "outer_radius_mm": 33.5, "thickness_mm": 4.5,
+                                         "contact_radius_mm": 5.5, "tip_radius_mm": 0.3,
+                                         "n_flexures": 28}}})
+    with pytest.raises(DesignError, match=r"yield margin .* < required 1.6.*Feasible with") as exc:
+        design_spring(j.springs["A"], j.material, j.manufacturing, j.hardware)
+    m = re.search(r"max_deflection_deg (\d+\.\d+)", str(exc.value))
+    assert m, str(exc.value)
+    ok = job_from_dict({"material": {"design_stress_MPa": 912, "safety_factor": 1.6},
+                        "springs": {"A": {"stiffness_Nm_per_rad": 150,
+                                          "max_deflection_deg": float(m.group(1)) - 0.2,
+                                          "outer_radius_mm": 33.5, "thickness_mm": 4.5,
+                                          "contact_radius_mm": 5.5, "tip_radius_mm": 0.3,
+                                          "n_flexures": 28}}})
+    s = design_spring(ok.springs["A"], ok.material, ok.manufacturing, ok.hardware)
+    assert s.yield_margin >= 1.6 * (1 - 1e-3)

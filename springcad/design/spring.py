@@ -725,9 +725,11 @@ def _stress_infeasible(spec, material, manufacturing, hardware, history, err) ->
     sigma_need = material.design_stress_MPa * derating * (
         material.material.yield_strength_MPa / required / peak)
 
+    need = sigma_need / material.design_stress_MPa
+
     def feasible(s):
         try:
-            d = _choose_root(_design_at(s, material, manufacturing, hardware, derating))
+            d = _choose_root(_design_at(s, material, manufacturing, hardware, need))
             return d.yield_margin >= required * (1 - 1e-3)
         except DesignError:
             return False
