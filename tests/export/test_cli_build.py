@@ -114,10 +114,32 @@ def test_build_verifies_before_exporting(tmp_path):
         s1["correction_iterations"][-1]["width_scale"], rel=1e-9)
 
 
-def test_failed_verification_stops_the_build(tmp_path, capsys):
-    """The paper's S1 (912 MPa design stress) peaks above yield at the root fillet."""
+def test_failed_verification_stops_the_build(tmp_path, capsys, monkeypatch):
+    """A spring the FEA finds over-stressed and no redesign can fix stops the build.
+
+    The design's stress model is made to under-predict by 15 % (so the design thinks S1 keeps
+    a 1.2 margin) and the redesign at a lower beam stress is made impossible: the FEA
+    verification must refuse the spring and nothing may be written.
+    """
+    import dataclasses
+
+    from springcad.design import spring, stress
+    from springcad.errors import DesignError
+
+    honest = stress.calibration()
+    fooled = dataclasses.replace(honest, flank_factor=0.85 * honest.flank_factor,
+                                 root_coefficient=0.85 * honest.root_coefficient)
+    monkeypatch.setattr(stress, "calibration", lambda: fooled)
+
+    def no_redesign(design, derating):
+        raise DesignError("no flexure fits (test)")
+
+    monkeypatch.setattr(spring, "with_stress_derating", no_redesign)
+    cfg = tmp_path / "s1_strict.toml"
+    cfg.write_text(S1.read_text().replace("design_stress_MPa = 912",
+                                          "design_stress_MPa = 912\nsafety_factor = 1.2"))
     out = tmp_path / "s1"
-    assert main(["build", str(S1), "--out", str(out), "--no-render"]) == 2
+    assert main(["build", str(cfg), "--out", str(out), "--no-render"]) == 2
     err = capsys.readouterr().err
-    assert "FEA verification failed" in err and "yield margin" in err and "root fillet" in err
-    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == []
+    assert "FEA verification failed" in err and "yield margin" in err
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["s1_strict.toml"]
