@@ -146,7 +146,8 @@ def test_width_hooks_follow_beam_theory(paper_designs):
     for scale in (0.98, 1.02):
         e = with_width(s, scale)
         assert e.stiffness_beam_Nmm_per_rad / k0 == pytest.approx(scale ** 3, rel=2e-3)
-        assert e.peak_stress_MPa / s.peak_stress_MPa == pytest.approx(scale, rel=1e-6)
+        # sigma ~ F / w^2 ~ scale; the tip web (min_web_mm) does not scale, hence 2e-4
+        assert e.peak_stress_MPa / s.peak_stress_MPa == pytest.approx(scale, rel=2e-4)
         assert e.ring.area_mm2() != s.ring.area_mm2()
     off = with_width(s, 1.0, 0.02)
     assert off.stiffness_beam_Nmm_per_rad / k0 == pytest.approx(

@@ -158,14 +158,16 @@ class SpringDesign:
         else:
             w = fx.constant_stress_width_mm(y, self.tip_load_N, self.contact_radius_mm,
                                             self.thickness_mm, self.beam_stress_MPa)
+        w = self.width_scale * w * fx.root_flare_factor(y, self.root_radius_mm, self.root_flare,
+                                                         self.root_flare_length_mm)
         # near the tip the constant-stress law tends to zero: keep the web the wire can leave,
         # with a smooth maximum (blend 0.1 x web) so the edge has no kink for the spline,
-        # the kernel or the stress field; 0.2 % above the web far from the blend
+        # the kernel or the stress field; 0.2 % above the web far from the blend. Applied
+        # after the width scale: the FEA correction never thins the web below the rule
         web = 1.002 * self.manufacturing.min_web_mm
         eps = 0.1 * web
         w = 0.5 * (w + web + np.sqrt((w - web) ** 2 + eps ** 2))
-        w = w * fx.root_flare_factor(y, self.root_radius_mm, self.root_flare, self.root_flare_length_mm)
-        return self.width_scale * w + 2.0 * self.width_offset_mm
+        return w + 2.0 * self.width_offset_mm
 
     def beam_stiffness_Nmm_per_rad(self, width_offset_mm: float = 0.0,
                                    youngs_modulus_MPa: float | None = None) -> float:
