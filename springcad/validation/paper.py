@@ -33,6 +33,7 @@ import numpy as np
 
 from springcad.design.stack import series_stiffness as series
 from springcad.errors import ConfigError
+from springcad.progress import Progress, no_progress
 from springcad.units import NMM_PER_NM
 
 #: Table I configuration -> template name
@@ -206,7 +207,7 @@ class Validation:
 FEA_OFFSETS_MM = (-0.025, 0.0, 0.025)
 
 
-def fea_spring_effects(designs: dict, progress=lambda message: None) -> dict:
+def fea_spring_effects(designs: dict, progress: Progress = no_progress) -> dict:
     """FEA of the paper springs: geometry ratio, load-application ratio and K(width offset).
 
     Per spring (unique names across ``designs``, a dict of JobDesign):
@@ -225,16 +226,17 @@ def fea_spring_effects(designs: dict, progress=lambda message: None) -> dict:
     for d in designs.values():
         for name, s in d.springs.items():
             seen.setdefault(name, s)
-    for name, s in seen.items():
-        progress(f"FEA of {name}: designed geometry")
+    for k, (name, s) in enumerate(seen.items()):
+        done = k / len(seen)
+        progress(f"FEA of {name}: designed geometry", done)
         nominal = verify_spring(s, VerifyOptions(correct=False, keep_fields=False))
         quick = VerifyOptions(model="2d", correct=False, keep_fields=False)
         ks = []
         for off in FEA_OFFSETS_MM:
-            progress(f"FEA of {name}: width offset {off:+.3f} mm")
+            progress(f"FEA of {name}: width offset {off:+.3f} mm", done)
             geom = with_width(s, 1.0, off) if off else s
             ks.append(verify_spring(geom, quick).stiffness_fea_Nmm_per_rad)
-        progress(f"FEA of {name}: rigid-cam load")
+        progress(f"FEA of {name}: rigid-cam load", done)
         cam = verify_spring(s, VerifyOptions(model="2d", correct=False, keep_fields=False,
                                              case=LoadCase(load="rigid_cam")))
         coef = np.polyfit(FEA_OFFSETS_MM, np.log(np.array(ks) / ks[1]), 2)
@@ -282,7 +284,7 @@ def _fit_offset(rows, models, lo: float = -0.1, hi: float = 0.1) -> float:
 
 
 def validate_paper(data_dir: Path | None = None, templates_dir: Path | None = None,
-                   use_fea: bool = False, progress=lambda message: None) -> Validation:
+                   use_fea: bool = False, progress: Progress = no_progress) -> Validation:
     """Predict every Table I configuration and trace the stiffness residual.
 
     Args:
@@ -290,7 +292,7 @@ def validate_paper(data_dir: Path | None = None, templates_dir: Path | None = No
         templates_dir: folder with the paper templates (default ``templates/``).
         use_fea: quantify geometry, contact and width effects with the FEA
             (:func:`fea_spring_effects`); otherwise beam theory only.
-        progress: callable(message) for long steps.
+        progress: ``progress(message, fraction=None)`` for long steps.
     """
     from springcad.config import load_job
     from springcad.design.job import design_job
