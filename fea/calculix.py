@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from fea.mesh import to_rows
 from springcad.errors import SolverError
 
 
@@ -60,7 +61,7 @@ def write_inp(system, material, path: Path, title: str = "springcad sector") -> 
     if system.constraints is not None:
         raise SolverError("the CalculiX check supports the traction cam load only")
     basis = system.basis
-    x = basis.doflocs.T
+    x = to_rows(basis.doflocs)
     elems = basis.element_dofs.T + 1
     n = len(x)
     with open(path, "w") as fh:

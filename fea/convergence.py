@@ -1,6 +1,6 @@
 """Discretisation error, stated: Richardson extrapolation over nested mesh levels.
 
-Meshes of :func:`fea.mesh.mesh_levels` are uniform refinements (every element
+Meshes of :func:`fea.mesh.mesh_face_levels` are uniform refinements (every element
 edge halves, ratio r = 2), so for a quantity f on levels 1 (coarse), 2, 3 (fine):
 
     observed order   p = ln((f2 - f1) / (f3 - f2)) / ln 2

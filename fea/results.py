@@ -27,10 +27,11 @@ Units: mm, N, MPa, N*mm, rad.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from fea.mesh import to_rows
 
 REGION_NAMES = {"root": "root fillet", "edge": "flexure flank", "neck": "tip-neck fillet",
                 "ball": "tip ball", "rim": "rim", "side": "rim (sector cut)",
@@ -147,8 +148,8 @@ def _excluded_mask(points, system, fm, case, support_exclusion_mm):
     g = fm.geometry
     held_nodes = np.unique(system.held // system.dim)
     held_xy = system.basis.doflocs[:2, held_nodes]
-    tree = cKDTree(held_xy.T)  # distance in the plane: held faces span the thickness
-    d, _ = tree.query(points[:2].T)
+    tree = cKDTree(to_rows(held_xy))  # distance in the plane: held faces span the thickness
+    d, _ = tree.query(to_rows(points[:2]))
     mask = d < support_exclusion_mm
     patch = 2.0 * case.patch_half_width_mm(g.tip_radius_mm)
     for c in g.contact_points_mm():
@@ -227,7 +228,3 @@ def evaluate(fm, system, u: np.ndarray, case, max_deflection_rad: float, timings
         peak_region=_region(loc, fm), excluded_peak_MPa=excluded_peak, dofs=system.n_dofs,
         n_elements=fm.n_elements, dim=fm.dim, level=fm.level, timings_s=dict(timings),
         solve_info=info, fields=fields, mesh=fm, peak_by_region_MPa=by_region)
-
-
-def richardson_ready(results) -> bool:
-    return len(results) >= 3 and all(math.isfinite(r.stiffness_Nmm_per_rad) for r in results)

@@ -22,9 +22,5 @@ def rad_to_deg(rad: float) -> float:
     return math.degrees(rad)
 
 
-def nm_to_nmm(torque_Nm: float) -> float:
-    return torque_Nm * NMM_PER_NM
-
-
 def nmm_to_nm(torque_Nmm: float) -> float:
     return torque_Nmm / NMM_PER_NM
