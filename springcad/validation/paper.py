@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from springcad.design.stack import series_stiffness as series
+from springcad.data import data_path
 from springcad.errors import ConfigError
 from springcad.progress import Progress, no_progress
 from springcad.units import NMM_PER_NM
@@ -43,23 +44,18 @@ CONFIGURATIONS = (("S1", "paper_S1"), ("S2", "paper_S2"), ("2xS1", "paper_2xS1")
 MANUFACTURER_TEMPLATES = {"Mfr1": "paper_4xS1_mfr1", "Mfr2": "paper_4xS1_mfr2"}
 #: published Young's modulus of hardened 420 (GPa): MakeItFrom 190, AK Steel data sheet 200
 E_RANGE_GPA = (190.0, 200.0)
-REPO = Path(__file__).resolve().parents[2]
 
 
 def default_data_dir() -> Path:
-    """``../shared/data`` beside the source tree or the working folder, else the copy of
-    the paper's two tables shipped in ``springcad/data/paper`` (kept identical by a test)."""
-    from importlib import resources
-
-    for base in (REPO, Path.cwd()):
-        if (base.parent / "shared" / "data").exists():
-            return base.parent / "shared" / "data"
-    return Path(str(resources.files("springcad.data").joinpath("paper")))
+    """The paper's two measured tables shipped in ``springcad/data/paper`` (identical to
+    ``../shared/data``, kept so by a test)."""
+    return data_path("paper")
 
 
 def default_templates_dir() -> Path:
-    """``templates/`` of the source tree, else of the working folder."""
-    return REPO / "templates" if (REPO / "templates").exists() else Path.cwd() / "templates"
+    """The paper's job templates shipped in ``springcad/data/paper`` (identical to
+    ``templates/paper_*.toml``, kept so by a test)."""
+    return data_path("paper")
 
 
 def load_tables(data_dir: Path) -> tuple[dict, dict]:
@@ -288,8 +284,10 @@ def validate_paper(data_dir: Path | None = None, templates_dir: Path | None = No
     """Predict every Table I configuration and trace the stiffness residual.
 
     Args:
-        data_dir: folder with the paper's CSV tables (default ``../shared/data``).
-        templates_dir: folder with the paper templates (default ``templates/``).
+        data_dir: folder with the paper's CSV tables (default: the shipped copy of
+            ``../shared/data``).
+        templates_dir: folder with the paper templates (default: the shipped copy of
+            ``templates/``).
         use_fea: quantify geometry, contact and width effects with the FEA
             (:func:`fea_spring_effects`); otherwise beam theory only.
         progress: ``progress(message, fraction=None)`` for long steps.
