@@ -28,6 +28,7 @@ import numpy as np
 
 from fea.mesh import to_rows
 from springcad.errors import SolverError
+from springcad.units import NMM_PER_NM
 
 
 @dataclass(eq=False)
@@ -175,8 +176,8 @@ class CrossCheck:
         return abs(self.peak_ccx_MPa / self.peak_skfem_MPa - 1.0)
 
     def to_dict(self) -> dict:
-        return {"dofs": self.dofs, "stiffness_skfem_Nm_per_rad": self.stiffness_skfem / 1e3,
-                "stiffness_ccx_Nm_per_rad": self.stiffness_ccx / 1e3,
+        return {"dofs": self.dofs, "stiffness_skfem_Nm_per_rad": self.stiffness_skfem / NMM_PER_NM,
+                "stiffness_ccx_Nm_per_rad": self.stiffness_ccx / NMM_PER_NM,
                 "stiffness_rel_diff": self.stiffness_rel_diff,
                 "peak_skfem_MPa": self.peak_skfem_MPa, "peak_ccx_MPa": self.peak_ccx_MPa,
                 "peak_rel_diff": self.peak_rel_diff, "time_skfem_s": self.time_skfem_s,

@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fea.mesh import to_rows
+from springcad.units import NMM_PER_NM
 
 REGION_NAMES = {"root": "root fillet", "edge": "flexure flank", "neck": "tip-neck fillet",
                 "ball": "tip ball", "rim": "rim", "side": "rim (sector cut)",
@@ -77,7 +78,7 @@ class StaticResult:
     """Largest nodal von Mises on each kind of boundary (root fillet, flank, neck, ...)."""
 
     def to_dict(self) -> dict:
-        return {"stiffness_Nm_per_rad": self.stiffness_Nmm_per_rad / 1000.0,
+        return {"stiffness_Nm_per_rad": self.stiffness_Nmm_per_rad / NMM_PER_NM,
                 "peak_von_mises_MPa": self.peak_von_mises_MPa,
                 "peak_ip_von_mises_MPa": self.peak_ip_von_mises_MPa,
                 "peak_location_mm": list(self.peak_location_mm),

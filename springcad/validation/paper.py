@@ -35,7 +35,7 @@ from springcad.design.stack import series_stiffness as series
 from springcad.data import data_path
 from springcad.errors import ConfigError
 from springcad.progress import Progress, no_progress
-from springcad.units import NMM_PER_NM
+from springcad.units import MM3_PER_CM3, NMM_PER_NM
 
 #: Table I configuration -> template name
 CONFIGURATIONS = (("S1", "paper_S1"), ("S2", "paper_S2"), ("2xS1", "paper_2xS1"),
@@ -341,7 +341,7 @@ def validate_paper(data_dir: Path | None = None, templates_dir: Path | None = No
             table_deflection_limit_rad=t1[cfg]["max_deflection_limit_rad"],
             predicted_backlash_range_rad=(b.worst_min, b.worst_max),
             nominal_backlash_rad=b.nominal, measured_backlash_rad=t1[cfg]["backlash_rad"],
-            energy_density_J_per_cm3=st.energy_J / (st.envelope_volume_mm3 / 1000),
+            energy_density_J_per_cm3=st.energy_J / (st.envelope_volume_mm3 / MM3_PER_CM3),
             specific_energy_J_per_kg=st.energy_J / st.mass_kg))
 
     effects = _effects(springs, designs, offset_all)
