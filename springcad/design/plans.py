@@ -57,6 +57,8 @@ class FlexureRingPlan(PartPlan):
     """
 
     KIND = "flexure_ring"
+    #: the ring's shape is its spring's profile: the part family keys rings by spring name
+    PLACE_FIELDS = ("spring_index",)
     spring_index: int
     outer_radius_mm: float
     root_radius_mm: float
