@@ -75,14 +75,14 @@ def compare_solvers(config: Path, levels=(0, 1, 2)) -> dict:
     from fea.calculix import cross_check
     from fea.geometry import sector_geometry
     from fea.mesh import fea_mesh_3d, mesh_face_levels
-    from fea.problem import LoadCase, Material
+    from fea.problem import LoadCase, solver_material
     from fea.solve import _pardiso
     from fea.verify import DEFAULT_SIZE
 
     design = design_job(load_job(config))
     spring = next(iter(design.springs.values()))
     g = sector_geometry(spring)
-    mat = Material.from_spec(spring.material)
+    mat = solver_material(spring.material)
     faces = mesh_face_levels(g, DEFAULT_SIZE, max(levels) + 1)
     _pardiso(2)  # library start-up is not solver time
     rows = []

@@ -26,7 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
+from fea.mesh import to_rows
 from springcad.errors import SolverError
+from springcad.units import NMM_PER_NM
 
 
 @dataclass(eq=False)
@@ -60,7 +62,7 @@ def write_inp(system, material, path: Path, title: str = "springcad sector") -> 
     if system.constraints is not None:
         raise SolverError("the CalculiX check supports the traction cam load only")
     basis = system.basis
-    x = basis.doflocs.T
+    x = to_rows(basis.doflocs)
     elems = basis.element_dofs.T + 1
     n = len(x)
     with open(path, "w") as fh:
@@ -174,8 +176,8 @@ class CrossCheck:
         return abs(self.peak_ccx_MPa / self.peak_skfem_MPa - 1.0)
 
     def to_dict(self) -> dict:
-        return {"dofs": self.dofs, "stiffness_skfem_Nm_per_rad": self.stiffness_skfem / 1e3,
-                "stiffness_ccx_Nm_per_rad": self.stiffness_ccx / 1e3,
+        return {"dofs": self.dofs, "stiffness_skfem_Nm_per_rad": self.stiffness_skfem / NMM_PER_NM,
+                "stiffness_ccx_Nm_per_rad": self.stiffness_ccx / NMM_PER_NM,
                 "stiffness_rel_diff": self.stiffness_rel_diff,
                 "peak_skfem_MPa": self.peak_skfem_MPa, "peak_ccx_MPa": self.peak_ccx_MPa,
                 "peak_rel_diff": self.peak_rel_diff, "time_skfem_s": self.time_skfem_s,

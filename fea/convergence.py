@@ -1,6 +1,6 @@
 """Discretisation error, stated: Richardson extrapolation over nested mesh levels.
 
-Meshes of :func:`fea.mesh.mesh_levels` are uniform refinements (every element
+Meshes of :func:`fea.mesh.mesh_face_levels` are uniform refinements (every element
 edge halves, ratio r = 2), so for a quantity f on levels 1 (coarse), 2, 3 (fine):
 
     observed order   p = ln((f2 - f1) / (f3 - f2)) / ln 2
@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+
+from springcad.units import NMM_PER_NM
 
 #: formal convergence orders of quadratic elements: stiffness (energy) and stress
 FORMAL_ORDER = {"stiffness": 4.0, "stress": 2.0}
@@ -146,7 +148,7 @@ class ConvergenceStudy:
         """The ``convergence[]`` entries of ``fea.json`` (N*m/rad, MPa)."""
         return [{"model": self.model, "level": r.level, "dofs": r.dofs,
                  "n_elements": r.n_elements,
-                 "stiffness_Nm_per_rad": r.stiffness_Nmm_per_rad / 1000.0,
+                 "stiffness_Nm_per_rad": r.stiffness_Nmm_per_rad / NMM_PER_NM,
                  "peak_von_mises_MPa": r.peak_von_mises_MPa,
                  "peak_ip_von_mises_MPa": r.peak_ip_von_mises_MPa,
                  "peak_location_mm": list(r.peak_location_mm), "peak_region": r.peak_region,
@@ -155,7 +157,7 @@ class ConvergenceStudy:
 
     def to_dict(self) -> dict:
         return {"model": self.model,
-                "stiffness_Nm_per_rad": self.stiffness.to_dict(1e-3),
+                "stiffness_Nm_per_rad": self.stiffness.to_dict(1.0 / NMM_PER_NM),
                 "peak_von_mises_MPa": self.peak_stress.to_dict()}
 
 

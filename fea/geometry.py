@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.design.curves import Arc, Line, Loop, Profile
+from springcad.design.planar import find_defect
 from springcad.errors import MeshingError
 
 #: flexure features whose FE boundary label carries the flexure number ("root:3");
@@ -209,67 +210,29 @@ def ring_geometry(design, holes: bool = True) -> RingGeometry:
         **_common(design))
 
 
-def _ccw(a, b, c):
-    return (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - \
-        (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])
-
-
-def _inside(point, poly) -> bool:
-    """Even-odd ray casting: is ``point`` inside the closed polyline ``poly`` (n, 2)?"""
-    x, y = point
-    a, b = poly, np.roll(poly, -1, axis=0)
-    cross = (a[:, 1] > y) != (b[:, 1] > y)
-    xs = a[cross, 0] + (y - a[cross, 1]) * (b[cross, 0] - a[cross, 0]) / (b[cross, 1] - a[cross, 1])
-    return bool(np.sum(xs > x) % 2)
-
-
 def check_profile(profile: Profile, step_mm: float = 0.02, name: str = "profile") -> None:
     """Reject a face the mesher cannot handle before it reaches the mesher.
 
-    Checks on the loops sampled every ``step_mm``: no loop crosses itself or
-    another loop, every hole lies inside the outer contour and outside the
-    other holes. (gmsh does not fail cleanly on such faces: it can loop forever.)
+    The test is the planar toolkit's (:func:`springcad.design.planar.find_defect`)
+    on the loops sampled every ``step_mm``: no loop crosses or touches itself or
+    another loop, every hole lies inside the outer contour and outside the other
+    holes. (gmsh does not fail cleanly on such faces: it can loop forever.)
 
     Raises:
         MeshingError: naming the loops and a point near the problem.
     """
-    from scipy.spatial import cKDTree
-
-    polys = [lp.sample(step_mm) for lp in profile.loops]
-    seg_a, seg_b, owner, index = [], [], [], []
-    for k, p in enumerate(polys):
-        seg_a.append(p)
-        seg_b.append(np.roll(p, -1, axis=0))
-        owner.append(np.full(len(p), k))
-        index.append(np.arange(len(p)))
-    A, B = np.vstack(seg_a), np.vstack(seg_b)
-    own, idx = np.concatenate(owner), np.concatenate(index)
-    sizes = np.array([len(p) for p in polys])
-    lengths = np.linalg.norm(B - A, axis=1)
-    tree = cKDTree(0.5 * (A + B))
-    pairs = tree.query_pairs(float(lengths.max()) * 1.0001, output_type="ndarray")
-    if len(pairs):
-        i, j = pairs[:, 0], pairs[:, 1]
-        same = own[i] == own[j]
-        gap = np.abs(idx[i] - idx[j])
-        adjacent = same & ((gap <= 1) | (gap == sizes[own[i]] - 1))
-        i, j = i[~adjacent], j[~adjacent]
-        d1, d2 = _ccw(A[i], B[i], A[j]), _ccw(A[i], B[i], B[j])
-        d3, d4 = _ccw(A[j], B[j], A[i]), _ccw(A[j], B[j], B[i])
-        hit = (d1 * d2 < 0) & (d3 * d4 < 0)
-        if np.any(hit):
-            k = int(np.flatnonzero(hit)[0])
-            a, b = own[i[k]], own[j[k]]
-            where = A[i[k]]
-            what = (f"loop {a} crosses itself" if a == b else
-                    f"{'the outer contour' if a == 0 else f'hole loop {a}'} crosses hole loop {b}")
-            raise MeshingError(f"{name}: {what} near ({where[0]:.3f}, {where[1]:.3f}) mm; the "
-                               "face cannot be meshed (check hole positions and fillets)")
-    for k in range(1, len(polys)):
-        if not _inside(polys[k][0], polys[0]):
-            c = polys[k][0]
-            raise MeshingError(f"{name}: hole loop {k} near ({c[0]:.3f}, {c[1]:.3f}) mm lies "
-                               "outside the outer contour")
-        for m in range(1, len(polys)):
-            if m != k and _inside(polys[k][0], polys[m]):
-                raise MeshingError(f"{name}: hole loop {k} lies inside hole loop {m}")
+    defect = find_defect(profile, step_mm)
+    if defect is None:
+        return
+    a, b = defect.loops
+    x, y = defect.point_mm
+    if defect.kind in ("cross", "touch"):
+        verb = "crosses" if defect.kind == "cross" else "touches"
+        what = (f"loop {a} {verb} itself" if a == b else
+                f"{'the outer contour' if a == 0 else f'hole loop {a}'} {verb} hole loop {b}")
+        raise MeshingError(f"{name}: {what} near ({x:.3f}, {y:.3f}) mm; the "
+                           "face cannot be meshed (check hole positions and fillets)")
+    if defect.kind == "outside":
+        raise MeshingError(f"{name}: hole loop {a} near ({x:.3f}, {y:.3f}) mm lies "
+                           "outside the outer contour")
+    raise MeshingError(f"{name}: hole loop {a} lies inside hole loop {b}")

@@ -402,7 +402,7 @@ def pattern_sector(m2: Mesh2D, n_flexures: int, tol_mm: float = 1e-6) -> Mesh2D:
         edges.append(m2.edges[:, keep] + i * npt)
         labels += [lab.replace(":0", f":{i}") for lab in m2.edge_labels[keep]]
     P = np.hstack(pts)
-    tree = cKDTree(P.T)
+    tree = cKDTree(to_rows(P))
     pairs = tree.query_pairs(tol_mm, output_type="ndarray")
     rep = np.arange(P.shape[1])
     # union duplicates onto the smaller index
@@ -548,7 +548,7 @@ def extrude_to_tets(m2: Mesh2D, thickness_mm: float, layers: int, z0_mm: float =
     t10 = new[t10]
     pts = pts[:, order]
     # orient positively
-    p = pts.T
+    p = to_rows(pts)
     a, b, c, d = (p[t10[:, i]] for i in range(4))
     neg = np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a) < 0
     # swap vertices 1 and 2: edges (0,1)<->(0,2), (1,2) stays, (1,3)<->(2,3)
@@ -635,24 +635,6 @@ def fea_mesh_3d(m2: Mesh2D, geometry, layers: int = 2, level: int = 0,
                  thickness_fraction=0.5 if half else 1.0)
     fm.quality = check_mesh(fm, geometry)
     return fm
-
-
-def mesh_levels(geometry, dim: int = 3, levels: int = 3, size: MeshSize = MeshSize(),
-                patch_half_width_mm: float | None = None, half: bool = True,
-                refine_layers: bool = True) -> list[FeaMesh]:
-    """Nested quadratic meshes (2D triangles or extruded 3D tets) of a ring geometry.
-
-    Level k splits every level-0 triangle into 4**k; in 3D the layers through
-    the thickness double with each level too (``refine_layers``), so every
-    element edge halves: a uniform refinement with ratio 2, as the Richardson
-    extrapolation assumes.
-    """
-    faces = mesh_face_levels(geometry, size, levels, patch_half_width_mm)
-    if dim == 2:
-        return [fea_mesh_2d(m, geometry, k) for k, m in enumerate(faces)]
-    return [fea_mesh_3d(m, geometry, size.layers * 2 ** k if refine_layers else size.layers, k,
-                        half=half)
-            for k, m in enumerate(faces)]
 
 
 # =============================================================================== any solid

@@ -1,7 +1,9 @@
 """The elasticity problem of a flexure ring: material, supports and the cam load.
 
 Material
-    Linear isotropic elasticity from the job's material (E, nu). The 2D model
+    Linear isotropic elasticity from the job's material (E, nu): the one
+    :class:`~springcad.materials.Material` type, checked by
+    :func:`solver_material`. The 2D model
     is plane stress with the disk thickness as its depth, so 2D forces are
     total forces (N) and torques N*mm, as in 3D.
 
@@ -46,48 +48,47 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.errors import SolverError
+from springcad.materials import Material
 
 SUPPORTS = ("rim", "holes")
 LOADS = ("traction", "rigid_cam")
 
 
-@dataclass(frozen=True)
-class Material:
-    """Isotropic linear-elastic material (MPa)."""
+def solver_material(spec) -> Material:
+    """The job's material, checked for what the solver needs (E, nu, yield strength).
 
-    youngs_modulus_MPa: float
-    poisson_ratio: float
-    yield_strength_MPa: float
+    Args:
+        spec: a :class:`~springcad.config.MaterialSpec` or a
+            :class:`~springcad.materials.Material`.
 
-    @classmethod
-    def from_spec(cls, spec) -> "Material":
-        """From a :class:`~springcad.config.MaterialSpec` (or a ``Material``) of the job.
+    Returns:
+        The same :class:`~springcad.materials.Material` (the one material type).
 
-        Raises:
-            SolverError: a property is missing or not physical.
-        """
-        m = getattr(spec, "material", spec)
-        values = {}
-        for name in ("youngs_modulus_MPa", "poisson_ratio", "yield_strength_MPa"):
-            v = getattr(m, name, None)
-            if v is None or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise SolverError(f"material '{getattr(m, 'name', '?')}' has no valid {name} "
-                                  f"(got {v!r}); set it in the [material] table")
-            values[name] = float(v)
-        if values["youngs_modulus_MPa"] <= 0 or values["yield_strength_MPa"] <= 0:
-            raise SolverError(f"material '{getattr(m, 'name', '?')}': Young's modulus and yield "
-                              "strength must be positive")
-        if not -1.0 < values["poisson_ratio"] < 0.5:
-            raise SolverError(f"material '{getattr(m, 'name', '?')}': Poisson ratio "
-                              f"{values['poisson_ratio']} is outside (-1, 0.5)")
-        return cls(**values)
+    Raises:
+        SolverError: a property is missing or not physical.
+    """
+    m = getattr(spec, "material", spec)
+    name = getattr(m, "name", "?")
+    for key in ("youngs_modulus_MPa", "poisson_ratio", "yield_strength_MPa"):
+        v = getattr(m, key, None)
+        if v is None or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise SolverError(f"material '{name}' has no valid {key} "
+                              f"(got {v!r}); set it in the [material] table")
+    if m.youngs_modulus_MPa <= 0 or m.yield_strength_MPa <= 0:
+        raise SolverError(f"material '{name}': Young's modulus and yield "
+                          "strength must be positive")
+    if not -1.0 < m.poisson_ratio < 0.5:
+        raise SolverError(f"material '{name}': Poisson ratio "
+                          f"{m.poisson_ratio} is outside (-1, 0.5)")
+    return m
 
-    def lame(self, plane_stress: bool) -> tuple[float, float]:
-        """Lame parameters (lambda, mu) (MPa); plane-stress lambda for 2D."""
-        E, nu = self.youngs_modulus_MPa, self.poisson_ratio
-        mu = E / (2 * (1 + nu))
-        lam = E * nu / (1 - nu ** 2) if plane_stress else E * nu / ((1 + nu) * (1 - 2 * nu))
-        return lam, mu
+
+def lame(material: Material, plane_stress: bool) -> tuple[float, float]:
+    """Lame parameters (lambda, mu) of an isotropic material (MPa); plane-stress lambda for 2D."""
+    E, nu = material.youngs_modulus_MPa, material.poisson_ratio
+    mu = E / (2 * (1 + nu))
+    lam = E * nu / (1 - nu ** 2) if plane_stress else E * nu / ((1 + nu) * (1 - 2 * nu))
+    return lam, mu
 
 
 @dataclass(frozen=True)
@@ -320,7 +321,7 @@ def assemble(fm, material: Material, case: LoadCase = LoadCase()) -> System:
     elem = mesh.elem()
     basis = CellBasis(mesh, elem, intorder=2)
     plane = dim == 2
-    lam, mu = material.lame(plane_stress=plane)
+    lam, mu = lame(material, plane_stress=plane)
     A = stiffness_matrix(basis, lam, mu, fm.thickness_mm if plane else 1.0)
 
     def vec(nodes, comps=None):

@@ -27,10 +27,12 @@ Units: mm, N, MPa, N*mm, rad.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from fea.mesh import to_rows
+from springcad.units import NMM_PER_NM
 
 REGION_NAMES = {"root": "root fillet", "edge": "flexure flank", "neck": "tip-neck fillet",
                 "ball": "tip ball", "rim": "rim", "side": "rim (sector cut)",
@@ -76,7 +78,7 @@ class StaticResult:
     """Largest nodal von Mises on each kind of boundary (root fillet, flank, neck, ...)."""
 
     def to_dict(self) -> dict:
-        return {"stiffness_Nm_per_rad": self.stiffness_Nmm_per_rad / 1000.0,
+        return {"stiffness_Nm_per_rad": self.stiffness_Nmm_per_rad / NMM_PER_NM,
                 "peak_von_mises_MPa": self.peak_von_mises_MPa,
                 "peak_ip_von_mises_MPa": self.peak_ip_von_mises_MPa,
                 "peak_location_mm": list(self.peak_location_mm),
@@ -147,8 +149,8 @@ def _excluded_mask(points, system, fm, case, support_exclusion_mm):
     g = fm.geometry
     held_nodes = np.unique(system.held // system.dim)
     held_xy = system.basis.doflocs[:2, held_nodes]
-    tree = cKDTree(held_xy.T)  # distance in the plane: held faces span the thickness
-    d, _ = tree.query(points[:2].T)
+    tree = cKDTree(to_rows(held_xy))  # distance in the plane: held faces span the thickness
+    d, _ = tree.query(to_rows(points[:2]))
     mask = d < support_exclusion_mm
     patch = 2.0 * case.patch_half_width_mm(g.tip_radius_mm)
     for c in g.contact_points_mm():
@@ -227,7 +229,3 @@ def evaluate(fm, system, u: np.ndarray, case, max_deflection_rad: float, timings
         peak_region=_region(loc, fm), excluded_peak_MPa=excluded_peak, dofs=system.n_dofs,
         n_elements=fm.n_elements, dim=fm.dim, level=fm.level, timings_s=dict(timings),
         solve_info=info, fields=fields, mesh=fm, peak_by_region_MPa=by_region)
-
-
-def richardson_ready(results) -> bool:
-    return len(results) >= 3 and all(math.isfinite(r.stiffness_Nmm_per_rad) for r in results)

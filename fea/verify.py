@@ -41,7 +41,7 @@ from dataclasses import dataclass, field, replace
 from fea import convergence as cv
 from fea.geometry import sector_geometry
 from fea.mesh import MeshSize, fea_mesh_2d, fea_mesh_3d, mesh_face_levels
-from fea.problem import LoadCase, Material, assemble
+from fea.problem import LoadCase, Material, assemble, solver_material
 from fea.results import StaticResult, evaluate
 from fea.solve import solve
 from springcad.errors import DesignError, SpringcadError
@@ -450,7 +450,7 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
             is produced from a failed solve).
     """
     t_start = time.perf_counter()
-    material = material or Material.from_spec(design.material)
+    material = material or solver_material(design.material)
     target = design.target_stiffness_Nmm_per_rad
     with_3d = options.model == "2d3d"
     original = design
@@ -555,7 +555,7 @@ def support_study(design, material: Material | None = None, size: MeshSize = DEF
     """
     from fea.geometry import ring_geometry
 
-    material = material or Material.from_spec(design.material)
+    material = material or solver_material(design.material)
     g = ring_geometry(design, holes=True)
     if not g.hole_centres_mm:
         return {"note": "the ring has no rim holes; held at the outer rim only"}

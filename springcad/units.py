@@ -12,6 +12,9 @@ KG_PER_MM3_PER_KG_PER_M3 = 1e-9
 """Multiply a density in kg/m^3 by this to get kg/mm^3."""
 MPA_PER_GPA = 1000.0
 J_PER_NMM = 1e-3
+G_PER_KG = 1000.0
+M_PER_MM = 1e-3
+"""A length unit of 1 mm in metres (CAD files declare their unit in metres)."""
 
 
 def deg_to_rad(deg: float) -> float:
@@ -20,10 +23,6 @@ def deg_to_rad(deg: float) -> float:
 
 def rad_to_deg(rad: float) -> float:
     return math.degrees(rad)
-
-
-def nm_to_nmm(torque_Nm: float) -> float:
-    return torque_Nm * NMM_PER_NM
 
 
 def nmm_to_nm(torque_Nmm: float) -> float:

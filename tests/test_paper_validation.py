@@ -70,6 +70,20 @@ def test_fea_enriched_validation():
     assert all(e["sensitivity_pct_per_0.01mm"] > 2 for e in width)  # thin flexures: ~w^3
 
 
+def test_shipped_paper_templates_are_the_templates():
+    """springcad/data/paper holds a copy of templates/paper_*.toml for installed wheels."""
+    from springcad.validation.paper import (CONFIGURATIONS, MANUFACTURER_TEMPLATES,
+                                            default_templates_dir)
+    from tests.conftest import TEMPLATES
+
+    shipped = sorted(p.name for p in default_templates_dir().glob("paper_*.toml"))
+    assert shipped == sorted(p.name for p in TEMPLATES.glob("paper_*.toml"))
+    names = {t for _, t in CONFIGURATIONS} | set(MANUFACTURER_TEMPLATES.values())
+    assert {f"{n}.toml" for n in names} <= set(shipped)
+    for name in shipped:
+        assert (default_templates_dir() / name).read_bytes() == (TEMPLATES / name).read_bytes()
+
+
 def test_shipped_paper_tables_are_the_shared_ones():
     """springcad/data/paper holds a copy of ../shared/data for clones without shared/."""
     from tests.conftest import ROOT, SHARED

@@ -55,7 +55,8 @@ class BuildContext:
     timings: dict = field(default_factory=dict)
     started: str = ""
 
-    def say(self, msg: str) -> None:
+    def say(self, msg: str, fraction: float | None = None) -> None:
+        """The progress protocol (:mod:`springcad.progress`); the fraction is not shown."""
         print(f"  {msg}", file=sys.stderr, flush=True)
 
 

@@ -21,7 +21,7 @@ def run(args) -> int:
     from springcad.report.paper_report import write_paper_report
     from springcad.validation.paper import validate_paper
 
-    def progress(message):
+    def progress(message, fraction=None):
         print(f"  {message}", file=sys.stderr, flush=True)
 
     v = validate_paper(args.data, args.templates, use_fea=not args.no_fea, progress=progress)

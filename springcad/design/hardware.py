@@ -1,15 +1,21 @@
-"""Stack hardware layout: every part of a stack with its size, axial place and mass.
+"""Stack hardware layout: every part of a stack with its plan, axial place and mass.
 
-This is the single source of part dimensions: the CAD step builds solids from
-these numbers and the design step sums their masses. Axial positions ``z_mm``
-run from the input side (z = 0 at the first spring's input face).
+This is the single source of part dimensions: each part's numbers are a typed
+plan (:mod:`springcad.design.plans`), the CAD step builds solids from the plans
+and the design step sums their masses. Axial positions ``z_mm`` run from the
+input side (z = 0 at the first spring's input face). The stack height and
+whether the camshafts float on an alignment shaft are decided here, once.
 Units: mm, kg.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass
+
+from springcad.design import plans as pl
+from springcad.design.connections import SHAFT, camshaft_indices
+from springcad.units import KG_PER_MM3_PER_KG_PER_M3
 
 #: radial clearance between the rim spacer / washer and the flexure roots (mm)
 ROOT_CLEARANCE_MM = 0.3
@@ -29,8 +35,12 @@ SOCKET_FACE_CLEARANCE_MM = 0.5
 HUB_WIRE_CLEARANCE_MM = 0.1
 #: drive flat on a D bore or a D hub, as a fraction of its radius (-)
 FLAT_RATIO = 0.8
+#: stacks of this many springs or more float their middle camshafts on an alignment shaft
+#: inside an outer bushing (paper Section II-A)
+FLOATING_FROM_SPRINGS = 3
 ALUMINIUM = ("aluminium 6061-T6", 2700.0)
 PLASTIC = ("acetal (POM)", 1420.0)
+FASTENER_STEEL = ("steel", 7850.0)
 
 
 @dataclass(frozen=True)
@@ -39,189 +49,250 @@ class Component:
 
     Attributes:
         name: unique part name, e.g. ``"camshaft_1"``.
-        kind: flexure_ring, camshaft, rim_spacer, centre_spacer, rim_washer,
-            bushing, alignment_shaft, fastener, rim_flange, torque_shaft.
+        plan: the part's typed plan (its kind and sizes).
         material: material name.
         count: number of identical parts.
         volume_mm3: volume of one part (mm^3).
         density_kg_per_m3: density (kg/m^3).
         z_mm: axial start of the part (mm).
         length_mm: axial length of the part (mm).
-        dims: kind-specific dimensions (mm), e.g. inner/outer radius.
         role: "input", "output" or "" (for the parts that carry the load in or out).
         in_mass: counted in the stack mass (adapters are system parts: not counted).
     """
 
     name: str
-    kind: str
+    plan: pl.PartPlan
     material: str
     count: int
     volume_mm3: float
     density_kg_per_m3: float
     z_mm: float
     length_mm: float
-    dims: dict = field(default_factory=dict)
     role: str = ""
     in_mass: bool = True
 
     @property
+    def kind(self) -> str:
+        """flexure_ring, camshaft, rim_spacer, centre_spacer, rim_washer, bushing,
+        alignment_shaft, fastener, rim_flange or torque_shaft."""
+        return self.plan.KIND
+
+    @property
     def mass_kg(self) -> float:
-        return self.count * self.volume_mm3 * self.density_kg_per_m3 * 1e-9
+        return self.count * self.volume_mm3 * self.density_kg_per_m3 * KG_PER_MM3_PER_KG_PER_M3
 
     def to_dict(self) -> dict:
-        d = asdict(self)
-        d["mass_kg"] = self.mass_kg
-        return d
+        return {"name": self.name, "kind": self.kind, "material": self.material,
+                "count": self.count, "volume_mm3": self.volume_mm3,
+                "density_kg_per_m3": self.density_kg_per_m3, "z_mm": self.z_mm,
+                "length_mm": self.length_mm, "dims": self.plan.to_dict(), "role": self.role,
+                "in_mass": self.in_mass, "mass_kg": self.mass_kg}
 
 
-def _ring_volume(r_in, r_out, length, holes=0, hole_d=0.0):
-    return (math.pi * (r_out ** 2 - r_in ** 2) - holes * math.pi * hole_d ** 2 / 4) * length
+@dataclass(frozen=True)
+class StackLayout:
+    """Every part of a stack and the numbers the layout decides once.
 
-
-def _torque_shaft(role, drive, cam_start, cam_end, hub_radius, shaft_diameter, hub_length,
-                  steel, corner_radius_mm) -> Component:
-    """Input/output torque shaft on an end camshaft (mm).
-
-    ``drive == "bore_flat"``: a D shaft through the camshaft's D bore, sticking out
-    beyond the hub. ``"hub_flat"``: a shaft whose D socket fits over the camshaft's
-    D hub (the bore is taken by the alignment shaft), stopping short of the spring.
+    Attributes:
+        components: the parts, input side first.
+        spring_z_mm: axial start of each spring (mm).
+        height_mm: first spring's input face to the last spring's output face (mm).
+        floating_camshafts: the middle camshafts float on an alignment shaft inside an
+            outer bushing (three or more springs).
+        envelope_radius_mm: outer radius of the stack, bushing included (mm).
     """
-    out = TORQUE_SHAFT_STICKOUT_MM
-    if drive == "bore_flat":
-        r = 0.5 * shaft_diameter
-        # stops short of the camshaft's inner face, clear of the centre spacer
-        engaged = cam_end - cam_start - SOCKET_FACE_CLEARANCE_MM
-        length = engaged + out
-        z = cam_start - out if role == "input" else cam_end - engaged
-        dims = {"style": "d_shaft", "diameter_mm": shaft_diameter, "flat_ratio": FLAT_RATIO,
-                "engaged_length_mm": engaged, "stickout_mm": out,
-                "corner_radius_mm": corner_radius_mm}
-        volume = math.pi * r ** 2 * length
-    else:
-        depth = hub_length - SOCKET_FACE_CLEARANCE_MM
-        r_out = hub_radius + SOCKET_WALL_MM
-        length = depth + out
-        z = cam_start - out if role == "input" else cam_end - depth
-        dims = {"style": "hub_socket", "outer_radius_mm": r_out, "socket_depth_mm": depth,
-                "hub_radius_mm": hub_radius, "flat_ratio": FLAT_RATIO, "stickout_mm": out,
-                "corner_radius_mm": corner_radius_mm}
-        volume = math.pi * r_out ** 2 * length - math.pi * hub_radius ** 2 * depth
-    return Component(f"{role}_torque_shaft", "torque_shaft", steel[0], 1, volume, steel[1], z,
-                     length, dims, role, in_mass=False)
+
+    components: tuple[Component, ...]
+    spring_z_mm: tuple[float, ...]
+    height_mm: float
+    floating_camshafts: bool
+    envelope_radius_mm: float
 
 
-def stack_components(springs, joints, input_connection, output_connection) -> tuple[Component, ...]:
-    """Every part of a stack, with axial positions (input side first)."""
-    from springcad.design.stack import SHAFT, camshaft_indices
+def _annulus_volume(plan: pl.AnnulusPlan, length_mm: float) -> float:
+    holes = plan.holes * math.pi * plan.hole_diameter_mm ** 2 / 4
+    return (math.pi * (plan.outer_radius_mm ** 2 - plan.inner_radius_mm ** 2) - holes) * length_mm
 
-    hw = springs[0].hardware
-    steel = (springs[0].material.material.name, springs[0].material.material.density_kg_per_m3)
-    gap = hw.rim_spacer_thickness_mm
-    n = len(springs)
-    z0 = []
-    z = 0.0
-    for i, s in enumerate(springs):
-        z0.append(z)
-        z += s.thickness_mm + (gap if i < n - 1 else 0.0)
-    height = z
-    r_o = max(s.outer_radius_mm for s in springs)
-    floating_cams = n >= 3
-    comps: list[Component] = []
-    for i, s in enumerate(springs):
-        role = "input" if i == 0 and input_connection != SHAFT else (
-            "output" if i == n - 1 and output_connection != SHAFT else "")
-        comps.append(Component(
-            f"spring_{i + 1}_{s.name}", "flexure_ring", steel[0], 1,
-            s.profile_area_mm2 * s.thickness_mm, steel[1], z0[i], s.thickness_mm,
-            {"outer_radius_mm": s.outer_radius_mm, "root_radius_mm": s.root_radius_mm,
-             "spring_index": i}, role))
-    cams = camshaft_indices(joints)
-    for c in sorted(set(cams)):
-        members = [i for i in range(n) if cams[i] == c]
-        first, last = members[0], members[-1]
-        start, end = z0[first], z0[last] + springs[last].thickness_mm
-        # a shared camshaft is cut to the smallest member tooth (same pockets and flanks,
-        # which depend on r_c and the tip ball only): it clears every member ring
-        s = min((springs[i] for i in members), key=lambda sp: sp.cam_tip_radius_mm)
-        role = ("input" if first == 0 and input_connection == SHAFT else
-                "output" if last == n - 1 and output_connection == SHAFT else "")
-        hub = hw.camshaft_hub_length_mm if role else 0.0
-        # the wire cutting the pockets runs the full length: keep the turned hub inside it
-        r_hub = s.cam_root_radius_mm - HUB_WIRE_CLEARANCE_MM
-        bore = 0.5 * hw.shaft_diameter_mm
-        vol = s.cam_area_mm2 * (end - start) + math.pi * (r_hub ** 2 - bore ** 2) * hub
-        # With an alignment shaft every camshaft runs on it (round bore) and an end camshaft
-        # takes its torque through a flat on its hub; otherwise the D bore takes a D shaft.
-        drive = ("" if not role else "hub_flat" if floating_cams else "bore_flat")
-        comps.append(Component(
-            f"camshaft_{c + 1}", "camshaft", steel[0], 1, vol, steel[1],
-            start - hub if role == "input" else start, end - start + hub,
-            {"springs": members, "profile_spring": s.name, "toothed_start_mm": start, "toothed_end_mm": end,
-             "hub_length_mm": hub, "hub_radius_mm": r_hub, "tip_radius_mm": s.cam_tip_radius_mm,
-             "bore_diameter_mm": hw.shaft_diameter_mm,
-             "bore": "round" if floating_cams else "d_flat", "drive": drive,
-             "flat_ratio": FLAT_RATIO, "floating": not role}, role))
-        if role:
-            cam_start = start - hub if role == "input" else start
-            cam_end = end + hub if role == "output" else end
-            comps.append(_torque_shaft(role, drive, cam_start, cam_end, r_hub,
-                                       hw.shaft_diameter_mm, hub, steel,
-                                       springs[0].manufacturing.min_inside_radius_mm))
-    fastener_len = lambda a, b: springs[a].thickness_mm + gap + springs[b].thickness_mm  # noqa: E731
-    for j, kind in enumerate(joints):
-        zj = z0[j] + springs[j].thickness_mm
+
+def _annular(name, plan: pl.AnnulusPlan, material, z_mm, length_mm, role="", in_mass=True):
+    return Component(name, plan, material[0], 1, _annulus_volume(plan, length_mm), material[1],
+                     z_mm, length_mm, role, in_mass)
+
+
+class _Layout:
+    """The running state of one layout: springs, their places, the common numbers."""
+
+    def __init__(self, springs, joints, input_connection, output_connection):
+        self.springs = springs
+        self.joints = joints
+        self.input, self.output = input_connection, output_connection
+        self.hw = springs[0].hardware
+        mat = springs[0].material.material
+        self.steel = (mat.name, mat.density_kg_per_m3)
+        self.gap = self.hw.rim_spacer_thickness_mm
+        n = len(springs)
+        z, z0 = 0.0, []
+        for i, s in enumerate(springs):
+            z0.append(z)
+            z += s.thickness_mm + (self.gap if i < n - 1 else 0.0)
+        self.z0, self.height = tuple(z0), z
+        self.r_outer = max(s.outer_radius_mm for s in springs)
+        self.floating = n >= FLOATING_FROM_SPRINGS
+
+    def end_z(self, i: int) -> float:
+        return self.z0[i] + self.springs[i].thickness_mm
+
+    def rings(self) -> list[Component]:
+        n = len(self.springs)
+        out = []
+        for i, s in enumerate(self.springs):
+            role = ("input" if i == 0 and self.input != SHAFT else
+                    "output" if i == n - 1 and self.output != SHAFT else "")
+            plan = pl.FlexureRingPlan(spring_index=i, outer_radius_mm=s.outer_radius_mm,
+                                      root_radius_mm=s.root_radius_mm)
+            out.append(Component(f"spring_{i + 1}_{s.name}", plan, self.steel[0], 1,
+                                 s.profile_area_mm2 * s.thickness_mm, self.steel[1], self.z0[i],
+                                 s.thickness_mm, role))
+        return out
+
+    def camshafts(self) -> list[Component]:
+        """Camshafts (springs joined shaft-to-shaft share one) and the end torque shafts."""
+        springs, hw, n = self.springs, self.hw, len(self.springs)
+        cams = camshaft_indices(self.joints)
+        out = []
+        for c in sorted(set(cams)):
+            members = tuple(i for i in range(n) if cams[i] == c)
+            first, last = members[0], members[-1]
+            start, end = self.z0[first], self.end_z(last)
+            # a shared camshaft is cut to the smallest member tooth (same pockets and flanks,
+            # which depend on r_c and the tip ball only): it clears every member ring
+            s = min((springs[i] for i in members), key=lambda sp: sp.cam_tip_radius_mm)
+            role = ("input" if first == 0 and self.input == SHAFT else
+                    "output" if last == n - 1 and self.output == SHAFT else "")
+            hub = hw.camshaft_hub_length_mm if role else 0.0
+            # the wire cutting the pockets runs the full length: keep the turned hub inside it
+            r_hub = s.cam_root_radius_mm - HUB_WIRE_CLEARANCE_MM
+            bore = 0.5 * hw.shaft_diameter_mm
+            vol = s.cam_area_mm2 * (end - start) + math.pi * (r_hub ** 2 - bore ** 2) * hub
+            # With an alignment shaft every camshaft runs on it (round bore) and an end
+            # camshaft takes its torque through a flat on its hub; otherwise the D bore
+            # takes a D shaft.
+            drive = "" if not role else "hub_flat" if self.floating else "bore_flat"
+            plan = pl.CamshaftPlan(
+                springs=members, profile_spring=s.name, toothed_start_mm=start,
+                toothed_end_mm=end, hub_length_mm=hub, hub_radius_mm=r_hub,
+                tip_radius_mm=s.cam_tip_radius_mm, bore_diameter_mm=hw.shaft_diameter_mm,
+                bore="round" if self.floating else "d_flat", drive=drive, flat_ratio=FLAT_RATIO)
+            out.append(Component(f"camshaft_{c + 1}", plan, self.steel[0], 1, vol, self.steel[1],
+                                 start - hub if role == "input" else start, end - start + hub,
+                                 role))
+            if role:
+                out.append(self._torque_shaft(role, plan))
+        return out
+
+    def _torque_shaft(self, role: str, cam: pl.CamshaftPlan) -> Component:
+        """Input/output torque shaft on an end camshaft (mm).
+
+        ``drive == "bore_flat"``: a D shaft through the camshaft's D bore, sticking out
+        beyond the hub. ``"hub_flat"``: a shaft whose D socket fits over the camshaft's
+        D hub (the bore is taken by the alignment shaft), stopping short of the spring.
+        """
+        out_mm = TORQUE_SHAFT_STICKOUT_MM
+        hub = cam.hub_length_mm
+        cam_start = cam.toothed_start_mm - (hub if role == "input" else 0.0)
+        cam_end = cam.toothed_end_mm + (hub if role == "output" else 0.0)
+        corner = self.springs[0].manufacturing.min_inside_radius_mm
+        if cam.drive == "bore_flat":
+            r = 0.5 * cam.bore_diameter_mm
+            # stops short of the camshaft's inner face, clear of the centre spacer
+            inside = cam_end - cam_start - SOCKET_FACE_CLEARANCE_MM
+            plan = pl.DShaftPlan(diameter_mm=cam.bore_diameter_mm, flat_ratio=FLAT_RATIO,
+                                 engaged_length_mm=inside, stickout_mm=out_mm,
+                                 corner_radius_mm=corner)
+            volume = math.pi * r ** 2 * (inside + out_mm)
+        else:
+            inside = hub - SOCKET_FACE_CLEARANCE_MM
+            r_out = cam.hub_radius_mm + SOCKET_WALL_MM
+            plan = pl.HubSocketPlan(outer_radius_mm=r_out, socket_depth_mm=inside,
+                                    hub_radius_mm=cam.hub_radius_mm, flat_ratio=FLAT_RATIO,
+                                    stickout_mm=out_mm, corner_radius_mm=corner)
+            volume = math.pi * r_out ** 2 * (inside + out_mm) - math.pi * cam.hub_radius_mm ** 2 * inside
+        z = cam_start - out_mm if role == "input" else cam_end - inside
+        return Component(f"{role}_torque_shaft", plan, self.steel[0], 1, volume, self.steel[1], z,
+                         inside + out_mm, role, in_mass=False)
+
+    def joint_parts(self, j: int, kind: str) -> list[Component]:
+        """What sits between springs j and j + 1: a washer, or a spacer, a centre spacer and pins."""
+        springs, hw, gap = self.springs, self.hw, self.gap
+        zj = self.end_z(j)
         # clear the roots of the two springs it sits between (not the stack's largest root,
         # which would leave a sliver of material inside the holes of a thicker rim)
         r_in = max(springs[j].root_radius_mm, springs[j + 1].root_radius_mm) + ROOT_CLEARANCE_MM
         if kind == SHAFT:
-            comps.append(Component(
-                f"rim_washer_{j + 1}", "rim_washer", PLASTIC[0], 1,
-                _ring_volume(r_in, r_o, gap), PLASTIC[1], zj, gap,
-                {"inner_radius_mm": r_in, "outer_radius_mm": r_o, "joint": j}))
-            continue
-        holes = min(hw.fastener_count, springs[j].n_flexures)
-        hole_d = springs[j].hole_diameter_mm
-        comps.append(Component(
-            f"rim_spacer_{j + 1}", "rim_spacer", ALUMINIUM[0], 1,
-            _ring_volume(r_in, r_o, gap, holes, hole_d), ALUMINIUM[1], zj, gap,
-            {"inner_radius_mm": r_in, "outer_radius_mm": r_o, "holes": holes,
-             "hole_diameter_mm": hole_d, "joint": j}))
+            plan = pl.RimWasherPlan(inner_radius_mm=r_in, outer_radius_mm=self.r_outer, joint=j)
+            return [_annular(f"rim_washer_{j + 1}", plan, PLASTIC, zj, gap)]
+        centres = springs[j].hole_centres_mm
+        spacer = pl.RimSpacerPlan(inner_radius_mm=r_in, outer_radius_mm=self.r_outer,
+                                  hole_centres_mm=centres,
+                                  hole_diameter_mm=springs[j].hole_diameter_mm, joint=j)
         r_cs = max(springs[j].cam_tip_radius_mm, springs[j + 1].cam_tip_radius_mm) \
             + CENTRE_SPACER_OVERHANG_MM
-        r_cs_in = 0.5 * hw.shaft_diameter_mm if floating_cams else 0.0
-        comps.append(Component(
-            f"centre_spacer_{j + 1}", "centre_spacer", PLASTIC[0], 1,
-            _ring_volume(r_cs_in, r_cs, gap), PLASTIC[1], zj, gap,
-            {"inner_radius_mm": r_cs_in, "outer_radius_mm": r_cs, "joint": j}))
-        if holes:
+        centre = pl.CentreSpacerPlan(
+            inner_radius_mm=0.5 * hw.shaft_diameter_mm if self.floating else 0.0,
+            outer_radius_mm=r_cs, joint=j)
+        out = [_annular(f"rim_spacer_{j + 1}", spacer, ALUMINIUM, zj, gap),
+               _annular(f"centre_spacer_{j + 1}", centre, PLASTIC, zj, gap)]
+        if centres:
             d = hw.fastener_diameter_mm
-            length = fastener_len(j, j + 1)
-            comps.append(Component(
-                f"{hw.fastener}s_{j + 1}", "fastener", "steel", holes,
-                math.pi * d ** 2 / 4 * length, 7850.0, z0[j], length,
-                {"diameter_mm": d, "length_mm": length, "type": hw.fastener,
-                 "hole_circle_radius_mm": math.hypot(*springs[j].hole_centres_mm[0]),
-                 "joint": j}))
-    if floating_cams:
-        t = hw.bushing_wall_mm
-        comps.append(Component(
-            "outer_bushing", "bushing", PLASTIC[0], 1,
-            _ring_volume(r_o + BUSHING_CLEARANCE_MM, r_o + BUSHING_CLEARANCE_MM + t, height),
-            PLASTIC[1], 0.0, height,
-            {"inner_radius_mm": r_o + BUSHING_CLEARANCE_MM,
-             "outer_radius_mm": r_o + BUSHING_CLEARANCE_MM + t}))
-        r = 0.5 * hw.shaft_diameter_mm
-        comps.append(Component(
-            "alignment_shaft", "alignment_shaft", steel[0], 1, math.pi * r ** 2 * height,
-            steel[1], 0.0, height, {"diameter_mm": hw.shaft_diameter_mm}))
-    for end, conn, zf in (("input", input_connection, -FLANGE_THICKNESS_MM),
-                          ("output", output_connection, height)):
-        if conn == SHAFT:
-            continue
-        r_in = springs[0 if end == "input" else n - 1].root_radius_mm + ROOT_CLEARANCE_MM
-        comps.append(Component(
-            f"{end}_rim_flange", "rim_flange", steel[0], 1,
-            _ring_volume(r_in, r_o, FLANGE_THICKNESS_MM), steel[1], zf, FLANGE_THICKNESS_MM,
-            {"inner_radius_mm": r_in, "outer_radius_mm": r_o,
-             "spring_index": 0 if end == "input" else n - 1}, end, in_mass=False))
-    return tuple(comps)
+            length = springs[j].thickness_mm + gap + springs[j + 1].thickness_mm
+            plan = pl.FastenerPlan(type=hw.fastener, diameter_mm=d, length_mm=length,
+                                   hole_centres_mm=centres, joint=j)
+            out.append(Component(f"{hw.fastener}s_{j + 1}", plan, FASTENER_STEEL[0], len(centres),
+                                 math.pi * d ** 2 / 4 * length, FASTENER_STEEL[1], self.z0[j],
+                                 length))
+        return out
+
+    def alignment_parts(self) -> list[Component]:
+        """Outer bushing and alignment shaft of a stack whose camshafts float."""
+        if not self.floating:
+            return []
+        r_in = self.r_outer + BUSHING_CLEARANCE_MM
+        bushing = pl.BushingPlan(inner_radius_mm=r_in,
+                                 outer_radius_mm=r_in + self.hw.bushing_wall_mm)
+        d = self.hw.shaft_diameter_mm
+        shaft = Component("alignment_shaft", pl.AlignmentShaftPlan(diameter_mm=d), self.steel[0],
+                          1, math.pi * d ** 2 / 4 * self.height, self.steel[1], 0.0, self.height)
+        return [_annular("outer_bushing", bushing, PLASTIC, 0.0, self.height), shaft]
+
+    def flanges(self) -> list[Component]:
+        """Rim flange adapters at the ends that take their torque through a rim."""
+        n = len(self.springs)
+        out = []
+        for end, conn, i, z in (("input", self.input, 0, -FLANGE_THICKNESS_MM),
+                                ("output", self.output, n - 1, self.height)):
+            if conn == SHAFT:
+                continue
+            s = self.springs[i]
+            plan = pl.RimFlangePlan(inner_radius_mm=s.root_radius_mm + ROOT_CLEARANCE_MM,
+                                    outer_radius_mm=self.r_outer, hole_centres_mm=s.hole_centres_mm,
+                                    hole_diameter_mm=s.hole_diameter_mm, spring_index=i)
+            out.append(_annular(f"{end}_rim_flange", plan, self.steel, z, FLANGE_THICKNESS_MM,
+                                end, in_mass=False))
+        return out
+
+
+def stack_layout(springs, joints, input_connection: str, output_connection: str) -> StackLayout:
+    """Every part of a stack, with axial positions (input side first).
+
+    Args:
+        springs: the :class:`~springcad.design.spring.SpringDesign` of each position.
+        joints: ``joints[i]`` joins springs i and i + 1 ("rim" or "shaft").
+        input_connection, output_connection: "rim" or "shaft".
+    """
+    lay = _Layout(springs, joints, input_connection, output_connection)
+    comps = lay.rings() + lay.camshafts()
+    for j, kind in enumerate(joints):
+        comps += lay.joint_parts(j, kind)
+    comps += lay.alignment_parts() + lay.flanges()
+    envelope = lay.r_outer + (BUSHING_CLEARANCE_MM + lay.hw.bushing_wall_mm if lay.floating else 0.0)
+    return StackLayout(tuple(comps), lay.z0, lay.height, lay.floating, envelope)

@@ -9,7 +9,7 @@ from springcad import __version__
 from springcad.config import Job
 from springcad.design.spring import SpringDesign, design_spring
 from springcad.design.stack import StackDesign, design_stack
-from springcad.units import NMM_PER_NM
+from springcad.units import G_PER_KG, MM3_PER_CM3, NMM_PER_NM
 
 SCHEMA = "springcad.design/1"
 
@@ -86,8 +86,8 @@ class JobDesign:
             f"{st.max_deflection_rad:.3f} rad ({math.degrees(st.max_deflection_rad):.1f} deg, eq. 10)",
             f"  backlash rad: nominal {b.nominal:.4f}, worst [{b.worst_min:.4f}, {b.worst_max:.4f}], "
             f"RSS [{b.rss_min:.4f}, {b.rss_max:.4f}], MC p1-p99 [{b.mc_p01:.4f}, {b.mc_p99:.4f}]",
-            f"  energy {st.energy_J:.2f} J, mass {st.mass_kg * 1000:.1f} g, "
-            f"{st.energy_J / (st.envelope_volume_mm3 / 1000):.3f} J/cm3, "
+            f"  energy {st.energy_J:.2f} J, mass {st.mass_kg * G_PER_KG:.1f} g, "
+            f"{st.energy_J / (st.envelope_volume_mm3 / MM3_PER_CM3):.3f} J/cm3, "
             f"{st.energy_J / st.mass_kg:.1f} J/kg",
         ]
         for s in self.springs.values():

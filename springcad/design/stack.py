@@ -1,11 +1,8 @@
-"""Series stacks: connection sequence, series stiffness, eq. 10, backlash, hardware.
+"""Series stacks: series stiffness, eq. 10, backlash and the hardware layout.
 
-Consecutive springs alternate between sharing a rim (rim-to-rim, bolted) and
-sharing a camshaft (shaft-to-shaft). With the input on the first spring's
-camshaft ("shaft") the first joint is rim-to-rim; with the input on its rim,
-shaft-to-shaft. For odd n the output is then the other kind of connection;
-for even n it is the same kind as the input (paper Section II-A).
-Units: mm, N*mm, rad, kg.
+The connection sequence (the paper's alternation rule) is
+:mod:`springcad.design.connections`; the parts and their places are
+:mod:`springcad.design.hardware`. Units: mm, N*mm, rad, kg.
 """
 
 from __future__ import annotations
@@ -13,27 +10,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from springcad.design.hardware import Component, stack_components
+from springcad.design.connections import camshaft_indices, connection_sequence
+from springcad.design.hardware import Component, StackLayout, stack_layout
 from springcad.design.spring import SpringDesign
 from springcad.design.tolerance import Interface, StackBacklash, stack_backlash
 from springcad.units import J_PER_NMM, MM3_PER_CM3, NMM_PER_NM
 
-RIM, SHAFT = "rim", "shaft"
-
-
-def connection_sequence(n_springs: int, input_connection: str) -> tuple[tuple[str, ...], str]:
-    """Joints between consecutive springs and the output connection.
-
-    Returns:
-        (joints, output): ``joints[i]`` is "rim" (rim-to-rim) or "shaft"
-        (shaft-to-shaft) between springs i and i+1.
-    """
-    joints = []
-    free = SHAFT if input_connection == RIM else RIM  # free side of the first spring
-    for _ in range(n_springs - 1):
-        joints.append(free)
-        free = SHAFT if free == RIM else RIM  # the next spring's far side is the other kind
-    return tuple(joints), free
+__all__ = ["StackDesign", "camshaft_indices", "connection_sequence", "design_stack",
+           "eq10_limit", "series_stiffness"]
 
 
 def series_stiffness(stiffnesses) -> float:
@@ -61,7 +45,12 @@ class StackDesign:
     output: str
     joints: tuple[str, ...]
     backlash: StackBacklash
-    components: tuple[Component, ...]
+    layout: StackLayout
+
+    @property
+    def components(self) -> tuple[Component, ...]:
+        """Every part of the stack (:mod:`springcad.design.hardware`)."""
+        return self.layout.components
 
     @property
     def sequence(self) -> tuple[str, ...]:
@@ -104,19 +93,15 @@ class StackDesign:
 
     @property
     def height_mm(self) -> float:
-        return (sum(s.thickness_mm for s in self.springs)
-                + len(self.joints) * self.springs[0].hardware.rim_spacer_thickness_mm)
+        return self.layout.height_mm
 
     @property
     def envelope_radius_mm(self) -> float:
-        r = max(s.outer_radius_mm for s in self.springs)
-        if self.has_bushing:
-            r += 0.05 + self.springs[0].hardware.bushing_wall_mm
-        return r
+        return self.layout.envelope_radius_mm
 
     @property
     def has_bushing(self) -> bool:
-        return len(self.springs) >= 3
+        return self.layout.floating_camshafts
 
     @property
     def envelope_volume_mm3(self) -> float:
@@ -168,16 +153,6 @@ class StackDesign:
         }
 
 
-def camshaft_indices(joints) -> tuple[int, ...]:
-    """Camshaft part index of each spring (springs joined shaft-to-shaft share one)."""
-    idx, out = 0, [0]
-    for j in joints:
-        if j != SHAFT:
-            idx += 1
-        out.append(idx)
-    return tuple(out)
-
-
 def design_stack(springs: list[SpringDesign], input_connection: str, mc_samples: int = 20000,
                  seed: int = 1) -> StackDesign:
     """Assemble designed springs (input to output) into a :class:`StackDesign`."""
@@ -187,5 +162,5 @@ def design_stack(springs: list[SpringDesign], input_connection: str, mc_samples:
                             s.manufacturing.t_spring_mm, s.manufacturing.t_shaft_mm, cam)
                   for s, cam in zip(springs, camshaft_indices(joints))]
     backlash = stack_backlash(interfaces, mc_samples, seed, mfg.tolerance_distribution)
-    comps = stack_components(springs, joints, input_connection, output)
-    return StackDesign(tuple(springs), input_connection, output, joints, backlash, comps)
+    layout = stack_layout(springs, joints, input_connection, output)
+    return StackDesign(tuple(springs), input_connection, output, joints, backlash, layout)

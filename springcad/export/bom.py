@@ -10,6 +10,7 @@ import csv
 from pathlib import Path
 
 from springcad.export.sheet import fmt
+from springcad.units import G_PER_KG, KG_PER_MM3_PER_KG_PER_M3
 
 COLUMNS = ("item", "part_number", "title", "kind", "quantity", "make_or_buy", "process",
            "material", "heat_treatment", "standard", "thickness_or_length_mm",
@@ -29,7 +30,8 @@ def bom_rows(assembly, files_by_part: dict | None = None) -> list[dict]:
     for item, pn in enumerate(names, 1):
         part = assembly.parts[pn]
         info = part.info
-        mass = solid_volume_mm3(part.solid) * info.density_kg_per_m3 * 1e-6  # g
+        mass = (solid_volume_mm3(part.solid) * info.density_kg_per_m3
+                * KG_PER_MM3_PER_KG_PER_M3 * G_PER_KG)  # g
         rows.append({
             "item": item, "part_number": pn, "title": info.title, "kind": info.kind,
             "quantity": qty[pn], "make_or_buy": "buy" if info.process == "purchased" else "make",

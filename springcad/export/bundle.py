@@ -18,6 +18,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from springcad.geometry.checks import Check
+from springcad.progress import Progress, no_progress
 
 #: read-back tolerances: volume and area (relative), bounding box (mm)
 ROUNDTRIP_RTOL = 1e-3
@@ -42,23 +43,23 @@ def _record(out_dir: Path, path: Path, kind: str, part: str = "") -> WrittenFile
 
 
 def export_parts(assembly, out_dir: Path, drawing_info: dict, template: dict | None = None,
-                 progress=None) -> list[WrittenFile]:
+                 progress: Progress = no_progress) -> list[WrittenFile]:
     """STEP, STL, DXF and drawings of every distinct part.
 
     Args:
         drawing_info: ``job``, ``revision``, ``date`` for the title blocks.
+        progress: ``progress(message, fraction=None)``, called per part.
     """
     from springcad.export.drawing import DrawingInfo, write_drawing
     from springcad.export.dxf import write_dxf
     from springcad.export.step import write_part_step, write_part_stl
 
-    say = progress or (lambda msg: None)
     parts_dir = Path(out_dir) / "parts"
     parts_dir.mkdir(parents=True, exist_ok=True)
     qty = assembly.quantities()
     out = []
-    for pn, part in assembly.parts.items():
-        say(f"exporting {pn}")
+    for k, (pn, part) in enumerate(assembly.parts.items()):
+        progress(f"exporting {pn}", k / len(assembly.parts))
         out.append(_record(out_dir, write_part_step(part, parts_dir / f"{pn}.step"), "step", pn))
         out.append(_record(out_dir, write_part_stl(part, parts_dir / f"{pn}.stl"), "stl", pn))
         if part.info.cut_profile is not None:
@@ -73,14 +74,17 @@ def export_parts(assembly, out_dir: Path, drawing_info: dict, template: dict | N
 
 
 def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render: bool = True,
-                 progress=None) -> list[WrittenFile]:
-    """Assembly STEP, bill of materials and (optionally) the PNG render."""
+                 progress: Progress = no_progress) -> list[WrittenFile]:
+    """Assembly STEP, bill of materials and (optionally) the PNG render.
+
+    Args:
+        progress: ``progress(message, fraction=None)``, called per file.
+    """
     from springcad.export.bom import write_bom
     from springcad.export.step import write_assembly_step
 
-    say = progress or (lambda msg: None)
     out_dir = Path(out_dir)
-    say("exporting assembly STEP")
+    progress("exporting assembly STEP", 0.0)
     out = [_record(out_dir, write_assembly_step(assembly, out_dir / "assembly.step"),
                    "step_assembly")]
     by_part: dict[str, list[str]] = {}
@@ -90,12 +94,13 @@ def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render:
     if render:
         from springcad.export.render import render_png
 
-        say("rendering assembly.png")
+        progress("rendering assembly.png", 0.5)
         out.append(_record(out_dir, render_png(assembly, out_dir / "assembly.png"), "png"))
     return out
 
 
-def roundtrip_checks(assembly, out_dir: Path, files: list[WrittenFile], progress=None) -> list[Check]:
+def roundtrip_checks(assembly, out_dir: Path, files: list[WrittenFile],
+                     progress: Progress = no_progress) -> list[Check]:
     """Read every part STEP and DXF back and hold it against the part.
 
     STEP: one valid solid, same volume (0.1 %) and bounding box (1 um).
@@ -107,14 +112,13 @@ def roundtrip_checks(assembly, out_dir: Path, files: list[WrittenFile], progress
     from springcad.geometry.base import face_area_mm2, solid_volume_mm3
     from springcad.geometry.profile import profile_face
 
-    say = progress or (lambda msg: None)
     out = []
-    for f in files:
+    for k, f in enumerate(files):
         part = assembly.parts.get(f.part)
         if part is None or f.kind not in ("step", "dxf"):
             continue
         path = Path(out_dir) / f.path
-        say(f"reading back {f.path}")
+        progress(f"reading back {f.path}", k / len(files))
         if f.kind == "step":
             rb = read_step(path)
             v = solid_volume_mm3(part.solid)

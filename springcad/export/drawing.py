@@ -1,6 +1,7 @@
 """Vendor drawings (SVG and PDF): the part's profile with its key dimensions, a side
 view with the thickness, a detail where features are small, notes and a title
-block filled from ``templates/drawing_title_block.toml``.
+block filled from the title block template (``templates/drawing_title_block.toml``,
+shipped as package data).
 
 The drawing is for ordering and inspection; the shop cuts from the DXF. Every
 dimension value is written as text (see :func:`springcad.export.sheet.fmt`).
@@ -16,20 +17,17 @@ from pathlib import Path
 
 import numpy as np
 
+from springcad.data import data_path
 from springcad.export.sheet import LABEL_FONT, NOTE_FONT, THICK, THIN, Sheet, View, fit_scale, fmt, scale_text
 
 TITLE_BLOCK_NAME = "drawing_title_block.toml"
 
 
 def default_title_block() -> Path:
-    """``templates/drawing_title_block.toml`` of the working folder or of the source tree,
-    else the copy shipped in the package (``springcad/data``, kept identical by a test)."""
-    from importlib import resources
-
-    for folder in (Path.cwd() / "templates", Path(__file__).resolve().parents[2] / "templates"):
-        if (folder / TITLE_BLOCK_NAME).exists():
-            return folder / TITLE_BLOCK_NAME
-    return Path(str(resources.files("springcad.data").joinpath(TITLE_BLOCK_NAME)))
+    """The title block shipped in ``springcad/data`` (identical to
+    ``templates/drawing_title_block.toml``, kept so by a test); pass another path to
+    :func:`load_title_block` to use your own."""
+    return data_path(TITLE_BLOCK_NAME)
 #: A3 layout (sheet mm): main view (centre, box), a second view at the top right
 #: (centre, box), a side view of flat parts under the main view (centre x, base y)
 MAIN_CENTRE, MAIN_BOX = (130.0, 170.0), 180.0

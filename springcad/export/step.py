@@ -12,6 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from springcad.units import M_PER_MM
+
 #: STL chordal tolerance (mm) and angular tolerance (rad): fine enough to show 0.025 mm gaps
 STL_TOLERANCE_MM = 0.005
 STL_ANGULAR_RAD = 0.2
@@ -73,7 +75,7 @@ def write_assembly_step(assembly, path: Path) -> Path:
     app = XCAFApp_Application.GetApplication_s()
     app.NewDocument(TCollection_ExtendedString("MDTV-XCAF"), doc)
     app.InitDocument(doc)
-    XCAFDoc_DocumentTool.SetLengthUnit_s(doc, 0.001)
+    XCAFDoc_DocumentTool.SetLengthUnit_s(doc, M_PER_MM)
     shapes = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
     colours = XCAFDoc_DocumentTool.ColorTool_s(doc.Main())
     shapes.SetAutoNaming_s(False)

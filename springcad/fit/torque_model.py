@@ -16,7 +16,7 @@ import contextlib
 import numpy as np
 from scipy import optimize
 
-from springcad.fit.effects import STAGES, Effect, Param
+from springcad.fit.effects import STAGES, Effect
 from springcad.fit.signals import Scales, Signals
 
 _TORQUE_STAGES = ("angle", "map", "factor", "torque")
@@ -74,9 +74,6 @@ class TorqueModel:
     def label(self) -> str:
         """``"linear"`` or ``"linear + backlash + …"`` in library order."""
         return " + ".join(("linear",) + self.names)
-
-    def params_of(self, name: str) -> tuple[Param, ...]:
-        return self._params[name]
 
     def with_effect(self, effect: Effect) -> "TorqueModel":
         return TorqueModel(self.effects + (effect,), self.scales)

@@ -7,6 +7,8 @@ at the top (+z); output instances are the same parts turned over. Units: mm.
 from __future__ import annotations
 
 from springcad.design.curves import Profile
+from springcad.design.plans import DShaftPlan, HubSocketPlan, TorqueShaftPlan
+from springcad.errors import GeometryError
 from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, circle_loop, d_loop
 from springcad.geometry.spacers import AnnularPart
 
@@ -29,43 +31,47 @@ class RimFlange(AnnularPart):
 class TorqueShaft(SpringcadPart):
     """Input/output torque shaft on an end camshaft.
 
-    Styles (from the Component): ``"d_shaft"``, a D shaft that fills the
-    camshaft's D bore and sticks out beyond the hub; ``"hub_socket"``, a shaft
-    whose D socket fits over the camshaft's D hub (the bore is then taken by
-    the alignment shaft).
+    Styles (the plan's class): :class:`~springcad.design.plans.DShaftPlan`, a D
+    shaft that fills the camshaft's D bore and sticks out beyond the hub;
+    :class:`~springcad.design.plans.HubSocketPlan`, a shaft whose D socket fits
+    over the camshaft's D hub (the bore is then taken by the alignment shaft).
 
     Args:
         part_number: unique part id.
-        dims: the torque-shaft Component's ``dims``.
+        plan: the torque shaft's plan.
         length_mm: overall length (mm).
         material: (name, density kg/m^3).
+        heat_treatment: as written on the drawing.
     """
 
-    def __init__(self, part_number: str, dims: dict, length_mm: float,
+    def __init__(self, part_number: str, plan: TorqueShaftPlan, length_mm: float,
                  material: tuple[str, float], heat_treatment: str = ""):
-        self.style = dims["style"]
+        self.style = plan.STYLE
         self.length = length_mm
-        self.flat_ratio = dims["flat_ratio"]
-        self.stickout = dims["stickout_mm"]
-        if self.style == "d_shaft":
-            self.diameter = dims["diameter_mm"]
+        self.flat_ratio = plan.flat_ratio
+        self.stickout = plan.stickout_mm
+        if isinstance(plan, DShaftPlan):
+            self.diameter = plan.diameter_mm
             slabs = (Slab(0.0, length_mm,
                           Profile(d_loop(0.5 * self.diameter, self.flat_ratio,
-                                         dims["corner_radius_mm"]))),)
+                                         plan.corner_radius_mm))),)
             key = {"shaft diameter": self.diameter, "length": length_mm,
-                   "engaged length": dims["engaged_length_mm"]}
+                   "engaged length": plan.engaged_length_mm}
             note = "D flat matches the camshaft bore (slip fit)."
-        else:
-            self.outer_radius = dims["outer_radius_mm"]
-            self.socket_depth = dims["socket_depth_mm"]
-            hub = d_loop(dims["hub_radius_mm"], self.flat_ratio, dims["corner_radius_mm"])
+        elif isinstance(plan, HubSocketPlan):
+            self.outer_radius = plan.outer_radius_mm
+            self.socket_depth = plan.socket_depth_mm
+            hub = d_loop(plan.hub_radius_mm, self.flat_ratio, plan.corner_radius_mm)
             slabs = (Slab(0.0, self.stickout, Profile(circle_loop(self.outer_radius))),
                      Slab(self.stickout, length_mm,
                           Profile(circle_loop(self.outer_radius), (hub,))))
             key = {"outer diameter": 2 * self.outer_radius, "length": length_mm,
                    "socket depth": self.socket_depth,
-                   "socket diameter": 2 * dims["hub_radius_mm"]}
+                   "socket diameter": 2 * plan.hub_radius_mm}
             note = "D socket matches the camshaft hub (slip fit)."
+        else:
+            raise GeometryError(f"{part_number}: no torque shaft of style "
+                                f"{type(plan).__name__}; use a D shaft or a hub socket")
         info = PartInfo(part_number=part_number, title="Torque shaft", kind="torque_shaft",
                         material=material[0], heat_treatment=heat_treatment,
                         density_kg_per_m3=material[1], process="turned",

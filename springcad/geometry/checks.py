@@ -17,7 +17,9 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
 
+from springcad.design.connections import connection_sequence
 from springcad.errors import GeometryError
+from springcad.progress import Progress, no_progress
 
 #: measured cam-to-tip clearance must equal the designed gap within this (mm): the
 #: kernel's spline edges match the design curves to ~1 um
@@ -240,7 +242,8 @@ def connection_checks(assembly) -> list[Check]:
         shaft = any(_shares_z(c, a) and _shares_z(c, b) for c in cams)
         rim = any(_shares_z(f, a) and _shares_z(f, b) for f in fasteners)
         seen.append("shaft" if shaft and not rim else "rim" if rim and not shaft else "invalid")
-    ok = seen == list(stack.joints) and all(x != y for x, y in zip(seen, seen[1:]))
+    rule_joints, rule_output = connection_sequence(len(rings), stack.input)
+    ok = seen == list(stack.joints) == list(rule_joints)
     out.append(Check("connection_sequence", "stack", ok, unit="",
                      message=f"joints from geometry {seen or ['none']}, design "
                              f"{list(stack.joints) or ['none']}"
@@ -258,11 +261,11 @@ def connection_checks(assembly) -> list[Check]:
                          message=f"{end} through the {what} ({conn}); parts with role "
                                  f"{end}: {sorted(names)}"))
     n = len(rings)
-    rule = (stack.input == stack.output) if n % 2 == 0 else (stack.input != stack.output)
+    rule = stack.output == rule_output
     out.append(Check("alternation_rule", "stack", rule, unit="",
                      message=f"{n} spring(s): input {stack.input}, output {stack.output} "
-                             f"({'same' if n % 2 == 0 else 'other'} kind expected)"))
-    if n >= 3:
+                             f"(output {rule_output} expected)"))
+    if stack.layout.floating_camshafts:
         kinds = {i.component.kind for i in inst}
         good = {"bushing", "alignment_shaft"} <= kinds
         out.append(Check("alignment_parts", "stack", good, unit="",
@@ -271,21 +274,21 @@ def connection_checks(assembly) -> list[Check]:
     return out
 
 
-def run_checks(assembly, progress=None) -> CheckReport:
+def run_checks(assembly, progress: Progress = no_progress) -> CheckReport:
     """Run every check on a built stack.
 
     Args:
         assembly: a :class:`~springcad.geometry.stack.StackAssembly`.
-        progress: optional callable taking a short message per step.
+        progress: ``progress(message, fraction=None)``, called per step.
     """
-    say = progress or (lambda msg: None)
     checks: list[Check] = []
-    for part in assembly.parts.values():
-        say(f"checking {part.part_number}")
+    steps = len(assembly.parts) + 2
+    for k, part in enumerate(assembly.parts.values()):
+        progress(f"checking {part.part_number}", k / steps)
         checks += part_checks(part)
-    say("checking interference")
+    progress("checking interference", (steps - 2) / steps)
     checks += interference_checks(assembly)
-    say("measuring cam-to-tip clearance")
+    progress("measuring cam-to-tip clearance", (steps - 1) / steps)
     checks += clearance_checks(assembly)
     checks += connection_checks(assembly)
     return CheckReport(checks)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 
 from springcad.design.curves import Profile
+from springcad.design.plans import CamshaftPlan
 from springcad.errors import GeometryError
 from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, circle_loop, d_loop
 
@@ -163,6 +164,12 @@ class Camshaft(SpringcadPart):
             process="wire_edm", thickness_mm=toothed_length_mm + hub_length_mm,
             cut_profile=teeth, dimensions=dims, notes=tuple(notes))
         super().__init__(info, tuple(slabs), COLOURS["cam"])
+
+    @classmethod
+    def from_plan(cls, plan: CamshaftPlan, spring) -> "Camshaft":
+        """The camshaft of a stack plan, its teeth cut to ``spring`` (the plan's profile spring)."""
+        return cls(spring, plan.toothed_length_mm, plan.hub_length_mm, plan.bore, plan.drive,
+                   plan.bore_diameter_mm, plan.flat_ratio, plan.hub_radius_mm)
 
     def check_members(self, members) -> None:
         """Check that the cut tooth serves every spring the camshaft engages.

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.design.curves import Profile
-from springcad.geometry.sampling import material_on_left, sample_profile
+from springcad.design.planar import material_on_left, sample_profile
 
 #: walk along the contour / straight distance above which two boundary points face each other
 FACING_RATIO = 2.0

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from springcad.geometry.sampling import inside_region, sample_profile
+from springcad.design.planar import inside_region, region_contains, sample_profile
 
 #: boundaries closer than this touch; penetration deeper than this is an overlap (mm).
 #: Covers the sampling error (h^2 / 8R = 0.05 um at h = 0.02 mm, R = 1 mm) and the
@@ -129,15 +129,9 @@ class _Region:
         return best_d, best_in
 
     def _inside_far(self, xy: np.ndarray) -> np.ndarray:
-        from matplotlib.path import Path
-
         if self._coarse is None:
-            self._coarse = [Path(self.placement.map_xy(lp.sample(0.1)))
-                            for lp in self.slab.region.loops]
-        mask = self._coarse[0].contains_points(xy)
-        for hole in self._coarse[1:]:
-            mask &= ~hole.contains_points(xy)
-        return mask
+            self._coarse = [self.placement.map_xy(lp.sample(0.1)) for lp in self.slab.region.loops]
+        return region_contains(self._coarse, xy)
 
 
 def _plane_relation(ra: _Region, rb: _Region):

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 
 from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
+from springcad.design.planar import find_defect
 from springcad.errors import GeometryError
 
 
@@ -81,79 +82,32 @@ def _cause(la: int, lb: int) -> str:
 
 
 def check_loops(profile: Profile, part: str = "part", step_mm: float = 0.02) -> None:
-    """Check that no loop crosses itself or another loop and that holes lie inside.
+    """Check that no loop crosses or touches itself or another loop and that holes lie inside.
 
-    Works on the loops sampled every ``step_mm`` (a chord strays h^2 / 8R from
-    its curve: well under a micrometre here), so the kernel is never asked to
-    make a face from crossing contours.
+    The test is the planar toolkit's (:func:`springcad.design.planar.find_defect`)
+    on the loops sampled every ``step_mm`` (a chord strays h^2 / 8R from its
+    curve: well under a micrometre here), so the kernel is never asked to make
+    a face from crossing contours.
 
     Raises:
-        GeometryError: names the part, the loops, where they cross and what to change.
+        GeometryError: names the part, the loops, where they meet and what to change.
     """
-    import numpy as np
-    from scipy.spatial import cKDTree
-
-    pts, nxt, loop_of = [], [], []
-    offset = 0
-    for i, loop in enumerate(profile.loops):
-        p = loop.sample(step_mm)
-        n = len(p)
-        pts.append(p)
-        nxt.append(offset + (np.arange(n) + 1) % n)
-        loop_of.append(np.full(n, i))
-        offset += n
-    p0 = np.vstack(pts)
-    p1 = p0[np.concatenate(nxt)]
-    loop_of = np.concatenate(loop_of)
-    mid, half = 0.5 * (p0 + p1), 0.5 * np.linalg.norm(p1 - p0, axis=1)
-    pairs = cKDTree(mid).query_pairs(2.0 * half.max() + 1e-9, output_type="ndarray")
-    a, b = pairs[:, 0], pairs[:, 1]
-    nx = np.concatenate(nxt)
-    adjacent = (nx[a] == b) | (nx[b] == a)
-    a, b = a[~adjacent], b[~adjacent]
-
-    def orient(p, q, r):
-        return np.sign((q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1])
-                       - (q[:, 1] - p[:, 1]) * (r[:, 0] - p[:, 0]))
-
-    cross = ((orient(p0[a], p1[a], p0[b]) * orient(p0[a], p1[a], p1[b]) < 0)
-             & (orient(p0[b], p1[b], p0[a]) * orient(p0[b], p1[b], p1[a]) < 0))
-    if cross.any():
-        k = int(np.flatnonzero(cross)[0])
-        la, lb = loop_of[a[k]], loop_of[b[k]]
-        x, y = mid[a[k]]
-        what = (f"the {_loop_name(la)} crosses itself" if la == lb else
-                f"the {_loop_name(la)} and the {_loop_name(lb)} cross")
-        raise GeometryError(f"{part}: {what} at {_where(x, y)}; {_cause(la, lb)}")
-    # contours that touch without crossing (a fillet swept the long way, a hole tangent
-    # to an edge): samples of far-apart stretches closer than half a step
-    index = np.arange(len(p0)) - np.repeat(np.cumsum([0] + [len(q) for q in pts[:-1]]),
-                                            [len(q) for q in pts])
-    size = np.repeat([len(q) for q in pts], [len(q) for q in pts])
-    near = cKDTree(p0).query_pairs(0.5 * step_mm, output_type="ndarray")
-    if len(near):
-        a, b = near[:, 0], near[:, 1]
-        gap = np.abs(index[a] - index[b])
-        gap = np.minimum(gap, size[a] - gap)
-        touch = (loop_of[a] != loop_of[b]) | (gap > 4)
-        if touch.any():
-            k = int(np.flatnonzero(touch)[0])
-            la, lb = loop_of[a[k]], loop_of[b[k]]
-            what = (f"the {_loop_name(la)} touches itself" if la == lb else
-                    f"the {_loop_name(la)} touches the {_loop_name(lb)}")
-            raise GeometryError(f"{part}: {what} at {_where(*p0[a[k]])}; {_cause(la, lb)}")
-    from matplotlib.path import Path
-
-    outer = Path(pts[0])
-    for i, hole in enumerate(pts[1:], 1):
-        if not outer.contains_point(hole[0]):
-            raise GeometryError(f"{part}: the {_loop_name(i)} at {_where(*hole[0])} lies outside "
-                                "the outer contour; move it inside the part")
-        for j, other in enumerate(pts[1:], 1):
-            if j != i and Path(other).contains_point(hole[0]):
-                raise GeometryError(
-                    f"{part}: the {_loop_name(i)} at {_where(*hole[0])} lies inside the "
-                    f"{_loop_name(j)}; holes must not nest")
+    defect = find_defect(profile, step_mm)
+    if defect is None:
+        return
+    la, lb = defect.loops
+    where = _where(*defect.point_mm)
+    if defect.kind in ("cross", "touch"):
+        verb = "crosses" if defect.kind == "cross" else "touches"
+        what = (f"the {_loop_name(la)} {verb} itself" if la == lb else
+                f"the {_loop_name(la)} and the {_loop_name(lb)} cross" if defect.kind == "cross"
+                else f"the {_loop_name(la)} touches the {_loop_name(lb)}")
+        raise GeometryError(f"{part}: {what} at {where}; {_cause(la, lb)}")
+    if defect.kind == "outside":
+        raise GeometryError(f"{part}: the {_loop_name(la)} at {where} lies outside "
+                            "the outer contour; move it inside the part")
+    raise GeometryError(f"{part}: the {_loop_name(la)} at {where} lies inside the "
+                        f"{_loop_name(lb)}; holes must not nest")
 
 
 def profile_face(profile: Profile, part: str = "part"):

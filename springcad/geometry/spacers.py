@@ -1,14 +1,15 @@
 """Annular parts: rim spacer, rim washer, centre spacer and the outer bushing.
 
-All are rings (or discs) of constant section along the axis, sized by the
-stack's :class:`~springcad.design.hardware.Component` numbers. Part frame:
-z from 0 to the part length. Units: mm.
+All are rings (or discs) of constant section along the axis, built from
+their :class:`~springcad.design.plans.AnnulusPlan` (:meth:`AnnularPart.from_plan`).
+Part frame: z from 0 to the part length. Units: mm.
 """
 
 from __future__ import annotations
 
 import math
 
+from springcad.design.plans import AnnulusPlan
 from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, annulus, circle_loop
 
 
@@ -61,6 +62,12 @@ class AnnularPart(SpringcadPart):
                         dimensions=dims, notes=self.NOTES, standard=standard)
         super().__init__(info, (Slab(0.0, length_mm, region),), COLOURS[self.COLOUR])
 
+    @classmethod
+    def from_plan(cls, part_number: str, plan: AnnulusPlan, length_mm: float,
+                  material: tuple[str, float], heat_treatment: str = "") -> "AnnularPart":
+        """The part of a stack plan: its radii and holes, ``length_mm`` long (mm)."""
+        return cls(part_number, plan.inner_radius_mm, plan.outer_radius_mm, length_mm, material,
+                   plan.hole_centres_mm, plan.hole_diameter_mm, heat_treatment)
 
 
 class RimSpacer(AnnularPart):

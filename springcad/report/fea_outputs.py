@@ -5,19 +5,24 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from springcad.progress import Progress, no_progress
 from springcad.report.jsonio import write_json
 
 
-def write_outputs(result, folder: Path, render: bool = True, progress=None) -> list[Path]:
-    """``fea.json`` plus, per spring, .vtu files and PNG renders into ``folder``."""
+def write_outputs(result, folder: Path, render: bool = True,
+                  progress: Progress = no_progress) -> list[Path]:
+    """``fea.json`` plus, per spring, .vtu files and PNG renders into ``folder``.
+
+    Args:
+        progress: ``progress(message, fraction=None)``, called per spring.
+    """
     written = []
     if render:
         from springcad.report.fea_png import render_von_mises
         from springcad.report.fea_vtu import write_vtu
 
-        for name, v in result.springs.items():
-            if progress:
-                progress(f"writing {name} .vtu and PNG renders")
+        for k, (name, v) in enumerate(result.springs.items()):
+            progress(f"writing {name} .vtu and PNG renders", k / len(result.springs))
             r2 = v.run.study.finest
             r3 = v.run.check3d[-1] if v.run.check3d else None
             if r2.fields:

@@ -32,8 +32,10 @@ from pathlib import Path
 import numpy as np
 
 from springcad.design.stack import series_stiffness as series
+from springcad.data import data_path
 from springcad.errors import ConfigError
-from springcad.units import NMM_PER_NM
+from springcad.progress import Progress, no_progress
+from springcad.units import MM3_PER_CM3, NMM_PER_NM
 
 #: Table I configuration -> template name
 CONFIGURATIONS = (("S1", "paper_S1"), ("S2", "paper_S2"), ("2xS1", "paper_2xS1"),
@@ -42,23 +44,18 @@ CONFIGURATIONS = (("S1", "paper_S1"), ("S2", "paper_S2"), ("2xS1", "paper_2xS1")
 MANUFACTURER_TEMPLATES = {"Mfr1": "paper_4xS1_mfr1", "Mfr2": "paper_4xS1_mfr2"}
 #: published Young's modulus of hardened 420 (GPa): MakeItFrom 190, AK Steel data sheet 200
 E_RANGE_GPA = (190.0, 200.0)
-REPO = Path(__file__).resolve().parents[2]
 
 
 def default_data_dir() -> Path:
-    """``../shared/data`` beside the source tree or the working folder, else the copy of
-    the paper's two tables shipped in ``springcad/data/paper`` (kept identical by a test)."""
-    from importlib import resources
-
-    for base in (REPO, Path.cwd()):
-        if (base.parent / "shared" / "data").exists():
-            return base.parent / "shared" / "data"
-    return Path(str(resources.files("springcad.data").joinpath("paper")))
+    """The paper's two measured tables shipped in ``springcad/data/paper`` (identical to
+    ``../shared/data``, kept so by a test)."""
+    return data_path("paper")
 
 
 def default_templates_dir() -> Path:
-    """``templates/`` of the source tree, else of the working folder."""
-    return REPO / "templates" if (REPO / "templates").exists() else Path.cwd() / "templates"
+    """The paper's job templates shipped in ``springcad/data/paper`` (identical to
+    ``templates/paper_*.toml``, kept so by a test)."""
+    return data_path("paper")
 
 
 def load_tables(data_dir: Path) -> tuple[dict, dict]:
@@ -209,7 +206,7 @@ class Validation:
 FEA_OFFSETS_MM = (-0.025, 0.0, 0.025)
 
 
-def fea_spring_effects(designs: dict, progress=lambda message: None) -> dict:
+def fea_spring_effects(designs: dict, progress: Progress = no_progress) -> dict:
     """FEA of the paper springs: geometry ratio, load-application ratio and K(width offset).
 
     Per spring (unique names across ``designs``, a dict of JobDesign):
@@ -228,16 +225,17 @@ def fea_spring_effects(designs: dict, progress=lambda message: None) -> dict:
     for d in designs.values():
         for name, s in d.springs.items():
             seen.setdefault(name, s)
-    for name, s in seen.items():
-        progress(f"FEA of {name}: designed geometry")
+    for k, (name, s) in enumerate(seen.items()):
+        done = k / len(seen)
+        progress(f"FEA of {name}: designed geometry", done)
         nominal = verify_spring(s, VerifyOptions(correct=False, keep_fields=False))
         quick = VerifyOptions(model="2d", correct=False, keep_fields=False)
         ks = []
         for off in FEA_OFFSETS_MM:
-            progress(f"FEA of {name}: width offset {off:+.3f} mm")
+            progress(f"FEA of {name}: width offset {off:+.3f} mm", done)
             geom = with_width(s, 1.0, off) if off else s
             ks.append(verify_spring(geom, quick).stiffness_fea_Nmm_per_rad)
-        progress(f"FEA of {name}: rigid-cam load")
+        progress(f"FEA of {name}: rigid-cam load", done)
         cam = verify_spring(s, VerifyOptions(model="2d", correct=False, keep_fields=False,
                                              case=LoadCase(load="rigid_cam")))
         coef = np.polyfit(FEA_OFFSETS_MM, np.log(np.array(ks) / ks[1]), 2)
@@ -327,15 +325,17 @@ def _fit_offset(rows, models, lo: float = -0.1, hi: float = 0.1) -> float:
 
 
 def validate_paper(data_dir: Path | None = None, templates_dir: Path | None = None,
-                   use_fea: bool = False, progress=lambda message: None) -> Validation:
+                   use_fea: bool = False, progress: Progress = no_progress) -> Validation:
     """Predict every Table I configuration and trace the stiffness residual.
 
     Args:
-        data_dir: folder with the paper's CSV tables (default ``../shared/data``).
-        templates_dir: folder with the paper templates (default ``templates/``).
+        data_dir: folder with the paper's CSV tables (default: the shipped copy of
+            ``../shared/data``).
+        templates_dir: folder with the paper templates (default: the shipped copy of
+            ``templates/``).
         use_fea: quantify geometry, contact and width effects with the FEA
             (:func:`fea_spring_effects`); otherwise beam theory only.
-        progress: callable(message) for long steps.
+        progress: ``progress(message, fraction=None)`` for long steps.
     """
     from springcad.config import load_job
     from springcad.design.job import design_job
@@ -386,7 +386,7 @@ def validate_paper(data_dir: Path | None = None, templates_dir: Path | None = No
             table_deflection_limit_rad=t1[cfg]["max_deflection_limit_rad"],
             predicted_backlash_range_rad=(b.worst_min, b.worst_max),
             nominal_backlash_rad=b.nominal, measured_backlash_rad=t1[cfg]["backlash_rad"],
-            energy_density_J_per_cm3=st.energy_J / (st.envelope_volume_mm3 / 1000),
+            energy_density_J_per_cm3=st.energy_J / (st.envelope_volume_mm3 / MM3_PER_CM3),
             specific_energy_J_per_kg=st.energy_J / st.mass_kg))
 
     effects = _effects(springs, designs, offset_all)

@@ -59,9 +59,9 @@ def straight():
 
 @pytest.fixture(scope="session")
 def material(s1):
-    from fea.problem import Material
+    from fea.problem import solver_material
 
-    return Material.from_spec(s1.material)
+    return solver_material(s1.material)
 
 
 @pytest.fixture(scope="session")

@@ -112,6 +112,22 @@ def test_mesher_failure_is_a_meshing_error(s1):
         mesh_face_levels(bad, levels=1)
 
 
+@pytest.mark.parametrize("hole, message", [
+    ((9.5, 5.013), r"the outer contour crosses hole loop 1 near"),
+    ((20.0, 20.0), r"hole loop 1 near \(21\.000, 20\.000\) mm lies outside the outer contour"),
+])
+def test_face_check_names_loop_and_place(hole, message):
+    """The mesher's face check (the planar toolkit's) words its defects as MeshingErrors."""
+    from springcad.design.curves import Circle, Line, Loop, Profile
+
+    from fea.geometry import check_profile
+
+    p = [(0.0, 0.0), (10.0, 0.0), (10.0, 10.0), (0.0, 10.0)]
+    outer = Loop(tuple(Line(p[k], p[(k + 1) % 4]) for k in range(4)))
+    with pytest.raises(MeshingError, match=message):
+        check_profile(Profile(outer, (Loop((Circle(hole, 1.0),)),)), name="test face")
+
+
 @pytest.mark.slow
 def test_pytetwild_and_gmsh_solid_agree_with_the_extruded_mesh(s1, material):
     """Both any-solid meshers against the default (gmsh face + extrusion), same solid."""

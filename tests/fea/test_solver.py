@@ -15,11 +15,11 @@ def test_vectorised_stiffness_equals_scikit_fem_forms(s1_faces, material):
     from skfem import Basis, CellBasis, ElementVector
 
     from fea.mesh import fea_mesh_2d, fea_mesh_3d
-    from fea.problem import elasticity_form, stiffness_matrix
+    from fea.problem import elasticity_form, lame, stiffness_matrix
 
     g, faces = s1_faces
     for fm in (fea_mesh_2d(faces[0], g), fea_mesh_3d(faces[0], g, 1)):
-        lam, mu = material.lame(plane_stress=fm.dim == 2)
+        lam, mu = lame(material, plane_stress=fm.dim == 2)
         sb = CellBasis(fm.mesh, fm.mesh.elem(), intorder=2)
         A = stiffness_matrix(sb, lam, mu)
         vb = Basis(fm.mesh, ElementVector(fm.mesh.elem()), intorder=2)
@@ -116,10 +116,25 @@ def test_impossible_load_cases(s1_faces, material):
 def test_missing_material_data(s1):
     from dataclasses import replace
 
-    from fea.problem import Material
+    from fea.problem import solver_material
 
     bad = replace(s1.material.material, youngs_modulus_MPa=float("nan"))
     with pytest.raises(SolverError, match="youngs_modulus"):
-        Material.from_spec(bad)
+        solver_material(bad)
     with pytest.raises(SolverError, match="Poisson"):
-        Material.from_spec(replace(s1.material.material, poisson_ratio=0.5))
+        solver_material(replace(s1.material.material, poisson_ratio=0.5))
+
+
+def test_solver_uses_the_one_material_type(s1):
+    """The solver checks and uses the job's own Material (no second material class)."""
+    from fea.problem import lame, solver_material
+    from springcad.materials import Material
+
+    m = solver_material(s1.material)
+    assert isinstance(m, Material) and m is s1.material.material
+    E = m.youngs_modulus_MPa
+    lam3, mu = lame(m, plane_stress=False)
+    # Young's modulus back from the 3D Lame parameters: E = mu (3 lam + 2 mu) / (lam + mu)
+    assert mu * (3 * lam3 + 2 * mu) / (lam3 + mu) == pytest.approx(E, rel=1e-12)
+    lam2, _ = lame(m, plane_stress=True)
+    assert lam2 == pytest.approx(2 * lam3 * mu / (lam3 + 2 * mu), rel=1e-12)

@@ -5,6 +5,7 @@ import math
 import pytest
 
 from springcad.design.hardware import Component
+from springcad.design.plans import FastenerPlan, RimSpacerPlan
 from springcad.geometry.interference import NEAR_MM, InterferenceChecker, cam_clearance
 from springcad.geometry.spacers import RimSpacer
 from springcad.geometry.stack import Instance, Placement
@@ -16,8 +17,13 @@ def ring_part(r_in, r_out, t=1.0, pn="R"):
     return RimSpacer(pn, r_in, r_out, t, AL)
 
 
+PLANS = {"rim_spacer": RimSpacerPlan(inner_radius_mm=0.0, outer_radius_mm=1.0, joint=0),
+         "fastener": FastenerPlan(type="dowel", diameter_mm=1.0, length_mm=1.0,
+                                  hole_centres_mm=(), joint=0)}
+
+
 def place(name, part, z=0.0, x=0.0, y=0.0, kind="rim_spacer", angle=0.0):
-    comp = Component(name, kind, "al", 1, 0.0, 0.0, z, 1.0)
+    comp = Component(name, PLANS[kind], "al", 1, 0.0, 0.0, z, 1.0)
     return Instance(name, part, Placement(z, x, y, angle_rad=angle), comp, "", (1, 1, 1))
 
 
