@@ -54,7 +54,10 @@ def s2(s2_job):
 
 @pytest.fixture(scope="session")
 def straight():
-    return _design(STRAIGHT).springs["F"]
+    """The plain parabolic flexure (no root flare): the closed-form beam of check (a)."""
+    from springcad.design.spring import with_root
+
+    return with_root(_design(STRAIGHT).springs["F"], 0.0)
 
 
 @pytest.fixture(scope="session")
