@@ -159,11 +159,15 @@ def _excluded_mask(points, system, fm, case, support_exclusion_mm):
 
 
 def _region(point, fm) -> str:
-    """Name of the labelled boundary nearest to a point."""
+    """Name of the labelled in-plane boundary nearest to a point (in the plane of the disk).
+
+    The faces of the 3D model's thickness (its mid-plane "symmetry" face and the disk
+    faces) are skipped: every point lies on them in plan view.
+    """
     mesh = fm.mesh
     best, name = np.inf, "interior"
     for lab, facets in fm.boundaries.items():
-        if not len(facets):
+        if not len(facets) or lab in ("symmetry", "bottom", "top"):
             continue
         pts = mesh.p[:, np.unique(mesh.facets[:, facets])]
         d = np.min(np.linalg.norm(pts[:2] - np.asarray(point[:2])[:, None], axis=0))
