@@ -61,7 +61,8 @@ class CandidateSpace:
         max_axial_length_mm: stack height limit (mm; inf = none).
         max_disks, mixed: which families.
         thickness_mm, contact_radius_mm, outer_radius_fractions, n_flexures, inputs,
-            compliance_splits: the dimensions (``n_flexures`` empty: largest that fits).
+            compliance_splits: the dimensions.
+        fewer_flexures: with ``n_flexures`` empty, N = (largest that fits) - k for each k.
         min_tip_radius_mm: smallest tip-ball radius (mm).
         yield_margin, stress_concentration: the conservative yield check
             yield / (stress_concentration * beam peak stress) >= yield_margin.
@@ -78,6 +79,7 @@ class CandidateSpace:
     contact_radius_mm: tuple[float, ...]
     outer_radius_fractions: tuple[float, ...]
     n_flexures: tuple[int, ...]
+    fewer_flexures: tuple[int, ...]
     inputs: tuple[str, ...]
     compliance_splits: tuple[float, ...]
     min_tip_radius_mm: float
@@ -98,7 +100,7 @@ class CandidateSpace:
             max_axial_length_mm=req.max_axial_length_mm, max_disks=s.max_disks, mixed=s.mixed,
             thickness_mm=s.thickness_mm, contact_radius_mm=s.contact_radius_mm,
             outer_radius_fractions=s.outer_radius_fractions, n_flexures=s.n_flexures,
-            inputs=s.inputs, compliance_splits=s.compliance_splits,
+            fewer_flexures=s.fewer_flexures, inputs=s.inputs, compliance_splits=s.compliance_splits,
             min_tip_radius_mm=s.min_tip_radius_mm, yield_margin=req.yield_margin,
             stress_concentration=req.stress_concentration, manufacturing=req.manufacturing,
             hardware=req.hardware)
@@ -118,7 +120,7 @@ class CandidateSpace:
         return (len(self.targets), len(self.materials), len(self.outer_radius_fractions),
                 len(self.inputs), len(self.thickness_mm), len(self.thickness_mm) if mixed else 1,
                 len(self.contact_radius_mm), len(self.compliance_splits) if mixed else 1,
-                max(1, len(self.n_flexures)))
+                len(self.n_flexures) or len(self.fewer_flexures))
 
     @property
     def sizes(self) -> np.ndarray:
@@ -160,8 +162,9 @@ class CandidateSpace:
         z = np.array(self.thickness_mm)
         mixed = n_b > 0
         split = np.where(mixed, np.array(self.compliance_splits)[cols["split"]], 1.0)
+        # N > 0: exactly N flexures; N <= 0: -N fewer than the largest count that fits
         nflex = (np.array(self.n_flexures)[cols["n_flex"]] if self.n_flexures
-                 else np.zeros(len(n_a), dtype=int))
+                 else -np.array(self.fewer_flexures)[cols["n_flex"]])
         fraction = np.array(self.outer_radius_fractions)[cols["fraction"]]
         return {
             "cid": cols["cid"], "family": cols["family"], "n_a": n_a, "n_b": n_b,

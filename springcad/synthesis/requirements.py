@@ -10,7 +10,8 @@ Sections of a requirements TOML (units in key names; see
 ``[objective]``      minimise: mass, axial_length, backlash, edm_cut_length;
                      or maximise: energy_density
 ``[search]``         the design space: max_disks, thickness_mm, contact_radius_mm,
-                     outer_radius_fractions, n_flexures, inputs, mixed, compliance_splits,
+                     outer_radius_fractions, n_flexures or fewer_flexures, inputs, mixed,
+                     compliance_splits,
                      min_tip_radius_mm
 ``[manufacturing]``, ``[hardware]``  as in a job config (passed through to the winner's job)
 
@@ -53,8 +54,11 @@ class SearchSpace:
             camshafts of shaft-to-shaft joints fit both neighbours.
         outer_radius_fractions: disk outer radius R_o as fractions of the largest the
             envelope allows (the bushing of a stack of 3+ disks taken off) (-).
-        n_flexures: flexure counts to try; empty = the largest that fits (the
-            design rule of :func:`springcad.design.spring.design_spring`).
+        n_flexures: flexure counts to try; empty = derived from the largest count that
+            fits (the design rule of :func:`springcad.design.spring.design_spring`) by
+            ``fewer_flexures``.
+        fewer_flexures: when ``n_flexures`` is empty, try N = N_max - k for each k
+            (fewer flexures leave a thicker rim for the fastener holes).
         inputs: input connections to try ("shaft", "rim").
         mixed: also enumerate stacks of two designs (n_a of A then n_b of B).
         compliance_splits: share of the stack compliance taken by the A group of a
@@ -67,6 +71,7 @@ class SearchSpace:
     contact_radius_mm: tuple[float, ...] = (4.5, 5.5, 6.5, 7.5)
     outer_radius_fractions: tuple[float, ...] = (1.0,)
     n_flexures: tuple[int, ...] = ()
+    fewer_flexures: tuple[int, ...] = (0,)
     inputs: tuple[str, ...] = ("shaft", "rim")
     mixed: bool = True
     compliance_splits: tuple[float, ...] = (0.25, 0.5, 0.75)
@@ -166,6 +171,13 @@ def _search(table: dict, max_radius_mm: float) -> SearchSpace:
             raise ConfigError(f"{p}.n_flexures", v, "must be a list of whole numbers 2-400 "
                               "(empty: the largest count that fits)")
         kw["n_flexures"] = tuple(v)
+    if "fewer_flexures" in table:
+        v = table["fewer_flexures"]
+        if not isinstance(v, list) or not v or not all(
+                isinstance(k, int) and not isinstance(k, bool) and 0 <= k <= 100 for k in v):
+            raise ConfigError(f"{p}.fewer_flexures", v, "must be a non-empty list of whole "
+                              "numbers 0-100 (0: the largest count that fits)")
+        kw["fewer_flexures"] = tuple(dict.fromkeys(v))
     if "inputs" in table:
         v = table["inputs"]
         if not isinstance(v, list) or not v or any(x not in CONNECTIONS for x in v):
