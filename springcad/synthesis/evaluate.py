@@ -29,9 +29,9 @@ from springcad.synthesis.screening import REASONS, screen_disks
 #: stack-level constraints after the disk ones
 HOLES, AXIAL, RADIAL, YIELD = "rim_holes", "axial_length", "envelope_radius", "yield_margin"
 #: constraints where a smaller value is the violation (value/limit < 1 fails)
-_SMALLER_BAD = {"root_gap", "cam_bore", HOLES, YIELD}
+_SMALLER_BAD = {"root_gap", "cam_tooth", "cam_bore", HOLES, YIELD}
 UNITS = {"energy_bound": "J", "torque_cap": "N*mm", "flexure_fit": "flexures",
-         "rim_rule": "", "serpentine_budget": "(area ratio)", "root_gap": "mm", "cam_bore": "mm",
+         "rim_rule": "", "serpentine_budget": "(area ratio)", "root_gap": "mm", "cam_tooth": "mm", "cam_bore": "mm",
          HOLES: "mm", AXIAL: "mm", RADIAL: "mm", YIELD: ""}
 
 
@@ -73,6 +73,9 @@ def describe(binding: str, value: float, limit: float, disk: str = "") -> str:
                 f"neighbours allows at most {limit:.3f}")
     if binding == "root_gap":
         return f"{who}gap between flexure roots {value:.3g} mm < {limit:.3g} mm the wire needs"
+    if binding == "cam_tooth":
+        return (f"{who}cam tooth tip {value:.3g} mm wide at this deflection and N < min_web_mm "
+                f"{limit:.3g} mm (the disk turns too far per flexure pitch)")
     if binding == "cam_bore":
         return f"{who}cam web over the bore {value:.3g} mm < min_web_mm {limit:.3g} mm"
     if binding == HOLES:

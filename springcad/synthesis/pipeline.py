@@ -50,7 +50,8 @@ class SynthesisResult:
 
     def winner_toml(self) -> str:
         req = self.requirements
-        head = (f"Synthesized by springcad from {req.source or req.name}: {self.winner_status}\n"
+        status = self.winner_status.replace("; ", ";\n  ")
+        head = (f"Synthesized by springcad from {req.source or req.name}:\n  {status}\n"
                 f"Candidate {int(self.winner['cid'])} ({self.winner['family']}, input "
                 f"{self.winner['input']}) of {self.n_candidates} enumerated, "
                 f"{self.n_feasible} feasible after screening.\n"
@@ -110,17 +111,17 @@ def synthesize(req, space, store, client, *, finalists: int = 8, verify_top: int
     col, minimise = req.objective_column, req.minimise
     order = ranking.rank(cols, col, minimise)
     families = ranking.family_report(cols, col, minimise)
-    top = [ranking.row(cols, i) for i in order[:20]]
+    top = ranking.distinct(cols, order, 20)
     result = SynthesisResult(req, stats, len(cols["cid"]), int(cols["feasible"].sum()), top,
-                             families, [])
+                             families, [])  # top: distinct stacks, best first
     say(f"{result.n_feasible} of {result.n_candidates} candidates feasible after screening")
-    if not len(order):
+    if not top:
         result.winner_status = "no feasible stack"
         result.timings_s = t
         return result
     # full design of the finalists, on the cluster
     t0 = time.perf_counter()
-    rows = [ranking.row(cols, i) for i in order[:finalists]]
+    rows = top[:finalists]
     say(f"full design of the best {len(rows)} screened stacks")
     futures = client.map(full_design_summary, [req] * len(rows), rows, pure=False)
     summaries = client.gather(futures)

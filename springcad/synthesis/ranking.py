@@ -23,6 +23,34 @@ def rank(cols: dict, objective_column: str, minimise: bool = True) -> np.ndarray
     return idx[order]
 
 
+def stack_signature(r: dict) -> tuple:
+    """What makes two candidate rows the same stack (a mixed row whose A and B disks are
+    equal is an identical stack): input, material, R_o, r_c and the disks in order."""
+    n_a, n_b, split = int(r["n_a"]), int(r["n_b"]), float(r["split"])
+    K = r["stiffness_Nm_per_rad"]
+    disks = [(r["thickness_a_mm"], round(n_a * K / split, 6), int(r["n_flexures_a"]))] * n_a
+    if n_b:
+        disks += [(r["thickness_b_mm"], round(n_b * K / (1 - split), 6),
+                   int(r["n_flexures_b"]))] * n_b
+    return (r["input"], r["material"], round(float(r["outer_radius_mm"]), 6),
+            float(r["contact_radius_mm"]), tuple(disks))
+
+
+def distinct(cols: dict, order, count: int) -> list[dict]:
+    """The first ``count`` rows of ``order`` that are distinct stacks, as dicts."""
+    out, seen = [], set()
+    for i in order:
+        r = row(cols, int(i))
+        sig = stack_signature(r)
+        if sig in seen:
+            continue
+        seen.add(sig)
+        out.append(r)
+        if len(out) == count:
+            break
+    return out
+
+
 def row(cols: dict, i: int) -> dict:
     """Row ``i`` as a plain dict of Python values."""
     out = {}

@@ -34,14 +34,16 @@ import math
 import numpy as np
 
 from springcad.design import flexure as fx
+from springcad.design.cam import OVERTRAVELS
 from springcad.design.ring import hole_diameter_mm
 from springcad.design.spring import RIM_GAP_RATIO
 
 #: failure codes (0 = passes), in the order the design meets them
-OK, ENERGY, TORQUE_CAP, FLEXURE_FIT, RIM_RULE, SERPENTINE, ROOT_GAP, CAM_BORE = range(8)
+OK, ENERGY, TORQUE_CAP, FLEXURE_FIT, RIM_RULE, SERPENTINE, ROOT_GAP, CAM_TOOTH, CAM_BORE = \
+    range(9)
 REASONS = {ENERGY: "energy_bound", TORQUE_CAP: "torque_cap", FLEXURE_FIT: "flexure_fit",
            RIM_RULE: "rim_rule", SERPENTINE: "serpentine_budget", ROOT_GAP: "root_gap",
-           CAM_BORE: "cam_bore"}
+           CAM_TOOTH: "cam_tooth", CAM_BORE: "cam_bore"}
 #: the trial shapes of design_serpentine, widest first so most disks stop at the first
 _SHAPES = tuple(sorted(((k, a) for k in (1, 2, 3, 4, 5, 6) for a in (1.0, 2.0, 3.0)),
                        key=lambda ka: (ka[0] != 1, -ka[1], ka[0])))
@@ -51,6 +53,23 @@ _U = np.linspace(0.0, 1.0, 241) ** 1.3
 def _nmax(rb, rc):
     """Eq. 6 on arrays: floor(pi hypot(r_b, r_c) / (2 r_b))."""
     return np.floor(np.pi * np.hypot(rb, rc) / (2.0 * rb)).astype(np.int64)
+
+
+def cam_tooth_width_mm(rc, rho, n, theta):
+    """Widest cam tooth tip over the overtravels the cam design tries (mm; < 0: none).
+
+    The flank ends at p(psi_end) = R(psi_end) (r_c psi_end - rho, r_c) with
+    psi_end = rho / r_c + f theta; the tip arc of radius |p| runs from its polar
+    angle phi to pi - phi + 2 pi / N (``cam._unit``), so the tip is
+    |p| (pi - 2 phi + 2 pi / N) wide.
+    """
+    best = np.full(np.shape(rc), -np.inf)
+    for f in OVERTRAVELS:
+        psi = rho / rc + f * theta
+        x = rc * psi - rho
+        phi = psi + np.arctan2(rc, x)
+        best = np.maximum(best, np.hypot(x, rc) * (np.pi - 2 * phi + 2 * np.pi / n))
+    return best
 
 
 def _rim_residual(rr, ro, n, rc, w0_of_length):
@@ -260,6 +279,8 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     # 5. root gap and cam web
     gap = 2 * np.pi * rr / n - w0
     fail(gap <= 2 * rw, ROOT_GAP, gap, np.full(m, 2 * rw))
+    tooth = cam_tooth_width_mm(rc, rb + mfg.w_gap_mm, n, theta)
+    fail(tooth < mfg.min_web_mm, CAM_TOOTH, tooth, np.full(m, mfg.min_web_mm))
     cam_root = rc - (rb + mfg.w_gap_mm)
     web = cam_root - 0.5 * hardware.shaft_diameter_mm
     fail(web < mfg.min_web_mm, CAM_BORE, web, np.full(m, mfg.min_web_mm))
