@@ -145,8 +145,10 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
     """Candidates ``start <= id < stop`` of ``space`` as columns (one row per stack).
 
     Columns carry units in their names; ``feasible``, ``binding`` (the first
-    failed constraint or ""), ``violation`` (fraction past its limit) and
-    ``detail`` (a sentence with the numbers) say why a stack fails.
+    failed constraint or ""), ``binding_value`` and ``binding_limit`` (its
+    numbers), ``binding_disk`` (A or B in a mixed stack) and ``violation``
+    (fraction past the limit) say why a stack fails; :func:`detail` turns
+    them into a sentence (only for the rows a report shows).
     """
     cols = space.decode(start, stop)
     if not cols:
@@ -214,8 +216,6 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
     cut = (n_a * a["cut_ring_mm"] + np.where(mixed, n_b * b["cut_ring_mm"], 0.0)
            + n_cams * a["cut_cam_mm"])
     fams = space.families
-    detail = [describe(bd, v, lm, w) if bd else "" for bd, v, lm, w in
-              zip(binding, value, limit, which)]
     return {
         "cid": cols["cid"],
         "family": np.array([fams[f].label for f in cols["family"]], dtype=object),
@@ -235,6 +235,13 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
         "backlash_worst_rad": n * backlash_rad(d_max, cols["rc"]),
         "energy_J": energy, "energy_density_J_per_cm3": energy / volume_cm3,
         "specific_energy_J_per_kg": energy / mass, "edm_cut_length_mm": cut,
-        "feasible": feasible, "binding": binding, "violation": violation,
-        "detail": np.array(detail, dtype=object),
+        "feasible": feasible, "binding": binding, "binding_value": value,
+        "binding_limit": limit, "binding_disk": which, "violation": violation,
     }
+
+
+def detail(cols: dict, i: int) -> str:
+    """The sentence with the numbers of row ``i``'s binding constraint ("" if feasible)."""
+    b = cols["binding"][i]
+    return describe(b, cols["binding_value"][i], cols["binding_limit"][i],
+                    cols["binding_disk"][i]) if b else ""

@@ -9,6 +9,8 @@ from collections import Counter
 
 import numpy as np
 
+from springcad.synthesis.evaluate import detail
+
 #: columns shown for a candidate (what a person needs to recognise the stack)
 KEY_COLUMNS = ("cid", "family", "input", "material", "thickness_a_mm", "thickness_b_mm",
                "contact_radius_mm", "outer_radius_mm", "split", "n_flexures_a", "n_flexures_b")
@@ -87,7 +89,7 @@ def family_report(cols: dict, objective_column: str, minimise: bool = True) -> l
                 v = cols["violation"][rows]
                 near = rows[np.nanargmin(v)] if np.any(np.isfinite(v)) else rows[0]
                 binding.append({"constraint": name, "candidates": count,
-                                "nearest_miss": cols["detail"][near],
+                                "nearest_miss": detail(cols, near),
                                 "violation_pct": (100 * float(cols["violation"][near])
                                                   if np.isfinite(cols["violation"][near]) else None),
                                 "candidate": {k: row(cols, near)[k] for k in KEY_COLUMNS}})

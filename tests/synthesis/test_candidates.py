@@ -5,7 +5,7 @@ import pytest
 
 from springcad.design.stack import eq10_limit, series_stiffness
 from springcad.synthesis.candidates import CandidateSpace
-from springcad.synthesis.evaluate import evaluate_batch
+from springcad.synthesis.evaluate import detail, evaluate_batch
 from springcad.synthesis.requirements import requirements_from_dict
 from synth_fixtures import small
 
@@ -56,9 +56,9 @@ def test_feasible_rows_meet_every_limit(space):
     # every infeasible row says which constraint and by how much, in a sentence with numbers
     bad = ~f
     assert np.all(r["binding"][bad] != "")
-    assert all(any(ch.isdigit() for ch in d) for d in r["detail"][bad])
+    assert all(any(ch.isdigit() for ch in detail(r, i)) for i in np.flatnonzero(bad))
     rows = np.flatnonzero(bad & (r["binding"] == "axial_length"))
     assert len(rows)
     i = rows[0]
     assert r["violation"][i] == pytest.approx(r["axial_length_mm"][i] / 19.5 - 1)
-    assert f"{r['axial_length_mm'][i]:.2f} mm > max_axial_length_mm 19.50 mm" in r["detail"][i]
+    assert f"{r['axial_length_mm'][i]:.2f} mm > max_axial_length_mm 19.50 mm" in detail(r, i)
