@@ -87,6 +87,8 @@ class CandidateSpace:
     stress_concentration: float
     manufacturing: ManufacturingSpec
     hardware: HardwareSpec
+    flexure: str = "auto"
+    """"auto" or "straight" (serpentine disks rejected)."""
 
     @classmethod
     def from_requirements(cls, req) -> "CandidateSpace":
@@ -103,7 +105,7 @@ class CandidateSpace:
             fewer_flexures=s.fewer_flexures, inputs=s.inputs, compliance_splits=s.compliance_splits,
             min_tip_radius_mm=s.min_tip_radius_mm, yield_margin=req.yield_margin,
             stress_concentration=req.stress_concentration, manufacturing=req.manufacturing,
-            hardware=req.hardware)
+            hardware=req.hardware, flexure=s.flexure)
 
     # ------------------------------------------------------------- families
     @property

@@ -31,7 +31,7 @@ HOLES, AXIAL, RADIAL, YIELD = "rim_holes", "axial_length", "envelope_radius", "y
 #: constraints where a smaller value is the violation (value/limit < 1 fails)
 _SMALLER_BAD = {"root_gap", "cam_tooth", "cam_bore", HOLES, YIELD}
 UNITS = {"energy_bound": "J", "torque_cap": "N*mm", "flexure_fit": "flexures",
-         "rim_rule": "", "serpentine_budget": "(area ratio)", "root_gap": "mm", "cam_tooth": "mm", "cam_bore": "mm",
+         "rim_rule": "", "straight_limit": "rad", "serpentine_budget": "(area ratio)", "root_gap": "mm", "cam_tooth": "mm", "cam_bore": "mm",
          HOLES: "mm", AXIAL: "mm", RADIAL: "mm", YIELD: ""}
 
 
@@ -68,6 +68,9 @@ def describe(binding: str, value: float, limit: float, disk: str = "") -> str:
         return f"{who}{value:.0f} flexures requested, at most {limit:.0f} tip balls fit around r_c"
     if binding == "rim_rule":
         return f"{who}{value:.0f} flexure roots do not fit inside R_o = {limit:.3g} mm (rim rule)"
+    if binding == "straight_limit":
+        return (f"{who}needs {value:.4g} rad, straight flexures reach only {limit:.4g} rad "
+                "(search.flexure = \"straight\")")
     if binding == "serpentine_budget":
         return (f"{who}needs serpentine area ratio {value:.3f}, the tilt budget between "
                 f"neighbours allows at most {limit:.3f}")
@@ -111,7 +114,8 @@ def _screen_groups(space, cols):
     rho = np.array([m.density_kg_per_mm3 for m in space.materials])[mat]
     res = screen_disks(uniq[:, 0], uniq[:, 1], uniq[:, 2], uniq[:, 3], uniq[:, 4], sigma, E, rho,
                        uniq[:, 6].astype(np.int64), min_tip_radius_mm=space.min_tip_radius_mm,
-                       manufacturing=space.manufacturing, hardware=space.hardware)
+                       manufacturing=space.manufacturing, hardware=space.hardware,
+                       straight_only=space.flexure == "straight")
     m = len(n_a)
     a = {k: v[inverse[:m]] for k, v in res.items()}
     b = {k: np.full(m, np.nan if v.dtype.kind == "f" else 0, dtype=v.dtype)

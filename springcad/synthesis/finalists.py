@@ -27,7 +27,8 @@ def job_document(req, cand: dict) -> dict:
                 "max_deflection_rad": round(float(theta), 12),
                 "outer_radius_mm": round(float(cand["outer_radius_mm"]), 9),
                 "thickness_mm": float(z), "contact_radius_mm": float(cand["contact_radius_mm"]),
-                "n_flexures": int(n), "min_tip_radius_mm": req.search.min_tip_radius_mm}
+                "n_flexures": int(n), "min_tip_radius_mm": req.search.min_tip_radius_mm,
+                "flexure": "straight" if req.search.flexure == "straight" else "auto"}
 
     springs = {"A": spring(n_a * K / split, split * th / n_a, cand["thickness_a_mm"],
                            cand["n_flexures_a"])}

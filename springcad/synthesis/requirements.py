@@ -64,6 +64,8 @@ class SearchSpace:
         compliance_splits: share of the stack compliance taken by the A group of a
             mixed stack (-); every disk is designed for the same peak torque.
         min_tip_radius_mm: smallest tip-ball radius (mm).
+        flexure: "auto" (straight where it reaches, else serpentine) or "straight" (only
+            straight flexures: no serpentine turns, whose concave edges raise the stress).
     """
 
     max_disks: int = 6
@@ -76,6 +78,7 @@ class SearchSpace:
     mixed: bool = True
     compliance_splits: tuple[float, ...] = (0.25, 0.5, 0.75)
     min_tip_radius_mm: float = 0.3
+    flexure: str = "auto"
 
 
 @dataclass(frozen=True)
@@ -189,6 +192,10 @@ def _search(table: dict, max_radius_mm: float) -> SearchSpace:
         kw["mixed"] = table["mixed"]
     if "compliance_splits" in table:
         kw["compliance_splits"] = _floats(table, "compliance_splits", p, lo=0.05, hi=0.95)
+    if "flexure" in table:
+        if table["flexure"] not in ("auto", "straight"):
+            raise ConfigError(f"{p}.flexure", table["flexure"], "must be one of auto, straight")
+        kw["flexure"] = table["flexure"]
     if "min_tip_radius_mm" in table:
         kw["min_tip_radius_mm"] = _number(table, "min_tip_radius_mm", p, lo=0.05, hi=5)
     return SearchSpace(**{**asdict(d), **kw})

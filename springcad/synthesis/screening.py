@@ -39,10 +39,11 @@ from springcad.design.ring import hole_diameter_mm
 from springcad.design.spring import RIM_GAP_RATIO
 
 #: failure codes (0 = passes), in the order the design meets them
-OK, ENERGY, TORQUE_CAP, FLEXURE_FIT, RIM_RULE, SERPENTINE, ROOT_GAP, CAM_TOOTH, CAM_BORE = \
-    range(9)
+(OK, ENERGY, TORQUE_CAP, FLEXURE_FIT, RIM_RULE, STRAIGHT, SERPENTINE, ROOT_GAP, CAM_TOOTH,
+ CAM_BORE) = range(10)
 REASONS = {ENERGY: "energy_bound", TORQUE_CAP: "torque_cap", FLEXURE_FIT: "flexure_fit",
-           RIM_RULE: "rim_rule", SERPENTINE: "serpentine_budget", ROOT_GAP: "root_gap",
+           RIM_RULE: "rim_rule", STRAIGHT: "straight_limit", SERPENTINE: "serpentine_budget",
+           ROOT_GAP: "root_gap",
            CAM_TOOTH: "cam_tooth", CAM_BORE: "cam_bore"}
 #: the trial shapes of design_serpentine, widest first so most disks stop at the first
 _SHAPES = tuple(sorted(((k, a) for k in (1, 2, 3, 4, 5, 6) for a in (1.0, 2.0, 3.0)),
@@ -147,12 +148,13 @@ def serpentine_reach(s_req, rc, rr, n, load, z, sigma, clearance_mm, root_zone_m
 
 
 def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
-                 min_tip_radius_mm: float, manufacturing, hardware) -> dict[str, np.ndarray]:
+                 min_tip_radius_mm: float, manufacturing, hardware,
+                 straight_only: bool = False) -> dict[str, np.ndarray]:
     """Closed-form design of disks with given r_c; ``n_fixed < 0``: |n_fixed| fewer flexures
     than the largest count that fits (see :func:`_screen`)."""
     n_fixed = np.asarray(n_fixed, dtype=np.int64)
     args = dict(min_tip_radius_mm=min_tip_radius_mm, manufacturing=manufacturing,
-                hardware=hardware)
+                hardware=hardware, straight_only=straight_only)
     if not np.any(n_fixed < 0):
         return _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, **args)
     first = _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3,
@@ -171,7 +173,8 @@ def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
 
 
 def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
-            min_tip_radius_mm: float, manufacturing, hardware) -> dict[str, np.ndarray]:
+            min_tip_radius_mm: float, manufacturing, hardware,
+            straight_only: bool = False) -> dict[str, np.ndarray]:
     """Closed-form design of disks with given r_c (arrays of equal length).
 
     Args:
@@ -180,6 +183,7 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         sigma, E: design stress and Young's modulus (MPa).
         density_kg_per_mm3: material density.
         n_fixed: flexure count, 0 = the largest that fits (as design_spring chooses).
+        straight_only: reject disks that need serpentine flexures (``straight_limit``).
 
     Returns:
         Columns: ``code`` (0 or a failure code of :data:`REASONS`), ``value`` and
@@ -265,6 +269,8 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         s[j] = 1.0
         straight[:] = False
         straight[j] = True
+    if straight_only:
+        fail(~straight, STRAIGHT, theta, theta_s)
     # 4. serpentine tilt budget
     serp = (code == OK) & ~straight
     if np.any(serp):
