@@ -30,9 +30,6 @@ from springcad.synthesis.screening import REASONS, screen_disks
 HOLES, AXIAL, RADIAL, YIELD = "rim_holes", "axial_length", "envelope_radius", "yield_margin"
 #: constraints where a smaller value is the violation (value/limit < 1 fails)
 _SMALLER_BAD = {"root_gap", "cam_tooth", "cam_bore", HOLES, YIELD}
-UNITS = {"energy_bound": "J", "torque_cap": "N*mm", "flexure_fit": "flexures",
-         "rim_rule": "", "straight_limit": "rad", "serpentine_budget": "(area ratio)", "root_gap": "mm", "cam_tooth": "mm", "cam_bore": "mm",
-         HOLES: "mm", AXIAL: "mm", RADIAL: "mm", YIELD: ""}
 
 
 @dataclass(frozen=True)
