@@ -11,7 +11,9 @@ Run: python bench/bench_synth.py [--repeats 2] [--batch-size 2000]
    ``run_sweep`` on a LocalCluster of 1 and of 2 worker processes, alternately,
    ``--repeats`` times each (fresh result folders); wall times, rates and the
    speed-up, with the load average (``os.getloadavg``) before each run, because
-   the machine may be shared.
+   the machine may be shared, and the CPU time the workers got (psutil): on a
+   loaded machine the wall-time speed-up measures the share of the cores the
+   workers were given as much as the code.
 """
 
 from __future__ import annotations
@@ -88,14 +90,22 @@ def sweep(space, workers: int, batch_size: int) -> float:
     from springcad.synthesis.runner import run_sweep
     from springcad.synthesis.store import ResultStore
 
+    import psutil
+
     with tempfile.TemporaryDirectory() as tmp, \
             LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                          dashboard_address=None) as cluster, Client(cluster) as client:
         store = ResultStore(Path(tmp) / "run", "bench", space.total, batch_size)
+        procs = [psutil.Process(pid) for pid in client.run(os.getpid).values()]
+        cpu0 = sum(sum(p.cpu_times()[:2]) for p in procs)
         before = load()
         stats = run_sweep(space, store, client)
+        cpu = sum(sum(p.cpu_times()[:2]) for p in procs) - cpu0
+    share = cpu / (stats.wall_s * workers)
     print(f"  {workers} worker(s): {stats.evaluated_candidates} candidates in {stats.wall_s:.1f} s "
-          f"= {stats.candidates_per_s:,.0f}/s  [before: {before}; after: {load()}]")
+          f"= {stats.candidates_per_s:,.0f}/s; worker CPU {cpu:.1f} s "
+          f"({stats.evaluated_candidates / cpu:,.0f}/CPU-s), each worker got {100 * share:.0f} % "
+          f"of a core  [before: {before}; after: {load()}]")
     return stats.wall_s
 
 
