@@ -61,7 +61,7 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None,
 
     if scheduler:
         try:
-            client = Client(scheduler, timeout="10s")
+            client = Client(scheduler, timeout="5s")
         except (OSError, TimeoutError) as err:
             raise SpringcadError(f"cannot reach the Dask scheduler at {scheduler}: {err}") from err
         try:

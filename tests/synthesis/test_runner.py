@@ -103,3 +103,37 @@ def test_killed_run_resumes_without_redoing_batches(tmp_path):
     cols = store.read()
     assert np.array_equal(np.sort(cols["cid"]), np.arange(space.total))  # each candidate once
     _same(cols, evaluate_batch(space, 0, space.total))
+
+
+def test_cli_runs_on_an_existing_scheduler(tmp_path, capsys):
+    """`--scheduler ADDRESS`: the same command on a cluster it did not start."""
+    from distributed import LocalCluster
+
+    from springcad.cli import main
+
+    with LocalCluster(n_workers=1, processes=False, dashboard_address=None) as cluster:
+        code = main(["explore", "--out", str(tmp_path / "map"), "--scheduler",
+                     cluster.scheduler_address, "--stiffness-Nm-per-rad", "20:200:3",
+                     "--deflection-rad", "0.2:1:3", "--max-disks", "2", "--thickness-mm", "4.5",
+                     "--contact-radius-mm", "7"])
+        assert code == 0
+    summary = json.loads((tmp_path / "map" / "explore.json").read_text())
+    assert summary["sweep"]["workers"] == 1 and summary["n_candidates"] == 3 * 3 * 2
+
+
+def test_unreachable_scheduler_is_one_line(tmp_path, capsys):
+    from springcad.cli import main
+
+    code = main(["explore", "--out", str(tmp_path / "map"), "--scheduler", "tcp://127.0.0.1:9",
+                 "--stiffness-Nm-per-rad", "20:200:2", "--deflection-rad", "0.2:1:2"])
+    assert code == 2
+    assert "cannot reach the Dask scheduler at tcp://127.0.0.1:9" in capsys.readouterr().err
+
+
+def test_progress_bar_line():
+    from springcad.cli.progress import ProgressBar
+
+    line = ProgressBar(width=10).line(done=600, total=1000, elapsed_s=2.0, done_before=200)
+    # 400 candidates in 2 s this run: 200/s, 400 left: 2 s
+    assert "600/1000 candidates (200 from an earlier run)" in line
+    assert "200/s" in line and "left 00:02" in line and "[######....]" in line
