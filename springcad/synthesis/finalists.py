@@ -122,11 +122,25 @@ def full_design_summary(req, cand: dict) -> dict:
             "energy_density_J_per_cm3": st.energy_J / (st.envelope_volume_mm3 / 1e3),
             "specific_energy_J_per_kg": st.energy_J / st.mass_kg,
             "springs": {n: {"n_flexures": s.n_flexures, "root_radius_mm": s.root_radius_mm,
+                            "min_concave_edge_radius_mm": _edge_radius_mm(s),
                             "tip_radius_mm": s.tip_radius_mm, "flexure": s.flexure,
                             "mass_kg": s.mass_kg, "peak_stress_MPa": s.peak_stress_MPa,
                             "warnings": list(s.warnings)}
                         for n, s in jd.springs.items()},
             "notes": jd.notes()}
+
+
+def _edge_radius_mm(design) -> float | None:
+    """Smallest concave flexure-edge radius (mm; None for straight flexures): the FEA finds
+    the peak stress of tight serpentine turns there, far above the beam stress."""
+    import numpy as np
+
+    from springcad.design.flexure import concave_edge_radius_mm
+
+    if design.centreline.is_straight:
+        return None
+    y = np.linspace(design.contact_radius_mm, design.root_radius_mm, 1201)
+    return concave_edge_radius_mm(design.centreline, y, design.width_mm(y))
 
 
 def verify_candidate(req, cand: dict, model: str = "2d", levels: int = 3, progress=None):
