@@ -11,9 +11,11 @@ Run: python bench/bench_synth.py [--repeats 2] [--batch-size 2000]
    ``run_sweep`` on a LocalCluster of 1 and of 2 worker processes, alternately,
    ``--repeats`` times each (fresh result folders); wall times, rates and the
    speed-up, with the load average (``os.getloadavg``) before each run, because
-   the machine may be shared, and the CPU time the workers got (psutil): on a
-   loaded machine the wall-time speed-up measures the share of the cores the
-   workers were given as much as the code.
+   the machine may be shared, and how the workers spent the wall time: running,
+   runnable but waiting for a core (``/proc/<pid>/task/*/schedstat``: other
+   processes held the cores), or idle (waiting for work: the client or scheduler
+   would be the limit). On a loaded machine the wall-time speed-up measures the
+   share of the cores the workers were given as much as the code.
 """
 
 from __future__ import annotations
@@ -44,6 +46,17 @@ GRID = ExploreGrid(stiffness_Nm_per_rad=(5.0, 500.0, 30), deflection_rad=(0.05, 
 def load() -> str:
     a, b, c = os.getloadavg()
     return f"load {a:.2f} {b:.2f} {c:.2f}"
+
+
+def runqueue_wait_s(pid: int) -> float:
+    """Time the threads of ``pid`` spent runnable but waiting for a core (Linux schedstat, s)."""
+    total = 0
+    for stat in Path(f"/proc/{pid}/task").glob("*/schedstat"):
+        try:
+            total += int(stat.read_text().split()[1])
+        except (OSError, IndexError, ValueError):
+            pass
+    return total * 1e-9
 
 
 def inner_loop(space, batch_size: int) -> None:
@@ -96,16 +109,21 @@ def sweep(space, workers: int, batch_size: int) -> float:
             LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                          dashboard_address=None) as cluster, Client(cluster) as client:
         store = ResultStore(Path(tmp) / "run", "bench", space.total, batch_size)
-        procs = [psutil.Process(pid) for pid in client.run(os.getpid).values()]
+        pids = list(client.run(os.getpid).values())
+        procs = [psutil.Process(pid) for pid in pids]
         cpu0 = sum(sum(p.cpu_times()[:2]) for p in procs)
+        wait0 = sum(runqueue_wait_s(pid) for pid in pids)
         before = load()
         stats = run_sweep(space, store, client)
         cpu = sum(sum(p.cpu_times()[:2]) for p in procs) - cpu0
+        wait = sum(runqueue_wait_s(pid) for pid in pids) - wait0
     share = cpu / (stats.wall_s * workers)
+    idle = max(0.0, 1.0 - (cpu + wait) / (stats.wall_s * workers))
     print(f"  {workers} worker(s): {stats.evaluated_candidates} candidates in {stats.wall_s:.1f} s "
           f"= {stats.candidates_per_s:,.0f}/s; worker CPU {cpu:.1f} s "
-          f"({stats.evaluated_candidates / cpu:,.0f}/CPU-s), each worker got {100 * share:.0f} % "
-          f"of a core  [before: {before}; after: {load()}]")
+          f"({stats.evaluated_candidates / cpu:,.0f}/CPU-s); per worker: running "
+          f"{100 * share:.0f} %, runnable but waiting for a core (summed over its threads) {100 * wait / (stats.wall_s * workers):.0f} %, "
+          f"idle {100 * idle:.0f} %  [before: {before}; after: {load()}]")
     return stats.wall_s
 
 
