@@ -122,7 +122,8 @@ def sweep(space, workers: int, batch_size: int) -> float:
     print(f"  {workers} worker(s): {stats.evaluated_candidates} candidates in {stats.wall_s:.1f} s "
           f"= {stats.candidates_per_s:,.0f}/s; worker CPU {cpu:.1f} s "
           f"({stats.evaluated_candidates / cpu:,.0f}/CPU-s); per worker: running "
-          f"{100 * share:.0f} %, runnable but waiting for a core (summed over its threads) {100 * wait / (stats.wall_s * workers):.0f} %, "
+          f"{100 * share:.0f} %, runnable but waiting for a core (summed over its threads) "
+          f"{100 * wait / (stats.wall_s * workers):.0f} %, "
           f"idle {100 * idle:.0f} %  [before: {before}; after: {load()}]")
     return stats.wall_s
 
