@@ -24,7 +24,7 @@ without building the exact profiles:
 
 Every number used is one of :mod:`springcad.design.flexure`'s closed forms called
 on arrays. Agreement with the full design is tested in
-``tests/synthesis/test_screening.py``. Units: N*mm, mm, rad, MPa, kg.
+``tests/synthesis/test_synth_screening.py``. Units: N*mm, mm, rad, MPa, kg.
 """
 
 from __future__ import annotations
