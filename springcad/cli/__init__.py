@@ -14,7 +14,7 @@ import sys
 from springcad.errors import SpringcadError
 
 #: subcommand modules, in the order ``--help`` lists them
-SUBCOMMANDS = ("design", "build", "verify", "simulate", "fit", "paper")
+SUBCOMMANDS = ("design", "build", "verify", "simulate", "fit", "paper", "synthesize", "explore")
 
 
 def build_parser() -> argparse.ArgumentParser:

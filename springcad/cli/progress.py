@@ -1,0 +1,53 @@
+"""A progress bar on stderr for long sweeps: candidates done, rate, time left."""
+
+from __future__ import annotations
+
+import sys
+import time
+
+
+def _clock(seconds: float) -> str:
+    if seconds != seconds or seconds == float("inf"):
+        return "--:--"
+    seconds = int(round(seconds))
+    h, rem = divmod(seconds, 3600)
+    m, s = divmod(rem, 60)
+    return f"{h}:{m:02d}:{s:02d}" if h else f"{m:02d}:{s:02d}"
+
+
+class ProgressBar:
+    """Callable as ``bar(done, total, elapsed_s, done_before)`` (the runner's progress hook).
+
+    The rate counts only this run's candidates (a resumed run does not look
+    faster than it is). On a terminal the line is redrawn in place; otherwise a
+    line is printed every ``every_s`` seconds and at the end.
+    """
+
+    def __init__(self, label: str = "candidates", stream=None, width: int = 28,
+                 every_s: float = 5.0):
+        self.label, self.stream, self.width, self.every_s = label, stream or sys.stderr, width, every_s
+        self._last = -1e9
+        self._tty = hasattr(self.stream, "isatty") and self.stream.isatty()
+
+    def line(self, done: int, total: int, elapsed_s: float, done_before: int) -> str:
+        frac = done / total if total else 1.0
+        fill = int(round(self.width * frac))
+        new = done - done_before
+        rate = new / elapsed_s if elapsed_s > 0 else float("nan")
+        left = (total - done) / rate if rate and rate == rate and rate > 0 else float("nan")
+        resumed = f" ({done_before} from an earlier run)" if done_before else ""
+        return (f"[{'#' * fill}{'.' * (self.width - fill)}] {done}/{total} {self.label}"
+                f"{resumed}  {rate:,.0f}/s  elapsed {_clock(elapsed_s)}  left {_clock(left)}")
+
+    def __call__(self, done: int, total: int, elapsed_s: float, done_before: int = 0) -> None:
+        now = time.monotonic()
+        final = done >= total
+        if not self._tty and not final and now - self._last < self.every_s:
+            return
+        self._last = now
+        text = self.line(done, total, elapsed_s, done_before)
+        if self._tty:
+            self.stream.write("\r" + text + ("\n" if final else ""))
+        else:
+            self.stream.write(text + "\n")
+        self.stream.flush()

@@ -1,0 +1,105 @@
+"""``springcad synthesize REQUIREMENTS.toml``: the best stack for a requirement.
+
+Enumerates every stack of the requirement's design space, screens them with
+the closed-form design on a Dask cluster (a local one by default), ranks the
+feasible ones by the objective and says why each infeasible family fails, gives
+the best ones the full design and the top ones a coarse FEA, and writes the
+winner as a job config that ``springcad build`` accepts.
+
+Writes ``DIR/parts/*.parquet`` (every candidate; a rerun resumes), ``DIR/synthesis.json``
+and ``DIR/winner.toml``. Exit status: 0 a winner that passed (or skipped) FEA,
+1 no feasible stack or the FEA failed every verified finalist (the report is
+still written), 2 bad input.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from springcad.cli.common import default_out
+
+
+def add_dask_options(p) -> None:
+    """--scheduler / --workers / --batch-size / --restart (shared with ``explore``)."""
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="run on an existing Dask cluster (e.g. tcp://host:8786); default: a "
+                        "local cluster with one worker process per core")
+    p.add_argument("--workers", type=int, default=None,
+                   help="local cluster workers (default: every core)")
+    p.add_argument("--batch-size", type=int, default=2000,
+                   help="candidates per Dask task and per Parquet part (default 2000)")
+    p.add_argument("--restart", action="store_true",
+                   help="discard the parts of an earlier run in DIR instead of resuming it")
+
+
+def register(sub):
+    p = sub.add_parser("synthesize", help="search every stack for the best one meeting a "
+                                          "requirement; write the winner's job config")
+    p.add_argument("requirements", type=Path, help="requirements TOML (see templates/requirements_*.toml)")
+    p.add_argument("--out", type=Path, default=None,
+                   help="run folder (default outputs/<requirements name>/); an interrupted "
+                        "run in it is resumed")
+    add_dask_options(p)
+    p.add_argument("--finalists", type=int, default=8,
+                   help="best screened stacks given the full design (default 8)")
+    p.add_argument("--verify-top", type=int, default=2,
+                   help="full-design-feasible finalists given a coarse FEA (default 2)")
+    p.add_argument("--no-verify", action="store_true", help="skip the FEA of the finalists")
+    p.add_argument("--fea-model", choices=("2d", "2d3d"), default="2d",
+                   help="FEA model of the finalists (default 2d: plane stress, fastest)")
+    p.set_defaults(func=run)
+
+
+def check_dask_options(args) -> None:
+    from springcad.errors import SpringcadError
+
+    if args.batch_size < 1:
+        raise SpringcadError(f"--batch-size {args.batch_size}: must be at least 1")
+    if args.workers is not None and args.workers < 1:
+        raise SpringcadError(f"--workers {args.workers}: must be at least 1")
+
+
+def run(args) -> int:
+    from springcad.cli.progress import ProgressBar
+    from springcad.report.jsonio import write_json
+    from springcad.synthesis.candidates import CandidateSpace
+    from springcad.synthesis.pipeline import summary_table, synthesize
+    from springcad.synthesis.ranking import format_family_report
+    from springcad.synthesis.requirements import load_requirements
+    from springcad.synthesis.runner import dask_client
+    from springcad.synthesis.store import ResultStore
+
+    check_dask_options(args)
+    req = load_requirements(args.requirements)
+    space = CandidateSpace.from_requirements(req)
+    out = args.out or default_out(args.requirements)
+    store = ResultStore(out, req.fingerprint(), space.total, args.batch_size,
+                        overwrite=args.restart, resume=not args.restart)
+
+    def say(msg):
+        print(msg, file=sys.stderr, flush=True)
+
+    say(f"{space.total} candidate stacks in {store.n_batches} batches "
+        f"({len(store.pending_batches())} to evaluate)")
+    with dask_client(args.scheduler, args.workers) as client:
+        result = synthesize(req, space, store, client, finalists=args.finalists,
+                            verify_top=args.verify_top, verify=not args.no_verify,
+                            fea_model=args.fea_model, progress=ProgressBar(), say=say)
+    write_json(out / "synthesis.json", result.to_dict())
+    print(summary_table(result))
+    print()
+    print(format_family_report(result.families, req.objective_column))
+    print()
+    if result.winner is not None:
+        (out / "winner.toml").write_text(result.winner_toml())
+        w = result.winner
+        full = next(f for f in result.finalists if f["cid"] == int(w["cid"]))
+        print(f"winner: candidate {w['cid']} ({w['family']}, input {w['input']}), "
+              f"{1000 * full['mass_kg']:.1f} g, {full['axial_length_mm']:.1f} mm long, "
+              f"R {full['envelope_radius_mm']:.2f} mm: {result.winner_status}")
+        print(f"wrote {out / 'winner.toml'} (springcad build {out / 'winner.toml'})")
+    else:
+        print(f"no winner: {result.winner_status}")
+    print(f"wrote {out / 'synthesis.json'}")
+    return 0 if result.ok else 1

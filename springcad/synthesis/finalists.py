@@ -1,0 +1,157 @@
+"""Finalists: the full design of the best screened stacks, FEA of the top ones, the winner's job.
+
+A candidate row becomes a job document (the same dict is validated by
+:func:`springcad.config.job_from_dict`, designed by
+:func:`springcad.design.job.design_job` and written as the winner's TOML), so
+what was designed and verified is exactly what ``springcad build`` will read.
+The screened N is written into the job (``n_flexures``) so the full design keeps
+the screened layout; the tip ball is sized by the design for the peak load.
+Units: N*m/rad and degrees only in the job document (the config's units).
+"""
+
+from __future__ import annotations
+
+import math
+
+from springcad.errors import SpringcadError
+
+
+def job_document(req, cand: dict) -> dict:
+    """The job config (as a TOML-ready dict) of a candidate row of the sweep."""
+    n_a, n_b, split = int(cand["n_a"]), int(cand["n_b"]), float(cand["split"])
+    K, th = cand["stiffness_Nm_per_rad"], cand["deflection_rad"]
+    mat = next(m for m in req.materials if m.name == cand["material"])
+
+    def spring(k_nm, theta, z, n):
+        return {"stiffness_Nm_per_rad": round(float(k_nm), 9),
+                "max_deflection_rad": round(float(theta), 12),
+                "outer_radius_mm": round(float(cand["outer_radius_mm"]), 9),
+                "thickness_mm": float(z), "contact_radius_mm": float(cand["contact_radius_mm"]),
+                "n_flexures": int(n), "min_tip_radius_mm": req.search.min_tip_radius_mm,
+                "flexure": "straight" if req.search.flexure == "straight" else "auto"}
+
+    springs = {"A": spring(n_a * K / split, split * th / n_a, cand["thickness_a_mm"],
+                           cand["n_flexures_a"])}
+    sequence = ["A"] * n_a
+    if n_b:
+        springs["B"] = spring(n_b * K / (1 - split), (1 - split) * th / n_b,
+                              cand["thickness_b_mm"], cand["n_flexures_b"])
+        sequence += ["B"] * n_b
+    fam = cand["family"]
+    return {
+        "job": {"name": f"{req.name}_winner" if req.name else "synthesized",
+                "description": (f"synthesized by springcad: {fam}, candidate {int(cand['cid'])}, "
+                                f"{req.stiffness_Nmm_per_rad / 1e3:g} N*m/rad over "
+                                f"+-{math.degrees(req.deflection_rad):.4g} deg")},
+        "material": {"name": mat.name, "design_stress_MPa": round(req.design_stress_MPa(mat), 6),
+                     "safety_factor": req.yield_margin},
+        "springs": springs,
+        "stack": {"sequence": sequence, "input": cand["input"]},
+        "manufacturing": dict(req.manufacturing_table),
+        "hardware": dict(req.hardware_table),
+    }
+
+
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    raise TypeError(f"no TOML form for {v!r}")
+
+
+def toml_text(doc: dict, header: str = "") -> str:
+    """A job document (tables of scalars and lists; ``springs`` nested) as TOML text."""
+    lines = [f"# {h}" if h else "#" for h in header.splitlines()] if header else []
+    for section, table in doc.items():
+        if section == "springs":
+            for name, spec in table.items():
+                lines += ["", f"[springs.{name}]"] + [f"{k} = {_toml_value(v)}" for k, v in spec.items()]
+            continue
+        lines += ["", f"[{section}]"] + [f"{k} = {_toml_value(v)}" for k, v in table.items()]
+    return "\n".join(lines).lstrip("\n") + "\n"
+
+
+def design_candidate(req, cand: dict):
+    """Full design (:class:`~springcad.design.job.JobDesign`) of a candidate row.
+
+    Raises:
+        DesignError: the exact design fails a check the screening does not make.
+    """
+    from springcad.config import job_from_dict
+    from springcad.design.job import design_job
+
+    job = job_from_dict(job_document(req, cand), name="synthesized")
+    return design_job(job)
+
+
+def full_design_summary(req, cand: dict) -> dict:
+    """Dask task: the full design of one candidate, checked against the requirements.
+
+    Returns a dict with ``ok`` and either ``error`` or the exact numbers next to
+    the screened ones (mass, height, envelope radius, stiffness, each spring's N,
+    R_r, flexure kind).
+    """
+    out = {"cid": int(cand["cid"]), "screened_mass_kg": float(cand["mass_kg"])}
+    try:
+        jd = design_candidate(req, cand)
+    except SpringcadError as err:
+        return {**out, "ok": False, "error": str(err)}
+    st = jd.stack
+    fails = []
+    if st.height_mm > req.max_axial_length_mm + 1e-9:
+        fails.append(f"stack height {st.height_mm:.2f} mm > {req.max_axial_length_mm:g} mm")
+    if st.envelope_radius_mm > req.max_outer_radius_mm + 1e-9:
+        fails.append(f"envelope radius {st.envelope_radius_mm:.2f} mm > "
+                     f"{req.max_outer_radius_mm:g} mm")
+    k_err = st.stiffness_Nmm_per_rad / req.stiffness_Nmm_per_rad - 1
+    if abs(k_err) > req.stiffness_tolerance:
+        fails.append(f"beam stiffness {100 * k_err:+.2f} % off target")
+    if st.max_deflection_rad < req.deflection_rad * (1 - 1e-6):
+        fails.append(f"deflection {st.max_deflection_rad:.4f} rad < {req.deflection_rad:.4f} rad")
+    return {**out, "ok": not fails, "error": "; ".join(fails),
+            "mass_kg": st.mass_kg, "axial_length_mm": st.height_mm,
+            "envelope_radius_mm": st.envelope_radius_mm,
+            "stiffness_Nm_per_rad": st.stiffness_Nmm_per_rad / 1e3,
+            "max_deflection_rad": st.max_deflection_rad,
+            "backlash_nominal_rad": st.backlash.nominal,
+            "energy_density_J_per_cm3": st.energy_J / (st.envelope_volume_mm3 / 1e3),
+            "specific_energy_J_per_kg": st.energy_J / st.mass_kg,
+            "springs": {n: {"n_flexures": s.n_flexures, "root_radius_mm": s.root_radius_mm,
+                            "min_concave_edge_radius_mm": _edge_radius_mm(s),
+                            "tip_radius_mm": s.tip_radius_mm, "flexure": s.flexure,
+                            "mass_kg": s.mass_kg, "peak_stress_MPa": s.peak_stress_MPa,
+                            "warnings": list(s.warnings)}
+                        for n, s in jd.springs.items()},
+            "notes": jd.notes()}
+
+
+def _edge_radius_mm(design) -> float | None:
+    """Smallest concave flexure-edge radius (mm; None for straight flexures): the FEA finds
+    the peak stress of tight serpentine turns there, far above the beam stress."""
+    import numpy as np
+
+    from springcad.design.flexure import concave_edge_radius_mm
+
+    if design.centreline.is_straight:
+        return None
+    y = np.linspace(design.contact_radius_mm, design.root_radius_mm, 1201)
+    return concave_edge_radius_mm(design.centreline, y, design.width_mm(y))
+
+
+def verify_candidate(req, cand: dict, model: str = "2d", levels: int = 3, progress=None):
+    """Coarse FEA verification (and width correction) of a candidate's springs.
+
+    Returns:
+        the :class:`fea.verify.JobVerification` (``.ok``, ``.failures()``, ``.summary()``).
+    """
+    from fea.verify import VerifyOptions, verify_job
+
+    jd = design_candidate(req, cand)
+    opts = VerifyOptions(model=model, levels=levels, keep_fields=False,
+                         tolerance=min(0.01, req.stiffness_tolerance))
+    return verify_job(jd, opts, progress or (lambda msg, frac=None: None))

@@ -1,0 +1,196 @@
+"""``synthesize``: sweep -> rank -> full design of the finalists -> FEA of the top -> winner.
+
+Library code: it never prints (messages go to ``say``) and writes nothing but
+the sweep's part files through the store; the CLI writes the report and the
+winner's job TOML.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+from springcad.synthesis import ranking
+from springcad.synthesis.finalists import (full_design_summary, job_document, toml_text,
+                                           verify_candidate)
+from springcad.synthesis.runner import run_sweep
+
+SCHEMA = "springcad.synthesis/1"
+
+
+def _quiet(*args, **kwargs) -> None:
+    return None
+
+
+@dataclass
+class SynthesisResult:
+    """Everything ``springcad synthesize`` reports."""
+
+    requirements: object
+    stats: object
+    n_candidates: int
+    n_feasible: int
+    top: list
+    families: list
+    finalists: list
+    verifications: dict = field(default_factory=dict)
+    winner: dict | None = None
+    winner_job: dict | None = None
+    winner_status: str = ""
+    timings_s: dict = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        """A winner exists and, when FEA ran on it, it passed."""
+        if self.winner is None:
+            return False
+        v = self.verifications.get(int(self.winner["cid"]))
+        return v is None or v["ok"]
+
+    def winner_toml(self) -> str:
+        req = self.requirements
+        status = self.winner_status.replace("; ", ";\n  ")
+        head = (f"Synthesized by springcad from {req.source or req.name}:\n  {status}\n"
+                f"Candidate {int(self.winner['cid'])} ({self.winner['family']}, input "
+                f"{self.winner['input']}) of {self.n_candidates} enumerated, "
+                f"{self.n_feasible} feasible after screening.\n"
+                f"Build it with: springcad build <this file>")
+        return toml_text(self.winner_job, head)
+
+    def to_dict(self) -> dict:
+        from springcad import __version__
+
+        req = self.requirements
+        return {
+            "schema": SCHEMA, "springcad_version": __version__,
+            "requirements": {
+                "name": req.name, "source": req.source,
+                "stiffness_Nm_per_rad": req.stiffness_Nmm_per_rad / 1e3,
+                "stiffness_tolerance_pct": 100 * req.stiffness_tolerance,
+                "deflection_rad": req.deflection_rad,
+                "deflection_deg": math.degrees(req.deflection_rad),
+                "max_outer_radius_mm": req.max_outer_radius_mm,
+                "max_axial_length_mm": req.max_axial_length_mm,
+                "materials": [m.name for m in req.materials],
+                "design_stress_MPa": {m.name: req.design_stress_MPa(m) for m in req.materials},
+                "yield_margin": req.yield_margin,
+                "stress_concentration": req.stress_concentration,
+                "objective": req.objective, "minimise": req.minimise},
+            "sweep": self.stats.to_dict(),
+            "n_candidates": self.n_candidates, "n_feasible": self.n_feasible,
+            "top_screened": self.top, "families": self.families,
+            "finalists_full_design": self.finalists,
+            "fea": self.verifications,
+            "winner": self.winner, "winner_status": self.winner_status,
+            "winner_job": self.winner_job, "ok": self.ok, "timings_s": self.timings_s,
+        }
+
+
+def synthesize(req, space, store, client, *, finalists: int = 8, verify_top: int = 2,
+               verify: bool = True, fea_model: str = "2d", progress=_quiet,
+               say=_quiet) -> SynthesisResult:
+    """Run the whole synthesis for requirements ``req``.
+
+    Args:
+        space: :class:`~springcad.synthesis.candidates.CandidateSpace` of ``req``.
+        store: the run's :class:`~springcad.synthesis.store.ResultStore`.
+        client: a :class:`distributed.Client` (sweep and full designs run on it).
+        finalists: best screened stacks given the full design (Dask tasks).
+        verify_top: how many of the full-design-feasible finalists get FEA (best first).
+        verify: run the FEA at all.
+        fea_model: :class:`fea.verify.VerifyOptions` model for the finalists ("2d": fastest).
+        progress: sweep progress callback (see :func:`run_sweep`).
+        say: one-line status messages.
+    """
+    t = {}
+    t0 = time.perf_counter()
+    stats = run_sweep(space, store, client, progress)
+    t["sweep"] = time.perf_counter() - t0
+    cols = store.read()
+    col, minimise = req.objective_column, req.minimise
+    order = ranking.rank(cols, col, minimise)
+    families = ranking.family_report(cols, col, minimise)
+    top = ranking.distinct(cols, order, 20)
+    result = SynthesisResult(req, stats, len(cols["cid"]), int(cols["feasible"].sum()), top,
+                             families, [])  # top: distinct stacks, best first
+    say(f"{result.n_feasible} of {result.n_candidates} candidates feasible after screening")
+    if not top:
+        result.winner_status = "no feasible stack"
+        result.timings_s = t
+        return result
+    # full design of the finalists, on the cluster
+    t0 = time.perf_counter()
+    rows = top[:finalists]
+    say(f"full design of the best {len(rows)} screened stacks")
+    futures = client.map(full_design_summary, [req] * len(rows), rows, pure=False)
+    summaries = client.gather(futures)
+    t["full_design"] = time.perf_counter() - t0
+    result.finalists = summaries
+    good = [(r, s) for r, s in zip(rows, summaries) if s["ok"]]
+    key = "mass_kg" if col == "mass_kg" else col
+    if good:
+        good.sort(key=lambda rs: (rs[1].get(key, rs[0][col]) if minimise
+                                  else -rs[1].get(key, rs[0][col]), rs[1]["mass_kg"]))
+    else:
+        result.winner_status = ("no finalist passes the full design: "
+                                + "; ".join(s["error"] for s in summaries[:3]))
+        result.timings_s = t
+        return result
+    winner, status = good[0][0], "full design passed; FEA not run"
+    if verify:
+        t0 = time.perf_counter()
+        status = None
+        for r, s in good[:verify_top]:
+            say(f"FEA ({fea_model}) of candidate {int(r['cid'])} ({r['family']}, "
+                f"{1000 * s['mass_kg']:.1f} g)")
+            try:
+                v = verify_candidate(req, r, model=fea_model)
+                entry = {"ok": v.ok, "failures": v.failures(), "notes": v.notes(),
+                         "summary": v.summary(),
+                         "springs": {n: {"stiffness_fea_Nm_per_rad": sv.stiffness_fea_Nmm_per_rad / 1e3,
+                                         "peak_von_mises_MPa": sv.peak_von_mises_MPa,
+                                         "peak_region": sv.run.peak_result.peak_region,
+                                         "yield_margin": sv.yield_margin,
+                                         "width_scale": sv.design.width_scale}
+                                     for n, sv in v.springs.items()}}
+            except Exception as err:  # noqa: BLE001 - a failed solve is a finding, not a crash
+                entry = {"ok": False, "failures": [f"{type(err).__name__}: {err}"], "notes": [],
+                         "summary": "", "springs": {}}
+            result.verifications[int(r["cid"])] = entry
+            say(entry["summary"] or "; ".join(entry["failures"]))
+            if entry["ok"] and status is None:
+                winner, status = r, f"FEA ({fea_model}) passed"
+                break
+        if status is None:
+            winner = good[0][0]
+            first = result.verifications[int(winner["cid"])]
+            status = ("FEA FAILED for every verified finalist; best shown. "
+                      + "; ".join(first["failures"]))
+        t["fea"] = time.perf_counter() - t0
+    result.winner = winner
+    result.winner_status = status
+    result.winner_job = job_document(req, winner)
+    result.timings_s = t
+    return result
+
+
+def summary_table(result: SynthesisResult, n: int = 10) -> str:
+    """The best screened stacks and the finalists as plain text."""
+    req = result.requirements
+    col = req.objective_column
+    full = {f["cid"]: f for f in result.finalists}
+    rows = [("rank", "cid", "family", "input", "z mm", "r_c", "R_o", "N", "mass g", "h mm",
+             col, "full design")]
+    for k, r in enumerate(result.top[:n], 1):
+        f = full.get(int(r["cid"]))
+        fd = ("-" if f is None else f"{1000 * f['mass_kg']:.1f} g" if f["ok"] else "FAIL")
+        z = f"{r['thickness_a_mm']:g}" + (f"/{r['thickness_b_mm']:g}" if r["n_b"] else "")
+        n_fl = f"{r['n_flexures_a']}" + (f"/{r['n_flexures_b']}" if r["n_b"] else "")
+        rows.append((str(k), str(r["cid"]), r["family"], r["input"], z,
+                     f"{r['contact_radius_mm']:g}", f"{r['outer_radius_mm']:.2f}", n_fl,
+                     f"{1000 * r['mass_kg']:.1f}", f"{r['axial_length_mm']:.1f}",
+                     f"{r[col]:.4g}", fd))
+    w = [max(len(x[i]) for x in rows) for i in range(len(rows[0]))]
+    return "\n".join("  ".join(c.rjust(k) for c, k in zip(x, w)) for x in rows)
+

@@ -1,0 +1,52 @@
+"""Requirements schema: the templates load, bad values name key, value and what is allowed."""
+
+import math
+
+import pytest
+
+from springcad.errors import ConfigError
+from springcad.synthesis.requirements import load_requirements, requirements_from_dict
+from synth_fixtures import TEMPLATES, small
+
+
+@pytest.mark.parametrize("path", sorted(TEMPLATES.glob("requirements_*.toml")), ids=lambda p: p.stem)
+def test_templates_load(path):
+    req = load_requirements(path)
+    assert req.stiffness_Nmm_per_rad > 0 and req.deflection_rad > 0
+    for m in req.materials:
+        assert req.design_stress_MPa(m) < m.yield_strength_MPa
+
+
+def test_paper_template_reproduces_the_paper_design_stress():
+    req = load_requirements(TEMPLATES / "requirements_4xS1.toml")
+    assert req.stiffness_Nmm_per_rad == pytest.approx(37.5e3)
+    assert req.deflection_rad == pytest.approx(4 * math.radians(16))  # 4 x S1's 16 deg
+    assert req.design_stress_MPa(req.materials[0]) == pytest.approx(912.0, abs=0.05)
+
+
+@pytest.mark.parametrize("section, key, value, match", [
+    ("requirement", "stiffness_Nm_per_rad", -3, "requirement.stiffness_Nm_per_rad.*greater than zero"),
+    ("envelope", "max_outer_radius_mm", 1.0, "envelope.max_outer_radius_mm.*at least 3"),
+    ("materials", "names", ["unobtainium"], "materials.names.*built-in materials"),
+    ("materials", "fatigue_margin", 2.0, "fatigue.*no fatigue"),
+    ("objective", "minimise", "energy_density", "objective.minimise.*one of mass"),
+    ("search", "inputs", ["gear"], "search.inputs.*shaft, rim"),
+    ("search", "thickness_mm", [], "search.thickness_mm.*non-empty list"),
+    ("search", "max_disk", 3, "search.max_disk.*not a known key"),
+    ("manufacturing", "w_gap_mm", -1, "manufacturing.w_gap_mm.*greater than zero"),
+])
+def test_bad_values_name_the_key(section, key, value, match):
+    with pytest.raises(ConfigError, match=match):
+        requirements_from_dict(small(**{section: {key: value}}))
+
+
+def test_design_stress_must_stay_below_yield():
+    with pytest.raises(ConfigError, match="yield_margin.*must exceed 1"):
+        requirements_from_dict(small(materials={"yield_margin": 1.0, "stress_concentration": 1.0}))
+
+
+def test_fingerprint_changes_with_the_space_only():
+    a = requirements_from_dict(small())
+    b = requirements_from_dict(small(requirement={"description": "other words"}))
+    c = requirements_from_dict(small(search={"thickness_mm": [3.0]}))
+    assert a.fingerprint() == b.fingerprint() != c.fingerprint()

@@ -1,0 +1,116 @@
+"""Screening (closed forms on arrays) against the full design_spring, disk by disk.
+
+The screening is a necessary condition for the full design on the checks it
+mirrors, and reproduces its layout exactly: same N, same R_r (both bisect the
+rim rule), same straight/serpentine choice and serpentine factor; its mass
+ignores the tip web and the beam-theory width correction (and fillets, which it
+does not draw), so it is within 3 % of the exact profile's.
+"""
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from springcad.config import load_job
+from springcad.design.cam import OVERTRAVELS, _unit
+from springcad.design.spring import design_spring
+from springcad.errors import DesignError
+from springcad.synthesis.screening import REASONS, cam_tooth_width_mm, screen_disks
+from synth_fixtures import TEMPLATES
+
+JOB = load_job(TEMPLATES / "paper_S1.toml")
+BASE = replace(JOB.springs["S1"], n_flexures=None, tip_radius_mm=None)
+MAT = JOB.material
+
+
+def _cases(seed: int, count: int):
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(count):
+        out.append((rng.uniform(60e3, 400e3), rng.uniform(0.06, 0.32), rng.choice([26.0, 33.5]),
+                    rng.choice([3.0, 4.5, 6.0]), rng.choice([5.5, 6.5, 7.5, 9.0])))
+    return np.array(out)
+
+
+def _screen(cases, n_fixed=None):
+    m = len(cases)
+    return screen_disks(cases[:, 0], cases[:, 1], cases[:, 2], cases[:, 3], cases[:, 4],
+                        np.full(m, MAT.design_stress_MPa),
+                        np.full(m, MAT.material.youngs_modulus_MPa),
+                        MAT.material.density_kg_per_mm3,
+                        np.zeros(m, dtype=int) if n_fixed is None else n_fixed,
+                        min_tip_radius_mm=0.3, manufacturing=JOB.manufacturing,
+                        hardware=JOB.hardware)
+
+
+def _full(case, n=None):
+    K, th, ro, z, rc = case
+    spec = replace(BASE, stiffness_Nmm_per_rad=K, max_deflection_rad=th, outer_radius_mm=ro,
+                   thickness_mm=z, contact_radius_mm=rc, n_flexures=n)
+    return design_spring(spec, MAT, JOB.manufacturing, JOB.hardware)
+
+
+# cases picked from a seeded sample so that every branch appears: straight, serpentine,
+# energy bound, torque cap, serpentine budget
+CASES = np.vstack([_cases(0, 60)[[10, 16, 18, 19, 22, 1, 4, 5, 7]],
+                   [[150e3, math.radians(16), 33.5, 4.5, 6.0]]])
+
+
+def test_screening_matches_full_design():
+    res = _screen(CASES)
+    seen = set()
+    for j, case in enumerate(CASES):
+        try:
+            d = _full(case)
+        except DesignError as err:
+            assert res["code"][j] != 0, f"case {j}: full design fails ({err}) but screening passes"
+            seen.add(REASONS[res["code"][j]])
+            continue
+        assert res["code"][j] == 0, f"case {j}: screening rejects ({REASONS[res['code'][j]]}) a " \
+                                    "disk the full design makes"
+        seen.add(d.flexure)
+        assert res["n"][j] == d.n_flexures
+        assert res["rr"][j] == pytest.approx(d.root_radius_mm, abs=1e-6)
+        assert bool(res["straight"][j]) == (d.flexure == "straight")
+        assert res["s"][j] == pytest.approx(d.serpentine_factor, rel=1e-9)
+        assert res["rb"][j] == pytest.approx(d.tip_radius_mm, rel=1e-12)
+        assert res["mass_kg"][j] == pytest.approx(d.mass_kg, rel=0.03)
+        assert res["cam_area_mm2"][j] == pytest.approx(d.cam_area_mm2, rel=0.05)
+    # the sample exercises both flexure kinds and the main failure modes
+    assert {"straight", "serpentine", "energy_bound", "torque_cap", "serpentine_budget"} <= seen
+
+
+def test_failure_numbers_are_the_designs_numbers():
+    """Energy bound and torque cap: the same numbers the design's error message quotes."""
+    res = _screen(CASES)
+    for j, case in enumerate(CASES):
+        code = REASONS.get(int(res["code"][j]))
+        if code not in ("energy_bound", "torque_cap"):
+            continue
+        with pytest.raises(DesignError) as err:
+            _full(case)
+        if code == "energy_bound":
+            assert f"{res['value'][j]:.3g} J" in str(err.value)
+            assert f"{res['limit'][j]:.3g} J" in str(err.value)
+        else:
+            assert f"{res['value'][j] / 1e3:.3g} N*m" in str(err.value)
+
+
+def test_fewer_flexures_keep_the_design_layout():
+    """n_fixed = -k: k fewer flexures than the largest that fits, laid out as design_spring does."""
+    case = np.array([[150e3, math.radians(12), 33.5, 4.5, 7.5]])
+    most = _screen(case)
+    fewer = _screen(case, np.array([-4]))
+    assert fewer["code"][0] == 0 and fewer["n"][0] == most["n"][0] - 4
+    d = _full(case[0], n=int(fewer["n"][0]))
+    assert fewer["rr"][0] == pytest.approx(d.root_radius_mm, abs=1e-6)
+    # fewer flexures, wider gaps between the roots: a thicker rim
+    assert fewer["rr"][0] < most["rr"][0]
+
+
+def test_cam_tooth_width_is_the_cam_designs():
+    rc, rho, n, th = 5.5, 0.325, 28, math.radians(16)
+    widths = [_unit(rc, rho, 2 * math.pi / n, rho / rc + f * th)[1].length for f in OVERTRAVELS]
+    assert cam_tooth_width_mm(rc, rho, n, th) == pytest.approx(max(widths), rel=1e-12)
