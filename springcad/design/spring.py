@@ -654,7 +654,7 @@ def _choose_root(d: SpringDesign) -> SpringDesign:
 
 
 def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
-                  hardware: HardwareSpec) -> SpringDesign:
+                  hardware: HardwareSpec, explain: bool = True) -> SpringDesign:
     """Synthesise one spring whose *predicted* peak stress keeps the required yield margin.
 
     1. Layout, flexure shape and widths at the design stress (:func:`_design_at`).
@@ -663,10 +663,14 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
        the beam stress is lowered by that ratio and the spring redesigned (longer,
        more serpentine flexures store the same energy at a lower stress).
 
+    Args:
+        explain: when no beam stress fits, search the thickness and deflection that
+            would (about 10-40 s; False for searches that only need a yes or no).
+
     Raises:
         DesignError: the spec cannot be met in its envelope, or no beam stress that
             keeps the yield margin fits in it (the message names the binding
-            constraint and the thickness or deflection that would fit).
+            constraint and, with ``explain``, the thickness or deflection that would fit).
     """
     required = material.safety_factor
     derating, history = 1.0, []
@@ -677,6 +681,11 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
         except DesignError as err:
             if not history:
                 raise
+            if not explain:
+                raise DesignError(
+                    f"spring '{spec.name}': no beam stress keeps the yield margin "
+                    f"{material.safety_factor:g} in this envelope (predicted peak "
+                    f"{history[-1][1]:.0f} MPa at the {history[-1][2]}): {err}") from err
             raise _stress_infeasible(spec, material, manufacturing, hardware, history, err) from err
         history.append((derating, d.predicted_peak_stress_MPa, d.stress.region))
         if d.yield_margin >= required * (1.0 - 1e-3):

@@ -5,7 +5,7 @@ distinct disk once (:func:`~springcad.synthesis.screening.screen_disks`; the A
 design of a mixed family recurs for every B thickness and both inputs), and
 assembles the stack: series stiffness and eq. 10 hold by construction (every disk
 designed for the same peak torque), mass from the stack hardware rules of
-:func:`springcad.design.hardware.stack_components` fed with the screened disks,
+:func:`springcad.design.hardware.stack_layout` fed with the screened disks,
 axial length and envelope radius, the conservative yield margin, nominal and
 worst-case backlash (eqs. 1-3), energy density and specific energy, EDM cut length.
 
@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.config import MaterialSpec
-from springcad.design.hardware import BUSHING_CLEARANCE_MM, stack_components
+from springcad.design.hardware import BUSHING_CLEARANCE_MM, stack_layout
 from springcad.design.stack import camshaft_indices, connection_sequence
 from springcad.design.tolerance import backlash_rad, gap_range_mm
 from springcad.synthesis.screening import REASONS, screen_disks
@@ -34,7 +34,7 @@ _SMALLER_BAD = {"root_gap", "cam_tooth", "cam_bore", HOLES, YIELD}
 
 @dataclass(frozen=True)
 class _Disk:
-    """The attributes of a SpringDesign that stack_components reads, from the screening."""
+    """The attributes of a SpringDesign that stack_layout reads, from the screening."""
 
     name: str
     thickness_mm: float
@@ -139,7 +139,7 @@ def _stack_mass_kg(space, cols, a, b, i) -> float:
                + [disk("B", b, cols["z_b"][i])] * int(cols["n_b"][i]))
     inp = space.inputs[cols["input"][i]]
     joints, out = connection_sequence(len(springs), inp)
-    return sum(c.mass_kg for c in stack_components(springs, joints, inp, out) if c.in_mass)
+    return sum(c.mass_kg for c in stack_layout(springs, joints, inp, out).components if c.in_mass)
 
 
 def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
