@@ -160,9 +160,8 @@ def predict(design, load_N: float | None = None,
     root = max(_root_model(t["nominal_MPa"], t["width_mm"], design.root_fillet_radius_mm,
                            t["curvature_factor"], cal) for t in terms)
     flank = max(t["flank_max_MPa"] for t in terms)
-    _, nominal, _, _ = edge_stress_MPa(design, load_N)
     neck = cal.neck_factor * neck_nominal_MPa(design, load_N)
-    return StressPrediction(nominal_MPa=float(np.max(nominal)), flank_MPa=cal.flank_factor * flank,
+    return StressPrediction(nominal_MPa=terms[0]["nominal_max_MPa"], flank_MPa=cal.flank_factor * flank,
                             root_MPa=float(root), neck_MPa=float(neck))
 
 
@@ -190,7 +189,8 @@ def root_terms(design, load_N: float) -> list[dict]:
         factor = float(np.max(edge[near] / nominal[near])) if np.any(near) else 1.0
         out.append({"station_mm": float(y[k]), "nominal_MPa": float(nominal[k]),
                     "width_mm": float(design.width_mm(y[k])), "curvature_factor": factor,
-                    "flank_max_MPa": float(np.max(edge[: k + 1]))})
+                    "flank_max_MPa": float(np.max(edge[: k + 1])),
+                    "nominal_max_MPa": float(np.max(nominal))})
     return out
 
 
