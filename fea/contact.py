@@ -69,6 +69,12 @@ from springcad.errors import SolverError
 
 #: a gap to a surface other than the driving flank at or below this counts as closed (mm)
 CLOSED_GAP_MM = 1e-4
+#: a contact this close to the end of the driving flank (fraction of its length) has left it:
+#: the contact patch reaches the corner with the tooth tip
+FLANK_END_FRACTION = 0.02
+#: the small-angle stiffness is the secant T / (theta - theta_onset) this far past the onset
+#: (fraction of theta_max)
+SMALL_ANGLE_FRACTION = 0.01
 
 
 def _noop(message: str, fraction: float | None = None) -> None:
@@ -107,6 +113,20 @@ def _ball(design) -> tuple[np.ndarray, float]:
     return np.array([0.0, design.contact_radius_mm]), float(design.tip_radius_mm)
 
 
+def _junction_mm(features, design) -> float:
+    """Length of pocket arc next to the flank start over which the ball bears by design (mm).
+
+    Below the flank's first roll angle psi* = rho / r_c the cam drives the ball at
+    the pocket-flank junction, whose normal is tilted by up to psi* from the drive
+    direction (:mod:`springcad.design.cam`); pocket contact within twice that angle
+    of the junction is the intended drive, farther down it is the ball bottoming in
+    the pocket.
+    """
+    pocket = next(seg for kind, k, seg in features if kind == "pocket" and k == 0)
+    rho = float(pocket.radius)
+    return 2.0 * rho * rho / float(design.contact_radius_mm)
+
+
 def _cam_of(design):
     if design.cam is None:
         raise SolverError(f"spring '{design.name}' has no cam profile: no contact sweep")
@@ -123,15 +143,22 @@ class ContactOptions:
         level: 2D mesh level of the verification to use (clipped to those available).
         nonlinear: total Lagrangian kinematics (large rotations); False: linear elasticity
             with the contact on current positions.
-        linearity_tolerance: accepted |K_tangent / K_linear - 1| and engaged secant (-).
+        linearity_tolerance: accepted |K / K_linear - 1| of the engaged secant
+            T / (theta - theta_onset), i.e. of the torque curve against the straight line
+            K_linear (theta - theta_onset) (-).
+        tangent_tolerance: accepted |K_tangent / K_linear - 1| of the local slope over the
+            last quarter step (-); looser, because the contact moves along the ball in
+            discrete points (1/8 of an element edge) and a transfer between two points
+            shows in a quarter-step slope as up to ~3 % (straight-flexure reference).
         small_angle_tolerance: accepted |K_small / K_linear - 1| just after onset (-).
         gap_tolerance: accepted shortfall of the clearance at rest below w_gap (-).
     """
 
     steps: int = 8
-    level: int = 1
+    level: int = 0
     nonlinear: bool = True
     linearity_tolerance: float = 0.02
+    tangent_tolerance: float = 0.05
     small_angle_tolerance: float = 0.005
     gap_tolerance: float = 0.05
 
@@ -139,7 +166,8 @@ class ContactOptions:
         if self.steps < 8:
             raise SolverError(f"contact sweep needs at least 8 steps per direction, got "
                               f"{self.steps}")
-        for name in ("linearity_tolerance", "small_angle_tolerance", "gap_tolerance"):
+        for name in ("linearity_tolerance", "tangent_tolerance", "small_angle_tolerance",
+                     "gap_tolerance"):
             if not 0 < getattr(self, name) < 0.5:
                 raise SolverError(f"contact option {name} = {getattr(self, name)} must be in "
                                   "(0, 0.5)")
@@ -158,6 +186,7 @@ class ContactStep:
     gaps_mm: dict
     peak_von_mises_MPa: float
     flexure_peak_MPa: float
+    flexure_peak_scaled_MPa: float
     flexure_peak_region: str
     hertz: dict | None
     iterations: int
@@ -172,7 +201,8 @@ class ContactStep:
                 "tangent_stiffness_Nm_per_rad": nm(self.tangent_Nmm_per_rad),
                 "contacts": self.contacts, "gaps_mm": dict(self.gaps_mm),
                 "peak_von_mises_MPa": self.peak_von_mises_MPa,
-                "flexure_peak_von_mises_MPa": self.flexure_peak_MPa,
+                "flexure_peak_von_mises_MPa": self.flexure_peak_scaled_MPa,
+                "flexure_peak_von_mises_this_mesh_MPa": self.flexure_peak_MPa,
                 "flexure_peak_region": self.flexure_peak_region,
                 "hertz": self.hertz, "iterations": self.iterations,
                 "equilibrium_error": self.equilibrium_error}
@@ -192,6 +222,10 @@ class ContactSweep:
     """Linear FEA (traction patch) K of the same 2D mesh (N*mm/rad)."""
     stiffness_verified_Nmm_per_rad: float | None
     design_gap_mm: float
+    peak_linear_this_mesh_MPa: float
+    """Linear FEA (traction) nodal peak of this mesh at theta_max (MPa)."""
+    peak_verified_MPa: float | None
+    """The verified (extrapolated, 3D-factored) peak at theta_max (MPa), or None."""
     rest_clearance_mm: float
     onset_rad: dict
     small_angle_Nmm_per_rad: dict
@@ -229,8 +263,14 @@ class ContactSweep:
             "small_angle_vs_linear_pct": {k: 100.0 * self.small_angle_error(k)
                                           for k in self.small_angle_Nmm_per_rad},
             "design_gap_mm": self.design_gap_mm, "rest_clearance_mm": self.rest_clearance_mm,
+            "peak_linear_fea_this_mesh_MPa": self.peak_linear_this_mesh_MPa,
+            "peak_verified_MPa": self.peak_verified_MPa,
+            "peak_note": "flexure_peak_von_mises_MPa of a step is this mesh's FE peak outside "
+                         "the contact zone times peak_verified / peak_linear_fea_this_mesh; "
+                         "peak_von_mises_MPa is the larger of it and the Hertz contact peak",
             "onset_deg": {k: math.degrees(v) for k, v in self.onset_rad.items()},
             "tolerances_pct": {"linearity": 100 * o.linearity_tolerance,
+                               "tangent": 100 * o.tangent_tolerance,
                                "small_angle": 100 * o.small_angle_tolerance,
                                "gap": 100 * o.gap_tolerance},
             "torque_angle": {k: [s.to_dict() for s in v] for k, v in self.steps.items()},
@@ -245,7 +285,7 @@ def _contacts(sc: SectorContact, st: State, driving: str, sign: int, ball, mater
     active = st.active[st.lam[st.active] > 0]
     if not len(active):
         return []
-    X = sc.X[:, sc.nodes].T
+    X = sc.pX
     x = sc.positions(st.u)
     to_cam = rot(st.theta)
     info = {int(i): sc.cam.describe(int(st.foot_seg[i]), float(st.foot_t[i]), driving)
@@ -267,7 +307,7 @@ def _contacts(sc: SectorContact, st: State, driving: str, sign: int, ball, mater
         ref = (w[:, None] * X[grp]).sum(0) / force
         cur = (w[:, None] * x[grp]).sum(0) / force
         top = int(grp[np.argmax(w)])
-        label = str(sc.labels[top])
+        label = str(sc.plabels[top])
         c = {"force_N": force, "ring_feature": label, "nodes": int(len(grp)),
              "ring_point_mm": [float(v) for v in ref],
              "cam_point_mm": [float(v) for v in cur @ to_cam], **info[top]}
@@ -307,7 +347,7 @@ def _stress(sc: SectorContact, st: State, exclusion_mm: float):
 
     vm = sc.von_mises(st.u)
     zone = np.zeros(vm.shape, bool)
-    for p in sc.X[:, sc.nodes[st.active]].T:
+    for p in sc.pX[st.active]:
         zone |= np.hypot(sc.X[0] - p[0], sc.X[1] - p[1]) < exclusion_mm
     ok = ~sc.near_held & ~zone
     i = int(np.argmax(np.where(ok, vm, -np.inf)))
@@ -316,12 +356,13 @@ def _stress(sc: SectorContact, st: State, exclusion_mm: float):
 
 
 def _report(sc: SectorContact, st: State, tangent, theta_on, driving, sign, ball, groups,
-            material, exclusion_mm, keep=False):
+            material, exclusion_mm, stress_scale, keep=False):
     """The :class:`ContactStep` of a converged state (and the picture data if ``keep``)."""
     theta = st.theta
     torque = sc.torque(st)
     contacts = _contacts(sc, st, driving, sign, ball, material)
     flex_peak, region, at_contact, vm = _stress(sc, st, exclusion_mm)
+    flex_scaled = flex_peak * stress_scale
     hertz = [c["hertz"] for c in contacts if "hertz" in c]
     h = max(hertz, key=lambda v: v["von_mises_max_MPa"]) if hertz else None
     if h is not None:
@@ -336,8 +377,9 @@ def _report(sc: SectorContact, st: State, tangent, theta_on, driving, sign, ball
         secant_Nmm_per_rad=torque / theta if theta else None,
         engaged_secant_Nmm_per_rad=engaged, tangent_Nmm_per_rad=tangent, contacts=contacts,
         gaps_mm=_surface_gaps(sc, groups, st),
-        peak_von_mises_MPa=max(flex_peak, h["von_mises_max_MPa"] if h else 0.0),
-        flexure_peak_MPa=flex_peak, flexure_peak_region=region, hertz=h,
+        peak_von_mises_MPa=max(flex_scaled, h["von_mises_max_MPa"] if h else 0.0),
+        flexure_peak_MPa=flex_peak, flexure_peak_scaled_MPa=flex_scaled,
+        flexure_peak_region=region, hertz=h,
         iterations=st.iterations, equilibrium_error=eq)
     picture = None
     if keep:
@@ -346,19 +388,26 @@ def _report(sc: SectorContact, st: State, tangent, theta_on, driving, sign, ball
                    "angle_rad": theta, "cam_mm": sc.cam.P @ rot(theta).T,
                    "contacts_mm": [rot(theta) @ np.asarray(c["cam_point_mm"])
                                    for c in contacts],
-                   "ball_centre_mm": ball[0], "ball_radius_mm": ball[1]}
+                   "ball_centre_mm": ball[0], "ball_radius_mm": ball[1],
+                   "ball_centre_deformed_mm": _moved(sc, st, ball[0])}
     return step, picture
+
+
+def _moved(sc: SectorContact, st: State, point) -> np.ndarray:
+    """Where the material point nearest to ``point`` went (mm)."""
+    i = int(np.argmin(np.hypot(sc.X[0] - point[0], sc.X[1] - point[1])))
+    return sc.X[:, i] + st.u.reshape(-1, 2)[i] + (np.asarray(point) - sc.X[:, i])
 
 
 # ============================================================ the sweep
 def _mesh(design, run, level: int):
-    """The verification's 2D sector mesh at ``level`` (or a new one), the linear K of that
-    mesh from the verification (or None) and the verified K (or None)."""
+    """The verification's 2D sector mesh at ``level`` (or a new one) and the linear K of that
+    mesh from the verification (or None)."""
     if run is not None and getattr(run, "base2d", None):
         k = min(level, len(run.base2d) - 1)
         res = run.base2d[k]
         if res.mesh is not None and res.mesh.dim == 2:
-            return res.mesh, res.stiffness_Nmm_per_rad, run.stiffness_Nmm_per_rad
+            return res.mesh, res.stiffness_Nmm_per_rad
     from fea.geometry import sector_geometry
     from fea.mesh import fea_mesh_2d, mesh_face_levels
     from fea.problem import LoadCase
@@ -371,7 +420,7 @@ def _mesh(design, run, level: int):
         faces = mesh_face_levels(g, DEFAULT_SIZE, level + 1,
                                  LoadCase().patch_half_width_mm(g.tip_radius_mm))
     k = min(level, len(faces) - 1)
-    return fea_mesh_2d(faces[k], g, k), None, (run.stiffness_Nmm_per_rad if run else None)
+    return fea_mesh_2d(faces[k], g, k), None
 
 
 class _Path:
@@ -407,11 +456,6 @@ class _Path:
             raise SolverError("the contact solution pushes the ball against the cam rotation")
         return st
 
-    def probe(self, theta: float) -> State:
-        """A state near the current one without moving the path (for finite differences)."""
-        pred = None if self.rate is None else self.rate * (theta - self.state.theta)
-        return self.sc.solve(theta, self.state, pred)
-
 
 def contact_sweep(design, material=None, run=None, options: ContactOptions = ContactOptions(),
                   cam=None, progress=_noop) -> ContactSweep:
@@ -437,22 +481,31 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
     cam_profile = cam if cam is not None else _cam_of(design)
     theta_max = float(design.max_deflection_rad)
     ball = _ball(design)
-    fm, k_same_mesh, k_verified = _mesh(design, run, options.level)
-    curve = CamCurve(_cam_features(cam_profile, design.n_flexures),
-                     cam_profile.outer.signed_area() > 0, ball[1])
+    fm, k_same_mesh = _mesh(design, run, options.level)
+    k_verified = getattr(run, "stiffness_Nmm_per_rad", None)
+    features = _cam_features(cam_profile, design.n_flexures)
+    curve = CamCurve(features, cam_profile.outer.signed_area() > 0,
+                     _junction_mm(features, design))
     reach = float(np.max(np.hypot(*curve.P.T))) + 2 * ball[1] + 0.5
     sc = SectorContact(fm, material, curve, reach, nonlinear=options.nonlinear)
     if k_same_mesh is not None and abs(sc.stiffness_linear / k_same_mesh - 1) > 1e-6:
         raise SolverError("contact sweep: the sector model does not reproduce the linear FEA of "
                           f"the same mesh ({sc.stiffness_linear:.6g} vs {k_same_mesh:.6g} "
                           "N*mm/rad)")
+    # flexure stresses of this (coarse) mesh scaled to the verified peak: the linear FEA of
+    # the same mesh at theta_max is the common reference, so its discretisation error cancels
+    from fea.results import evaluate
+
+    peak_linear = evaluate(fm, sc.system, sc.u_traction, LoadCase(), theta_max, {},
+                           None).peak_von_mises_MPa
+    peak_verified = getattr(run, "peak_stress_MPa", None)
+    stress_scale = peak_verified / peak_linear if peak_verified else 1.0
     t1 = time.perf_counter()
     exclusion = 2.0 * LoadCase().patch_half_width_mm(ball[1])
     rest = sc.boundary(None)
     rest_clearance = float(curve.project(np.vstack([rest.A, rest.B[-1:]]))[0].min())
     n = options.steps
     steps, onset, small, pictures, flags = {}, {}, {}, {}, []
-    eps = 1e-4 * theta_max
     for sign, key in ((1, "+"), (-1, "-")):
         driving = "flank_ccw" if sign > 0 else "flank_cw"
         groups = curve.groups(driving)
@@ -460,28 +513,29 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
         th_on = _onset(sc, sign, theta_max)
         onset[key] = th_on
         targets = [sign * theta_max * i / n for i in range(n + 1)]
-        probe = {}
-        if math.isfinite(th_on):  # small-angle stiffness just after onset
-            a = sign * 0.01 * theta_max
-            probe = {th_on + a: "small1", th_on + 2 * a: "small2"}
+        h = sign * theta_max / (4 * n)  # tangent: slope over the last quarter step
+        a = sign * SMALL_ANGLE_FRACTION * theta_max
+        extra = {th - h for th in targets[1:]}
+        if math.isfinite(th_on):
+            extra.add(th_on + a)
         path = _Path(sc, sign, theta_max / n)
-        out, states = [], {}
-        for th in sorted(set(targets) | set(probe), key=abs):
+        out, torque = [], {}
+        for th in sorted(set(targets) | extra, key=abs):
             st = path.to(th)
-            if th in probe:
-                states[probe[th]] = st
+            torque[th] = sc.torque(st)
+            if th not in targets:
                 continue
-            hi = path.probe(th + sign * eps)
-            tangent = (sc.torque(hi) - sc.torque(st)) / (sign * eps)
+            tangent = None
+            if th != 0 and not (abs(th - h) < abs(th_on) < abs(th)):  # not across the onset
+                tangent = (torque[th] - torque[th - h]) / h
             step, pic = _report(sc, st, tangent, th_on if math.isfinite(th_on) else None,
-                                driving, sign, ball, groups, material, exclusion,
+                                driving, sign, ball, groups, material, exclusion, stress_scale,
                                 keep=th == targets[-1])
             out.append(step)
             if pic is not None:
                 pictures[key] = pic
-        if "small2" in states:
-            small[key] = (sc.torque(states["small2"]) - sc.torque(states["small1"])) / \
-                (sign * 0.01 * theta_max)
+        if math.isfinite(th_on):  # T(theta_onset) = 0 exactly
+            small[key] = torque[th_on + a] / a
         steps[key] = out
         flags += _direction_flags(key, out, th_on, small.get(key), sc.stiffness_linear, options,
                                   theta_max)
@@ -500,9 +554,10 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
     t2 = time.perf_counter()
     return ContactSweep(
         name=design.name, max_deflection_rad=theta_max, n_flexures=design.n_flexures,
-        level=fm.level, dofs=int(sc.system.n_dofs), candidates=int(len(sc.nodes)),
+        level=fm.level, dofs=int(sc.system.n_dofs), candidates=int(len(sc.pX)),
         stiffness_linear_Nmm_per_rad=sc.stiffness_linear,
         stiffness_verified_Nmm_per_rad=k_verified, design_gap_mm=w_gap,
+        peak_linear_this_mesh_MPa=peak_linear, peak_verified_MPa=peak_verified,
         rest_clearance_mm=rest_clearance, onset_rad=onset, small_angle_Nmm_per_rad=small,
         steps=steps, flags=flags, options=options,
         timings_s={"setup": t1 - t0, "sweep": t2 - t1, "total": t2 - t0},
@@ -549,8 +604,8 @@ def _direction_flags(key, steps, th_on, k_small, k_lin, options, theta_max) -> l
     for s in steps:
         a = f"{deg(s.angle_rad):+.2f} deg"
         for c in s.contacts:
-            if c["feature"].startswith("tip") or (c["intended"]
-                                                  and c.get("flank_fraction", 0.0) >= 1.0):
+            if c["feature"].startswith("tip") or (
+                    c["intended"] and c.get("flank_fraction", 0.0) >= 1.0 - FLANK_END_FRACTION):
                 off.append(f"{a}: contact on {c['feature']}")
             elif not c["intended"]:
                 second.append(f"{a}: {c['ring_feature']} touches {c['feature']} "
@@ -559,9 +614,10 @@ def _direction_flags(key, steps, th_on, k_small, k_lin, options, theta_max) -> l
             if name != "driving_flank" and gap <= CLOSED_GAP_MM:
                 second.append(f"{a}: {name.replace('_', ' ')} gap {1000 * gap:.2f} um")
         if abs(s.angle_rad - th_on) > 0.99 * step:  # one step past the onset
-            for what, k in (("tangent", s.tangent_Nmm_per_rad),
-                            ("engaged secant", s.engaged_secant_Nmm_per_rad)):
-                if k is not None and abs(k / k_lin - 1) > options.linearity_tolerance:
+            for what, k, tol in (("tangent", s.tangent_Nmm_per_rad, options.tangent_tolerance),
+                                 ("engaged secant", s.engaged_secant_Nmm_per_rad,
+                                  options.linearity_tolerance)):
+                if k is not None and abs(k / k_lin - 1) > tol:
                     nonlin.append(f"{a}: {what} {k / 1000:.2f} N*m/rad "
                                   f"({100 * (k / k_lin - 1):+.1f} %)")
     more = lambda lst: "; ".join(lst[:4]) + (" ..." if len(lst) > 4 else "")  # noqa: E731
@@ -573,5 +629,7 @@ def _direction_flags(key, steps, th_on, k_small, k_lin, options, theta_max) -> l
     if nonlin:
         flags.append({"code": "nonlinear", "message":
                       f"{key}: stiffness departs from the linear FEA {k_lin / 1000:.2f} N*m/rad "
-                      f"by more than {100 * options.linearity_tolerance:g} %: {more(nonlin)}"})
+                      f"by more than {100 * options.linearity_tolerance:g} % (secant from the "
+                      f"onset) or {100 * options.tangent_tolerance:g} % (tangent): "
+                      f"{more(nonlin)}"})
     return flags

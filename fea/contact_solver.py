@@ -27,14 +27,14 @@ from springcad.errors import SolverError
 
 #: cam contour sampling step for the closest-point projection (mm)
 CAM_STEP_MM = 1e-3
-#: pocket arc within this fraction of r_b from the driving flank's start counts as the flank start
-JUNCTION_FRACTION = 0.02
 #: penetration accepted at convergence (mm)
-PENETRATION_TOL_MM = 1e-8
+PENETRATION_TOL_MM = 1e-7
 #: displacement increment at convergence (mm)
-INCREMENT_TOL_MM = 1e-9
+INCREMENT_TOL_MM = 1e-7
 #: the nonlinear tangent is re-factorised when the state moved this far from it (mm)
 REFACTOR_MM = 0.2
+#: contact points per quadratic boundary edge (nodes included)
+POINTS_PER_EDGE = 8
 #: candidates nearer than this to the cam enter each iteration's complementarity problem (mm)
 NEAR_MM = 0.01
 
@@ -52,7 +52,9 @@ def lcp(M: np.ndarray, q: np.ndarray) -> np.ndarray:
     if not np.any(q < 0):
         return np.zeros_like(q)
     scale = float(np.mean(np.diag(M)))
-    L = cholesky(M / scale, lower=True)
+    # several points on one quadratic facet can make M singular: a 1e-10 relative contact
+    # compliance keeps it definite without changing the solution measurably
+    L = cholesky(M / scale + 1e-10 * np.eye(len(q)), lower=True)
     rhs = -solve_triangular(L, q / scale, lower=True)
     lam, _ = nnls(L.T, rhs, maxiter=50 * len(q))
     return lam
@@ -68,7 +70,8 @@ def rot(a: float) -> np.ndarray:
 class _Segments:
     """Straight segments A->B with optional outward normals: closest points (mm)."""
 
-    def __init__(self, A: np.ndarray, B: np.ndarray, normals: np.ndarray | None = None):
+    def __init__(self, A: np.ndarray, B: np.ndarray, normals: np.ndarray | None = None,
+                 k: int = 8):
         from scipy.spatial import cKDTree
 
         self.A, self.B = np.asarray(A, float), np.asarray(B, float)
@@ -77,7 +80,7 @@ class _Segments:
         self.T = d / self.len[:, None]
         self.normals = normals
         self.tree = cKDTree(0.5 * (self.A + self.B))
-        self.k = min(8, len(self.A))
+        self.k = min(k, len(self.A))  # nearest midpoints searched (3 for equal segments)
 
     def project(self, q: np.ndarray):
         """(distance, signed distance or None, foot (m, 2), segment index, t (mm along it))."""
@@ -107,10 +110,10 @@ class CamCurve:
         features: (kind, pocket k, segment) in contour order: kinds "flank_ccw",
             "pocket", "flank_cw", "tip" (see :func:`fea.contact._cam_features`).
         ccw: the contour runs counter-clockwise (material on its left).
-        ball_radius_mm: tip-ball radius (sets the pocket-flank junction zone).
+        junction_mm: pocket arc next to the flank start that counts as the flank start (mm).
     """
 
-    def __init__(self, features, ccw: bool, ball_radius_mm: float, step_mm: float = CAM_STEP_MM):
+    def __init__(self, features, ccw: bool, junction_mm: float, step_mm: float = CAM_STEP_MM):
         pts, fid, s = [], [], []
         self.features = list(features)
         self.lengths = []
@@ -129,7 +132,7 @@ class CamCurve:
         d = np.diff(self.P, axis=0)
         T = d / np.linalg.norm(d, axis=1)[:, None]
         self.N = np.column_stack([T[:, 1], -T[:, 0]]) * (1.0 if ccw else -1.0)
-        self.all = _Segments(self.P[:-1], self.P[1:], self.N)
+        self.all = _Segments(self.P[:-1], self.P[1:], self.N, k=3)
         # vertex normals: the normal interpolated along a segment between them is continuous,
         # so a node sliding over a vertex of the polyline sees no jump of the contact normal
         nv = np.vstack([self.N[:1], self.N[:-1] + self.N[1:], self.N[-1:]])
@@ -142,7 +145,7 @@ class CamCurve:
                * np.linalg.norm(c - a, axis=1))
         curv = 2 * cross / np.maximum(den, 1e-300) * (1.0 if ccw else -1.0)
         self.curvature = np.concatenate([np.full(k, curv[0]), curv, np.full(k, curv[-1])])
-        self.junction_mm = JUNCTION_FRACTION * ball_radius_mm
+        self.junction_mm = junction_mm
 
     def index(self, kind: str, k: int = 0) -> int:
         return next(j for j, (kd, kk, _) in enumerate(self.features) if kd == kind and kk == k)
@@ -174,7 +177,7 @@ class CamCurve:
                  "back_tooth_tip": seg_f == tip_back,
                  "teeth_beyond_driving" if ccw else "teeth_beyond_back": seg_f < lo,
                  "teeth_beyond_back" if ccw else "teeth_beyond_driving": seg_f > hi}
-        return {name: _Segments(self.P[:-1][m], self.P[1:][m], self.N[m])
+        return {name: _Segments(self.P[:-1][m], self.P[1:][m], self.N[m], k=3)
                 for name, m in masks.items() if m.any()}
 
     def describe(self, seg: int, t: float, driving: str) -> dict:
@@ -188,7 +191,7 @@ class CamCurve:
         if j == drive:  # distance from the driving flank's start (its cusp on the pocket arc)
             from_cusp = length - s if driving == "flank_ccw" else s
             out.update(flank_position_mm=from_cusp, flank_length_mm=length,
-                       flank_fraction=from_cusp / length)
+                       flank_fraction=from_cusp / length, flank_margin_mm=length - from_cusp)
         elif j == self.index("pocket"):
             to_cusp = s if driving == "flank_ccw" else length - s
             out.update(flank_position_mm=-to_cusp, flank_length_mm=self.lengths[drive],
@@ -296,18 +299,12 @@ class SectorContact:
         u_t = self._lu_linear.solve(f)
         self.stiffness_linear = system.torque_Nmm ** 2 / float(f @ u_t) * \
             fm.geometry.n_flexures
+        self.u_traction = np.zeros(n)  # unit torque per flexure (mm)
+        self.u_traction[self.free] = u_t
         self.X = basis.doflocs[:2]
         self.facets = {lab: fc for lab, fc in fm.boundaries.items()
                        if lab.split(":")[0] in ("ball", "neck", "edge")}
-        all_nodes = np.unique(np.concatenate([self.facet_nodes(fc).ravel()
-                                              for fc in self.facets.values()]))
-        nodes = all_nodes[np.hypot(*self.X[:, all_nodes]) < reach_mm]
-        if not len(nodes):
-            raise SolverError("no flexure boundary node within reach of the cam")
-        self.nodes = nodes
-        self.labels = self._node_labels(nodes)
-        if np.any(self.pos[2 * nodes] < 0):
-            raise SolverError("a contact candidate node is held: the cam would touch the support")
+        self._contact_points(reach_mm)
         held = np.unique(system.held // 2)
         d_held, _ = cKDTree(self.X[:, held].T).query(self.X.T)
         self.near_held = d_held < 0.5 * fm.geometry.rim_thickness_mm
@@ -323,12 +320,38 @@ class SectorContact:
         v = self.basis.nodal_dofs[0][mesh.facets[:, facets]]
         return np.vstack([v, self.basis.facet_dofs[0][facets]])
 
-    def _node_labels(self, nodes) -> np.ndarray:
-        where: dict[int, str] = {}
+    def _contact_points(self, reach_mm: float) -> None:
+        """Contact points on the quadratic boundary facets within reach of the cam: the
+        nodes and :data:`POINTS_PER_EDGE` - 1 points between them on each edge, so a
+        contact travels along the ball in small steps (a node-only contact jumps by half an
+        element edge, which shows as +-1 % noise in the tangent stiffness). A
+        point's position and its force use the facet's shape functions N_a(s)."""
+        p = POINTS_PER_EDGE
+        s = np.linspace(0.0, 1.0, p + 1)
+        N = np.stack([(1 - s) * (1 - 2 * s), s * (2 * s - 1), 4 * s * (1 - s)], axis=1)
+        pn, pw, lab, seen = [], [], [], set()
         for name, fc in self.facets.items():
-            for nd in self.facet_nodes(fc).ravel():
-                where.setdefault(int(nd), name)
-        return np.array([where.get(int(nd), "?") for nd in nodes], dtype=object)
+            nodes = self.facet_nodes(fc).T  # (m, 3)
+            keep = np.hypot(*self.X[:, nodes].reshape(2, -1)).reshape(-1, 3).min(1) < reach_mm
+            for tri in nodes[keep]:
+                for k in range(p + 1):
+                    key = (int(tri[0]),) if k == 0 else (int(tri[1]),) if k == p else \
+                        (int(tri[2]),) if 2 * k == p else (int(tri[0]), int(tri[1]), k)
+                    if key in seen:
+                        continue
+                    seen.add(key)
+                    pn.append(tri)
+                    pw.append(N[k])
+                    lab.append(name)
+        if not pn:
+            raise SolverError("no flexure boundary within reach of the cam")
+        self.pnodes = np.asarray(pn, dtype=int)
+        self.pweights = np.asarray(pw)
+        self.plabels = np.asarray(lab, dtype=object)
+        self.pX = np.einsum("pa,dpa->pd", self.pweights, self.X[:, self.pnodes])
+        self.nodes = np.unique(self.pnodes)
+        if np.any(self.pos[2 * self.nodes] < 0):
+            raise SolverError("a contact candidate node is held: the cam would touch the support")
 
     def boundary(self, u: np.ndarray | None, per_facet: int = 6) -> _Segments:
         """The (deformed) flexure boundary (ball, neck, edges) as short straight segments."""
@@ -340,8 +363,9 @@ class SectorContact:
         return _Segments(P[:, :-1].reshape(-1, 2), P[:, 1:].reshape(-1, 2))
 
     def positions(self, u: np.ndarray) -> np.ndarray:
-        """Current positions of the candidate nodes, (m, 2) (mm)."""
-        return self.X[:, self.nodes].T + u.reshape(-1, 2)[self.nodes]
+        """Current positions of the contact points, (m, 2) (mm)."""
+        x = self.X + u.reshape(-1, 2).T
+        return np.einsum("pa,dpa->pd", self.pweights, x[:, self.pnodes])
 
     # ------------------------------------------------------------ elasticity
     @staticmethod
@@ -398,7 +422,7 @@ class SectorContact:
     def rest(self) -> State:
         u = np.zeros(2 * self.basis.N)
         g, n, seg, t = self._gaps(u, 0.0)
-        return State(0.0, u, np.zeros(0, int), np.zeros(len(self.nodes)), n, g, seg, t)
+        return State(0.0, u, np.zeros(0, int), np.zeros(len(self.pX)), n, g, seg, t)
 
     def solve(self, theta: float, start: State, predictor: np.ndarray | None = None,
               max_iter: int = 40) -> State:
@@ -413,7 +437,7 @@ class SectorContact:
             SolverError: no convergence within ``max_iter`` iterations.
         """
         u = start.u.copy() if predictor is None else start.u + predictor
-        m = len(self.nodes)
+        m = len(self.pX)
         g, n, seg, t = self._gaps(u, theta)
         active = np.asarray(start.active, dtype=int)
         du_max, history, sizes = np.inf, [], []
@@ -423,15 +447,25 @@ class SectorContact:
             f_int, lu = self._internal(u, refactor=slow)
             if slow:
                 history.clear()
-            rows = self.pos[2 * self.nodes[near]]
             x0 = lu.solve(-f_int)
-            Wx, Wy = self._unit_responses(lu, near)
-            W = Wx * n[near, 0] + Wy * n[near, 1]
             lam_near = np.zeros(len(near))
+            W = np.zeros((len(self.free), 0))
             if len(near):
-                Ntx0 = x0[rows] * n[near, 0] + x0[rows + 1] * n[near, 1]
-                M = W[rows] * n[near, 0][:, None] + W[rows + 1] * n[near, 1][:, None]
-                lam_near = lcp(0.5 * (M + M.T), g[near] + Ntx0)
+                # B: normal displacement of each near point from the DOFs of its nodes
+                U, inv = np.unique(self.pnodes[near], return_inverse=True)
+                inv = inv.reshape(-1, 3)
+                B = np.zeros((len(near), 2 * len(U)))
+                rr = np.repeat(np.arange(len(near)), 3)
+                wts = self.pweights[near].ravel()
+                np.add.at(B, (rr, inv.ravel()), wts * np.repeat(n[near, 0], 3))
+                np.add.at(B, (rr, len(U) + inv.ravel()), wts * np.repeat(n[near, 1], 3))
+                Wx, Wy = self._unit_responses(lu, U)
+                WU = np.hstack([Wx, Wy])
+                W = WU @ B.T
+                rows = self.pos[2 * U]
+                sel = np.concatenate([rows, rows + 1])
+                M = B @ WU[sel] @ B.T
+                lam_near = lcp(0.5 * (M + M.T), g[near] + B @ x0[sel])
             du = x0 + W @ lam_near
             u[self.free] += du
             du_max = float(np.max(np.abs(du)))
@@ -450,14 +484,15 @@ class SectorContact:
         raise SolverError(f"contact at cam angle {math.degrees(theta):+.4f} deg did not converge "
                           f"in {max_iter} iterations (last increment {du_max:.2e} mm)")
 
-    def _unit_responses(self, lu, near: np.ndarray):
-        """Responses (free DOFs) to unit x and y forces at candidate nodes ``near``, cached
-        per factorisation: the candidates near the cam change little between iterations."""
+    def _unit_responses(self, lu, nodes: np.ndarray):
+        """Responses (free DOFs) to unit x and y forces at ``nodes``, cached per
+        factorisation: the nodes near the cam change little between iterations."""
         if self._cache_lu is not lu:
             self._cache_lu, self._cache = lu, {}
+        near = nodes
         missing = [int(i) for i in near if int(i) not in self._cache]
         if missing:
-            rows = self.pos[2 * self.nodes[missing]]
+            rows = self.pos[2 * np.asarray(missing)]
             E = np.zeros((len(self.free), 2 * len(missing)), order="F")
             E[rows, 2 * np.arange(len(missing))] = 1.0
             E[rows + 1, 2 * np.arange(len(missing)) + 1] = 1.0
