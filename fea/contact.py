@@ -69,8 +69,8 @@ from springcad.errors import SolverError
 
 #: a gap to a surface other than the driving flank at or below this counts as closed (mm)
 CLOSED_GAP_MM = 1e-4
-#: a contact this close to the end of the driving flank (fraction of its length) has left it:
-#: the contact patch reaches the corner with the tooth tip
+#: a contact this close to the end of the driving flank (fraction of its length, or the
+#: Hertz half-width if larger) has left it: the contact patch reaches the tooth-tip corner
 FLANK_END_FRACTION = 0.02
 #: the small-angle stiffness is the secant T / (theta - theta_onset) this far past the onset
 #: (fraction of theta_max)
@@ -233,6 +233,10 @@ class ContactSweep:
     """"+" and "-": lists of :class:`ContactStep` from 0 to +-theta_max."""
     flags: list
     options: ContactOptions
+    stopped: dict
+    """Direction -> why the sweep stopped before theta_max (no converged state)."""
+    jumps_rad: dict
+    """Direction -> cam angles where the state jumped (a limit point: the ball snaps)."""
     timings_s: dict
     notes: list = field(default_factory=list)
     pictures: dict = field(default_factory=dict, repr=False)
@@ -274,6 +278,8 @@ class ContactSweep:
                                "small_angle": 100 * o.small_angle_tolerance,
                                "gap": 100 * o.gap_tolerance},
             "torque_angle": {k: [s.to_dict() for s in v] for k, v in self.steps.items()},
+            "stopped": dict(self.stopped),
+            "jumps_deg": {k: [math.degrees(a) for a in v] for k, v in self.jumps_rad.items()},
             "flags": list(self.flags), "ok": self.ok, "notes": list(self.notes),
             "timings_s": dict(self.timings_s)}
 
@@ -368,7 +374,8 @@ def _report(sc: SectorContact, st: State, tangent, theta_on, driving, sign, ball
     if h is not None:
         h = dict(h, fe_nodal_at_contact_MPa=at_contact)
     rim = sc.reaction_torque(st)
-    eq = abs(rim - torque) / abs(torque) if torque else abs(rim)
+    # relative to the linear torque at this angle (the contact torque itself can be ~0)
+    eq = abs(rim - torque) / (sc.stiffness_linear * abs(theta)) if theta else abs(rim - torque)
     engaged = None
     if theta_on is not None and sign * (theta - theta_on) > 1e-12:
         engaged = torque / (theta - theta_on)
@@ -423,36 +430,52 @@ def _mesh(design, run, level: int):
     return fea_mesh_2d(faces[k], g, k), None
 
 
+class _Stuck(SolverError):
+    """No converged contact state beyond some cam angle."""
+
+
 class _Path:
     """Solves along increasing |theta| in one direction with a linear predictor, halving a
-    step that fails (a deep first penetration can push the ball out on the wrong side)."""
+    step that fails (a deep first penetration can push the ball out on the wrong side).
+    Past a limit point (the ball snapping over a tooth tip) the state jumps: a step that
+    fails down to 1/16 of a step is retried from the last state without predictor and
+    with more iterations; if that fails too the path is stuck (:class:`_Stuck`)."""
 
     def __init__(self, sc: SectorContact, sign: int, max_step_rad: float):
         self.sc, self.sign, self.max_step = sc, sign, max_step_rad
-        self.state = sc.rest()
+        self.state = sc.solve(0.0, sc.rest())  # not the rest state when the cam interferes
         self.rate = None  # du / dtheta of the last increment
+        self.jumps: list[float] = []
 
     def to(self, theta: float) -> State:
         while abs(theta - self.state.theta) > 1e-15:
             h = theta - self.state.theta
             h = math.copysign(min(abs(h), self.max_step), h)
-            for _ in range(12):
+            for _ in range(5):
                 try:
-                    st = self._try(self.state.theta + h)
+                    st = self._try(self.state.theta + h, predict=True)
                     break
                 except SolverError:
                     h *= 0.5
             else:
-                raise SolverError(f"contact sweep stuck at {math.degrees(self.state.theta):+.3f}"
-                                  " deg: no converged step")
+                try:
+                    st = self._try(self.state.theta + h, predict=False, max_iter=80)
+                except SolverError as err:
+                    raise _Stuck(f"no converged contact state beyond "
+                                 f"{math.degrees(self.state.theta):+.3f} deg ({err})") from err
+                self.jumps.append(st.theta)
+                self.rate = None
+                self.state = st
+                continue
             self.rate = (st.u - self.state.u) / (st.theta - self.state.theta)
             self.state = st
         return self.state
 
-    def _try(self, theta: float) -> State:
-        pred = None if self.rate is None else self.rate * (theta - self.state.theta)
-        st = self.sc.solve(theta, self.state, pred)
-        if self.sc.torque(st) * self.sign < 0:
+    def _try(self, theta: float, predict: bool, max_iter: int = 40) -> State:
+        pred = self.rate * (theta - self.state.theta) if predict and self.rate is not None \
+            else None
+        st = self.sc.solve(theta, self.state, pred, max_iter=max_iter)
+        if self.sc.torque(st) * self.sign < -1e-3 * self.sc.stiffness_linear * abs(theta):
             raise SolverError("the contact solution pushes the ball against the cam rotation")
         return st
 
@@ -505,7 +528,7 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
     rest = sc.boundary(None)
     rest_clearance = float(curve.project(np.vstack([rest.A, rest.B[-1:]]))[0].min())
     n = options.steps
-    steps, onset, small, pictures, flags = {}, {}, {}, {}, []
+    steps, onset, small, pictures, flags, stuck, jumps = {}, {}, {}, {}, [], {}, {}
     for sign, key in ((1, "+"), (-1, "-")):
         driving = "flank_ccw" if sign > 0 else "flank_cw"
         groups = curve.groups(driving)
@@ -521,7 +544,11 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
         path = _Path(sc, sign, theta_max / n)
         out, torque = [], {}
         for th in sorted(set(targets) | extra, key=abs):
-            st = path.to(th)
+            try:
+                st = path.to(th)
+            except _Stuck as err:
+                stuck[key] = str(err)
+                break
             torque[th] = sc.torque(st)
             if th not in targets:
                 continue
@@ -534,11 +561,12 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
             out.append(step)
             if pic is not None:
                 pictures[key] = pic
-        if math.isfinite(th_on):  # T(theta_onset) = 0 exactly
+        if math.isfinite(th_on) and th_on + a in torque:  # T(theta_onset) = 0 exactly
             small[key] = torque[th_on + a] / a
+        jumps[key] = list(path.jumps)
         steps[key] = out
         flags += _direction_flags(key, out, th_on, small.get(key), sc.stiffness_linear, options,
-                                  theta_max)
+                                  theta_max, stuck.get(key), jumps[key])
     w_gap = float(design.manufacturing.w_gap_mm)
     if rest_clearance < w_gap * (1 - options.gap_tolerance):
         what = ("the cam overlaps the flexure" if rest_clearance < 0 else
@@ -559,7 +587,7 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
         stiffness_verified_Nmm_per_rad=k_verified, design_gap_mm=w_gap,
         peak_linear_this_mesh_MPa=peak_linear, peak_verified_MPa=peak_verified,
         rest_clearance_mm=rest_clearance, onset_rad=onset, small_angle_Nmm_per_rad=small,
-        steps=steps, flags=flags, options=options,
+        steps=steps, flags=flags, options=options, stopped=stuck, jumps_rad=jumps,
         timings_s={"setup": t1 - t0, "sweep": t2 - t1, "total": t2 - t0},
         notes=notes, pictures=pictures)
 
@@ -586,7 +614,8 @@ def _onset(sc: SectorContact, sign: int, theta_max: float) -> float:
     return math.nan
 
 
-def _direction_flags(key, steps, th_on, k_small, k_lin, options, theta_max) -> list[dict]:
+def _direction_flags(key, steps, th_on, k_small, k_lin, options, theta_max, stuck=None,
+                     jumps=()) -> list[dict]:
     """Flags of one direction of the sweep (see the module docstring)."""
     deg = math.degrees
     if not math.isfinite(th_on):
@@ -603,15 +632,27 @@ def _direction_flags(key, steps, th_on, k_small, k_lin, options, theta_max) -> l
     step = theta_max / max(options.steps, 1)
     for s in steps:
         a = f"{deg(s.angle_rad):+.2f} deg"
+        on_tip = False
         for c in s.contacts:
-            if c["feature"].startswith("tip") or (
-                    c["intended"] and c.get("flank_fraction", 0.0) >= 1.0 - FLANK_END_FRACTION):
+            kind, unit = c["feature"].split(":")
+            # at the end of the flank when the contact patch (Hertz half-width) or 2 % of
+            # the flank length reaches the corner with the tooth tip
+            end = max(FLANK_END_FRACTION * c.get("flank_length_mm", 0.0),
+                      c.get("hertz", {}).get("half_width_mm", 0.0))
+            if kind == "tip" or (c["intended"] and "flank_margin_mm" in c
+                                 and c["flank_margin_mm"] <= end):
                 off.append(f"{a}: contact on {c['feature']}")
+                on_tip = True
+            elif int(unit) != 0:
+                off.append(f"{a}: the ball has left its pocket (a tooth skipped): contact on "
+                           f"{c['feature']}")
             elif not c["intended"]:
                 second.append(f"{a}: {c['ring_feature']} touches {c['feature']} "
                               f"({c['force_N']:.1f} N)")
         for name, gap in s.gaps_mm.items():
-            if name != "driving_flank" and gap <= CLOSED_GAP_MM:
+            if name == "driving_flank" or (on_tip and name == "driving_tooth_tip"):
+                continue
+            if gap <= CLOSED_GAP_MM:
                 second.append(f"{a}: {name.replace('_', ' ')} gap {1000 * gap:.2f} um")
         if abs(s.angle_rad - th_on) > 0.99 * step:  # one step past the onset
             for what, k, tol in (("tangent", s.tangent_Nmm_per_rad, options.tangent_tolerance),
@@ -621,6 +662,10 @@ def _direction_flags(key, steps, th_on, k_small, k_lin, options, theta_max) -> l
                     nonlin.append(f"{a}: {what} {k / 1000:.2f} N*m/rad "
                                   f"({100 * (k / k_lin - 1):+.1f} %)")
     more = lambda lst: "; ".join(lst[:4]) + (" ..." if len(lst) > 4 else "")  # noqa: E731
+    off += [f"{deg(j):+.2f} deg: the ball snaps to a new position (no continuous "
+            "equilibrium path)" for j in jumps]
+    if stuck:
+        off.append(f"the sweep stops: {stuck}")
     if off:
         flags.append({"code": "leaves_flank",
                       "message": f"{key}: the ball leaves the driving flank: {more(off)}"})

@@ -31,6 +31,8 @@ CAM_STEP_MM = 1e-3
 PENETRATION_TOL_MM = 1e-7
 #: displacement increment at convergence (mm)
 INCREMENT_TOL_MM = 1e-7
+#: out-of-balance force at convergence, relative to the total contact force (min 1 N)
+RESIDUAL_TOL = 1e-7
 #: the nonlinear tangent is re-factorised when the state moved this far from it (mm)
 REFACTOR_MM = 0.2
 #: contact points per quadratic boundary edge (nodes included)
@@ -133,6 +135,7 @@ class CamCurve:
         T = d / np.linalg.norm(d, axis=1)[:, None]
         self.N = np.column_stack([T[:, 1], -T[:, 0]]) * (1.0 if ccw else -1.0)
         self.all = _Segments(self.P[:-1], self.P[1:], self.N, k=3)
+        self.outer_radius_mm = float(np.max(np.hypot(self.P[:, 0], self.P[:, 1])))
         # vertex normals: the normal interpolated along a segment between them is continuous,
         # so a node sliding over a vertex of the polyline sees no jump of the contact normal
         nv = np.vstack([self.N[:1], self.N[:-1] + self.N[1:], self.N[-1:]])
@@ -153,6 +156,10 @@ class CamCurve:
     def project(self, q: np.ndarray):
         """Signed distance (positive outside the cam), outward normal, foot point, segment, t."""
         _, signed, foot, seg, t = self.all.project(q)
+        # the contour is an open chain (pockets -2..2): beyond the tooth tips nothing is
+        # inside the cam, whatever side of a chain end a far point projects to
+        signed = np.where(np.hypot(q[:, 0], q[:, 1]) > self.outer_radius_mm, np.abs(signed),
+                          signed)
         w = (t / self.all.len[seg])[:, None]
         n = (1 - w) * self.Nv[seg] + w * self.Nv[seg + 1]
         return signed, n / np.linalg.norm(n, axis=1)[:, None], foot, seg, t
@@ -430,8 +437,11 @@ class SectorContact:
 
         Each iteration linearises the elasticity and the gaps of the candidates nearer
         than :data:`NEAR_MM` to the cam (and of those in contact) and solves that
-        complementarity problem exactly (:func:`lcp`); converged when the contact set
-        repeats, nothing penetrates and the increment is below :data:`INCREMENT_TOL_MM`.
+        complementarity problem exactly (:func:`lcp`). Converged when the contact set
+        repeats, nothing penetrates by more than :data:`PENETRATION_TOL_MM`, the last
+        increment is below :data:`INCREMENT_TOL_MM` and the out-of-balance force is below
+        :data:`RESIDUAL_TOL` of the contact force (a small increment alone would allow a
+        large residual in the stiff in-plane modes).
 
         Raises:
             SolverError: no convergence within ``max_iter`` iterations.
@@ -440,13 +450,19 @@ class SectorContact:
         m = len(self.pX)
         g, n, seg, t = self._gaps(u, theta)
         active = np.asarray(start.active, dtype=int)
-        du_max, history, sizes = np.inf, [], []
+        lam = np.zeros(m)
+        du_max, history, sizes, stable = np.inf, [], [], False
         for it in range(1, max_iter + 1):
             near = np.union1d(np.flatnonzero(g < NEAR_MM), active)
             slow = len(history) >= 3 and history[-1] > 0.3 * history[-2] > 0
             f_int, lu = self._internal(u, refactor=slow)
             if slow:
                 history.clear()
+            if stable and du_max < INCREMENT_TOL_MM and float(g.min()) >= -PENETRATION_TOL_MM:
+                r = f_int - self._contact_force(lam, n)
+                if float(np.max(np.abs(r))) <= RESIDUAL_TOL * max(1.0, float(lam.sum())):
+                    self.log.append((theta, it - 1, sizes))
+                    return State(theta, u, active, lam, n, g, seg, t, it - 1)
             x0 = lu.solve(-f_int)
             lam_near = np.zeros(len(near))
             W = np.zeros((len(self.free), 0))
@@ -472,17 +488,24 @@ class SectorContact:
             history.append(du_max)
             g, n, seg, t = self._gaps(u, theta)
             new_active = near[lam_near > 0]
+            lam = np.zeros(m)
+            lam[near] = lam_near
             sizes.append((len(near), len(new_active), du_max))
-            done = (du_max < INCREMENT_TOL_MM and np.array_equal(new_active, active)
-                    and float(g.min()) >= -PENETRATION_TOL_MM)
+            stable = np.array_equal(new_active, active)
             active = new_active
-            if done:
-                lam = np.zeros(m)
-                lam[near] = lam_near
-                self.log.append((theta, it, sizes))
-                return State(theta, u, active, lam, n, g, seg, t, it)
         raise SolverError(f"contact at cam angle {math.degrees(theta):+.4f} deg did not converge "
                           f"in {max_iter} iterations (last increment {du_max:.2e} mm)")
+
+    def _contact_force(self, lam: np.ndarray, normals: np.ndarray) -> np.ndarray:
+        """Nodal forces (free DOFs, N) of contact forces lam * normals at the contact points."""
+        f = np.zeros(len(self.free))
+        act = np.flatnonzero(lam)
+        if len(act):
+            rows = self.pos[2 * self.pnodes[act]]  # (k, 3)
+            w = self.pweights[act] * lam[act][:, None]
+            np.add.at(f, rows.ravel(), (w * normals[act, 0][:, None]).ravel())
+            np.add.at(f, rows.ravel() + 1, (w * normals[act, 1][:, None]).ravel())
+        return f
 
     def _unit_responses(self, lu, nodes: np.ndarray):
         """Responses (free DOFs) to unit x and y forces at ``nodes``, cached per
