@@ -2,58 +2,67 @@
 
 Model
     The one-flexure sector of the verification (2D plane stress, quadratic
-    triangles, outer rim held; :mod:`fea.problem`) against the cam profile of
-    the design, rigid (steel against a slender flexure: the cam is orders of
-    magnitude stiffer) and turned by a prescribed angle theta about the ring
-    axis. The designed gap w_gap between ball and cam is in the geometry: no
-    load is applied, the ring is loaded only by the frictionless contact forces.
-    Sector periodicity: every flexure meets its tooth alike, so the sector
-    meets the cam teeth -2..2 around its pocket, and the gap to the
-    neighbouring flexure is the gap between the deformed sector and itself
-    turned by one pitch.
+    triangles, outer rim held; its level-0 mesh is reused) against the cam
+    profile of the design, rigid (the cam is much stiffer than a slender
+    flexure) and turned by a prescribed angle theta about the ring axis. The
+    designed gap w_gap is in the geometry: no load is applied, the ring is
+    loaded only by the frictionless contact forces. Sector periodicity: every
+    flexure meets its tooth alike, so the sector meets the cam pockets -2..2
+    around its own, and the gap to the neighbouring flexure is the gap between
+    the deformed sector and itself turned by one pitch.
+    Kinematics are total Lagrangian (:mod:`fea.nonlinear`; ``nonlinear=False``:
+    linear): the ball's radial motion decides where it bears on the cam, and
+    the flexure's foreshortening (~0.6 delta^2 / L, tens of um) is of the order
+    of w_gap. A serpentine flexure also couples tangential load and radial tip
+    motion (c_xy / c_xx = -0.13 for the default spring, -0.31 for paper S1):
+    pushed one way the ball climbs the flank, pushed the other it sinks into
+    the pocket. The linear FEA's tangential traction sees none of this.
 
 Contact
-    Node-to-surface, exact rigid-obstacle contact: for every candidate node of
-    the flexure boundary (tip ball, neck fillets, edges within reach of the cam)
-    the gap g_i is the signed distance of its *current* position X_i + u_i from
-    the cam profile turned by theta (positive outside the cam), found by
-    closest-point projection on the profile sampled every 1 um. Conditions:
-    g_i >= 0, lambda_i >= 0, lambda_i g_i = 0, nodal force lambda_i n_i.
-    Elasticity is linear, so the structure is condensed exactly onto the
-    candidate DOFs, u_c = C f_c (one factorisation, one solve per candidate
-    DOF). Each step is an active-set iteration: with the gaps linearised at
-    the current positions, the complementarity problem is solved exactly as a
-    non-negative least-squares problem (Lawson-Hanson), then the gaps and
-    normals are re-evaluated on the true geometry until the positions change
-    by less than 1e-9 mm. The full field is recovered from the contact forces
-    (one solve) for the stresses. Small strain, exact contact kinematics:
-    the flexure's own geometric nonlinearity is not modelled (tip deflection
-    / flexure length ~5 % for the paper springs).
+    Points on the quadratic boundary of ball, neck fillets and edges within
+    reach of the cam (:mod:`fea.contact_solver`, 8 per element edge), the cam
+    contour as a 1 um polyline; per Newton iteration the gaps of the points
+    near the cam are linearised and the complementarity problem is solved
+    exactly; converged on the true geometry (no penetration > 1e-7 mm,
+    out-of-balance < 1e-7 of the contact force). The cam angle advances in
+    steps of theta_max / steps with a linear predictor; a step that cannot be
+    converged is halved, and past a limit point (the ball snapping over a tooth
+    tip) the state is allowed to jump, which is flagged.
 
 Reported per step
-    Torque on the cam (N*m, the moment of the contact forces about the axis
-    at their current points, x N flexures), secant T / theta, engaged secant
-    T / (theta - theta_onset), tangent dT/dtheta (central difference of two
-    extra solves), contact points on the ball (angle from the design contact
-    point) and on the tooth (feature, distance from the flank start, flank
-    fraction), the smallest gap to every other surface, and the peak stress:
-    FE nodal von Mises in the flexure outside the contact zone, and the Hertz
-    line-contact peak (subsurface von Mises, closed form) from the contact
-    force and the curvatures of ball and cam (the contact half-width, ~10 um,
-    is far below the mesh size, so the FE value at the contact node is a
-    mesh-dependent point-load value and is not used).
+    Torque (N*m: the moment of the contact forces about the axis at their
+    current points, x N flexures), secant T / theta, engaged secant
+    T / (theta - theta_onset) (the gap makes T / theta low near zero by
+    design), tangent (slope over the last quarter step), each contact with its
+    force, its point on the ball (angle from the design contact point,
+    positive towards the root) and on the cam (feature, distance from the
+    flank start, flank fraction and margin to the flank end), the smallest gap
+    to every other surface (pocket arc, back flank, both tooth tips, the teeth
+    beyond, the neighbouring flexure), and the peak stress including contact:
+    the larger of the flexure's FE peak outside the contact zone (scaled to the
+    verified peak through the linear FEA of the same mesh) and the Hertz line
+    contact peak (subsurface von Mises, closed form) from the contact force and
+    the curvatures of ball and cam. The contact half-width (~10 um) is far
+    below the mesh size, so the FE value at the contact itself is a
+    mesh-dependent point-load value, reported but not used.
 
-Flags
-    "leaves_flank": the contact point reaches the end of the driving flank or
-    the tooth tip. "second_contact": any contact other than ball - driving
-    flank (or the pocket-flank junction it starts on), or any other gap
-    closing (neighbour flexure included). "nonlinear": tangent or engaged
-    secant stiffness departs from the linear FEA stiffness by more than
-    ``linearity_tolerance``. "small_angle": the stiffness just after onset
-    misses the linear FEA of the same mesh by more than
-    ``small_angle_tolerance``. "gap": the clearance at rest differs from the
-    design's w_gap (cam interferes or gap too small).
-Units: mm, N, MPa, N*mm, rad inside; JSON keys carry N*m and deg where they say so.
+Flags (tolerances in :class:`ContactOptions`)
+    "leaves_flank": the contact reaches the end of the driving flank (within
+    2 % of its length or the Hertz half-width), the tooth tip, another pocket
+    (a tooth skipped), or the path jumps or stops. "second_contact": a contact
+    other than ball - driving flank (pocket arc next to the flank start
+    included: the cam drives there below the flank's first roll angle), or a
+    gap to another surface closing. "nonlinear": the engaged secant departs
+    from the linear FEA K by more than ``linearity_tolerance`` or the tangent by
+    more than ``tangent_tolerance``. "small_angle": the engaged secant 1 % of
+    theta_max past the onset misses the linear FEA of the same mesh by more
+    than ``small_angle_tolerance``. "gap": the clearance at rest is below
+    w_gap by more than ``gap_tolerance`` (negative: the cam interferes).
+    "no_contact": the cam never reaches the ball.
+
+Geometry access to the design's ring and cam profiles is confined to the adapter
+section below. Units: mm, N, MPa, N*mm, rad inside; JSON keys carry N*m and deg
+where they say so.
 """
 
 from __future__ import annotations
@@ -193,7 +202,7 @@ class ContactStep:
     equilibrium_error: float
 
     def to_dict(self) -> dict:
-        nm = lambda v: None if v is None else v / 1000.0  # noqa: E731
+        nm = lambda v: None if v is None else v / 1000.0
         return {"angle_rad": self.angle_rad, "angle_deg": math.degrees(self.angle_rad),
                 "torque_Nm": self.torque_Nmm / 1000.0,
                 "secant_stiffness_Nm_per_rad": nm(self.secant_Nmm_per_rad),
@@ -252,9 +261,12 @@ class ContactSweep:
     def to_dict(self) -> dict:
         o = self.options
         return {
-            "model": "rigid cam turned about the ring axis against the 2D plane-stress sector; "
-                     "frictionless node-to-surface contact, exact active set; designed gap in "
-                     "the geometry; small strain, contact on current positions",
+            "model": "rigid cam turned about the ring axis against the 2D plane-stress sector "
+                     "(outer rim held); frictionless point-to-surface contact (contact points "
+                     "on the quadratic boundary, 8 per element edge), exact complementarity "
+                     "per Newton iteration; designed gap in the geometry; "
+                     + ("total Lagrangian kinematics (large rotations, small strains)"
+                        if o.nonlinear else "linear elasticity, contact on current positions"),
             "level": self.level, "dofs": self.dofs, "candidate_nodes": self.candidates,
             "steps_per_direction": o.steps,
             "max_deflection_rad": self.max_deflection_rad,
@@ -314,7 +326,7 @@ def _contacts(sc: SectorContact, st: State, driving: str, sign: int, ball, mater
         cur = (w[:, None] * x[grp]).sum(0) / force
         top = int(grp[np.argmax(w)])
         label = str(sc.plabels[top])
-        c = {"force_N": force, "ring_feature": label, "nodes": int(len(grp)),
+        c = {"force_N": force, "ring_feature": label, "contact_points": len(grp),
              "ring_point_mm": [float(v) for v in ref],
              "cam_point_mm": [float(v) for v in cur @ to_cam], **info[top]}
         c["intended"] = label.startswith("ball") and sc.cam.intended(info[top], driving)
@@ -336,11 +348,16 @@ def _surface_gaps(sc: SectorContact, groups: dict, st: State) -> dict:
     q = pts @ rot(st.theta)  # cam frame
     g_all = sc.cam.project(q)[0]
     out = {}
+    to_ring = rot(st.theta)
     for name, segs in groups.items():
         d = segs.project(q)[0]
         # a point inside the cam has a negative gap to the surface it is nearest to only
         into = (g_all < 0) & (d <= -g_all + 1e-9)
-        out[name] = float(np.min(np.where(into, -d, d)))
+        gap = float(np.min(np.where(into, -d, d)))
+        if gap > 0:  # also from the cam's side: convex against convex, sharp corners
+            cam_pts = np.vstack([segs.A, segs.B[-1:]]) @ to_ring.T
+            gap = min(gap, float(bnd.project(cam_pts)[0].min()))
+        out[name] = gap
     pitch = 2 * math.pi / sc.fm.geometry.n_flexures
     out["neighbour_flexure"] = float(bnd.project(pts @ rot(pitch).T)[0].min())
     return out
@@ -582,7 +599,7 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
     t2 = time.perf_counter()
     return ContactSweep(
         name=design.name, max_deflection_rad=theta_max, n_flexures=design.n_flexures,
-        level=fm.level, dofs=int(sc.system.n_dofs), candidates=int(len(sc.pX)),
+        level=fm.level, dofs=int(sc.system.n_dofs), candidates=len(sc.pX),
         stiffness_linear_Nmm_per_rad=sc.stiffness_linear,
         stiffness_verified_Nmm_per_rad=k_verified, design_gap_mm=w_gap,
         peak_linear_this_mesh_MPa=peak_linear, peak_verified_MPa=peak_verified,
@@ -661,7 +678,7 @@ def _direction_flags(key, steps, th_on, k_small, k_lin, options, theta_max, stuc
                 if k is not None and abs(k / k_lin - 1) > tol:
                     nonlin.append(f"{a}: {what} {k / 1000:.2f} N*m/rad "
                                   f"({100 * (k / k_lin - 1):+.1f} %)")
-    more = lambda lst: "; ".join(lst[:4]) + (" ..." if len(lst) > 4 else "")  # noqa: E731
+    more = lambda lst: "; ".join(lst[:4]) + (" ..." if len(lst) > 4 else "")
     off += [f"{deg(j):+.2f} deg: the ball snaps to a new position (no continuous "
             "equilibrium path)" for j in jumps]
     if stuck:
@@ -670,7 +687,8 @@ def _direction_flags(key, steps, th_on, k_small, k_lin, options, theta_max, stuc
         flags.append({"code": "leaves_flank",
                       "message": f"{key}: the ball leaves the driving flank: {more(off)}"})
     if second:
-        flags.append({"code": "second_contact", "message": f"{key}: second contact: {more(second)}"})
+        flags.append({"code": "second_contact",
+                      "message": f"{key}: second contact: {more(second)}"})
     if nonlin:
         flags.append({"code": "nonlinear", "message":
                       f"{key}: stiffness departs from the linear FEA {k_lin / 1000:.2f} N*m/rad "

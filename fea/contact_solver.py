@@ -141,9 +141,10 @@ class CamCurve:
         nv = np.vstack([self.N[:1], self.N[:-1] + self.N[1:], self.N[-1:]])
         self.Nv = nv / np.linalg.norm(nv, axis=1)[:, None]
         # signed curvature per vertex (positive convex), from points +-5 um apart
-        k = max(1, int(round(5e-3 / step_mm)))
+        k = max(1, round(5e-3 / step_mm))
         a, b, c = self.P[:-2 * k], self.P[k:-k], self.P[2 * k:]
-        cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - b[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - b[:, 0])
+        cross = ((b[:, 0] - a[:, 0]) * (c[:, 1] - b[:, 1])
+                 - (b[:, 1] - a[:, 1]) * (c[:, 0] - b[:, 0]))
         den = (np.linalg.norm(b - a, axis=1) * np.linalg.norm(c - b, axis=1)
                * np.linalg.norm(c - a, axis=1))
         curv = 2 * cross / np.maximum(den, 1e-300) * (1.0 if ccw else -1.0)

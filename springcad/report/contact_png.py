@@ -137,8 +137,9 @@ def render_contact(sweep, path: Path | str, title: str = "") -> Path:
     flags = [f["message"] for f in sweep.flags]
     import textwrap
 
-    text = "\n".join(textwrap.shorten(f, 230) for f in flags[:6]) if flags else "no flags: the ball stays on the driving flank, " \
-        "nothing else touches, stiffness linear"
+    text = ("\n".join(textwrap.shorten(f, 230) for f in flags[:6]) if flags else
+            "no flags: the ball stays on the driving flank, nothing else touches, stiffness "
+            "linear")
     fig.suptitle(title or f"{sweep.name}: cam contact sweep", fontsize=12)
     fig.text(0.01, 0.005, text, fontsize=7, va="bottom", wrap=True,
              color="darkred" if flags else "darkgreen")

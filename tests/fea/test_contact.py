@@ -71,7 +71,7 @@ def test_flat_pad_reproduces_the_linear_fea(which, request, material):
     cam, tilting its normal by theta; with S1's coupling (c_xy / c_xx = -0.31) that
     changes K by ~2 x 0.31 x theta, so the check is made within 0.3 % of a degree of
     contact. The design cams differ from it only by their contact normal."""
-    from fea.contact import _Path, _onset
+    from fea.contact import _onset, _Path
     from fea.contact_solver import CamCurve, SectorContact
     from springcad.design.curves import Line
 
