@@ -53,10 +53,14 @@ def lcp(M: np.ndarray, q: np.ndarray) -> np.ndarray:
 
     if not np.any(q < 0):
         return np.zeros_like(q)
-    scale = float(np.mean(np.diag(M)))
+    scale = float(np.mean(np.abs(np.diag(M))))
     # several points on one quadratic facet can make M singular: a 1e-10 relative contact
     # compliance keeps it definite without changing the solution measurably
-    L = cholesky(M / scale + 1e-10 * np.eye(len(q)), lower=True)
+    try:
+        L = cholesky(M / scale + 1e-10 * np.eye(len(q)), lower=True)
+    except np.linalg.LinAlgError as err:  # an indefinite tangent: a diverged iterate
+        raise SolverError("contact compliance is not positive definite (the tangent "
+                          "stiffness of this iterate is indefinite)") from err
     rhs = -solve_triangular(L, q / scale, lower=True)
     lam, _ = nnls(L.T, rhs, maxiter=50 * len(q))
     return lam

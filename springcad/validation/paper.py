@@ -227,8 +227,10 @@ def fea_spring_effects(designs: dict, progress=lambda message: None) -> dict:
             seen.setdefault(name, s)
     for name, s in seen.items():
         progress(f"FEA of {name}: designed geometry")
-        nominal = verify_spring(s, VerifyOptions(correct=False, keep_fields=False))
-        quick = VerifyOptions(model="2d", correct=False, keep_fields=False)
+        # stiffness only: no cam contact sweep
+        nominal = verify_spring(s, VerifyOptions(correct=False, keep_fields=False,
+                                                 contact=False))
+        quick = VerifyOptions(model="2d", correct=False, keep_fields=False, contact=False)
         ks = []
         for off in FEA_OFFSETS_MM:
             progress(f"FEA of {name}: width offset {off:+.3f} mm")
@@ -236,7 +238,7 @@ def fea_spring_effects(designs: dict, progress=lambda message: None) -> dict:
             ks.append(verify_spring(geom, quick).stiffness_fea_Nmm_per_rad)
         progress(f"FEA of {name}: rigid-cam load")
         cam = verify_spring(s, VerifyOptions(model="2d", correct=False, keep_fields=False,
-                                             case=LoadCase(load="rigid_cam")))
+                                             case=LoadCase(load="rigid_cam"), contact=False))
         coef = np.polyfit(FEA_OFFSETS_MM, np.log(np.array(ks) / ks[1]), 2)
         k_beam = s.stiffness_beam_Nmm_per_rad / NMM_PER_NM
         out[name] = {
