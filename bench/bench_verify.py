@@ -3,15 +3,17 @@
 Measures, on this machine:
 
 1. ``springcad verify CONFIG`` from a cold start (a fresh Python process:
-   imports, design, convergence study, correction loop, 3D factor, .vtu and
-   PNG outputs): wall time and peak resident memory.
+   imports, design, convergence study, correction loop, 3D factor, cam contact
+   sweep, .vtu and PNG outputs): wall time and peak resident memory, and the
+   contact sweep's own time and result.
 2. The same quadratic-tet meshes solved by scikit-fem (assembly, PARDISO
    solve, stress recovery) and by CalculiX ``ccx`` (the whole process):
    wall times, their ratio, and the agreement of K and peak stress.
 
 Usage::
 
-    python bench/bench_verify.py [--config templates/paper_S1.toml] [--json out.json]
+    python bench/bench_verify.py [--config templates/default.toml] [--json out.json]
+                                 [--cold-only]
 
 Prints a table; ``--json`` also writes the numbers. Peak memory is the
 maximum resident set size (``getrusage``) of the measured process.
@@ -60,6 +62,14 @@ def bench_cold_verify(config: Path) -> dict:
             "peak_von_mises_MPa", "peak_von_mises_error_pct", "peak_region", "yield_margin",
             "dofs", "dofs_3d", "timings_s")}
         springs[name]["iterations"] = len(s["correction_iterations"])
+        c = s.get("contact_sweep")
+        if c is not None:
+            springs[name]["contact_sweep"] = {
+                "time_s": c["timings_s"]["total"], "dofs": c["dofs"],
+                "steps_per_direction": c["steps_per_direction"],
+                "small_angle_vs_linear_pct": c["small_angle_vs_linear_pct"],
+                "torque_at_max_Nm": {k: v[-1]["torque_Nm"] for k, v in c["torque_angle"].items()},
+                "flags": [f["code"] for f in c["flags"]]}
         springs[name]["first_error_vs_target_pct"] = \
             s["correction_iterations"][0]["error_vs_target_pct"]
     return {"command": " ".join(["springcad"] + cmd[3:]), "exit_status": proc.returncode,
@@ -97,19 +107,23 @@ def compare_solvers(config: Path, levels=(0, 1, 2)) -> dict:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--config", type=Path, default=ROOT / "templates" / "paper_S1.toml")
+    ap.add_argument("--config", type=Path, default=ROOT / "templates" / "default.toml")
     ap.add_argument("--json", type=Path, default=None, help="also write the numbers here")
     ap.add_argument("--compare-only", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--cold-only", action="store_true",
+                    help="only the cold verify (skip the scikit-fem vs CalculiX comparison)")
     args = ap.parse_args(argv)
     if args.compare_only:
         print(json.dumps(compare_solvers(args.config)))
         return 0
     cold = bench_cold_verify(args.config)
-    proc = subprocess.run([sys.executable, __file__, "--config", str(args.config),
-                           "--compare-only"], env=_env(), capture_output=True, text=True)
-    if proc.returncode != 0:
-        raise SystemExit(f"solver comparison failed:\n{proc.stderr}")
-    comp = json.loads(proc.stdout.strip().splitlines()[-1])
+    comp = None
+    if not args.cold_only:
+        proc = subprocess.run([sys.executable, __file__, "--config", str(args.config),
+                               "--compare-only"], env=_env(), capture_output=True, text=True)
+        if proc.returncode != 0:
+            raise SystemExit(f"solver comparison failed:\n{proc.stderr}")
+        comp = json.loads(proc.stdout.strip().splitlines()[-1])
     result = {"machine": {"cpus": os.cpu_count(), "python": platform.python_version(),
                           "platform": platform.platform()},
               "cold_verify": cold, "skfem_vs_calculix": comp}
@@ -124,6 +138,18 @@ def main(argv=None) -> int:
               f"disc. error {s['discretisation_error_pct']:.3f} %, {s['iterations']} iteration(s); "
               f"peak {s['peak_von_mises_MPa']:.0f} MPa +-{s['peak_von_mises_error_pct']:.2f} % "
               f"({s['peak_region']}), margin {s['yield_margin']:.3f}")
+        c = s.get("contact_sweep")
+        if c:
+            print(f"    contact sweep: {c['time_s']:.1f} s ({c['dofs']} DOFs, "
+                  f"{c['steps_per_direction']} steps per direction), small-angle K vs linear "
+                  + ", ".join(f"{k} {v:+.2f} %" for k, v in c["small_angle_vs_linear_pct"].items())
+                  + ", torque at max " + ", ".join(f"{k} {v:.2f} N*m"
+                                                   for k, v in c["torque_at_max_Nm"].items())
+                  + f", flags: {', '.join(c['flags']) or 'none'}")
+    if comp is None:
+        if args.json:
+            args.json.write_text(json.dumps(result, indent=2) + "\n")
+        return 0
     print(f"scikit-fem vs CalculiX, same quadratic-tet meshes ({comp['spring']} sector):")
     print(f"  {'DOFs':>8} {'skfem s':>8} {'ccx s':>8} {'ratio':>6} {'dK rel':>9} {'dpeak':>7}")
     for r in comp["rows"]:

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from fea.geometry import sector_geometry
 from fea.mesh import fea_mesh_2d, mesh_face_levels
-from fea.problem import LoadCase, Material
+from fea.problem import LoadCase, solver_material
 from fea.verify import DEFAULT_SIZE, solve_mesh
 
 #: root flares of the calibration set (the design chooses within this range)
@@ -32,7 +32,7 @@ def solve_2d(design, level: int = LEVEL):
     faces = mesh_face_levels(geometry, DEFAULT_SIZE, level + 1,
                              case.patch_half_width_mm(geometry.tip_radius_mm))
     fm = fea_mesh_2d(faces[level], geometry, level)
-    return solve_mesh(fm, Material.from_spec(design.material), case, design.max_deflection_rad)
+    return solve_mesh(fm, solver_material(design.material), case, design.max_deflection_rad)
 
 
 def calibration_row(design, label: str = "", level: int = LEVEL) -> dict:

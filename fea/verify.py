@@ -86,6 +86,8 @@ class VerifyOptions:
             ``pytetwild_edge_fac`` levels; model "3d" only; ~1 min).
         pytetwild_edge_fac: fTetWild ideal edge lengths (fraction of the bounding
             box diagonal), coarse to fine.
+        contact: also turn the rigid cam from 0 to +-theta_max against the final
+            sector (:func:`fea.contact.contact_sweep`, on the 2D mesh of level 0).
     """
 
     model: str = "2d3d"
@@ -100,6 +102,7 @@ class VerifyOptions:
     support_study: bool = False
     mesher: str = "gmsh"
     pytetwild_edge_fac: tuple = (0.04, 0.028, 0.02)
+    contact: bool = True
 
     def __post_init__(self):
         if self.mesher not in ("gmsh", "pytetwild"):
@@ -282,6 +285,8 @@ class SpringVerification:
     case: LoadCase
     notes: list = field(default_factory=list)
     support: dict | None = None
+    contact: object | None = None
+    """The :class:`~fea.contact.ContactSweep` of the final design (None: not run)."""
 
     @property
     def stiffness_fea_Nmm_per_rad(self) -> float:
@@ -405,6 +410,8 @@ class SpringVerification:
         }
         if self.support is not None:
             out["support_study"] = dict(self.support)
+        if self.contact is not None:
+            out["contact_sweep"] = self.contact.to_dict()
         if run.check3d:
             c3 = run.check3d[-1]
             out["dofs_3d"] = c3.dofs
@@ -529,6 +536,15 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
     if options.support_study:
         progress(f"spring {design.name}: support study on the full ring with its holes", None)
         support = support_study(design, material, options.size)
+    contact = None
+    if options.contact:
+        from fea.contact import contact_sweep
+
+        progress(f"spring {design.name}: cam contact sweep", None)
+        try:
+            contact = contact_sweep(design, material, run, progress=progress)
+        except SpringcadError as exc:  # a check on top of the verification: never fatal
+            notes.append(f"cam contact sweep failed: {exc}")
     total = time.perf_counter() - t_start
     timings = {"mesh": run.mesh_time_s,
                "assemble": sum(r.timings_s["assemble"] for r in run.all_results()),
@@ -540,7 +556,7 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
         tolerance=options.tolerance, iterations=iterations,
         required_safety_factor=design.material.safety_factor,
         yield_strength_MPa=material.yield_strength_MPa, timings_s=timings, case=options.case,
-        notes=notes, support=support)
+        notes=notes, support=support, contact=contact)
 
 
 def support_study(design, material: Material | None = None, size: MeshSize = DEFAULT_SIZE,
@@ -739,6 +755,8 @@ class JobVerification:
                      "(R = -1, wire-EDM surface), or the finite life")
         lines += [f"FAIL: {f}" for f in self.failures()]
         lines += [f"note: {n}" for n in self.notes()]
+        lines += [f"contact {n}: {f['message']}" for n, v in self.springs.items()
+                  if v.contact is not None for f in v.contact.flags]
         return "\n".join(lines)
 
 

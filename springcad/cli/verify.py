@@ -41,6 +41,8 @@ def register(sub):
     p.add_argument("--support-study", action="store_true",
                    help="also compare the rim held at the outer face vs at the rim holes "
                         "(full ring, ~10 s per spring)")
+    p.add_argument("--no-contact", action="store_true",
+                   help="skip the cam contact sweep (rigid cam turned to +-max deflection)")
     p.add_argument("--no-render", action="store_true", help="skip .vtu and PNG outputs")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.set_defaults(func=run)
@@ -77,7 +79,7 @@ def run(args) -> int:
     options = VerifyOptions(model=model, levels=args.levels, mesher=args.mesher,
                             tolerance=args.tolerance_pct / 100.0, correct=not args.no_correct,
                             case=LoadCase(load=args.load), keep_fields=not args.no_render,
-                            support_study=args.support_study)
+                            support_study=args.support_study, contact=not args.no_contact)
     progress("designing")
     design = design_job(job)
     result = verify_job(design, options, progress)

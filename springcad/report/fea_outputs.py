@@ -37,6 +37,13 @@ def write_outputs(result, folder: Path, render: bool = True,
                     zoom_mm=max(1.0, 1.5 * v.design.root_fillet_radius_mm)))
             if r3 is not None and r3.fields:
                 written.append(write_vtu(r3, folder / f"{name}_sector_3d.vtu"))
+            if getattr(v, "contact", None) is not None:
+                from springcad.report.contact_png import render_contact
+
+                written.append(render_contact(
+                    v.contact, folder / f"{name}_contact.png",
+                    f"{name}: rigid cam turned to +-{math.degrees(v.contact.max_deflection_rad):.1f}"
+                    " deg against the sector (2D plane stress, nonlinear kinematics)"))
     write_json(folder / "fea.json", result.to_dict())
     written.append(folder / "fea.json")
     return written

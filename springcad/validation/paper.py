@@ -228,8 +228,10 @@ def fea_spring_effects(designs: dict, progress: Progress = no_progress) -> dict:
     for k, (name, s) in enumerate(seen.items()):
         done = k / len(seen)
         progress(f"FEA of {name}: designed geometry", done)
-        nominal = verify_spring(s, VerifyOptions(correct=False, keep_fields=False))
-        quick = VerifyOptions(model="2d", correct=False, keep_fields=False)
+        # stiffness only: no cam contact sweep
+        nominal = verify_spring(s, VerifyOptions(correct=False, keep_fields=False,
+                                                 contact=False))
+        quick = VerifyOptions(model="2d", correct=False, keep_fields=False, contact=False)
         ks = []
         for off in FEA_OFFSETS_MM:
             progress(f"FEA of {name}: width offset {off:+.3f} mm", done)
@@ -237,7 +239,7 @@ def fea_spring_effects(designs: dict, progress: Progress = no_progress) -> dict:
             ks.append(verify_spring(geom, quick).stiffness_fea_Nmm_per_rad)
         progress(f"FEA of {name}: rigid-cam load", done)
         cam = verify_spring(s, VerifyOptions(model="2d", correct=False, keep_fields=False,
-                                             case=LoadCase(load="rigid_cam")))
+                                             case=LoadCase(load="rigid_cam"), contact=False))
         coef = np.polyfit(FEA_OFFSETS_MM, np.log(np.array(ks) / ks[1]), 2)
         k_beam = s.stiffness_beam_Nmm_per_rad / NMM_PER_NM
         out[name] = {

@@ -1,0 +1,700 @@
+"""Cam-flexure contact over the full deflection: a rotation sweep of the rigid cam.
+
+Model
+    The one-flexure sector of the verification (2D plane stress, quadratic
+    triangles, outer rim held; its level-0 mesh is reused) against the cam
+    profile of the design, rigid (the cam is much stiffer than a slender
+    flexure) and turned by a prescribed angle theta about the ring axis. The
+    designed gap w_gap is in the geometry: no load is applied, the ring is
+    loaded only by the frictionless contact forces. Sector periodicity: every
+    flexure meets its tooth alike, so the sector meets the cam pockets -2..2
+    around its own, and the gap to the neighbouring flexure is the gap between
+    the deformed sector and itself turned by one pitch.
+    Kinematics are total Lagrangian (:mod:`fea.nonlinear`; ``nonlinear=False``:
+    linear): the ball's radial motion decides where it bears on the cam, and
+    the flexure's foreshortening (~0.6 delta^2 / L, tens of um) is of the order
+    of w_gap. A serpentine flexure also couples tangential load and radial tip
+    motion (c_xy / c_xx = -0.13 for the default spring, -0.31 for paper S1):
+    pushed one way the ball climbs the flank, pushed the other it sinks into
+    the pocket. The linear FEA's tangential traction sees none of this.
+
+Contact
+    Points on the quadratic boundary of ball, neck fillets and edges within
+    reach of the cam (:mod:`fea.contact_solver`, 8 per element edge), the cam
+    contour as a 1 um polyline; per Newton iteration the gaps of the points
+    near the cam are linearised and the complementarity problem is solved
+    exactly; converged on the true geometry (no penetration > 1e-7 mm,
+    out-of-balance < 1e-7 of the contact force). The cam angle advances in
+    steps of theta_max / steps with a linear predictor; a step that cannot be
+    converged is halved, and past a limit point (the ball snapping over a tooth
+    tip) the state is allowed to jump, which is flagged.
+
+Reported per step
+    Torque (N*m: the moment of the contact forces about the axis at their
+    current points, x N flexures), secant T / theta, engaged secant
+    T / (theta - theta_onset) (the gap makes T / theta low near zero by
+    design), tangent (slope over the last quarter step), each contact with its
+    force, its point on the ball (angle from the design contact point,
+    positive towards the root) and on the cam (feature, distance from the
+    flank start, flank fraction and margin to the flank end), the smallest gap
+    to every other surface (pocket arc, back flank, both tooth tips, the teeth
+    beyond, the neighbouring flexure), and the peak stress including contact:
+    the larger of the flexure's FE peak outside the contact zone (scaled to the
+    verified peak through the linear FEA of the same mesh) and the Hertz line
+    contact peak (subsurface von Mises, closed form) from the contact force and
+    the curvatures of ball and cam. The contact half-width (~10 um) is far
+    below the mesh size, so the FE value at the contact itself is a
+    mesh-dependent point-load value, reported but not used.
+
+Flags (tolerances in :class:`ContactOptions`)
+    "leaves_flank": the contact reaches the end of the driving flank (within
+    2 % of its length or the Hertz half-width), the tooth tip, another pocket
+    (a tooth skipped), or the path jumps or stops. "second_contact": a contact
+    other than ball - driving flank (pocket arc next to the flank start
+    included: the cam drives there below the flank's first roll angle), or a
+    gap to another surface closing. "nonlinear": the engaged secant departs
+    from the linear FEA K by more than ``linearity_tolerance`` or the tangent by
+    more than ``tangent_tolerance``. "small_angle": the engaged secant 1 % of
+    theta_max past the onset misses the linear FEA of the same mesh by more
+    than ``small_angle_tolerance``. "gap": the clearance at rest is below
+    w_gap by more than ``gap_tolerance`` (negative: the cam interferes).
+    "no_contact": the cam never reaches the ball.
+
+Geometry access to the design's ring and cam profiles is confined to the adapter
+section below. Units: mm, N, MPa, N*mm, rad inside; JSON keys carry N*m and deg
+where they say so.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from fea.contact_solver import CamCurve, SectorContact, State, hertz_line_contact, rot
+from springcad.errors import SolverError
+
+#: a gap to a surface other than the driving flank at or below this counts as closed (mm)
+CLOSED_GAP_MM = 1e-4
+#: a contact this close to the end of the driving flank (fraction of its length, or the
+#: Hertz half-width if larger) has left it: the contact patch reaches the tooth-tip corner
+FLANK_END_FRACTION = 0.02
+#: the small-angle stiffness is the secant T / (theta - theta_onset) this far past the onset
+#: (fraction of theta_max)
+SMALL_ANGLE_FRACTION = 0.01
+
+
+def _noop(message: str, fraction: float | None = None) -> None:
+    return None
+
+
+# ============================================================ geometry adapter
+# Everything this module knows about how the design's profiles are laid out is here,
+# so a change of the profile API touches only these functions.
+def _cam_features(cam, n_flexures: int) -> list[tuple[str, int, object]]:
+    """Cam segments around pocket 0 (the pocket of flexure 0, ball centre on +y).
+
+    Returns (kind, unit k, segment) in contour order for the pockets k = -2..2:
+    "flank_ccw" (pushes the ball towards -x when the cam turns counter-clockwise),
+    "pocket" (the tooth root arc), "flank_cw", "tip" (the tooth tip arc between
+    pocket k and k + 1).
+
+    Raises:
+        SolverError: the cam contour is not laid out as expected.
+    """
+    try:
+        teeth = cam.loop("teeth")
+        out = []
+        for k in range(-2, 3):
+            i = k % n_flexures
+            (right,), (pocket,) = teeth.named("flank", i, "right"), teeth.named("pocket", i)
+            (left,), (tip,) = teeth.named("flank", i, "left"), teeth.named("tip", i)
+            out += [("flank_ccw", k, right), ("pocket", k, pocket), ("flank_cw", k, left),
+                    ("tip", k, tip)]
+    except (KeyError, ValueError) as err:
+        raise SolverError(f"cam contour has no named flank, pocket and tip for each of its "
+                          f"{n_flexures} teeth ({err}): cannot find the flanks") from err
+    return out
+
+
+def _ball(design) -> tuple[np.ndarray, float]:
+    """Tip-ball centre of flexure 0 and its radius (mm)."""
+    return np.array([0.0, design.contact_radius_mm]), float(design.tip_radius_mm)
+
+
+def _junction_mm(features, design) -> float:
+    """Length of pocket arc next to the flank start over which the ball bears by design (mm).
+
+    Below the flank's first roll angle psi* = rho / r_c the cam drives the ball at
+    the pocket-flank junction, whose normal is tilted by up to psi* from the drive
+    direction (:mod:`springcad.design.cam`); pocket contact within twice that angle
+    of the junction is the intended drive, farther down it is the ball bottoming in
+    the pocket.
+    """
+    pocket = next(seg for kind, k, seg in features if kind == "pocket" and k == 0)
+    rho = float(pocket.radius)
+    return 2.0 * rho * rho / float(design.contact_radius_mm)
+
+
+def _cam_of(design):
+    if design.cam is None:
+        raise SolverError(f"spring '{design.name}' has no cam profile: no contact sweep")
+    return design.cam
+
+
+# ============================================================ options and results
+@dataclass(frozen=True)
+class ContactOptions:
+    """How to sweep.
+
+    Attributes:
+        steps: rotation steps from 0 to +theta_max and from 0 to -theta_max (>= 8).
+        level: 2D mesh level of the verification to use (clipped to those available).
+        nonlinear: total Lagrangian kinematics (large rotations); False: linear elasticity
+            with the contact on current positions.
+        linearity_tolerance: accepted |K / K_linear - 1| of the engaged secant
+            T / (theta - theta_onset), i.e. of the torque curve against the straight line
+            K_linear (theta - theta_onset) (-).
+        tangent_tolerance: accepted |K_tangent / K_linear - 1| of the local slope over the
+            last quarter step (-); looser, because the contact moves along the ball in
+            discrete points (1/8 of an element edge) and a transfer between two points
+            shows in a quarter-step slope as up to ~3 % (straight-flexure reference).
+        small_angle_tolerance: accepted |K_small / K_linear - 1| just after onset (-).
+        gap_tolerance: accepted shortfall of the clearance at rest below w_gap (-).
+    """
+
+    steps: int = 8
+    level: int = 0
+    nonlinear: bool = True
+    linearity_tolerance: float = 0.02
+    tangent_tolerance: float = 0.05
+    small_angle_tolerance: float = 0.005
+    gap_tolerance: float = 0.05
+
+    def __post_init__(self):
+        if self.steps < 8:
+            raise SolverError(f"contact sweep needs at least 8 steps per direction, got "
+                              f"{self.steps}")
+        for name in ("linearity_tolerance", "tangent_tolerance", "small_angle_tolerance",
+                     "gap_tolerance"):
+            if not 0 < getattr(self, name) < 0.5:
+                raise SolverError(f"contact option {name} = {getattr(self, name)} must be in "
+                                  "(0, 0.5)")
+
+
+@dataclass
+class ContactStep:
+    """One cam angle (ring torque N*mm, stiffness N*mm/rad, lengths mm, stress MPa)."""
+
+    angle_rad: float
+    torque_Nmm: float
+    secant_Nmm_per_rad: float | None
+    engaged_secant_Nmm_per_rad: float | None
+    tangent_Nmm_per_rad: float | None
+    contacts: list
+    gaps_mm: dict
+    peak_von_mises_MPa: float
+    flexure_peak_MPa: float
+    flexure_peak_scaled_MPa: float
+    flexure_peak_region: str
+    hertz: dict | None
+    iterations: int
+    equilibrium_error: float
+
+    def to_dict(self) -> dict:
+        nm = lambda v: None if v is None else v / 1000.0
+        return {"angle_rad": self.angle_rad, "angle_deg": math.degrees(self.angle_rad),
+                "torque_Nm": self.torque_Nmm / 1000.0,
+                "secant_stiffness_Nm_per_rad": nm(self.secant_Nmm_per_rad),
+                "engaged_secant_stiffness_Nm_per_rad": nm(self.engaged_secant_Nmm_per_rad),
+                "tangent_stiffness_Nm_per_rad": nm(self.tangent_Nmm_per_rad),
+                "contacts": self.contacts, "gaps_mm": dict(self.gaps_mm),
+                "peak_von_mises_MPa": self.peak_von_mises_MPa,
+                "flexure_peak_von_mises_MPa": self.flexure_peak_scaled_MPa,
+                "flexure_peak_von_mises_this_mesh_MPa": self.flexure_peak_MPa,
+                "flexure_peak_region": self.flexure_peak_region,
+                "hertz": self.hertz, "iterations": self.iterations,
+                "equilibrium_error": self.equilibrium_error}
+
+
+@dataclass
+class ContactSweep:
+    """The cam turned from 0 to +-theta_max against the sector: curve, contacts, flags."""
+
+    name: str
+    max_deflection_rad: float
+    n_flexures: int
+    level: int
+    dofs: int
+    candidates: int
+    stiffness_linear_Nmm_per_rad: float
+    """Linear FEA (traction patch) K of the same 2D mesh (N*mm/rad)."""
+    stiffness_verified_Nmm_per_rad: float | None
+    design_gap_mm: float
+    peak_linear_this_mesh_MPa: float
+    """Linear FEA (traction) nodal peak of this mesh at theta_max (MPa)."""
+    peak_verified_MPa: float | None
+    """The verified (extrapolated, 3D-factored) peak at theta_max (MPa), or None."""
+    rest_clearance_mm: float
+    onset_rad: dict
+    small_angle_Nmm_per_rad: dict
+    steps: dict
+    """"+" and "-": lists of :class:`ContactStep` from 0 to +-theta_max."""
+    flags: list
+    options: ContactOptions
+    stopped: dict
+    """Direction -> why the sweep stopped before theta_max (no converged state)."""
+    jumps_rad: dict
+    """Direction -> cam angles where the state jumped (a limit point: the ball snaps)."""
+    timings_s: dict
+    notes: list = field(default_factory=list)
+    pictures: dict = field(default_factory=dict, repr=False)
+    """Deformed geometry at +-theta_max for the PNG (not serialised)."""
+
+    @property
+    def ok(self) -> bool:
+        return not self.flags
+
+    def small_angle_error(self, sign: str) -> float:
+        return self.small_angle_Nmm_per_rad[sign] / self.stiffness_linear_Nmm_per_rad - 1.0
+
+    def to_dict(self) -> dict:
+        o = self.options
+        return {
+            "model": "rigid cam turned about the ring axis against the 2D plane-stress sector "
+                     "(outer rim held); frictionless point-to-surface contact (contact points "
+                     "on the quadratic boundary, 8 per element edge), exact complementarity "
+                     "per Newton iteration; designed gap in the geometry; "
+                     + ("total Lagrangian kinematics (large rotations, small strains)"
+                        if o.nonlinear else "linear elasticity, contact on current positions"),
+            "level": self.level, "dofs": self.dofs, "candidate_nodes": self.candidates,
+            "steps_per_direction": o.steps,
+            "max_deflection_rad": self.max_deflection_rad,
+            "stiffness_linear_fea_Nm_per_rad": self.stiffness_linear_Nmm_per_rad / 1000.0,
+            "stiffness_linear_fea_note": "2D linear FEA (traction patch) on the same mesh",
+            "stiffness_verified_Nm_per_rad": None if self.stiffness_verified_Nmm_per_rad is None
+            else self.stiffness_verified_Nmm_per_rad / 1000.0,
+            "small_angle_stiffness_Nm_per_rad": {k: v / 1000.0 for k, v in
+                                                 self.small_angle_Nmm_per_rad.items()},
+            "small_angle_vs_linear_pct": {k: 100.0 * self.small_angle_error(k)
+                                          for k in self.small_angle_Nmm_per_rad},
+            "design_gap_mm": self.design_gap_mm, "rest_clearance_mm": self.rest_clearance_mm,
+            "peak_linear_fea_this_mesh_MPa": self.peak_linear_this_mesh_MPa,
+            "peak_verified_MPa": self.peak_verified_MPa,
+            "peak_note": "flexure_peak_von_mises_MPa of a step is this mesh's FE peak outside "
+                         "the contact zone times peak_verified / peak_linear_fea_this_mesh; "
+                         "peak_von_mises_MPa is the larger of it and the Hertz contact peak",
+            "onset_deg": {k: math.degrees(v) for k, v in self.onset_rad.items()},
+            "tolerances_pct": {"linearity": 100 * o.linearity_tolerance,
+                               "tangent": 100 * o.tangent_tolerance,
+                               "small_angle": 100 * o.small_angle_tolerance,
+                               "gap": 100 * o.gap_tolerance},
+            "torque_angle": {k: [s.to_dict() for s in v] for k, v in self.steps.items()},
+            "stopped": dict(self.stopped),
+            "jumps_deg": {k: [math.degrees(a) for a in v] for k, v in self.jumps_rad.items()},
+            "flags": list(self.flags), "ok": self.ok, "notes": list(self.notes),
+            "timings_s": dict(self.timings_s)}
+
+
+# ============================================================ what a step reports
+def _contacts(sc: SectorContact, st: State, driving: str, sign: int, ball, material) -> list:
+    """Active contact nodes grouped into contacts: where on the ball and on the tooth, force."""
+    centre, rb = ball
+    active = st.active[st.lam[st.active] > 0]
+    if not len(active):
+        return []
+    X = sc.pX
+    x = sc.positions(st.u)
+    to_cam = rot(st.theta)
+    info = {int(i): sc.cam.describe(int(st.foot_seg[i]), float(st.foot_t[i]), driving)
+            for i in active}
+    groups: list[list[int]] = []
+    for i in active:  # nodes near each other on the same cam feature: one contact
+        for grp in groups:
+            if (info[grp[0]]["feature"] == info[int(i)]["feature"]
+                    and np.linalg.norm(X[i] - X[grp[0]]) < 0.5 * rb):
+                grp.append(int(i))
+                break
+        else:
+            groups.append([int(i)])
+    out = []
+    for grp in groups:
+        grp = np.asarray(grp)
+        w = st.lam[grp]
+        force = float(w.sum())
+        ref = (w[:, None] * X[grp]).sum(0) / force
+        cur = (w[:, None] * x[grp]).sum(0) / force
+        top = int(grp[np.argmax(w)])
+        label = str(sc.plabels[top])
+        c = {"force_N": force, "ring_feature": label, "contact_points": len(grp),
+             "ring_point_mm": [float(v) for v in ref],
+             "cam_point_mm": [float(v) for v in cur @ to_cam], **info[top]}
+        c["intended"] = label.startswith("ball") and sc.cam.intended(info[top], driving)
+        if label.startswith("ball"):
+            rel = ref - centre
+            c["ball_angle_deg"] = math.degrees(math.atan2(rel[1], sign * rel[0]))
+            c["hertz"] = hertz_line_contact(force / sc.fm.thickness_mm,
+                                            1.0 / rb + info[top]["cam_curvature_per_mm"],
+                                            material.youngs_modulus_MPa, material.poisson_ratio)
+        out.append(c)
+    return out
+
+
+def _surface_gaps(sc: SectorContact, groups: dict, st: State) -> dict:
+    """Smallest gap (mm) from the deformed flexure to each cam surface (negative: inside the
+    cam) and to the neighbouring flexure (the deformed sector turned by one pitch)."""
+    bnd = sc.boundary(st.u)
+    pts = np.vstack([bnd.A, bnd.B[-1:]])
+    q = pts @ rot(st.theta)  # cam frame
+    g_all = sc.cam.project(q)[0]
+    out = {}
+    to_ring = rot(st.theta)
+    for name, segs in groups.items():
+        d = segs.project(q)[0]
+        # a point inside the cam has a negative gap to the surface it is nearest to only
+        into = (g_all < 0) & (d <= -g_all + 1e-9)
+        gap = float(np.min(np.where(into, -d, d)))
+        if gap > 0:  # also from the cam's side: convex against convex, sharp corners
+            cam_pts = np.vstack([segs.A, segs.B[-1:]]) @ to_ring.T
+            gap = min(gap, float(bnd.project(cam_pts)[0].min()))
+        out[name] = gap
+    pitch = 2 * math.pi / sc.fm.geometry.n_flexures
+    out["neighbour_flexure"] = float(bnd.project(pts @ rot(pitch).T)[0].min())
+    return out
+
+
+def _stress(sc: SectorContact, st: State, exclusion_mm: float):
+    """Peak nodal von Mises outside the held zone and the contact zone, its region, the
+    largest value inside the contact zone (MPa), and the nodal field."""
+    from fea.results import _region
+
+    vm = sc.von_mises(st.u)
+    zone = np.zeros(vm.shape, bool)
+    for p in sc.pX[st.active]:
+        zone |= np.hypot(sc.X[0] - p[0], sc.X[1] - p[1]) < exclusion_mm
+    ok = ~sc.near_held & ~zone
+    i = int(np.argmax(np.where(ok, vm, -np.inf)))
+    at_contact = float(vm[zone].max()) if zone.any() else 0.0
+    return float(vm[i]), _region(sc.X[:, i], sc.fm), at_contact, vm
+
+
+def _report(sc: SectorContact, st: State, tangent, theta_on, driving, sign, ball, groups,
+            material, exclusion_mm, stress_scale, keep=False):
+    """The :class:`ContactStep` of a converged state (and the picture data if ``keep``)."""
+    theta = st.theta
+    torque = sc.torque(st)
+    contacts = _contacts(sc, st, driving, sign, ball, material)
+    flex_peak, region, at_contact, vm = _stress(sc, st, exclusion_mm)
+    flex_scaled = flex_peak * stress_scale
+    hertz = [c["hertz"] for c in contacts if "hertz" in c]
+    h = max(hertz, key=lambda v: v["von_mises_max_MPa"]) if hertz else None
+    if h is not None:
+        h = dict(h, fe_nodal_at_contact_MPa=at_contact)
+    rim = sc.reaction_torque(st)
+    # relative to the linear torque at this angle (the contact torque itself can be ~0)
+    eq = abs(rim - torque) / (sc.stiffness_linear * abs(theta)) if theta else abs(rim - torque)
+    engaged = None
+    if theta_on is not None and sign * (theta - theta_on) > 1e-12:
+        engaged = torque / (theta - theta_on)
+    step = ContactStep(
+        angle_rad=theta, torque_Nmm=torque,
+        secant_Nmm_per_rad=torque / theta if theta else None,
+        engaged_secant_Nmm_per_rad=engaged, tangent_Nmm_per_rad=tangent, contacts=contacts,
+        gaps_mm=_surface_gaps(sc, groups, st),
+        peak_von_mises_MPa=max(flex_scaled, h["von_mises_max_MPa"] if h else 0.0),
+        flexure_peak_MPa=flex_peak, flexure_peak_scaled_MPa=flex_scaled,
+        flexure_peak_region=region, hertz=h,
+        iterations=st.iterations, equilibrium_error=eq)
+    picture = None
+    if keep:
+        picture = {"points_mm": sc.X + st.u.reshape(-1, 2).T, "von_mises_MPa": vm,
+                   "triangles": sc.basis.nodal_dofs[0][sc.basis.mesh.t[:3]].T,
+                   "angle_rad": theta, "cam_mm": sc.cam.P @ rot(theta).T,
+                   "contacts_mm": [rot(theta) @ np.asarray(c["cam_point_mm"])
+                                   for c in contacts],
+                   "ball_centre_mm": ball[0], "ball_radius_mm": ball[1],
+                   "ball_centre_deformed_mm": _moved(sc, st, ball[0])}
+    return step, picture
+
+
+def _moved(sc: SectorContact, st: State, point) -> np.ndarray:
+    """Where the material point nearest to ``point`` went (mm)."""
+    i = int(np.argmin(np.hypot(sc.X[0] - point[0], sc.X[1] - point[1])))
+    return sc.X[:, i] + st.u.reshape(-1, 2)[i] + (np.asarray(point) - sc.X[:, i])
+
+
+# ============================================================ the sweep
+def _mesh(design, run, level: int):
+    """The verification's 2D sector mesh at ``level`` (or a new one) and the linear K of that
+    mesh from the verification (or None)."""
+    if run is not None and getattr(run, "base2d", None):
+        k = min(level, len(run.base2d) - 1)
+        res = run.base2d[k]
+        if res.mesh is not None and res.mesh.dim == 2:
+            return res.mesh, res.stiffness_Nmm_per_rad
+    from fea.geometry import sector_geometry
+    from fea.mesh import fea_mesh_2d, mesh_face_levels
+    from fea.problem import LoadCase
+    from fea.verify import DEFAULT_SIZE
+
+    faces = tuple(getattr(run, "faces", ()) or ()) if run is not None else ()
+    g = getattr(run, "geometry", None)
+    if not faces or g is None:
+        g = sector_geometry(design)
+        faces = mesh_face_levels(g, DEFAULT_SIZE, level + 1,
+                                 LoadCase().patch_half_width_mm(g.tip_radius_mm))
+    k = min(level, len(faces) - 1)
+    return fea_mesh_2d(faces[k], g, k), None
+
+
+class _Stuck(SolverError):
+    """No converged contact state beyond some cam angle."""
+
+
+class _Path:
+    """Solves along increasing |theta| in one direction with a linear predictor, halving a
+    step that fails (a deep first penetration can push the ball out on the wrong side).
+    Past a limit point (the ball snapping over a tooth tip) the state jumps: a step that
+    fails down to 1/16 of a step is retried from the last state without predictor and
+    with more iterations; if that fails too the path is stuck (:class:`_Stuck`)."""
+
+    def __init__(self, sc: SectorContact, sign: int, max_step_rad: float):
+        self.sc, self.sign, self.max_step = sc, sign, max_step_rad
+        self.state = sc.solve(0.0, sc.rest())  # not the rest state when the cam interferes
+        self.rate = None  # du / dtheta of the last increment
+        self.jumps: list[float] = []
+
+    def to(self, theta: float) -> State:
+        while abs(theta - self.state.theta) > 1e-15:
+            h = theta - self.state.theta
+            h = math.copysign(min(abs(h), self.max_step), h)
+            for _ in range(5):
+                try:
+                    st = self._try(self.state.theta + h, predict=True)
+                    break
+                except SolverError:
+                    h *= 0.5
+            else:
+                try:
+                    st = self._try(self.state.theta + h, predict=False, max_iter=80)
+                except SolverError as err:
+                    raise _Stuck(f"no converged contact state beyond "
+                                 f"{math.degrees(self.state.theta):+.3f} deg ({err})") from err
+                self.jumps.append(st.theta)
+                self.rate = None
+                self.state = st
+                continue
+            self.rate = (st.u - self.state.u) / (st.theta - self.state.theta)
+            self.state = st
+        return self.state
+
+    def _try(self, theta: float, predict: bool, max_iter: int = 40) -> State:
+        pred = self.rate * (theta - self.state.theta) if predict and self.rate is not None \
+            else None
+        st = self.sc.solve(theta, self.state, pred, max_iter=max_iter)
+        if self.sc.torque(st) * self.sign < -1e-3 * self.sc.stiffness_linear * abs(theta):
+            raise SolverError("the contact solution pushes the ball against the cam rotation")
+        return st
+
+
+def contact_sweep(design, material=None, run=None, options: ContactOptions = ContactOptions(),
+                  cam=None, progress=_noop) -> ContactSweep:
+    """Turn the rigid cam from 0 to +theta_max and to -theta_max against the sector.
+
+    Args:
+        design: :class:`~springcad.design.spring.SpringDesign` (ring and cam profiles).
+        material: :class:`~fea.problem.Material` (default: the design's).
+        run: the verification's :class:`~fea.verify.ModelRun` whose 2D mesh of level
+            ``options.level`` is reused (None: mesh the sector here).
+        options: :class:`ContactOptions`.
+        cam: a cam :class:`~springcad.design.curves.Profile` to use instead of the
+            design's (to check a different cam against this ring).
+        progress: callable ``(message, fraction or None)``.
+
+    Raises:
+        SolverError: the contact problem cannot be set up or does not converge.
+    """
+    from fea.problem import LoadCase, solver_material
+
+    t0 = time.perf_counter()
+    material = material or solver_material(design.material)
+    cam_profile = cam if cam is not None else _cam_of(design)
+    theta_max = float(design.max_deflection_rad)
+    ball = _ball(design)
+    fm, k_same_mesh = _mesh(design, run, options.level)
+    k_verified = getattr(run, "stiffness_Nmm_per_rad", None)
+    features = _cam_features(cam_profile, design.n_flexures)
+    curve = CamCurve(features, cam_profile.loop("teeth").signed_area() > 0,
+                     _junction_mm(features, design))
+    reach = float(np.max(np.hypot(*curve.P.T))) + 2 * ball[1] + 0.5
+    sc = SectorContact(fm, material, curve, reach, nonlinear=options.nonlinear)
+    if k_same_mesh is not None and abs(sc.stiffness_linear / k_same_mesh - 1) > 1e-6:
+        raise SolverError("contact sweep: the sector model does not reproduce the linear FEA of "
+                          f"the same mesh ({sc.stiffness_linear:.6g} vs {k_same_mesh:.6g} "
+                          "N*mm/rad)")
+    # flexure stresses of this (coarse) mesh scaled to the verified peak: the linear FEA of
+    # the same mesh at theta_max is the common reference, so its discretisation error cancels
+    from fea.results import evaluate
+
+    peak_linear = evaluate(fm, sc.system, sc.u_traction, LoadCase(), theta_max, {},
+                           None).peak_von_mises_MPa
+    peak_verified = getattr(run, "peak_stress_MPa", None)
+    stress_scale = peak_verified / peak_linear if peak_verified else 1.0
+    t1 = time.perf_counter()
+    exclusion = 2.0 * LoadCase().patch_half_width_mm(ball[1])
+    rest = sc.boundary(None)
+    rest_clearance = float(curve.project(np.vstack([rest.A, rest.B[-1:]]))[0].min())
+    n = options.steps
+    steps, onset, small, pictures, flags, stuck, jumps = {}, {}, {}, {}, [], {}, {}
+    for sign, key in ((1, "+"), (-1, "-")):
+        driving = "flank_ccw" if sign > 0 else "flank_cw"
+        groups = curve.groups(driving)
+        progress(f"contact sweep {key}{math.degrees(theta_max):.1f} deg ({n} steps)", None)
+        th_on = _onset(sc, sign, theta_max)
+        onset[key] = th_on
+        targets = [sign * theta_max * i / n for i in range(n + 1)]
+        h = sign * theta_max / (4 * n)  # tangent: slope over the last quarter step
+        a = sign * SMALL_ANGLE_FRACTION * theta_max
+        extra = {th - h for th in targets[1:]}
+        if math.isfinite(th_on):
+            extra.add(th_on + a)
+        path = _Path(sc, sign, theta_max / n)
+        out, torque = [], {}
+        for th in sorted(set(targets) | extra, key=abs):
+            try:
+                st = path.to(th)
+            except _Stuck as err:
+                stuck[key] = str(err)
+                break
+            torque[th] = sc.torque(st)
+            if th not in targets:
+                continue
+            tangent = None
+            if th != 0 and not (abs(th - h) < abs(th_on) < abs(th)):  # not across the onset
+                tangent = (torque[th] - torque[th - h]) / h
+            step, pic = _report(sc, st, tangent, th_on if math.isfinite(th_on) else None,
+                                driving, sign, ball, groups, material, exclusion, stress_scale,
+                                keep=th == targets[-1])
+            out.append(step)
+            if pic is not None:
+                pictures[key] = pic
+        if math.isfinite(th_on) and th_on + a in torque:  # T(theta_onset) = 0 exactly
+            small[key] = torque[th_on + a] / a
+        jumps[key] = list(path.jumps)
+        steps[key] = out
+        flags += _direction_flags(key, out, th_on, small.get(key), sc.stiffness_linear, options,
+                                  theta_max, stuck.get(key), jumps[key])
+    w_gap = float(design.manufacturing.w_gap_mm)
+    if rest_clearance < w_gap * (1 - options.gap_tolerance):
+        what = ("the cam overlaps the flexure" if rest_clearance < 0 else
+                "the clearance is below the designed gap")
+        flags.append({"code": "gap", "message":
+                      f"at rest {what}: smallest flexure-cam clearance "
+                      f"{1000 * rest_clearance:.1f} um against w_gap_mm = {w_gap:g} "
+                      f"(tolerance {100 * options.gap_tolerance:g} %)"})
+    notes = ["geometrically nonlinear (total Lagrangian, St Venant-Kirchhoff): the flexure's "
+             "large rotation and foreshortening are in the contact kinematics" if options.nonlinear
+             else "linear elasticity with the contact on current positions: the flexure's "
+             "geometric nonlinearity (foreshortening) is not modelled"]
+    t2 = time.perf_counter()
+    return ContactSweep(
+        name=design.name, max_deflection_rad=theta_max, n_flexures=design.n_flexures,
+        level=fm.level, dofs=int(sc.system.n_dofs), candidates=len(sc.pX),
+        stiffness_linear_Nmm_per_rad=sc.stiffness_linear,
+        stiffness_verified_Nmm_per_rad=k_verified, design_gap_mm=w_gap,
+        peak_linear_this_mesh_MPa=peak_linear, peak_verified_MPa=peak_verified,
+        rest_clearance_mm=rest_clearance, onset_rad=onset, small_angle_Nmm_per_rad=small,
+        steps=steps, flags=flags, options=options, stopped=stuck, jumps_rad=jumps,
+        timings_s={"setup": t1 - t0, "sweep": t2 - t1, "total": t2 - t0},
+        notes=notes, pictures=pictures)
+
+
+def _onset(sc: SectorContact, sign: int, theta_max: float) -> float:
+    """Cam angle (rad, signed) at which the undeformed flexure first touches the cam;
+    0 when it touches at rest, NaN when it never does within theta_max."""
+    u = np.zeros(2 * sc.basis.N)
+
+    def gmin(a):
+        return float(np.min(sc._gaps(u, a)[0]))
+
+    if gmin(0.0) <= 0.0:
+        return 0.0
+    prev = 0.0
+    for a in np.linspace(0.0, theta_max, 161)[1:]:
+        if gmin(sign * a) <= 0.0:
+            lo, hi = prev, a
+            for _ in range(50):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (lo, mid) if gmin(sign * mid) <= 0.0 else (mid, hi)
+            return sign * hi
+        prev = a
+    return math.nan
+
+
+def _direction_flags(key, steps, th_on, k_small, k_lin, options, theta_max, stuck=None,
+                     jumps=()) -> list[dict]:
+    """Flags of one direction of the sweep (see the module docstring)."""
+    deg = math.degrees
+    if not math.isfinite(th_on):
+        return [{"code": "no_contact", "message": f"{key}: the cam never touches the ball up to "
+                 f"{deg(theta_max):.2f} deg"}]
+    flags = []
+    if k_small is not None and abs(k_small / k_lin - 1) > options.small_angle_tolerance:
+        flags.append({"code": "small_angle", "message":
+                      f"{key}: stiffness just after contact onset {k_small / 1000:.3f} N*m/rad "
+                      f"differs from the linear FEA {k_lin / 1000:.3f} by "
+                      f"{100 * (k_small / k_lin - 1):+.2f} % (tolerance "
+                      f"{100 * options.small_angle_tolerance:g} %)"})
+    off, second, nonlin = [], [], []
+    step = theta_max / max(options.steps, 1)
+    for s in steps:
+        a = f"{deg(s.angle_rad):+.2f} deg"
+        on_tip = False
+        for c in s.contacts:
+            kind, unit = c["feature"].split(":")
+            # at the end of the flank when the contact patch (Hertz half-width) or 2 % of
+            # the flank length reaches the corner with the tooth tip
+            end = max(FLANK_END_FRACTION * c.get("flank_length_mm", 0.0),
+                      c.get("hertz", {}).get("half_width_mm", 0.0))
+            if kind == "tip" or (c["intended"] and "flank_margin_mm" in c
+                                 and c["flank_margin_mm"] <= end):
+                off.append(f"{a}: contact on {c['feature']}")
+                on_tip = True
+            elif int(unit) != 0:
+                off.append(f"{a}: the ball has left its pocket (a tooth skipped): contact on "
+                           f"{c['feature']}")
+            elif not c["intended"]:
+                second.append(f"{a}: {c['ring_feature']} touches {c['feature']} "
+                              f"({c['force_N']:.1f} N)")
+        for name, gap in s.gaps_mm.items():
+            if name == "driving_flank" or (on_tip and name == "driving_tooth_tip"):
+                continue
+            if gap <= CLOSED_GAP_MM:
+                second.append(f"{a}: {name.replace('_', ' ')} gap {1000 * gap:.2f} um")
+        if abs(s.angle_rad - th_on) > 0.99 * step:  # one step past the onset
+            for what, k, tol in (("tangent", s.tangent_Nmm_per_rad, options.tangent_tolerance),
+                                 ("engaged secant", s.engaged_secant_Nmm_per_rad,
+                                  options.linearity_tolerance)):
+                if k is not None and abs(k / k_lin - 1) > tol:
+                    nonlin.append(f"{a}: {what} {k / 1000:.2f} N*m/rad "
+                                  f"({100 * (k / k_lin - 1):+.1f} %)")
+    more = lambda lst: "; ".join(lst[:4]) + (" ..." if len(lst) > 4 else "")
+    off += [f"{deg(j):+.2f} deg: the ball snaps to a new position (no continuous "
+            "equilibrium path)" for j in jumps]
+    if stuck:
+        off.append(f"the sweep stops: {stuck}")
+    if off:
+        flags.append({"code": "leaves_flank",
+                      "message": f"{key}: the ball leaves the driving flank: {more(off)}"})
+    if second:
+        flags.append({"code": "second_contact",
+                      "message": f"{key}: second contact: {more(second)}"})
+    if nonlin:
+        flags.append({"code": "nonlinear", "message":
+                      f"{key}: stiffness departs from the linear FEA {k_lin / 1000:.2f} N*m/rad "
+                      f"by more than {100 * options.linearity_tolerance:g} % (secant from the "
+                      f"onset) or {100 * options.tangent_tolerance:g} % (tangent): "
+                      f"{more(nonlin)}"})
+    return flags

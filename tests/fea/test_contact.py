@@ -1,0 +1,203 @@
+"""Cam-flexure contact sweep (fea.contact): the solver against closed forms and the linear
+FEA, the straight reference ring clean, deliberately wrong cams flagged."""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import json
+import math
+
+import numpy as np
+import pytest
+
+
+@pytest.fixture(scope="module")
+def straight_sweep(straight):
+    """The straight radial flexure: no tangential-radial coupling, the design's own cam."""
+    from fea.contact import contact_sweep
+
+    return contact_sweep(straight)
+
+
+def _sector(design, material, level=0):
+    from fea.contact import _mesh
+
+    return _mesh(design, None, level)[0]
+
+
+# ------------------------------------------------------------------ building blocks
+def test_hertz_line_contact_closed_form():
+    """p0 and b balance the load (P = pi b p0 / 2) and the subsurface von Mises maximum is
+    Johnson's 0.56 p0 at z = 0.70 b for nu = 0.3."""
+    from fea.contact_solver import hertz_line_contact
+
+    P, curv, E, nu = 100.0, 1 / 0.3 + 1 / 2.0, 200e3, 0.3
+    h = hertz_line_contact(P, curv, E, nu)
+    e_star = E / (2 * (1 - nu ** 2))
+    assert h["p0_MPa"] == pytest.approx(math.sqrt(P * e_star * curv / math.pi), rel=1e-12)
+    assert math.pi * h["half_width_mm"] * h["p0_MPa"] / 2 == pytest.approx(P, rel=1e-12)
+    assert h["von_mises_max_MPa"] / h["p0_MPa"] == pytest.approx(0.557, abs=0.003)
+    assert h["depth_mm"] / h["half_width_mm"] == pytest.approx(0.70, abs=0.02)
+    assert hertz_line_contact(0.0, curv, E, nu)["p0_MPa"] == 0.0
+
+
+def test_lcp_matches_enumeration_of_active_sets():
+    from fea.contact_solver import lcp
+
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        A = rng.normal(size=(5, 5))
+        M = A @ A.T + 0.1 * np.eye(5)
+        q = rng.normal(size=5)
+        lam = lcp(M, q)
+        ref = None
+        for act in itertools.product((0, 1), repeat=5):
+            a = np.flatnonzero(act)
+            x = np.zeros(5)
+            if len(a):
+                x[a] = np.linalg.solve(M[np.ix_(a, a)], -q[a])
+            w = q + M @ x
+            if np.all(x >= -1e-12) and np.all(w >= -1e-10):
+                ref = x
+        assert np.allclose(lam, ref, atol=1e-8)
+
+
+@pytest.mark.parametrize("which", ["straight", "s1"])
+def test_flat_pad_reproduces_the_linear_fea(which, request, material):
+    """A rigid flat pad normal to the push direction, turned about the ring axis, against
+    the same mesh: the stiffness just after contact is the linear FEA's (traction patch),
+    also for the coupled serpentine S1, and the onset is gap / r_c. The pad turns with the
+    cam, tilting its normal by theta; with S1's coupling (c_xy / c_xx = -0.31) that
+    changes K by ~2 x 0.31 x theta, so the check is made within 0.3 % of a degree of
+    contact. The design cams differ from it only by their contact normal."""
+    from fea.contact import _onset, _Path
+    from fea.contact_solver import CamCurve, SectorContact
+    from springcad.design.curves import Line
+
+    design = request.getfixturevalue(which)
+    rc, rb = design.contact_radius_mm, design.tip_radius_mm
+    gap = 0.005
+    x0 = rb + gap
+    pad = Line((x0, rc + 0.12), (x0, rc - 0.12))  # running down: outward normal -x
+    curve = CamCurve([("flank_ccw", 0, pad)], True, 0.0)
+    fm = _sector(design, material)
+    results = {}
+    for nonlinear in (True, False):
+        sc = SectorContact(fm, material, curve, rc + 1.0, nonlinear=nonlinear)
+        on = _onset(sc, 1, design.max_deflection_rad)
+        assert on == pytest.approx(gap / rc, rel=0.01)
+        a = 0.002 * design.max_deflection_rad
+        st = _Path(sc, 1, design.max_deflection_rad / 8).to(on + a)
+        results[nonlinear] = sc.torque(st) / a
+        if nonlinear:  # exact moment balance in the current configuration
+            assert sc.reaction_torque(st) == pytest.approx(sc.torque(st), rel=1e-6)
+    assert results[True] == pytest.approx(sc.stiffness_linear, rel=0.003)
+    assert results[True] == pytest.approx(results[False], rel=5e-4)
+
+
+def test_options_are_validated():
+    from fea.contact import ContactOptions
+    from springcad.errors import SolverError
+
+    for bad in ({"steps": 4}, {"linearity_tolerance": 0.0}, {"gap_tolerance": 0.7}):
+        with pytest.raises(SolverError):
+            ContactOptions(**bad)
+
+
+# ------------------------------------------------------------------ the straight reference
+def test_straight_ring_sweep_is_clean(straight, straight_sweep):
+    sw = straight_sweep
+    theta = straight.max_deflection_rad
+    assert sw.ok, sw.flags
+    for key, sign in (("+", 1), ("-", -1)):
+        steps = sw.steps[key]
+        assert [s.angle_rad for s in steps] == pytest.approx([sign * theta * i / 8
+                                                              for i in range(9)])
+        # small-angle stiffness: the linear FEA of the same mesh within 0.5 %
+        assert abs(sw.small_angle_error(key)) < 0.005
+        # the designed gap: contact starts at w_gap / r_c
+        w = straight.manufacturing.w_gap_mm
+        assert sw.onset_rad[key] == pytest.approx(sign * w / straight.contact_radius_mm,
+                                                  rel=0.01)
+        end = steps[-1]
+        assert end.torque_Nmm == pytest.approx(
+            sw.stiffness_linear_Nmm_per_rad * (end.angle_rad - sw.onset_rad[key]), rel=0.01)
+        assert all(s.equilibrium_error < 1e-5 for s in steps)
+        (c,) = end.contacts
+        assert c["intended"] and 0.0 < c["flank_fraction"] < 0.9
+        assert c["hertz"]["p0_MPa"] > 0
+        assert min(v for k, v in end.gaps_mm.items() if k != "driving_flank") > 0.005
+    assert sw.rest_clearance_mm == pytest.approx(straight.manufacturing.w_gap_mm, rel=0.01)
+    # mirror symmetry of the straight ring and its cam
+    for p, m in zip(sw.steps["+"], sw.steps["-"]):
+        assert p.torque_Nmm == pytest.approx(-m.torque_Nmm, rel=0.005, abs=1e-6)
+
+
+def test_sweep_serialises(straight_sweep):
+    doc = json.loads(json.dumps(straight_sweep.to_dict()))
+    assert set(doc["torque_angle"]) == {"+", "-"}
+    step = doc["torque_angle"]["+"][-1]
+    for key in ("angle_deg", "torque_Nm", "secant_stiffness_Nm_per_rad",
+                "tangent_stiffness_Nm_per_rad", "contacts", "gaps_mm", "peak_von_mises_MPa"):
+        assert key in step
+    assert {"pocket", "back_flank", "driving_tooth_tip", "neighbour_flexure"} <= set(
+        step["gaps_mm"])
+    assert doc["ok"] is True and doc["flags"] == []
+
+
+def test_contact_png(straight_sweep, tmp_path):
+    import matplotlib.image as mpimg
+
+    from springcad.report.contact_png import render_contact
+
+    path = render_contact(straight_sweep, tmp_path / "contact.png")
+    img = mpimg.imread(path)
+    assert img.shape[0] > 1000 and img.shape[1] > 1000
+    assert img[..., :3].std() > 0.1  # not blank
+
+
+# ------------------------------------------------------------------ wrong cams are flagged
+def _wrong_cam(design, **change):
+    from springcad.design.cam import cam_profile
+
+    if "w_gap_mm" in change:
+        design = dataclasses.replace(design, manufacturing=dataclasses.replace(
+            design.manufacturing, w_gap_mm=change["w_gap_mm"]))
+    if "max_deflection_rad" in change:  # a cam cut for a smaller deflection
+        spec = dataclasses.replace(design.spec, max_deflection_rad=change["max_deflection_rad"])
+        design = dataclasses.replace(design, spec=spec)
+    return cam_profile(design)[0]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("change, codes", [
+    ({"max_deflection_rad": 0.35}, {"leaves_flank"}),  # flank ends at ~0.44 theta_max
+    ({"w_gap_mm": 0.0}, {"gap", "second_contact"}),  # no clearance: ball bears on the pocket
+    ({"w_gap_mm": 0.01}, {"gap"}),                      # gap below the designed 0.025 mm
+])
+def test_wrong_cam_is_flagged(straight, change, codes):
+    from fea.contact import contact_sweep
+
+    change = {k: v * straight.max_deflection_rad if k == "max_deflection_rad" else v
+              for k, v in change.items()}
+    sw = contact_sweep(straight, cam=_wrong_cam(straight, **change))
+    assert codes <= {f["code"] for f in sw.flags}, sw.flags
+    assert not sw.ok
+
+
+# ------------------------------------------------------------------ inside the verification
+def test_verification_runs_the_sweep_on_its_own_mesh(straight):
+    from fea.verify import VerifyOptions, verify_spring
+
+    v = verify_spring(straight, VerifyOptions(model="2d", correct=False, keep_fields=False))
+    sw = v.contact
+    assert sw is not None and sw.level == 0
+    assert sw.stiffness_linear_Nmm_per_rad == pytest.approx(
+        v.run.base2d[0].stiffness_Nmm_per_rad, rel=1e-9)
+    assert sw.peak_verified_MPa == pytest.approx(v.peak_von_mises_MPa)
+    doc = v.to_dict()["contact_sweep"]
+    assert len(doc["torque_angle"]["+"]) == 9 and len(doc["torque_angle"]["-"]) == 9
+    off = verify_spring(straight, VerifyOptions(model="2d", correct=False, keep_fields=False,
+                                                contact=False))
+    assert off.contact is None and "contact_sweep" not in off.to_dict()
