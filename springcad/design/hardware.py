@@ -29,6 +29,8 @@ SOCKET_FACE_CLEARANCE_MM = 0.5
 HUB_WIRE_CLEARANCE_MM = 0.1
 #: drive flat on a D bore or a D hub, as a fraction of its radius (-)
 FLAT_RATIO = 0.8
+#: (material, default density kg/m^3) of the rim spacers and of the plastic parts; the
+#: densities used are hardware.rim_spacer_density_kg_per_m3 / plastic_density_kg_per_m3
 ALUMINIUM = ("aluminium 6061-T6", 2700.0)
 PLASTIC = ("acetal (POM)", 1420.0)
 
@@ -117,6 +119,8 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
     hw = springs[0].hardware
     steel = (springs[0].material.material.name, springs[0].material.material.density_kg_per_m3)
     gap = hw.rim_spacer_thickness_mm
+    alu = (ALUMINIUM[0], hw.rim_spacer_density_kg_per_m3)
+    plastic = (PLASTIC[0], hw.plastic_density_kg_per_m3)
     n = len(springs)
     z0 = []
     z = 0.0
@@ -175,23 +179,23 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
         r_in = max(springs[j].root_radius_mm, springs[j + 1].root_radius_mm) + ROOT_CLEARANCE_MM
         if kind == SHAFT:
             comps.append(Component(
-                f"rim_washer_{j + 1}", "rim_washer", PLASTIC[0], 1,
-                _ring_volume(r_in, r_o, gap), PLASTIC[1], zj, gap,
+                f"rim_washer_{j + 1}", "rim_washer", plastic[0], 1,
+                _ring_volume(r_in, r_o, gap), plastic[1], zj, gap,
                 {"inner_radius_mm": r_in, "outer_radius_mm": r_o, "joint": j}))
             continue
         holes = min(hw.fastener_count, springs[j].n_flexures)
         hole_d = springs[j].hole_diameter_mm
         comps.append(Component(
-            f"rim_spacer_{j + 1}", "rim_spacer", ALUMINIUM[0], 1,
-            _ring_volume(r_in, r_o, gap, holes, hole_d), ALUMINIUM[1], zj, gap,
+            f"rim_spacer_{j + 1}", "rim_spacer", alu[0], 1,
+            _ring_volume(r_in, r_o, gap, holes, hole_d), alu[1], zj, gap,
             {"inner_radius_mm": r_in, "outer_radius_mm": r_o, "holes": holes,
              "hole_diameter_mm": hole_d, "joint": j}))
         r_cs = max(springs[j].cam_tip_radius_mm, springs[j + 1].cam_tip_radius_mm) \
             + CENTRE_SPACER_OVERHANG_MM
         r_cs_in = 0.5 * hw.shaft_diameter_mm if floating_cams else 0.0
         comps.append(Component(
-            f"centre_spacer_{j + 1}", "centre_spacer", PLASTIC[0], 1,
-            _ring_volume(r_cs_in, r_cs, gap), PLASTIC[1], zj, gap,
+            f"centre_spacer_{j + 1}", "centre_spacer", plastic[0], 1,
+            _ring_volume(r_cs_in, r_cs, gap), plastic[1], zj, gap,
             {"inner_radius_mm": r_cs_in, "outer_radius_mm": r_cs, "joint": j}))
         if holes:
             d = hw.fastener_diameter_mm
@@ -205,9 +209,9 @@ def stack_components(springs, joints, input_connection, output_connection) -> tu
     if floating_cams:
         t = hw.bushing_wall_mm
         comps.append(Component(
-            "outer_bushing", "bushing", PLASTIC[0], 1,
+            "outer_bushing", "bushing", plastic[0], 1,
             _ring_volume(r_o + BUSHING_CLEARANCE_MM, r_o + BUSHING_CLEARANCE_MM + t, height),
-            PLASTIC[1], 0.0, height,
+            plastic[1], 0.0, height,
             {"inner_radius_mm": r_o + BUSHING_CLEARANCE_MM,
              "outer_radius_mm": r_o + BUSHING_CLEARANCE_MM + t}))
         r = 0.5 * hw.shaft_diameter_mm

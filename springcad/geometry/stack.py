@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from springcad.design.hardware import ALUMINIUM, PLASTIC, Component
+from springcad.design.hardware import Component
 from springcad.errors import GeometryError
 from springcad.geometry.base import COLOURS, SpringcadPart
 
@@ -202,6 +202,7 @@ def build_stack(job_design, progress=None) -> StackAssembly:
 
     for comp in stack.components:
         d, kind = comp.dims, comp.kind
+        own = (comp.material, comp.density_kg_per_m3)  # as designed (hardware densities)
         if kind == "flexure_ring":
             s = springs[d["spring_index"]]
             part = cache.get(("ring", s.name), lambda pn: FlexureRing(s))
@@ -222,17 +223,17 @@ def build_stack(job_design, progress=None) -> StackAssembly:
             place(comp.name, part, comp, Placement(z, flipped=flipped), comp.role)
         elif kind == "rim_spacer":
             s = springs[d["joint"]]
-            part = annular(RimSpacer, "RIM-SPACER", comp, ALUMINIUM, s.hole_centres_mm,
+            part = annular(RimSpacer, "RIM-SPACER", comp, own, s.hole_centres_mm,
                            d["hole_diameter_mm"], "T6")
             place(comp.name, part, comp, Placement(comp.z_mm))
         elif kind == "rim_washer":
-            place(comp.name, annular(RimWasher, "RIM-WASHER", comp, PLASTIC), comp,
+            place(comp.name, annular(RimWasher, "RIM-WASHER", comp, own), comp,
                   Placement(comp.z_mm))
         elif kind == "centre_spacer":
-            place(comp.name, annular(CentreSpacer, "CENTRE-SPACER", comp, PLASTIC), comp,
+            place(comp.name, annular(CentreSpacer, "CENTRE-SPACER", comp, own), comp,
                   Placement(comp.z_mm))
         elif kind == "bushing":
-            place(comp.name, annular(Bushing, "BUSHING", comp, PLASTIC), comp, Placement(comp.z_mm))
+            place(comp.name, annular(Bushing, "BUSHING", comp, own), comp, Placement(comp.z_mm))
         elif kind == "alignment_shaft":
             r = 0.5 * d["diameter_mm"]
             part = cache.get(("align", _r(r), _r(comp.length_mm)), lambda pn: AlignmentShaft(
