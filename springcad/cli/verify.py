@@ -62,17 +62,18 @@ def _progress(quiet: bool, state: dict):
 
 def run(args) -> int:
     from springcad.config import load_job
-    from springcad.design.job import design_job
     from springcad.report.outdir import atomic_output_dir, check_output_dir
 
-    from fea.problem import LoadCase
-    from fea.verify import VerifyOptions, verify_job
-
-    state = {"spring": ""}
-    progress = _progress(args.quiet, state)
     out = args.out or default_out(args.config) / "verify"
     job = load_job(args.config)
     check_output_dir(out, args.overwrite, inputs=[args.config])  # fail before the work
+
+    from fea.problem import LoadCase
+    from fea.verify import VerifyOptions, verify_job
+    from springcad.design.job import design_job
+
+    state = {"spring": ""}
+    progress = _progress(args.quiet, state)
     model = "3d" if args.mesher == "pytetwild" else args.model
     options = VerifyOptions(model=model, levels=args.levels, mesher=args.mesher,
                             tolerance=args.tolerance_pct / 100.0, correct=not args.no_correct,
