@@ -264,6 +264,16 @@ def test_fastener_too_big_for_the_designed_rim_is_refused(tmp_path, capsys):
     assert re.search(r"rim holes of 3 mm do not fit its rim", capsys.readouterr().err)
 
 
+def test_no_layout_message_does_not_blame_the_torque_cap(tmp_path, capsys):
+    """120 flexures cannot fit a 20 mm disk; the torque cap is not the reason (it was quoted)."""
+    job = write_job(tmp_path, lambda d: (d["springs"]["S1"].update(
+        n_flexures=120, outer_radius_mm=20, stiffness_Nm_per_rad=5), d.update(
+        hardware={"fastener_count": 0})), base="default")
+    assert main(["design", str(job), "--out", str(tmp_path / "o")]) == 2
+    line = one_error_line(capsys.readouterr().err)
+    assert "no layout fits" in line and "N = 120" in line and "torque cap" not in line
+
+
 # ----------------------------------------------------------------------------- bench CSVs
 @pytest.fixture(scope="module")
 def clean_csv(tmp_path_factory):

@@ -201,7 +201,7 @@ ISSUE_VALUES = {  # the values the issue found crashing or hanging, each refused
     "tolerance 1e300": ("manufacturing", "t_spring_mm", 1e300, "0 to 0.5 mm"),
     "gap 1e300": ("manufacturing", "w_gap_mm", 1e300, "at most 1 mm"),
     "web 1e300": ("manufacturing", "min_web_mm", 1e300, "0.02 to 5 mm"),
-    "slot 50": ("manufacturing", "min_slot_width_mm", 50, "0.02 to 3 mm"),
+    "slot 50": ("manufacturing", "min_slot_width_mm", 50, "0.02 to 2 mm"),
     "fastener 50": ("hardware", "fastener_diameter_mm", 50, "0.5 to 12 mm"),
     "fastener count 1000": ("hardware", "fastener_count", 1000, "0 to 199"),
     "shaft 0.001": ("hardware", "shaft_diameter_mm", 0.001, "1 to 100 mm"),

@@ -258,7 +258,7 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
         _f("wire_diameter_mm", "mm", 0.02, 0.5, 0.25, "EDM wire diameter"),
         _f("spark_gap_mm", "mm", 0.0, 0.2, 0.025, "spark gap; min inside radius = wire radius + "
            "spark gap"),
-        _f("min_slot_width_mm", "mm", 0.02, 3.0, 0.35, "narrowest slot between flexures; at "
+        _f("min_slot_width_mm", "mm", 0.02, 2.0, 0.35, "narrowest slot between flexures; at "
            "least the kerf (wire + 2 spark gaps)"),
         _f("min_web_mm", "mm", 0.02, 5.0, 0.4, "thinnest web the wire may leave"),
         _f("min_hole_edge_mm", "mm", 0.02, 10.0, 0.4, "material between a rim hole and an edge"),
