@@ -47,7 +47,7 @@ MAX_CSV_BYTES = 200_000_000
 #: physical bounds of a torsion-spring bench record (N*m, rad): outside them the units or the
 #: file are wrong, and the fit's numerics would be meaningless
 TORQUE_RANGE_NM = (1e-6, 1e6)
-DEFLECTION_RANGE_RAD = (1e-6, 20.0)
+DEFLECTION_RANGE_RAD = (1e-6, 1e4)
 
 
 def read_record(path: Path, columns, angle_unit: str, torque_unit: str):
@@ -56,8 +56,8 @@ def read_record(path: Path, columns, angle_unit: str, torque_unit: str):
     Raises:
         DataError: unreadable, too large, not UTF-8, or malformed (see ``parse_bench_csv``).
     """
-    from springcad.config import decode_utf8
     from springcad.fit.data import parse_bench_csv
+    from springcad.textio import decode_utf8
 
     try:
         if not path.is_file():
@@ -121,11 +121,9 @@ def run(args) -> int:
     warn("fit", record.warnings)
     design = None
     if args.config:
-        from springcad.config import load_job
-
-        warn("fit", load_job(args.config).warnings)
         with stage("design", lambda: f"config {args.config}"):
             design = design_from_config(args.config)
+        warn("fit", design.get("warnings", []))
     check_output_dir(out, args.overwrite, inputs=inputs)  # before the fit
     with stage("fit", lambda: f"record {args.data}"):
         result = fit_record(record, args.target_stiffness, design)

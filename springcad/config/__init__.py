@@ -17,7 +17,7 @@ naming the key, the value and what is allowed. Internally lengths are mm,
 torques N*mm, stresses MPa, angles rad.
 """
 
-from springcad.config.load import decode_utf8, job_from_dict, load_job, read_toml
+from springcad.config.load import job_from_dict, load_job, read_toml
 from springcad.config.schema import (CONNECTIONS, FASTENER_KINDS, FLEXURE_SHAPES, PROCESSES,
                                      SECTIONS, TOLERANCE_DISTRIBUTIONS, Key)
 from springcad.config.specs import (AnalysisSpec, HardwareSpec, Job, ManufacturingSpec,
@@ -26,5 +26,4 @@ from springcad.errors import ConfigError
 
 __all__ = ["AnalysisSpec", "CONNECTIONS", "ConfigError", "FASTENER_KINDS", "FLEXURE_SHAPES",
            "HardwareSpec", "Job", "Key", "ManufacturingSpec", "MaterialSpec", "PROCESSES",
-           "SECTIONS", "SpringSpec", "StackSpec", "TOLERANCE_DISTRIBUTIONS", "decode_utf8",
-           "job_from_dict", "load_job", "read_toml"]
+           "SECTIONS", "SpringSpec", "StackSpec", "TOLERANCE_DISTRIBUTIONS", "job_from_dict", "load_job", "read_toml"]

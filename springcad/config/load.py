@@ -20,35 +20,16 @@ from springcad.config.specs import (AnalysisSpec, HardwareSpec, Job, Manufacturi
                                     MaterialSpec, SpringSpec, StackSpec)
 from springcad.errors import ConfigError, ConfigFileError
 from springcad.materials import DEFAULT_MATERIAL, Material, material_table
+from springcad.textio import decode_utf8
 from springcad.units import MPA_PER_GPA, NMM_PER_NM
 
 #: a job config is a few hundred bytes; refuse anything absurdly large before parsing
 MAX_CONFIG_BYTES = 1_000_000
 TOP_LEVEL = ("job", "material", "springs", "stack", "manufacturing", "hardware", "analysis")
 SPRING_NAME = Key("<name>", "str", "-", 1, 32, REQUIRED, text="name")
-_UTF16_BOMS = (b"\xff\xfe", b"\xfe\xff")
 
 
 # --------------------------------------------------------------------------- text
-def decode_utf8(raw: bytes) -> tuple[str | None, str]:
-    """Decode UTF-8 (a leading byte-order mark is dropped).
-
-    Returns:
-        (text, "") or (None, problem): the problem names the byte, its offset,
-        line and column, ready to follow "file 'x' ".
-    """
-    if raw.startswith(_UTF16_BOMS):
-        return None, "is UTF-16 (it starts with a UTF-16 byte-order mark); save it as UTF-8"
-    try:
-        return raw.decode("utf-8-sig"), ""
-    except UnicodeDecodeError as err:
-        offset = err.start
-        line = raw.count(b"\n", 0, offset) + 1
-        column = offset - (raw.rfind(b"\n", 0, offset) + 1) + 1
-        return None, (f"is not UTF-8: byte 0x{raw[offset]:02x} at byte offset {offset} "
-                      f"(line {line}, column {column}) cannot be decoded; save the file as UTF-8")
-
-
 def read_toml(path: Path | str) -> dict:
     """Parse a TOML file, every failure as :class:`ConfigFileError`."""
     path = Path(path)
