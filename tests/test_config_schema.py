@@ -238,6 +238,16 @@ def test_cross_key_consistency(case):
         job_from_dict(set_key(paper_s1(), section, key, value))
 
 
+def test_rim_to_rim_joints_need_fasteners():
+    """Without rim holes the rim joint cannot be assembled (the build failed its joint check)."""
+    data = tomllib.loads(template("paper_2xS1").read_text())
+    data["hardware"] = {"fastener_count": 0}
+    with pytest.raises(ConfigError, match=r"fastener_count.*at least 1.*1 rim-to-rim joint"):
+        job_from_dict(data)
+    data["stack"]["input"] = "rim"  # joined shaft to shaft: no rim joint, no fasteners needed
+    assert job_from_dict(data).hardware.fastener_count == 0
+
+
 @pytest.mark.parametrize("key", ["centre_spacer_thickness_mm", "centre_spacer_clearance_mm"])
 def test_removed_keys_are_refused_with_the_reason(key):
     data = paper_s1()

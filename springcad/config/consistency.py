@@ -140,9 +140,11 @@ def check(job: Job, spring_values: dict[str, dict]) -> Job:
                         f"{mat.safety_factor:g} exceeds the yield strength "
                         f"{mat.material.yield_strength_MPa:g} MPa; the FEA yield check will fail "
                         "unless the peak stress stays below the design stress")
-    if hw.fastener_count == 0 and _rim_joints(len(job.stack.sequence), job.stack.input):
-        warnings.append("hardware.fastener_count = 0: the rim-to-rim joints of this stack "
-                            "have no pins or bolts")
+    rim_joints = _rim_joints(len(job.stack.sequence), job.stack.input)
+    if hw.fastener_count == 0 and rim_joints:
+        raise ConfigError("hardware.fastener_count", 0,
+                          f"must be at least 1: this stack has {rim_joints} rim-to-rim joint(s), "
+                          "pinned or bolted through the rim holes")
     return replace(job, springs=springs, warnings=tuple(warnings))
 
 
