@@ -199,7 +199,7 @@ ISSUE_VALUES = {  # the values the issue found crashing or hanging, each refused
     "deflection 1e-6 deg": ("springs.<name>", "max_deflection_deg", 1e-6, "0.05 to 89 deg"),
     "stiffness 1e-6": ("springs.<name>", "stiffness_Nm_per_rad", 1e-6, "0.001 to 100000"),
     "tolerance 1e300": ("manufacturing", "t_spring_mm", 1e300, "0 to 0.5 mm"),
-    "gap 1e300": ("manufacturing", "w_gap_mm", 1e300, "at most 1 mm"),
+    "gap 1e300": ("manufacturing", "w_gap_mm", 1e300, "0.005 to 1 mm"),
     "web 1e300": ("manufacturing", "min_web_mm", 1e300, "0.02 to 5 mm"),
     "slot 50": ("manufacturing", "min_slot_width_mm", 50, "0.02 to 2 mm"),
     "fastener 50": ("hardware", "fastener_diameter_mm", 50, "0.5 to 12 mm"),
