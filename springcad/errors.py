@@ -1,8 +1,40 @@
 """Domain exceptions raised by springcad.
 
 Every error a user can cause carries one clear message that names what is
-wrong and what is allowed. The CLI maps these to exit status 2.
+wrong and what is allowed. The CLI maps them to exit statuses
+(:data:`EXIT_OK` ... :data:`EXIT_INTERNAL`): a failed verification or check
+is 1, every other :class:`SpringcadError` (bad input, a part the CAD kernel,
+mesher or solver cannot make) is 2, anything else is an internal error, 3.
 """
+
+from __future__ import annotations
+
+import reprlib
+
+#: exit statuses of the ``springcad`` command (README "Exit status")
+EXIT_OK = 0
+EXIT_CHECK_FAILED = 1
+EXIT_BAD_INPUT = 2
+EXIT_INTERNAL = 3
+
+_repr = reprlib.Repr()
+_repr.maxstring, _repr.maxother, _repr.maxlong, _repr.maxlevel = 60, 60, 30, 2
+_repr.maxlist = _repr.maxdict = 4
+
+
+def show(value) -> str:
+    """A short, one-line repr of any value (huge ints, deep nesting and long strings cut)."""
+    try:
+        text = _repr.repr(value)
+    except (RecursionError, ValueError):
+        text = f"<{type(value).__name__}>"
+    return text.replace("\n", "\\n")
+
+
+def one_line(text: str, limit: int = 400) -> str:
+    """``text`` on one line, at most ``limit`` characters (for console messages)."""
+    flat = " ".join(str(text).split())
+    return flat if len(flat) <= limit else flat[:limit - 3] + "..."
 
 
 class SpringcadError(Exception):
@@ -16,10 +48,18 @@ class ConfigError(SpringcadError, ValueError):
         self.key = key
         self.value = value
         self.allowed = allowed
-        msg = f"config key '{key}' = {value!r}: {allowed}"
+        msg = f"config key '{key}' = {show(value)}: {allowed}"
         if hint:
             msg += f" ({hint})"
         super().__init__(msg)
+
+
+class ConfigFileError(ConfigError):
+    """The config file itself cannot be used (unreadable, not UTF-8, not TOML)."""
+
+    def __init__(self, path, problem: str):
+        self.key, self.value, self.allowed = "file", str(path), problem
+        SpringcadError.__init__(self, f"config file '{path}' {problem}")
 
 
 class DesignError(SpringcadError, ValueError):
@@ -44,3 +84,32 @@ class DataError(SpringcadError, ValueError):
 
 class OutputExistsError(SpringcadError):
     """An output folder exists and would be overwritten."""
+
+
+class OutputPathError(SpringcadError):
+    """An output path cannot be used: it is a file, lies under a file or is not writable."""
+
+
+class CheckFailed(SpringcadError):
+    """A verification or check ran and failed (exit status 1; the outputs say why)."""
+
+
+class StageError(SpringcadError):
+    """A third-party library (CAD kernel, mesher, solver) failed inside a pipeline stage.
+
+    Args:
+        stage: pipeline stage, e.g. "solids", "exports", "verify".
+        subject: the part or spring being worked on when it failed ("" if unknown).
+        cause: the library's exception.
+        advice: what to change.
+    """
+
+    def __init__(self, stage: str, subject: str, cause: BaseException, advice: str):
+        self.stage, self.subject, self.cause = stage, subject, cause
+        where = f" on {subject}" if subject else ""
+        what = one_line(f"{type(cause).__name__}: {cause}", 200)
+        super().__init__(f"stage '{stage}' failed{where} ({what}); {advice}")
+
+
+class Interrupted(BaseException):
+    """SIGTERM arrived (raised from the signal handler, like KeyboardInterrupt for SIGINT)."""

@@ -4,7 +4,9 @@ The run is a pipeline of named steps over one :class:`BuildContext`
 (:data:`PIPELINE`); a step is a function ``(ctx) -> None``. A verification
 step (FEA) goes between "checks" and "exports" by adding it to
 :data:`STEPS` and :data:`PIPELINE`. Everything is written into a temporary
-folder that becomes ``DIR`` only when every step succeeded.
+folder that becomes ``DIR`` only when every step succeeded. A failed FEA
+verification or check is exit status 1; a CAD-kernel, mesher or solver failure
+is one message naming the stage, the part and what to change (exit status 2).
 """
 
 from __future__ import annotations
@@ -15,7 +17,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from springcad.cli.common import default_out
+from springcad.cli.common import default_out, stage, warn
+from springcad.errors import CheckFailed, ConfigError
 from springcad.report.jsonio import write_json
 
 SCHEMA = "springcad.build/1"
@@ -30,13 +33,21 @@ def register(sub):
     p.add_argument("--accept-violations", action="store_true",
                    help="build even when a wire-EDM manufacturability rule is broken "
                         "(the violations are recorded in build.json)")
-    p.add_argument("--revision", default="A", help="drawing revision (default A)")
+    p.add_argument("--revision", default="A", type=_revision, help="drawing revision (default A)")
     p.add_argument("--title-block", type=Path, default=None,
                    help="title block template (default templates/drawing_title_block.toml)")
     p.add_argument("--no-render", action="store_true", help="skip the PNG renders")
     p.add_argument("--no-verify", action="store_true",
                    help="skip the FEA verification (and correction) before the CAD step")
     p.set_defaults(func=run)
+
+
+def _revision(text: str) -> str:
+    import argparse
+
+    if not (1 <= len(text) <= 8 and text.isascii() and text.isalnum()):
+        raise argparse.ArgumentTypeError(f"{text!r}: 1 to 8 ASCII letters or digits")
+    return text
 
 
 @dataclass
@@ -54,18 +65,25 @@ class BuildContext:
     roundtrip: list = field(default_factory=list)
     timings: dict = field(default_factory=dict)
     started: str = ""
+    template: dict | None = None
+    last: str = ""
+    """The last progress message: names the part a failing stage was working on."""
+
+    spring: str = ""
 
     def say(self, msg: str, fraction: float | None = None) -> None:
         """The progress protocol (:mod:`springcad.progress`); the fraction is not shown."""
+        self.last = msg
+        if msg.startswith("verifying spring "):
+            self.spring = msg.split()[2]
         print(f"  {msg}", file=sys.stderr, flush=True)
 
 
 def step_design(ctx: BuildContext) -> None:
-    from springcad.config import load_job
     from springcad.design.job import design_job
 
-    ctx.job = load_job(ctx.args.config)
     ctx.design = design_job(ctx.job)
+    warn("build", ctx.design.warnings)
     write_json(ctx.out_tmp / "design.json", ctx.design.to_dict())
 
 
@@ -74,7 +92,7 @@ def step_verify(ctx: BuildContext) -> None:
     if ctx.args.no_verify:
         ctx.say("skipped (--no-verify): the parts are beam-theory designs, not FEA-verified")
         return
-    from fea.verify import VerifyOptions, verify_job
+    from fea.verify import VerificationFailed, VerifyOptions, verify_job
     from springcad.report.fea_outputs import write_outputs
 
     def progress(message, fraction=None):
@@ -83,7 +101,10 @@ def step_verify(ctx: BuildContext) -> None:
     result = verify_job(ctx.design, VerifyOptions(keep_fields=not ctx.args.no_render), progress)
     ctx.verification = result
     ctx.say(result.summary().replace("\n", "\n  "))
-    result.raise_for_failures()
+    try:
+        result.raise_for_failures()
+    except VerificationFailed as err:
+        raise CheckFailed(str(err)) from err
     (ctx.out_tmp / "fea").mkdir()
     write_outputs(result, ctx.out_tmp / "fea", render=not ctx.args.no_render, progress=ctx.say)
     ctx.design = ctx.design.with_springs(result.corrected_designs())
@@ -97,25 +118,30 @@ def step_solids(ctx: BuildContext) -> None:
 
 
 def step_checks(ctx: BuildContext) -> None:
-    from springcad.geometry.checks import run_checks
+    from springcad.geometry.checks import ChecksFailed, run_checks
 
     ctx.report = run_checks(ctx.assembly, progress=ctx.say)
-    ctx.report.raise_if_failed(ctx.args.accept_violations)
+    try:
+        ctx.report.raise_if_failed(ctx.args.accept_violations)
+    except ChecksFailed as err:
+        raise CheckFailed(str(err)) from err
 
 
 def step_exports(ctx: BuildContext) -> None:
     from springcad.export.bundle import export_parts, export_stack, roundtrip_checks
-    from springcad.export.drawing import load_title_block
-    from springcad.geometry.checks import CheckReport
+    from springcad.geometry.checks import CheckReport, ChecksFailed
 
-    template = load_title_block(ctx.args.title_block)
+    template = ctx.template
     info = {"job": ctx.job.name, "revision": ctx.args.revision,
             "date": datetime.date.today().isoformat(), "drawn_by": _drawn_by()}
     parts = export_parts(ctx.assembly, ctx.out_tmp, info, template, progress=ctx.say)
     ctx.files = parts + export_stack(ctx.assembly, ctx.out_tmp, parts,
                                      render=not ctx.args.no_render, progress=ctx.say)
     ctx.roundtrip = roundtrip_checks(ctx.assembly, ctx.out_tmp, ctx.files, progress=ctx.say)
-    CheckReport(ctx.roundtrip).raise_if_failed()
+    try:
+        CheckReport(ctx.roundtrip).raise_if_failed()
+    except ChecksFailed as err:
+        raise CheckFailed(str(err)) from err
 
 
 STEPS = {"design": step_design, "verify": step_verify, "solids": step_solids,
@@ -171,18 +197,53 @@ def build_json(ctx: BuildContext) -> dict:
     }
 
 
+def _title_block(path: Path | None) -> dict:
+    """The drawing title block, read and checked before any work."""
+    from springcad.config import read_toml
+    from springcad.export.drawing import load_title_block
+
+    template = read_toml(path) if path else load_title_block(None)
+    for key in ("block", "rows"):
+        if key not in template:
+            raise ConfigError(f"{path}: {key}", None, "is required in a title block template "
+                                                      "(see templates/drawing_title_block.toml)")
+    return template
+
+
+def _subject(ctx: BuildContext, name: str):
+    """What a failing step was working on, from its progress messages."""
+    def subject() -> str:
+        last = ctx.last
+        if name == "design":
+            return f"job {ctx.job.name}"
+        if name == "verify" and ctx.spring:
+            return f"spring {ctx.spring}"
+        if name == "solids":
+            return (f"the part after {last.split()[-1]}" if last.startswith("built ")
+                    else "the first part")
+        return f"the step after '{last}'" if last else ""
+    return subject
+
+
 def run(args) -> int:
+    from springcad.config import load_job
     from springcad.report.outdir import atomic_output_dir
 
     out = args.out or default_out(args.config)
+    job = load_job(args.config)  # everything that can be checked, before any work
+    template = _title_block(args.title_block)
     ctx = None
     t_all = time.perf_counter()
-    with atomic_output_dir(out, overwrite=args.overwrite) as tmp:
-        ctx = BuildContext(args, Path(tmp), started=datetime.datetime.now().isoformat(timespec="seconds"))
+    with atomic_output_dir(out, overwrite=args.overwrite,
+                           inputs=[args.config, args.title_block]) as tmp:
+        ctx = BuildContext(args, Path(tmp), job=job, template=template,
+                           started=datetime.datetime.now().isoformat(timespec="seconds"))
         for i, name in enumerate(PIPELINE, 1):
             print(f"[{i}/{len(PIPELINE)}] {name}", file=sys.stderr, flush=True)
             t0 = time.perf_counter()
-            STEPS[name](ctx)
+            ctx.last = ""
+            with stage(name, _subject(ctx, name)):
+                STEPS[name](ctx)
             ctx.timings[name] = round(time.perf_counter() - t0, 3)
             print(f"      {name} done in {ctx.timings[name]:.1f} s", file=sys.stderr, flush=True)
         ctx.timings["total"] = round(time.perf_counter() - t_all, 3)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from springcad.cli.common import default_out
+from springcad.cli.common import default_out, stage, warn
 from springcad.report.jsonio import write_json
 
 
@@ -20,12 +20,15 @@ def register(sub):
 def run(args) -> int:
     from springcad.config import load_job
     from springcad.design.job import design_job
-    from springcad.report.outdir import atomic_output_dir
+    from springcad.report.outdir import atomic_output_dir, check_output_dir
 
-    job = load_job(args.config)
-    design = design_job(job)
     out = args.out or default_out(args.config)
-    with atomic_output_dir(out, overwrite=args.overwrite) as tmp:
+    job = load_job(args.config)
+    check_output_dir(out, args.overwrite, inputs=[args.config])
+    with stage("design", lambda: f"job {job.name}"):
+        design = design_job(job)
+    warn("design", design.warnings)
+    with atomic_output_dir(out, overwrite=args.overwrite, inputs=[args.config]) as tmp:
         write_json(tmp / "design.json", design.to_dict())
     print(design.summary())
     print(f"\nwrote {out / 'design.json'}")

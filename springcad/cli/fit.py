@@ -6,21 +6,10 @@ prints a short summary. The input file is only read.
 
 from __future__ import annotations
 
-import argparse
-import sys
 from pathlib import Path
 
+from springcad.cli.common import bounded
 from springcad.errors import DataError
-
-
-def _positive(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"{text!r} must be positive")
-    return value
 
 
 def register(subparsers) -> None:
@@ -34,7 +23,7 @@ def register(subparsers) -> None:
     p.add_argument("--out", type=Path, default=None,
                    help="output folder (default outputs/<data file name>/; must not exist or be empty)")
     p.add_argument("--config", type=Path, help="job config: compare with the designed stack")
-    p.add_argument("--target-stiffness", type=_positive, metavar="K",
+    p.add_argument("--target-stiffness", type=bounded(0, 1e6, " N*m/rad", lo_open=True), metavar="K",
                    help="target stiffness (N·m/rad) for the stiffness error")
     p.add_argument("--time-col", default="time_s", help="time column (s) [time_s]")
     p.add_argument("--torque-col", default="torque_Nm", help="torque column [torque_Nm]")
@@ -53,26 +42,92 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
+#: a bench record is a few MB (20 000 samples at 500 Hz); refuse absurd files before reading
+MAX_CSV_BYTES = 200_000_000
+#: physical bounds of a torsion-spring bench record (N*m, rad): outside them the units or the
+#: file are wrong, and the fit's numerics would be meaningless
+TORQUE_RANGE_NM = (1e-6, 1e6)
+DEFLECTION_RANGE_RAD = (1e-6, 1e4)
+
+
+def read_record(path: Path, columns, angle_unit: str, torque_unit: str):
+    """Read a bench CSV: file, UTF-8 and size checks here, parsing by :mod:`springcad.fit.data`.
+
+    Raises:
+        DataError: unreadable, too large, not UTF-8, or malformed (see ``parse_bench_csv``).
+    """
+    from springcad.fit.data import parse_bench_csv
+    from springcad.textio import decode_utf8
+
+    try:
+        if not path.is_file():
+            raise DataError(f"bench data file '{path}' does not exist or is not a file")
+        if path.stat().st_size > MAX_CSV_BYTES:
+            raise DataError(f"bench data file '{path}' is larger than "
+                            f"{MAX_CSV_BYTES // 1_000_000} MB; split the record")
+        raw = path.read_bytes()
+    except OSError as err:
+        raise DataError(f"bench data file '{path}' cannot be read: {err.strerror or err}") from None
+    text, problem = decode_utf8(raw)
+    if text is None:
+        raise DataError(f"bench data file '{path}' {problem}")
+    return parse_bench_csv(text, columns, angle_unit, torque_unit, source=str(path))
+
+
+def check_record(record) -> None:
+    """Refuse records no torsion spring produces: magnitudes out of range, torque falling
+    as the deflection rises (a flipped sign).
+
+    Raises:
+        DataError: naming the channel, the value and what to check.
+    """
+    import numpy as np
+
+    src = record.source
+    for name, values, (lo, hi), unit in (
+            ("torque", record.torque_Nm, TORQUE_RANGE_NM, "N*m"),
+            ("deflection", record.deflection_rad, DEFLECTION_RANGE_RAD, "rad")):
+        peak = float(np.max(np.abs(values)))
+        if not lo <= peak <= hi:
+            raise DataError(f"{src}: the {name} peaks at {peak:.3g} {unit}; a torsion-spring bench "
+                            f"record lies between {lo:g} and {hi:g} {unit}: check the column's "
+                            "unit (--torque-unit, --angle-unit) and scale")
+    x = record.deflection_rad - record.deflection_rad.mean()
+    y = record.torque_Nm - record.torque_Nm.mean()
+    slope = float(x @ y) / float(x @ x)
+    if not slope > 0:
+        raise DataError(f"{src}: the torque falls as the deflection rises (least-squares slope "
+                        f"{slope:.3g} N*m/rad): the sign of the torque or the deflection column "
+                        "is flipped; negate one of them")
+
+
 def run(args) -> int:
     """Run ``springcad fit``; returns the exit status."""
-    from springcad.cli.common import default_out
+    from springcad.cli.common import default_out, stage, warn
     from springcad.fit.analysis import fit_record
     from springcad.fit.compare import design_from_config
-    from springcad.fit.data import ColumnMap, read_bench_csv
+    from springcad.fit.data import ColumnMap
     from springcad.report.fit_report import write_fit_outputs
-    from springcad.report.outdir import atomic_output_dir
+    from springcad.report.outdir import atomic_output_dir, check_output_dir
 
     if args.encoder_cols is not None and len(args.encoder_cols) > 2:
         raise DataError(f"--encoder-cols takes one or two columns, got {len(args.encoder_cols)}")
     columns = ColumnMap(args.time_col, args.torque_col, args.deflection_col,
                         tuple(args.encoder_cols) if args.encoder_cols else None)
-    record = read_bench_csv(args.data, columns, args.angle_unit, args.torque_unit)
-    for w in record.warnings:
-        print(f"springcad fit: warning: {w}", file=sys.stderr)
-    design = design_from_config(args.config) if args.config else None
-    result = fit_record(record, args.target_stiffness, design)
     out = args.out or default_out(args.data)
-    with atomic_output_dir(out, overwrite=args.overwrite) as tmp:
+    inputs = [args.data, args.config]
+    record = read_record(args.data, columns, args.angle_unit, args.torque_unit)
+    check_record(record)
+    warn("fit", record.warnings)
+    design = None
+    if args.config:
+        with stage("design", lambda: f"config {args.config}"):
+            design = design_from_config(args.config)
+        warn("fit", design.get("warnings", []))
+    check_output_dir(out, args.overwrite, inputs=inputs)  # before the fit
+    with stage("fit", lambda: f"record {args.data}"):
+        result = fit_record(record, args.target_stiffness, design)
+    with atomic_output_dir(out, overwrite=args.overwrite, inputs=inputs) as tmp:
         written = write_fit_outputs(result, tmp, fmt=args.format, plots=not args.no_plots)
     _print_summary(result, out, [p.name for p in written])
     return 0

@@ -4,8 +4,8 @@ Writes ``DIR/fea.json`` (the :meth:`fea.verify.JobVerification.to_dict`
 document), per spring a 3D and a 2D ``.vtu`` of the sector at maximum
 deflection (displacement, von Mises) and PNG renders of the von Mises field.
 Exit status: 0 verified, 1 a spring or the stack fails its stiffness target or
-stress limit (the report is still written), 2 bad input or a failed solve
-(nothing written).
+stress limit (the report is still written), 2 bad input or a mesher/solver
+failure (one message naming the spring; nothing written).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import sys
 import time
 from pathlib import Path
 
-from springcad.cli.common import default_out
+from springcad.cli.common import bounded, default_out, stage, warn
 from springcad.report.fea_outputs import write_outputs
 
 
@@ -28,11 +28,11 @@ def register(sub):
     p.add_argument("--model", choices=("2d3d", "2d", "3d"), default="2d3d",
                    help="2d3d: plane-stress convergence study x 3D tet factor (default); "
                         "3d: convergence study on quadratic tets (slow); 2d: plane stress only")
-    p.add_argument("--levels", type=int, default=3, help="mesh levels in the study (>= 3)")
+    p.add_argument("--levels", type=bounded(3, 5, integer=True), default=3, help="mesh levels in the study (3 to 5)")
     p.add_argument("--mesher", choices=("gmsh", "pytetwild"), default="gmsh",
                    help="gmsh: exact face, nested levels, extruded quadratic tets (default); "
                         "pytetwild: fTetWild on the CAD solid (implies --model 3d, ~1 min)")
-    p.add_argument("--tolerance-pct", type=float, default=1.0,
+    p.add_argument("--tolerance-pct", type=bounded(0.01, 50, " %"), default=1.0,
                    help="accepted stiffness error vs target in %% (default 1)")
     p.add_argument("--no-correct", action="store_true",
                    help="verify the design as it is, without the width correction")
@@ -48,10 +48,12 @@ def register(sub):
     p.set_defaults(func=run)
 
 
-def _progress(quiet: bool):
+def _progress(quiet: bool, state: dict):
     t0 = time.perf_counter()
 
     def report(message: str, fraction: float | None = None) -> None:
+        if message.startswith("verifying spring "):
+            state["spring"] = message.split()[2]
         if not quiet:
             pct = "" if fraction is None else f" {100 * fraction:3.0f}%"
             print(f"[{time.perf_counter() - t0:6.1f} s{pct}] {message}", file=sys.stderr,
@@ -62,28 +64,30 @@ def _progress(quiet: bool):
 
 def run(args) -> int:
     from springcad.config import load_job
-    from springcad.design.job import design_job
-    from springcad.errors import OutputExistsError
-    from springcad.report.outdir import atomic_output_dir
+    from springcad.report.outdir import atomic_output_dir, check_output_dir
+
+    out = args.out or default_out(args.config) / "verify"
+    job = load_job(args.config)
+    check_output_dir(out, args.overwrite, inputs=[args.config])  # fail before the work
 
     from fea.problem import LoadCase
     from fea.verify import VerifyOptions, verify_job
+    from springcad.design.job import design_job
 
-    progress = _progress(args.quiet)
-    out = args.out or default_out(args.config) / "verify"
-    if out.exists() and any(out.iterdir()) and not args.overwrite:  # fail before the work
-        raise OutputExistsError(f"output folder '{out}' already exists and is not empty; "
-                                "choose another --out or pass --overwrite")
-    job = load_job(args.config)
+    state = {"spring": ""}
+    progress = _progress(args.quiet, state)
     model = "3d" if args.mesher == "pytetwild" else args.model
     options = VerifyOptions(model=model, levels=args.levels, mesher=args.mesher,
                             tolerance=args.tolerance_pct / 100.0, correct=not args.no_correct,
                             case=LoadCase(load=args.load), keep_fields=not args.no_render,
                             support_study=args.support_study, contact=not args.no_contact)
     progress("designing")
-    design = design_job(job)
-    result = verify_job(design, options, progress)
-    with atomic_output_dir(out, overwrite=args.overwrite) as tmp:
+    with stage("design", lambda: f"job {job.name}"):
+        design = design_job(job)
+    warn("verify", design.warnings)
+    with stage("verify", lambda: f"spring {state['spring']}" if state["spring"] else ""):
+        result = verify_job(design, options, progress)
+    with atomic_output_dir(out, overwrite=args.overwrite, inputs=[args.config]) as tmp:
         write_outputs(result, tmp, render=not args.no_render, progress=progress)
     print(result.summary())
     print(f"\nwrote {out / 'fea.json'}")

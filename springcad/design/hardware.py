@@ -38,6 +38,8 @@ FLAT_RATIO = 0.8
 #: stacks of this many springs or more float their middle camshafts on an alignment shaft
 #: inside an outer bushing (paper Section II-A)
 FLOATING_FROM_SPRINGS = 3
+#: (material, default density kg/m^3) of the rim spacers and of the plastic parts; the
+#: densities used are hardware.rim_spacer_density_kg_per_m3 / plastic_density_kg_per_m3
 ALUMINIUM = ("aluminium 6061-T6", 2700.0)
 PLASTIC = ("acetal (POM)", 1420.0)
 FASTENER_STEEL = ("steel", 7850.0)
@@ -230,7 +232,7 @@ class _Layout:
         r_in = max(springs[j].root_radius_mm, springs[j + 1].root_radius_mm) + ROOT_CLEARANCE_MM
         if kind == SHAFT:
             plan = pl.RimWasherPlan(inner_radius_mm=r_in, outer_radius_mm=self.r_outer, joint=j)
-            return [_annular(f"rim_washer_{j + 1}", plan, PLASTIC, zj, gap)]
+            return [_annular(f"rim_washer_{j + 1}", plan, self.plastic, zj, gap)]
         centres = springs[j].hole_centres_mm
         spacer = pl.RimSpacerPlan(inner_radius_mm=r_in, outer_radius_mm=self.r_outer,
                                   hole_centres_mm=centres,
@@ -240,8 +242,8 @@ class _Layout:
         centre = pl.CentreSpacerPlan(
             inner_radius_mm=0.5 * hw.shaft_diameter_mm if self.floating else 0.0,
             outer_radius_mm=r_cs, joint=j)
-        out = [_annular(f"rim_spacer_{j + 1}", spacer, ALUMINIUM, zj, gap),
-               _annular(f"centre_spacer_{j + 1}", centre, PLASTIC, zj, gap)]
+        out = [_annular(f"rim_spacer_{j + 1}", spacer, self.aluminium, zj, gap),
+               _annular(f"centre_spacer_{j + 1}", centre, self.plastic, zj, gap)]
         if centres:
             d = hw.fastener_diameter_mm
             length = springs[j].thickness_mm + gap + springs[j + 1].thickness_mm
@@ -251,6 +253,16 @@ class _Layout:
                                  math.pi * d ** 2 / 4 * length, FASTENER_STEEL[1], self.z0[j],
                                  length))
         return out
+
+    @property
+    def aluminium(self) -> tuple[str, float]:
+        """Rim-spacer material and density (kg/m^3) from the hardware config."""
+        return ALUMINIUM[0], self.hw.rim_spacer_density_kg_per_m3
+
+    @property
+    def plastic(self) -> tuple[str, float]:
+        """Washer, centre-spacer and bushing material and density (kg/m^3) from the hardware config."""
+        return PLASTIC[0], self.hw.plastic_density_kg_per_m3
 
     def alignment_parts(self) -> list[Component]:
         """Outer bushing and alignment shaft of a stack whose camshafts float."""
@@ -262,7 +274,7 @@ class _Layout:
         d = self.hw.shaft_diameter_mm
         shaft = Component("alignment_shaft", pl.AlignmentShaftPlan(diameter_mm=d), self.steel[0],
                           1, math.pi * d ** 2 / 4 * self.height, self.steel[1], 0.0, self.height)
-        return [_annular("outer_bushing", bushing, PLASTIC, 0.0, self.height), shaft]
+        return [_annular("outer_bushing", bushing, self.plastic, 0.0, self.height), shaft]
 
     def flanges(self) -> list[Component]:
         """Rim flange adapters at the ends that take their torque through a rim."""

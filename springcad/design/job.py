@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from springcad import __version__
 from springcad.config import Job
+from springcad.design.plausibility import check_hardware
 from springcad.design.spring import SpringDesign, design_spring
 from springcad.design.stack import StackDesign, design_stack
 from springcad.units import G_PER_KG, MM3_PER_CM3, NMM_PER_NM
@@ -28,6 +29,13 @@ class JobDesign:
         stack = design_stack([merged[n] for n in self.job.stack.sequence], self.job.stack.input,
                              self.job.analysis.monte_carlo_samples, self.job.analysis.seed)
         return JobDesign(self.job, merged, stack)
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """Plausibility warnings: the config's and the designed geometry's."""
+        from springcad.design.plausibility import design_warnings
+
+        return tuple(self.job.warnings) + tuple(design_warnings(self))
 
     def notes(self) -> list[str]:
         out = []
@@ -60,6 +68,7 @@ class JobDesign:
             "springs": {name: s.to_dict() for name, s in self.springs.items()},
             "stack": self.stack.to_dict(),
             "notes": self.notes(),
+            "warnings": list(self.warnings),
         }
 
     def summary(self) -> str:
@@ -125,11 +134,13 @@ def design_job(job: Job) -> JobDesign:
     """Design every spring named in the job and the stack.
 
     Raises:
-        DesignError: a spring cannot be made as specified.
+        DesignError: a spring or a hardware part cannot be made as specified.
     """
     springs = {name: design_spring(spec, job.material, job.manufacturing, job.hardware)
                for name, spec in job.springs.items()}
     springs = common_hole_circle(springs)
     stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
                          job.analysis.monte_carlo_samples, job.analysis.seed)
-    return JobDesign(job, springs, stack)
+    design = JobDesign(job, springs, stack)
+    check_hardware(design)
+    return design

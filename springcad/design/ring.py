@@ -178,11 +178,8 @@ def _flexure_unit(d) -> tuple:
 
 
 def hole_diameter_mm(hardware) -> float:
-    """Hole for the rim fastener: dowel press fit at nominal, bolt clearance per ISO 273 medium."""
-    d = hardware.fastener_diameter_mm
-    if hardware.fastener == "dowel":
-        return d
-    return d + (0.4 if d <= 3.0 else 0.5)
+    """Hole for the rim fastener (:attr:`springcad.config.HardwareSpec.hole_diameter_mm`)."""
+    return hardware.hole_diameter_mm
 
 
 def hole_centres_mm(n_flexures: int, count: int, radius_mm: float) -> tuple:

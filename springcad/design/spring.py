@@ -492,7 +492,14 @@ def _choose_layout(spec: SpringSpec, sigma, E) -> _Layout:
             if best is None or lay.theta_s > best.theta_s:
                 best = lay
     if best is None:
-        raise cap_error(0.6 * ro)
+        if peak > cap(0.6 * ro, z, sigma):
+            raise cap_error(0.6 * ro)
+        raise DesignError(
+            f"spring '{spec.name}': no layout fits: for contact radii {rc_min:.3g} to "
+            f"{0.6 * ro:.3g} mm and N = {ns[0]}{'' if len(ns) == 1 else f' to {ns[-1]}'} the tip "
+            "balls or the flexure roots "
+            f"do not fit in R_o = {ro:.3g} mm; use a larger outer radius, a thicker disk or a "
+            "lower stiffness, or fewer n_flexures")
     return best
 
 

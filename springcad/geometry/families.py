@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import Callable
 
 from springcad.design import plans as pl
-from springcad.design.hardware import ALUMINIUM, PLASTIC, Component
+from springcad.design.hardware import Component
 from springcad.errors import GeometryError
 from springcad.geometry.adapters import AlignmentShaft, RimFlange, TorqueShaft
 from springcad.geometry.base import COLOURS, SpringcadPart
@@ -129,20 +129,24 @@ def _camshaft(ctx: BuildContext, comp: Component) -> None:
     ctx.place(comp.name, part, comp, Placement(z, flipped=flipped), comp.role)
 
 
-def _annular_family(cls, prefix: str, material, heat: str = ""):
-    """Register the builder of a ring-shaped part class placed on the axis."""
+def _annular_family(cls, prefix: str, heat: str = ""):
+    """Register the builder of a ring-shaped part class placed on the axis.
+
+    The part's material and density are the component's (the hardware config's densities).
+    """
     @family(cls.KIND)
     def build(ctx: BuildContext, comp: Component) -> None:
+        material = (comp.material, comp.density_kg_per_m3)
         part = ctx.shaped(comp, lambda pn: cls.from_plan(pn, comp.plan, comp.length_mm,
                                                          material, heat), prefix)
         ctx.place(comp.name, part, comp, Placement(comp.z_mm))
     return build
 
 
-_annular_family(RimSpacer, "RIM-SPACER", ALUMINIUM, "T6")
-_annular_family(RimWasher, "RIM-WASHER", PLASTIC)
-_annular_family(CentreSpacer, "CENTRE-SPACER", PLASTIC)
-_annular_family(Bushing, "BUSHING", PLASTIC)
+_annular_family(RimSpacer, "RIM-SPACER", "T6")
+_annular_family(RimWasher, "RIM-WASHER")
+_annular_family(CentreSpacer, "CENTRE-SPACER")
+_annular_family(Bushing, "BUSHING")
 
 
 @family(pl.RimFlangePlan.KIND)

@@ -92,7 +92,8 @@ def test_unbuildable_geometry_stops_with_the_part_named(tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["build", str(cfg), "--out", str(out), "--no-verify"]) == 2
     err = capsys.readouterr().err
-    assert "S1-RING:" in err and "hole" in err and "fastener_diameter_mm" in err
+    assert "spring 'S1': rim holes of 3 mm do not fit its rim" in err
+    assert "fastener_diameter_mm" in err
     assert not out.exists()
     assert [p.name for p in tmp_path.iterdir()] == ["bad.toml"]
 
@@ -119,7 +120,8 @@ def test_failed_verification_stops_the_build(tmp_path, capsys, monkeypatch):
 
     The design's stress model is made to under-predict by 15 % (so the design thinks S1 keeps
     a 1.2 margin) and the redesign at a lower beam stress is made impossible: the FEA
-    verification must refuse the spring and nothing may be written.
+    verification must refuse the spring (exit status 1, as from ``springcad verify``) and
+    nothing may be written.
     """
     import dataclasses
 
@@ -139,7 +141,7 @@ def test_failed_verification_stops_the_build(tmp_path, capsys, monkeypatch):
     cfg.write_text(S1.read_text().replace("design_stress_MPa = 912",
                                           "design_stress_MPa = 912\nsafety_factor = 1.2"))
     out = tmp_path / "s1"
-    assert main(["build", str(cfg), "--out", str(out), "--no-render"]) == 2
+    assert main(["build", str(cfg), "--out", str(out), "--no-render"]) == 1  # a check failed
     err = capsys.readouterr().err
     assert "FEA verification failed" in err and "yield margin" in err
     assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["s1_strict.toml"]

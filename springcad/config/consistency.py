@@ -1,0 +1,154 @@
+"""Cross-key checks of a job config, and plausibility warnings for legal but odd values.
+
+Errors (:class:`ConfigError`) are combinations no spring can be made from:
+radii out of order, a rim too thin for its holes, slots narrower than the wire's
+kerf, more fasteners than flexure gaps, bolts that are not a catalogue size.
+Warnings are kept on :attr:`Job.warnings` and printed by the CLI. Checks that
+need the designed geometry (the chosen N, r_c and R_r) are in
+:mod:`springcad.design.plausibility`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from springcad.config.schema import BOLT_DIAMETERS_MM
+from springcad.config.specs import HardwareSpec, Job, ManufacturingSpec, SpringSpec
+from springcad.errors import ConfigError
+
+#: Monte Carlo stacks below which the 1 %/99 % percentiles are not worth quoting
+MIN_USEFUL_SAMPLES = 1000
+#: largest contact radius springcad tries, as a fraction of R_o (design.spring._choose_layout)
+CONTACT_SEARCH_FRACTION = 0.6
+#: thinnest rim as a fraction of the outer radius (the rim carries the whole torque)
+MIN_RIM_FRACTION = 0.02
+
+
+def min_rim_mm(outer_radius_mm: float, mfg: ManufacturingSpec, hw: HardwareSpec) -> float:
+    """Thinnest rim (R_o - R_r) a spring may have (mm).
+
+    The wire must leave a web, the root fillets need room and the rim carries the whole
+    reaction torque; with fasteners the holes and their edge distances must fit radially.
+    """
+    rim = max(mfg.min_web_mm, 2.0 * mfg.min_inside_radius_mm, MIN_RIM_FRACTION * outer_radius_mm)
+    if hw.fastener_count > 0:
+        rim = max(rim, hw.hole_diameter_mm + 2.0 * mfg.min_hole_edge_mm)
+    return rim
+
+
+def _spring(s: SpringSpec, mfg: ManufacturingSpec, hw: HardwareSpec, given: dict) -> list[str]:
+    p = f"springs.{s.name}"
+    ro, rc, rr = s.outer_radius_mm, s.contact_radius_mm, s.root_radius_mm
+    if rc is not None and rc >= ro:
+        raise ConfigError(f"{p}.contact_radius_mm", rc,
+                          f"must be smaller than outer_radius_mm = {ro:g}")
+    if rr is not None and rr >= ro:
+        raise ConfigError(f"{p}.root_radius_mm", rr,
+                          f"must be smaller than outer_radius_mm = {ro:g}")
+    if rr is not None and rc is not None and rr <= rc:
+        raise ConfigError(f"{p}.root_radius_mm", rr,
+                          f"must be larger than contact_radius_mm = {rc:g}")
+    if rr is not None and rc is None and rr <= CONTACT_SEARCH_FRACTION * ro:
+        raise ConfigError(
+            f"{p}.root_radius_mm", rr,
+            f"must be above {CONTACT_SEARCH_FRACTION:g} x outer_radius_mm = "
+            f"{CONTACT_SEARCH_FRACTION * ro:.4g} when contact_radius_mm is chosen (springcad "
+            f"tries contact radii up to {CONTACT_SEARCH_FRACTION:g} R_o); give contact_radius_mm "
+            "below root_radius_mm too, or a larger root radius")
+    if rr is not None:
+        need = min_rim_mm(ro, mfg, hw)
+        if ro - rr < need:
+            raise ConfigError(
+                f"{p}.root_radius_mm", rr,
+                f"leaves a rim of {ro - rr:.3g} mm; the rim needs at least {need:.3g} mm "
+                f"(web, fillets, {hw.fastener_count} rim hole(s) of {hw.hole_diameter_mm:g} mm "
+                "with min_hole_edge_mm on both sides): lower root_radius_mm to at most "
+                f"{ro - need:.4g}, use smaller or no fasteners")
+    wire = mfg.min_inside_radius_mm
+    for key in ("tip_radius_mm", "min_tip_radius_mm"):
+        r = getattr(s, key)
+        if r is None or (key == "min_tip_radius_mm" and key not in given):
+            continue
+        if r < wire:
+            raise ConfigError(f"{p}.{key}", r, f"must be at least the wire radius + spark gap = "
+                                               f"{wire:g} mm for wire EDM")
+        if rc is not None and r >= 0.5 * rc:
+            raise ConfigError(f"{p}.{key}", r, f"must be below half the contact radius "
+                                               f"({0.5 * rc:g} mm): the cam needs room inside "
+                                               "the tip balls")
+    if s.n_flexures is not None and hw.fastener_count > s.n_flexures:
+        raise ConfigError("hardware.fastener_count", hw.fastener_count,
+                          f"must be at most n_flexures = {s.n_flexures} of spring {s.name} "
+                          "(one rim hole per gap between flexures)")
+    if rc is not None and hw.shaft_diameter_mm >= rc:
+        raise ConfigError("hardware.shaft_diameter_mm", hw.shaft_diameter_mm,
+                          f"must be smaller than the contact radius {rc:g} mm of spring "
+                          f"{s.name}: the camshaft bore must leave the cam teeth standing")
+    warnings = []
+    if s.tip_radius_mm is not None and "min_tip_radius_mm" in given:
+        warnings.append(f"spring {s.name}: min_tip_radius_mm = {s.min_tip_radius_mm:g} is ignored "
+                        f"because tip_radius_mm = {s.tip_radius_mm:g} fixes the tip ball")
+    return warnings
+
+
+def check(job: Job, spring_values: dict[str, dict]) -> Job:
+    """Cross-key checks of a job built from checked values; returns it with its warnings.
+
+    Args:
+        job: the job built from single-key-checked values.
+        spring_values: per spring, the keys actually given (for "ignored key" warnings).
+
+    Raises:
+        ConfigError: the first inconsistent combination.
+    """
+    mfg, hw, an = job.manufacturing, job.hardware, job.analysis
+    if mfg.min_slot_width_mm < mfg.kerf_mm:
+        raise ConfigError("manufacturing.min_slot_width_mm", mfg.min_slot_width_mm,
+                          f"must be at least the kerf the wire cuts: wire_diameter_mm + 2 x "
+                          f"spark_gap_mm = {mfg.kerf_mm:g} mm")
+    if hw.fastener == "bolt" and hw.fastener_count > 0 and not any(
+            abs(hw.fastener_diameter_mm - d) < 1e-9 for d in BOLT_DIAMETERS_MM):
+        raise ConfigError("hardware.fastener_diameter_mm", hw.fastener_diameter_mm,
+                          "must be an ISO 4762 screw size for fastener = \"bolt\": "
+                          + ", ".join(f"{d:g}" for d in BOLT_DIAMETERS_MM)
+                          + " mm (or use fastener = \"dowel\")")
+    warnings: list[str] = []
+    springs = {}
+    for name, s in job.springs.items():
+        warnings += _spring(s, mfg, hw, spring_values.get(name, {}))
+        wire = mfg.min_inside_radius_mm
+        if s.min_tip_radius_mm < wire and "min_tip_radius_mm" not in spring_values.get(name, {}):
+            # the default smallest ball is below what this wire can cut: the wire's smallest
+            s = replace(s, min_tip_radius_mm=wire)
+        springs[name] = s
+    unused = [n for n in job.springs if n not in job.stack.sequence]
+    if unused:
+        warnings.append(f"spring(s) {', '.join(unused)} are defined but not in stack.sequence; "
+                        "they are designed but not built")
+    if an.monte_carlo_samples < MIN_USEFUL_SAMPLES:
+        warnings.append(f"analysis.monte_carlo_samples = {an.monte_carlo_samples}: the Monte Carlo "
+                        "backlash statistics (mean, std, 1 %/99 % percentiles) need at least "
+                        f"{MIN_USEFUL_SAMPLES} samples to mean anything"
+                        + ("; with one sample the spread is zero" if an.monte_carlo_samples == 1
+                           else ""))
+    if mfg.t_spring_mm == 0 and mfg.t_shaft_mm == 0:
+        warnings.append("manufacturing.t_spring_mm and t_shaft_mm are both 0: the worst-case, "
+                        "RSS and Monte Carlo backlash have zero spread (perfect parts)")
+    mat = job.material
+    if mat.design_stress_MPa * mat.safety_factor > mat.material.yield_strength_MPa * (1 + 1e-9):
+        warnings.append(f"material: design stress {mat.design_stress_MPa:g} MPa x safety factor "
+                        f"{mat.safety_factor:g} exceeds the yield strength "
+                        f"{mat.material.yield_strength_MPa:g} MPa; the FEA yield check will fail "
+                        "unless the peak stress stays below the design stress")
+    rim_joints = _rim_joints(len(job.stack.sequence), job.stack.input)
+    if hw.fastener_count == 0 and rim_joints:
+        raise ConfigError("hardware.fastener_count", 0,
+                          f"must be at least 1: this stack has {rim_joints} rim-to-rim joint(s), "
+                          "pinned or bolted through the rim holes")
+    return replace(job, springs=springs, warnings=tuple(warnings))
+
+
+def _rim_joints(n: int, input_connection: str) -> int:
+    """Number of rim-to-rim joints in a stack of n springs (they alternate, see design.stack)."""
+    first_rim = input_connection == "shaft"
+    return sum(1 for j in range(n - 1) if (j % 2 == 0) == first_rim)

@@ -1,0 +1,145 @@
+"""The validated job: frozen dataclasses in internal units (mm, N*mm, MPa, rad).
+
+Defaults come from :data:`springcad.config.schema.SECTIONS` (declared once there).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+from springcad.config.schema import default
+from springcad.materials import Material
+
+
+def _d(section: str, name: str):
+    return field(default=default(section, name))
+
+
+@dataclass(frozen=True)
+class MaterialSpec:
+    """Material with the stress the flexures are designed to (MPa)."""
+
+    material: Material
+    design_stress_MPa: float
+    safety_factor: float
+    """Required ratio yield strength / peak stress (checked by FEA)."""
+
+
+@dataclass(frozen=True)
+class SpringSpec:
+    """What the user asks of one spring disk.
+
+    Attributes:
+        name: spring name used in the stack sequence.
+        stiffness_Nmm_per_rad: target stiffness (N*mm/rad).
+        max_deflection_rad: deflection the spring must reach at design stress (rad).
+        outer_radius_mm: disk outer radius R_o (mm).
+        thickness_mm: disk thickness z (mm).
+        contact_radius_mm: r_c, or None to choose it.
+        min_tip_radius_mm: smallest tip-ball radius allowed (mm).
+        tip_radius_mm: exact tip-ball radius (as built), or None to size it for the peak load.
+        n_flexures: N, or None to choose it.
+        root_radius_mm: R_r, or None for the rim rule.
+        flexure: "auto", "straight" or "serpentine".
+    """
+
+    name: str
+    stiffness_Nmm_per_rad: float
+    max_deflection_rad: float
+    outer_radius_mm: float
+    thickness_mm: float
+    contact_radius_mm: float | None = None
+    min_tip_radius_mm: float = _d("springs.<name>", "min_tip_radius_mm")
+    tip_radius_mm: float | None = None
+    n_flexures: int | None = None
+    root_radius_mm: float | None = None
+    flexure: str = _d("springs.<name>", "flexure")
+
+
+@dataclass(frozen=True)
+class StackSpec:
+    """Series stack: springs from input to output."""
+
+    sequence: tuple[str, ...]
+    input: str = _d("stack", "input")
+
+
+@dataclass(frozen=True)
+class ManufacturingSpec:
+    """Process limits and tolerances (mm)."""
+
+    process: str = _d("manufacturing", "process")
+    t_spring_mm: float = _d("manufacturing", "t_spring_mm")
+    t_shaft_mm: float = _d("manufacturing", "t_shaft_mm")
+    w_gap_mm: float = _d("manufacturing", "w_gap_mm")
+    wire_diameter_mm: float = _d("manufacturing", "wire_diameter_mm")
+    spark_gap_mm: float = _d("manufacturing", "spark_gap_mm")
+    min_slot_width_mm: float = _d("manufacturing", "min_slot_width_mm")
+    min_web_mm: float = _d("manufacturing", "min_web_mm")
+    min_hole_edge_mm: float = _d("manufacturing", "min_hole_edge_mm")
+    tolerance_distribution: str = _d("manufacturing", "tolerance_distribution")
+
+    @property
+    def min_inside_radius_mm(self) -> float:
+        """Smallest inside corner radius the wire can cut (mm)."""
+        return 0.5 * self.wire_diameter_mm + self.spark_gap_mm
+
+    @property
+    def kerf_mm(self) -> float:
+        """Width of the slot the wire cuts: wire + 2 spark gaps (mm)."""
+        return self.wire_diameter_mm + 2.0 * self.spark_gap_mm
+
+
+@dataclass(frozen=True)
+class HardwareSpec:
+    """Fasteners, spacers and shafts (mm), densities of the non-steel parts (kg/m^3)."""
+
+    fastener: str = _d("hardware", "fastener")
+    fastener_diameter_mm: float = _d("hardware", "fastener_diameter_mm")
+    fastener_count: int = _d("hardware", "fastener_count")
+    shaft_diameter_mm: float = _d("hardware", "shaft_diameter_mm")
+    rim_spacer_thickness_mm: float = _d("hardware", "rim_spacer_thickness_mm")
+    bushing_wall_mm: float = _d("hardware", "bushing_wall_mm")
+    camshaft_hub_length_mm: float = _d("hardware", "camshaft_hub_length_mm")
+    rim_spacer_density_kg_per_m3: float = _d("hardware", "rim_spacer_density_kg_per_m3")
+    plastic_density_kg_per_m3: float = _d("hardware", "plastic_density_kg_per_m3")
+
+    @property
+    def hole_diameter_mm(self) -> float:
+        """Rim hole: dowel press fit at nominal, bolt clearance per ISO 273 medium (mm)."""
+        d = self.fastener_diameter_mm
+        if self.fastener == "dowel":
+            return d
+        return d + (0.4 if d <= 3.0 else 0.5)
+
+
+@dataclass(frozen=True)
+class AnalysisSpec:
+    """Monte Carlo settings of the backlash statistics."""
+
+    monte_carlo_samples: int = _d("analysis", "monte_carlo_samples")
+    seed: int = _d("analysis", "seed")
+
+
+@dataclass(frozen=True)
+class Job:
+    """A validated job: everything the pipeline needs, in internal units.
+
+    ``warnings`` are plausibility warnings about legal but suspicious values;
+    the CLI prints them.
+    """
+
+    name: str
+    description: str
+    material: MaterialSpec
+    springs: dict[str, SpringSpec]
+    stack: StackSpec
+    manufacturing: ManufacturingSpec
+    hardware: HardwareSpec
+    analysis: AnalysisSpec = field(default_factory=AnalysisSpec)
+    source: str = ""
+    warnings: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)

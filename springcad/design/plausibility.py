@@ -1,0 +1,118 @@
+"""Checks of a designed job that need the chosen geometry (N, r_c, R_r, holes, cam).
+
+:func:`check_hardware` raises :class:`DesignError` for parts that cannot exist
+(rim holes crossing an edge or each other, a camshaft bore that eats the cam, a
+component with no volume); :func:`design_warnings` lists legal but suspicious
+results (flexures thinner than the wire, a stiffness the envelope cannot give,
+fasteners cut to the number of flexure gaps). Config-only checks are in
+:mod:`springcad.config.consistency`. Units: mm, N*mm/rad, kg.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from springcad.config.consistency import MIN_RIM_FRACTION
+from springcad.errors import DesignError
+from springcad.units import NMM_PER_NM
+
+#: beam-theory stiffness further than this from the target is reported (fraction)
+STIFFNESS_WARN_FRACTION = 0.01
+#: camshaft hub radius below the cam root (the EDM wire clears the hub), as in design.hardware
+_HUB_CLEARANCE_MM = 0.1
+
+
+def _holes(s) -> None:
+    if not s.hole_centres_mm:
+        return
+    edge = s.manufacturing.min_hole_edge_mm
+    r_hole = 0.5 * s.hole_diameter_mm
+    centres = np.asarray(s.hole_centres_mm)
+    radius = float(np.hypot(*centres[0]))
+    inner = radius - r_hole - s.root_radius_mm
+    outer = s.outer_radius_mm - radius - r_hole
+    if min(inner, outer) < edge - 1e-9:
+        raise DesignError(
+            f"spring '{s.name}': rim holes of {s.hole_diameter_mm:g} mm do not fit its rim "
+            f"({s.root_radius_mm:.3f} to {s.outer_radius_mm:.3f} mm, {s.rim_thickness_mm:.3f} mm "
+            f"thick) with min_hole_edge_mm = {edge:g} on both sides; the rim needs "
+            f"{s.hole_diameter_mm + 2 * edge:.3g} mm: use a smaller hardware.fastener_diameter_mm, "
+            "fastener_count = 0, or a larger outer radius")
+    if len(centres) > 1:
+        gaps = np.linalg.norm(centres[:, None, :] - centres[None, :, :], axis=-1)
+        gaps[np.diag_indices(len(centres))] = np.inf
+        ligament = float(gaps.min()) - 2 * r_hole
+        if ligament < edge - 1e-9:
+            raise DesignError(
+                f"spring '{s.name}': {len(centres)} rim holes of {s.hole_diameter_mm:g} mm leave "
+                f"{ligament:.3g} mm between neighbours (min_hole_edge_mm = {edge:g}); use fewer "
+                "or smaller fasteners")
+
+
+def _bore(s, shaft_diameter_mm: float, min_web_mm: float) -> None:
+    if not s.cam_root_radius_mm:
+        return
+    wall = s.cam_root_radius_mm - _HUB_CLEARANCE_MM - 0.5 * shaft_diameter_mm
+    if wall < min_web_mm:
+        most = 2 * (s.cam_root_radius_mm - _HUB_CLEARANCE_MM - min_web_mm)
+        raise DesignError(
+            f"spring '{s.name}': hardware.shaft_diameter_mm = {shaft_diameter_mm:g} leaves a "
+            f"camshaft wall of {wall:.3g} mm under the cam teeth (cam root radius "
+            f"{s.cam_root_radius_mm:.3f} mm, min_web_mm = {min_web_mm:g}); use a shaft of at most "
+            f"{max(most, 0):.3g} mm or a larger contact radius")
+
+
+def check_hardware(job_design) -> None:
+    """Raise :class:`DesignError` for designed parts that cannot be made.
+
+    Args:
+        job_design: a :class:`~springcad.design.job.JobDesign`.
+    """
+    hw = job_design.job.hardware
+    for s in job_design.springs.values():
+        _holes(s)
+        _bore(s, hw.shaft_diameter_mm, s.manufacturing.min_web_mm)
+        rim_min = max(s.manufacturing.min_web_mm, 2 * s.manufacturing.min_inside_radius_mm)
+        if s.rim_thickness_mm < rim_min:
+            raise DesignError(
+                f"spring '{s.name}': the rim is {s.rim_thickness_mm:.3g} mm thick; the wire needs "
+                f"{rim_min:.3g} mm (min_web_mm, inside radius): fewer flexures, a larger outer "
+                "radius or a smaller root radius")
+    for c in job_design.stack.components:
+        if not (math.isfinite(c.volume_mm3) and c.volume_mm3 > 0):
+            raise DesignError(
+                f"stack part {c.name} ({c.kind}) has no material left (volume "
+                f"{c.volume_mm3:.3g} mm^3): its holes or bore are larger than the part; check "
+                "the hardware sizes against the spring radii")
+
+
+def design_warnings(job_design) -> list[str]:
+    """Plausibility warnings of a designed job (shown on the console and in design.json)."""
+    out = []
+    hw = job_design.job.hardware
+    for s in job_design.springs.values():
+        mfg = s.manufacturing
+        root_w = float(s.width_mm(s.root_radius_mm))
+        if root_w < mfg.wire_diameter_mm:
+            out.append(
+                f"spring {s.name}: flexure root width {root_w * 1000:.3g} um is thinner than the "
+                f"EDM wire ({mfg.wire_diameter_mm:g} mm): the target stiffness "
+                f"{s.target_stiffness_Nmm_per_rad / NMM_PER_NM:.3g} N*m/rad is too low for this "
+                "disk; use a thinner or smaller disk, or fewer flexures")
+        k, target = s.stiffness_beam_Nmm_per_rad, s.target_stiffness_Nmm_per_rad
+        if abs(k / target - 1) > STIFFNESS_WARN_FRACTION:
+            out.append(
+                f"spring {s.name}: beam-theory stiffness {k / NMM_PER_NM:.4g} N*m/rad is "
+                f"{100 * (k / target - 1):+.1f} % from the target {target / NMM_PER_NM:.4g}: the "
+                "envelope cannot give that stiffness with the wire-EDM minimum webs")
+        if hw.fastener_count > s.n_flexures:
+            out.append(f"spring {s.name}: hardware.fastener_count = {hw.fastener_count} cut to "
+                       f"{len(s.hole_centres_mm)}: one rim hole per gap between its "
+                       f"{s.n_flexures} flexures")
+        if s.rim_thickness_mm < MIN_RIM_FRACTION * s.outer_radius_mm:
+            out.append(f"spring {s.name}: the rim is only {s.rim_thickness_mm:.3g} mm thick "
+                       f"({100 * s.rim_thickness_mm / s.outer_radius_mm:.2g} % of the outer "
+                       "radius); it carries the whole torque")
+    return out
