@@ -1,6 +1,5 @@
 """Single-spring synthesis: closed forms, hard constraints, determinism, deliberate deviations."""
 
-import dataclasses
 import math
 
 import numpy as np

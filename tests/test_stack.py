@@ -2,7 +2,6 @@
 
 import math
 
-import numpy as np
 import pytest
 
 from springcad.design.stack import camshaft_indices, connection_sequence
