@@ -176,7 +176,7 @@ class TorqueModel:
         return out
 
     def fit(self, sig: Signals, idx: np.ndarray, x0: np.ndarray, f_scale: float,
-            max_nfev: int = 100) -> np.ndarray:
+            max_nfev: int = 100, free: np.ndarray | None = None) -> np.ndarray:
         """Robust least-squares fit on samples ``idx`` from ``x0``.
 
         Args:
@@ -185,6 +185,8 @@ class TorqueModel:
             x0: start (clipped into the bounds).
             f_scale: soft-L1 scale (N·m): residuals well below it count as squares.
             max_nfev: function evaluations allowed.
+            free: boolean mask of the parameters to fit (default all); the
+                others stay at their ``x0`` values.
 
         Returns:
             Fitted parameter vector.
@@ -192,7 +194,24 @@ class TorqueModel:
         lo, hi = self.bounds
         span = np.where(np.isfinite(hi - lo), hi - lo, np.abs(x0) + 1.0)
         x0 = np.clip(x0, lo + 1e-9 * span, hi - 1e-9 * span)
-        res = optimize.least_squares(self.residual, x0, args=(sig, idx), bounds=(lo, hi),
+        if free is None or free.all():
+            res = optimize.least_squares(self.residual, x0, args=(sig, idx), bounds=(lo, hi),
+                                         loss="soft_l1", f_scale=f_scale, x_scale="jac",
+                                         max_nfev=max_nfev, xtol=1e-8, ftol=1e-8)
+            return res.x
+        full = x0.copy()
+
+        def residual(z):
+            full[free] = z
+            return self.residual(full, sig, idx)
+
+        res = optimize.least_squares(residual, x0[free], bounds=(lo[free], hi[free]),
                                      loss="soft_l1", f_scale=f_scale, x_scale="jac",
                                      max_nfev=max_nfev, xtol=1e-8, ftol=1e-8)
-        return res.x
+        out = x0.copy()
+        out[free] = res.x
+        return out
+
+    def slice_of(self, name: str) -> slice:
+        """Positions of effect ``name``'s parameters in the parameter vector."""
+        return self._slices[name]
