@@ -178,6 +178,20 @@ class EffectEvidence:
                            "standard errors from zero")
         return "; ".join(out)
 
+    def short_reason(self) -> str:
+        """The first failure only, in a few words."""
+        if self.problem is not None:
+            return self.problem
+        for c in self.checks:
+            if not c.agrees:
+                return (f"{c.parameter} differs between {c.parts[0]} and {c.parts[1]} "
+                        f"({c.values[0]:.3g} vs {c.values[1]:.3g}, p = {c.agreement_p:.2g})")
+            if not c.supported:
+                return (f"not supported once the rest of the model is fitted separately on "
+                        f"{c.parts[0]} and {c.parts[1]} ({c.parameter} {c.values[0]:.3g} ± "
+                        f"{c.se[0]:.2g} and {c.values[1]:.3g} ± {c.se[1]:.2g})")
+        return ""
+
     def to_dict(self) -> dict:
         return {"effect": self.effect, "ok": self.ok, "consistent": self.consistent,
                 "supported": self.supported, "physical_problem": self.problem,

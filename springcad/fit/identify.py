@@ -16,8 +16,10 @@ by the direction of motion) and a late torque channel (a torque set by the
 speed) have ``ρ ≈ -0.96``, ``VIF ≈ 14``; with the speed varying (cosine ramps,
 several rates, sines) the VIF falls below 4.
 
-A confounded pair is carried as one term (the one the residual loop chose,
-its evidence the pair's), named as a group, and
+A confounded pair is named as a group and no split is reported: the combined
+torque is (the pair's terms stay in the model when the loop found both; the
+one it found carries the pair when the other is an alternative from the
+library), and
 :func:`recommend_protocol` measures which bench protocol would separate it:
 it rebuilds the record's signals for each candidate protocol and computes
 the pair's VIF there, with the standard errors the record's noise would give.
@@ -98,6 +100,7 @@ class ProtocolAdvice:
         predicted_ci: predicted 95 % half-widths of the pair's reported
             quantities with the record's noise level, on that protocol.
         command: the ``springcad simulate`` command line that writes it.
+        alternatives: every candidate protocol tried, as ``(change, VIF, duration_s)``.
     """
 
     effects: tuple[str, str]
@@ -107,12 +110,15 @@ class ProtocolAdvice:
     vif_protocol: float
     predicted_ci: dict[str, float]
     command: str
+    alternatives: tuple[tuple[str, float, float], ...] = ()
 
     def to_dict(self) -> dict:
         return {"effects": list(self.effects), "change": self.change,
                 "protocol": self.protocol.describe(), "vif_record": self.vif_record,
                 "vif_protocol": self.vif_protocol, "predicted_ci_halfwidth": self.predicted_ci,
-                "command": self.command}
+                "command": self.command,
+                "alternatives": [{"change": c, "vif": v, "duration_s": d}
+                                 for c, v, d in self.alternatives]}
 
 
 @dataclass(frozen=True)
@@ -128,6 +134,9 @@ class Confounded:
             its absolute value over the record, N·m).
         signature: what the shared signature looks like.
         advice: the protocol that would separate them, if one was found.
+        in_model: the group's terms that are in the model (all of them when
+            the loop found each; only the carrier when the others are
+            alternatives from the library).
     """
 
     effects: tuple[str, ...]
@@ -137,13 +146,16 @@ class Confounded:
     combined_Nm: float
     signature: str
     advice: ProtocolAdvice | None = None
+    in_model: tuple[str, ...] = ()
 
     def statement(self) -> str:
         names = " and ".join(self.effects)
+        held = (f"the model keeps the {' and '.join(self.in_model)} terms but reports only "
+                "their sum" if len(self.in_model) > 1 else f"carried as {self.carrier}")
         text = (f"{names} are confounded on this record (signature correlation "
                 f"{self.rho:+.3f}, variance inflation {self.vif:.3g} ≥ {VIF_CONFOUNDED:g}): both "
                 f"read as {self.signature}; one combined term of typical size "
-                f"{self.combined_Nm:.3g} N·m is carried (as {self.carrier}) and no split is claimed")
+                f"{self.combined_Nm:.3g} N·m ({held}) and no split between them is claimed")
         if self.advice is not None:
             text += (f"; {self.advice.change} would separate them (variance inflation "
                      f"{self.advice.vif_protocol:.2g} there)")
@@ -152,6 +164,7 @@ class Confounded:
     def to_dict(self) -> dict:
         return {"effects": list(self.effects), "carried_as": self.carrier, "rho": self.rho,
                 "vif": self.vif, "combined_Nm": self.combined_Nm, "signature": self.signature,
+                "terms_in_model": list(self.in_model),
                 "statement": self.statement(),
                 "advice": None if self.advice is None else self.advice.to_dict()}
 
@@ -216,6 +229,7 @@ def recommend_protocol(model: TorqueModel, x: np.ndarray, sig: Signals, pair: tu
         tau: its correlation time (samples).
     """
     best = None
+    tried = []
     for change, protocol in candidate_protocols(sig):
         try:
             psig = protocol_signals(protocol, float(x[0]))
@@ -226,6 +240,7 @@ def recommend_protocol(model: TorqueModel, x: np.ndarray, sig: Signals, pair: tu
         J = jacobian(pmodel, x, psig, idx)
         rho = pair_correlation(J, primary_index(pmodel, pair[0]), primary_index(pmodel, pair[1]))
         v = vif(rho)
+        tried.append((change, v, protocol.duration_s))
         if best is None or v < best[0] - 1e-9 or (abs(v - best[0]) <= 1e-9
                                                    and protocol.duration_s < best[2].duration_s):
             stride = psig.n / idx.size
@@ -243,24 +258,26 @@ def recommend_protocol(model: TorqueModel, x: np.ndarray, sig: Signals, pair: tu
     v, change, protocol, half = best
     command = (f"springcad simulate --stiffness {float(x[0]):.4g} {protocol.cli_args()} "
                "--out planned_test.csv")
-    return ProtocolAdvice(pair, change, protocol, vif_record, v, half, command)
+    return ProtocolAdvice(pair, change, protocol, vif_record, v, half, command, tuple(tried))
 
 
 # --- confounded effects of a fitted model ------------------------------------------
 
 def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = frozenset()):
-    """Find the effect pairs the record cannot separate; keep one term per pair.
+    """Find the effect pairs the record cannot separate.
 
     Two kinds of pair are checked:
 
-    * both effects in the model: their VIF at the fitted values. The one whose
-      removal costs less on held-out cycles is dropped; the other carries the
-      combined term;
+    * both effects in the model: their VIF at the fitted values. Both terms
+      stay in the model (together they describe the record; what they share is
+      not split between them in the report), named after the one whose removal
+      costs more on held-out cycles;
     * an effect ``E`` of the model and a library effect ``F`` outside it: ``F``
       must be able to do ``E``'s job (the model with ``F`` in place of ``E``
       beats the model without ``E`` by the loop's gain threshold on held-out
-      cycles, with physically possible values) and their VIF, with ``F`` at the
-      values it took there, must reach the confounding level.
+      cycles, with physically possible values) and their VIF, with both fitted
+      together, must reach the confounding level. ``E`` carries the combined
+      term.
 
     Args:
         state: the fitted model (``springcad.fit.search.State``).
@@ -269,42 +286,33 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
         excluded: effects the evidence audit rejected (not alternatives).
 
     Returns:
-        ``(state, groups)``: the model with one term per confounded pair, and a
-        list of ``(carrier, other, rho, vif, joint_model, joint_x)``.
+        A list of ``(carrier, other, rho, vif, joint_model, joint_x)``.
     """
     from springcad.fit.effects import LIBRARY
     from springcad.fit.search import State
 
     sig, s = search.sig, search.s
     groups = []
-    while len(state.model.effects) >= 2:
-        idx = state.inliers(search.cv)
+    idx = state.inliers(search.cv)
+    names = state.model.names
+    if len(names) >= 2:
         J = jacobian(state.model, state.x, sig, idx)
-        worst = None
-        names = state.model.names
         for i, a in enumerate(names):
             for b in names[i + 1:]:
                 rho = pair_correlation(J, primary_index(state.model, a),
                                        primary_index(state.model, b))
                 v = vif(rho)
-                if v >= s.vif_confounded and (worst is None or v > worst[0]):
-                    worst = (v, rho, a, b)
-        if worst is None:
-            break
-        v, rho, a, b = worst
-        loss = {}
-        for name in (a, b):
-            m = state.model.without(name)
-            loss[name] = search.cv_score(m, m.transfer(state.model, state.x), state.mask,
-                                         f_scale)[0]
-        carrier, other = (a, b) if loss[a] >= loss[b] else (b, a)
-        groups.append((carrier, other, rho, v, state.model, state.x.copy()))
-        m = state.model.without(other)
-        x = search.refit(m, m.transfer(state.model, state.x), state.mask, f_scale)
-        state = State(m, x, state.mask, state.series)
+                if v < s.vif_confounded:
+                    continue
+                loss = {}
+                for name in (a, b):
+                    m = state.model.without(name)
+                    loss[name] = search.cv_score(m, m.transfer(state.model, state.x),
+                                                 state.mask, f_scale)[0]
+                carrier, other = (a, b) if loss[a] >= loss[b] else (b, a)
+                groups.append((carrier, other, rho, v, state.model, state.x.copy()))
     grouped = {g[0] for g in groups} | {g[1] for g in groups}
     active = set(state.effects)
-    idx = state.inliers(search.cv)
     for e in state.model.effects:
         for f in LIBRARY:
             if (f.stage in ("mask", "encoder") or f.name in active or f.name in excluded
@@ -329,10 +337,11 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
             fx = x_swap[m_swap.slice_of(f.name)]
             if (score_minus - score_swap <= s.gain_threshold
                     or f.physical_problem(fx, float(x_swap[0]), m_swap.scales) is not None):
-                continue
-            xj = joint.transfer(state.model, state.x, {f.name: fx})
+                continue  # f cannot do e's job
+            # judged where the record puts the pair: both fitted together
+            xj = joint.fit(sig, idx, joint.transfer(state.model, state.x), f_scale)
             rho, v = pair_vif(joint, xj, sig, idx, e.name, f.name)
             if v >= s.vif_confounded:
                 groups.append((e.name, f.name, rho, v, joint, xj))
                 grouped |= {e.name, f.name}
-    return state, groups
+    return groups

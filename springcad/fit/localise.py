@@ -295,7 +295,7 @@ def localise(r: np.ndarray, idx: np.ndarray, sig: Signals, sigma: float, tau: fl
         pat, _, gain = best
         work = work - pat.component
         chosen.append((pat, gain))
-        components[pat.kind] = pat.component
+        components[pat.kind] = components.get(pat.kind, 0.0) + pat.component
     findings = []
     for pat, gain in chosen:
         share = min(1.0, gain * var0 / total)

@@ -34,6 +34,7 @@ Torque in N·m, angles in rad, time in s.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -217,7 +218,8 @@ def _run_loop(sig: Signals, settings: LoopSettings) -> LoopResult:
         # every failing effect goes at once: the audit runs on the whole selected model,
         # so a true effect does not fail for want of another true one
         for ev in failed:
-            rejected.append({"effect": ev.effect, "reason": ev.reason(), "audit": ev.to_dict()})
+            rejected.append({"effect": ev.effect, "reason": ev.reason(),
+                             "short_reason": ev.short_reason(), "audit": ev.to_dict()})
             excluded.add(ev.effect)
             state = _drop(state, ev.effect, lp, f_scale, search,
                           {"meaning": get_effect(ev.effect).meaning, "reason": ev.reason(),
@@ -226,9 +228,11 @@ def _run_loop(sig: Signals, settings: LoopSettings) -> LoopResult:
             state, score, f_scale = _forward(state, lp, search, rounds, None, excluded)
             state, score = _backward(state, score, f_scale, lp, search)
     evidence = {k: v for k, v in evidence.items() if k in state.model.names}
-    state, pairs = find_confounded(state, lp, f_scale, frozenset(excluded))
+    pairs = find_confounded(state, lp, f_scale, frozenset(excluded))
     steps = search
     if any(s.action != "add" for s in search):
+        # derive the path again over the surviving effects, so that every reported
+        # step belongs to the final model
         derived: list[Step] = []
         d_state, d_score, d_scale = _forward(baseline, lp, derived, [], set(state.effects),
                                              excluded)
@@ -262,6 +266,10 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
             "ci_high": spring["ci_high"], "se": spring["se_Nm_per_rad"], "at_bound": False}
     intervals.update(_series_intervals(state, lp))
     confounded = _groups(pairs, state, lp, noise, tau)
+    for g in confounded:
+        for name in g.in_model:
+            for key in state.model.effect_report(name, state.x):
+                intervals[key]["confounded_with"] = [n for n in g.effects if n != name]
     loc = None
     if unexplained:
         x0, x1 = state.x.copy(), state.x.copy()
@@ -282,15 +290,15 @@ def _groups(pairs, state: State, lp: Search, noise: float, tau: float) -> tuple[
         same = next((g for g in out if carrier in g.effects or other in g.effects), None)
         if same is not None:
             merged = same.effects + tuple(n for n in (carrier, other) if n not in same.effects)
-            out[out.index(same)] = Confounded(merged, same.carrier, same.rho, same.vif,
-                                              same.combined_Nm, same.signature, same.advice)
+            out[out.index(same)] = dataclasses.replace(same, effects=merged)
             continue
         held = carrier if carrier in state.model.names else other
-        c = np.abs(contribution(state.model, state.x, sig, idx, held))
+        present = tuple(n for n in (carrier, other) if n in state.model.names)
+        c = np.abs(sum(contribution(state.model, state.x, sig, idx, n) for n in present))
         advice = recommend_protocol(joint, xj, sig, (carrier, other), v, noise, tau)
         out.append(Confounded((held,) + tuple(n for n in (carrier, other) if n != held), held,
                               rho, v, float(np.percentile(c, 90)),
-                              get_effect(held).signature, advice))
+                              get_effect(held).signature, advice, present))
     return tuple(out)
 
 
