@@ -76,6 +76,8 @@ class Effect:
     direction_signed: bool = False
     #: what its residual signature looks like, in a few words
     signature: str = ""
+    #: a torque of the spring itself, delayed with the torque channel (see ``time_shift_s``)
+    delayed: bool = False
 
     def params(self, sc: Scales) -> tuple[Param, ...]:
         """Parameters of the term for a record with scales ``sc``."""
@@ -111,6 +113,10 @@ class Effect:
                 return (f"{q.name} = {p[self.primary]:.4g} rests on its {name} bound "
                         f"{bound:.4g}: the residual asks for more than this effect can be")
         return None
+
+    def time_shift_s(self, p: np.ndarray) -> float:
+        """How late (s) this effect makes the whole torque channel (0 for most)."""
+        return 0.0
 
     # hooks of the torque model; the defaults leave the torque unchanged
     def angle(self, theta: np.ndarray, p: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
@@ -172,6 +178,7 @@ class Hysteresis(Effect):
     stage = "torque"
     splits = ("time", "amplitude")
     direction_signed = True
+    delayed = True
     signature = "a torque offset that follows the direction of motion"
 
     def physical_problem(self, p, stiffness, sc):
@@ -190,10 +197,9 @@ class Hysteresis(Effect):
         return [np.array([0.02 * sc.torque_ref, f * sc.theta_ref]) for f in (0.003, 0.02, 0.08)]
 
     def torque(self, p, sig, idx):
-        away = np.abs(sig.theta_smooth[idx] - sig.reversal[idx])
         # after a reversal friction swings from -H to +H; from rest it rises from 0
-        swing = np.where(sig.virgin[idx], 1.0, 2.0)
-        return p[0] * sig.direction[idx] * (1.0 - swing * np.exp(-away / p[1]))
+        return p[0] * sig.direction[idx] * (1.0 - sig.swing[idx]
+                                            * np.exp(-sig.from_reversal[idx] / p[1]))
 
     def report(self, p, stiffness, sc):
         return {"friction_torque_Nm": float(p[0]), "presliding_rad": float(p[1])}
@@ -216,6 +222,9 @@ class TimeLag(Effect):
 
     def params(self, sc):
         return (Param("lag", -0.5, 0.5, 0.0, 2.0 / sc.sample_rate_hz),)
+
+    def time_shift_s(self, p):
+        return float(p[0])
 
     def angle(self, theta, p, sig, idx):
         # shift the smooth motion only: the noise of each sample stays its own,

@@ -38,11 +38,11 @@ from springcad.fit.data import make_record
 from springcad.fit.inference import Uncertainty, jacobian, report_intervals
 from springcad.fit.protocols import Protocol, SineSweep
 from springcad.fit.segment import segment
-from springcad.fit.signals import Signals, make_signals
+from springcad.fit.signals import Scales, Signals, make_signals
 from springcad.fit.torque_model import TorqueModel
 
-#: variance inflation at which two effects count as not separable on a record
-VIF_CONFOUNDED = 10.0
+#: scales for asking an effect how many parameters it has
+_UNIT_SCALES = Scales(1.0, 1.0, 0.0, 1.0, 500.0, 1e-3)
 
 
 def primary_index(model: TorqueModel, name: str) -> int:
@@ -63,6 +63,14 @@ def pair_correlation(J: np.ndarray, i: int, j: int) -> float:
     if na == 0.0 or nb == 0.0:
         return 1.0
     return float(a @ b) / (na * nb)
+
+
+def vif_limit(a: str, b: str, settings) -> float:
+    """The VIF at which effects ``a`` and ``b`` count as confounded (see ``LoopSettings``)."""
+    from springcad.fit.effects import get_effect
+
+    shaped = any(len(get_effect(n).params(_UNIT_SCALES)) > 1 for n in (a, b))
+    return settings.vif_confounded_shaped if shaped else settings.vif_confounded
 
 
 def vif(rho: float) -> float:
@@ -153,7 +161,7 @@ class Confounded:
         held = (f"the model keeps the {' and '.join(self.in_model)} terms but reports only "
                 "their sum" if len(self.in_model) > 1 else f"carried as {self.carrier}")
         text = (f"{names} are confounded on this record (signature correlation "
-                f"{self.rho:+.3f}, variance inflation {self.vif:.3g} ≥ {VIF_CONFOUNDED:g}): both "
+                f"{self.rho:+.3f}, variance inflation {self.vif:.3g}): both "
                 f"read as {self.signature}; one combined term of typical size "
                 f"{self.combined_Nm:.3g} N·m ({held}) and no split between them is claimed")
         if self.advice is not None:
@@ -216,7 +224,8 @@ def protocol_signals(protocol: Protocol | SineSweep, stiffness: float) -> Signal
 
 
 def recommend_protocol(model: TorqueModel, x: np.ndarray, sig: Signals, pair: tuple[str, str],
-                       vif_record: float, noise_Nm: float, tau: float) -> ProtocolAdvice | None:
+                       vif_record: float, noise_Nm: float, tau: float,
+                       limit: float) -> ProtocolAdvice | None:
     """The candidate protocol on which the pair's VIF is lowest (if below the confounding level).
 
     Args:
@@ -227,6 +236,7 @@ def recommend_protocol(model: TorqueModel, x: np.ndarray, sig: Signals, pair: tu
         vif_record: their VIF on the record.
         noise_Nm: the record's torque noise (N·m), for the predicted intervals.
         tau: its correlation time (samples).
+        limit: the VIF below which the pair counts as separated.
     """
     best = None
     tried = []
@@ -253,7 +263,7 @@ def recommend_protocol(model: TorqueModel, x: np.ndarray, sig: Signals, pair: tu
                 keys |= set(pmodel.effect_report(name, x))
             half = {k: 0.5 * (ci[k]["ci_high"] - ci[k]["ci_low"]) for k in sorted(keys)}
             best = (v, change, protocol, half)
-    if best is None or best[0] >= VIF_CONFOUNDED:
+    if best is None or best[0] >= limit:
         return None
     v, change, protocol, half = best
     command = (f"springcad simulate --stiffness {float(x[0]):.4g} {protocol.cli_args()} "
@@ -288,7 +298,7 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
     Returns:
         A list of ``(carrier, other, rho, vif, joint_model, joint_x)``.
     """
-    from springcad.fit.effects import LIBRARY
+    from springcad.fit.effects import LIBRARY, get_effect
     from springcad.fit.search import State
 
     sig, s = search.sig, search.s
@@ -302,7 +312,7 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
                 rho = pair_correlation(J, primary_index(state.model, a),
                                        primary_index(state.model, b))
                 v = vif(rho)
-                if v < s.vif_confounded:
+                if v < vif_limit(a, b, s) or any(get_effect(n).needs_any for n in (a, b)):
                     continue
                 loss = {}
                 for name in (a, b):
@@ -313,20 +323,35 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
                 groups.append((carrier, other, rho, v, state.model, state.x.copy()))
     grouped = {g[0] for g in groups} | {g[1] for g in groups}
     active = set(state.effects)
+    # an effect that needs a feature of the model to be located (an angle offset needs a
+    # crossover or a kink) is no alternative: when it reads like another effect, the
+    # feature does not locate it
+    outside = [f for f in LIBRARY
+               if f.stage not in ("mask", "encoder") and f.name not in active
+               and f.name not in excluded and not f.needs_any and f.applicable(active, sig)]
+    if not state.model.effects or not outside:
+        return groups
+    # screen with one Jacobian: each outside effect's signature at its probe against
+    # each model effect's column, both freed of the other columns
+    J = jacobian(state.model, state.x, sig, idx)
+    base = state.model.predict(state.x, sig, idx)
+    signatures = {}
+    for f in outside:
+        joint = state.model.with_effect(f)
+        signatures[f.name] = joint.predict(joint.transfer(state.model, state.x), sig, idx) - base
     for e in state.model.effects:
-        for f in LIBRARY:
-            if (f.stage in ("mask", "encoder") or f.name in active or f.name in excluded
-                    or f.name in grouped or not f.applicable(active, sig)):
+        col = primary_index(state.model, e.name)
+        for f in outside:
+            if f.name in grouped:
+                continue
+            rho = pair_correlation(np.column_stack([J, signatures[f.name]]), col, J.shape[1])
+            if e.needs_any or vif(rho) < 0.5 * vif_limit(e.name, f.name, s):
                 continue
             rest = active - {e.name}
             if any(not o.applicable(rest - {o.name}, sig) for o in state.model.effects
                    if o.name != e.name):
                 continue  # another effect needs e: no swap
             joint = state.model.with_effect(f)
-            xj = joint.transfer(state.model, state.x)
-            rho, v = pair_vif(joint, xj, sig, idx, e.name, f.name)
-            if v < 0.5 * s.vif_confounded:
-                continue
             m_minus = state.model.without(e.name)
             minus = State(m_minus, m_minus.transfer(state.model, state.x), state.mask,
                           state.series)
@@ -341,7 +366,7 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
             # judged where the record puts the pair: both fitted together
             xj = joint.fit(sig, idx, joint.transfer(state.model, state.x), f_scale)
             rho, v = pair_vif(joint, xj, sig, idx, e.name, f.name)
-            if v >= s.vif_confounded:
+            if v >= vif_limit(e.name, f.name, s):
                 groups.append((e.name, f.name, rho, v, joint, xj))
                 grouped |= {e.name, f.name}
     return groups

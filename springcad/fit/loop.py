@@ -19,7 +19,8 @@
    together, and its values must be physically possible. The worst failing
    effect is rejected and the search resumes without it, until all pass.
 4. **Identifiability** (:mod:`springcad.fit.identify`). Pairs of effects the
-   record cannot separate (variance inflation ≥ ``vif_confounded``) are
+   record cannot separate (variance inflation ≥ ``vif_confounded``, or
+   ``vif_confounded_shaped`` where a shape parameter is involved) are
    named as a group and carried as one term, with the protocol that would
    separate them.
 5. **Uncertainty** (:mod:`springcad.fit.inference`): every reported quantity
@@ -43,7 +44,7 @@ import numpy as np
 from springcad.fit.effects import LIBRARY, Effect, get_effect
 from springcad.fit.evidence import EffectEvidence, audit
 from springcad.fit.identify import (Confounded, contribution, find_confounded,
-                                    recommend_protocol)
+                                    recommend_protocol, vif_limit)
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
 from springcad.fit.localise import localise
 from springcad.fit.models import nrmse_pct
@@ -253,6 +254,9 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
     """Intervals, confounded groups with advice, and the structure left over."""
     sig, settings = lp.sig, lp.s
     idx = state.inliers(np.arange(sig.n))
+    if spring.get("above_noise", True):
+        state, dilution = _undilute(state, sig, idx)
+        spring = {**spring, "regression_dilution_correction": dilution}
     r = state.model.residual(state.x, sig, idx)
     structure, unexplained, noise = residual_structure(
         r, idx, sig, bins=settings.structure_bins, min_rms=settings.structure_min_rms,
@@ -281,6 +285,37 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
                       intervals, loc)
 
 
+def _undilute(state: State, sig: Signals, idx: np.ndarray) -> tuple[State, float]:
+    """Correct the stiffness for the noise on the deflection it was regressed on.
+
+    With ``τ = K·q(θ)`` fitted on a measured deflection ``θ + e`` (noise ``σ``),
+    least squares returns ``K·Σq²/(Σq² + σ²·Σq'²)`` (regression dilution); the
+    factor is small (1e-5 to 1e-4 here) but on a long record it is comparable
+    with the standard error, and the intervals would miss the true stiffness.
+    ``σ`` is the deflection's spread about its smoothed curve, ``q'`` the slope
+    of the model's elastic shape.
+    """
+    sigma = sig.scales.theta_noise
+    if sigma <= 0.0:
+        return state, 0.0
+    x0, x1 = state.x.copy(), state.x.copy()
+    x0[0], x1[0] = 0.0, 1.0
+    model = state.model
+    h = 1e-3 * max(sig.scales.theta_ref, 1e-9)
+    moved = dataclasses.replace(sig, theta=sig.theta + h)
+
+    def shape(s):
+        return model.predict(x1, s, idx) - model.predict(x0, s, idx)
+
+    q = shape(sig)
+    dq = (shape(moved) - q) / h
+    den = float(q @ q)
+    dilution = sigma ** 2 * float(dq @ dq) / den if den > 0 else 0.0
+    x = state.x.copy()
+    x[0] *= 1.0 + dilution
+    return State(model, x, state.mask, state.series), dilution
+
+
 def _groups(pairs, state: State, lp: Search, noise: float, tau: float) -> tuple[Confounded, ...]:
     """Merge confounded pairs sharing an effect and attach the protocol advice."""
     sig = lp.sig
@@ -295,7 +330,8 @@ def _groups(pairs, state: State, lp: Search, noise: float, tau: float) -> tuple[
         held = carrier if carrier in state.model.names else other
         present = tuple(n for n in (carrier, other) if n in state.model.names)
         c = np.abs(sum(contribution(state.model, state.x, sig, idx, n) for n in present))
-        advice = recommend_protocol(joint, xj, sig, (carrier, other), v, noise, tau)
+        advice = recommend_protocol(joint, xj, sig, (carrier, other), v, noise, tau,
+                                    vif_limit(carrier, other, lp.s))
         out.append(Confounded((held,) + tuple(n for n in (carrier, other) if n != held), held,
                               rho, v, float(np.percentile(c, 90)),
                               get_effect(held).signature, advice, present))

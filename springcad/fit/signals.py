@@ -8,6 +8,7 @@ fold of each sample. Units: s, rad, N·m.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,6 +71,16 @@ class Signals:
     def runs(self) -> np.ndarray:
         """Per-sample index of the run between reversals (0 before the first turn)."""
         return self.run if self.run is not None else np.zeros(self.n, dtype=int)
+
+    @functools.cached_property
+    def from_reversal(self) -> np.ndarray:
+        """Per-sample |smoothed deflection - deflection at the last reversal| (rad)."""
+        return np.abs(self.theta_smooth - self.reversal)
+
+    @functools.cached_property
+    def swing(self) -> np.ndarray:
+        """Per-sample friction swing after the last turn: 1 from rest, 2 after a reversal."""
+        return np.where(self.virgin, 1.0, 2.0)
 
     @property
     def loading(self) -> np.ndarray:

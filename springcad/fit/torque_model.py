@@ -121,12 +121,26 @@ class TorqueModel:
 
     def torque_terms(self, x: np.ndarray, sig: Signals, idx: np.ndarray,
                      names: set[str] | None = None) -> np.ndarray:
-        """Sum of the additive torque terms (N·m) of the effects in ``names`` (default all)."""
+        """Sum of the additive torque terms (N·m) of the effects in ``names`` (default all).
+
+        Terms of the spring itself (``Effect.delayed``, friction) are evaluated
+        ``lag`` seconds earlier when the model has a late torque channel: the
+        channel delays the whole spring torque, not only its elastic part.
+        """
         parts = self._parts(x)
+        shift = sum(e.time_shift_s(parts[e.name]) for e in self.effects)
         out = np.zeros(idx.size)
         for e in self.effects:
             if e.stage == "torque" and (names is None or e.name in names):
-                out = out + e.torque(parts[e.name], sig, idx)
+                if e.delayed and shift != 0.0:
+                    pos = np.clip(idx - shift * sig.scales.sample_rate_hz, 0, sig.n - 1)
+                    i0 = np.minimum(pos.astype(int), sig.n - 2)
+                    w = pos - i0
+                    term = ((1.0 - w) * e.torque(parts[e.name], sig, i0)
+                            + w * e.torque(parts[e.name], sig, i0 + 1))
+                else:
+                    term = e.torque(parts[e.name], sig, idx)
+                out = out + term
         return out
 
     def predict(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
