@@ -135,31 +135,46 @@ def run(args) -> int:
 
 def _print_summary(result, out: Path, files: list[str]) -> None:
     d = result.to_dict()
+    final = d["final"]
     print(f"springcad fit: {result.record.source} ({result.record.n_samples} samples, "
           f"{d['segmentation']['n_cycles']} loading-unloading cycles)")
     print(f"  {'model':<10}{'K (N·m/rad)':>14}{'b (rad)':>11}{'NRMSE (%)':>11}")
     for name, m in d["paper_models"].items():
         print(f"  {name:<10}{m['stiffness_Nm_per_rad']:>14.4g}{m['backlash_rad']:>11.4g}"
               f"{m['nrmse_pct']:>11.3g}")
-    chain = [f"linear ({d['baseline']['nrmse_pct']:.3g} %)"]
-    for s in d["steps"]:
-        sign = "+" if s["action"] == "add" else "-"
-        chain.append(f"{sign}{s['effect']} ({s['nrmse_after_pct']:.3g} %)")
-    print("  loop: " + " -> ".join(chain))
-    final = d["final"]
-    print(f"  final: {final['model']}, K = {final['params']['stiffness_Nm_per_rad']:.4g} N·m/rad, "
-          f"NRMSE {final['nrmse_pct']:.3g} % (noise floor {final['noise_floor_nrmse_pct']:.3g} %)")
+    if final["no_spring"]:
+        sc = d["spring_check"]
+        print(f"  no stiffness above noise: K = {sc['stiffness_Nm_per_rad']:.3g} N·m/rad, "
+              f"95 % CI {sc['ci_low']:.3g} … {sc['ci_high']:.3g} ({sc['z']:.2g} standard errors)")
+    else:
+        chain = [f"linear ({d['baseline']['nrmse_pct']:.3g} %)"]
+        sign = {"add": "+", "remove": "-", "reject": "x"}
+        for s in d["steps"]:
+            chain.append(f"{sign[s['action']]}{s['effect']} ({s['nrmse_after_pct']:.3g} %)")
+        print("  loop: " + " -> ".join(chain))
+        k = final["intervals"]["stiffness_Nm_per_rad"]
+        print(f"  final: {final['model']}, K = {k['value']:.4g} N·m/rad "
+              f"[{k['ci_low']:.4g}, {k['ci_high']:.4g}], NRMSE {final['nrmse_pct']:.3g} % "
+              f"(noise floor {final['noise_floor_nrmse_pct']:.3g} %)")
+        for name, ci in final["intervals"].items():
+            if name != "stiffness_Nm_per_rad" and not ci.get("confounded_with"):
+                print(f"    {name} = {ci['value']:.4g} [{ci['ci_low']:.4g}, {ci['ci_high']:.4g}]")
+        for r in d["rejected"]:
+            print(f"  rejected {r['effect']}: {r['short_reason']}")
+        for g in final["confounded"]:
+            print(f"  confounded: {g['statement']}")
+            if g.get("advice"):
+                print(f"    to separate them: {g['advice']['command']}")
     if final["unexplained"]:
-        tests = final["unexplained_evidence"]["tests"]
-        worst = max(tests.items(), key=lambda kv: kv[1]["structure_rms_over_noise"])
-        print(f"  unexplained: structure remains in the residual ({worst[0]}: "
-              f"{worst[1]['structure_rms_over_noise']:.2f} x noise, p = {worst[1]['p_value']:.2g}); "
-              "see the report")
-    loss = f"  energy loss: {d['energy_loss_pct']:.3g} % (largest amplitude)"
-    if d.get("energy_loss_corrected_pct") is not None:
-        loss += (f"; {d['energy_loss_corrected_pct']:.3g} % without "
-                 f"{', '.join(d['energy_loss_corrections'])}")
-    print(loss)
+        where = final["unexplained_where"]
+        print("  unexplained: structure remains in the residual"
+              + (f": {where['summary']}" if where else "") + "; see the report")
+    en = d["energy_loss"]
+    if en["pct"] is not None:
+        print(f"  energy loss (hysteresis model): {en['pct']:.3g} % "
+              f"[{en['ci_low_pct']:.3g}, {en['ci_high_pct']:.3g}]")
+    else:
+        print(f"  energy loss: {en['note']}")
     if d.get("stiffness_error_pct"):
         print(f"  stiffness error vs target {d['target_stiffness_Nm_per_rad']:.4g} N·m/rad: "
               f"{d['stiffness_error_pct']['deadband']:+.3g} % (deadband)")

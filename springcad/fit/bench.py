@@ -22,59 +22,7 @@ import numpy as np
 
 from springcad.fit.data import BenchRecord, make_record
 from springcad.fit.models import spring_angle
-
-#: the paper's ramp targets: 4° to 24° in 4° steps (rad)
-PAPER_AMPLITUDES_RAD = tuple(float(np.radians(a)) for a in range(4, 25, 4))
-
-
-@dataclass(frozen=True)
-class Protocol:
-    """Ramp protocol: rest, then 0 → +A → 0 → -A → 0 for each amplitude, then rest.
-
-    Attributes:
-        amplitudes_rad: ramp targets (rad), in order.
-        ramp_s: duration of every ramp (s); the speed therefore grows with A.
-        profile: ``"cosine"`` (smooth start and stop, as a position controller
-            with limited acceleration) or ``"linear"`` (constant speed).
-        sample_rate_hz: sample rate (Hz).
-        rest_s: rest before and after the ramps (s).
-    """
-
-    amplitudes_rad: tuple[float, ...] = PAPER_AMPLITUDES_RAD
-    ramp_s: float = 1.6
-    profile: str = "cosine"
-    sample_rate_hz: float = 500.0
-    rest_s: float = 0.5
-
-    def __post_init__(self):
-        if self.profile not in ("cosine", "linear"):
-            raise ValueError(f"profile {self.profile!r} is not 'cosine' or 'linear'")
-        if not self.amplitudes_rad or min(self.amplitudes_rad) <= 0:
-            raise ValueError("amplitudes_rad must be positive")
-
-    def _knots(self) -> tuple[np.ndarray, np.ndarray]:
-        ends = [0.0]
-        for a in self.amplitudes_rad:
-            ends += [a, 0.0, -a, 0.0]
-        starts_t = self.rest_s + self.ramp_s * np.arange(len(ends) - 1)
-        return starts_t, np.asarray(ends)
-
-    @property
-    def duration_s(self) -> float:
-        return 2 * self.rest_s + 4 * len(self.amplitudes_rad) * self.ramp_s
-
-    def times(self) -> np.ndarray:
-        """Sample times (s)."""
-        n = int(round(self.duration_s * self.sample_rate_hz)) + 1
-        return np.arange(n) / self.sample_rate_hz
-
-    def deflection(self, t: np.ndarray) -> np.ndarray:
-        """Commanded (true) spring deflection (rad) at times ``t`` (s)."""
-        starts_t, ends = self._knots()
-        k = np.clip(np.searchsorted(starts_t, t, side="right") - 1, 0, starts_t.size - 1)
-        s = np.clip((t - starts_t[k]) / self.ramp_s, 0.0, 1.0)
-        shape = 0.5 * (1.0 - np.cos(np.pi * s)) if self.profile == "cosine" else s
-        return ends[k] + (ends[k + 1] - ends[k]) * shape
+from springcad.fit.protocols import PAPER_AMPLITUDES_RAD, Protocol, SineSweep  # noqa: F401 (re-exported)
 
 
 @dataclass(frozen=True)

@@ -137,6 +137,10 @@ def parse_bench_csv(text: str, columns: ColumnMap = ColumnMap(), angle_unit: str
     if missing:
         raise DataError(f"{source}: missing column(s) {', '.join(missing)}; "
                         f"the header has: {', '.join(header)}")
+    contradictions = _named_unit_contradictions(
+        [columns.deflection, *encoder], columns.torque, angle_unit, torque_unit)
+    if contradictions:
+        raise DataError(f"{source}: " + "; ".join(contradictions))
     data = {name: _numeric_column(name, header.index(name), rows, line_numbers, source)
             for name in (*wanted.values(), *encoder)}
     angle_scale = units.deg_to_rad(1.0) if angle_unit == "deg" else 1.0
@@ -209,7 +213,7 @@ def make_record(time_s, torque_Nm, deflection_rad, encoder_deflection_rad=None, 
         if bad.any():
             raise DataError(f"{source}: encoder column(s) have {int(bad.sum())} non-finite value(s), "
                             f"first at line {line_numbers[int(np.argmax(bad))]}")
-    warnings = _unit_warnings(arrays, names, angle_unit)
+    warnings = _unit_warnings(arrays, names, angle_unit, source)
     return BenchRecord(arrays["time"], arrays["torque"], arrays["deflection"], encoder,
                        source=source, warnings=tuple(warnings))
 
@@ -270,12 +274,47 @@ def _numeric_column(name: str, col: int, rows: list[list[str]], line_numbers: np
     return out
 
 
-def _unit_warnings(arrays: dict, names: dict, angle_unit: str) -> list[str]:
-    """Warnings where magnitudes suggest a wrong unit (never fatal)."""
+#: a flexure torsion spring of this kind deflects far less than a full turn
+MAX_DEFLECTION_RAD = 2.0 * np.pi
+
+
+def _named_unit_contradictions(angle_columns: list[str], torque_column: str, angle_unit: str,
+                               torque_unit: str) -> list[str]:
+    """Columns whose name states a unit other than the one they are read in."""
+    out = []
+    for name in angle_columns:
+        stated = "deg" if name.endswith("_deg") else "rad" if name.endswith("_rad") else None
+        if stated is not None and stated != angle_unit:
+            out.append(f"column '{name}' is named in {stated} but --angle-unit {angle_unit} was "
+                       f"given, which would scale every angle by "
+                       f"{'pi/180' if angle_unit == 'deg' else '180/pi'}; pass --angle-unit "
+                       f"{stated} (or rename the column if its name is wrong)")
+    stated = ("Nmm" if torque_column.endswith("_Nmm") else
+              "Nm" if torque_column.endswith("_Nm") else None)
+    if stated is not None and stated != torque_unit:
+        out.append(f"column '{torque_column}' is named in {stated} but --torque-unit "
+                   f"{torque_unit} was given (a factor 1000); pass --torque-unit {stated} "
+                   "(or rename the column if its name is wrong)")
+    return out
+
+
+def _unit_warnings(arrays: dict, names: dict, angle_unit: str, source: str) -> list[str]:
+    """Warnings where magnitudes suggest a wrong unit.
+
+    Raises:
+        DataError: the deflection exceeds a full turn, which no spring of this
+            kind does: the angles are not in the unit they are read in.
+    """
     out = []
     theta_max = float(np.max(np.abs(arrays["deflection"])))
     torque_max = float(np.max(np.abs(arrays["torque"])))
     rate_hz = 1.0 / float(np.median(np.diff(arrays["time"])))
+    if theta_max > MAX_DEFLECTION_RAD:
+        hint = ("if the column is in degrees, pass --angle-unit deg" if angle_unit == "rad"
+                else "check the angle unit")
+        raise DataError(f"{source}: deflection reaches {theta_max:.4g} rad ({theta_max / (2 * np.pi):.3g} "
+                        f"turns), more than a full turn, which no flexure torsion spring deflects: "
+                        f"{hint}")
     if theta_max > 2.0:
         hint = ("pass --angle-unit deg if the column is in degrees" if angle_unit == "rad"
                 else "check the angle unit")
@@ -284,6 +323,9 @@ def _unit_warnings(arrays: dict, names: dict, angle_unit: str) -> list[str]:
     elif theta_max < 2e-3:
         out.append(f"deflection never exceeds {theta_max:.3g} rad: is the column in rad "
                    "(not revolutions or a scaled unit)?")
+    elif theta_max < 0.0175 and angle_unit == "deg":
+        out.append(f"deflection never exceeds {units.rad_to_deg(theta_max):.3g} deg: if the "
+                   "column is in rad, do not pass --angle-unit deg")
     if torque_max > 2000.0:
         out.append(f"torque reaches {torque_max:.4g} N·m: if the column is in N·mm, "
                    "pass --torque-unit Nmm")
@@ -295,9 +337,6 @@ def _unit_warnings(arrays: dict, names: dict, angle_unit: str) -> list[str]:
     elif rate_hz > 1e5:
         out.append(f"sample rate is {rate_hz:.3g} Hz: is the time column '{names['time']}' in "
                    "seconds (not hours or minutes)?")
-    if names["deflection"].endswith("_deg") and angle_unit == "rad":
-        out.append(f"column '{names['deflection']}' is named as degrees but is read as rad; "
-                   "pass --angle-unit deg")
     ptp_theta = float(np.ptp(arrays["deflection"]))
     implied = float(np.ptp(arrays["torque"])) / ptp_theta
     if implied < 0.05 or implied > 1e5:

@@ -67,6 +67,17 @@ class Effect:
     order: int = 0
     #: applicable only when at least one of these effects is in the model
     needs_any: tuple[str, ...] = ()
+    #: index (within this effect's parameters) of the parameter that sets its size
+    primary: int = 0
+    #: splits of the record across which its parameters must agree (see ``evidence``)
+    splits: tuple[str, ...] = ("time", "amplitude", "direction")
+    #: its torque follows the direction of motion (held fixed on loading-only or
+    #: unloading-only samples, where it would read as a step at zero deflection)
+    direction_signed: bool = False
+    #: what its residual signature looks like, in a few words
+    signature: str = ""
+    #: a torque of the spring itself, delayed with the torque channel (see ``time_shift_s``)
+    delayed: bool = False
 
     def params(self, sc: Scales) -> tuple[Param, ...]:
         """Parameters of the term for a record with scales ``sc``."""
@@ -83,6 +94,29 @@ class Effect:
     def report(self, p: np.ndarray, stiffness: float, sc: Scales) -> dict:
         """Fitted parameters with units in the key names."""
         return {}
+
+    def physical_problem(self, p: np.ndarray, stiffness: float, sc: Scales) -> str | None:
+        """Why these fitted values cannot describe a real bench, or ``None``.
+
+        The default: the size parameter ran into a bound that is not its null
+        value (the fit wanted more than any plausible bench shows, so the
+        residual is not this effect's signature).
+        """
+        params = self.params(sc)
+        if not params:
+            return None
+        q = params[self.primary]
+        span = q.upper - q.lower
+        for bound, name in ((q.lower, "lower"), (q.upper, "upper")):
+            away_from_null = bound < q.null if name == "lower" else bound > q.null
+            if away_from_null and abs(p[self.primary] - bound) <= 1e-4 * span:
+                return (f"{q.name} = {p[self.primary]:.4g} rests on its {name} bound "
+                        f"{bound:.4g}: the residual asks for more than this effect can be")
+        return None
+
+    def time_shift_s(self, p: np.ndarray) -> float:
+        """How late (s) this effect makes the whole torque channel (0 for most)."""
+        return 0.0
 
     # hooks of the torque model; the defaults leave the torque unchanged
     def angle(self, theta: np.ndarray, p: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
@@ -108,6 +142,13 @@ class Backlash(Effect):
     looks_for = ("residual of the opposite sign to the deflection, stepping across zero "
                  "deflection (torque overestimated near the crossover)")
     stage = "map"
+    signature = "a torque step across zero deflection"
+
+    def physical_problem(self, p, stiffness, sc):
+        q = self.params(sc)[1]
+        if p[1] >= q.upper * (1 - 1e-4):
+            return f"transition {p[1]:.4g} rad rests on its upper bound: not a crossover"
+        return super().physical_problem(p, stiffness, sc)
 
     def params(self, sc):
         # a crossover narrower than the deflection noise cannot be told from it: with samples
@@ -135,6 +176,17 @@ class Hysteresis(Effect):
                "friction reversing over a presliding angle after each turn (energy loss)")
     looks_for = "residual that follows the direction of motion and flips after each reversal"
     stage = "torque"
+    splits = ("time", "amplitude")
+    direction_signed = True
+    delayed = True
+    signature = "a torque offset that follows the direction of motion"
+
+    def physical_problem(self, p, stiffness, sc):
+        q = self.params(sc)[1]
+        if p[1] >= q.upper * (1 - 1e-4):
+            return (f"presliding angle {p[1]:.4g} rad rests on its upper bound: the friction "
+                    "never settles, which is not what friction does")
+        return super().physical_problem(p, stiffness, sc)
 
     def params(self, sc):
         return (Param("friction", 0.0, 0.5 * sc.torque_ref, 0.0, 0.01 * sc.torque_ref),
@@ -145,10 +197,9 @@ class Hysteresis(Effect):
         return [np.array([0.02 * sc.torque_ref, f * sc.theta_ref]) for f in (0.003, 0.02, 0.08)]
 
     def torque(self, p, sig, idx):
-        away = np.abs(sig.theta_smooth[idx] - sig.reversal[idx])
         # after a reversal friction swings from -H to +H; from rest it rises from 0
-        swing = np.where(sig.virgin[idx], 1.0, 2.0)
-        return p[0] * sig.direction[idx] * (1.0 - swing * np.exp(-away / p[1]))
+        return p[0] * sig.direction[idx] * (1.0 - sig.swing[idx]
+                                            * np.exp(-sig.from_reversal[idx] / p[1]))
 
     def report(self, p, stiffness, sc):
         return {"friction_torque_Nm": float(p[0]), "presliding_rad": float(p[1])}
@@ -165,9 +216,15 @@ class TimeLag(Effect):
     looks_for = "residual proportional to the deflection rate (largest mid-ramp, zero at turns)"
     stage = "angle"
     order = 0
+    splits = ("time", "amplitude")
+    direction_signed = True
+    signature = "a torque offset proportional to the deflection rate"
 
     def params(self, sc):
         return (Param("lag", -0.5, 0.5, 0.0, 2.0 / sc.sample_rate_hz),)
+
+    def time_shift_s(self, p):
+        return float(p[0])
 
     def angle(self, theta, p, sig, idx):
         # shift the smooth motion only: the noise of each sample stays its own,
@@ -191,6 +248,7 @@ class AngleOffset(Effect):
     stage = "angle"
     order = 1
     needs_any = ("backlash", "asymmetric_stiffness")
+    signature = "a shift of the crossover along the deflection axis"
 
     def params(self, sc):
         return (Param("angle_offset", -0.2 * sc.theta_ref, 0.2 * sc.theta_ref, 0.0,
@@ -211,6 +269,13 @@ class Stiffening(Effect):
                "flexure, large-deflection geometry): stiffening if positive, softening if negative")
     looks_for = "residual odd in deflection and growing faster than linearly (cubic) with it"
     stage = "factor"
+    signature = "a torque error growing with the cube of the deflection"
+
+    def physical_problem(self, p, stiffness, sc):
+        if 1.0 + 3.0 * p[0] <= 0.0:
+            return (f"softening alpha = {p[0]:.3g} makes the tangent stiffness negative at the "
+                    "largest deflection: not a stable spring")
+        return super().physical_problem(p, stiffness, sc)
 
     def params(self, sc):
         return (Param("alpha", -0.6, 2.0, 0.0, 0.02),)
@@ -231,6 +296,7 @@ class AsymmetricStiffness(Effect):
                "teeth cut unevenly, one-sided contact)")
     looks_for = "residual even in deflection, proportional to |deflection|"
     stage = "factor"
+    signature = "a torque error even in deflection, proportional to |deflection|"
 
     def params(self, sc):
         return (Param("asymmetry", -0.6, 0.6, 0.0, 0.01),)
@@ -251,6 +317,7 @@ class TorqueOffset(Effect):
     looks_for = "residual with a non-zero mean"
     stage = "torque"
     order = 0
+    signature = "a constant torque"
 
     def params(self, sc):
         return (Param("torque_offset", -sc.torque_ref, sc.torque_ref, 0.0, 0.01 * sc.torque_ref),)
@@ -271,6 +338,7 @@ class Drift(Effect):
     looks_for = "residual trending with time, independent of deflection"
     stage = "torque"
     order = 1
+    signature = "a torque growing linearly with time"
 
     def params(self, sc):
         # parameter: drift over the whole record (N·m)
@@ -293,6 +361,7 @@ class Outliers(Effect):
     looks_for = ("isolated samples more than 6 noise standard deviations from the running "
                  "median of the residual")
     stage = "mask"
+    splits = ()
 
     def report(self, p, stiffness, sc):
         return {}
@@ -306,6 +375,7 @@ class SeriesCompliance(Effect):
                "encoder deflection exceeds the optical deflection by torque/K_series")
     looks_for = "encoder minus optical deflection proportional to the torque"
     stage = "encoder"
+    splits = ()
 
     def applicable(self, active, sig):
         return sig.encoder is not None

@@ -1,147 +1,60 @@
-"""The residual loop: from ``τ = K·θ``, add the effect the residual asks for, repeat.
+"""The residual loop: name only the effects the record supports, consistently and separably.
 
-Each round:
-
-1. compute the residual of the current model;
-2. for every applicable effect of the library, run its detector: a score
-   test of the effect's signature against the residual, after projecting out
-   what the current parameters can already absorb (``z``, in standard errors);
-   candidates with ``|z|`` below ``screen_z`` cannot pay for a parameter and
-   are not fitted;
-3. fit the current model plus the candidate on half of the cycles and score it
-   on the other half, and vice versa (two-fold cross-validation over whole
-   excursions). The criterion is ``N'·ln(SSE/N) + k·ln(N')`` over the N
-   held-out samples, with ``N' = N/τ`` the number of independent samples for
-   noise correlated over τ samples (Gaussian log-likelihood with a BIC
-   parameter penalty), so an effect must both predict unseen cycles better
-   and pay for its parameters;
-4. add the effect with the largest drop of the criterion if the drop exceeds
-   ``gain_threshold``, refit everything on all samples, record the step.
-
-The loop stops when no candidate clears the threshold. A backward pass then
-removes effects made redundant by later ones (an offset added before the
-crossover was modelled, say); if it removed any, the path is derived again
-over the surviving effects, so every reported step belongs to the final model.
-Finally the residual is tested for structure left over: mean residual in bins
-of deflection (per direction of motion) and of time, compared with the noise
-level. Structure that is both statistically significant and larger than a
-quarter of the noise level is reported as ``unexplained``, with its evidence
-(see :mod:`springcad.fit.residual`).
+1. **Is there a spring?** ``τ = K·θ`` by least squares; unless K is
+   ``spring_z`` clustered standard errors above zero the record is reported
+   as holding no stiffness above noise, and nothing else is fitted.
+2. **Search** (:class:`springcad.fit.search.Search`). Each round tests every
+   applicable library effect: a score test of its signature against the
+   residual screens it (``screen_z``), then the model with it is fitted on
+   half of the cycles and scored on the other half, and vice versa. The
+   criterion is ``N'·ln(SSE/N) + k·ln(N')`` over the held-out samples, with
+   ``N'`` the independent samples for noise correlated over ``τ`` samples; the
+   best candidate is added if it lowers the criterion by more than
+   ``gain_threshold``. A backward pass removes effects later ones made
+   redundant.
+3. **Evidence audit** (:mod:`springcad.fit.evidence`). Each effect's size is
+   fitted again on separate parts of the record (early and late, small and
+   large amplitudes, loading and unloading) with the rest of the model free
+   on each part; it must agree between the parts and be supported by them
+   together, and its values must be physically possible. The worst failing
+   effect is rejected and the search resumes without it, until all pass.
+4. **Identifiability** (:mod:`springcad.fit.identify`). Pairs of effects the
+   record cannot separate (variance inflation ≥ ``vif_confounded``, or
+   ``vif_confounded_shaped`` where a shape parameter is involved) are
+   named as a group and carried as one term, with the protocol that would
+   separate them.
+5. **Uncertainty** (:mod:`springcad.fit.inference`): every reported quantity
+   with a clustered-sandwich 95 % confidence interval.
+6. **What is left** (:mod:`springcad.fit.residual`, :mod:`springcad.fit.localise`):
+   the final residual is tested for structure beyond noise (by deflection and
+   direction, by time, by run, periodic in time); if any is found it is
+   ``unexplained`` and localised.
 
 Torque in N·m, angles in rad, time in s.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from springcad.fit.effects import LIBRARY, Effect
-from springcad.fit.models import nrmse_pct, rmse
-from springcad.fit.residual import noise_model, residual_structure
+from springcad.fit.effects import LIBRARY, Effect, get_effect
+from springcad.fit.evidence import EffectEvidence, audit
+from springcad.fit.identify import (Confounded, contribution, find_confounded,
+                                    recommend_protocol, vif_limit)
+from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
+from springcad.fit.localise import localise
+from springcad.fit.models import nrmse_pct
+from springcad.fit.residual import residual_structure
+from springcad.fit.search import (Candidate, LoopSettings, Search, State,  # noqa: F401
+                                  line_fit)
 from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel, single_threaded_blas
 
-
-@dataclass(frozen=True)
-class LoopSettings:
-    """Knobs of the residual loop.
-
-    Attributes:
-        gain_threshold: least drop of the held-out criterion (log-likelihood
-            units, after the parameter penalty) for an effect to be added.
-        screen_z: candidates whose detector ``|z|`` is below this are not fitted.
-        max_steps: most effects added.
-        max_cv_samples: cross-validation uses every k-th sample to stay below this.
-        glitch_threshold: glitch size in noise standard deviations.
-        structure_bins: bins of deflection (per direction) and of time.
-        structure_min_rms: least structure, in noise standard deviations, that
-            counts as unexplained.
-        structure_p: significance level of the binned-structure test.
-        excess_ratio: residual RMS over the noise level that counts as unexplained.
-    """
-
-    gain_threshold: float = 25.0
-    screen_z: float = 3.0
-    max_steps: int = 10
-    max_cv_samples: int = 8000
-    glitch_threshold: float = 6.0
-    structure_bins: int = 40
-    structure_min_rms: float = 0.25
-    structure_p: float = 1e-6
-    excess_ratio: float = 1.25
-
-
-@dataclass
-class State:
-    """A model of the record: torque model, parameters, glitch mask, encoder fit.
-
-    Attributes:
-        model: the torque model.
-        x: its parameters.
-        mask: True at samples excluded as glitches (``None`` without ``outliers``).
-        series: ``(slope_rad_per_Nm, offset_rad)`` of encoder minus optical
-            deflection against torque, or ``None`` without ``series_compliance``.
-    """
-
-    model: TorqueModel
-    x: np.ndarray
-    mask: np.ndarray | None = None
-    series: tuple[float, float] | None = None
-
-    @property
-    def effects(self) -> tuple[str, ...]:
-        names = list(self.model.names)
-        if self.mask is not None:
-            names.append("outliers")
-        if self.series is not None:
-            names.append("series_compliance")
-        return tuple(e.name for e in LIBRARY if e.name in names)
-
-    @property
-    def label(self) -> str:
-        return " + ".join(("linear",) + self.effects)
-
-    def inliers(self, idx: np.ndarray) -> np.ndarray:
-        return idx if self.mask is None else idx[~self.mask[idx]]
-
-    def params(self) -> dict:
-        """All fitted parameters with units in the names."""
-        out = self.model.report(self.x)
-        if self.mask is not None:
-            out["n_outliers"] = int(self.mask.sum())
-            out["outlier_fraction"] = float(self.mask.mean())
-        if self.series is not None:
-            slope, offset = self.series
-            out["series_stiffness_Nm_per_rad"] = float(1.0 / slope) if slope else math.inf
-            out["encoder_offset_rad"] = float(offset)
-        return out
-
-
-@dataclass(frozen=True)
-class Candidate:
-    """What one round found about one candidate effect.
-
-    Attributes:
-        effect: library name.
-        z: detector statistic (score-test z, or glitch count for ``outliers``).
-        fitted: whether it passed screening and was cross-validated.
-        gain: drop of the held-out criterion (positive = better), if fitted.
-        heldout_rmse: held-out RMS error with the effect (N·m; rad for the
-            encoder channel), if fitted.
-    """
-
-    effect: str
-    z: float
-    fitted: bool
-    gain: float | None = None
-    heldout_rmse: float | None = None
-
-    def to_dict(self) -> dict:
-        return {"effect": self.effect, "detector": self.z, "fitted": self.fitted,
-                "heldout_gain": self.gain, "heldout_rmse": self.heldout_rmse}
+__all__ = ["Candidate", "LoopResult", "LoopSettings", "State", "Step", "run_loop"]
 
 
 @dataclass(frozen=True)
@@ -149,9 +62,11 @@ class Step:
     """One accepted change of the model.
 
     Attributes:
-        action: ``"add"`` or ``"remove"``.
+        action: ``"add"``, ``"remove"`` (made redundant by a later effect) or
+            ``"reject"`` (failed the evidence audit).
         effect: library name.
-        evidence: detector, held-out gain, penalty, runner-up, physical meaning.
+        evidence: detector, held-out gain, penalty, runner-up, physical
+            meaning; for a rejection the audit's reason.
         before: state before the step.
         after: state after the step.
         nrmse_before_pct: NRMSE on all (non-glitch) samples before.
@@ -168,7 +83,7 @@ class Step:
 
     def effect_params(self) -> dict:
         """The fitted parameters of this step's effect (after the step)."""
-        if self.action == "remove":
+        if self.action != "add":
             return {}
         if self.effect == "outliers":
             return {k: v for k, v in self.after.params().items()
@@ -193,15 +108,21 @@ class LoopResult:
     Attributes:
         baseline: the linear model state.
         steps: accepted steps in order.
-        final: the final state.
+        final: the final state (confounded groups carried by one term each).
         rounds: candidates evaluated in each round.
         structure: evidence of structure left in the final residual.
         unexplained: whether structure remains that no effect explains.
         noise_Nm: white-noise level of the final residual (N·m).
         half_range_Nm: NRMSE normaliser (N·m).
         settings: the settings used.
-        search_log: every add and remove of the search, in order (the steps
-            are re-derived without the removed effects when there were any).
+        search_log: every add, remove and reject of the search, in order.
+        spring: the linear stiffness with its standard error and z, and
+            whether it is above noise.
+        evidence: the final audit of each torque-model effect.
+        rejected: effects the audit rejected, with the reason.
+        confounded: groups the record cannot separate.
+        intervals: every reported quantity with its confidence interval.
+        localisation: where the unexplained structure lives (or ``None``).
     """
 
     baseline: State
@@ -214,6 +135,23 @@ class LoopResult:
     half_range_Nm: float
     settings: LoopSettings
     search_log: tuple[dict, ...] = ()
+    spring: dict = field(default_factory=dict)
+    evidence: dict = field(default_factory=dict)
+    rejected: tuple[dict, ...] = ()
+    confounded: tuple[Confounded, ...] = ()
+    intervals: dict = field(default_factory=dict)
+    localisation: dict | None = None
+
+    @property
+    def no_spring(self) -> bool:
+        """True when the record holds no stiffness above noise."""
+        return not self.spring.get("above_noise", True)
+
+    @property
+    def identified(self) -> tuple[str, ...]:
+        """Effects named on their own (not part of a confounded group)."""
+        grouped = {n for g in self.confounded for n in g.effects}
+        return tuple(e for e in self.final.effects if e not in grouped)
 
     def nrmse_pct(self, state: State, sig: Signals) -> float:
         return _nrmse(state, sig, self.half_range_Nm)
@@ -224,266 +162,216 @@ def _nrmse(state: State, sig: Signals, half_range: float) -> float:
     return nrmse_pct(state.model.residual(state.x, sig, idx), half_range)
 
 
-class _Loop:
-    """Working state of one run (kept private: the result is :class:`LoopResult`)."""
-
-    def __init__(self, sig: Signals, settings: LoopSettings):
-        self.sig = sig
-        self.s = settings
-        n = sig.n
-        self.all = np.arange(n)
-        stride = max(1, math.ceil(n / settings.max_cv_samples))
-        self.cv = self.all[::stride]
-        self.folds = (self.cv[sig.fold[self.cv] == 0], self.cv[sig.fold[self.cv] == 1])
-        self.n_cv = self.cv.size
-        self.cv_rate_hz = sig.scales.sample_rate_hz / stride
-        self.tau = 1.0
-        self.half_range = sig.scales.torque_ref
-
-    @property
-    def n_eff(self) -> float:
-        """Independent held-out samples: CV samples over the noise correlation time."""
-        return self.n_cv / self.tau
-
-    @property
-    def log_n(self) -> float:
-        return math.log(self.n_eff)
-
-    def update_noise(self, state: State) -> None:
-        """Re-estimate the noise correlation from the residual of ``state``."""
-        r = state.model.residual(state.x, self.sig, state.inliers(self.cv))
-        self.tau = noise_model(r, self.cv_rate_hz).tau
-
-    # --- fitting and scoring -------------------------------------------------
-    def f_scale(self, state: State) -> float:
-        r = state.model.residual(state.x, self.sig, state.inliers(self.cv))
-        mad = 1.4826 * float(np.median(np.abs(r - np.median(r))))
-        return 3.0 * max(mad, 1e-9 * self.half_range)
-
-    def cv_score(self, model: TorqueModel, x0: np.ndarray, mask: np.ndarray | None,
-                 f_scale: float) -> tuple[float, float]:
-        """Two-fold held-out criterion and held-out RMSE (N·m).
-
-        The mean of the two fold fits is kept in ``self.last_fit``: a close
-        start for the fit on all samples.
-        """
-        sse, m = 0.0, 0
-        fits = []
-        for k in (0, 1):
-            train, test = self.folds[k], self.folds[1 - k]
-            if mask is not None:
-                train, test = train[~mask[train]], test[~mask[test]]
-            xk = model.fit(self.sig, train, fits[0] if fits else x0, f_scale)
-            fits.append(xk)
-            r = model.residual(xk, self.sig, test)
-            sse += float(r @ r)
-            m += r.size
-        self.last_fit = 0.5 * (fits[0] + fits[1])
-        n_masked = 0 if mask is None else int(mask[self.cv].sum())
-        k_par = model.size + n_masked
-        score = self.n_eff * math.log(max(sse, 1e-300) / self.n_cv) + k_par * self.log_n
-        return score, math.sqrt(sse / max(m, 1))
-
-    def refit(self, model: TorqueModel, x0: np.ndarray, mask: np.ndarray | None,
-              f_scale: float) -> np.ndarray:
-        idx = self.all if mask is None else self.all[~mask]
-        return model.fit(self.sig, idx, x0, f_scale, max_nfev=200)
-
-    # --- detectors -----------------------------------------------------------
-    def jacobian(self, state: State, idx: np.ndarray) -> np.ndarray:
-        model, x = state.model, state.x
-        base = model.predict(x, self.sig, idx)
-        lo, hi = model.bounds
-        cols = []
-        for j in range(model.size):
-            h = 1e-6 * max(abs(x[j]), 1e-3 * (1.0 if not np.isfinite(hi[j] - lo[j]) else hi[j] - lo[j]))
-            xp = x.copy()
-            xp[j] = x[j] + h if x[j] + h <= hi[j] else x[j] - h
-            cols.append((model.predict(xp, self.sig, idx) - base) / (xp[j] - x[j]))
-        return np.column_stack(cols)
-
-    def score_test(self, state: State, effect: Effect, residual: np.ndarray, jac: np.ndarray,
-                   idx: np.ndarray) -> float:
-        """Score-test z of ``effect``'s signature against the residual."""
-        m2 = state.model.with_effect(effect)
-        x_probe = m2.transfer(state.model, state.x)
-        g = m2.predict(x_probe, self.sig, idx) - state.model.predict(state.x, self.sig, idx)
-        coef, *_ = np.linalg.lstsq(jac, g, rcond=None)
-        g_perp = g - jac @ coef
-        norm = float(np.linalg.norm(g_perp))
-        sigma = rmse(residual)
-        if norm <= 1e-9 * float(np.linalg.norm(g)) or sigma == 0.0:
-            return 0.0
-        return float(g_perp @ residual) / (sigma * norm)
-
-    # --- candidates ----------------------------------------------------------
-    def try_torque_effect(self, state: State, effect: Effect, f_scale: float):
-        """Best start and the cross-validated score of ``state`` plus ``effect``."""
-        m2 = state.model.with_effect(effect)
-        idx = state.inliers(self.cv)
-        best_x, best_sse = None, np.inf
-        for s in effect.starts(m2.scales):
-            x_s = m2.solve_stiffness(m2.transfer(state.model, state.x, {effect.name: s}),
-                                     self.sig, idx)
-            r = m2.residual(x_s, self.sig, idx)
-            sse = float(r @ r)
-            if sse < best_sse:
-                best_x, best_sse = x_s, sse
-        score, heldout = self.cv_score(m2, best_x, state.mask, f_scale)
-        return m2, self.last_fit, score, heldout
-
-    def series_scores(self, state: State) -> tuple[float, float, float, float, float]:
-        """Held-out criterion of the encoder channel without and with the slope.
-
-        Returns:
-            ``(score_without, score_with, z, rmse_without_rad, rmse_with_rad)``.
-        """
-        sig = self.sig
-        e = sig.encoder - sig.theta
-        tau = sig.torque
-        keep = ~find_glitches(tau, self.s.glitch_threshold)
-        idx = self.cv[keep[self.cv]]
-        slope, offset = _line_fit(tau[idx], e[idx], True)
-        r = e[idx] - offset - slope * tau[idx]
-        corr = noise_model(r, self.cv_rate_hz).tau  # this channel's own noise correlation
-        se = rmse(r) * math.sqrt(corr) / (float(np.std(tau[idx])) * math.sqrt(idx.size))
-        z = slope / se if se > 0 else 0.0
-        out = {}
-        for with_slope in (False, True):
-            sse, m = 0.0, 0
-            for k in (0, 1):
-                train, test = self.folds[k], self.folds[1 - k]
-                train, test = train[keep[train]], test[keep[test]]
-                coef = _line_fit(tau[train], e[train], with_slope)
-                r = e[test] - (coef[1] + coef[0] * tau[test])
-                sse += float(r @ r)
-                m += r.size
-            k_par = 2 if with_slope else 1
-            m_eff = m / corr
-            out[with_slope] = (m_eff * math.log(sse / m) + k_par * math.log(m_eff),
-                               math.sqrt(sse / m))
-        return out[False][0], out[True][0], z, out[False][1], out[True][1]
-
-    # --- one round -----------------------------------------------------------
-    def round(self, state: State, score_now: float, f_scale: float,
-              allowed: set[str] | None = None):
-        """Evaluate the candidates (all, or ``allowed``); return them and the proposals."""
-        sig = self.sig
-        idx = state.inliers(self.cv)
-        residual = state.model.residual(state.x, sig, idx)
-        jac = self.jacobian(state, idx)
-        active = set(state.effects)
-        cands, proposals = [], []
-        for effect in LIBRARY:
-            if effect.name in active or not effect.applicable(active, sig):
-                continue
-            if allowed is not None and effect.name not in allowed:
-                continue
-            if effect.stage == "mask":
-                full_r = state.model.residual(state.x, sig, self.all)
-                mask = find_glitches(full_r, self.s.glitch_threshold)
-                n_glitch = int(mask.sum())
-                if n_glitch == 0:
-                    cands.append(Candidate(effect.name, 0.0, False))
-                    continue
-                score, heldout = self.cv_score(state.model, state.x, mask, f_scale)
-                gain = score_now - score
-                cands.append(Candidate(effect.name, float(n_glitch), True, gain, heldout))
-                proposals.append((gain, effect, State(state.model, state.x, mask, state.series),
-                                  float(n_glitch), heldout, 0))
-                continue
-            if effect.stage == "encoder":
-                s0, s1, z, r0, r1 = self.series_scores(state)
-                gain = s0 - s1
-                fitted = abs(z) >= self.s.screen_z
-                cands.append(Candidate(effect.name, z, fitted, gain if fitted else None, r1))
-                if fitted:
-                    keep = ~find_glitches(sig.torque, self.s.glitch_threshold)
-                    coef = _line_fit(sig.torque[keep], (sig.encoder - sig.theta)[keep], True)
-                    new = State(state.model, state.x, state.mask, (float(coef[0]), float(coef[1])))
-                    proposals.append((gain, effect, new, z, (r0, r1), 1))
-                continue
-            z = self.score_test(state, effect, residual, jac, idx)
-            if abs(z) < self.s.screen_z:
-                cands.append(Candidate(effect.name, z, False))
-                continue
-            m2, x_start, score, heldout = self.try_torque_effect(state, effect, f_scale)
-            gain = score_now - score
-            cands.append(Candidate(effect.name, z, True, gain, heldout))
-            proposals.append((gain, effect, State(m2, x_start, state.mask, state.series), z,
-                              heldout, m2.size - state.model.size))
-        proposals.sort(key=lambda p: -p[0])
-        return cands, proposals
-
-
-def _line_fit(x: np.ndarray, y: np.ndarray, with_slope: bool) -> tuple[float, float]:
-    """``(slope, offset)`` of least squares ``y ≈ offset + slope·x``."""
-    if not with_slope:
-        return 0.0, float(np.mean(y))
-    xm, ym = float(np.mean(x)), float(np.mean(y))
-    dx = x - xm
-    slope = float(dx @ (y - ym)) / float(dx @ dx)
-    return slope, ym - slope * xm
-
-
 def run_loop(sig: Signals, settings: LoopSettings = LoopSettings()) -> LoopResult:
-    """Run the residual loop on one record.
-
-    A forward search adds effects greedily; a backward pass removes effects
-    made redundant by later ones. If anything was removed, the path is derived
-    again, forward, over the surviving effects only, so that every reported
-    step adds an effect of the final model with its own fresh evidence; the
-    search itself is kept in :attr:`LoopResult.search_log`.
+    """Run the residual loop on one record (see the module docstring).
 
     Args:
         sig: signals of the segmented record.
         settings: loop settings.
 
     Returns:
-        Baseline, steps, final model, evidence of leftover structure.
+        Baseline, steps, final model, evidence, confounded groups, intervals,
+        and the structure left over with its localisation.
     """
     with single_threaded_blas():
         return _run_loop(sig, settings)
 
 
-def _run_loop(sig: Signals, settings: LoopSettings) -> LoopResult:
-    lp = _Loop(sig, settings)
+def _spring(sig: Signals, lp: Search) -> tuple[State, dict]:
+    """Linear least squares ``τ = K·θ`` and whether K stands above the noise."""
+    theta, torque = sig.theta, sig.torque
+    k = float(theta @ torque / (theta @ theta))
+    r = torque - k * theta
+    unc = sandwich(theta[:, None], r, sig.runs, sig.scales.sample_rate_hz)
+    se = float(unc.se[0])
+    z = k / se if se > 0 else math.inf
+    above = bool(k > 0 and z >= lp.s.spring_z)
+    t = unc.t_quantile()
+    info = {"stiffness_Nm_per_rad": k, "se_Nm_per_rad": se, "z": z,
+            "ci_low": k - t * se, "ci_high": k + t * se, "above_noise": above,
+            "threshold_z": lp.s.spring_z}
     model = TorqueModel((), sig.scales)
-    k_ls = float(sig.theta @ sig.torque / (sig.theta @ sig.theta))
-    state = State(model, np.array([k_ls]))
-    baseline = State(model, model.fit(sig, lp.all, state.x, lp.f_scale(state), max_nfev=200))
+    if not above:
+        return State(model, np.array([max(k, 1e-9)])), info
+    state = State(model, np.array([k]))
+    return State(model, model.fit(sig, lp.all, state.x, lp.f_scale(state), max_nfev=200)), info
+
+
+def _run_loop(sig: Signals, settings: LoopSettings) -> LoopResult:
+    lp = Search(sig, settings)
+    baseline, spring = _spring(sig, lp)
+    if not spring["above_noise"]:
+        return _finish(lp, baseline, baseline, (), (), (), spring, {}, (), ())
     search: list[Step] = []
     rounds: list = []
-    state, score_now, f_scale = _forward(baseline, lp, search, rounds, None)
-    state, score_now = _backward(state, score_now, f_scale, lp, search)
+    excluded: set[str] = set()
+    rejected: list[dict] = []
+    state, score, f_scale = _forward(baseline, lp, search, rounds, None, excluded)
+    state, score = _backward(state, score, f_scale, lp, search)
+    evidence: dict[str, EffectEvidence] = {}
+    for attempt in range(settings.max_audits + 1):
+        aud = audit(state.model, state.x, sig, state.inliers(lp.cv), f_scale,
+                    settings.agreement_p, settings.support_z)
+        evidence = aud.effects
+        failed = aud.failed()
+        if not failed:
+            break
+        # every failing effect goes at once: the audit runs on the whole selected model,
+        # so a true effect does not fail for want of another true one
+        for ev in failed:
+            rejected.append({"effect": ev.effect, "reason": ev.reason(),
+                             "short_reason": ev.short_reason(), "audit": ev.to_dict()})
+            excluded.add(ev.effect)
+            state = _drop(state, ev.effect, lp, f_scale, search,
+                          {"meaning": get_effect(ev.effect).meaning, "reason": ev.reason(),
+                           "audit": ev.to_dict()})
+        if attempt < settings.max_audits:
+            state, score, f_scale = _forward(state, lp, search, rounds, None, excluded)
+            state, score = _backward(state, score, f_scale, lp, search)
+    evidence = {k: v for k, v in evidence.items() if k in state.model.names}
+    pairs = find_confounded(state, lp, f_scale, frozenset(excluded))
     steps = search
-    if any(s.action == "remove" for s in search):
-        steps, rounds = [], []
-        state, score_now, f_scale = _forward(baseline, lp, steps, rounds, set(state.effects))
-        # the evidence that nothing else helps: one round over the whole library
-        rounds.append(tuple(lp.round(state, score_now, f_scale)[0]))
-    idx = state.inliers(np.arange(sig.n))
-    structure, unexplained, noise = residual_structure(
-        state.model.residual(state.x, sig, idx), idx, sig, bins=settings.structure_bins,
-        min_rms=settings.structure_min_rms, p_level=settings.structure_p,
-        excess_ratio=settings.excess_ratio)
+    if any(s.action != "add" for s in search):
+        # derive the path again over the surviving effects, so that every reported
+        # step belongs to the final model
+        derived: list[Step] = []
+        d_state, d_score, d_scale = _forward(baseline, lp, derived, [], set(state.effects),
+                                             excluded)
+        if set(d_state.effects) == set(state.effects):
+            steps = derived
+            rounds.append(tuple(lp.round(state, d_score, d_scale, None, frozenset(excluded))[0]))
     log = tuple({"action": s.action, "effect": s.effect,
                  "heldout_gain": s.evidence.get("heldout_gain",
-                                                -s.evidence.get("heldout_loss_when_removed", 0.0))}
+                                                -s.evidence.get("heldout_loss_when_removed", 0.0)),
+                 "reason": s.evidence.get("reason")}
                 for s in search)
-    return LoopResult(baseline, tuple(steps), state, tuple(rounds), structure, unexplained,
-                      noise, lp.half_range, settings, log)
+    return _finish(lp, baseline, state, tuple(steps), tuple(rounds), log, spring, evidence,
+                   tuple(rejected), pairs)
 
 
-def _forward(state: State, lp: _Loop, steps: list[Step], rounds: list,
-             allowed: set[str] | None) -> tuple[State, float, float]:
+def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, spring: dict,
+            evidence: dict, rejected: tuple, pairs) -> LoopResult:
+    """Intervals, confounded groups with advice, and the structure left over."""
+    sig, settings = lp.sig, lp.s
+    idx = state.inliers(np.arange(sig.n))
+    if spring.get("above_noise", True):
+        state, dilution = _undilute(state, sig, idx)
+        spring = {**spring, "regression_dilution_correction": dilution}
+    r = state.model.residual(state.x, sig, idx)
+    structure, unexplained, noise = residual_structure(
+        r, idx, sig, bins=settings.structure_bins, min_rms=settings.structure_min_rms,
+        p_level=settings.structure_p, excess_ratio=settings.excess_ratio)
+    tau = structure["noise_correlation_samples"]
+    unc = uncertainty(state.model, state.x, sig, idx)
+    intervals = report_intervals(state.model, state.x, unc)
+    if not spring.get("above_noise", True):
+        intervals["stiffness_Nm_per_rad"] = {
+            "value": spring["stiffness_Nm_per_rad"], "ci_low": spring["ci_low"],
+            "ci_high": spring["ci_high"], "se": spring["se_Nm_per_rad"], "at_bound": False}
+    intervals.update(_series_intervals(state, lp))
+    confounded = _groups(pairs, state, lp, noise, tau)
+    for g in confounded:
+        for name in g.in_model:
+            for key in state.model.effect_report(name, state.x):
+                intervals[key]["confounded_with"] = [n for n in g.effects if n != name]
+    loc = None
+    if unexplained:
+        x0, x1 = state.x.copy(), state.x.copy()
+        x0[0], x1[0] = 0.0, 1.0
+        shape = state.model.predict(x1, sig, idx) - state.model.predict(x0, sig, idx)
+        loc = localise(r, idx, sig, noise, tau, shape, p_level=settings.structure_p)
+    return LoopResult(baseline, steps, state, rounds, structure, unexplained, noise,
+                      lp.half_range, settings, log, spring, evidence, rejected, confounded,
+                      intervals, loc)
+
+
+def _undilute(state: State, sig: Signals, idx: np.ndarray) -> tuple[State, float]:
+    """Correct the stiffness for the noise on the deflection it was regressed on.
+
+    With ``τ = K·q(θ)`` fitted on a measured deflection ``θ + e`` (noise ``σ``),
+    least squares returns ``K·Σq²/(Σq² + σ²·Σq'²)`` (regression dilution); the
+    factor is small (1e-5 to 1e-4 here) but on a long record it is comparable
+    with the standard error, and the intervals would miss the true stiffness.
+    ``σ`` is the deflection's spread about its smoothed curve, ``q'`` the slope
+    of the model's elastic shape.
+    """
+    sigma = sig.scales.theta_noise
+    if sigma <= 0.0:
+        return state, 0.0
+    x0, x1 = state.x.copy(), state.x.copy()
+    x0[0], x1[0] = 0.0, 1.0
+    model = state.model
+    h = 1e-3 * max(sig.scales.theta_ref, 1e-9)
+    moved = dataclasses.replace(sig, theta=sig.theta + h)
+
+    def shape(s):
+        return model.predict(x1, s, idx) - model.predict(x0, s, idx)
+
+    q = shape(sig)
+    dq = (shape(moved) - q) / h
+    den = float(q @ q)
+    dilution = sigma ** 2 * float(dq @ dq) / den if den > 0 else 0.0
+    x = state.x.copy()
+    x[0] *= 1.0 + dilution
+    return State(model, x, state.mask, state.series), dilution
+
+
+def _groups(pairs, state: State, lp: Search, noise: float, tau: float) -> tuple[Confounded, ...]:
+    """Merge confounded pairs sharing an effect and attach the protocol advice."""
+    sig = lp.sig
+    out: list[Confounded] = []
+    idx = state.inliers(lp.cv)
+    for carrier, other, rho, v, joint, xj in pairs:
+        same = next((g for g in out if carrier in g.effects or other in g.effects), None)
+        if same is not None:
+            merged = same.effects + tuple(n for n in (carrier, other) if n not in same.effects)
+            out[out.index(same)] = dataclasses.replace(same, effects=merged)
+            continue
+        held = carrier if carrier in state.model.names else other
+        present = tuple(n for n in (carrier, other) if n in state.model.names)
+        c = np.abs(sum(contribution(state.model, state.x, sig, idx, n) for n in present))
+        advice = recommend_protocol(joint, xj, sig, (carrier, other), v, noise, tau,
+                                    vif_limit(carrier, other, lp.s))
+        out.append(Confounded((held,) + tuple(n for n in (carrier, other) if n != held), held,
+                              rho, v, float(np.percentile(c, 90)),
+                              get_effect(held).signature, advice, present))
+    return tuple(out)
+
+
+def _series_intervals(state: State, lp: Search) -> dict:
+    """Confidence intervals of the series stiffness (clustered on runs)."""
+    if state.series is None:
+        return {}
+    sig = lp.sig
+    keep = ~find_glitches(sig.torque, lp.s.glitch_threshold)
+    tau, e = sig.torque[keep], (sig.encoder - sig.theta)[keep]
+    slope, offset = state.series
+    J = np.column_stack([tau, np.ones_like(tau)])
+    unc = sandwich(J, e - offset - slope * tau, sig.runs[keep], sig.scales.sample_rate_hz)
+    t = unc.t_quantile()
+    lo, hi = slope - t * unc.se[0], slope + t * unc.se[0]
+    k = 1.0 / slope
+    # 1/slope over the slope interval; unbounded when the interval reaches zero
+    k_lo = 1.0 / hi if hi > 0 else math.inf
+    k_hi = 1.0 / lo if lo > 0 else math.inf
+    return {"series_stiffness_Nm_per_rad": {"value": k, "ci_low": min(k_lo, k_hi),
+                                            "ci_high": max(k_lo, k_hi),
+                                            "se": float(unc.se[0]) * k * k, "at_bound": False},
+            "encoder_offset_rad": {"value": offset, "ci_low": offset - t * unc.se[1],
+                                   "ci_high": offset + t * unc.se[1],
+                                   "se": float(unc.se[1]), "at_bound": False}}
+
+
+def _forward(state: State, lp: Search, steps: list[Step], rounds: list,
+             allowed: set[str] | None, excluded: set[str]) -> tuple[State, float, float]:
     """Add the best candidate while its evidence clears the threshold."""
     sig, settings = lp.sig, lp.s
     f_scale = lp.f_scale(state)
     lp.update_noise(state)
     score_now, heldout_now = lp.cv_score(state.model, state.x, state.mask, f_scale)
-    while len(steps) < settings.max_steps:
-        cands, proposals = lp.round(state, score_now, f_scale, allowed)
+    added = 0
+    while added < settings.max_steps:
+        cands, proposals = lp.round(state, score_now, f_scale, allowed, frozenset(excluded))
         rounds.append(tuple(cands))
         if not proposals or proposals[0][0] <= settings.gain_threshold:
             break
@@ -508,6 +396,7 @@ def _forward(state: State, lp: _Loop, steps: list[Step], rounds: list,
                 evidence["n_glitches"] = int(mask.sum())
         steps.append(Step("add", effect.name, evidence, before, after,
                           _nrmse(before, sig, lp.half_range), _nrmse(after, sig, lp.half_range)))
+        added += 1
         state = after
         f_scale = lp.f_scale(state)
         lp.update_noise(state)
@@ -515,7 +404,29 @@ def _forward(state: State, lp: _Loop, steps: list[Step], rounds: list,
     return state, score_now, f_scale
 
 
-def _refresh_mask(state: State, lp: _Loop, f_scale: float) -> State:
+def _drop(state: State, name: str, lp: Search, f_scale: float, steps: list[Step],
+          evidence: dict) -> State:
+    """Remove effect ``name`` (and effects that need it), refit, record a rejection."""
+    sig = lp.sig
+    model, mask, series = state.model, state.mask, state.series
+    if name == "outliers":
+        mask = None
+    elif name == "series_compliance":
+        series = None
+    else:
+        model = model.without(name)
+        active = set(model.names)
+        for e in list(model.effects):
+            if not e.applicable(active - {e.name}, sig):
+                model = model.without(e.name)
+    x = lp.refit(model, model.transfer(state.model, state.x), mask, f_scale)
+    after = State(model, x, mask, series)
+    steps.append(Step("reject", name, evidence, state, after, _nrmse(state, sig, lp.half_range),
+                      _nrmse(after, sig, lp.half_range)))
+    return after
+
+
+def _refresh_mask(state: State, lp: Search, f_scale: float) -> State:
     """Re-detect glitches on the new residual and refit if they changed."""
     r = state.model.residual(state.x, lp.sig, lp.all)
     mask = find_glitches(r, lp.s.glitch_threshold)
@@ -525,7 +436,7 @@ def _refresh_mask(state: State, lp: _Loop, f_scale: float) -> State:
     return State(state.model, x, mask, state.series)
 
 
-def _evidence(effect: Effect, z: float, gain: float, n_added: int, lp: _Loop, runner,
+def _evidence(effect: Effect, z: float, gain: float, n_added: int, lp: Search, runner,
               heldout_before: float, heldout_after: float, unit: str) -> dict:
     statistic = "glitch_count" if effect.stage == "mask" else "score_test_z"
     return {
@@ -543,7 +454,7 @@ def _evidence(effect: Effect, z: float, gain: float, n_added: int, lp: _Loop, ru
     }
 
 
-def _backward(state: State, score_now: float, f_scale: float, lp: _Loop,
+def _backward(state: State, score_now: float, f_scale: float, lp: Search,
               steps: list[Step]) -> tuple[State, float]:
     """Remove torque-model effects whose removal does not worsen the held-out criterion."""
     sig = lp.sig
@@ -574,3 +485,8 @@ def _backward(state: State, score_now: float, f_scale: float, lp: _Loop,
         state = after
         score_now = score
     return state, score_now
+
+
+#: library effects in their listing order (re-exported for the report)
+EFFECT_ORDER = tuple(e.name for e in LIBRARY)
+__all__ += ["EFFECT_ORDER", "CONFIDENCE", "line_fit"]

@@ -14,6 +14,7 @@ the measured torque range, in percent, as in Table I.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,6 +35,7 @@ def deadband(theta: np.ndarray, stiffness: float, half_backlash: float) -> np.nd
     return stiffness * (theta - np.clip(theta, -half_backlash, half_backlash))
 
 
+@functools.lru_cache(maxsize=256)  # fits evaluate the same (h, l) many times
 def logit_coefficients(half_backlash: float, transition: float) -> tuple[float, float, float]:
     """Eqs. 6–7: the ``c`` (1/rad) and ``g`` (rad) of eq. 5 and the edge ``h + l``.
 

@@ -60,18 +60,109 @@ def noise_model(r: np.ndarray, sample_rate_hz: float) -> NoiseModel:
     return NoiseModel(noise_std(r, lag), lag, tau)
 
 
+def flexible_remainder(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int = 128,
+                       window_s: float = 0.1) -> np.ndarray:
+    """What is left of ``r`` after a flexible description of any structure.
+
+    The residual's means in fine bins of deflection (per direction of motion)
+    and then in short windows of time are removed. Structure that varies
+    faster in time than the noise model's high-pass (a ripple in deflection
+    swept past at speed) would otherwise read as correlated noise; what is
+    left is noise, for the noise level and correlation time.
+    """
+    theta = sig.theta_smooth[idx]
+    edges = np.linspace(theta.min(), theta.max(), bins + 1)
+    key = 2 * np.clip(np.searchsorted(edges, theta, side="right") - 1, 0, bins - 1)
+    key = key + (sig.direction[idx] > 0)
+    cnt = np.bincount(key)
+    out = r - (np.bincount(key, weights=r) / np.maximum(cnt, 1))[key]
+    t = sig.t[idx]
+    key = ((t - t[0]) / window_s).astype(int)
+    cnt = np.bincount(key)
+    return out - (np.bincount(key, weights=out) / np.maximum(cnt, 1))[key]
+
+
+def run_features(r: np.ndarray, idx: np.ndarray, sig: Signals, min_samples: int = 20) -> dict:
+    """Per run (stretch between reversals): the residual's mean and its slope against deflection.
+
+    A stiffness that changes during the test leaves slopes that differ between
+    runs; a torque zero that jumps leaves means that do. Runs with fewer than
+    ``min_samples`` samples are left out.
+
+    Returns:
+        Arrays ``t_s`` (mid-time of each run), ``n`` (samples), ``mean_Nm``,
+        ``slope_Nm_per_rad`` and the sums ``n`` and ``sxx_rad2`` (spread of the
+        deflection in the run) that set their noise variances.
+    """
+    runs = sig.runs[idx]
+    labels, inv = np.unique(runs, return_inverse=True)
+    n = np.bincount(inv).astype(float)
+    theta = sig.theta_smooth[idx]
+    t_mid = np.bincount(inv, weights=sig.t[idx]) / n
+    th_mean = np.bincount(inv, weights=theta) / n
+    dth = theta - th_mean[inv]
+    sxx = np.bincount(inv, weights=dth * dth)
+    mean = np.bincount(inv, weights=r) / n
+    sxy = np.bincount(inv, weights=dth * r)
+    slope = np.where(sxx > 0, sxy / np.where(sxx > 0, sxx, 1.0), 0.0)
+    ok = n >= min_samples
+    return {"t_s": t_mid[ok], "n": n[ok], "mean_Nm": mean[ok], "slope_Nm_per_rad": slope[ok],
+            "sxx_rad2": sxx[ok], "amplitude_rad": np.abs(th_mean[ok]) + np.sqrt(
+                np.maximum(3.0 * sxx[ok] / n[ok], 0.0))}
+
+
+def periodogram(x: np.ndarray, sample_rate_hz: float, min_cycles: float = 20.0) -> dict:
+    """Amplitude spectrum of ``x`` against a local noise level, for periodic structure.
+
+    Each Fourier bin's power is compared with the running median of the
+    powers around it (±50 bins), so coloured noise (camera-rate deflection
+    noise, say) does not pass for a peak; for noise, power over that level is
+    exponentially distributed, which gives the p-value of the largest peak
+    after a Bonferroni correction for the number of bins searched.
+    Frequencies below ``min_cycles`` cycles per record are not searched (slow
+    structure is the business of the time tests).
+
+    Returns:
+        ``frequency_hz``, ``amplitude`` (sine amplitude per bin), ``level``
+        (local noise amplitude), ``peak_hz``, ``peak_amplitude``, ``p_value``.
+    """
+    n = x.size
+    spec = np.fft.rfft(x - x.mean())
+    power = np.abs(spec) ** 2
+    freq = np.fft.rfftfreq(n, 1.0 / sample_rate_hz)
+    lo = int(math.ceil(min_cycles))
+    if power.size <= lo + 10:
+        return {"frequency_hz": freq, "amplitude": np.zeros_like(freq), "level": np.zeros_like(freq),
+                "peak_hz": 0.0, "peak_amplitude": 0.0, "p_value": 1.0}
+    level = ndimage.median_filter(power, size=101, mode="nearest") / math.log(2.0)
+    ratio = power[lo:] / np.maximum(level[lo:], 1e-300)
+    k = int(np.argmax(ratio))
+    p = min(1.0, float(ratio.size) * math.exp(-float(ratio[k])))
+    amp = 2.0 * np.sqrt(power) / n
+    return {"frequency_hz": freq, "amplitude": amp, "level": 2.0 * np.sqrt(level) / n,
+            "peak_hz": float(freq[lo + k]), "peak_amplitude": float(amp[lo + k]), "p_value": p}
+
 
 def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int = 40,
                        min_rms: float = 0.25, p_level: float = 1e-6,
                        excess_ratio: float = 1.25) -> tuple[dict, bool, float]:
     """Test a residual for structure beyond noise.
 
-    The residual is averaged in bins of deflection (separately for each
-    direction of motion) and in bins of time. Each bin mean is compared with
-    its white-noise standard error ``σ/sqrt(n)``, with ``σ`` from lagged
-    differences of the residual at a lag where the noise no longer correlates,
-    and the standard error widened by the noise correlation time. A chi-square over bins gives the significance;
-    the noise-corrected RMS of the bin means gives the size of the structure.
+    Four tests, each against the noise level ``σ`` (from lagged differences of
+    the residual at a lag where the noise no longer correlates) and its
+    correlation time ``τ``:
+
+    * ``by_deflection_and_direction``: residual means in bins of deflection,
+      separately for each direction of motion;
+    * ``by_time``: residual means in bins of time;
+    * ``by_run``: each run's residual mean and slope against deflection (a
+      stiffness or zero that changes between cycles averages out of the two
+      tests above);
+    * ``periodic_in_time``: the largest peak of the residual's spectrum over
+      its local noise level (an electrical or mechanical ripple).
+
+    A test is significant when its p-value is below ``p_level`` and the
+    structure it sees is at least ``min_rms``·σ (RMS over the samples).
 
     Args:
         r: residual (N·m) at samples ``idx``.
@@ -79,17 +170,19 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
         sig: record signals.
         bins: bins of deflection (per direction) and of time.
         min_rms: least structure RMS, in noise standard deviations, that counts.
-        p_level: significance level of the chi-square test.
+        p_level: significance level of each test.
         excess_ratio: residual RMS over the noise level that counts as unexplained.
 
     Returns:
         ``(evidence, unexplained, σ)``: evidence dict, whether structure remains
-        (significant and at least ``min_rms``·σ, or residual RMS above
-        ``excess_ratio``·σ), and σ (N·m).
+        (a significant test, or residual RMS above ``excess_ratio``·σ), and σ (N·m).
     """
-    noise = noise_model(r, sig.scales.sample_rate_hz)
-    sigma = noise.sigma
+    # noise correlation from what a flexible description leaves; level from lagged
+    # differences of the residual itself at the lag where that noise decorrelates
+    noise = noise_model(flexible_remainder(r, idx, sig), sig.scales.sample_rate_hz)
+    sigma = noise_std(r, noise.lag)
     ratio = rmse(r) / sigma if sigma > 0 else math.inf
+    var_noise = sigma ** 2 * noise.tau  # bin means of correlated noise vary as σ²·τ/n
     theta = sig.theta_smooth[idx]
     nb = bins
     edges = np.linspace(theta.min(), theta.max(), nb + 1)
@@ -99,30 +192,50 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     key_time = np.clip(((t - t[0]) / (t[-1] - t[0]) * nb).astype(int), 0, nb - 1)
     tests = {}
     unexplained = ratio > excess_ratio
+
+    def verdict(name, chi2, dof, excess_ms, extra):
+        p = float(stats.chi2.sf(chi2, dof)) if dof else 1.0
+        struct_rms = math.sqrt(max(float(excess_ms), 0.0))
+        significant = p < p_level and struct_rms > min_rms * sigma
+        tests[name] = {"chi2": chi2, "bins": dof, "p_value": p, "structure_rms_Nm": struct_rms,
+                       "structure_rms_over_noise": struct_rms / sigma if sigma > 0 else math.inf,
+                       **extra, "significant": bool(significant)}
+        return significant
+
     for name, key, centre in (("by_deflection_and_direction", key_theta, theta),
                               ("by_time", key_time, t)):
         cnt = np.bincount(key)
         tot = np.bincount(key, weights=r)
         ok = cnt >= 20
         means = tot[ok] / cnt[ok]
-        # bin means of correlated noise vary as σ²·tau/n
-        var_noise = sigma ** 2 * noise.tau
         chi2 = float(np.sum(cnt[ok] * means ** 2) / var_noise) if sigma > 0 else math.inf
         dof = int(ok.sum())
-        p = float(stats.chi2.sf(chi2, dof)) if dof else 1.0
-        excess = np.sum(cnt[ok] * means ** 2 - var_noise) / np.sum(cnt[ok])
-        struct_rms = math.sqrt(max(float(excess), 0.0))
+        excess = np.sum(cnt[ok] * means ** 2 - var_noise) / max(np.sum(cnt[ok]), 1)
         worst = int(np.argmax(np.abs(means))) if dof else 0
         where = np.flatnonzero(ok)[worst] if dof else 0
         at = float(np.mean(centre[key == where])) if dof else 0.0
-        significant = p < p_level and struct_rms > min_rms * sigma
-        unexplained = unexplained or significant
-        tests[name] = {"chi2": chi2, "bins": dof, "p_value": p,
-                       "structure_rms_Nm": struct_rms,
-                       "structure_rms_over_noise": struct_rms / sigma if sigma > 0 else math.inf,
-                       "largest_bin_mean_Nm": float(means[worst]) if dof else 0.0,
-                       ("largest_at_rad" if "deflection" in name else "largest_at_s"): at,
-                       "significant": bool(significant)}
+        unexplained |= verdict(name, chi2, dof, excess, {
+            "largest_bin_mean_Nm": float(means[worst]) if dof else 0.0,
+            ("largest_at_rad" if "deflection" in name else "largest_at_s"): at})
+
+    feats = run_features(r, idx, sig)
+    energy = feats["n"] * feats["mean_Nm"] ** 2 + feats["sxx_rad2"] * feats["slope_Nm_per_rad"] ** 2
+    dof = 2 * int(feats["n"].size)
+    chi2 = float(np.sum(energy) / var_noise) if sigma > 0 else math.inf
+    excess = (float(np.sum(energy)) - dof * var_noise) / max(float(np.sum(feats["n"])), 1.0)
+    unexplained |= verdict("by_run", chi2, dof, excess, {"runs": int(feats["n"].size)})
+
+    spec = periodogram(r, sig.scales.sample_rate_hz / max(float(np.median(np.diff(idx))), 1.0))
+    excess = 0.5 * max(spec["peak_amplitude"] ** 2 - 2.0 * sigma ** 2 / max(r.size, 1), 0.0)
+    p = spec["p_value"]
+    struct_rms = math.sqrt(excess)
+    significant = p < p_level and struct_rms > min_rms * sigma
+    tests["periodic_in_time"] = {
+        "p_value": p, "structure_rms_Nm": struct_rms,
+        "structure_rms_over_noise": struct_rms / sigma if sigma > 0 else math.inf,
+        "peak_frequency_hz": spec["peak_hz"], "peak_amplitude_Nm": spec["peak_amplitude"],
+        "significant": bool(significant)}
+    unexplained |= significant
     evidence = {"noise_Nm": sigma, "noise_decorrelation_lag_samples": noise.lag,
                 "noise_correlation_samples": noise.tau, "residual_rms_Nm": rmse(r),
                 "residual_rms_over_noise": ratio,

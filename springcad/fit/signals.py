@@ -8,6 +8,7 @@ fold of each sample. Units: s, rad, N·m.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,7 +43,12 @@ class Scales:
 
 @dataclass(frozen=True)
 class Signals:
-    """Full-length per-sample arrays of one record (see module docstring)."""
+    """Full-length per-sample arrays of one record (see module docstring).
+
+    ``run`` numbers the stretches between reversals of the motion (a run goes
+    from one turning point to the next); runs are the clusters of the
+    parameter uncertainties, since model errors correlate along a run.
+    """
 
     t: np.ndarray
     theta: np.ndarray
@@ -55,10 +61,31 @@ class Signals:
     fold: np.ndarray
     virgin: np.ndarray
     scales: Scales
+    run: np.ndarray | None = None
 
     @property
     def n(self) -> int:
         return int(self.t.size)
+
+    @property
+    def runs(self) -> np.ndarray:
+        """Per-sample index of the run between reversals (0 before the first turn)."""
+        return self.run if self.run is not None else np.zeros(self.n, dtype=int)
+
+    @functools.cached_property
+    def from_reversal(self) -> np.ndarray:
+        """Per-sample |smoothed deflection - deflection at the last reversal| (rad)."""
+        return np.abs(self.theta_smooth - self.reversal)
+
+    @functools.cached_property
+    def swing(self) -> np.ndarray:
+        """Per-sample friction swing after the last turn: 1 from rest, 2 after a reversal."""
+        return np.where(self.virgin, 1.0, 2.0)
+
+    @property
+    def loading(self) -> np.ndarray:
+        """Per-sample flag: |deflection| growing (moving away from zero)."""
+        return self.direction * np.sign(self.theta_smooth) > 0
 
 
 def find_glitches(x: np.ndarray, threshold: float = 6.0, width: int = 9) -> np.ndarray:
@@ -101,6 +128,7 @@ def make_signals(record: BenchRecord, seg: Segmentation) -> Signals:
         sample_rate_hz=record.sample_rate_hz,
         theta_noise=1.4826 * float(np.median(np.abs(record.deflection_rad - seg.theta_smooth_rad))),
     )
+    run = np.searchsorted(seg.turning_points, np.arange(record.n_samples), side="right")
     return Signals(record.time_s, record.deflection_rad, seg.theta_smooth_rad, record.torque_Nm,
                    seg.direction.astype(float), seg.reversal_rad, seg.rate_rad_per_s,
-                   record.encoder_deflection_rad, seg.fold, seg.virgin, scales)
+                   record.encoder_deflection_rad, seg.fold, seg.virgin, scales, run)

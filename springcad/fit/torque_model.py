@@ -118,12 +118,26 @@ class TorqueModel:
 
     def torque_terms(self, x: np.ndarray, sig: Signals, idx: np.ndarray,
                      names: set[str] | None = None) -> np.ndarray:
-        """Sum of the additive torque terms (N·m) of the effects in ``names`` (default all)."""
+        """Sum of the additive torque terms (N·m) of the effects in ``names`` (default all).
+
+        Terms of the spring itself (``Effect.delayed``, friction) are evaluated
+        ``lag`` seconds earlier when the model has a late torque channel: the
+        channel delays the whole spring torque, not only its elastic part.
+        """
         parts = self._parts(x)
+        shift = sum(e.time_shift_s(parts[e.name]) for e in self.effects)
         out = np.zeros(idx.size)
         for e in self.effects:
             if e.stage == "torque" and (names is None or e.name in names):
-                out = out + e.torque(parts[e.name], sig, idx)
+                if e.delayed and shift != 0.0:
+                    pos = np.clip(idx - shift * sig.scales.sample_rate_hz, 0, sig.n - 1)
+                    i0 = np.minimum(pos.astype(int), sig.n - 2)
+                    w = pos - i0
+                    term = ((1.0 - w) * e.torque(parts[e.name], sig, i0)
+                            + w * e.torque(parts[e.name], sig, i0 + 1))
+                else:
+                    term = e.torque(parts[e.name], sig, idx)
+                out = out + term
         return out
 
     def predict(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
@@ -173,7 +187,7 @@ class TorqueModel:
         return out
 
     def fit(self, sig: Signals, idx: np.ndarray, x0: np.ndarray, f_scale: float,
-            max_nfev: int = 100) -> np.ndarray:
+            max_nfev: int = 100, free: np.ndarray | None = None) -> np.ndarray:
         """Robust least-squares fit on samples ``idx`` from ``x0``.
 
         Args:
@@ -182,6 +196,8 @@ class TorqueModel:
             x0: start (clipped into the bounds).
             f_scale: soft-L1 scale (N·m): residuals well below it count as squares.
             max_nfev: function evaluations allowed.
+            free: boolean mask of the parameters to fit (default all); the
+                others stay at their ``x0`` values.
 
         Returns:
             Fitted parameter vector.
@@ -189,7 +205,24 @@ class TorqueModel:
         lo, hi = self.bounds
         span = np.where(np.isfinite(hi - lo), hi - lo, np.abs(x0) + 1.0)
         x0 = np.clip(x0, lo + 1e-9 * span, hi - 1e-9 * span)
-        res = optimize.least_squares(self.residual, x0, args=(sig, idx), bounds=(lo, hi),
+        if free is None or free.all():
+            res = optimize.least_squares(self.residual, x0, args=(sig, idx), bounds=(lo, hi),
+                                         loss="soft_l1", f_scale=f_scale, x_scale="jac",
+                                         max_nfev=max_nfev, xtol=1e-8, ftol=1e-8)
+            return res.x
+        full = x0.copy()
+
+        def residual(z):
+            full[free] = z
+            return self.residual(full, sig, idx)
+
+        res = optimize.least_squares(residual, x0[free], bounds=(lo[free], hi[free]),
                                      loss="soft_l1", f_scale=f_scale, x_scale="jac",
                                      max_nfev=max_nfev, xtol=1e-8, ftol=1e-8)
-        return res.x
+        out = x0.copy()
+        out[free] = res.x
+        return out
+
+    def slice_of(self, name: str) -> slice:
+        """Positions of effect ``name``'s parameters in the parameter vector."""
+        return self._slices[name]

@@ -50,3 +50,29 @@ def simulate_fast(*effects: str, seed: int = 0, **kw):
 def floor_pct(sim, sig) -> float:
     """Noise floor of a simulated record as an NRMSE (%)."""
     return 100.0 * sim.noise_floor_Nm / sig.scales.torque_ref
+
+
+# --- protocols other than the paper's fixed-time staircase ---------------------------------
+
+#: the paper's staircase with linear ramps at one speed (0.15 rad/s): friction and a lag
+#: read alike here
+ONE_RATE = Protocol(rates_rad_per_s=(0.15,), profile="linear")
+
+#: the same staircase at two speeds: friction and a lag come apart
+TWO_RATES = Protocol(rates_rad_per_s=(0.3, 0.08), profile="linear")
+
+
+def with_extra_torque(sim, extra):
+    """The record of ``sim`` with ``extra(t, theta)`` (N·m) added to its torque: structure
+    outside the effect library."""
+    from springcad.fit.data import make_record
+
+    rec = sim.record
+    return make_record(rec.time_s, rec.torque_Nm + extra(rec.time_s, rec.deflection_rad),
+                       rec.deflection_rad, rec.encoder_deflection_rad)
+
+
+def loop_on_record(rec):
+    """Run the residual loop on a record; returns ``(result, signals)``."""
+    sig = make_signals(rec, segment(rec))
+    return run_loop(sig), sig

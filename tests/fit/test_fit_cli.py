@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from springcad.cli import main
-from springcad.fit.bench import BenchSpring, simulate
+from springcad.fit.bench import BenchSpring, Protocol, simulate
 from springcad.fit.data import to_csv_text
 from springcad.fit.effects import EFFECT_NAMES
 from fit_helpers import FAST, spring
@@ -128,14 +128,53 @@ def test_too_few_cycles_exits_2(tmp_path, capsys):
     assert "too few cycles" in capsys.readouterr().err
 
 
+def _csv_with(path, header, rec, deflection):
+    path.write_text(header + "\n" + "\n".join(
+        f"{t},{q},{a}" for t, q, a in zip(rec.time_s, rec.torque_Nm, deflection)))
+    return path
+
+
+def test_degrees_read_as_radians_beyond_a_turn_are_refused(tmp_path, capsys):
+    # ±24° read as rad is ±24 rad, almost four turns: the data contradicts the unit
+    rec = simulate(BenchSpring(40.0), protocol=FAST, seed=5).record
+    path = _csv_with(tmp_path / "deg_as_rad.csv", "time_s,torque_Nm,angle",
+                     rec, np.degrees(rec.deflection_rad))
+    assert main(["fit", str(path), "--out", str(tmp_path / "o"), "--no-plots",
+                 "--deflection-col", "angle"]) == 2
+    err = capsys.readouterr().err
+    assert "more than a full turn" in err and "--angle-unit deg" in err
+    assert not (tmp_path / "o").exists()
+
+
 def test_unit_warnings_are_printed(tmp_path, capsys):
-    sim = simulate(BenchSpring(40.0), protocol=FAST, seed=5)
-    rec = sim.record
-    path = tmp_path / "deg_as_rad.csv"
-    path.write_text("time_s,torque_Nm,deflection_rad\n" + "\n".join(
-        f"{t},{q},{np.degrees(a)}" for t, q, a in zip(rec.time_s, rec.torque_Nm, rec.deflection_rad)))
-    assert main(["fit", str(path), "--out", str(tmp_path / "o"), "--no-plots"]) == 0
+    # ±4° read as rad is ±4 rad: implausible but not impossible, so a warning
+    rec = simulate(BenchSpring(40.0), protocol=Protocol(amplitudes_rad=(0.03, 0.07), ramp_s=0.8),
+                   seed=5).record
+    path = _csv_with(tmp_path / "deg_as_rad.csv", "time_s,torque_Nm,angle", rec,
+                     np.degrees(rec.deflection_rad))
+    assert main(["fit", str(path), "--out", str(tmp_path / "o"), "--no-plots",
+                 "--deflection-col", "angle"]) == 0
     assert "warning: deflection reaches" in capsys.readouterr().err
+
+
+def test_radians_read_as_degrees_are_refused_by_the_column_name(tmp_path, capsys):
+    # the case: rad data with --angle-unit deg gave K 57 times too high, silently
+    rec = simulate(BenchSpring(40.0), protocol=FAST, seed=5).record
+    path = tmp_path / "rad.csv"
+    path.write_text(to_csv_text(rec))
+    assert main(["fit", str(path), "--out", str(tmp_path / "o"), "--angle-unit", "deg"]) == 2
+    err = capsys.readouterr().err
+    assert "'deflection_rad' is named in rad but --angle-unit deg" in err
+
+
+def test_radians_read_as_degrees_are_refused_by_the_target(tmp_path, capsys):
+    # with an unnamed column, the target stiffness is what the data contradicts
+    rec = simulate(BenchSpring(40.0), protocol=FAST, seed=5).record
+    path = _csv_with(tmp_path / "rad.csv", "time_s,torque_Nm,angle", rec, rec.deflection_rad)
+    assert main(["fit", str(path), "--out", str(tmp_path / "o"), "--deflection-col", "angle",
+                 "--angle-unit", "deg", "--target-stiffness", "40", "--no-plots"]) == 2
+    err = capsys.readouterr().err
+    assert "a unit factor" in err and "rad were read as degrees" in err
 
 
 def test_non_positive_target_is_rejected(bench_csv, tmp_path):

@@ -163,10 +163,30 @@ def test_duplicate_header(tmp_path):
         read_bench_csv(_csv(tmp_path, "time_s,torque_Nm,torque_Nm\n0,1,2\n"))
 
 
-def test_degrees_read_as_radians_warns(sim):
+def test_degrees_read_as_radians_beyond_a_turn_are_refused(sim):
     rec = sim.record
-    out = make_record(rec.time_s, rec.torque_Nm, np.degrees(rec.deflection_rad))
+    with pytest.raises(DataError, match="more than a full turn.*--angle-unit deg"):
+        make_record(rec.time_s, rec.torque_Nm, np.degrees(rec.deflection_rad))
+
+
+def test_degrees_read_as_radians_within_a_turn_warn(sim):
+    rec = sim.record
+    out = make_record(rec.time_s, rec.torque_Nm, np.degrees(rec.deflection_rad) / 5)
     assert any("--angle-unit deg" in w for w in out.warnings)
+
+
+@pytest.mark.parametrize("header, angle_unit, torque_unit, message", [
+    ("time_s,torque_Nm,deflection_rad", "deg", "Nm", "'deflection_rad' is named in rad"),
+    ("time_s,torque_Nm,deflection_deg", "rad", "Nm", "'deflection_deg' is named in deg"),
+    ("time_s,torque_Nmm,deflection_rad", "rad", "Nm", "'torque_Nmm' is named in Nmm"),
+    ("time_s,torque_Nm,deflection_rad", "rad", "Nmm", "'torque_Nm' is named in Nm"),
+])
+def test_column_names_contradicting_the_units_are_refused(sim, tmp_path, header, angle_unit,
+                                                          torque_unit, message):
+    cols = ColumnMap(*header.split(","))
+    path = _csv(tmp_path, "\n".join([header] + _good_lines(sim, 400)))
+    with pytest.raises(DataError, match=message):
+        read_bench_csv(path, cols, angle_unit=angle_unit, torque_unit=torque_unit)
 
 
 def test_newton_millimetres_read_as_newton_metres_warns(sim):

@@ -1,0 +1,279 @@
+"""Evidence that an effect is the record's, not a patch over something else.
+
+An effect found by the residual loop stays in the model only if the record
+supports it *consistently*: the model is fitted again, separately, on two
+parts of the record, for each of three splits:
+
+* ``time``: the runs (stretches between reversals) of the first and of the
+  last third of the record (the gap between them makes a change anywhere in
+  the middle third show in full);
+* ``amplitude``: runs that reach small and large deflections (skipped when
+  the record has one amplitude only);
+* ``direction``: samples moving away from zero deflection (loading) and
+  towards it (unloading). Effects whose torque follows the direction of
+  motion (friction, a late torque channel) would read as a step at zero on
+  one direction alone, so they are held at their full-record values there
+  and not compared.
+
+All other parameters (stiffness and the other effects) are fitted freely on
+each part. For every effect the split applies to, its size parameter must
+
+1. *agree* between the parts within their uncertainty (Wald test with the
+   clustered covariance of :mod:`springcad.fit.inference`,
+   ``p >= agreement_p``), and
+2. be *supported* by the parts together: the inverse-variance mean of the two
+   part values is at least ``support_z`` standard errors away from the value
+   at which the effect vanishes.
+
+A patch over structure outside the library fails one of the two: a stiffness
+that changes mid-test is "explained" by a crossover or an asymmetry only
+because the stiffness is shared between early and late cycles; with its own
+stiffness in each half, neither half wants the patch (not supported). A hard
+stop at large deflection fitted as cubic stiffening gives a large cubic term
+on large cycles and none on small ones (no agreement).
+
+Units: those of each effect's parameters.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from springcad.fit.inference import uncertainty, wald_p
+from springcad.fit.signals import Signals
+from springcad.fit.torque_model import TorqueModel
+
+SPLITS = ("time", "amplitude", "direction")
+
+#: a split part needs at least this many runs (clusters of the covariance)
+MIN_RUNS = 4
+#: amplitude split only when the parts' typical amplitudes differ by this factor
+MIN_AMPLITUDE_RATIO = 1.25
+
+
+@dataclass(frozen=True)
+class Part:
+    """One part of a split: a label and which of the given samples belong to it."""
+
+    label: str
+    mask: np.ndarray
+
+
+def split_parts(sig: Signals, idx: np.ndarray) -> dict[str, tuple[Part, Part]]:
+    """The applicable splits of samples ``idx`` into two parts each (see module docstring)."""
+    runs = sig.runs[idx]
+    t = sig.t[idx]
+    labels, inv = np.unique(runs, return_inverse=True)
+    mid_t = np.bincount(inv, weights=t) / np.bincount(inv)
+    amp = np.zeros(labels.size)
+    np.maximum.at(amp, inv, np.abs(sig.theta_smooth[idx]))
+    out = {}
+    t1, t2 = (float(v) for v in np.percentile(t, [100 / 3, 200 / 3]))
+    run_t = mid_t[inv]
+    out["time"] = (Part(f"the first third (t < {t1:.3g} s)", run_t < t1),
+                   Part(f"the last third (t > {t2:.3g} s)", run_t > t2))
+    a_cut = float(np.median(amp[inv]))
+    small = amp[inv] <= a_cut
+    if small.any() and (~small).any():
+        ratio = float(np.median(amp[inv][~small])) / max(float(np.median(amp[inv][small])), 1e-12)
+        if ratio >= MIN_AMPLITUDE_RATIO:
+            out["amplitude"] = (Part(f"runs reaching at most {a_cut:.3g} rad", small),
+                                Part(f"runs reaching beyond {a_cut:.3g} rad", ~small))
+    loading = sig.loading[idx]
+    out["direction"] = (Part("loading (|deflection| growing)", loading),
+                        Part("unloading (|deflection| shrinking)", ~loading))
+    return {k: v for k, v in out.items()
+            if all(np.unique(runs[p.mask]).size >= MIN_RUNS for p in v)}
+
+
+@dataclass(frozen=True)
+class SplitCheck:
+    """One effect on one split.
+
+    Attributes:
+        split: ``"time"``, ``"amplitude"`` or ``"direction"``.
+        parts: labels of the two parts.
+        parameter: name of the size parameter compared.
+        values: its value on each part.
+        se: its standard error on each part.
+        agreement_p: p-value of the difference (high = they agree).
+        support_z: inverse-variance mean of the parts over its standard error,
+            measured from the value where the effect vanishes.
+        agrees: ``agreement_p`` clears the threshold.
+        supported: ``support_z`` clears the threshold.
+    """
+
+    split: str
+    parts: tuple[str, str]
+    parameter: str
+    values: tuple[float, float]
+    se: tuple[float, float]
+    agreement_p: float
+    support_z: float
+    agrees: bool
+    supported: bool
+
+    def to_dict(self) -> dict:
+        return {"split": self.split, "parts": list(self.parts), "parameter": self.parameter,
+                "values": list(self.values), "se": list(self.se),
+                "agreement_p": self.agreement_p, "support_z": self.support_z,
+                "agrees": self.agrees, "supported": self.supported}
+
+
+@dataclass(frozen=True)
+class EffectEvidence:
+    """The consistency evidence of one effect of a model.
+
+    Attributes:
+        effect: library name.
+        checks: one per applicable split.
+        problem: why the fitted values are physically impossible, or ``None``.
+    """
+
+    effect: str
+    checks: tuple[SplitCheck, ...] = ()
+    problem: str | None = None
+
+    @property
+    def consistent(self) -> bool:
+        return all(c.agrees for c in self.checks)
+
+    @property
+    def supported(self) -> bool:
+        return all(c.supported for c in self.checks)
+
+    @property
+    def ok(self) -> bool:
+        return self.problem is None and self.consistent and self.supported
+
+    @property
+    def strength(self) -> float:
+        """How badly it fails (larger = worse): used to drop the worst effect first."""
+        if self.problem is not None:
+            return math.inf
+        bad = 0.0
+        for c in self.checks:
+            if not c.agrees:
+                bad = max(bad, -math.log10(max(c.agreement_p, 1e-300)))
+            if not c.supported:
+                bad = max(bad, 10.0 - min(abs(c.support_z), 10.0))
+        return bad
+
+    def reason(self) -> str:
+        """One sentence on why it failed (empty when it did not)."""
+        if self.problem is not None:
+            return self.problem
+        out = []
+        for c in self.checks:
+            if not c.agrees:
+                out.append(f"{c.parameter} differs between {c.parts[0]} ({c.values[0]:.4g} ± "
+                           f"{c.se[0]:.2g}) and {c.parts[1]} ({c.values[1]:.4g} ± {c.se[1]:.2g}), "
+                           f"p = {c.agreement_p:.2g}")
+            elif not c.supported:
+                out.append(f"with the rest of the model fitted separately on {c.parts[0]} and "
+                           f"{c.parts[1]}, {c.parameter} is {c.values[0]:.4g} ± {c.se[0]:.2g} and "
+                           f"{c.values[1]:.4g} ± {c.se[1]:.2g}: only {abs(c.support_z):.2g} "
+                           "standard errors from zero")
+        return "; ".join(out)
+
+    def short_reason(self) -> str:
+        """The first failure only, in a few words."""
+        if self.problem is not None:
+            return self.problem
+        for c in self.checks:
+            if not c.agrees:
+                return (f"{c.parameter} differs between {c.parts[0]} and {c.parts[1]} "
+                        f"({c.values[0]:.3g} vs {c.values[1]:.3g}, p = {c.agreement_p:.2g})")
+            if not c.supported:
+                return (f"not supported once the rest of the model is fitted separately on "
+                        f"{c.parts[0]} and {c.parts[1]} ({c.parameter} {c.values[0]:.3g} ± "
+                        f"{c.se[0]:.2g} and {c.values[1]:.3g} ± {c.se[1]:.2g})")
+        return ""
+
+    def to_dict(self) -> dict:
+        return {"effect": self.effect, "ok": self.ok, "consistent": self.consistent,
+                "supported": self.supported, "physical_problem": self.problem,
+                "reason": self.reason() or None, "splits": [c.to_dict() for c in self.checks]}
+
+
+@dataclass
+class Audit:
+    """Consistency evidence of every torque-model effect of one model."""
+
+    effects: dict[str, EffectEvidence] = field(default_factory=dict)
+    splits: dict[str, tuple[str, str]] = field(default_factory=dict)
+
+    def failed(self) -> list[EffectEvidence]:
+        return sorted((e for e in self.effects.values() if not e.ok), key=lambda e: -e.strength)
+
+
+def audit(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, f_scale: float,
+          agreement_p: float, support_z: float, max_nfev: int = 40) -> Audit:
+    """Check every effect of ``model`` (fitted ``x``) across the splits of samples ``idx``.
+
+    Args:
+        model: the torque model.
+        x: its parameters fitted on the whole record.
+        sig: record signals.
+        idx: samples to use (glitches excluded), sorted.
+        f_scale: soft-L1 scale of the fits (N·m).
+        agreement_p: least p-value for the parts to agree.
+        support_z: least z for the parts together to support the effect.
+        max_nfev: function evaluations per part fit.
+
+    Returns:
+        The audit (physically impossible values are reported even without splits).
+    """
+    out = Audit()
+    for e in model.effects:
+        sl = model.slice_of(e.name)
+        out.effects[e.name] = EffectEvidence(
+            e.name, (), e.physical_problem(x[sl], float(x[0]), model.scales))
+    if not model.effects:
+        return out
+    checks: dict[str, list[SplitCheck]] = {e.name: [] for e in model.effects}
+    rate = sig.scales.sample_rate_hz / max(float(np.median(np.diff(idx))), 1.0)
+    full, x_full = model, x
+    if "drift" in model.names and "torque_offset" not in model.names:
+        # a drift is anchored at the record's start; on a part of the record it is
+        # judged by its rate, with the part's own torque zero
+        from springcad.fit.effects import get_effect
+
+        model = model.with_effect(get_effect("torque_offset"))
+        x = model.transfer(full, x_full, use_null=True)
+    for split, parts in split_parts(sig, idx).items():
+        tested = [e for e in model.effects if split in e.splits and e.name in full.names]
+        if not tested:
+            continue
+        free = np.ones(model.size, dtype=bool)
+        if split == "direction":
+            for e in model.effects:
+                if e.direction_signed:
+                    free[model.slice_of(e.name)] = False
+        fits = []
+        for part in parts:
+            sub = idx[part.mask]
+            xp = model.fit(sig, sub, x, f_scale, max_nfev=max_nfev, free=free)
+            fits.append((xp, uncertainty(model, xp, sig, sub, sample_rate_hz=rate)))
+        out.splits[split] = (parts[0].label, parts[1].label)
+        for e in tested:
+            j = model.slice_of(e.name).start + e.primary
+            null = e.params(model.scales)[e.primary].null
+            (xa, ua), (xb, ub) = fits
+            va, vb = float(xa[j]), float(xb[j])
+            sa, sb = float(ua.se[j]), float(ub.se[j])
+            p = wald_p(np.array([va - vb]), np.array([[sa * sa + sb * sb]]),
+                       min(ua.dof, ub.dof))
+            wa, wb = 1.0 / max(sa * sa, 1e-300), 1.0 / max(sb * sb, 1e-300)
+            pooled = (wa * va + wb * vb) / (wa + wb)
+            z = (pooled - null) * math.sqrt(wa + wb)
+            checks[e.name].append(SplitCheck(
+                split, (parts[0].label, parts[1].label),
+                e.params(model.scales)[e.primary].name, (va, vb), (sa, sb), p, z,
+                p >= agreement_p, abs(z) >= support_z))
+    for name, cs in checks.items():
+        out.effects[name] = EffectEvidence(name, tuple(cs), out.effects[name].problem)
+    return out
