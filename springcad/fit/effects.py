@@ -388,3 +388,11 @@ LIBRARY: tuple[Effect, ...] = (
 )
 
 EFFECT_NAMES = tuple(e.name for e in LIBRARY)
+
+
+def get_effect(name: str) -> Effect:
+    """The library effect called ``name``."""
+    for e in LIBRARY:
+        if e.name == name:
+            return e
+    raise KeyError(f"unknown effect {name!r}; known: {', '.join(EFFECT_NAMES)}")

@@ -64,7 +64,8 @@ def test_fit_json_schema(fitted):
     final = d["final"]
     assert set(final) >= {"model", "params", "nrmse_pct", "unexplained"}
     assert final["unexplained"] is False
-    assert final["nrmse_pct"] == pytest.approx(d["steps"][-1]["nrmse_after_pct"])
+    # the final K carries the regression-dilution correction: the error moves by < 0.1 %
+    assert final["nrmse_pct"] == pytest.approx(d["steps"][-1]["nrmse_after_pct"], rel=1e-3)
     for name in ("linear", "deadband", "logit"):
         m = d["paper_models"][name]
         assert set(m) >= {"stiffness_Nm_per_rad", "backlash_rad", "nrmse_pct"}
