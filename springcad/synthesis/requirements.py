@@ -28,11 +28,51 @@ import tomllib
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-from springcad.config import (CONNECTIONS, HardwareSpec, ManufacturingSpec, _check_keys,
-                              _number, job_from_dict)
+from springcad.config import CONNECTIONS, HardwareSpec, ManufacturingSpec, job_from_dict
 from springcad.errors import ConfigError
 from springcad.materials import Material, material_table
 from springcad.units import NMM_PER_NM
+
+
+# requirement-table validators (a job config validates from its schema in
+# springcad/config/schema.py; a requirements file is its own format)
+def _number(table: dict, key: str, prefix: str, *, positive=True, allow_zero=False,
+            lo=None, hi=None, integer=False):
+    full = f"{prefix}.{key}" if prefix else key
+    value = table[key]
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ConfigError(full, value, "must be a number")
+    if integer and (not isinstance(value, int)):
+        raise ConfigError(full, value, "must be a whole number")
+    if not math.isfinite(value):
+        raise ConfigError(full, value, "must be finite")
+    if positive and (value < 0 or (value == 0 and not allow_zero)):
+        raise ConfigError(full, value, "must be greater than zero" if not allow_zero
+                          else "must be zero or greater")
+    if lo is not None and value < lo:
+        raise ConfigError(full, value, f"must be at least {lo}")
+    if hi is not None and value > hi:
+        raise ConfigError(full, value, f"must be at most {hi}")
+    return value
+
+
+def _choice(table: dict, key: str, prefix: str, allowed: tuple[str, ...]):
+    value = table[key]
+    if value not in allowed:
+        raise ConfigError(f"{prefix}.{key}", value, f"must be one of {', '.join(allowed)}")
+    return value
+
+
+def _check_keys(table: dict, prefix: str, allowed: set[str]):
+    for key in table:
+        if key not in allowed:
+            hint = ""
+            stem = key.rsplit("_", 1)[0]
+            similar = sorted(k for k in allowed if k.startswith(stem.split("_")[0]))
+            if similar:
+                hint = f"did you mean {' or '.join(similar)}? units are part of the key name"
+            raise ConfigError(f"{prefix}.{key}" if prefix else key, table[key],
+                              f"is not a known key; allowed: {', '.join(sorted(allowed))}", hint)
 
 #: objectives and whether a smaller value is better
 OBJECTIVES = {"mass": True, "axial_length": True, "backlash": True, "edm_cut_length": True,

@@ -33,7 +33,7 @@ def test_paper_template_reproduces_the_paper_design_stress():
     ("search", "inputs", ["gear"], "search.inputs.*shaft, rim"),
     ("search", "thickness_mm", [], "search.thickness_mm.*non-empty list"),
     ("search", "max_disk", 3, "search.max_disk.*not a known key"),
-    ("manufacturing", "w_gap_mm", -1, "manufacturing.w_gap_mm.*greater than zero"),
+    ("manufacturing", "w_gap_mm", -1, "manufacturing.w_gap_mm.*from 0.005 to 1 mm"),
 ])
 def test_bad_values_name_the_key(section, key, value, match):
     with pytest.raises(ConfigError, match=match):
