@@ -216,9 +216,11 @@ def _run_loop(sig: Signals, settings: LoopSettings) -> LoopResult:
         failed = aud.failed()
         if not failed:
             break
-        # every failing effect goes at once: the audit runs on the whole selected model,
-        # so a true effect does not fail for want of another true one
-        for ev in failed:
+        # the worst goes, with every other clear failure (unsupported, or parts that
+        # disagree beyond p = 1e-6); a marginal disagreement can be another effect's
+        # doing, so it is audited again once the worst is gone
+        clear = [ev for ev in failed[1:] if ev.strength >= 6.0]
+        for ev in failed[:1] + clear:
             rejected.append({"effect": ev.effect, "reason": ev.reason(),
                              "short_reason": ev.short_reason(), "audit": ev.to_dict()})
             excluded.add(ev.effect)
