@@ -229,8 +229,8 @@ class TimeLag(Effect):
     def angle(self, theta, p, sig, idx):
         # shift the smooth motion only: the noise of each sample stays its own,
         # so a fractional lag cannot pose as noise averaging
-        shifted = np.interp(sig.t[idx] - p[0], sig.t, sig.theta_smooth)
-        return theta + (shifted - sig.theta_smooth[idx])
+        shifted = np.interp(sig.t[idx] - p[0], sig.t, sig.theta_trace)
+        return theta + (shifted - sig.theta_trace[idx])
 
     def report(self, p, stiffness, sc):
         return {"lag_s": float(p[0]),

@@ -75,18 +75,35 @@ def split_parts(sig: Signals, idx: np.ndarray) -> dict[str, tuple[Part, Part]]:
     run_t = mid_t[inv]
     out["time"] = (Part(f"the first third (t < {t1:.3g} s)", run_t < t1),
                    Part(f"the last third (t > {t2:.3g} s)", run_t > t2))
-    a_cut = float(np.median(amp[inv]))
-    small = amp[inv] <= a_cut
-    if small.any() and (~small).any():
-        ratio = float(np.median(amp[inv][~small])) / max(float(np.median(amp[inv][small])), 1e-12)
-        if ratio >= MIN_AMPLITUDE_RATIO:
-            out["amplitude"] = (Part(f"runs reaching at most {a_cut:.3g} rad", small),
-                                Part(f"runs reaching beyond {a_cut:.3g} rad", ~small))
+    cut = _amplitude_cut(amp, np.bincount(inv, minlength=labels.size))
+    if cut is not None:
+        small = amp[inv] <= cut
+        out["amplitude"] = (Part(f"runs reaching at most {cut:.3g} rad", small),
+                            Part(f"runs reaching beyond {cut:.3g} rad", ~small))
     loading = sig.loading[idx]
     out["direction"] = (Part("loading (|deflection| growing)", loading),
                         Part("unloading (|deflection| shrinking)", ~loading))
     return {k: v for k, v in out.items()
             if all(np.unique(runs[p.mask]).size >= MIN_RUNS for p in v)}
+
+
+def _amplitude_cut(amp: np.ndarray, weight: np.ndarray) -> float | None:
+    """The run amplitude below which the small part ends, or ``None``.
+
+    Cuts go where consecutive run amplitudes differ by ``MIN_AMPLITUDE_RATIO``
+    at least (a real gap, not noise about one amplitude) and leave a quarter of
+    the samples or more on each side; of those, the most even split is taken.
+    """
+    order = np.argsort(amp)
+    a, w = amp[order], weight[order].astype(float)
+    share = np.cumsum(w) / w.sum()
+    best = None
+    for i in range(a.size - 1):
+        if a[i] <= 0 or a[i + 1] / a[i] < MIN_AMPLITUDE_RATIO:
+            continue
+        if 0.25 <= share[i] <= 0.75 and (best is None or abs(share[i] - 0.5) < best[0]):
+            best = (abs(share[i] - 0.5), float(a[i]))
+    return None if best is None else best[1]
 
 
 @dataclass(frozen=True)

@@ -7,14 +7,19 @@ parameter (stiffness, the other effects, their shape parameters) can
 reproduce, and correlate what is left: ``ρ``. The variance inflation factor
 ``VIF = 1/(1 - ρ²)`` says how much less precisely each is known because the
 other is there; the usual collinearity rule reads ``VIF ≥ 10`` as "cannot be
-separated": the split then rests on a few per cent of the signal, on details
-the models do not promise (the exact shape of friction after a reversal, say)
-rather than on the signatures' substance.
+separated". It is measured on all samples and on the samples away from the
+reversals, and the larger is taken: a split that rests on the turns alone
+rests on how each model draws a turn (friction's presliding shape, the corner
+of the motion), which the models do not promise. An effect that needs a
+feature of the model to be located (an angle offset needs a crossover or a
+kink) is left to the held-out criterion.
 
 On a record whose ramps all run at one speed, Coulomb friction (a torque set
 by the direction of motion) and a late torque channel (a torque set by the
-speed) have ``ρ ≈ -0.96``, ``VIF ≈ 14``; with the speed varying (cosine ramps,
-several rates, sines) the VIF falls below 4.
+speed) differ only at the turns: away from them their signatures are the same
+offset. A crossover separates them in part (inside the gap friction acts, a
+lag of the elastic torque does not), and speeds that vary (cosine ramps,
+several rates, sines, holds) separate them (``VIF`` 2-4).
 
 A confounded pair is named as a group and no split is reported: the combined
 torque is (the pair's terms stay in the model when the loop found both; the
@@ -33,16 +38,15 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import ndimage
 
 from springcad.fit.data import make_record
 from springcad.fit.inference import Uncertainty, jacobian, report_intervals
 from springcad.fit.protocols import Protocol, SineSweep
 from springcad.fit.segment import segment
-from springcad.fit.signals import Scales, Signals, make_signals
+from springcad.fit.signals import Signals, make_signals
 from springcad.fit.torque_model import TorqueModel
 
-#: scales for asking an effect how many parameters it has
-_UNIT_SCALES = Scales(1.0, 1.0, 0.0, 1.0, 500.0, 1e-3)
 
 
 def primary_index(model: TorqueModel, name: str) -> int:
@@ -65,24 +69,51 @@ def pair_correlation(J: np.ndarray, i: int, j: int) -> float:
     return float(a @ b) / (na * nb)
 
 
-def vif_limit(a: str, b: str, settings) -> float:
-    """The VIF at which effects ``a`` and ``b`` count as confounded (see ``LoopSettings``)."""
-    from springcad.fit.effects import get_effect
-
-    shaped = any(len(get_effect(n).params(_UNIT_SCALES)) > 1 for n in (a, b))
-    return settings.vif_confounded_shaped if shaped else settings.vif_confounded
-
-
 def vif(rho: float) -> float:
     """Variance inflation factor of a correlation."""
     return math.inf if abs(rho) >= 1.0 else 1.0 / (1.0 - rho * rho)
 
 
+def turn_window_s(model: TorqueModel, x: np.ndarray, sig: Signals) -> float:
+    """How long (s) after a reversal the model's effects are still turning over.
+
+    Friction swings over three presliding angles at the record's typical
+    speed; a late channel over its lag; the deflection smoothing adds 20 ms.
+    """
+    speed = np.abs(sig.rate)
+    typical = float(np.median(speed[speed > 0.2 * np.percentile(speed, 99)]))
+    window = 0.0
+    for e in model.effects:
+        p = x[model.slice_of(e.name)]
+        if e.name == "hysteresis" and typical > 0:
+            window = max(window, 3.0 * float(p[1]) / typical)
+        window = max(window, abs(e.time_shift_s(p)))
+    return window + 0.02 if window > 0 else 0.0
+
+
 def pair_vif(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, a: str,
              b: str, J: np.ndarray | None = None) -> tuple[float, float]:
-    """``(ρ, VIF)`` of effects ``a`` and ``b`` of ``model`` at ``x`` on samples ``idx``."""
+    """``(ρ, VIF)`` of effects ``a`` and ``b`` of ``model`` at ``x`` on samples ``idx``.
+
+    Taken as the larger of the two found on all samples and on the samples
+    away from reversals (see :func:`turn_window_s`): a split that rests on the
+    turns alone rests on how each model draws a turn (the presliding shape,
+    the corner of the motion), which the models do not promise.
+    """
     J = jacobian(model, x, sig, idx) if J is None else J
-    rho = pair_correlation(J, primary_index(model, a), primary_index(model, b))
+    # the signatures, not the deflection noise a time shift carries into its column:
+    # averaged over 50 ms (signatures vary slower than that, noise does not)
+    step = float(np.median(np.diff(idx))) if idx.size > 1 else 1.0
+    width = int(round(0.05 * sig.scales.sample_rate_hz / max(step, 1.0)))
+    if width > 1:
+        J = ndimage.uniform_filter1d(J, size=width, axis=0, mode="nearest")
+    i, j = primary_index(model, a), primary_index(model, b)
+    rho = pair_correlation(J, i, j)
+    steady = sig.since_turn_s[idx] >= turn_window_s(model, x, sig)
+    if 10 * J.shape[1] < steady.sum() < steady.size:
+        rho_steady = pair_correlation(J[steady], i, j)
+        if abs(rho_steady) > abs(rho):
+            rho = rho_steady
     return rho, vif(rho)
 
 
@@ -138,8 +169,8 @@ class Confounded:
         carrier: the effect whose term stands for the group in the model.
         rho: correlation of the pair's signatures (see module docstring).
         vif: variance inflation factor.
-        combined_Nm: typical size of the carried torque (90th percentile of
-            its absolute value over the record, N·m).
+        combined_Nm: typical size of the combined torque (median of its
+            absolute value while the spring moves, N·m).
         signature: what the shared signature looks like.
         advice: the protocol that would separate them, if one was found.
         in_model: the group's terms that are in the model (all of them when
@@ -248,8 +279,7 @@ def recommend_protocol(model: TorqueModel, x: np.ndarray, sig: Signals, pair: tu
         pmodel = TorqueModel(model.effects, psig.scales)
         idx = np.arange(0, psig.n, max(1, psig.n // 8000))
         J = jacobian(pmodel, x, psig, idx)
-        rho = pair_correlation(J, primary_index(pmodel, pair[0]), primary_index(pmodel, pair[1]))
-        v = vif(rho)
+        rho, v = pair_vif(pmodel, x, psig, idx, pair[0], pair[1], J)
         tried.append((change, v, protocol.duration_s))
         if best is None or v < best[0] - 1e-9 or (abs(v - best[0]) <= 1e-9
                                                    and protocol.duration_s < best[2].duration_s):
@@ -309,10 +339,8 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
         J = jacobian(state.model, state.x, sig, idx)
         for i, a in enumerate(names):
             for b in names[i + 1:]:
-                rho = pair_correlation(J, primary_index(state.model, a),
-                                       primary_index(state.model, b))
-                v = vif(rho)
-                if v < vif_limit(a, b, s) or any(get_effect(n).needs_any for n in (a, b)):
+                rho, v = pair_vif(state.model, state.x, sig, idx, a, b, J)
+                if v < s.vif_confounded or any(get_effect(n).needs_any for n in (a, b)):
                     continue
                 loss = {}
                 for name in (a, b):
@@ -345,7 +373,7 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
             if f.name in grouped:
                 continue
             rho = pair_correlation(np.column_stack([J, signatures[f.name]]), col, J.shape[1])
-            if e.needs_any or vif(rho) < 0.5 * vif_limit(e.name, f.name, s):
+            if e.needs_any or vif(rho) < 0.5 * s.vif_confounded:
                 continue
             rest = active - {e.name}
             if any(not o.applicable(rest - {o.name}, sig) for o in state.model.effects
@@ -366,7 +394,7 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
             # judged where the record puts the pair: both fitted together
             xj = joint.fit(sig, idx, joint.transfer(state.model, state.x), f_scale)
             rho, v = pair_vif(joint, xj, sig, idx, e.name, f.name)
-            if v >= vif_limit(e.name, f.name, s):
+            if v >= s.vif_confounded:
                 groups.append((e.name, f.name, rho, v, joint, xj))
                 grouped |= {e.name, f.name}
     return groups

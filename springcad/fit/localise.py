@@ -149,26 +149,34 @@ class _Pattern:
     info: dict
 
 
-def _step_search(x: np.ndarray, y: np.ndarray, lo: int, hi: int) -> tuple[int, np.ndarray]:
+def _step_search(x: np.ndarray, y: np.ndarray, N: np.ndarray, lo: int,
+                 hi: int) -> tuple[int, np.ndarray]:
     """Best single step of the coefficient of ``x`` at a sample position in ``[lo, hi)``.
 
-    Fits ``y ≈ a·x + δ·x·[i ≥ b]`` for every ``b`` at once by the normal
-    equations on suffix sums; returns the best ``b`` and its component.
+    Fits ``y ≈ N·c + δ·x·[i ≥ b]`` (``N`` nuisance columns: the stiffness
+    shape and a constant, so that a step is not asked to carry a stiffness or
+    a zero shared by the whole record) for every ``b`` at once, from suffix
+    sums; returns the best ``b`` and its component.
     """
-    sxx_suf = np.cumsum((x * x)[::-1])[::-1]
-    sxy_suf = np.cumsum((x * y)[::-1])[::-1]
-    sxx, sxy = sxx_suf[0], sxy_suf[0]
-    s1, t1 = sxx_suf[lo:hi], sxy_suf[lo:hi]
-    det = sxx * s1 - s1 * s1
-    ok = det > 1e-12 * sxx * sxx
-    det = np.where(ok, det, 1.0)
-    a = (s1 * sxy - s1 * t1) / det
-    d = (sxx * t1 - s1 * sxy) / det
-    gain = np.where(ok, a * sxy + d * t1, -np.inf)
+    ntn_inv = np.linalg.pinv(N.T @ N)
+    y_full = y
+    y = y - N @ (ntn_inv @ (N.T @ y))
+    suf = lambda v: np.cumsum(v[::-1], axis=0)[::-1]  # noqa: E731
+    uy = suf(x * y)[lo:hi]
+    uu = suf(x * x)[lo:hi]
+    un = suf(x[:, None] * N)[lo:hi]
+    den = uu - np.einsum("ij,jk,ik->i", un, ntn_inv, un)
+    ok = den > 1e-12 * max(float(uu.max()), 1e-300)
+    gain = np.where(ok, uy * uy / np.where(ok, den, 1.0), -np.inf)
     k = int(np.argmax(gain))
     b = lo + k
-    step = (np.arange(x.size) >= b).astype(float)
-    return b, a[k] * x + d[k] * x * step
+    comp, _ = _lsq_component(np.column_stack([x * (np.arange(x.size) >= b), N]), y_full)
+    return b, comp
+
+
+def _lsq_component(X: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    coef, *_ = np.linalg.lstsq(X, y, rcond=None)
+    return X @ coef, coef
 
 
 def _binned(key: np.ndarray, y: np.ndarray, nbins: int, min_count: int = 10) -> np.ndarray:
@@ -185,19 +193,22 @@ def _candidates(work: np.ndarray, sig: Signals, idx: np.ndarray, bins: int, sigm
     theta = sig.theta_smooth[idx]
     d = sig.direction[idx]
     lo, hi = int(0.03 * idx.size), int(0.97 * idx.size)
+    N = np.column_stack([shape, np.ones_like(shape)])  # a stiffness and a zero for the record
     out = []
-    b, comp = _step_search(shape, work, lo, hi)
+    b, comp = _step_search(shape, work, N, lo, hi)
     out.append(_Pattern("stiffness_step", comp, 3, {"at_s": float(t[b])}))
-    b, comp = _step_search(np.ones_like(work), work, lo, hi)
-    out.append(_Pattern("zero_step", comp, 3, {"at_s": float(t[b])}))
-    tc = (t - t.mean()) / max(np.ptp(t), 1e-12)
-    X = np.column_stack([shape, shape * tc])
-    coef, *_ = np.linalg.lstsq(X, work, rcond=None)
-    out.append(_Pattern("stiffness_trend", X @ coef, 2, {"per_s": float(coef[1] / max(np.ptp(t), 1e-12))}))
+    b, comp = _step_search(np.ones_like(work), work, N, lo, hi)
+    out.append(_Pattern("zero_step", comp, 2, {"at_s": float(t[b])}))
+    span = max(np.ptp(t), 1e-12)
+    tc = (t - t.mean()) / span
+    comp, coef = _lsq_component(np.column_stack([shape * tc, N]), work)
+    out.append(_Pattern("stiffness_trend", comp, 1, {"per_s": float(coef[0] / span)}))
     nt = 40
-    key_t = np.clip(((t - t[0]) / max(np.ptp(t), 1e-12) * nt).astype(int), 0, nt - 1)
-    g_t = _binned(key_t, work, nt)
-    out.append(_Pattern("zero_wander", g_t[key_t], nt, {"bins": g_t}))
+    key_t = np.clip(((t - t[0]) / span * nt).astype(int), 0, nt - 1)
+    onehot = np.zeros((t.size, nt))
+    onehot[np.arange(t.size), key_t] = 1.0
+    comp, _ = _lsq_component(np.column_stack([onehot, shape]), work)
+    out.append(_Pattern("zero_wander", comp, nt - 1, {}))
     edges = np.linspace(theta.min(), theta.max(), bins + 1)
     key = np.clip(np.searchsorted(edges, theta, side="right") - 1, 0, bins - 1)
     g = _binned(key, work, bins)
@@ -208,23 +219,25 @@ def _candidates(work: np.ndarray, sig: Signals, idx: np.ndarray, bins: int, sigm
                                                            "profile_Nm": h}))
     spec = periodogram(work, rate_hz)
     if spec["peak_hz"] > 0:
-        f, comp, amp = sinusoid(t, work, spec["peak_hz"], 1.0 / max(np.ptp(t), 1e-12))
+        f, comp, amp = sinusoid(t, work, spec["peak_hz"], 1.0 / span, N)
         out.append(_Pattern("periodic_time", comp, 3, {
             "frequency_hz": f, "amplitude_Nm": amp, "spectrum_p_value": spec["p_value"]}))
     return out
 
 
-def sinusoid(t: np.ndarray, y: np.ndarray, f0: float, df: float) -> tuple[float, np.ndarray, float]:
-    """Least-squares sinusoid of ``y`` with its frequency refined within ``f0 ± df`` (Hz).
+def sinusoid(t: np.ndarray, y: np.ndarray, f0: float, df: float,
+             N: np.ndarray) -> tuple[float, np.ndarray, float]:
+    """Least-squares sinusoid of ``y`` (beside nuisance columns ``N``) with its frequency
+    refined within ``f0 ± df`` (Hz).
 
     Returns:
         ``(frequency_hz, component, amplitude)``.
     """
     def fit(f):
         w = 2.0 * np.pi * f * (t - t[0])
-        X = np.column_stack([np.sin(w), np.cos(w)])
+        X = np.column_stack([np.sin(w), np.cos(w), N])
         coef, *_ = np.linalg.lstsq(X, y, rcond=None)
-        return X @ coef, float(np.hypot(*coef))
+        return X @ coef, float(np.hypot(coef[0], coef[1]))
 
     res = optimize.minimize_scalar(lambda f: -float(np.sum(fit(f)[0] ** 2)),
                                    bounds=(f0 - df, f0 + df), method="bounded",

@@ -19,8 +19,8 @@
    together, and its values must be physically possible. The worst failing
    effect is rejected and the search resumes without it, until all pass.
 4. **Identifiability** (:mod:`springcad.fit.identify`). Pairs of effects the
-   record cannot separate (variance inflation ≥ ``vif_confounded``, or
-   ``vif_confounded_shaped`` where a shape parameter is involved) are
+   record cannot separate (variance inflation ≥ ``vif_confounded``, also
+   away from the reversals) are
    named as a group and carried as one term, with the protocol that would
    separate them.
 5. **Uncertainty** (:mod:`springcad.fit.inference`): every reported quantity
@@ -44,7 +44,7 @@ import numpy as np
 from springcad.fit.effects import LIBRARY, Effect, get_effect
 from springcad.fit.evidence import EffectEvidence, audit
 from springcad.fit.identify import (Confounded, contribution, find_confounded,
-                                    recommend_protocol, vif_limit)
+                                    recommend_protocol)
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
 from springcad.fit.localise import localise
 from springcad.fit.models import nrmse_pct
@@ -216,9 +216,11 @@ def _run_loop(sig: Signals, settings: LoopSettings) -> LoopResult:
         failed = aud.failed()
         if not failed:
             break
-        # every failing effect goes at once: the audit runs on the whole selected model,
-        # so a true effect does not fail for want of another true one
-        for ev in failed:
+        # the worst goes, with every other clear failure (unsupported, or parts that
+        # disagree beyond p = 1e-6); a marginal disagreement can be another effect's
+        # doing, so it is audited again once the worst is gone
+        clear = [ev for ev in failed[1:] if ev.strength >= 6.0]
+        for ev in failed[:1] + clear:
             rejected.append({"effect": ev.effect, "reason": ev.reason(),
                              "short_reason": ev.short_reason(), "audit": ev.to_dict()})
             excluded.add(ev.effect)
@@ -330,10 +332,11 @@ def _groups(pairs, state: State, lp: Search, noise: float, tau: float) -> tuple[
         held = carrier if carrier in state.model.names else other
         present = tuple(n for n in (carrier, other) if n in state.model.names)
         c = np.abs(sum(contribution(state.model, state.x, sig, idx, n) for n in present))
+        moving = np.abs(sig.rate[idx]) > 0.2 * np.percentile(np.abs(sig.rate[idx]), 99)
         advice = recommend_protocol(joint, xj, sig, (carrier, other), v, noise, tau,
-                                    vif_limit(carrier, other, lp.s))
+                                    lp.s.vif_confounded)
         out.append(Confounded((held,) + tuple(n for n in (carrier, other) if n != held), held,
-                              rho, v, float(np.percentile(c, 90)),
+                              rho, v, float(np.median(c[moving])),
                               get_effect(held).signature, advice, present))
     return tuple(out)
 

@@ -10,7 +10,7 @@ Two families, each a frozen dataclass with the same small interface
   mean speeds ``rates_rad_per_s``, the whole staircase once per rate; an
   optional hold at every peak.
 * :class:`SineSweep`: stepped sines ``A·sin(2πft)``, a whole number of cycles
-  at each frequency, for each amplitude.
+  at each frequency, for each amplitude, faded in and out over half a cycle.
 
 Why several: friction (a torque set by the direction of motion) and a late
 torque channel (a torque set by the speed) leave the same mark on ramps at one
@@ -141,6 +141,9 @@ class Protocol:
 class SineSweep:
     """Stepped sine sweep: ``cycles`` whole cycles of ``A·sin(2πft)`` per frequency and amplitude.
 
+    Each block fades in over its first half cycle and out over its last
+    (raised cosine), so the motion starts and stops at rest.
+
     Attributes:
         amplitudes_rad: sine amplitudes (rad); the sweep runs once per amplitude.
         frequencies_hz: frequencies (Hz), in order.
@@ -184,7 +187,13 @@ class SineSweep:
         start = self.rest_s
         for a, f, d in self._blocks():
             inside = (t >= start) & (t < start + d)
-            out[inside] = a * np.sin(2.0 * np.pi * f * (t[inside] - start))
+            u = t[inside] - start
+            # fade in over the first half cycle and out over the last, so the motion
+            # starts and stops at rest (a drive cannot jump in speed)
+            half = 0.5 / f
+            fade = np.minimum(np.minimum(u, d - u) / half, 1.0)
+            envelope = 0.5 * (1.0 - np.cos(np.pi * fade))
+            out[inside] = a * envelope * np.sin(2.0 * np.pi * f * u)
             start += d
         return out
 

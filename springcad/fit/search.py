@@ -48,11 +48,8 @@ class LoopSettings:
         max_audits: most rounds of "audit the model, drop the inconsistent
             effects, search again".
         vif_confounded: variance inflation at which two effects count as not
-            separable on the record (see ``identify``), for effects whose
-            signatures the library fixes completely.
-        vif_confounded_shaped: the same when either effect has a shape
-            parameter (friction's presliding angle, the crossover's
-            transition): their split would rest on a shape the model chose.
+            separable on the record, on all samples or away from the
+            reversals (see ``identify``).
         spring_z: the stiffness must be this many standard errors above zero
             for the record to hold a spring at all.
     """
@@ -70,7 +67,6 @@ class LoopSettings:
     support_z: float = 3.0
     max_audits: int = 4
     vif_confounded: float = 10.0
-    vif_confounded_shaped: float = 5.0
     spring_z: float = 5.0
 
 

@@ -73,9 +73,50 @@ class Signals:
         return self.run if self.run is not None else np.zeros(self.n, dtype=int)
 
     @functools.cached_property
+    def theta_trace(self) -> np.ndarray:
+        """Deflection smoothed for time shifts (rad): a local quadratic over 60 ms,
+        fitted within each run so a sharp turn is not rounded off.
+
+        Shifting a rounded turn (a linear ramp's corner under a moving average)
+        biased a time lag by 1 % (many standard errors on a long record); within
+        a run the local quadratic follows linear and cosine motion alike.
+        """
+        from scipy.signal import savgol_filter
+
+        width = max(5, int(round(0.06 * self.scales.sample_rate_hz)) | 1)
+        out = self.theta_smooth.copy()
+        runs = self.runs
+        bounds = np.concatenate([[0], np.flatnonzero(np.diff(runs) != 0) + 1, [self.n]])
+        for a, b in zip(bounds[:-1], bounds[1:]):
+            w = min(width, (b - a) | 1 if (b - a) % 2 else b - a - 1)
+            if w >= 5:
+                out[a:b] = savgol_filter(self.theta[a:b], w, 2, mode="interp")
+        return out
+
+    @functools.cached_property
     def from_reversal(self) -> np.ndarray:
-        """Per-sample |smoothed deflection - deflection at the last reversal| (rad)."""
-        return np.abs(self.theta_smooth - self.reversal)
+        """Per-sample |smoothed deflection - deflection at the last reversal| (rad).
+
+        The reversal angle is read on a deflection averaged over 3 samples only: the
+        20 ms smoothing cuts a sharp turn (a linear ramp's) short by a quarter of
+        the speed times 20 ms, as much as friction's presliding angle at 0.3 rad/s;
+        the noise left on it is one value per run, which the clustered intervals
+        see.
+        """
+        runs = self.runs
+        start = np.flatnonzero(np.diff(runs, prepend=runs[0] - 1) != 0)
+        first = start[np.searchsorted(start, np.arange(self.n), side="right") - 1]
+        light = ndimage.uniform_filter1d(self.theta, size=3, mode="nearest")
+        turn = np.where(first > 0, light[first], self.reversal)
+        return np.abs(self.theta_smooth - turn)
+
+    @functools.cached_property
+    def since_turn_s(self) -> np.ndarray:
+        """Per-sample time since the motion last reversed (since the start before the first turn), s."""
+        runs = self.runs
+        start = np.flatnonzero(np.diff(runs, prepend=runs[0] - 1) != 0)
+        first = start[np.searchsorted(start, np.arange(self.n), side="right") - 1]
+        return self.t - self.t[first]
 
     @functools.cached_property
     def swing(self) -> np.ndarray:

@@ -250,9 +250,9 @@ def _confounded_blocks(data: dict) -> list[tuple]:
     b.append(("p", "For every pair of effects (in the model, or one in and one from the "
                    "library that can do its job), the correlation ρ of their signatures after "
                    "removing what the rest of the model can absorb gives the variance inflation "
-                   f"1/(1-ρ²); at {_f(data['loop_settings']['vif_confounded'])} or more "
-                   f"({_f(data['loop_settings']['vif_confounded_shaped'])} where an effect has a "
-                   "shape parameter, as friction's presliding angle) the "
+                   f"1/(1-ρ²), on all samples and away from the reversals (a split that rests "
+                   f"on the turns alone rests on how each model draws a turn); at "
+                   f"{_f(data['loop_settings']['vif_confounded'])} or more the "
                    "record cannot separate them and one combined term is carried."))
     if not final["confounded"]:
         b.append(("p", "No confounded pair on this record."))

@@ -64,7 +64,7 @@ def test_fit_json_schema(fitted):
     final = d["final"]
     assert set(final) >= {"model", "params", "nrmse_pct", "unexplained"}
     assert final["unexplained"] is False
-    # the final K carries the regression-dilution correction: the error moves by < 0.1 %
+    # the final stiffness carries the regression-dilution correction (a few 1e-5 relative)
     assert final["nrmse_pct"] == pytest.approx(d["steps"][-1]["nrmse_after_pct"], rel=1e-3)
     for name in ("linear", "deadband", "logit"):
         m = d["paper_models"][name]
@@ -75,6 +75,17 @@ def test_fit_json_schema(fitted):
     # NRMSE in percent of half the torque range: the linear misfit here is a few percent
     assert 1.0 < d["paper_models"]["linear"]["nrmse_pct"] < 20.0
     assert 0.5 < d["energy_loss_pct"] < 5.0
+    assert d["schema"] == "springcad.fit/2"
+    assert d["energy_loss"]["source"] == "hysteresis model"
+    assert d["energy_loss"]["ci_low_pct"] <= d["energy_loss_pct"] <= d["energy_loss"]["ci_high_pct"]
+    # every parameter with its interval, every effect with its evidence across splits
+    assert set(final["intervals"]) == set(final["params"])
+    for ci in final["intervals"].values():
+        assert ci["ci_low"] <= ci["value"] <= ci["ci_high"]
+    assert set(d["evidence"]) == {"backlash", "hysteresis"}
+    assert all(e["ok"] and e["splits"] for e in d["evidence"].values())
+    assert final["effects"] == ["backlash", "hysteresis"] and final["confounded"] == []
+    assert d["spring_check"]["above_noise"] and d["rejected"] == []
 
 
 def test_html_report_and_overwrite(bench_csv, tmp_path, capsys):
@@ -179,8 +190,9 @@ def test_radians_read_as_degrees_are_refused_by_the_target(tmp_path, capsys):
 
 
 def test_non_positive_target_is_rejected(bench_csv, tmp_path):
-    assert main(["fit", str(bench_csv), "--out", str(tmp_path / "o"),
-                 "--target-stiffness", "-3"]) == 2
+    with pytest.raises(SystemExit) as exc:
+        main(["fit", str(bench_csv), "--out", str(tmp_path / "o"), "--target-stiffness", "-3"])
+    assert exc.value.code == 2
 
 
 def test_config_without_design_core_exits_2(bench_csv, tmp_path, capsys, monkeypatch):
@@ -260,3 +272,27 @@ def test_encoder_column_lets_the_loop_find_series_compliance(tmp_path):
     step = d["steps"][0]
     assert step["params"]["series_stiffness_Nm_per_rad"] == pytest.approx(200.0, rel=0.05)
     assert step["evidence"]["heldout_rmse_after_rad"] < step["evidence"]["heldout_rmse_before_rad"]
+
+
+def test_cli_reports_confounded_and_unexplained_structure(tmp_path, capsys):
+    # friction and lag on one ramp rate, plus a stiffness that changes mid-test
+    from fit_helpers import ONE_RATE, with_extra_torque
+
+    sim = simulate(spring("hysteresis", "time_lag"), protocol=ONE_RATE, seed=81)
+    rec = with_extra_torque(sim, lambda t, th: 0.06 * 40.0 * th * (t > 0.55 * t[-1]))
+    path = tmp_path / "rec.csv"
+    path.write_text(to_csv_text(rec))
+    out = tmp_path / "o"
+    assert main(["fit", str(path), "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "confounded: hysteresis and time_lag" in printed
+    assert "to separate them: springcad simulate" in printed
+    assert "unexplained:" in printed and "change at t" in printed
+    d = json.loads((out / "fit.json").read_text())
+    assert d["final"]["unexplained"] and d["final"]["unexplained_where"]["findings"]
+    assert d["protocol_advice"] and d["energy_loss_pct"] is None
+    report = (out / "report.md").read_text()
+    for section in ("## Evidence audit", "## Identifiability", "**Recommended protocol**",
+                    "Where it lives", "![where the unexplained structure lives](unexplained.png)"):
+        assert section in report
+    assert (out / "unexplained.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -35,7 +35,9 @@ RECOVER = {
 def _check(sim, res, sig):
     injected = set(sim.injected)
     added = {s.effect for s in res.steps if s.action == "add"}
-    assert set(res.final.effects) == injected, [(s.action, s.effect) for s in res.steps]
+    assert set(res.identified) == injected, [(s.action, s.effect) for s in res.steps]
+    assert res.confounded == () and res.rejected == ()
+    assert set(res.final.effects) == injected
     assert added <= injected, "spurious effect added"
     assert all(s.action == "add" for s in res.steps)
     final = res.nrmse_pct(res.final, sig)
@@ -102,6 +104,37 @@ def test_every_other_pair_of_effects(pair):
     sim = simulate_fast(*pair, seed=41)
     res, sig = loop_on(sim)
     _check(sim, res, sig)
+
+
+TRIPLES = [("backlash", "hysteresis", "stiffening"), ("drift", "torque_offset", "asymmetric_stiffness"),
+           ("backlash", "hysteresis", "time_lag"), ("outliers", "backlash", "time_lag"),
+           ("hysteresis", "time_lag", "drift"), ("series_compliance", "hysteresis", "backlash")]
+
+
+@pytest.mark.parametrize("triple", TRIPLES[:3], ids="+".join)
+def test_three_effects(triple):
+    sim = simulate_fast(*triple, seed=43)
+    res, sig = loop_on(sim)
+    _check(sim, res, sig)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("triple", TRIPLES[3:], ids="+".join)
+def test_three_more_effects(triple):
+    sim = simulate_fast(*triple, seed=44)
+    res, sig = loop_on(sim)
+    _check(sim, res, sig)
+
+
+def test_every_parameter_has_an_interval_covering_the_truth():
+    sim = simulate_fast("backlash", "hysteresis", "time_lag", seed=45)
+    res, _ = loop_on(sim)
+    truth = {"stiffness_Nm_per_rad": K, "backlash_rad": 0.04, "transition_rad": 0.005,
+             "friction_torque_Nm": 0.15, "lag_s": 0.015}
+    for key, value in truth.items():
+        ci = res.intervals[key]  # one record: within 3 standard errors
+        assert abs(ci["value"] - value) <= 3 * ci["se"], (key, ci)
+    assert set(res.intervals) == set(res.final.params())
 
 
 def _with_extra_torque(sim, extra):

@@ -1,0 +1,122 @@
+"""Physically valid reports: no spring is reported as such, impossible values are refused,
+and every parameter has a confidence interval that covers the truth at its stated rate."""
+
+import numpy as np
+import pytest
+
+from springcad.errors import DataError
+from springcad.fit.analysis import fit_record
+from springcad.fit.bench import BenchSpring, Protocol, simulate
+from springcad.fit.data import make_record
+from springcad.fit.inference import sandwich
+from fit_helpers import FAST, K, loop_on_record, simulate_fast, spring
+
+
+def test_pure_noise_has_no_stiffness_above_noise():
+    # the issue's case: pure noise was reported as a 1e-9 N·m/rad spring, nothing unexplained
+    rec = simulate_fast(seed=71).record
+    rng = np.random.default_rng(71)
+    noise = make_record(rec.time_s, rng.normal(0.0, 0.05, rec.n_samples), rec.deflection_rad)
+    res = fit_record(noise)
+    assert res.loop.no_spring
+    assert res.loop.identified == () and res.loop.steps == ()
+    k = res.loop.intervals["stiffness_Nm_per_rad"]
+    assert k["ci_low"] < 0.0 < k["ci_high"]
+    assert res.energy_loss_pct is None
+    d = res.to_dict()
+    assert d["final"]["no_spring"] and d["final"]["model"] == "no stiffness above noise"
+    assert d["stiffness_error_pct"] is None
+
+
+def test_a_weak_spring_is_still_a_spring():
+    sim = simulate(BenchSpring(0.5), protocol=FAST, seed=72)
+    res, _ = loop_on_record(sim.record)
+    assert not res.no_spring
+    k = res.intervals["stiffness_Nm_per_rad"]
+    assert k["ci_low"] <= 0.5 <= k["ci_high"] and k["ci_low"] > 0
+
+
+def test_torque_falling_with_deflection_is_refused():
+    rec = simulate_fast(seed=73).record
+    flipped = make_record(rec.time_s, -rec.torque_Nm, rec.deflection_rad)
+    with pytest.raises(DataError, match="torque falls as deflection grows"):
+        fit_record(flipped)
+
+
+def test_encoder_columns_swapped_give_no_negative_series_stiffness():
+    # the issue's case: a series_compliance step accepted with K_series = -70.5 N·m/rad
+    sim = simulate(spring("series_compliance"), protocol=FAST, seed=74)
+    rec = sim.record
+    swapped = make_record(rec.time_s, rec.torque_Nm, rec.deflection_rad,
+                          2 * rec.deflection_rad - rec.encoder_deflection_rad)
+    res, _ = loop_on_record(swapped)
+    assert "series_compliance" not in res.final.effects
+    notes = [c.note for r in res.rounds for c in r if c.effect == "series_compliance" and c.note]
+    assert notes and "encoder column order" in notes[0]
+    # the right way round it is found, positive, with an interval around the truth
+    res, _ = loop_on_record(rec)
+    ci = res.intervals["series_stiffness_Nm_per_rad"]
+    assert 0 < ci["ci_low"] <= 200.0 <= ci["ci_high"]
+
+
+def test_every_reported_stiffness_is_positive():
+    sim = simulate(spring("asymmetric_stiffness", "stiffening", "hysteresis"), protocol=FAST,
+                   seed=75)
+    res, _ = loop_on_record(sim.record)
+    params = res.final.params()
+    for key in ("stiffness_Nm_per_rad", "stiffness_pos_Nm_per_rad", "stiffness_neg_Nm_per_rad"):
+        assert params[key] > 0
+    assert set(res.intervals) >= set(params) - {"n_outliers", "outlier_fraction"}
+
+
+def test_sandwich_matches_least_squares_for_white_noise():
+    rng = np.random.default_rng(3)
+    x = np.sin(np.linspace(0, 60, 6000))
+    clusters = np.repeat(np.arange(60), 100)
+    r = rng.normal(0, 0.1, x.size)
+    unc = sandwich(x[:, None], r, clusters, 500.0)
+    assert unc.se[0] == pytest.approx(0.1 / np.sqrt(x @ x), rel=0.25)
+    assert unc.dof == 59
+
+
+def test_sandwich_widens_for_structure_the_model_misses():
+    x = np.sin(np.linspace(0, 60, 6000))
+    clusters = np.repeat(np.arange(60), 100)
+    rng = np.random.default_rng(4)
+    white = rng.normal(0, 0.1, x.size)
+    structured = white + 0.3 * np.sign(x) * (clusters % 2)  # every other run is off
+    assert sandwich(x[:, None], structured, clusters, 500.0).se[0] > 2 * sandwich(
+        x[:, None], white, clusters, 500.0).se[0]
+
+
+#: a short staircase (about 4500 samples) for the Monte Carlo
+SHORT = Protocol(amplitudes_rad=(0.1, 0.2, 0.3, 0.4), ramp_s=0.5)
+
+
+def test_stiffness_interval_coverage_of_a_linear_spring():
+    # 95 % intervals: with 40 seeds, fewer than 34 hits happens with probability < 2 %
+    hits = 0
+    for seed in range(40):
+        res, _ = loop_on_record(simulate(BenchSpring(K), protocol=SHORT, seed=500 + seed).record)
+        ci = res.intervals["stiffness_Nm_per_rad"]
+        hits += ci["ci_low"] <= K <= ci["ci_high"]
+    assert hits >= 34
+
+
+@pytest.mark.slow
+def test_interval_coverage_with_three_effects():
+    # a seeded Monte Carlo of backlash + friction + drift: each 95 % interval must cover its
+    # truth in at least 26 of 30 records (probability below 2 % at the nominal rate), and
+    # all of them together at least 90 % of the time
+    truth = {"stiffness_Nm_per_rad": K, "backlash_rad": 0.04, "friction_torque_Nm": 0.15,
+             "drift_Nm_per_s": 0.01}
+    bench = BenchSpring(K, backlash_rad=0.04, friction_torque_Nm=0.15, drift_Nm_per_s=0.01)
+    hits = dict.fromkeys(truth, 0)
+    for seed in range(30):
+        res, _ = loop_on_record(simulate(bench, protocol=SHORT, seed=1000 + seed).record)
+        assert set(res.identified) == {"backlash", "hysteresis", "drift"}
+        for key, value in truth.items():
+            ci = res.intervals[key]
+            hits[key] += ci["ci_low"] <= value <= ci["ci_high"]
+    assert min(hits.values()) >= 26, hits
+    assert sum(hits.values()) >= 0.9 * 30 * len(truth), hits
