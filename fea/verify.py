@@ -264,7 +264,7 @@ def add_3d_factor(run: ModelRun, design, material: Material, options: VerifyOpti
 
 
 # ================================================================== one spring
-@dataclass
+@dataclass(repr=False)
 class SpringVerification:
     """The verified spring: FEA stiffness and stress with errors, and the correction history.
 
@@ -287,6 +287,11 @@ class SpringVerification:
     support: dict | None = None
     contact: object | None = None
     """The :class:`~fea.contact.ContactSweep` of the final design (None: not run)."""
+
+    def __repr__(self) -> str:
+        return (f"SpringVerification({self.name!r}, K_fea={self.stiffness_fea_Nmm_per_rad:.6g} "
+                f"N*mm/rad ({100 * self.error_vs_target:+.2f} % vs target), peak "
+                f"{self.peak_von_mises_MPa:.0f} MPa, ok={self.ok})")
 
     @property
     def stiffness_fea_Nmm_per_rad(self) -> float:
@@ -657,7 +662,7 @@ def verify_stack(sequence, verified: dict, required_safety_factor: float) -> Sta
         required_safety_factor=required_safety_factor)
 
 
-@dataclass
+@dataclass(repr=False)
 class JobVerification:
     """Every spring of a job verified (and corrected), and the stack."""
 
@@ -673,6 +678,10 @@ class JobVerification:
         stack's eq. 10 load case meets the required factor (a spring that the stack never
         drives to its own limit is judged at the load it actually carries)."""
         return all(v.stiffness_ok for v in self.springs.values()) and self.stack.ok
+
+    def __repr__(self) -> str:
+        return (f"JobVerification({self.job_name!r}, springs={list(self.springs.values())!r}, "
+                f"ok={self.ok})")
 
     def failures(self) -> list[str]:
         out = []

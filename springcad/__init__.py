@@ -4,8 +4,46 @@ Internal units: lengths in mm, forces in N, stresses in MPa (N/mm^2),
 torques in N*mm, angles in rad, masses in kg. Public result keys carry
 their unit in the name (``stiffness_Nm_per_rad``).
 
+Public API (:mod:`springcad.api`; results in N*m/rad, rad, MPa, kg)::
+
+    import springcad as sc
+    job = sc.load("templates/paper_S1.toml")     # or a dict
+    d = sc.design_job(job)                        # Design: .springs, .stack
+    v = sc.verify(d, model="2d")                  # Verification: FEA, corrected .design
+    rec = sc.simulate(v, seed=1)                  # a simulated bench record
+    f = sc.fit_record(rec, design=v.design)       # Fit: model, K, backlash, effects
+
 ``import springcad`` stays light: CAD, meshing and plotting libraries
 are imported by the modules that use them.
 """
 
 __version__ = "0.1.0"
+
+from springcad.api import (
+                           Design,
+                           Fit,
+                           Spring,
+                           Stack,
+                           Verification,
+                           design_job,
+                           fit_record,
+                           load,
+                           simulate,
+                           verify,
+)
+from springcad.errors import SpringcadError
+
+__all__ = [
+                           "Design",
+                           "Fit",
+                           "Spring",
+                           "SpringcadError",
+                           "Stack",
+                           "Verification",
+                           "__version__",
+                           "design_job",
+                           "fit_record",
+                           "load",
+                           "simulate",
+                           "verify",
+]

@@ -247,8 +247,16 @@ def run(args) -> int:
             ctx.timings[name] = round(time.perf_counter() - t0, 3)
             print(f"      {name} done in {ctx.timings[name]:.1f} s", file=sys.stderr, flush=True)
         ctx.timings["total"] = round(time.perf_counter() - t_all, 3)
-        write_json(Path(tmp) / "build.json", build_json(ctx))
+        from springcad.report.html_build import write_build_report
+
+        doc = build_json(ctx)
+        write_json(Path(tmp) / "build.json", doc)
+        report = write_build_report(tmp)  # last: it reads the files written above
+        doc["files"].append({"path": "report.html", "kind": "report", "part": "",
+                             "bytes": report.stat().st_size})
+        write_json(Path(tmp) / "build.json", doc)  # now listing the report too
     _print_summary(ctx, out)
+    print(f"report: {out / 'report.html'} (open it in a web browser)")
     return 0
 
 

@@ -15,13 +15,16 @@ from springcad.units import G_PER_KG, MM3_PER_CM3, NMM_PER_NM
 SCHEMA = "springcad.design/1"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class JobDesign:
     """Designed springs (by name) and the stack built from them."""
 
     job: Job
     springs: dict[str, SpringDesign]
     stack: StackDesign
+
+    def __repr__(self) -> str:
+        return f"JobDesign({self.job.name!r}, springs={list(self.springs)}, {self.stack!r})"
 
     def with_springs(self, springs: dict[str, SpringDesign]) -> "JobDesign":
         """The same job with some springs replaced (e.g. FEA-corrected); the stack is redone."""

@@ -40,7 +40,7 @@ if TYPE_CHECKING:
 RIM_GAP_RATIO = 1.5
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class SpringDesign:
     """A complete single-spring design with its beam-theory predictions.
 
@@ -238,6 +238,13 @@ class SpringDesign:
     @property
     def specific_energy_J_per_kg(self) -> float:
         return self.energy_J / self.mass_kg
+
+    def __repr__(self) -> str:
+        # the profiles hold thousands of curve segments: print the key numbers only
+        return (f"SpringDesign({self.name!r}, K_beam={self.stiffness_beam_Nmm_per_rad:.6g} "
+                f"N*mm/rad, theta_max={self.max_deflection_rad:.4g} rad, N={self.n_flexures}, "
+                f"r_c={self.contact_radius_mm:.4g} mm, R_o={self.outer_radius_mm:.4g} mm, "
+                f"width_scale={self.width_scale:.4g})")
 
     def to_dict(self) -> dict:
         """The ``design.json`` entry of this spring (units in key names)."""

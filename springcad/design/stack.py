@@ -36,7 +36,7 @@ def eq10_limit(limits_rad, stiffnesses) -> tuple[float, float, tuple[float, ...]
     return sum(shares), torque, shares
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class StackDesign:
     """A stack of designed springs with its predictions."""
 
@@ -122,6 +122,10 @@ class StackDesign:
                 f"{100 * self.backlash.mc_interference_fraction:.1f} % of Monte Carlo stacks have "
                 "at least one cam interface in interference: tighten tolerances or raise w_gap_mm")
         return out
+
+    def __repr__(self) -> str:
+        return (f"StackDesign({' + '.join(self.sequence)}, K={self.stiffness_Nmm_per_rad:.6g} "
+                f"N*mm/rad, input {self.input}, output {self.output})")
 
     def to_dict(self) -> dict:
         limit, torque, shares = self.limit

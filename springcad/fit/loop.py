@@ -101,7 +101,7 @@ class Step:
                 "nrmse_after_pct": self.nrmse_after_pct}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class LoopResult:
     """Outcome of the residual loop.
 
@@ -141,6 +141,11 @@ class LoopResult:
     confounded: tuple[Confounded, ...] = ()
     intervals: dict = field(default_factory=dict)
     localisation: dict | None = None
+
+    def __repr__(self) -> str:
+        # the states hold per-sample arrays: show the chain of steps only
+        chain = " ".join(f"{s.action} {s.effect}" for s in self.steps) or "no steps"
+        return f"LoopResult({chain}; unexplained={self.unexplained})"
 
     @property
     def no_spring(self) -> bool:

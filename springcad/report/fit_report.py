@@ -422,14 +422,16 @@ def _plot_models(plt, result: FitResult, path: Path, zoom: bool) -> Path:
     pred_final = final.model.predict(final.x, sig, np.arange(sig.n))
     fig, ax = plt.subplots(figsize=(7, 5))
     sel = _every(th.size)
-    ax.plot(th[sel], tq[sel], ".", ms=1.5, color="0.6", label="measured", rasterized=True)
+    # the data above the models (zorder): the reader compares the models with it
+    ax.plot(th[sel], tq[sel], ".", ms=1.2, color="0.2", alpha=0.45, label="measured", rasterized=True,
+            zorder=4)
     grid = np.linspace(th.min(), th.max(), 2001)
     styles = {"linear": "C0", "deadband": "C1", "logit": "C2"}
     for name, m in result.paper_models.items():
         ax.plot(grid, m.predict(grid), color=styles[name], lw=1.2,
                 label=f"{name} (NRMSE {m.nrmse_pct:.2f} %)")
     if not result.loop.no_spring:
-        ax.plot(th[sel], pred_final[sel], ".", ms=1.0, color="C3",
+        ax.plot(th[sel], pred_final[sel], ".", ms=1.0, color="C3", alpha=0.5, zorder=2,
                 label=f"final: {final_label(result.loop)} (NRMSE {result.nrmse_pct(final):.2f} %)")
     if zoom:
         b = max(result.paper_models["deadband"].backlash_rad, 0.02 * sig.scales.theta_ref)

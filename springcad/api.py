@@ -1,0 +1,554 @@
+"""The public Python API: load, design, verify, simulate, fit; results in SI units.
+
+The functions here are what a notebook or script calls; the result objects
+wrap the internal design/analysis types (which work in N*mm and mm) and
+expose the field's units in their names: stiffness in N*m/rad, angles in
+rad, stresses in MPa, masses in kg, lengths in mm. Every result prints as one
+short line (``repr``) and shows a small table (and a drawing or plot) in
+Jupyter (``_repr_html_``).
+
+Example:
+    >>> import springcad as sc
+    >>> job = sc.load("templates/paper_S1.toml")
+    >>> d = sc.design_job(job)
+    >>> d.stack.stiffness_Nm_per_rad
+    >>> v = sc.verify(d, model="2d")
+    >>> rec = sc.simulate(d, seed=1)
+    >>> f = sc.fit_record(rec, design=d)
+
+The functions are named ``design_job`` and ``fit_record`` (not ``design``,
+``fit``) because ``springcad.design`` and ``springcad.fit`` are subpackages:
+importing them rebinds those attribute names on the package.
+
+Heavy libraries (scikit-fem, matplotlib) are imported inside the functions
+that need them, so ``import springcad`` stays light.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import math
+from pathlib import Path
+
+from springcad.errors import ConfigError, DataError
+
+#: N*mm per N*m (the design layer works in N*mm)
+_NMM_PER_NM = 1000.0
+
+__all__ = [
+    "Design",
+    "Fit",
+    "Spring",
+    "Stack",
+    "Verification",
+    "design_job",
+    "fit_record",
+    "load",
+    "simulate",
+    "verify",
+]
+
+
+# --------------------------------------------------------------------------- helpers
+
+def _table_html(rows: list[tuple[str, str]], caption: str = "") -> str:
+    cap = f"<caption style='text-align:left'><b>{html.escape(caption)}</b></caption>" if caption else ""
+    body = "".join(f"<tr><td style='text-align:left'>{html.escape(k)}</td>"
+                   f"<td style='text-align:right'>{html.escape(v)}</td></tr>" for k, v in rows)
+    return f"<table>{cap}{body}</table>"
+
+
+def _grid_html(header: tuple, rows: list[tuple]) -> str:
+    head = "".join(f"<th>{html.escape(str(h))}</th>" for h in header)
+    body = "".join("<tr>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in r) + "</tr>"
+                   for r in rows)
+    return f"<table><tr>{head}</tr>{body}</table>"
+
+
+def _g(v: float | None, digits: int = 4) -> str:
+    return "-" if v is None else f"{v:.{digits}g}"
+
+
+# --------------------------------------------------------------------------- results
+
+class Spring:
+    """One designed spring, in SI units (wraps :class:`springcad.design.spring.SpringDesign`).
+
+    Attributes:
+        raw: the internal design (N*mm, mm).
+    """
+
+    def __init__(self, raw):
+        self.raw = raw
+
+    name = property(lambda self: self.raw.name)
+    n_flexures = property(lambda self: self.raw.n_flexures)
+    outer_radius_mm = property(lambda self: self.raw.outer_radius_mm)
+    thickness_mm = property(lambda self: self.raw.thickness_mm)
+
+    @property
+    def stiffness_Nm_per_rad(self) -> float:
+        """Beam-theory stiffness (N*m/rad)."""
+        return self.raw.stiffness_beam_Nmm_per_rad / _NMM_PER_NM
+
+    @property
+    def target_stiffness_Nm_per_rad(self) -> float:
+        return self.raw.target_stiffness_Nmm_per_rad / _NMM_PER_NM
+
+    @property
+    def max_deflection_rad(self) -> float:
+        return self.raw.max_deflection_rad
+
+    @property
+    def peak_torque_Nm(self) -> float:
+        return self.raw.peak_torque_Nmm / _NMM_PER_NM
+
+    @property
+    def peak_stress_MPa(self) -> float:
+        """Predicted peak stress of the real geometry at the max deflection (MPa)."""
+        return self.raw.predicted_peak_stress_MPa
+
+    @property
+    def yield_margin(self) -> float:
+        return self.raw.yield_margin
+
+    @property
+    def mass_kg(self) -> float:
+        return self.raw.mass_kg
+
+    @property
+    def energy_density_J_per_cm3(self) -> float:
+        return self.raw.energy_density_J_per_cm3
+
+    def to_dict(self) -> dict:
+        """The ``design.json`` entry (units in key names)."""
+        return self.raw.to_dict()
+
+    def __repr__(self) -> str:
+        return (f"Spring({self.name!r}: K={self.stiffness_Nm_per_rad:.4g} N*m/rad "
+                f"(target {self.target_stiffness_Nm_per_rad:.4g}), "
+                f"theta_max={self.max_deflection_rad:.4g} rad, N={self.n_flexures}, "
+                f"peak {self.peak_stress_MPa:.0f} MPa, mass {self.mass_kg:.4g} kg)")
+
+    def _repr_svg_(self) -> str:
+        return profile_svg(self.raw)
+
+    def _repr_html_(self) -> str:
+        rows = [("stiffness (N·m/rad)", _g(self.stiffness_Nm_per_rad)),
+                ("target (N·m/rad)", _g(self.target_stiffness_Nm_per_rad)),
+                ("max deflection (rad)", _g(self.max_deflection_rad)),
+                ("peak torque (N·m)", _g(self.peak_torque_Nm)),
+                ("predicted peak stress (MPa)", f"{self.peak_stress_MPa:.0f}"),
+                ("yield margin", f"{self.yield_margin:.3f}"),
+                ("flexures", str(self.n_flexures)),
+                ("outer radius (mm)", _g(self.outer_radius_mm)),
+                ("mass (kg)", _g(self.mass_kg)),
+                ("energy density (J/cm³)", _g(self.energy_density_J_per_cm3))]
+        return (f"<div style='display:flex;gap:1em;align-items:flex-start'>"
+                f"<div>{profile_svg(self.raw, size_px=220)}</div>"
+                f"<div>{_table_html(rows, f'spring {self.name}')}</div></div>")
+
+
+def profile_svg(raw, size_px: int = 300) -> str:
+    """An inline SVG of a spring's ring and cam profiles (mm, y up).
+
+    Args:
+        raw: a :class:`~springcad.design.spring.SpringDesign` with its profiles.
+        size_px: width and height of the drawing (px).
+    """
+    from springcad.design.planar import sample_profile
+
+    loops = []
+    for profile, colour in ((raw.ring, "#4a6fa5"), (raw.cam, "#c0504d")):
+        if profile is None:
+            continue
+        for s in sample_profile(profile, step_mm=max(raw.outer_radius_mm / 400, 0.02)):
+            loops.append((s.points, colour))
+    r = raw.outer_radius_mm * 1.05
+    paths = []
+    for pts, colour in loops:
+        d = " ".join(f"{'M' if i == 0 else 'L'}{x:.3f},{-y:.3f}" for i, (x, y) in enumerate(pts))
+        paths.append(f"<path d='{d} Z' fill='none' stroke='{colour}' stroke-width='{r / 250:.4f}'/>")
+    return (f"<svg xmlns='http://www.w3.org/2000/svg' width='{size_px}' height='{size_px}' "
+            f"viewBox='{-r:.3f} {-r:.3f} {2 * r:.3f} {2 * r:.3f}'>"
+            f"<title>spring {html.escape(raw.name)} profile (ring blue, cam red)</title>"
+            + "".join(paths) + "</svg>")
+
+
+class Stack:
+    """The series stack, in SI units (wraps :class:`springcad.design.stack.StackDesign`)."""
+
+    def __init__(self, raw):
+        self.raw = raw
+
+    sequence = property(lambda self: self.raw.sequence)
+    limiting_spring = property(lambda self: self.raw.limiting_spring)
+    mass_kg = property(lambda self: self.raw.mass_kg)
+    energy_J = property(lambda self: self.raw.energy_J)
+
+    @property
+    def stiffness_Nm_per_rad(self) -> float:
+        return self.raw.stiffness_Nmm_per_rad / _NMM_PER_NM
+
+    @property
+    def target_stiffness_Nm_per_rad(self) -> float:
+        return self.raw.target_stiffness_Nmm_per_rad / _NMM_PER_NM
+
+    @property
+    def max_deflection_rad(self) -> float:
+        """The eq. 10 stack limit (rad)."""
+        return self.raw.max_deflection_rad
+
+    @property
+    def backlash_nominal_rad(self) -> float:
+        return self.raw.backlash.nominal
+
+    @property
+    def backlash_worst_range_rad(self) -> tuple[float, float]:
+        return (self.raw.backlash.worst_min, self.raw.backlash.worst_max)
+
+    def to_dict(self) -> dict:
+        return self.raw.to_dict()
+
+    def __repr__(self) -> str:
+        return (f"Stack({' + '.join(self.sequence)}: K={self.stiffness_Nm_per_rad:.4g} N*m/rad, "
+                f"limit {self.max_deflection_rad:.4g} rad ({self.limiting_spring}), backlash "
+                f"{self.backlash_nominal_rad:.4g} rad, mass {self.mass_kg:.4g} kg)")
+
+    def _repr_html_(self) -> str:
+        lo, hi = self.backlash_worst_range_rad
+        b = self.raw.backlash
+        rows = [("sequence", " + ".join(self.sequence)),
+                ("input / output", f"{self.raw.input} / {self.raw.output}"),
+                ("stiffness (N·m/rad)", _g(self.stiffness_Nm_per_rad)),
+                ("target (N·m/rad)", _g(self.target_stiffness_Nm_per_rad)),
+                ("max deflection, eq. 10 (rad)", _g(self.max_deflection_rad)),
+                ("limiting spring", str(self.limiting_spring)),
+                ("backlash nominal (rad)", _g(self.backlash_nominal_rad)),
+                ("backlash worst case (rad)", f"{lo:.4g} … {hi:.4g}"),
+                ("backlash MC p1–p99 (rad)", f"{b.mc_p01:.4g} … {b.mc_p99:.4g}"),
+                ("mass (kg)", _g(self.mass_kg)),
+                ("energy (J)", _g(self.energy_J))]
+        return _table_html(rows, "stack")
+
+
+class Design:
+    """A designed job: its springs and stack (wraps :class:`springcad.design.job.JobDesign`).
+
+    Attributes:
+        raw: the internal job design.
+        springs: spring name -> :class:`Spring`.
+        stack: the :class:`Stack`.
+    """
+
+    def __init__(self, raw):
+        self.raw = raw
+        self.springs = {n: Spring(s) for n, s in raw.springs.items()}
+        self.stack = Stack(raw.stack)
+
+    @property
+    def job(self):
+        return self.raw.job
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        return tuple(self.raw.warnings)
+
+    def to_dict(self) -> dict:
+        """The ``design.json`` document."""
+        return self.raw.to_dict()
+
+    def __repr__(self) -> str:
+        return (f"Design({self.job.name!r}: {len(self.springs)} spring(s) "
+                f"{', '.join(self.springs)}; {self.stack!r})")
+
+    def _repr_html_(self) -> str:
+        springs = "".join(s._repr_html_() for s in self.springs.values())
+        warn = "".join(f"<li>{html.escape(w)}</li>" for w in self.warnings)
+        return (f"<div><h4>design {html.escape(self.job.name)}</h4>{self.stack._repr_html_()}"
+                f"{springs}{'<ul>' + warn + '</ul>' if warn else ''}</div>")
+
+
+class Verification:
+    """FEA verification of a job (wraps :class:`fea.verify.JobVerification`).
+
+    Attributes:
+        raw: the internal result (N*mm).
+        design: the verified (width-corrected) :class:`Design`.
+    """
+
+    def __init__(self, raw, design: Design):
+        self.raw = raw
+        self.design = Design(raw.corrected_job_design(design.raw))
+
+    @property
+    def ok(self) -> bool:
+        return self.raw.ok
+
+    def failures(self) -> list[str]:
+        return self.raw.failures()
+
+    def spring_table(self) -> list[dict]:
+        """Per spring: FEA and beam stiffness (N*m/rad), errors (%), peak stress (MPa), margins."""
+        out = []
+        for n, v in self.raw.springs.items():
+            out.append({"spring": n,
+                        "stiffness_fea_Nm_per_rad": v.stiffness_fea_Nmm_per_rad / _NMM_PER_NM,
+                        "stiffness_beam_Nm_per_rad": v.design.stiffness_beam_Nmm_per_rad / _NMM_PER_NM,
+                        "stiffness_target_Nm_per_rad": v.stiffness_target_Nmm_per_rad / _NMM_PER_NM,
+                        "error_vs_target_pct": 100 * v.error_vs_target,
+                        "discretisation_error_pct": 100 * v.run.stiffness_error,
+                        "peak_von_mises_MPa": v.peak_von_mises_MPa,
+                        "peak_stress_design_MPa": v.design.predicted_peak_stress_MPa,
+                        "yield_margin": v.yield_margin, "ok": v.ok})
+        return out
+
+    @property
+    def stack_stiffness_Nm_per_rad(self) -> float:
+        return self.raw.stack.stiffness_Nmm_per_rad / _NMM_PER_NM
+
+    def to_dict(self) -> dict:
+        """The ``fea.json`` document."""
+        return self.raw.to_dict()
+
+    def __repr__(self) -> str:
+        parts = ", ".join(f"{r['spring']}: K_fea {r['stiffness_fea_Nm_per_rad']:.4g} N*m/rad "
+                          f"({r['error_vs_target_pct']:+.2f} %), {r['peak_von_mises_MPa']:.0f} MPa"
+                          for r in self.spring_table())
+        return (f"Verification({'ok' if self.ok else 'FAILED'}; {parts}; stack K_fea "
+                f"{self.stack_stiffness_Nm_per_rad:.4g} N*m/rad)")
+
+    def _repr_html_(self) -> str:
+        rows = [(r["spring"], _g(r["stiffness_fea_Nm_per_rad"]), _g(r["stiffness_beam_Nm_per_rad"]),
+                 _g(r["stiffness_target_Nm_per_rad"]), f"{r['error_vs_target_pct']:+.2f}",
+                 f"{r['discretisation_error_pct']:.3f}", f"{r['peak_von_mises_MPa']:.0f}",
+                 f"{r['peak_stress_design_MPa']:.0f}", f"{r['yield_margin']:.3f}",
+                 "yes" if r["ok"] else "NO") for r in self.spring_table()]
+        fails = "".join(f"<li>{html.escape(f)}</li>" for f in self.failures())
+        verdict = "verified" if self.ok else "FAILED"
+        return (f"<div><h4>FEA verification: {verdict}</h4>"
+                + _grid_html(("spring", "K FEA N·m/rad", "K beam", "target", "err %", "disc. %",
+                              "σ FEA MPa", "σ design MPa", "yield margin", "ok"), rows)
+                + (f"<ul>{fails}</ul>" if fails else "") + "</div>")
+
+
+class Fit:
+    """A fitted bench record (wraps :class:`springcad.fit.analysis.FitResult`)."""
+
+    def __init__(self, raw):
+        self.raw = raw
+        self._dict = None
+
+    def to_dict(self) -> dict:
+        """The ``fit.json`` document."""
+        if self._dict is None:
+            self._dict = self.raw.to_dict()
+        return self._dict
+
+    @property
+    def model(self) -> str:
+        return self.to_dict()["final"]["model"]
+
+    @property
+    def stiffness_Nm_per_rad(self) -> float:
+        """Final-model stiffness (N*m/rad); the deadband fit's when no spring was found."""
+        d = self.to_dict()
+        ci = d["final"].get("intervals", {}).get("stiffness_Nm_per_rad")
+        return ci["value"] if ci else d["paper_models"]["deadband"]["stiffness_Nm_per_rad"]
+
+    @property
+    def backlash_rad(self) -> float:
+        """The paper's deadband-model backlash (rad)."""
+        return self.to_dict()["paper_models"]["deadband"]["backlash_rad"]
+
+    @property
+    def nrmse_pct(self) -> float:
+        return self.to_dict()["final"]["nrmse_pct"]
+
+    def effects(self) -> list[dict]:
+        """The residual loop's steps: effect, action, NRMSE before and after (%)."""
+        return [{"effect": s["effect"], "action": s["action"],
+                 "nrmse_before_pct": s.get("nrmse_before_pct"),
+                 "nrmse_after_pct": s["nrmse_after_pct"]} for s in self.to_dict()["steps"]]
+
+    def __repr__(self) -> str:
+        chain = " ".join(f"{'+' if e['action'] == 'add' else '-' if e['action'] == 'remove' else 'x'}"
+                         f"{e['effect']}" for e in self.effects()) or "no effects"
+        return (f"Fit({self.raw.record.source}: {self.model}, K={self.stiffness_Nm_per_rad:.4g} "
+                f"N*m/rad, backlash {self.backlash_rad:.4g} rad, NRMSE {self.nrmse_pct:.3g} %; "
+                f"{chain})")
+
+    def plot_png(self) -> bytes:
+        """The torque-deflection plot (data and models) as PNG bytes."""
+        import tempfile
+
+        from springcad.report.fit_report import _plot_models, _pyplot
+
+        plt = _pyplot()
+        with tempfile.TemporaryDirectory() as tmp:
+            path = _plot_models(plt, self.raw, Path(tmp) / "torque_deflection.png", zoom=False)
+            return path.read_bytes()
+
+    def _repr_html_(self) -> str:
+        d = self.to_dict()
+        rows = [(name, _g(m["stiffness_Nm_per_rad"]), _g(m["backlash_rad"]), f"{m['nrmse_pct']:.3g}")
+                for name, m in d["paper_models"].items()]
+        eff = [(e["effect"], e["action"], _g(e["nrmse_before_pct"], 3), _g(e["nrmse_after_pct"], 3))
+               for e in self.effects()]
+        img = base64.b64encode(self.plot_png()).decode("ascii")
+        return (f"<div><h4>fit of {html.escape(str(self.raw.record.source))}</h4>"
+                f"<img alt='torque against deflection' src='data:image/png;base64,{img}' width='480'/>"
+                + _grid_html(("model", "K N·m/rad", "b rad", "NRMSE %"), rows)
+                + (_grid_html(("effect", "action", "NRMSE before %", "NRMSE after %"), eff)
+                   if eff else "<p>no effect added to the linear model</p>")
+                + f"<p>final: {html.escape(self.model)}, K = {self.stiffness_Nm_per_rad:.4g} N·m/rad,"
+                  f" NRMSE {self.nrmse_pct:.3g} %</p></div>")
+
+
+# --------------------------------------------------------------------------- functions
+
+def load(source):
+    """Load and validate a job config.
+
+    Args:
+        source: a TOML file path (``str`` or ``Path``), or a dict with the
+            same tables as the TOML file.
+
+    Returns:
+        The validated :class:`springcad.config.Job`.
+
+    Raises:
+        ConfigError: unreadable file or a disallowed value (names the key).
+    """
+    from springcad.config import job_from_dict, load_job
+
+    if isinstance(source, dict):
+        return job_from_dict(source, name=str(source.get("name", "job")), source="<dict>")
+    if isinstance(source, (str, Path)):
+        return load_job(source)
+    raise ConfigError("job", type(source).__name__, "give a TOML path or a dict")
+
+
+def _job(job_or_design):
+    if isinstance(job_or_design, Design):
+        return job_or_design.job
+    if isinstance(job_or_design, (str, Path, dict)):
+        return load(job_or_design)
+    return job_or_design
+
+
+def design_job(job) -> Design:
+    """Design every spring of a job and the stack (beam theory and the stress model).
+
+    Args:
+        job: a :class:`~springcad.config.Job`, a TOML path or a config dict.
+
+    Returns:
+        The :class:`Design`.
+    """
+    from springcad.design.job import design_job as _design_job
+
+    return Design(_design_job(_job(job)))
+
+
+def verify(job_or_design, model: str = "2d", levels: int = 3, tolerance_pct: float = 1.0,
+           correct: bool = True, contact: bool = False, progress=None) -> Verification:
+    """FEA-verify (and correct the widths of) every spring.
+
+    Args:
+        job_or_design: a :class:`Design`, a Job, a TOML path or a config dict.
+        model: ``"2d"`` (plane stress, seconds), ``"2d3d"`` (adds a 3D factor)
+            or ``"3d"`` (quadratic tets, slow).
+        levels: mesh levels of the convergence study (3 to 5).
+        tolerance_pct: accepted stiffness error against the target (%).
+        correct: scale the flexure widths until the FEA stiffness meets the target.
+        contact: also run the cam contact sweep over +-theta_max.
+        progress: optional ``callable(message, fraction)``.
+
+    Returns:
+        The :class:`Verification`; ``.design`` is the corrected design.
+    """
+    from fea.verify import VerifyOptions, verify_job
+
+    if model not in ("2d", "2d3d", "3d"):
+        raise ConfigError("model", model, "is one of '2d', '2d3d', '3d'")
+    if not (isinstance(levels, int) and 3 <= levels <= 5):
+        raise ConfigError("levels", levels, "is an integer from 3 to 5")
+    if not 0 < tolerance_pct <= 50:
+        raise ConfigError("tolerance_pct", tolerance_pct, "lies in (0, 50] %")
+    d = job_or_design if isinstance(job_or_design, Design) else design_job(job_or_design)
+    options = VerifyOptions(model=model, levels=levels, tolerance=tolerance_pct / 100.0,
+                            correct=correct, keep_fields=False, contact=contact)
+    args = (d.raw, options) + ((progress,) if progress is not None else ())
+    return Verification(verify_job(*args), d)
+
+
+def simulate(spring, protocol=None, noise=None, seed: int = 0, backlash_rad: float | None = None,
+             **effects):
+    """Simulate a bench record of a spring under a test protocol.
+
+    Args:
+        spring: a :class:`Design` (its stack's beam stiffness and nominal
+            backlash), a :class:`Verification` (its FEA stack stiffness), or a
+            stiffness in N*m/rad.
+        protocol: a :class:`springcad.fit.protocols.Protocol` or ``SineSweep``
+            (default: the paper's staircase).
+        noise: a :class:`springcad.fit.bench.BenchNoise` (default: the paper's levels).
+        seed: random seed.
+        backlash_rad: backlash (rad); default the design's nominal, or 0.
+        **effects: further :class:`springcad.fit.bench.BenchSpring` fields
+            (``friction_torque_Nm``, ``lag_s``, ``drift_Nm_per_s``, ...).
+
+    Returns:
+        A :class:`springcad.fit.bench.SimulatedRecord` (``.record`` is what ``fit`` reads).
+    """
+    from springcad.fit.bench import BenchNoise, BenchSpring
+    from springcad.fit.bench import simulate as _simulate
+    from springcad.fit.protocols import Protocol
+
+    if isinstance(spring, Verification):  # the FEA stiffness, the corrected design's backlash
+        k = spring.stack_stiffness_Nm_per_rad
+        b = spring.design.stack.backlash_nominal_rad if backlash_rad is None else backlash_rad
+    elif isinstance(spring, Design):
+        k = spring.stack.stiffness_Nm_per_rad
+        b = spring.stack.backlash_nominal_rad if backlash_rad is None else backlash_rad
+    elif isinstance(spring, (int, float)) and math.isfinite(spring) and spring > 0:
+        k, b = float(spring), backlash_rad or 0.0
+    else:
+        raise DataError(f"simulate: give a Design or a positive stiffness in N*m/rad, not {spring!r}")
+    try:
+        bench = BenchSpring(k, backlash_rad=b, **effects)
+    except TypeError as err:
+        raise DataError(f"simulate: {err}") from None
+    return _simulate(bench, protocol=protocol or Protocol(), noise=noise or BenchNoise(),
+                     seed=seed)
+
+
+def fit_record(record, target_stiffness_Nm_per_rad: float | None = None, design=None) -> Fit:
+    """Fit the paper's models to a bench record and explain the residual.
+
+    Args:
+        record: a :class:`~springcad.fit.bench.SimulatedRecord`, a
+            :class:`~springcad.fit.data.BenchRecord`, or a CSV path (columns
+            ``time_s, torque_Nm, deflection_rad``).
+        target_stiffness_Nm_per_rad: target for the stiffness error (default: the design's).
+        design: a :class:`Design` to compare the fit with.
+
+    Returns:
+        The :class:`Fit`.
+    """
+    from springcad.fit.analysis import fit_record as _fit_record
+    from springcad.fit.data import parse_bench_csv
+
+    if hasattr(record, "record") and hasattr(record, "spring"):  # SimulatedRecord
+        record = record.record
+    if isinstance(record, (str, Path)):
+        path = Path(record)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as err:
+            raise DataError(f"bench data file '{path}' cannot be read: {err}") from None
+        record = parse_bench_csv(text, source=str(path))
+    design_dict = design.to_dict() if isinstance(design, Design) else design
+    return Fit(_fit_record(record, target_stiffness_Nm_per_rad, design_dict))

@@ -1,0 +1,259 @@
+"""``report.html`` of a build folder: one self-contained page a person reads or sends.
+
+The page is rendered from the files the build wrote (``build.json``,
+``design.json``, ``fea/fea.json``, ``bom.csv``, the PNG renders and the
+drawings); it computes no physics. Images are inlined as base64 data, so the
+page needs no network and no neighbouring files except the PDFs its drawing
+thumbnails link to. Order: the verdict (released or not for manufacture, and
+why), the spec-vs-achieved table, warnings, FEA images and the contact curve,
+the assembly render, the drawings, the bill of materials.
+"""
+
+from __future__ import annotations
+
+import base64
+import csv
+import html
+import io
+import json
+import math
+from pathlib import Path
+
+#: headings every report has, in order (tests look for them)
+SECTIONS = ("Verdict", "Spec vs achieved", "Warnings", "FEA", "Assembly", "Drawings",
+            "Bill of materials")
+
+_CSS = """
+body{font-family:system-ui,Segoe UI,Helvetica,Arial,sans-serif;margin:2em auto;max-width:1100px;
+color:#222;line-height:1.35}
+h1{margin-bottom:.2em}h2{border-bottom:2px solid #ddd;padding-bottom:.15em;margin-top:1.6em}
+table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;padding:.25em .6em}
+th{background:#f2f2f2;text-align:left}td.n{text-align:right;font-variant-numeric:tabular-nums}
+.verdict{padding:.8em 1.2em;border-radius:6px;font-size:1.25em;font-weight:600}
+.ok{background:#e3f4e1;border:2px solid #3a8d34}.bad{background:#fbe3e1;border:2px solid #b8322a}
+.fail{color:#b8322a;font-weight:600}.figs{display:flex;flex-wrap:wrap;gap:1em}
+figure{margin:0}img{max-width:100%;height:auto}figcaption{font-size:.9em;color:#555}
+.thumb{border:1px solid #ccc;background:#fff;width:260px;height:185px;object-fit:contain}
+"""
+
+
+def _read_json(path: Path) -> dict | None:
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+
+
+def _img(path: Path, alt: str, cls: str = "", width: int | None = None) -> str:
+    mime = {".png": "image/png", ".svg": "image/svg+xml"}[path.suffix.lower()]
+    data = base64.b64encode(path.read_bytes()).decode("ascii")
+    extra = (f" class='{cls}'" if cls else "") + (f" width='{width}'" if width else "")
+    return f"<img alt='{html.escape(alt)}' src='data:{mime};base64,{data}'{extra}/>"
+
+
+def _n(v, digits: int = 4) -> str:
+    if v is None or (isinstance(v, float) and not math.isfinite(v)):
+        return "–"
+    return f"{v:.{digits}g}" if isinstance(v, (int, float)) else html.escape(str(v))
+
+
+def verdict(build: dict, fea: dict | None) -> tuple[bool, list[str]]:
+    """Released or not, and why: ``build.json``'s own verdict when it has one.
+
+    Returns:
+        (released, reasons): the reasons explain a refusal (or list caveats).
+    """
+    if isinstance(build.get("verdict"), (str, dict)):
+        v = build["verdict"]
+        status = v if isinstance(v, str) else str(v.get("status", ""))
+        reasons = list(build.get("reasons") or (v.get("reasons", []) if isinstance(v, dict) else []))
+        return status.lower().startswith("released"), [str(r) for r in reasons]
+    reasons = []
+    ver = build.get("verification")
+    if not isinstance(ver, dict):
+        reasons.append("not FEA-verified (built with --no-verify): the parts are beam-theory "
+                       "designs")
+    elif not ver.get("ok", False):
+        reasons.append("FEA verification failed")
+    if fea is not None:
+        reasons += [str(f) for f in fea.get("failures", [])]
+    checks = build.get("checks", {})
+    if not checks.get("passed", True):
+        reasons.append(f"{checks.get('n_failed', '?')} check(s) failed")
+    if checks.get("violations_accepted"):
+        reasons.append("manufacturability violations were accepted (--accept-violations)")
+    return not reasons, reasons
+
+
+def caveats(design: dict, fea: dict | None) -> list[str]:
+    """What a reader must know even of a released build: finite fatigue life."""
+    out = []
+    fsp = (fea or {}).get("springs", {})
+    for n, s in design.get("springs", {}).items():
+        fat = fsp.get(n, {}).get("fatigue") or s.get("fatigue")
+        if fat and fat.get("margin") is not None and fat["margin"] < 1.0:
+            life = fat.get("life_cycles")
+            out.append(f"spring {n}: fatigue margin {fat['margin']:.2f} < 1 at ±θmax (R = -1): "
+                       f"finite life" + (f", about {life:.2g} full cycles" if life else ""))
+    return out
+
+
+def _verdict_html(build: dict, fea: dict | None, design: dict) -> str:
+    released, reasons = verdict(build, fea)
+    head = ("Released for manufacture" if released else "Not for manufacture")
+    items = "".join(f"<li>{html.escape(r)}</li>" for r in reasons)
+    notes = "".join(f"<li>{html.escape(c)}</li>" for c in caveats(design, fea))
+    return (f"<h2>Verdict</h2><div class='verdict {'ok' if released else 'bad'}'>{head}</div>"
+            + (f"<p>Why:</p><ul>{items}</ul>" if items else "")
+            + (f"<p>Caveats:</p><ul>{notes}</ul>" if notes else ""))
+
+
+def _spec_rows(design: dict, fea: dict | None) -> str:
+    """The spec vs achieved table: one column per spring plus the stack."""
+    springs = design.get("springs", {})
+    fsp = (fea or {}).get("springs", {})
+    header = "<tr><th>quantity</th>" + "".join(f"<th>{html.escape(n)}</th>" for n in springs) + "</tr>"
+
+    def row(label, fn, digits=4, flag=None):
+        cells = []
+        for n, s in springs.items():
+            f = fsp.get(n, {})
+            v = fn(s, f)
+            bad = flag is not None and v is not None and flag(v, s, f)
+            cells.append(f"<td class='n{' fail' if bad else ''}'>{_n(v, digits)}</td>")
+        return f"<tr><td>{html.escape(label)}</td>{''.join(cells)}</tr>"
+
+    def fat(s, f):
+        d = f.get("fatigue") or s.get("fatigue")
+        return None if not d else d.get("margin")
+
+    rows = [
+        row("K target (N·m/rad)", lambda s, f: s.get("target_stiffness_Nm_per_rad")),
+        row("K beam theory (N·m/rad)", lambda s, f: s.get("stiffness_Nm_per_rad")),
+        row("K FEA (N·m/rad)", lambda s, f: f.get("stiffness_fea_Nm_per_rad")),
+        row("FEA error vs target (%)", lambda s, f: f.get("error_vs_target_pct"), 3,
+            lambda v, s, f: abs(v) > f.get("tolerance_pct", 1.0)),
+        row("discretisation error (%)", lambda s, f: f.get("discretisation_error_pct"), 3),
+        row("peak stress, design prediction (MPa)", lambda s, f: s.get("peak_stress_predicted_MPa"), 4),
+        row("peak stress, FEA (MPa)", lambda s, f: f.get("peak_von_mises_MPa"), 4),
+        row("yield margin (FEA, else design)",
+            lambda s, f: f.get("yield_margin", s.get("yield_margin")), 3,
+            lambda v, s, f: v < s.get("required_yield_margin", 1.0)),
+        row("required yield margin", lambda s, f: s.get("required_yield_margin"), 3),
+        row("fatigue margin (R = -1)", fat, 3, lambda v, s, f: v < 1.0),
+        row("deflection limit (rad)", lambda s, f: s.get("max_deflection_rad")),
+        row("flexures", lambda s, f: s.get("n_flexures")),
+        row("mass (kg)", lambda s, f: s.get("mass_kg")),
+        row("energy density (J/cm³)", lambda s, f: s.get("energy_density_J_per_cm3")),
+    ]
+    st = design.get("stack", {})
+    b = st.get("backlash_rad", {})
+    fst = (fea or {}).get("stack", {})
+    stack_rows = [
+        ("sequence", " + ".join(st.get("sequence", []))),
+        ("K target (N·m/rad)", _n(st.get("target_stiffness_Nm_per_rad"))),
+        ("K beam theory (N·m/rad)", _n(st.get("stiffness_Nm_per_rad"))),
+        ("K FEA (N·m/rad)", _n(fst.get("stiffness_fea_Nm_per_rad"))),
+        ("deflection limit, eq. 10 (rad)", _n(st.get("max_deflection_rad"))),
+        ("limiting spring", html.escape(str(st.get("limiting_spring", "–")))),
+        ("backlash nominal (rad)", _n(b.get("nominal"))),
+        ("backlash worst case (rad)", f"{_n(b.get('worst_min'))} … {_n(b.get('worst_max'))}"),
+        ("backlash RSS (rad)", f"{_n(b.get('rss_min'))} … {_n(b.get('rss_max'))}"),
+        ("mass (kg)", _n(st.get("mass_kg"))),
+        ("energy density (J/cm³)", _n(st.get("energy_density_J_per_cm3"))),
+        ("specific energy (J/kg)", _n(st.get("specific_energy_J_per_kg"))),
+    ]
+    stack_html = "".join(f"<tr><td>{html.escape(k)}</td><td class='n'>{v}</td></tr>"
+                         for k, v in stack_rows)
+    return (f"<h2>Spec vs achieved</h2><h3>Springs</h3><table>{header}{''.join(rows)}</table>"
+            f"<h3>Stack</h3><table><tr><th>quantity</th><th>value</th></tr>{stack_html}</table>")
+
+
+def _warnings_html(design: dict, fea: dict | None, build: dict) -> str:
+    items = list(design.get("warnings", [])) + list(design.get("notes", []))
+    if fea is not None:
+        items += list(fea.get("notes", []))
+        for n, s in fea.get("springs", {}).items():
+            for flag in (s.get("contact_sweep") or {}).get("flags", []):
+                items.append(f"contact {n}: {flag.get('message', flag)}")
+    items += [f"{c.get('subject', '')}: {c.get('name', '')}: {c.get('message', '')}"
+              for c in build.get("checks", {}).get("items", []) if not c.get("passed", True)]
+    body = ("".join(f"<li>{html.escape(str(w))}</li>" for w in items) if items
+            else "<li>none</li>")
+    return f"<h2>Warnings</h2><ul>{body}</ul>"
+
+
+def _figures(paths: list[tuple[Path, str]], width: int) -> str:
+    figs = [f"<figure>{_img(p, cap, width=width)}<figcaption>{html.escape(cap)}</figcaption></figure>"
+            for p, cap in paths if p.is_file()]
+    return f"<div class='figs'>{''.join(figs)}</div>" if figs else "<p>no images in this build</p>"
+
+
+def _fea_html(out: Path, design: dict) -> str:
+    imgs = []
+    for n in design.get("springs", {}):
+        imgs += [(out / "fea" / f"{n}_von_mises.png", f"{n}: von Mises stress at the max deflection"),
+                 (out / "fea" / f"{n}_von_mises_peak.png", f"{n}: at the peak"),
+                 ]
+    contact = [(out / "fea" / f"{n}_contact.png", f"{n}: cam contact sweep over ±θmax")
+               for n in design.get("springs", {})]
+    if not any(p.is_file() for p, _ in imgs + contact):
+        return "<h2>FEA</h2><p>no FEA images in this build (not verified, or --no-render)</p>"
+    return "<h2>FEA</h2>" + _figures(imgs, 520) + _figures(contact, 1050)
+
+
+def _drawings_html(out: Path) -> str:
+    cells = []
+    for svg in sorted((out / "parts").glob("*.svg")):
+        pdf = svg.with_suffix(".pdf")
+        thumb = _img(svg, f"drawing {svg.stem}", cls="thumb")
+        link = (f"<a href='parts/{html.escape(pdf.name)}'>{thumb}</a>" if pdf.is_file() else thumb)
+        cells.append(f"<figure>{link}<figcaption>{html.escape(svg.stem)}"
+                     f"{' (PDF)' if pdf.is_file() else ''}</figcaption></figure>")
+    return "<h2>Drawings</h2>" + (f"<div class='figs'>{''.join(cells)}</div>" if cells
+                                  else "<p>no drawings in this build</p>")
+
+
+def _bom_html(out: Path) -> str:
+    path = out / "bom.csv"
+    if not path.is_file():
+        return "<h2>Bill of materials</h2><p>no bom.csv in this build</p>"
+    rows = list(csv.reader(io.StringIO(path.read_text(encoding="utf-8"))))
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in rows[0]) if rows else ""
+    body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in r) + "</tr>"
+                   for r in rows[1:])
+    return (f"<h2>Bill of materials</h2><div style='overflow-x:auto;font-size:.85em'>"
+            f"<table><tr>{head}</tr>{body}</table></div>")
+
+
+def render_build_report(out_dir: Path | str) -> str:
+    """The HTML text of a build folder's report (see the module docstring)."""
+    out = Path(out_dir)
+    design = _read_json(out / "design.json") or {}
+    fea = _read_json(out / "fea" / "fea.json")
+    build = _read_json(out / "build.json") or {}
+    job = design.get("job", {}).get("name") or build.get("job", {}).get("name", out.name)
+    meta = (f"springcad {html.escape(str(build.get('springcad_version', design.get('springcad_version', ''))))}"
+            f", built {html.escape(str(build.get('started', '')))}, config "
+            f"{html.escape(str(build.get('job', {}).get('config', design.get('job', {}).get('config', ''))))}")
+    parts = [
+        "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
+        f"<title>springcad build report: {html.escape(job)}</title><style>{_CSS}</style></head><body>",
+        f"<h1>Build report: {html.escape(job)}</h1><p>{meta}</p>",
+        _verdict_html(build, fea, design),
+        _spec_rows(design, fea),
+        _warnings_html(design, fea, build),
+        _fea_html(out, design),
+        "<h2>Assembly</h2>" + _figures([(out / "assembly.png", "assembly render")], 700),
+        _drawings_html(out),
+        _bom_html(out),
+        "</body></html>",
+    ]
+    return "\n".join(parts)
+
+
+def write_build_report(out_dir: Path | str) -> Path:
+    """Write ``report.html`` into a build folder and return its path."""
+    path = Path(out_dir) / "report.html"
+    path.write_text(render_build_report(out_dir), encoding="utf-8")
+    return path
