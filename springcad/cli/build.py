@@ -161,7 +161,7 @@ def build_json(ctx: BuildContext) -> dict:
         "stack": {"sequence": list(st.sequence), "input": st.input, "output": st.output,
                   "joints": list(st.joints), "input_parts": asm.input_names,
                   "output_parts": asm.output_names, "instances": len(asm.instances)},
-        "parts": [{"part_number": pn, "title": p.info.title, "kind": p.info.kind,
+        "parts": [{"part_number": pn, "name": p.info.name, "title": p.info.title, "kind": p.info.kind,
                    "quantity": qty[pn], "process": p.info.process,
                    "dimensions_mm": p.info.dimensions} for pn, p in asm.parts.items()],
         "files": [f.to_dict() for f in ctx.files] + [

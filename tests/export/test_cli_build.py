@@ -46,10 +46,24 @@ def test_build_writes_everything_it_lists(built):
         assert (out / f["path"]).stat().st_size == f["bytes"] > 0
     on_disk = {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()} - {"build.json"}
     assert on_disk == paths
-    for pn in ("S1-RING", "S1-CAM-L4.5-H6"):
+    numbers = {p["name"]: p["part_number"] for p in doc["parts"]}
+    for name in ("S1-RING", "S1-CAM-L4.5-H6"):
+        pn = numbers[name]
+        assert pn.startswith("RING-" if "RING" in name else "CAM-")
         for ext in ("step", "stl", "dxf", "svg", "pdf"):
             assert f"parts/{pn}.{ext}" in paths
     assert {"assembly.step", "bom.csv", "assembly.png", "design.json"} <= paths
+    # BOM, build.json and drawings agree on every part number
+    import csv
+
+    from pdftext import pdf_text
+
+    bom = {r["part_number"]: r for r in csv.DictReader((out / "bom.csv").open())}
+    assert set(bom) == set(numbers.values())
+    for name, pn in numbers.items():
+        assert bom[pn]["name"] == name
+        if f"parts/{pn}.pdf" in paths:
+            assert pn in pdf_text(out / "parts" / f"{pn}.pdf"), pn
     stack = doc["stack"]
     assert stack["input"] == "shaft" and stack["output"] == "rim"
     assert set(stack["input_parts"]) == {"camshaft_1", "input_torque_shaft"}
@@ -76,7 +90,7 @@ def test_build_json_records_every_check(built):
 def test_unverified_build_is_not_for_manufacture(built):
     """--no-verify and the paper S1's design warnings: every drawing is stamped, every
     reason is on the drawing and in the console summary."""
-    from pdftext import pdf_strings
+    from pdftext import pdf_text
 
     _, out = built
     release = json.loads((out / "build.json").read_text())["release"]
@@ -92,7 +106,7 @@ def test_unverified_build_is_not_for_manufacture(built):
     pdfs = sorted((out / "parts").glob("*.pdf"))
     assert pdfs
     for pdf in pdfs:
-        text = " ".join(pdf_strings(pdf.read_bytes()))
+        text = pdf_text(pdf)
         assert "NOT FOR MANUFACTURE" in text and "--no-verify" in text, pdf.name
         assert "tip ball 0.300 mm" in text, pdf.name
 
@@ -145,10 +159,10 @@ def test_build_verifies_before_exporting(tmp_path):
     # verified, no design warning, every check passed: released drawings
     assert doc["release"] == {"status": "RELEASED", "released": True, "reasons": [],
                               "notes": []}
-    from pdftext import pdf_strings
+    from pdftext import pdf_text
 
     for pdf in (out / "parts").glob("*.pdf"):
-        text = " ".join(pdf_strings(pdf.read_bytes()))
+        text = pdf_text(pdf)
         assert "RELEASED" in text and "NOT FOR MANUFACTURE" not in text, pdf.name
 
 

@@ -3,7 +3,7 @@
 import pytest
 
 from cad_fixtures import TEMPLATES
-from pdftext import pdf_strings
+from pdftext import pdf_text
 from springcad.export.drawing import DrawingInfo, write_drawing
 from springcad.export.release import (NOT_FOR_MANUFACTURE, RELEASED, ReleaseStatus,
                                       release_status)
@@ -77,15 +77,15 @@ def test_drawing_carries_the_stamp_and_reasons(ring_s1, tmp_path):
                "design warning: spring S1: tip ball 0.300 mm is below the 0.344 mm")
     info = DrawingInfo(job="j", quantity=1, release=ReleaseStatus(reasons))
     _, pdf = write_drawing(ring_s1, info, tmp_path)
-    text = "\n".join(pdf_strings(pdf.read_bytes()))
+    text = pdf_text(pdf)
     assert NOT_FOR_MANUFACTURE in text and "--no-verify" in text and "tip ball 0.300" in text
     released = DrawingInfo(job="j", quantity=1, release=ReleaseStatus())
     (tmp_path / "ok").mkdir()
     _, pdf = write_drawing(ring_s1, released, tmp_path / "ok")
-    text = "\n".join(pdf_strings(pdf.read_bytes()))
+    text = pdf_text(pdf)
     assert RELEASED in text and NOT_FOR_MANUFACTURE not in text
 
 
 def test_a_drawing_nobody_assessed_is_not_for_manufacture(ring_s1, tmp_path):
     _, pdf = write_drawing(ring_s1, DrawingInfo(job="j", quantity=1), tmp_path)
-    assert NOT_FOR_MANUFACTURE in "\n".join(pdf_strings(pdf.read_bytes()))
+    assert NOT_FOR_MANUFACTURE in pdf_text(pdf)

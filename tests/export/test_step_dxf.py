@@ -59,7 +59,8 @@ def test_stl_is_a_closed_binary_mesh(ring_s1, tmp_path):
 def test_dxf_round_trip(stack_4xs1, tmp_path, pn):
     import ezdxf
 
-    part = stack_4xs1.parts[pn]
+    part = stack_4xs1.part_named(pn)
+    pn = part.part_number
     prof = part.info.cut_profile
     path = write_dxf(prof, tmp_path / f"{pn}.dxf", pn, part.info.thickness_mm)
     loops, auditor = read_dxf_loops(path)
