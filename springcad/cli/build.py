@@ -63,6 +63,7 @@ class BuildContext:
     report: object = None
     files: list = field(default_factory=list)
     roundtrip: list = field(default_factory=list)
+    release: object = None
     timings: dict = field(default_factory=dict)
     started: str = ""
     template: dict | None = None
@@ -129,11 +130,15 @@ def step_checks(ctx: BuildContext) -> None:
 
 def step_exports(ctx: BuildContext) -> None:
     from springcad.export.bundle import export_parts, export_stack, roundtrip_checks
+    from springcad.export.release import release_status
     from springcad.geometry.checks import CheckReport, ChecksFailed
 
     template = ctx.template
+    ctx.release = release_status(ctx.design, ctx.verification, ctx.args.no_verify,
+                                 ctx.report.checks)
     info = {"job": ctx.job.name, "revision": ctx.args.revision,
-            "date": datetime.date.today().isoformat(), "drawn_by": _drawn_by()}
+            "date": datetime.date.today().isoformat(), "drawn_by": _drawn_by(),
+            "release": ctx.release}
     parts = export_parts(ctx.assembly, ctx.out_tmp, info, template, progress=ctx.say)
     ctx.files = parts + export_stack(ctx.assembly, ctx.out_tmp, parts,
                                      render=not ctx.args.no_render, progress=ctx.say)
@@ -178,10 +183,11 @@ def build_json(ctx: BuildContext) -> dict:
         "options": {"accept_violations": ctx.args.accept_violations, "verify": not ctx.args.no_verify,
                     "revision": ctx.args.revision, "render": not ctx.args.no_render},
         "timings_s": ctx.timings,
+        "release": ctx.release.to_dict(),
         "stack": {"sequence": list(st.sequence), "input": st.input, "output": st.output,
                   "joints": list(st.joints), "input_parts": asm.input_names,
                   "output_parts": asm.output_names, "instances": len(asm.instances)},
-        "parts": [{"part_number": pn, "title": p.info.title, "kind": p.info.kind,
+        "parts": [{"part_number": pn, "name": p.info.name, "title": p.info.title, "kind": p.info.kind,
                    "quantity": qty[pn], "process": p.info.process,
                    "dimensions_mm": p.info.dimensions} for pn, p in asm.parts.items()],
         "files": [f.to_dict() for f in ctx.files] + [
@@ -270,9 +276,6 @@ def _print_summary(ctx: BuildContext, out: Path) -> None:
         print("  ".join(c.ljust(n) for c, n in zip(r, w)))
     print(f"\n{rep.summary()}; {sum(c.passed for c in ctx.roundtrip)}/{len(ctx.roundtrip)} "
           "export read-backs passed")
-    if rep.violations:
-        print("accepted manufacturability violations:")
-        for c in rep.violations:
-            print(f"  {c.subject}: {c.name}: {c.message}")
+    print("\n".join(ctx.release.summary_lines()))
     print(f"input: {', '.join(asm.input_names)}; output: {', '.join(asm.output_names)}")
     print(f"wrote {len(ctx.files) + 2} files to {out} in {ctx.timings['total']:.1f} s")

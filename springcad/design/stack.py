@@ -115,13 +115,19 @@ class StackDesign:
                 f"eq. 10: the stack limit is {limit:.3f} rad, not the sum of the springs' limits "
                 f"{self.sum_of_limits_rad:.3f} rad: spring {self.limiting_spring} reaches its limit "
                 f"first at {torque / NMM_PER_NM:.2f} N*m and the other springs stay below theirs")
-        if self.backlash.interference_possible:
-            out.append(
-                f"interference warning: worst-case gap d_min < 0 "
-                f"(worst_min backlash {self.backlash.worst_min:.4f} rad); "
-                f"{100 * self.backlash.mc_interference_fraction:.1f} % of Monte Carlo stacks have "
-                "at least one cam interface in interference: tighten tolerances or raise w_gap_mm")
-        return out
+        return out + self.warnings()
+
+    def warnings(self) -> list[str]:
+        """What makes this stack unfit to release as designed (cam interfaces that can jam)."""
+        b = self.backlash
+        if not (b.interference_possible or b.mc_interference_fraction > 0):
+            return []
+        worst = (f"worst-case gap d_min < 0 (worst_min backlash {b.worst_min:.4f} rad)"
+                 if b.interference_possible else
+                 f"worst-case gap d_min >= 0 (worst_min backlash {b.worst_min:.4f} rad)")
+        return [f"interference warning: {worst}; {100 * b.mc_interference_fraction:.1f} % of "
+                "Monte Carlo stacks have at least one cam interface in interference: tighten "
+                "tolerances or raise w_gap_mm"]
 
     def __repr__(self) -> str:
         return (f"StackDesign({' + '.join(self.sequence)}, K={self.stiffness_Nmm_per_rad:.6g} "

@@ -12,7 +12,7 @@ from pathlib import Path
 from springcad.export.sheet import fmt
 from springcad.units import G_PER_KG, KG_PER_MM3_PER_KG_PER_M3
 
-COLUMNS = ("item", "part_number", "title", "kind", "quantity", "make_or_buy", "process",
+COLUMNS = ("item", "part_number", "name", "title", "kind", "quantity", "make_or_buy", "process",
            "material", "heat_treatment", "standard", "thickness_or_length_mm",
            "mass_each_g", "mass_total_g", "instances", "files")
 
@@ -33,7 +33,7 @@ def bom_rows(assembly, files_by_part: dict | None = None) -> list[dict]:
         mass = (solid_volume_mm3(part.solid) * info.density_kg_per_m3
                 * KG_PER_MM3_PER_KG_PER_M3 * G_PER_KG)  # g
         rows.append({
-            "item": item, "part_number": pn, "title": info.title, "kind": info.kind,
+            "item": item, "part_number": pn, "name": info.name, "title": info.title, "kind": info.kind,
             "quantity": qty[pn], "make_or_buy": "buy" if info.process == "purchased" else "make",
             "process": info.process, "material": info.material,
             "heat_treatment": info.heat_treatment, "standard": info.standard,

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from springcad.data import data_path
+from springcad.export.release import UNASSESSED, ReleaseStatus
 from springcad.export.sheet import LABEL_FONT, NOTE_FONT, THICK, THIN, Sheet, View, fit_scale, fmt, scale_text
 
 TITLE_BLOCK_NAME = "drawing_title_block.toml"
@@ -46,6 +47,7 @@ class DrawingInfo:
     revision: str = "A"
     date: str = ""
     drawn_by: str = "springcad"
+    release: ReleaseStatus = UNASSESSED
 
 
 def _dim_hole_circle(sheet, v, centre, scale: float, part, start_offset: float = 0.0) -> None:
@@ -95,6 +97,27 @@ def _title_block(sheet: Sheet, template: dict, fields: dict):
             x += cell["width_mm"]
         y -= h
     return x0, 10.0 + h * len(template["rows"]) + 6.0
+
+
+def _release_box(sheet: Sheet, x0: float, y0: float, width: float, status: ReleaseStatus) -> float:
+    """The release status above the title block: RELEASED, or NOT FOR MANUFACTURE and
+    every reason. Returns the top of the box (sheet mm)."""
+    import textwrap
+
+    lines = []
+    for r in status.reasons:
+        parts = textwrap.wrap(r, int(width / 1.25))
+        lines += [f"- {parts[0]}"] + [f"  {p}" for p in parts[1:]]
+    h = 8.0 + 3.2 * len(lines)
+    sheet.rect(x0, y0, width, h, lw=THICK)
+    colour = "black" if status.released else "#c00000"
+    sheet.text(x0 + 2, y0 + h - 4.0, status.stamp, size=11, ha="left", weight="bold",
+               color=colour)
+    y = y0 + h - 8.5
+    for line in lines:
+        sheet.text(x0 + 2, y, line, size=LABEL_FONT, ha="left")
+        y -= 3.2
+    return y0 + h
 
 
 def _notes(sheet: Sheet, x0: float, y0: float, lines: list[str]):
@@ -270,6 +293,7 @@ def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
     scale = VIEWS.get(part.info.kind, _annulus_views)(sheet, part)
     fields = _fields(part, info, scale)
     x0, top = _title_block(sheet, template, fields)
+    top = _release_box(sheet, x0, top, template["block"]["width_mm"], info.release)
     notes = template.get("notes", {})
     lines = notes.get("general", []) + (notes.get("cut", []) if part.info.cut_profile else [])
     _notes(sheet, x0, top, [n.format(**fields) for n in lines] + list(part.info.notes))

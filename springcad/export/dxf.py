@@ -1,63 +1,74 @@
-"""Wire-EDM cutting profiles as DXF, and reading them back.
+"""Wire-EDM cutting profiles as DXF for CAM, and reading them back.
 
-Every loop of the cutting profile goes to layer ``CUT`` as true entities:
-LINE, ARC, CIRCLE, and SPLINE for the design's interpolating splines. A
-SPLINE is written by its B-spline control points and knots (the exact cubic
-the design evaluates, with the same chord-length parameters and end
-tangents), so no reader has to re-fit it. Units are set to mm ($INSUNITS = 4,
-$MEASUREMENT = 1). Part number and units go to a non-cutting ``INFO`` layer.
+What a CAM system gets:
+
+* layer ``CUT``: every loop of the cutting profile as **one closed LWPOLYLINE
+  of lines and arcs** (bulges), so one entity is one contour. Lines, arcs and
+  circles of the design are exact; the design's splines are replaced by biarcs
+  (:mod:`springcad.export.biarc`) within :data:`CHORD_TOL_MM` of the design
+  curve (measured at the writer, stated in the file). No SPLINE, no loose pieces.
+* layer ``INFO``: part number, thickness, units and the tolerance as text,
+  placed inside the bounding box of the cut contours (the outline's bottom left
+  corner, where a round part has no material), so the drawing extents are the
+  cut extents.
+* units mm (``$INSUNITS`` = 4, ``$MEASUREMENT`` = 1), DXF R2010.
+
+Units: mm.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from springcad.design.curves import Arc, Circle, Line, Profile, Spline
+from springcad.design.curves import Profile
+from springcad.export.biarc import BulgeLoop, loop_bulges
 
 CUT_LAYER = "CUT"
 INFO_LAYER = "INFO"
-#: chord deviation when flattening curves on read-back (mm)
-READ_SAGITTA_MM = 0.0005
-#: loop ends closer than this join (mm)
-JOIN_TOL_MM = 1e-5
+#: largest distance of the written contour from the design curve (mm): 1 um in all,
+#: half of it for the biarcs so the CAD kernel's own spline fit (well under 0.5 um from
+#: the design curve) stays inside the budget
+CHORD_TOL_MM = 0.001
+BIARC_TOL_MM = 0.5 * CHORD_TOL_MM
+#: INFO text: character width / height of the DXF standard font (ezdxf's estimate ~0.6-0.9)
+_CHAR_ASPECT = 1.0
 
 
-def spline_bspline(seg: Spline):
-    """(knots, control points (n, 2)) of the cubic B-spline equal to the design spline."""
-    from scipy.interpolate import make_interp_spline
+@dataclass(frozen=True)
+class DxfReport:
+    """What the writer did: loops written, biarcs and the largest measured deviation (mm)."""
 
-    u = seg.parameters()
-    p = np.asarray(seg.points, dtype=float)
-    # clamped end derivatives = the unit end tangents (chord-length parameter), as the design
-    bc = ([(1, np.asarray(seg.start_tangent, dtype=float))],
-          [(1, np.asarray(seg.end_tangent, dtype=float))])
-    b = make_interp_spline(u, p, k=3, bc_type=bc)
-    return np.asarray(b.t), np.asarray(b.c)
+    path: Path
+    n_loops: int
+    n_biarcs: int
+    max_deviation_mm: float
 
 
-def _add_segment(msp, seg, attribs):
-    if isinstance(seg, Line):
-        msp.add_line(seg.start, seg.end, dxfattribs=attribs)
-    elif isinstance(seg, Circle):
-        msp.add_circle(seg.center, seg.radius, dxfattribs=attribs)
-    elif isinstance(seg, Arc):
-        a0, a1 = math.degrees(seg.start_angle), math.degrees(seg.end_angle)
-        if a1 < a0:  # DXF arcs run counter-clockwise
-            a0, a1 = a1, a0
-        msp.add_arc(seg.center, seg.radius, a0, a1, dxfattribs=attribs)
-    elif isinstance(seg, Spline):
-        knots, ctrl = spline_bspline(seg)
-        msp.add_open_spline([(x, y, 0.0) for x, y in ctrl], degree=3, knots=list(knots),
-                            dxfattribs=attribs)
-    else:
-        raise TypeError(f"unknown segment {type(seg).__name__}")
+def _info_text(msp, lines: list[str], bbox) -> None:
+    """Text lines in the bottom left corner of ``bbox`` (xmin, ymin, xmax, ymax), inside it.
+
+    The corner square of side (1 - 1/sqrt 2) x radius of a round outline holds no
+    material; the lines are sized to fit a square of 0.8 x that side.
+    """
+    x0, y0, x1, y1 = bbox
+    side = 0.8 * (1 - 1 / math.sqrt(2)) * 0.5 * min(x1 - x0, y1 - y0)
+    longest = max(len(s) for s in lines)
+    h = min(side / (_CHAR_ASPECT * longest), side / (1.6 * len(lines)))
+    for k, line in enumerate(lines):
+        msp.add_text(line, height=h, dxfattribs={"layer": INFO_LAYER}).set_placement(
+            (x0 + 0.1 * side, y0 + 0.1 * side + 1.6 * h * (len(lines) - 1 - k)))
 
 
-def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: float) -> Path:
-    """Write a cutting profile (mm) as DXF R2010 with every loop on layer CUT."""
+def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: float) -> DxfReport:
+    """Write a cutting profile (mm) as DXF R2010: one closed line-and-arc polyline per loop.
+
+    Raises:
+        ValueError: a spline cannot be matched by arcs within the tolerance.
+    """
     import ezdxf
     from ezdxf import units
 
@@ -68,70 +79,52 @@ def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: floa
     doc.layers.add(CUT_LAYER, color=1)
     doc.layers.add(INFO_LAYER, color=7)
     msp = doc.modelspace()
-    for loop in profile.loops:
-        for seg in loop.segments:
-            _add_segment(msp, seg, {"layer": CUT_LAYER})
-    r = max(abs(v) for v in profile.outer.sample(1.0).ravel())
-    msp.add_text(f"{part_number}  t = {thickness_mm:g} mm  units: mm  layer {CUT_LAYER}: cut",
-                 height=max(0.5, 0.04 * r), dxfattribs={"layer": INFO_LAYER}
-                 ).set_placement((-r, -1.15 * r))
+    bulged = [loop_bulges(loop, BIARC_TOL_MM) for loop in profile.loops]
+    for b in bulged:
+        msp.add_lwpolyline(b.vertices.tolist(), format="xyb", close=True,
+                           dxfattribs={"layer": CUT_LAYER})
+    pts = profile.outer.sample(0.05)
+    bbox = (*pts.min(axis=0), *pts.max(axis=0))
+    _info_text(msp, [part_number, f"t {thickness_mm:g} mm, units mm",
+                     f"CUT: lines+arcs, tol {CHORD_TOL_MM:g} mm"], bbox)
     doc.saveas(path)
-    return Path(path)
+    return DxfReport(Path(path), len(bulged), sum(b.n_biarcs for b in bulged),
+                     max(b.max_deviation_mm for b in bulged))
 
 
-def _entity_points(e) -> tuple[np.ndarray, bool]:
-    """Flattened points of one entity and whether it is closed on its own."""
-    kind = e.dxftype()
-    if kind == "LINE":
-        return np.array([(e.dxf.start.x, e.dxf.start.y), (e.dxf.end.x, e.dxf.end.y)]), False
-    if kind == "CIRCLE":
-        pts = np.array([(v.x, v.y) for v in e.flattening(READ_SAGITTA_MM)])
-        return pts[:-1] if np.allclose(pts[0], pts[-1]) else pts, True
-    if kind in ("ARC", "SPLINE"):
-        return np.array([(v.x, v.y) for v in e.flattening(READ_SAGITTA_MM)]), False
-    raise ValueError(f"unexpected {kind} on layer {CUT_LAYER}")
-
-
-def read_dxf_loops(path: Path) -> tuple[list[np.ndarray], object]:
-    """Read the CUT layer back as closed loops of points (mm).
+def read_dxf_loops(path: Path) -> tuple[list[BulgeLoop], object]:
+    """Read the CUT layer back as exact line-and-arc loops.
 
     Returns:
-        (loops, auditor): each loop (n, 2) without the closing point; the ezdxf
-        auditor of the file.
+        (loops, auditor): one :class:`~springcad.export.biarc.BulgeLoop` per contour;
+        the ezdxf auditor of the file.
 
     Raises:
-        ValueError: the pieces do not chain into closed loops.
+        ValueError: the CUT layer holds anything but closed LWPOLYLINEs (a SPLINE,
+            loose lines or arcs, an open polyline).
     """
     import ezdxf
 
     doc = ezdxf.readfile(path)
     auditor = doc.audit()
-    loops, open_pieces = [], []
+    loops = []
     for e in doc.modelspace().query(f'*[layer=="{CUT_LAYER}"]'):
-        pts, closed = _entity_points(e)
-        (loops if closed else open_pieces).append(pts)
-    while open_pieces:
-        chain = [open_pieces.pop()]
-        while np.linalg.norm(chain[-1][-1] - chain[0][0]) > JOIN_TOL_MM:
-            end = chain[-1][-1]
-            for i, piece in enumerate(open_pieces):
-                if np.linalg.norm(piece[0] - end) <= JOIN_TOL_MM:
-                    chain.append(open_pieces.pop(i))
-                    break
-                if np.linalg.norm(piece[-1] - end) <= JOIN_TOL_MM:
-                    chain.append(open_pieces.pop(i)[::-1])
-                    break
-            else:
-                raise ValueError(f"{path}: contour open at ({end[0]:.4f}, {end[1]:.4f})")
-        loops.append(np.vstack([c[:-1] for c in chain]))
+        kind = e.dxftype()
+        if kind != "LWPOLYLINE":
+            raise ValueError(f"{path}: {kind} on layer {CUT_LAYER}; CAM needs closed "
+                             "line-and-arc polylines only")
+        if not e.closed:
+            raise ValueError(f"{path}: open polyline on layer {CUT_LAYER}")
+        loops.append(BulgeLoop(np.asarray(list(e.get_points("xyb")), dtype=float)))
     return loops, auditor
 
 
 def loops_area_mm2(loops) -> float:
-    """Area enclosed by the largest loop minus the others (mm^2)."""
-    def shoelace(p):
-        x, y = p[:, 0], p[:, 1]
-        return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
-
-    areas = sorted((shoelace(p) for p in loops), reverse=True)
+    """Area enclosed by the largest loop minus the others (mm^2), exact for lines and arcs."""
+    areas = sorted((abs(lp.area_mm2()) for lp in loops), reverse=True)
     return areas[0] - sum(areas[1:])
+
+
+def loops_length_mm(loops) -> float:
+    """Total length of all contours (mm): the wire path."""
+    return sum(lp.length_mm() for lp in loops)

@@ -17,6 +17,7 @@ class AlignmentShaft(AnnularPart):
     """Ground pin on which the floating camshafts run (stacks of three or more)."""
 
     KIND, TITLE, PROCESS, COLOUR = "alignment_shaft", "Alignment shaft", "turned", "cam"
+    CODE = "ALIGNMENT-SHAFT"
     NOTES = ("Ground to g6; the camshaft bores and centre spacers run on it.",)
 
 
@@ -24,6 +25,7 @@ class RimFlange(AnnularPart):
     """Input/output adapter bolted to a stack-end rim (torque through the rim)."""
 
     KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_flange", "Rim flange", "laser", "steel", True
+    CODE = "RIM-FLANGE"
     NOTES = ("Holes match the flexure-ring rim holes; mounting to the system is "
              "left to the user.",)
 
@@ -37,14 +39,14 @@ class TorqueShaft(SpringcadPart):
     over the camshaft's D hub (the bore is then taken by the alignment shaft).
 
     Args:
-        part_number: unique part id.
+        name: job-local label (the part number is made from the geometry).
         plan: the torque shaft's plan.
         length_mm: overall length (mm).
         material: (name, density kg/m^3).
         heat_treatment: as written on the drawing.
     """
 
-    def __init__(self, part_number: str, plan: TorqueShaftPlan, length_mm: float,
+    def __init__(self, name: str, plan: TorqueShaftPlan, length_mm: float,
                  material: tuple[str, float], heat_treatment: str = ""):
         self.style = plan.STYLE
         self.length = length_mm
@@ -70,9 +72,9 @@ class TorqueShaft(SpringcadPart):
                    "socket diameter": 2 * plan.hub_radius_mm}
             note = "D socket matches the camshaft hub (slip fit)."
         else:
-            raise GeometryError(f"{part_number}: no torque shaft of style "
+            raise GeometryError(f"{name}: no torque shaft of style "
                                 f"{type(plan).__name__}; use a D shaft or a hub socket")
-        info = PartInfo(part_number=part_number, title="Torque shaft", kind="torque_shaft",
+        info = PartInfo(name=name, code="TORQUE-SHAFT", title="Torque shaft", kind="torque_shaft",
                         material=material[0], heat_treatment=heat_treatment,
                         density_kg_per_m3=material[1], process="turned",
                         thickness_mm=length_mm, dimensions=key,

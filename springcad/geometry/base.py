@@ -6,15 +6,37 @@ Every part of a stack is a *z-prism* or a short pile of them: a planar region
 its solid, so that the checks can reason exactly in 2D (interference, EDM
 rules) and the measurements can hold the solid against it (volume = sum of
 slab area x length). Units: mm, mm^2, mm^3.
+
+Part numbers
+------------
+A part number names one geometry, never a job's local label: it is the part
+family's code and the first :data:`PN_HASH_DIGITS` hex digits of the SHA-256 of
+the part's *identity* (:func:`identity_text`): family, material, heat
+treatment, process, catalogue standard, general tolerance and every slab's z
+range and exact contour (lines, arcs, circles, spline fit points and end
+tangents, rounded to :data:`IDENTITY_DIGITS` decimals of a mm). So
+
+* the same geometry gets the same number in every job (``RING-1A2B3C4D``
+  whether the job calls the spring S1 or A, alone or in a stack);
+* any change of form, fit or material (a radius, a tolerance, a heat
+  treatment) gives a new number. A new number starts at revision A.
+
+Revision rule: the revision letter (``springcad build --revision``) changes only
+for documentation changes of an unchanged part number (notes, title block,
+drawing layout); it never stands for a change of geometry, which would be a new
+number. The job-local label a stack gives a part (``S1-RING``,
+``RIM-SPACER-2``) is :attr:`PartInfo.name`: messages, the BOM and the drawing
+header show it next to the number.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import hashlib
+from dataclasses import dataclass, field, replace
 
 from build123d import BasePartObject, Color, Solid
 
-from springcad.design.curves import Circle, Loop, Profile
+from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
 from springcad.errors import GeometryError
 
 #: display colours (RGB 0-1) by material family
@@ -31,6 +53,12 @@ COLOURS = {
 
 #: tolerance of turned, sheet and catalogue parts unless a part says otherwise (mm)
 GENERAL_TOLERANCE_MM = 0.05
+#: hex digits of the identity hash in a part number (32 bits: two different parts of one
+#: family share a number with probability ~ n^2 / 2^33 for n part designs)
+PN_HASH_DIGITS = 8
+#: decimals (of a mm, of a unit tangent) to which the identity rounds coordinates:
+#: 1e-6 mm, far below any tolerance, far above floating-point noise between jobs
+IDENTITY_DIGITS = 6
 
 
 @dataclass(frozen=True)
@@ -54,8 +82,9 @@ class PartInfo:
     """What a drawing, a DXF and the bill of materials need to know about a part.
 
     Attributes:
-        part_number: unique id of the part design (one per distinct geometry).
-        title: human-readable name, e.g. ``"Flexure ring S1"``.
+        name: the job-local label of the part (``"S1-RING"``, ``"RIM-SPACER-2"``),
+            used in messages and shown beside the part number.
+        title: human-readable name, e.g. ``"Flexure ring, 28 flexures"``.
         kind: Component kind (flexure_ring, camshaft, ...).
         material: material name.
         heat_treatment: as written on the drawing ("" if none).
@@ -66,9 +95,12 @@ class PartInfo:
         dimensions: key dimensions for the drawing, ``{label: value_mm}``.
         notes: drawing notes specific to this part.
         standard: catalogue designation for purchased parts.
+        code: the family code that starts the part number (``"RING"``, ``"CAM"``).
+        part_number: ``CODE-HASH`` of the part's identity (module docstring); set by
+            :class:`SpringcadPart`, never by hand.
     """
 
-    part_number: str
+    name: str
     title: str
     kind: str
     material: str
@@ -80,6 +112,50 @@ class PartInfo:
     dimensions: dict = field(default_factory=dict)
     notes: tuple[str, ...] = ()
     standard: str = ""
+    code: str = ""
+    part_number: str = ""
+
+
+def _num(x: float) -> str:
+    return f"{round(float(x), IDENTITY_DIGITS) + 0.0:.{IDENTITY_DIGITS}f}"
+
+
+def _pts(*points) -> str:
+    return " ".join(_num(v) for p in points for v in p)
+
+
+def _segment_text(seg) -> str:
+    if isinstance(seg, Line):
+        return "L " + _pts(seg.start, seg.end)
+    if isinstance(seg, Circle):
+        return f"C {_pts(seg.center)} {_num(seg.radius)}"
+    if isinstance(seg, Arc):  # by points and sweep: angles may differ by 2 pi for one arc
+        return f"A {_pts(seg.start, seg.end, seg.center)} {_num(seg.radius)} {_num(seg.sweep)}"
+    if isinstance(seg, Spline):
+        return f"S {_pts(*seg.points)} T {_pts(seg.start_tangent, seg.end_tangent)}"
+    raise TypeError(f"unknown segment {type(seg).__name__}")
+
+
+def identity_text(info: PartInfo, slabs, tolerance_mm: float) -> str:
+    """Everything that makes a part what it is, as text (see the module docstring).
+
+    Not part of it: the job-local name, the title, notes, quantity and placement.
+    """
+    lines = [f"code {info.code}", f"kind {info.kind}", f"material {info.material}",
+             f"heat treatment {info.heat_treatment}", f"process {info.process}",
+             f"standard {info.standard}", f"tolerance {_num(tolerance_mm)}"]
+    for sl in slabs:
+        lines.append(f"slab {_num(sl.z0_mm)} {_num(sl.z1_mm)}")
+        for loop in sl.region.loops:
+            lines.append("loop " + "; ".join(_segment_text(seg) for seg in loop.segments))
+    return "\n".join(lines)
+
+
+def part_number_of(info: PartInfo, slabs, tolerance_mm: float) -> str:
+    """``CODE-XXXXXXXX``: the family code and the hash of the part's identity."""
+    digest = hashlib.sha256(identity_text(info, slabs, tolerance_mm).encode()).hexdigest()
+    code = info.code or info.kind.upper().replace("_", "-")
+    return f"{code}-{digest[:PN_HASH_DIGITS].upper()}"
 
 
 class SpringcadPart(BasePartObject):
@@ -98,20 +174,25 @@ class SpringcadPart(BasePartObject):
     """
 
     def __init__(self, info: PartInfo, slabs: tuple[Slab, ...], colour, solid: Solid | None = None):
-        self.info = info
         self.slabs = tuple(slabs)
+        self.info = replace(info, part_number=part_number_of(info, self.slabs, self.tolerance_mm))
         self.colour = tuple(colour)
         self.exact_prism = solid is None
         if solid is None:
-            solid = prism_solid(self.slabs, info.part_number)
-        solid.label = info.part_number
+            solid = prism_solid(self.slabs, info.name)
+        solid.label = self.part_number
         super().__init__(solid)
-        self.label = info.part_number
+        self.label = self.part_number
         self.color = Color(*self.colour)
 
     @property
     def part_number(self) -> str:
         return self.info.part_number
+
+    @property
+    def name(self) -> str:
+        """The job-local label (``"S1-RING"``)."""
+        return self.info.name
 
     @property
     def tolerance_mm(self) -> float:

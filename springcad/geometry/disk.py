@@ -60,8 +60,8 @@ class FlexureRing(SpringcadPart):
             dims["bolt circle diameter"] = 2 * math.hypot(*self.hole_centres[0])
             dims["hole diameter"] = self.hole_diameter
         info = PartInfo(
-            part_number=f"{spring.name}-RING", title=f"Flexure ring {spring.name}",
-            kind="flexure_ring", material=mat.description or mat.name,
+            name=f"{spring.name}-RING", code="RING",
+            title=f"Flexure ring, {self.n_flexures} flexures", kind="flexure_ring", material=mat.description or mat.name,
             heat_treatment=mat.heat_treatment, density_kg_per_m3=mat.density_kg_per_m3,
             process="wire_edm", thickness_mm=self.thickness, cut_profile=spring.ring,
             dimensions=dims,
@@ -158,7 +158,8 @@ class Camshaft(SpringcadPart):
                          f"{self.root_radius - self.hub_radius:.2f} mm inside the root radius: "
                          "the wire cutting the teeth passes it.")
         info = PartInfo(
-            part_number=tag, title=f"Camshaft {names}" + (" (end)" if hub_length_mm else ""),
+            name=tag, code="CAM",
+            title=("End camshaft" if hub_length_mm else "Camshaft") + f", {self.n_teeth} teeth",
             kind="camshaft", material=mat.description or mat.name,
             heat_treatment=mat.heat_treatment, density_kg_per_m3=mat.density_kg_per_m3,
             process="wire_edm", thickness_mm=toothed_length_mm + hub_length_mm,
@@ -184,12 +185,12 @@ class Camshaft(SpringcadPart):
                 == (s.n_flexures, s.contact_radius_mm, s.tip_radius_mm, s.manufacturing.w_gap_mm)
             if not same:
                 raise GeometryError(
-                    f"camshaft {self.part_number}: springs {s.name} and {m.name} share it but "
+                    f"camshaft {self.name}: springs {s.name} and {m.name} share it but "
                     "differ in flexure count, contact radius, tip radius or gap; give springs "
                     "that share a camshaft the same n_flexures, contact_radius_mm and tip_radius_mm")
             if self.travel_rad < m.max_deflection_rad * (1 - 1e-9):
                 raise GeometryError(
-                    f"camshaft {self.part_number}: its teeth (cut to spring {s.name}) cover "
+                    f"camshaft {self.name}: its teeth (cut to spring {s.name}) cover "
                     f"{self.travel_rad:.4f} rad, less than spring {m.name}'s max deflection "
                     f"{m.max_deflection_rad:.4f} rad; do not share a camshaft between these "
                     "springs, or give them the same max deflection")

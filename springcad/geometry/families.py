@@ -41,7 +41,11 @@ def _r(x: float) -> float:
 
 
 class PartCache:
-    """Builds each distinct part once; numbers parts of one kind PREFIX, PREFIX-2, ...
+    """Builds each distinct part once; names parts of one kind PREFIX, PREFIX-2, ...
+
+    The name is the job-local label; the part number comes from the geometry
+    (:func:`springcad.geometry.base.part_number_of`), so two cache keys that
+    make the same geometry give one part.
 
     Attributes:
         fraction: share of the stack built so far (0-1), passed on to ``progress``.
@@ -62,11 +66,9 @@ class PartCache:
                 self.count[prefix] = k
                 number = prefix if k == 1 else f"{prefix}-{k}"
             part = make(number)
-            if part.part_number in self.by_number:
-                raise GeometryError(f"two different parts would share part number {part.part_number}")
-            self.progress(f"built {part.part_number}", self.fraction)
+            part = self.by_number.setdefault(part.part_number, part)
+            self.progress(f"built {part.name} ({part.part_number})", self.fraction)
             self.parts[key] = part
-            self.by_number[part.part_number] = part
         return self.parts[key]
 
 

@@ -21,10 +21,11 @@ class DowelPin(AnnularPart):
     """Hardened dowel pin, ISO 8734 m6, through both joined rims (flush)."""
 
     KIND, TITLE, PROCESS, COLOUR = "fastener", "Dowel pin", "purchased", "fastener"
+    CODE = "DOWEL"
     NOTES = ("Catalogue part: ISO 8734 hardened dowel pin, m6.",)
 
-    def __init__(self, part_number: str, diameter_mm: float, length_mm: float):
-        super().__init__(part_number, 0.0, 0.5 * diameter_mm, length_mm, STEEL,
+    def __init__(self, name: str, diameter_mm: float, length_mm: float):
+        super().__init__(name, 0.0, 0.5 * diameter_mm, length_mm, STEEL,
                          standard=f"ISO 8734 - {diameter_mm:g} m6 x {length_mm:g}")
         self.diameter = diameter_mm
 
@@ -49,13 +50,13 @@ class RimScrew(SpringcadPart):
     """ISO 4762 socket-head cap screw (bd_warehouse), shank along +z, head below z = 0.
 
     Args:
-        part_number: unique part id.
+        name: job-local label.
         diameter_mm: nominal thread diameter (mm).
         grip_mm: clamped length (mm); the screw is the shortest catalogue length
             that passes the grip and a nut.
     """
 
-    def __init__(self, part_number: str, diameter_mm: float, grip_mm: float, nut_height_mm: float):
+    def __init__(self, name: str, diameter_mm: float, grip_mm: float, nut_height_mm: float):
         from bd_warehouse.fastener import SocketHeadCapScrew
         from build123d import Rot
 
@@ -72,7 +73,7 @@ class RimScrew(SpringcadPart):
         self.head_height, self.head_diameter = screw.head_height, screw.head_diameter
         slabs = (Slab(-self.head_height, 0.0, Profile(circle_loop(0.5 * self.head_diameter))),
                  Slab(0.0, self.length, Profile(circle_loop(0.5 * screw.thread_diameter))))
-        info = PartInfo(part_number=part_number, title="Socket head cap screw", kind="fastener",
+        info = PartInfo(name=name, code="SCREW", title="Socket head cap screw", kind="fastener",
                         material=STEEL[0], heat_treatment="", density_kg_per_m3=STEEL[1],
                         process="purchased", thickness_mm=self.length,
                         standard=f"ISO 4762 - {size.split('-')[0]} x {self.length:g}",
@@ -83,7 +84,7 @@ class RimScrew(SpringcadPart):
 class RimNut(SpringcadPart):
     """ISO 4032 hex nut (bd_warehouse) on the far rim face, z from 0 to its height."""
 
-    def __init__(self, part_number: str, diameter_mm: float):
+    def __init__(self, name: str, diameter_mm: float):
         from bd_warehouse.fastener import HexNut
 
         size = _metric_size(HexNut, diameter_mm, "iso4032")
@@ -91,7 +92,7 @@ class RimNut(SpringcadPart):
         self.nut_height = nut.nut_thickness
         slabs = (Slab(0.0, self.nut_height, Profile(_hexagon(nut.nut_diameter),
                                                 (circle_loop(0.5 * nut.thread_diameter),))),)
-        info = PartInfo(part_number=part_number, title="Hex nut", kind="fastener",
+        info = PartInfo(name=name, code="NUT", title="Hex nut", kind="fastener",
                         material=STEEL[0], heat_treatment="", density_kg_per_m3=STEEL[1],
                         process="purchased", thickness_mm=self.nut_height,
                         standard=f"ISO 4032 - {size.split('-')[0]}", notes=("Catalogue part.",))

@@ -16,10 +16,10 @@ from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, annu
 class AnnularPart(SpringcadPart):
     """A ring from ``inner_radius`` to ``outer_radius`` over ``length`` with optional holes.
 
-    Subclasses set ``KIND``, ``TITLE``, ``PROCESS``, ``COLOUR`` and ``NOTES``.
+    Subclasses set ``KIND``, ``CODE``, ``TITLE``, ``PROCESS``, ``COLOUR`` and ``NOTES``.
 
     Args:
-        part_number: unique part id.
+        name: job-local label (the part number is made from the geometry).
         inner_radius_mm: bore radius, 0 for a disc (mm).
         outer_radius_mm: outer radius (mm).
         length_mm: axial length / sheet thickness (mm).
@@ -31,6 +31,8 @@ class AnnularPart(SpringcadPart):
     """
 
     KIND = "annulus"
+    #: family code that starts the part number
+    CODE = "RING"
     TITLE = "Ring"
     PROCESS = "turned"
     COLOUR = "steel"
@@ -38,7 +40,7 @@ class AnnularPart(SpringcadPart):
     #: planar sheet parts get a DXF cutting profile
     SHEET = False
 
-    def __init__(self, part_number: str, inner_radius_mm: float, outer_radius_mm: float,
+    def __init__(self, name: str, inner_radius_mm: float, outer_radius_mm: float,
                  length_mm: float, material: tuple[str, float], hole_centres=(),
                  hole_diameter_mm: float = 0.0, heat_treatment: str = "", standard: str = ""):
         self.inner_radius = inner_radius_mm
@@ -55,7 +57,7 @@ class AnnularPart(SpringcadPart):
         if self.hole_centres:
             dims["bolt circle diameter"] = 2 * math.hypot(*self.hole_centres[0])
             dims["hole diameter"] = hole_diameter_mm
-        info = PartInfo(part_number=part_number, title=self.TITLE, kind=self.KIND,
+        info = PartInfo(name=name, code=self.CODE, title=self.TITLE, kind=self.KIND,
                         material=material[0], heat_treatment=heat_treatment,
                         density_kg_per_m3=material[1], process=self.PROCESS,
                         thickness_mm=length_mm, cut_profile=region if self.SHEET else None,
@@ -63,10 +65,10 @@ class AnnularPart(SpringcadPart):
         super().__init__(info, (Slab(0.0, length_mm, region),), COLOURS[self.COLOUR])
 
     @classmethod
-    def from_plan(cls, part_number: str, plan: AnnulusPlan, length_mm: float,
+    def from_plan(cls, name: str, plan: AnnulusPlan, length_mm: float,
                   material: tuple[str, float], heat_treatment: str = "") -> "AnnularPart":
         """The part of a stack plan: its radii and holes, ``length_mm`` long (mm)."""
-        return cls(part_number, plan.inner_radius_mm, plan.outer_radius_mm, length_mm, material,
+        return cls(name, plan.inner_radius_mm, plan.outer_radius_mm, length_mm, material,
                    plan.hole_centres_mm, plan.hole_diameter_mm, heat_treatment)
 
 
@@ -74,6 +76,7 @@ class RimSpacer(AnnularPart):
     """Thin aluminium ring between two bolted rims (paper Fig. 2a): reduces friction."""
 
     KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_spacer", "Rim spacer", "laser", "aluminium", True
+    CODE = "RIM-SPACER"
     NOTES = ("Cut from flat sheet; deburr both faces; flatness 0.02 mm.",
              "Holes match the flexure-ring rim holes.")
 
@@ -82,6 +85,7 @@ class RimWasher(AnnularPart):
     """Plastic ring between the rims of two springs that share a camshaft."""
 
     KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_washer", "Rim washer", "laser", "plastic", True
+    CODE = "RIM-WASHER"
     NOTES = ("Cut from flat sheet; low-friction grade.",)
 
 
@@ -92,6 +96,7 @@ class CentreSpacer(AnnularPart):
     """
 
     KIND, TITLE, PROCESS, COLOUR, SHEET = "centre_spacer", "Centre spacer", "laser", "plastic", True
+    CODE = "CENTRE-SPACER"
     NOTES = ("Low-friction grade; the flexure tips slide on both faces.",
              "Outer diameter larger than the cam tooth tips on both sides.")
 
@@ -100,4 +105,5 @@ class Bushing(AnnularPart):
     """Plastic sleeve around the rims: keeps floating rims concentric (paper Section II-A)."""
 
     KIND, TITLE, PROCESS, COLOUR = "bushing", "Outer bushing", "turned", "plastic"
+    CODE = "BUSHING"
     NOTES = ("Running clearance over the rims; bore concentric to the housing seat.",)

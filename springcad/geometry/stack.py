@@ -49,6 +49,13 @@ class StackAssembly:
             out[inst.part.part_number] = out.get(inst.part.part_number, 0) + 1
         return out
 
+    def part_named(self, name: str) -> SpringcadPart:
+        """The part whose job-local label is ``name`` (e.g. ``"S1-RING"``)."""
+        for part in self.parts.values():
+            if part.name == name:
+                return part
+        raise KeyError(f"no part named {name!r}; names: {sorted(p.name for p in self.parts.values())}")
+
     def instance(self, name: str) -> Instance:
         for inst in self.instances:
             if inst.name == name:

@@ -1,53 +1,59 @@
-"""Just enough PDF reading to list the text strings matplotlib writes (tests only).
+"""Read drawings back with poppler (a second reader, not matplotlib): text and word boxes.
 
-matplotlib writes text as ``[(...) kern (...)] TJ`` or ``(...) Tj`` in
-Flate-compressed content streams; Type 42 fonts use two-byte (UTF-16BE) codes.
+``pdftotext`` and ``pdftoppm`` (poppler-utils) are required by the drawing tests.
+Units: mm, sheet origin at the top left (PDF readers' convention).
 """
 
 import re
-import zlib
+import shutil
+import subprocess
+from dataclasses import dataclass
+from pathlib import Path
 
-_STRING = re.compile(rb"\((?:\\.|[^\\)])*\)")
-
-
-def _unescape(raw: bytes) -> bytes:
-    out, i = bytearray(), 0
-    while i < len(raw):
-        c = raw[i]
-        if c == 0x5C and i + 1 < len(raw):  # backslash
-            nxt = raw[i + 1]
-            if 0x30 <= nxt <= 0x37:
-                j = i + 1
-                while j < min(i + 4, len(raw)) and 0x30 <= raw[j] <= 0x37:
-                    j += 1
-                out.append(int(raw[i + 1:j], 8) & 0xFF)
-                i = j
-                continue
-            out.append({ord("n"): 10, ord("r"): 13, ord("t"): 9, ord("b"): 8,
-                        ord("f"): 12}.get(nxt, nxt))
-            i += 2
-            continue
-        out.append(c)
-        i += 1
-    return bytes(out)
+MM_PER_PT = 25.4 / 72.0
+_WORD = re.compile(r'<word xMin="([\d.]+)" yMin="([\d.]+)" xMax="([\d.]+)" yMax="([\d.]+)">(.*?)</word>')
+_PAGE = re.compile(r'<page width="([\d.]+)" height="([\d.]+)">')
 
 
-def _decode(b: bytes) -> str:
-    if len(b) % 2 == 0 and b[:1] == b"\x00":
-        return b.decode("utf-16-be", errors="replace")
-    return b.decode("latin-1")
+def _poppler(tool: str) -> str:
+    path = shutil.which(tool)
+    if path is None:
+        raise RuntimeError(f"{tool} (poppler-utils) is needed to read the drawings back")
+    return path
 
 
-def pdf_strings(data: bytes) -> list[str]:
-    """Every text-showing operation's string, kerning pieces joined."""
-    out = []
-    for stream in re.findall(rb"stream\r?\n(.*?)\r?\nendstream", data, re.S):
-        try:
-            content = zlib.decompress(stream)
-        except zlib.error:
-            content = stream
-        for m in re.finditer(rb"\[(.*?)\]\s*TJ|(\((?:\\.|[^\\)])*\))\s*Tj", content, re.S):
-            body = m.group(1) if m.group(1) is not None else m.group(2)
-            pieces = [_unescape(s[1:-1]) for s in _STRING.findall(body)]
-            out.append("".join(_decode(p) for p in pieces))
-    return out
+def pdf_text(path: Path) -> str:
+    """All text of a PDF, one text run per line (``pdftotext -raw``)."""
+    out = subprocess.run([_poppler("pdftotext"), "-raw", str(path), "-"], capture_output=True,
+                         text=True, check=True)
+    return out.stdout
+
+
+@dataclass(frozen=True)
+class Word:
+    """One word and its box on the page (mm, origin top left, y down)."""
+
+    text: str
+    x0: float
+    y0: float
+    x1: float
+    y1: float
+
+
+def pdf_words(path: Path) -> tuple[list[Word], tuple[float, float]]:
+    """Every word with its box, and the page size (mm), from ``pdftotext -bbox``."""
+    import html
+
+    out = subprocess.run([_poppler("pdftotext"), "-bbox", str(path), "-"], capture_output=True,
+                         text=True, check=True).stdout
+    w, h = (float(v) * MM_PER_PT for v in _PAGE.search(out).groups())
+    words = [Word(html.unescape(m.group(5)), *(float(v) * MM_PER_PT for v in m.groups()[:4]))
+             for m in _WORD.finditer(out)]
+    return words, (w, h)
+
+
+def pdf_png(path: Path, out_prefix: Path, dpi: int) -> Path:
+    """Render page 1 with ``pdftoppm`` and return the PNG path."""
+    subprocess.run([_poppler("pdftoppm"), "-png", "-r", str(dpi), "-f", "1", "-l", "1",
+                    "-singlefile", str(path), str(out_prefix)], check=True)
+    return Path(f"{out_prefix}.png")

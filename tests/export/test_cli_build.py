@@ -12,10 +12,16 @@ S1 = TEMPLATES / "paper_S1.toml"
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
-    """One accepted S1 build shared by the tests below."""
+    """One accepted S1 build shared by the tests below (its console output in out/../stdout)."""
+    import contextlib
+    import io
+
     out = tmp_path_factory.mktemp("build") / "s1"
-    code = main(["build", str(S1), "--out", str(out), "--accept-violations", "--revision", "B",
-                 "--no-verify"])
+    console = io.StringIO()
+    with contextlib.redirect_stdout(console):
+        code = main(["build", str(S1), "--out", str(out), "--accept-violations", "--revision",
+                     "B", "--no-verify"])
+    (out.parent / "stdout").write_text(console.getvalue())
     return code, out
 
 
@@ -40,10 +46,24 @@ def test_build_writes_everything_it_lists(built):
         assert (out / f["path"]).stat().st_size == f["bytes"] > 0
     on_disk = {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()} - {"build.json"}
     assert on_disk == paths
-    for pn in ("S1-RING", "S1-CAM-L4.5-H6"):
+    numbers = {p["name"]: p["part_number"] for p in doc["parts"]}
+    for name in ("S1-RING", "S1-CAM-L4.5-H6"):
+        pn = numbers[name]
+        assert pn.startswith("RING-" if "RING" in name else "CAM-")
         for ext in ("step", "stl", "dxf", "svg", "pdf"):
             assert f"parts/{pn}.{ext}" in paths
     assert {"assembly.step", "bom.csv", "assembly.png", "design.json"} <= paths
+    # BOM, build.json and drawings agree on every part number
+    import csv
+
+    from pdftext import pdf_text
+
+    bom = {r["part_number"]: r for r in csv.DictReader((out / "bom.csv").open())}
+    assert set(bom) == set(numbers.values())
+    for name, pn in numbers.items():
+        assert bom[pn]["name"] == name
+        if f"parts/{pn}.pdf" in paths:
+            assert pn in pdf_text(out / "parts" / f"{pn}.pdf"), pn
     stack = doc["stack"]
     assert stack["input"] == "shaft" and stack["output"] == "rim"
     assert set(stack["input_parts"]) == {"camshaft_1", "input_torque_shaft"}
@@ -65,6 +85,30 @@ def test_build_json_records_every_check(built):
     assert web["value"] >= 0.4
     rt = [c for c in items if c["name"].endswith("_roundtrip")]
     assert rt and all(c["passed"] for c in rt)
+
+
+def test_unverified_build_is_not_for_manufacture(built):
+    """--no-verify and the paper S1's design warnings: every drawing is stamped, every
+    reason is on the drawing and in the console summary."""
+    from pdftext import pdf_text
+
+    _, out = built
+    release = json.loads((out / "build.json").read_text())["release"]
+    assert release["status"] == "NOT FOR MANUFACTURE" and not release["released"]
+    reasons = release["reasons"]
+    assert any("--no-verify" in r for r in reasons)
+    assert any("tip ball" in r for r in reasons)
+    assert any("Monte Carlo stacks" in r for r in reasons)
+    console = (out.parent / "stdout").read_text()
+    assert "release: NOT FOR MANUFACTURE" in console
+    for r in reasons:
+        assert f"  - {r}" in console
+    pdfs = sorted((out / "parts").glob("*.pdf"))
+    assert pdfs
+    for pdf in pdfs:
+        text = pdf_text(pdf)
+        assert "NOT FOR MANUFACTURE" in text and "--no-verify" in text, pdf.name
+        assert "tip ball 0.300 mm" in text, pdf.name
 
 
 def test_existing_output_is_never_overwritten_silently(built, tmp_path, capsys):
@@ -113,6 +157,14 @@ def test_build_verifies_before_exporting(tmp_path):
     # the exported ring carries the FEA width correction
     assert design["springs"]["S1"]["width_scale"] == pytest.approx(
         s1["correction_iterations"][-1]["width_scale"], rel=1e-9)
+    # verified, no design warning, every check passed: released drawings
+    assert doc["release"] == {"status": "RELEASED", "released": True, "reasons": [],
+                              "notes": []}
+    from pdftext import pdf_text
+
+    for pdf in (out / "parts").glob("*.pdf"):
+        text = pdf_text(pdf)
+        assert "RELEASED" in text and "NOT FOR MANUFACTURE" not in text, pdf.name
 
 
 def test_failed_verification_stops_the_build(tmp_path, capsys, monkeypatch):

@@ -6,7 +6,7 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-from pdftext import pdf_strings
+from pdftext import pdf_text
 from springcad.export.bom import write_bom
 from springcad.export.drawing import DrawingInfo, load_title_block, write_drawing
 from springcad.export.sheet import fmt
@@ -22,7 +22,7 @@ def svg_texts(path) -> list[str]:
 
 def drawing_texts(part, tmp_path, template=None):
     svg, pdf = write_drawing(part, INFO, tmp_path, template)
-    return svg_texts(svg), pdf_strings(pdf.read_bytes())
+    return svg_texts(svg), pdf_text(pdf).splitlines()
 
 
 def assert_all_in(expected, texts):
@@ -51,14 +51,14 @@ def test_ring_drawing_has_its_dimensions(ring_s1, tmp_path):
 
 
 def test_cam_and_spacer_drawings(stack_4xs1, tmp_path):
-    cam = stack_4xs1.parts["S1-CAM-L4.5-H6-R"]
+    cam = stack_4xs1.part_named("S1-CAM-L4.5-H6-R")
     svg, pdf = drawing_texts(cam, tmp_path)
     expected = [f"Ø{fmt(2 * cam.tip_radius)} tooth tips", f"Ø{fmt(2 * cam.root_radius)} root",
                 f"R{fmt(cam.contact_radius)} contact radius", f"Ø{fmt(cam.bore_diameter)} bore",
                 fmt(cam.toothed_length), fmt(cam.hub_length)] + title_values(cam)
     assert_all_in(expected, svg)
     assert_all_in(expected, pdf)
-    spacer = stack_4xs1.parts["RIM-SPACER"]
+    spacer = stack_4xs1.part_named("RIM-SPACER")
     svg, pdf = drawing_texts(spacer, tmp_path)
     expected = [f"Ø{fmt(2 * spacer.outer_radius)}", f"Ø{fmt(2 * spacer.inner_radius)}",
                 f"{len(spacer.hole_centres)}× Ø{fmt(spacer.hole_diameter)}", fmt(spacer.length)]
@@ -77,13 +77,14 @@ def test_bom_quantities_and_masses(stack_4xs1, tmp_path):
     path = write_bom(stack_4xs1, tmp_path / "bom.csv")
     rows = list(csv.DictReader(path.open()))
     assert sum(int(r["quantity"]) for r in rows) == len(stack_4xs1.instances)
-    assert [r["part_number"] for r in rows][0] == "S1-RING"
-    ring = next(r for r in rows if r["part_number"] == "S1-RING")
+    assert [r["name"] for r in rows][0] == "S1-RING"
+    ring = next(r for r in rows if r["name"] == "S1-RING")
+    assert ring["part_number"] == stack_4xs1.part_named("S1-RING").part_number
     assert int(ring["quantity"]) == 4 and ring["make_or_buy"] == "make"
     # ring mass against the design's own (profile area x thickness x density)
     design_mass_g = stack_4xs1.design.springs["S1"].mass_kg * 1000
     assert float(ring["mass_each_g"]) == pytest.approx(design_mass_g, rel=1e-4)
-    dowel = next(r for r in rows if r["part_number"] == "DOWEL")
+    dowel = next(r for r in rows if r["name"] == "DOWEL")
     assert dowel["make_or_buy"] == "buy" and dowel["standard"].startswith("ISO 8734")
     for r in rows:
         part = stack_4xs1.parts[r["part_number"]]

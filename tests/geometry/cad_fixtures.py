@@ -107,7 +107,7 @@ def stack_4xs1():
 
 @pytest.fixture(scope="session")
 def ring_s1(s1_stack):
-    return s1_stack.parts["S1-RING"]
+    return s1_stack.part_named("S1-RING")
 
 
 @pytest.fixture(scope="session")

@@ -54,7 +54,8 @@ def test_table_i_stack_builds_and_checks(config):
 
 
 def test_quantities_and_compound(stack_4xs1):
-    qty = stack_4xs1.quantities()
+    by_number = stack_4xs1.quantities()
+    qty = {stack_4xs1.parts[pn].name: n for pn, n in by_number.items()}
     assert qty["S1-RING"] == 4
     assert qty["S1-CAM-L4.5-H6-R"] == 2  # input and output camshafts: one part, turned over
     assert qty["DOWEL"] == 14

@@ -1,0 +1,101 @@
+"""Release gate: may a build's drawings go to a shop, and if not, why not.
+
+A build is *released* only when all of these hold:
+
+* the FEA verification ran (no ``--no-verify``) and passed;
+* the design carries no warning (spring warnings such as an undersized tip
+  ball or a stress derating, stack warnings such as cam interfaces that can
+  interfere in the Monte Carlo tolerance stack);
+* every geometry check and manufacturability rule passed (an accepted
+  violation, ``--accept-violations``, is a reason too).
+
+Anything else gives drawings stamped NOT FOR MANUFACTURE with every reason
+written next to the title block, and the console summary lists the same
+reasons. The gate only reads results; it never changes a design.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+RELEASED = "RELEASED"
+NOT_FOR_MANUFACTURE = "NOT FOR MANUFACTURE"
+#: reason of a drawing made outside ``springcad build`` (nobody assessed it)
+NOT_ASSESSED = "release not assessed: drawing made outside `springcad build`"
+
+
+@dataclass(frozen=True)
+class ReleaseStatus:
+    """The verdict of the release gate.
+
+    Attributes:
+        reasons: why the build is not released, one line each; empty when released.
+        notes: facts worth reading that do not stop a release (e.g. a spring that
+            would fail alone at its own limit but never reaches it in this stack).
+    """
+
+    reasons: tuple[str, ...] = ()
+    notes: tuple[str, ...] = ()
+
+    @property
+    def released(self) -> bool:
+        return not self.reasons
+
+    @property
+    def stamp(self) -> str:
+        """``"RELEASED"`` or ``"NOT FOR MANUFACTURE"``."""
+        return RELEASED if self.released else NOT_FOR_MANUFACTURE
+
+    def to_dict(self) -> dict:
+        return {"status": self.stamp, "released": self.released,
+                "reasons": list(self.reasons), "notes": list(self.notes)}
+
+    def summary_lines(self) -> list[str]:
+        """The console summary: the verdict, then every reason and note."""
+        head = (f"release: {self.stamp}" if self.released else
+                f"release: {self.stamp} ({len(self.reasons)} reason"
+                f"{'s' if len(self.reasons) != 1 else ''}; drawings are stamped)")
+        return ([head] + [f"  - {r}" for r in self.reasons]
+                + [f"  note: {n}" for n in self.notes])
+
+
+#: a drawing whose release nobody assessed is not for manufacture
+UNASSESSED = ReleaseStatus((NOT_ASSESSED,))
+
+
+def _check_reason(c) -> str:
+    what = "manufacturability rule" if c.kind == "rule" else "check"
+    return f"{what} {c.name} failed on {c.subject}: {c.message}".rstrip(": ")
+
+
+def release_status(job_design, verification=None, verify_skipped: bool = False,
+                   checks=()) -> ReleaseStatus:
+    """Judge a build.
+
+    Args:
+        job_design: the :class:`~springcad.design.job.JobDesign` that was built
+            (after any FEA correction).
+        verification: the FEA result (``.ok``, ``.failures()``, ``.notes()``), or None.
+        verify_skipped: the user skipped the verification (``--no-verify``).
+        checks: every :class:`~springcad.geometry.checks.Check` of the build
+            (geometry, manufacturability rules, export read-backs).
+
+    Returns:
+        the :class:`ReleaseStatus`; released only for a verified, warning-free
+        build whose checks all passed.
+    """
+    reasons: list[str] = []
+    notes: list[str] = []
+    if verify_skipped:
+        reasons.append("FEA verification skipped (--no-verify): beam-theory design, "
+                       "stiffness and stress not verified")
+    elif verification is None:
+        reasons.append("no FEA verification result")
+    else:
+        if not verification.ok:
+            reasons += [f"FEA verification failed: {f}" for f in verification.failures()] or [
+                "FEA verification failed"]
+        notes += list(verification.notes())
+    reasons += [f"design warning: {w}" for w in job_design.warnings()]
+    reasons += [_check_reason(c) for c in checks if not c.passed]
+    return ReleaseStatus(tuple(dict.fromkeys(reasons)), tuple(dict.fromkeys(notes)))

@@ -1,0 +1,91 @@
+"""Release gate: only a verified, warning-free build with every check passed is released."""
+
+import pytest
+
+from cad_fixtures import TEMPLATES
+from pdftext import pdf_text
+from springcad.export.drawing import DrawingInfo, write_drawing
+from springcad.export.release import (NOT_FOR_MANUFACTURE, RELEASED, ReleaseStatus,
+                                      release_status)
+from springcad.geometry.checks import Check
+
+
+class FakeVerification:
+    """Stands in for fea.verify.JobVerification (only what the gate reads)."""
+
+    def __init__(self, failures=(), notes=()):
+        self._failures, self._notes = list(failures), list(notes)
+
+    @property
+    def ok(self):
+        return not self._failures
+
+    def failures(self):
+        return self._failures
+
+    def notes(self):
+        return self._notes
+
+
+@pytest.fixture(scope="module")
+def designs():
+    from springcad.config import load_job
+    from springcad.design.job import design_job
+
+    return {n: design_job(load_job(TEMPLATES / f"{n}.toml")) for n in ("default", "paper_4xS1")}
+
+
+def test_clean_verified_build_is_released(designs):
+    ok = [Check("solid_valid", "X", True)]
+    status = release_status(designs["default"], FakeVerification(), False, ok)
+    assert status.released and status.stamp == RELEASED and status.reasons == ()
+
+
+def test_every_reason_stops_the_release(designs):
+    clean = designs["default"]
+    skipped = release_status(clean, None, verify_skipped=True)
+    assert not skipped.released and "--no-verify" in skipped.reasons[0]
+    failed = release_status(clean, FakeVerification(["S1: yield margin 1.05 < 1.2"]))
+    assert failed.stamp == NOT_FOR_MANUFACTURE
+    assert failed.reasons == ("FEA verification failed: S1: yield margin 1.05 < 1.2",)
+    violated = release_status(clean, FakeVerification(), checks=[
+        Check("edm.hole_edge", "RING-1", False, kind="rule", message="0.505 mm < 0.6 mm")])
+    assert violated.reasons == ("manufacturability rule edm.hole_edge failed on RING-1: "
+                                "0.505 mm < 0.6 mm",)
+    # a note of the verification is shown but does not stop the release
+    noted = release_status(clean, FakeVerification(notes=["spring S1 alone ..."]))
+    assert noted.released and noted.notes == ("spring S1 alone ...",)
+
+
+def test_design_warnings_stop_the_release(designs):
+    """The paper's 4xS1 spring has an undersized tip ball and MC interference (design.json)."""
+    d = designs["paper_4xS1"]
+    assert d.stack.backlash.mc_interference_fraction > 0
+    status = release_status(d, FakeVerification())
+    assert not status.released
+    text = "\n".join(status.reasons)
+    assert "tip ball 0.300 mm is below" in text
+    frac = 100 * d.stack.backlash.mc_interference_fraction
+    assert f"{frac:.1f} % of Monte Carlo stacks" in text
+    lines = status.summary_lines()
+    assert lines[0].startswith(f"release: {NOT_FOR_MANUFACTURE} ({len(status.reasons)} reasons")
+    assert all(f"  - {r}" in lines for r in status.reasons)
+
+
+def test_drawing_carries_the_stamp_and_reasons(ring_s1, tmp_path):
+    reasons = ("FEA verification skipped (--no-verify): beam-theory design",
+               "design warning: spring S1: tip ball 0.300 mm is below the 0.344 mm")
+    info = DrawingInfo(job="j", quantity=1, release=ReleaseStatus(reasons))
+    _, pdf = write_drawing(ring_s1, info, tmp_path)
+    text = pdf_text(pdf)
+    assert NOT_FOR_MANUFACTURE in text and "--no-verify" in text and "tip ball 0.300" in text
+    released = DrawingInfo(job="j", quantity=1, release=ReleaseStatus())
+    (tmp_path / "ok").mkdir()
+    _, pdf = write_drawing(ring_s1, released, tmp_path / "ok")
+    text = pdf_text(pdf)
+    assert RELEASED in text and NOT_FOR_MANUFACTURE not in text
+
+
+def test_a_drawing_nobody_assessed_is_not_for_manufacture(ring_s1, tmp_path):
+    _, pdf = write_drawing(ring_s1, DrawingInfo(job="j", quantity=1), tmp_path)
+    assert NOT_FOR_MANUFACTURE in pdf_text(pdf)
