@@ -97,6 +97,8 @@ class CandidateSpace:
     hardware: HardwareSpec
     flexure: str = "auto"
     """"auto" or "straight" (serpentine disks rejected)."""
+    stiffness_tolerance: float = float("inf")
+    """Accepted |K_stack / K_target - 1| of the beam stiffness the built widths give (-)."""
     allowed_peak_MPa: tuple[float, ...] = ()
     fatigue_limited: tuple[bool, ...] = ()
     endurance_limit_MPa: tuple[float, ...] = ()
@@ -118,6 +120,7 @@ class CandidateSpace:
             min_tip_radius_mm=s.min_tip_radius_mm, yield_margin=req.yield_margin,
             stress_concentration=req.stress_concentration, manufacturing=req.manufacturing,
             hardware=req.hardware, flexure=s.flexure,
+            stiffness_tolerance=req.stiffness_tolerance,
             allowed_peak_MPa=tuple(req.allowed_peak_MPa(m) for m in req.materials),
             fatigue_limited=tuple(req.fatigue_limited(m) for m in req.materials),
             endurance_limit_MPa=tuple(req.endurance_limit_MPa(m) for m in req.materials),

@@ -28,7 +28,7 @@ from springcad.design.tolerance import backlash_rad, gap_range_mm
 from springcad.synthesis.screening import REASONS, screen_disks
 
 #: stack-level constraints after the disk ones
-HOLES, AXIAL, RADIAL = "rim_holes", "axial_length", "envelope_radius"
+HOLES, AXIAL, RADIAL, STIFFNESS = "rim_holes", "axial_length", "envelope_radius", "stiffness"
 #: constraints where a smaller value is the violation (value/limit < 1 fails)
 _SMALLER_BAD = {"root_gap", "cam_tooth", "cam_bore", "serpentine_shape", HOLES}
 #: what a failed check at the lowered beam stress means in the report
@@ -84,6 +84,9 @@ def describe(binding: str, value: float, limit: float, disk: str = "") -> str:
     if binding == HOLES:
         return (f"rim holes on the stack's common circle leave {value:.3g} mm to a rim edge "
                 f"< min_hole_edge_mm {limit:.3g} mm (thin rim or rims of different depth)")
+    if binding == STIFFNESS:
+        return (f"the built flexures give {100 * value:+.2f} % stiffness, beyond the "
+                f"+-{100 * limit:.3g} % tolerance (the tip web does not scale with the widths)")
     if binding == AXIAL:
         return f"stack height {value:.2f} mm > max_axial_length_mm {limit:.2f} mm"
     if binding == RADIAL:
@@ -202,7 +205,13 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
     hole_edge = np.where(a["n_holes"] > 0, np.fmin(circle - r_hole - rr_max, ro - circle - r_hole),
                          np.inf)
     edge_mm = mfg.min_hole_edge_mm
+    # beam stiffness of the built widths, in series (design.stack), against the target
+    k_built = 1.0 / (n_a / a["stiffness_Nmm_per_rad"]
+                     + np.where(mixed, n_b / b["stiffness_Nmm_per_rad"], 0.0))
+    k_error = k_built / cols["stiffness_Nmm_per_rad"] - 1.0
     for name, val, lim, bad in (
+            (STIFFNESS, k_error, space.stiffness_tolerance,
+             np.abs(k_error) > space.stiffness_tolerance),
             (HOLES, hole_edge, edge_mm, hole_edge < edge_mm - 1e-9),
             (AXIAL, height, space.max_axial_length_mm, height > space.max_axial_length_mm + 1e-9),
             (RADIAL, r_env, space.max_outer_radius_mm, r_env > space.max_outer_radius_mm + 1e-9)):
@@ -214,6 +223,7 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
     with np.errstate(divide="ignore", invalid="ignore"):
         smaller_bad = np.isin(binding, list(_SMALLER_BAD))
         violation = np.where(smaller_bad, limit / value - 1.0, value / limit - 1.0)
+        violation = np.where(binding == STIFFNESS, np.abs(value) / limit - 1.0, violation)
     violation[binding == "rim_rule"] = np.nan
     violation[feasible] = 0.0
 
@@ -239,7 +249,8 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
         "n_disks": n, "n_a": n_a, "n_b": n_b,
         "material": np.array([space.materials[j].name for j in cols["material"]], dtype=object),
         "input": np.array([space.inputs[j] for j in cols["input"]], dtype=object),
-        "stiffness_Nm_per_rad": K / 1e3, "deflection_rad": th, "peak_torque_Nm": K * th / 1e3,
+        "stiffness_Nm_per_rad": K / 1e3, "stiffness_built_error": k_error,
+        "deflection_rad": th, "peak_torque_Nm": K * th / 1e3,
         "outer_radius_mm": ro, "thickness_a_mm": cols["z_a"], "thickness_b_mm": cols["z_b"],
         "contact_radius_mm": cols["rc"], "split": cols["split"],
         "n_flexures_a": a["n"], "n_flexures_b": b["n"],

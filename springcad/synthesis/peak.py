@@ -7,11 +7,14 @@ choosing the root flare with the lowest peak. :func:`predict_peaks` evaluates th
 same model on many screened disks at once, on the centreline stations of
 :mod:`springcad.synthesis.shapes` (or straight flexures):
 
-1. for each root flare of :data:`springcad.design.spring.ROOT_FLARES`, the flexure
-   widths w = web-floor(scale x w_law(y) x flare(y)), with the scale that brings the
-   Castigliano stiffness back onto the target (three passes, as the design);
+1. the flexure widths w = web-floor(scale x w_law(y) x flare(y)): the scale brought
+   onto the target stiffness (Castigliano) in two passes without a flare, then, for each
+   root flare of :data:`springcad.design.spring.ROOT_FLARES`, three passes onto that
+   stiffness, exactly as the design steps (the tip web does not scale, so where it is a
+   large part of the flexure the passes stop short of the target, as the design's do);
 2. nominal stress 6 F (y - r_c) / (z w^2) times the Winkler factors of the centreline
-   curvature on both edges;
+   curvature on both edges (:func:`winkler_factors`: the design's, without its loss of
+   precision on nearly straight stretches);
 3. the root-fillet and neck-fillet tangent stations on each edge (fillet circle
    tangent to the edge and to the rim circle or the tip ball), the root model
    a (w / r_f)^b k^c there, the flank maximum below the root station, the neck nominal;
@@ -34,8 +37,36 @@ from springcad.synthesis.shapes import U, blocks, trapz_rows
 
 #: peak regions, in the order of :class:`springcad.design.stress.StressPrediction`
 REGIONS = ("flexure flank", "root fillet", "tip-neck fillet")
-#: width-scale passes onto the target stiffness (the design's _with_flare makes three)
-_SCALE_PASSES = 3
+#: width-scale passes: onto the target stiffness without a flare (_design_at), then of
+#: each flare onto that stiffness (_with_flare)
+_DESIGN_PASSES, _FLARE_PASSES = 2, 3
+
+
+def winkler_factors(width_mm, curvature_per_mm):
+    """Inner and outer fibre stress over 6M/(z w^2) of a curved rectangular bar (-).
+
+    The Winkler-Bach factors of :func:`springcad.design.stress.winkler_factors` in a form
+    that keeps its precision on nearly straight stretches. With x = |kappa| w / 2 the
+    eccentricity is e = R t, t = 1 - x / artanh(x), and
+
+        inner = x (x - t) / (3 t (1 - x)),   outer = x (x + t) / (3 t (1 + x)).
+
+    The design's form e = R - w / ln(r_o / r_i) cancels catastrophically when kappa w
+    is below about 1e-4 (at an inflection point of a serpentine it returned a factor of
+    13.5 for kappa w = 1e-5); here t comes from its series x^2/3 + 4x^4/45 + 44x^6/945
+    below x = 0.01 (truncation below 1e-16) and tends to (1, 1) for a straight bar.
+    """
+    w = np.asarray(width_mm, dtype=float)
+    x = np.minimum(0.5 * np.abs(np.asarray(curvature_per_mm, dtype=float)) * w, 1.0 - 1e-12)
+    small = x < 0.01
+    xs = np.where(small, x, 0.5)
+    xl = np.where(small, 0.5, x)
+    t = np.where(small, xs ** 2 / 3 + 4 * xs ** 4 / 45 + 44 * xs ** 6 / 945,
+                 1.0 - xl / np.arctanh(xl))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        inner = np.where(x > 0, x * (x - t) / (3 * t * (1 - x)), 1.0)
+        outer = np.where(x > 0, x * (x + t) / (3 * t * (1 + x)), 1.0)
+    return inner, outer
 
 
 def web_floor_mm(width_mm, min_web_mm: float):
@@ -87,19 +118,30 @@ def _neck_station(h):
     return j, frac
 
 
+def _compliance(scale, factor, g):
+    """Tip compliance of one flexure by Castigliano (mm/N) and its widths (mm)."""
+    w = web_floor_mm(scale * g["w_law"] * factor, g["web"])
+    return trapz_rows(12.0 * g["arm"] ** 2 / (g["E"] * g["z"] * w ** 3) * g["ds"], g["y"]), w
+
+
+def _scale_onto(scale, factor, compliance, passes, g):
+    """The width scale after ``passes`` steps scale x (C / C_target)^(1/3) (K ~ scale^3
+    away from the tip web), as :func:`springcad.design.spring._design_at` and
+    ``_with_flare`` step."""
+    for _ in range(passes):
+        scale = scale * (_compliance(scale, factor, g)[0] / compliance)[:, None] ** (1 / 3)
+    return scale
+
+
 def _one_flare(flare, g, cal):
-    """Flank, root and neck peaks (MPa), flexure area (mm^2) and ok of one root flare."""
-    x, y, slope, kappa, arm, w_law, ds, yn = (g[k] for k in (
-        "x", "y", "slope", "kappa", "arm", "w_law", "ds", "yn"))
+    """Flank, root and neck peaks (MPa) of one root flare at the design's load, its
+    flexure area (mm^2), width scale, compliance (mm/N) and ok."""
+    x, y, slope, kappa, arm, yn = (g[k] for k in ("x", "y", "slope", "kappa", "arm", "yn"))
     factor = fx.root_flare_factor(yn, 1.0, flare, 1.0)
-    scale = np.ones((len(y), 1))
-    for _ in range(_SCALE_PASSES):
-        w = web_floor_mm(scale * w_law * factor, g["web"])
-        c = trapz_rows(12.0 * arm ** 2 / (g["E"] * g["z"] * w ** 3) * ds, y)
-        scale = scale * (c / g["c_target"])[:, None] ** (1 / 3)
-    w = web_floor_mm(scale * w_law * factor, g["web"])
+    scale = _scale_onto(g["scale0"], factor, g["c_target"], _FLARE_PASSES, g)
+    compliance, w = _compliance(scale, factor, g)
     nominal = 6.0 * g["load"] * arm / (g["z"] * w ** 2)
-    inner, outer = stress.winkler_factors(w, kappa)
+    inner, outer = winkler_factors(w, kappa)
     bends_right = kappa > 0
     rc, rr, rf, rn, rb = (g[k][:, 0] for k in ("rc", "rr", "rf", "rn", "rb"))
     flank = root = neck = np.zeros(len(y))
@@ -124,8 +166,10 @@ def _one_flare(flare, g, cal):
                                - (rb + rn)[:, None])
         n_edge = _interp(nominal, jn, fn)
         flank, root, neck = np.maximum(flank, f_edge), np.maximum(root, r_edge), np.maximum(neck, n_edge)
-    area = trapz_rows(w * ds, y)
-    return cal.flank_factor * flank, root, cal.neck_factor * neck, area, scale[:, 0], ok
+    # flexure outside the tip ball, plus the two root fillets (a right-angle corner each)
+    area = trapz_rows(np.where(arm > g["rb"], w, 0.0) * g["ds"], y) + 2 * (1 - np.pi / 4) * rf ** 2
+    return (cal.flank_factor * flank, root, cal.neck_factor * neck, area, scale[:, 0],
+            compliance, ok)
 
 
 def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coef, rb,
@@ -146,12 +190,16 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
     Returns:
         Columns ``flank_MPa``, ``root_MPa``, ``neck_MPa``, ``peak_MPa``, ``region``
         (index into :data:`REGIONS`), ``flare``, ``width_scale``, ``flexure_area_mm2``
-        (one flexure, integral w ds) and ``ok`` (False: a fillet could not be placed).
+        (one flexure outside the tip ball, integral w ds, and its root fillets),
+        ``stiffness_Nmm_per_rad`` (beam theory of the built
+        widths: the tip web keeps it off ``K`` where it is a large part of the flexure) and
+        ``ok`` (False: a fillet could not be placed).
     """
     cal = stress.calibration()
     m = len(rc)
     cols = {k: np.full(m, np.nan) for k in ("flank_MPa", "root_MPa", "neck_MPa", "peak_MPa",
-                                           "flare", "width_scale", "flexure_area_mm2")}
+                                           "flare", "width_scale", "flexure_area_mm2",
+                                           "stiffness_Nmm_per_rad")}
     cols["region"] = np.zeros(m, dtype=np.int64)
     cols["ok"] = np.zeros(m, dtype=bool)
     flares = np.array(ROOT_FLARES)
@@ -165,22 +213,33 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
         g = {"x": x[b], "y": yb, "slope": slope[b], "kappa": kappa[b], "arm": arm,
              "w_law": np.sqrt(col(width_coef) * arm), "ds": np.sqrt(1.0 + slope[b] ** 2),
              "yn": (yb - (col(rr) - flare_len)) / flare_len, "web": min_web_mm,
-             "E": col(E), "z": col(z), "load": col(load),
-             "c_target": (col(n) * col(rc) ** 2 / col(K))[:, 0],
-             "rc": col(rc), "rr": col(rr), "rf": col(root_fillet_mm), "rn": col(neck_fillet_mm),
-             "rb": col(rb)}
+             "E": col(E), "z": col(z), "rc": col(rc), "rr": col(rr),
+             "rf": col(root_fillet_mm), "rn": col(neck_fillet_mm), "rb": col(rb)}
+        # the design: widths scaled onto K without a flare, then each flare rescaled onto
+        # that flexure's stiffness and its peak predicted at the matching load
+        no_flare = np.ones_like(yb)
+        c_k = (col(n) * col(rc) ** 2 / col(K))[:, 0]
+        g["scale0"] = _scale_onto(np.ones((len(yb), 1)), no_flare, c_k, _DESIGN_PASSES, g)
+        g["c_target"] = _compliance(g["scale0"], no_flare, g)[0]
+        g["load"] = col(load) * (c_k / g["c_target"])[:, None]
         runs = [_one_flare(f, g, cal) for f in ROOT_FLARES]
-        peaks = np.column_stack([np.where(r[5], np.fmax(np.fmax(r[0], r[1]), r[2]), np.inf)
+        peaks = np.column_stack([np.where(r[6], np.fmax(np.fmax(r[0], r[1]), r[2]), np.inf)
                                  for r in runs])
         best = np.min(peaks, axis=1)
         # the smallest flare within FLARE_GAIN of the lowest peak (design_spring's choice)
         pick = np.argmax(peaks <= (best * (1 + FLARE_GAIN))[:, None], axis=1)
         rows = np.arange(b.stop - b.start)
-        for name, k in (("flank_MPa", 0), ("root_MPa", 1), ("neck_MPa", 2),
-                        ("flexure_area_mm2", 3), ("width_scale", 4)):
+        compliance = np.column_stack([r[5] for r in runs])[rows, pick]
+        # the built spring's load follows its own beam stiffness (stresses are linear in it)
+        gain = g["c_target"] / compliance
+        for name, k in (("flank_MPa", 0), ("root_MPa", 1), ("neck_MPa", 2)):
+            cols[name][b] = np.column_stack([r[k] for r in runs])[rows, pick] * gain
+        for name, k in (("flexure_area_mm2", 3), ("width_scale", 4)):
             cols[name][b] = np.column_stack([r[k] for r in runs])[rows, pick]
+        cols["stiffness_Nmm_per_rad"][b] = np.asarray(n, dtype=float)[b] * np.asarray(
+            rc, dtype=float)[b] ** 2 / compliance
         cols["ok"][b] = np.isfinite(best)
-        picked = peaks[rows, pick]
+        picked = peaks[rows, pick] * gain
         cols["peak_MPa"][b] = np.where(np.isfinite(picked), picked, np.nan)
         cols["flare"][b] = flares[pick]
         cols["region"][b] = np.argmax(np.column_stack(

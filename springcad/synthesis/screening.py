@@ -200,7 +200,8 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         ``n``, ``rr``, ``rb``, ``theta_s``, ``s``, ``w0``, ``straight``,
         ``beam_stress_MPa`` (the width law's), ``peak_stress_MPa`` (predicted, with
         ``flank_MPa``, ``root_MPa``, ``neck_MPa``, ``peak_region`` and the chosen
-        ``root_flare``, ``width_scale``), ``root_fillet_mm``, ``ring_area_mm2``,
+        ``root_flare``, ``width_scale``), ``stiffness_Nmm_per_rad`` (beam theory of the
+        built widths), ``root_fillet_mm``, ``ring_area_mm2``,
         ``mass_kg``, ``cam_area_mm2``, ``cam_tip_radius_mm``, ``cam_root_radius_mm``,
         ``cut_ring_mm``, ``cut_cam_mm``.
     """
@@ -326,7 +327,8 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
             arr[i] = shape[name]
     ok = code == OK
     pk = {k: np.full(m, np.nan) for k in ("flank_MPa", "root_MPa", "neck_MPa", "peak_MPa",
-                                         "flare", "width_scale", "flexure_area_mm2")}
+                                         "flare", "width_scale", "flexure_area_mm2",
+                                         "stiffness_Nmm_per_rad")}
     pk["region"] = np.zeros(m, dtype=np.int64)
     if np.any(ok):
         i = np.flatnonzero(ok)
@@ -361,7 +363,8 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
             "beam_stress_MPa": beam_stress, "peak_stress_MPa": pk["peak_MPa"],
             "flank_MPa": pk["flank_MPa"], "root_MPa": pk["root_MPa"], "neck_MPa": pk["neck_MPa"],
             "peak_region": pk["region"], "root_flare": pk["flare"],
-            "width_scale": pk["width_scale"], "root_fillet_mm": root_fillet,
+            "width_scale": pk["width_scale"], "stiffness_Nmm_per_rad": pk["stiffness_Nmm_per_rad"],
+            "root_fillet_mm": root_fillet,
             "ring_area_mm2": np.where(ok, ring_area, np.nan),
             "mass_kg": np.where(ok, ring_area * z * density_kg_per_mm3, np.nan),
             "cam_area_mm2": cam_area, "cam_tip_radius_mm": cam_tip, "cam_root_radius_mm": cam_root,
