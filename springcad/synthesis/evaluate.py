@@ -95,7 +95,9 @@ def describe(binding: str, value: float, limit: float, disk: str = "") -> str:
         return (f"{who}no serpentine shape reaching the area ratio keeps the wire's concave edge "
                 f"radius: {value:.3f} mm at best < {limit:.3g} mm")
     if binding == "root_fillet":
-        return f"{who}the root fillet (r = {value:.3g} mm) cannot be placed on the {limit:.3g} mm rim"
+        return (f"{who}no root flare gives a buildable root: the fillet (r = {value:.3g} mm) "
+                f"cannot be placed on the {limit:.3g} mm rim, or the fillets of neighbouring "
+                "flexures overlap, or the flared flexures come too close")
     if binding in ("yield_margin", "fatigue_margin"):
         what = "yield" if binding == "yield_margin" else "fatigue (S_e)"
         return (f"{who}predicted peak {value:.0f} MPa > {limit:.0f} MPa that the required "

@@ -21,8 +21,9 @@ same model on many screened disks at once, on the centreline stations of
 4. the flare with the lowest peak, a larger flare only when it gains more than
    :data:`springcad.design.spring.FLARE_GAIN`.
 
-What it leaves out: the exact neighbour clearance of each flare (a flare whose
-profile breaks it falls back to the next in the design). Agreement with the full
+A flare whose profile the design cannot build (neighbouring root fillets overlapping,
+clearance or edge radius broken: the design falls back to the next flare) is skipped
+the same way; the clearance by its perpendicular-gap estimate. Agreement with the full
 design is tested in ``tests/synthesis/test_synth_peak.py``. Units: mm, N, MPa.
 """
 
@@ -135,7 +136,11 @@ def _scale_onto(scale, factor, compliance, passes, g):
 
 def _one_flare(flare, g, cal):
     """Flank, root and neck peaks (MPa) of one root flare at the design's load, its
-    flexure area (mm^2), width scale, compliance (mm/N) and ok."""
+    flexure area (mm^2), width scale, compliance (mm/N), whether the stress model could
+    place the fillets (``predicted``) and whether the profile is buildable (``buildable``:
+    the neighbouring root fillets do not overlap and, for curved flexures, the clearance
+    to the neighbour and the concave edge radius keep the wire's rules, as
+    :func:`springcad.design.spring.with_width` and the ring profile check)."""
     x, y, slope, kappa, arm, yn = (g[k] for k in ("x", "y", "slope", "kappa", "arm", "yn"))
     factor = fx.root_flare_factor(yn, 1.0, flare, 1.0)
     scale = _scale_onto(g["scale0"], factor, g["c_target"], _FLARE_PASSES, g)
@@ -146,6 +151,7 @@ def _one_flare(flare, g, cal):
     rc, rr, rf, rn, rb = (g[k][:, 0] for k in ("rc", "rr", "rf", "rn", "rb"))
     flank = root = neck = np.zeros(len(y))
     ok = np.ones(len(y), dtype=bool)
+    rim_angle = {}
     for side, k_edge in ((+1, np.where(bends_right, inner, outer)),
                          (-1, np.where(bends_right, outer, inner))):
         edge = nominal * k_edge
@@ -155,6 +161,9 @@ def _one_flare(flare, g, cal):
                                             - (rr - rf)[:, None], y, rc + 0.5 * (rr - rc))
         ok &= found
         nom_t, w_t, edge_t = (_interp(a, j, frac) for a in (nominal, w, edge))
+        # where the fillet meets the rim circle: the polar angle of its centre
+        rim_angle[side] = np.arctan2(_interp(py + rf[:, None] * ny, j, frac),
+                                     _interp(px + rf[:, None] * nx, j, frac))
         past = y >= y_t[:, None]
         window = past & (y <= (y_t + rf)[:, None])
         k_root = np.maximum(np.max(np.where(window, k_edge, 0.0), axis=1), edge_t / nom_t)
@@ -168,12 +177,24 @@ def _one_flare(flare, g, cal):
         flank, root, neck = np.maximum(flank, f_edge), np.maximum(root, r_edge), np.maximum(neck, n_edge)
     # flexure outside the tip ball, plus the two root fillets (a right-angle corner each)
     area = trapz_rows(np.where(arm > g["rb"], w, 0.0) * g["ds"], y) + 2 * (1 - np.pi / 4) * rf ** 2
+    # the next flexure's right fillet must start on the rim after this one's left ends
+    buildable = rim_angle[+1] + g["pitch"] > rim_angle[-1]
+    curved = np.any(kappa != 0, axis=1)
+    if np.any(curved):
+        # concave edge radius 1/|kappa| - w/2, and the gap to the neighbour above the tip
+        # ball: r pitch cos(beta) - w (beta: tilt from radial; within 1 um of the exact
+        # point-to-curve distance on the serpentines tried)
+        edge_r = np.min(1.0 / np.maximum(np.abs(kappa), 1e-12) - 0.5 * w, axis=1)
+        r = np.hypot(x, y)
+        cos_b = np.abs(slope * x + y) / (r * np.sqrt(1.0 + slope ** 2))
+        gap = np.where(arm > 2 * g["rb"], r * g["pitch"][:, None] * cos_b - w, np.inf)
+        buildable &= ~curved | ((edge_r >= g["min_edge"]) & (np.min(gap, axis=1) >= g["min_slot"]))
     return (cal.flank_factor * flank, root, cal.neck_factor * neck, area, scale[:, 0],
-            compliance, ok)
+            compliance, ok, buildable)
 
 
 def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coef, rb,
-                  root_fillet_mm, neck_fillet_mm, min_web_mm: float):
+                  root_fillet_mm, neck_fillet_mm, manufacturing):
     """Predicted peak stress at the maximum deflection of many disks (MPa), root flare chosen.
 
     Args:
@@ -185,7 +206,7 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
         width_coef: width law w^2 = width_coef (y - r_c) (mm): 6 F / (z sigma) for the
             constant-stress law, w0^2 / L for straight flexures sized for stiffness.
         rb, root_fillet_mm, neck_fillet_mm: tip ball and fillet radii (mm).
-        min_web_mm: the tip web (mm).
+        manufacturing: the wire rules (tip web, slot width, concave radius).
 
     Returns:
         Columns ``flank_MPa``, ``root_MPa``, ``neck_MPa``, ``peak_MPa``, ``region``
@@ -193,7 +214,9 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
         (one flexure outside the tip ball, integral w ds, and its root fillets),
         ``stiffness_Nmm_per_rad`` (beam theory of the built
         widths: the tip web keeps it off ``K`` where it is a large part of the flexure) and
-        ``ok`` (False: a fillet could not be placed).
+        ``ok`` (False: no root flare gives a profile the design can build: a fillet
+        cannot be placed, neighbouring root fillets overlap, or the flared flexures break
+        the clearance or edge radius).
     """
     cal = stress.calibration()
     m = len(rc)
@@ -212,7 +235,10 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
         flare_len = 2.0 * (col(ro) - col(rr))
         g = {"x": x[b], "y": yb, "slope": slope[b], "kappa": kappa[b], "arm": arm,
              "w_law": np.sqrt(col(width_coef) * arm), "ds": np.sqrt(1.0 + slope[b] ** 2),
-             "yn": (yb - (col(rr) - flare_len)) / flare_len, "web": min_web_mm,
+             "yn": (yb - (col(rr) - flare_len)) / flare_len, "web": manufacturing.min_web_mm,
+             "min_slot": manufacturing.min_slot_width_mm,
+             "min_edge": manufacturing.min_inside_radius_mm,
+             "pitch": 2 * np.pi / np.asarray(n, dtype=float)[b],
              "E": col(E), "z": col(z), "rc": col(rc), "rr": col(rr),
              "rf": col(root_fillet_mm), "rn": col(neck_fillet_mm), "rb": col(rb)}
         # the design: widths scaled onto K without a flare, then each flare rescaled onto
@@ -225,9 +251,14 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
         runs = [_one_flare(f, g, cal) for f in ROOT_FLARES]
         peaks = np.column_stack([np.where(r[6], np.fmax(np.fmax(r[0], r[1]), r[2]), np.inf)
                                  for r in runs])
+        buildable = np.column_stack([r[7] for r in runs])
         best = np.min(peaks, axis=1)
-        # the smallest flare within FLARE_GAIN of the lowest peak (design_spring's choice)
-        pick = np.argmax(peaks <= (best * (1 + FLARE_GAIN))[:, None], axis=1)
+        # design_spring's order: the flares within FLARE_GAIN of the lowest peak, smallest
+        # first, then the others by peak; the first whose profile is buildable
+        within = peaks <= (best * (1 + FLARE_GAIN))[:, None]
+        order = np.where(within, flares[None, :], 10.0 + peaks * 1e-6)
+        order = np.where(buildable & np.isfinite(peaks), order, np.inf)
+        pick = np.argmin(order, axis=1)
         rows = np.arange(b.stop - b.start)
         compliance = np.column_stack([r[5] for r in runs])[rows, pick]
         # the built spring's load follows its own beam stiffness (stresses are linear in it)
@@ -238,7 +269,7 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
             cols[name][b] = np.column_stack([r[k] for r in runs])[rows, pick]
         cols["stiffness_Nmm_per_rad"][b] = np.asarray(n, dtype=float)[b] * np.asarray(
             rc, dtype=float)[b] ** 2 / compliance
-        cols["ok"][b] = np.isfinite(best)
+        cols["ok"][b] = np.isfinite(order[rows, pick])
         picked = peaks[rows, pick] * gain
         cols["peak_MPa"][b] = np.where(np.isfinite(picked), picked, np.nan)
         cols["flare"][b] = flares[pick]

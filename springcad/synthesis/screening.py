@@ -336,7 +336,7 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         res = predict_peaks(x[i], y[i], slope[i], kappa[i], rc=rc[i], rr=rr[i], ro=ro[i], n=n[i],
                             load=load[i], z=z[i], E=E[i], K=K[i], width_coef=coef, rb=rb[i],
                             root_fillet_mm=root_fillet[i], neck_fillet_mm=neck_fillet[i],
-                            min_web_mm=mfg.min_web_mm)
+                            manufacturing=mfg)
         for k in pk:
             pk[k][i] = res[k]
         sel = np.zeros(m, dtype=bool)
