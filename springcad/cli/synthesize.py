@@ -42,7 +42,10 @@ def register(sub):
                         "run in it is resumed")
     add_dask_options(p)
     p.add_argument("--finalists", type=int, default=8,
-                   help="best screened stacks given the full design (default 8)")
+                   help="screened stacks given the full design per round, best first; while "
+                        "none passes, the next round goes further down (default 8)")
+    p.add_argument("--max-finalists", type=int, default=40,
+                   help="most screened stacks given the full design in all (default 40)")
     p.add_argument("--verify-top", type=int, default=2,
                    help="full-design-feasible finalists given a coarse FEA (default 2)")
     p.add_argument("--no-verify", action="store_true", help="skip the FEA of the finalists")
@@ -62,6 +65,7 @@ def check_dask_options(args) -> None:
 
 def run(args) -> int:
     from springcad.cli.progress import ProgressBar
+    from springcad.errors import SpringcadError
     from springcad.report.jsonio import write_json
     from springcad.synthesis.candidates import CandidateSpace
     from springcad.synthesis.pipeline import summary_table, synthesize
@@ -71,6 +75,8 @@ def run(args) -> int:
     from springcad.synthesis.store import ResultStore
 
     check_dask_options(args)
+    if args.finalists < 1 or args.max_finalists < 1:
+        raise SpringcadError("--finalists and --max-finalists must be at least 1")
     req = load_requirements(args.requirements)
     space = CandidateSpace.from_requirements(req)
     out = args.out or default_out(args.requirements)
@@ -84,10 +90,15 @@ def run(args) -> int:
         f"({len(store.pending_batches())} to evaluate)")
     with dask_client(args.scheduler, args.workers) as client:
         result = synthesize(req, space, store, client, finalists=args.finalists,
-                            verify_top=args.verify_top, verify=not args.no_verify,
+                            max_finalists=args.max_finalists, verify_top=args.verify_top, verify=not args.no_verify,
                             fea_model=args.fea_model, progress=ProgressBar(), say=say)
     write_json(out / "synthesis.json", result.to_dict())
     print(summary_table(result))
+    failed = [f for f in result.finalists if not f["ok"]]
+    if failed:
+        print(f"\n{len(failed)} of {len(result.finalists)} finalists failed the full design:")
+        for f in failed:
+            print(f"  candidate {f['cid']} ({f['failure']}): {f['error'][:300]}")
     print()
     print(format_family_report(result.families, req.objective_column))
     print()

@@ -28,6 +28,9 @@ from springcad.config import HardwareSpec, ManufacturingSpec
 from springcad.design.hardware import BUSHING_CLEARANCE_MM
 from springcad.materials import Material
 
+#: version of what a candidate row holds: part of the fingerprint of a run folder, so a
+#: folder swept by an earlier screening model is not resumed (2: predicted peak stress)
+SCREENING_MODEL = 2
 #: dimension names, in product order
 DIMS = ("target", "material", "fraction", "input", "z_a", "z_b", "rc", "split", "n_flex")
 
@@ -64,8 +67,13 @@ class CandidateSpace:
             compliance_splits: the dimensions.
         fewer_flexures: with ``n_flexures`` empty, N = (largest that fits) - k for each k.
         min_tip_radius_mm: smallest tip-ball radius (mm).
-        yield_margin, stress_concentration: the conservative yield check
-            yield / (stress_concentration * beam peak stress) >= yield_margin.
+        yield_margin, stress_concentration: required yield strength / predicted peak
+            stress, and the factor that set ``design_stress_MPa`` (reported only).
+        allowed_peak_MPa: per material, the largest predicted peak stress of a disk
+            (yield / the required margin, the fatigue margin included) (MPa).
+        fatigue_limited: per material, whether the fatigue margin sets that limit.
+        endurance_limit_MPa: per material, the part's endurance limit S_e (MPa; NaN
+            without fatigue data), for the fatigue margin column.
     """
 
     targets: tuple[tuple[float, float], ...]
@@ -89,6 +97,12 @@ class CandidateSpace:
     hardware: HardwareSpec
     flexure: str = "auto"
     """"auto" or "straight" (serpentine disks rejected)."""
+    stiffness_tolerance: float = float("inf")
+    """Accepted |K_stack / K_target - 1| of the beam stiffness the built widths give (-)."""
+    allowed_peak_MPa: tuple[float, ...] = ()
+    fatigue_limited: tuple[bool, ...] = ()
+    endurance_limit_MPa: tuple[float, ...] = ()
+    fatigue_margin: float | None = None
 
     @classmethod
     def from_requirements(cls, req) -> "CandidateSpace":
@@ -105,7 +119,21 @@ class CandidateSpace:
             fewer_flexures=s.fewer_flexures, inputs=s.inputs, compliance_splits=s.compliance_splits,
             min_tip_radius_mm=s.min_tip_radius_mm, yield_margin=req.yield_margin,
             stress_concentration=req.stress_concentration, manufacturing=req.manufacturing,
-            hardware=req.hardware, flexure=s.flexure)
+            hardware=req.hardware, flexure=s.flexure,
+            stiffness_tolerance=req.stiffness_tolerance,
+            allowed_peak_MPa=tuple(req.allowed_peak_MPa(m) for m in req.materials),
+            fatigue_limited=tuple(req.fatigue_limited(m) for m in req.materials),
+            endurance_limit_MPa=tuple(req.endurance_limit_MPa(m) for m in req.materials),
+            fatigue_margin=req.fatigue_margin)
+
+    def stress_limits(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per material: allowed predicted peak (MPa), fatigue-limited, S_e (MPa; NaN)."""
+        k = len(self.materials)
+        allowed = (self.allowed_peak_MPa
+                   or tuple(m.yield_strength_MPa / self.yield_margin for m in self.materials))
+        return (np.array(allowed, dtype=float),
+                np.array(self.fatigue_limited or (False,) * k, dtype=bool),
+                np.array(self.endurance_limit_MPa or (float("nan"),) * k, dtype=float))
 
     # ------------------------------------------------------------- families
     @property

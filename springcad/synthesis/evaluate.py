@@ -6,8 +6,9 @@ design of a mixed family recurs for every B thickness and both inputs), and
 assembles the stack: series stiffness and eq. 10 hold by construction (every disk
 designed for the same peak torque), mass from the stack hardware rules of
 :func:`springcad.design.hardware.stack_layout` fed with the screened disks,
-axial length and envelope radius, the conservative yield margin, nominal and
-worst-case backlash (eqs. 1-3), energy density and specific energy, EDM cut length.
+axial length and envelope radius, the predicted peak stress and its yield and fatigue
+margins (each disk screened with the design's stress passes), nominal and worst-case
+backlash (eqs. 1-3), energy density and specific energy, EDM cut length.
 
 The first failed check is the binding constraint; its ``value`` and ``limit``
 (and ``violation`` = how far past the limit, as a fraction) travel with the row so
@@ -27,9 +28,11 @@ from springcad.design.tolerance import backlash_rad, gap_range_mm
 from springcad.synthesis.screening import REASONS, screen_disks
 
 #: stack-level constraints after the disk ones
-HOLES, AXIAL, RADIAL, YIELD = "rim_holes", "axial_length", "envelope_radius", "yield_margin"
+HOLES, AXIAL, RADIAL, STIFFNESS = "rim_holes", "axial_length", "envelope_radius", "stiffness"
 #: constraints where a smaller value is the violation (value/limit < 1 fails)
-_SMALLER_BAD = {"root_gap", "cam_tooth", "cam_bore", HOLES, YIELD}
+_SMALLER_BAD = {"root_gap", "cam_tooth", "cam_bore", "serpentine_shape", HOLES}
+#: what a failed check at the lowered beam stress means in the report
+_REGIONS = ("flexure flank", "root fillet", "tip-neck fillet")
 
 
 @dataclass(frozen=True)
@@ -81,12 +84,24 @@ def describe(binding: str, value: float, limit: float, disk: str = "") -> str:
     if binding == HOLES:
         return (f"rim holes on the stack's common circle leave {value:.3g} mm to a rim edge "
                 f"< min_hole_edge_mm {limit:.3g} mm (thin rim or rims of different depth)")
+    if binding == STIFFNESS:
+        return (f"the built flexures give {100 * value:+.2f} % stiffness, beyond the "
+                f"+-{100 * limit:.3g} % tolerance (the tip web does not scale with the widths)")
     if binding == AXIAL:
         return f"stack height {value:.2f} mm > max_axial_length_mm {limit:.2f} mm"
     if binding == RADIAL:
         return f"envelope radius {value:.2f} mm > max_outer_radius_mm {limit:.2f} mm"
-    if binding == YIELD:
-        return f"yield margin {value:.3f} < required {limit:.3f}"
+    if binding == "serpentine_shape":
+        return (f"{who}no serpentine shape reaching the area ratio keeps the wire's concave edge "
+                f"radius: {value:.3f} mm at best < {limit:.3g} mm")
+    if binding == "root_fillet":
+        return (f"{who}no root flare gives a buildable root: the fillet (r = {value:.3g} mm) "
+                f"cannot be placed on the {limit:.3g} mm rim, or the fillets of neighbouring "
+                "flexures overlap, or the flared flexures come too close")
+    if binding in ("yield_margin", "fatigue_margin"):
+        what = "yield" if binding == "yield_margin" else "fatigue (S_e)"
+        return (f"{who}predicted peak {value:.0f} MPa > {limit:.0f} MPa that the required "
+                f"{what} margin allows, at every beam stress the design tries")
     return binding
 
 
@@ -109,10 +124,12 @@ def _screen_groups(space, cols):
     sigma = np.array(space.design_stress_MPa)[mat]
     E = np.array([m.youngs_modulus_MPa for m in space.materials])[mat]
     rho = np.array([m.density_kg_per_mm3 for m in space.materials])[mat]
+    allowed, fatigue_limited, _ = space.stress_limits()
     res = screen_disks(uniq[:, 0], uniq[:, 1], uniq[:, 2], uniq[:, 3], uniq[:, 4], sigma, E, rho,
                        uniq[:, 6].astype(np.int64), min_tip_radius_mm=space.min_tip_radius_mm,
                        manufacturing=space.manufacturing, hardware=space.hardware,
-                       straight_only=space.flexure == "straight")
+                       straight_only=space.flexure == "straight", allowed_peak_MPa=allowed[mat],
+                       fatigue_limited=fatigue_limited[mat])
     m = len(n_a)
     a = {k: v[inverse[:m]] for k, v in res.items()}
     b = {k: np.full(m, np.nan if v.dtype.kind == "f" else 0, dtype=v.dtype)
@@ -164,9 +181,14 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
     height = n_a * cols["z_a"] + n_b * cols["z_b"] + (n - 1) * hw.rim_spacer_thickness_mm
     r_env = ro + np.where(n >= 3, BUSHING_CLEARANCE_MM + hw.bushing_wall_mm, 0.0)
     yield_mpa = np.array([mt.yield_strength_MPa for mt in space.materials])[cols["material"]]
-    peak_stress = np.where(mixed, np.fmax(a["peak_stress_MPa"], b["peak_stress_MPa"]),
-                           a["peak_stress_MPa"])
-    margin = yield_mpa / (space.stress_concentration * peak_stress)
+    endurance = space.stress_limits()[2][cols["material"]]
+    # the stack's peak: the more stressed disk (predicted peak of the real geometry)
+    b_governs = mixed & (b["peak_stress_MPa"] > a["peak_stress_MPa"])
+    peak_stress = np.where(b_governs, b["peak_stress_MPa"], a["peak_stress_MPa"])
+    region = np.array(_REGIONS, dtype=object)[np.where(b_governs, b["peak_region"],
+                                                       a["peak_region"])]
+    margin = yield_mpa / peak_stress
+    fatigue_margin = endurance / peak_stress
 
     binding = np.array([""] * m, dtype=object)
     value, limit = np.full(m, np.nan), np.full(m, np.nan)
@@ -185,11 +207,16 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
     hole_edge = np.where(a["n_holes"] > 0, np.fmin(circle - r_hole - rr_max, ro - circle - r_hole),
                          np.inf)
     edge_mm = mfg.min_hole_edge_mm
+    # beam stiffness of the built widths, in series (design.stack), against the target
+    k_built = 1.0 / (n_a / a["stiffness_Nmm_per_rad"]
+                     + np.where(mixed, n_b / b["stiffness_Nmm_per_rad"], 0.0))
+    k_error = k_built / cols["stiffness_Nmm_per_rad"] - 1.0
     for name, val, lim, bad in (
+            (STIFFNESS, k_error, space.stiffness_tolerance,
+             np.abs(k_error) > space.stiffness_tolerance),
             (HOLES, hole_edge, edge_mm, hole_edge < edge_mm - 1e-9),
             (AXIAL, height, space.max_axial_length_mm, height > space.max_axial_length_mm + 1e-9),
-            (RADIAL, r_env, space.max_outer_radius_mm, r_env > space.max_outer_radius_mm + 1e-9),
-            (YIELD, margin, space.yield_margin, margin < space.yield_margin * (1 - 1e-9))):
+            (RADIAL, r_env, space.max_outer_radius_mm, r_env > space.max_outer_radius_mm + 1e-9)):
         sel = bad & (binding == "")
         binding[sel] = name
         value[sel] = np.broadcast_to(val, (m,))[sel]
@@ -198,6 +225,7 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
     with np.errstate(divide="ignore", invalid="ignore"):
         smaller_bad = np.isin(binding, list(_SMALLER_BAD))
         violation = np.where(smaller_bad, limit / value - 1.0, value / limit - 1.0)
+        violation = np.where(binding == STIFFNESS, np.abs(value) / limit - 1.0, violation)
     violation[binding == "rim_rule"] = np.nan
     violation[feasible] = 0.0
 
@@ -223,14 +251,21 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
         "n_disks": n, "n_a": n_a, "n_b": n_b,
         "material": np.array([space.materials[j].name for j in cols["material"]], dtype=object),
         "input": np.array([space.inputs[j] for j in cols["input"]], dtype=object),
-        "stiffness_Nm_per_rad": K / 1e3, "deflection_rad": th, "peak_torque_Nm": K * th / 1e3,
+        "stiffness_Nm_per_rad": K / 1e3, "stiffness_built_error": k_error,
+        "deflection_rad": th, "peak_torque_Nm": K * th / 1e3,
         "outer_radius_mm": ro, "thickness_a_mm": cols["z_a"], "thickness_b_mm": cols["z_b"],
         "contact_radius_mm": cols["rc"], "split": cols["split"],
         "n_flexures_a": a["n"], "n_flexures_b": b["n"],
         "root_radius_a_mm": a["rr"], "root_radius_b_mm": b["rr"],
         "tip_radius_a_mm": a["rb"], "straight_a": a["straight"].astype(bool),
         "serpentine_factor_a": a["s"], "serpentine_factor_b": b["s"],
-        "peak_stress_MPa": peak_stress, "yield_margin": margin,
+        "beam_stress_a_MPa": a["beam_stress_MPa"], "beam_stress_b_MPa": b["beam_stress_MPa"],
+        "stress_derating_a": a["derating"], "stress_derating_b": b["derating"],
+        "root_flare_a": a["root_flare"], "root_flare_b": b["root_flare"],
+        "peak_stress_MPa": peak_stress, "peak_region": region, "yield_margin": margin,
+        "fatigue_margin": fatigue_margin,
+        "derated_binding": np.array([REASONS.get(int(c), "") for c in np.where(
+            mixed & (a["code"] == 0), b["derated_code"], a["derated_code"])], dtype=object),
         "mass_kg": mass, "axial_length_mm": height, "envelope_radius_mm": r_env,
         "backlash_nominal_rad": n * backlash_rad(2 * w_gap, cols["rc"]),
         "backlash_worst_rad": n * backlash_rad(d_max, cols["rc"]),

@@ -37,8 +37,9 @@ class ExploreGrid:
         envelope_radius_mm: envelope radius, bushing included (mm).
         thickness_mm, contact_radius_mm: disk parameters tried at every target (mm).
         material: built-in material name.
-        yield_margin, stress_concentration: as in the requirements (design stress
-            = yield / (margin x concentration)).
+        yield_margin, stress_concentration: as in the requirements: every disk keeps
+            yield / predicted peak >= yield_margin, first designed to the beam stress
+            yield / (margin x concentration) and lowered where the peak needs it.
     """
 
     stiffness_Nm_per_rad: tuple[float, float, int] = (5.0, 500.0, 24)
@@ -70,8 +71,11 @@ class ExploreGrid:
         if self.material not in known:
             raise ConfigError("material", self.material,
                               f"is not a built-in material ({', '.join(known)})")
+        from springcad.design import fatigue
+
         mat = known[self.material]
         sigma = mat.yield_strength_MPa / (self.yield_margin * self.stress_concentration)
+        endurance = fatigue.check(mat.name, 1.0)
         targets = tuple((float(k) * NMM_PER_NM, float(t)) for k in self.stiffnesses_Nm_per_rad
                         for t in self.deflections_rad)
         return CandidateSpace(
@@ -82,6 +86,8 @@ class ExploreGrid:
             n_flexures=(), fewer_flexures=(0,), inputs=("shaft",), compliance_splits=(0.5,),
             min_tip_radius_mm=0.3, yield_margin=self.yield_margin,
             stress_concentration=self.stress_concentration,
+            allowed_peak_MPa=(mat.yield_strength_MPa / self.yield_margin,),
+            endurance_limit_MPa=(endurance.endurance_limit_MPa if endurance else float("nan"),),
             manufacturing=manufacturing or ManufacturingSpec(),
             hardware=hardware or HardwareSpec())
 

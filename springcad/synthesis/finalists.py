@@ -5,7 +5,12 @@ A candidate row becomes a job document (the same dict is validated by
 :func:`springcad.design.job.design_job` and written as the winner's TOML), so
 what was designed and verified is exactly what ``springcad build`` will read.
 The screened N is written into the job (``n_flexures``) so the full design keeps
-the screened layout; the tip ball is sized by the design for the peak load.
+the screened layout; the tip ball is sized by the design for the peak load. The job's
+``safety_factor`` is the yield margin the requirements need (the fatigue margin
+included, :meth:`Requirements.required_yield_margin`), so the design's stress passes
+lower the beam stress exactly as the screening did. The full design runs with
+``explain=False`` (a spring that cannot keep the margin fails at once, without the
+search for the thickness or deflection that would fit).
 Units: N*m/rad and degrees only in the job document (the config's units).
 """
 
@@ -44,7 +49,7 @@ def job_document(req, cand: dict) -> dict:
                                 f"{req.stiffness_Nmm_per_rad / 1e3:g} N*m/rad over "
                                 f"+-{math.degrees(req.deflection_rad):.4g} deg")},
         "material": {"name": mat.name, "design_stress_MPa": round(req.design_stress_MPa(mat), 6),
-                     "safety_factor": req.yield_margin},
+                     "safety_factor": round(req.required_yield_margin(mat), 9)},
         "springs": springs,
         "stack": {"sequence": sequence, "input": cand["input"]},
         "manufacturing": dict(req.manufacturing_table),
@@ -79,30 +84,66 @@ def toml_text(doc: dict, header: str = "") -> str:
 def design_candidate(req, cand: dict):
     """Full design (:class:`~springcad.design.job.JobDesign`) of a candidate row.
 
+    :func:`springcad.design.job.design_job`'s steps with ``design_spring(...,
+    explain=False)``: a yes or no is all the synthesis needs.
+
     Raises:
         DesignError: the exact design fails a check the screening does not make.
     """
     from springcad.config import job_from_dict
-    from springcad.design.job import design_job
+    from springcad.design.job import JobDesign, common_hole_circle
+    from springcad.design.spring import design_spring
+    from springcad.design.stack import design_stack
 
     job = job_from_dict(job_document(req, cand), name="synthesized")
-    return design_job(job)
+    springs = {name: design_spring(spec, job.material, job.manufacturing, job.hardware,
+                                   explain=False)
+               for name, spec in job.springs.items()}
+    springs = common_hole_circle(springs)
+    stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
+                         job.analysis.monte_carlo_samples, job.analysis.seed)
+    return JobDesign(job, springs, stack)
+
+
+#: failure classes of a finalist, by a phrase of the design's message (first match wins)
+FAILURE_CLASSES = (("yield margin", "yield_margin"), ("fatigue margin", "fatigue_margin"),
+                   ("neighbour", "neighbour_clearance"), ("edge radius", "concave_edge_radius"),
+                   ("rim holes", "rim_holes"), ("fillet", "fillet"), ("cam", "cam"),
+                   ("stack height", "axial_length"), ("envelope radius", "envelope_radius"),
+                   ("stiffness", "stiffness"), ("deflection", "deflection"))
+
+
+def failure_class(message: str) -> str:
+    """A short name for why a finalist failed (:data:`FAILURE_CLASSES`, else "other")."""
+    low = message.lower()
+    return next((name for phrase, name in FAILURE_CLASSES if phrase in low), "other")
 
 
 def full_design_summary(req, cand: dict) -> dict:
     """Dask task: the full design of one candidate, checked against the requirements.
 
-    Returns a dict with ``ok`` and either ``error`` or the exact numbers next to
-    the screened ones (mass, height, envelope radius, stiffness, each spring's N,
-    R_r, flexure kind).
+    Returns a dict with ``ok``, ``error`` (what failed, "" if nothing), ``failure``
+    (:func:`failure_class`) and the exact numbers next to the screened ones (mass,
+    height, envelope radius, stiffness, each spring's N, R_r, flexure kind, predicted
+    peak stress, yield and fatigue margins, beam-stress derating, root flare).
     """
-    out = {"cid": int(cand["cid"]), "screened_mass_kg": float(cand["mass_kg"])}
+    out = {"cid": int(cand["cid"]), "screened_mass_kg": float(cand["mass_kg"]),
+           "screened_peak_stress_MPa": float(cand["peak_stress_MPa"])}
     try:
         jd = design_candidate(req, cand)
     except SpringcadError as err:
-        return {**out, "ok": False, "error": str(err)}
+        return {**out, "ok": False, "error": str(err), "failure": failure_class(str(err))}
     st = jd.stack
     fails = []
+    for name, s in jd.springs.items():
+        need = req.required_yield_margin(s.material.material)
+        if s.yield_margin < need * (1 - 1e-3):
+            fails.append(f"spring {name}: predicted peak {s.predicted_peak_stress_MPa:.0f} MPa at the "
+                         f"{s.stress.region} leaves a yield margin {s.yield_margin:.3f} < {need:.3f}")
+        fat = s.fatigue
+        if req.fatigue_margin is not None and (fat is None or fat.margin < req.fatigue_margin * (1 - 1e-3)):
+            fails.append(f"spring {name}: fatigue margin "
+                         f"{'n/a' if fat is None else f'{fat.margin:.3f}'} < {req.fatigue_margin:g}")
     if st.height_mm > req.max_axial_length_mm + 1e-9:
         fails.append(f"stack height {st.height_mm:.2f} mm > {req.max_axial_length_mm:g} mm")
     if st.envelope_radius_mm > req.max_outer_radius_mm + 1e-9:
@@ -113,7 +154,8 @@ def full_design_summary(req, cand: dict) -> dict:
         fails.append(f"beam stiffness {100 * k_err:+.2f} % off target")
     if st.max_deflection_rad < req.deflection_rad * (1 - 1e-6):
         fails.append(f"deflection {st.max_deflection_rad:.4f} rad < {req.deflection_rad:.4f} rad")
-    return {**out, "ok": not fails, "error": "; ".join(fails),
+    error = "; ".join(fails)
+    return {**out, "ok": not fails, "error": error, "failure": failure_class(error) if fails else "",
             "mass_kg": st.mass_kg, "axial_length_mm": st.height_mm,
             "envelope_radius_mm": st.envelope_radius_mm,
             "stiffness_Nm_per_rad": st.stiffness_Nmm_per_rad / 1e3,
@@ -121,10 +163,19 @@ def full_design_summary(req, cand: dict) -> dict:
             "backlash_nominal_rad": st.backlash.nominal,
             "energy_density_J_per_cm3": st.energy_J / (st.envelope_volume_mm3 / 1e3),
             "specific_energy_J_per_kg": st.energy_J / st.mass_kg,
+            "peak_stress_MPa": max(s.predicted_peak_stress_MPa for s in jd.springs.values()),
+            "yield_margin": min(s.yield_margin for s in jd.springs.values()),
+            "fatigue_margin": min((s.fatigue.margin for s in jd.springs.values()
+                                   if s.fatigue is not None), default=None),
             "springs": {n: {"n_flexures": s.n_flexures, "root_radius_mm": s.root_radius_mm,
                             "min_concave_edge_radius_mm": _edge_radius_mm(s),
                             "tip_radius_mm": s.tip_radius_mm, "flexure": s.flexure,
-                            "mass_kg": s.mass_kg, "peak_stress_MPa": s.peak_stress_MPa,
+                            "mass_kg": s.mass_kg, "beam_stress_MPa": s.beam_stress_MPa,
+                            "stress_derating": s.stress_derating, "root_flare": s.root_flare,
+                            "peak_stress_MPa": s.predicted_peak_stress_MPa,
+                            "peak_region": s.stress.region if s.stress is not None else None,
+                            "yield_margin": s.yield_margin,
+                            "fatigue_margin": s.fatigue.margin if s.fatigue is not None else None,
                             "warnings": list(s.warnings)}
                         for n, s in jd.springs.items()},
             "notes": jd.notes()}

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections import Counter
 from dataclasses import dataclass, field
 
 from springcad.synthesis import ranking
@@ -74,29 +75,37 @@ class SynthesisResult:
                 "max_axial_length_mm": req.max_axial_length_mm,
                 "materials": [m.name for m in req.materials],
                 "design_stress_MPa": {m.name: req.design_stress_MPa(m) for m in req.materials},
-                "yield_margin": req.yield_margin,
+                "yield_margin": req.yield_margin, "fatigue_margin": req.fatigue_margin,
+                "required_yield_margin": {m.name: req.required_yield_margin(m)
+                                          for m in req.materials},
+                "allowed_peak_stress_MPa": {m.name: req.allowed_peak_MPa(m)
+                                            for m in req.materials},
                 "stress_concentration": req.stress_concentration,
                 "objective": req.objective, "minimise": req.minimise},
             "sweep": self.stats.to_dict(),
             "n_candidates": self.n_candidates, "n_feasible": self.n_feasible,
             "top_screened": self.top, "families": self.families,
             "finalists_full_design": self.finalists,
+            "finalist_failures": dict(Counter(f["failure"] for f in self.finalists
+                                              if not f["ok"])),
             "fea": self.verifications,
             "winner": self.winner, "winner_status": self.winner_status,
             "winner_job": self.winner_job, "ok": self.ok, "timings_s": self.timings_s,
         }
 
 
-def synthesize(req, space, store, client, *, finalists: int = 8, verify_top: int = 2,
-               verify: bool = True, fea_model: str = "2d", progress=_quiet,
-               say=_quiet) -> SynthesisResult:
+def synthesize(req, space, store, client, *, finalists: int = 8, max_finalists: int = 40,
+               verify_top: int = 2, verify: bool = True, fea_model: str = "2d",
+               progress=_quiet, say=_quiet) -> SynthesisResult:
     """Run the whole synthesis for requirements ``req``.
 
     Args:
         space: :class:`~springcad.synthesis.candidates.CandidateSpace` of ``req``.
         store: the run's :class:`~springcad.synthesis.store.ResultStore`.
         client: a :class:`distributed.Client` (sweep and full designs run on it).
-        finalists: best screened stacks given the full design (Dask tasks).
+        finalists: screened stacks given the full design per round (Dask tasks), best
+            first; while no finalist passes, the next round goes further down the ranking.
+        max_finalists: most stacks given the full design in all.
         verify_top: how many of the full-design-feasible finalists get FEA (best first).
         verify: run the FEA at all.
         fea_model: :class:`fea.verify.VerifyOptions` model for the finalists ("2d": fastest).
@@ -111,7 +120,7 @@ def synthesize(req, space, store, client, *, finalists: int = 8, verify_top: int
     col, minimise = req.objective_column, req.minimise
     order = ranking.rank(cols, col, minimise)
     families = ranking.family_report(cols, col, minimise)
-    top = ranking.distinct(cols, order, 20)
+    top = ranking.distinct(cols, order, max(20, max_finalists))
     result = SynthesisResult(req, stats, len(cols["cid"]), int(cols["feasible"].sum()), top,
                              families, [])  # top: distinct stacks, best first
     say(f"{result.n_feasible} of {result.n_candidates} candidates feasible after screening")
@@ -119,22 +128,31 @@ def synthesize(req, space, store, client, *, finalists: int = 8, verify_top: int
         result.winner_status = "no feasible stack"
         result.timings_s = t
         return result
-    # full design of the finalists, on the cluster
+    # full design of the finalists, on the cluster, down the ranking until one passes
     t0 = time.perf_counter()
-    rows = top[:finalists]
-    say(f"full design of the best {len(rows)} screened stacks")
-    futures = client.map(full_design_summary, [req] * len(rows), rows, pure=False)
-    summaries = client.gather(futures)
+    rows, summaries = [], []
+    limit = min(len(top), max(max_finalists, 1))
+    while len(rows) < limit and not any(s["ok"] for s in summaries):
+        batch = top[len(rows):min(len(rows) + max(finalists, 1), limit)]
+        say(f"full design of screened stacks {len(rows) + 1}-{len(rows) + len(batch)} "
+            f"of {len(top)}")
+        futures = client.map(full_design_summary, [req] * len(batch), batch, pure=False)
+        summaries += client.gather(futures)
+        rows += batch
     t["full_design"] = time.perf_counter() - t0
     result.finalists = summaries
+    result.top = top[:max(20, len(rows))]
     good = [(r, s) for r, s in zip(rows, summaries) if s["ok"]]
     key = "mass_kg" if col == "mass_kg" else col
     if good:
         good.sort(key=lambda rs: (rs[1].get(key, rs[0][col]) if minimise
                                   else -rs[1].get(key, rs[0][col]), rs[1]["mass_kg"]))
     else:
-        result.winner_status = ("no finalist passes the full design: "
-                                + "; ".join(s["error"] for s in summaries[:3]))
+        counts = Counter(s["failure"] for s in summaries)
+        result.winner_status = (
+            f"none of the {len(summaries)} best screened stacks passes the full design ("
+            + ", ".join(f"{n} on {c}" for c, n in counts.most_common()) + "); first: "
+            + summaries[0]["error"])
         result.timings_s = t
         return result
     winner, status = good[0][0], "full design passed; FEA not run"
@@ -176,21 +194,24 @@ def synthesize(req, space, store, client, *, finalists: int = 8, verify_top: int
 
 
 def summary_table(result: SynthesisResult, n: int = 10) -> str:
-    """The best screened stacks and the finalists as plain text."""
+    """The best screened stacks (every finalist, at least ``n``) as plain text, with the
+    full design's mass and predicted peak, or why it failed."""
     req = result.requirements
     col = req.objective_column
     full = {f["cid"]: f for f in result.finalists}
     rows = [("rank", "cid", "family", "input", "z mm", "r_c", "R_o", "N", "mass g", "h mm",
-             col, "full design")]
-    for k, r in enumerate(result.top[:n], 1):
+             "peak MPa", col, "full design")]
+    for k, r in enumerate(result.top[:max(n, len(result.finalists))], 1):
         f = full.get(int(r["cid"]))
-        fd = ("-" if f is None else f"{1000 * f['mass_kg']:.1f} g" if f["ok"] else "FAIL")
+        fd = ("-" if f is None else
+              f"{1000 * f['mass_kg']:.1f} g, {f['peak_stress_MPa']:.0f} MPa" if f["ok"]
+              else f"FAIL ({f['failure']})")
         z = f"{r['thickness_a_mm']:g}" + (f"/{r['thickness_b_mm']:g}" if r["n_b"] else "")
         n_fl = f"{r['n_flexures_a']}" + (f"/{r['n_flexures_b']}" if r["n_b"] else "")
         rows.append((str(k), str(r["cid"]), r["family"], r["input"], z,
                      f"{r['contact_radius_mm']:g}", f"{r['outer_radius_mm']:.2f}", n_fl,
                      f"{1000 * r['mass_kg']:.1f}", f"{r['axial_length_mm']:.1f}",
-                     f"{r[col]:.4g}", fd))
+                     f"{r['peak_stress_MPa']:.0f}", f"{r[col]:.4g}", fd))
     w = [max(len(x[i]) for x in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(c.rjust(k) for c, k in zip(x, w)) for x in rows)
 

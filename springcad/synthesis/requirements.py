@@ -6,9 +6,10 @@ Sections of a requirements TOML (units in key names; see
 ``[requirement]``    name, description, stiffness_Nm_per_rad, stiffness_tolerance_pct,
                      deflection_deg or deflection_rad (each direction)
 ``[envelope]``       max_outer_radius_mm (bushing included), max_axial_length_mm
-``[materials]``      names (built-in table), yield_margin, stress_concentration
+``[materials]``      names (built-in table), yield_margin, fatigue_margin (optional),
+                     stress_concentration
 ``[objective]``      minimise: mass, axial_length, backlash, edm_cut_length;
-                     or maximise: energy_density
+                     or maximise: energy_density, fatigue_margin
 ``[search]``         the design space: max_disks, thickness_mm, contact_radius_mm,
                      outer_radius_fractions, n_flexures or fewer_flexures, inputs, mixed,
                      compliance_splits,
@@ -29,6 +30,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from springcad.config import CONNECTIONS, HardwareSpec, ManufacturingSpec, job_from_dict
+from springcad.design import fatigue
 from springcad.errors import ConfigError
 from springcad.materials import Material, material_table
 from springcad.units import NMM_PER_NM
@@ -76,11 +78,11 @@ def _check_keys(table: dict, prefix: str, allowed: set[str]):
 
 #: objectives and whether a smaller value is better
 OBJECTIVES = {"mass": True, "axial_length": True, "backlash": True, "edm_cut_length": True,
-              "energy_density": False}
+              "energy_density": False, "fatigue_margin": False}
 #: the column of the candidate table each objective reads
 OBJECTIVE_COLUMNS = {"mass": "mass_kg", "axial_length": "axial_length_mm",
                      "backlash": "backlash_nominal_rad", "edm_cut_length": "edm_cut_length_mm",
-                     "energy_density": "energy_density_J_per_cm3"}
+                     "energy_density": "energy_density_J_per_cm3", "fatigue_margin": "fatigue_margin"}
 
 
 @dataclass(frozen=True)
@@ -132,11 +134,15 @@ class Requirements:
         max_outer_radius_mm: largest envelope radius, bushing included (mm).
         max_axial_length_mm: largest stack height, spacers included (mm).
         materials: candidate materials.
-        yield_margin: required yield strength / peak stress (-).
-        stress_concentration: factor on the beam-theory peak stress for the yield
-            check (the root fillet raises the stress above the flexure's uniform
-            beam stress); every candidate is designed to
-            sigma = yield / (yield_margin * stress_concentration) (-).
+        yield_margin: required yield strength / *predicted* peak stress of the real
+            geometry (:mod:`springcad.design.stress`: curved-beam flank, root and neck
+            fillets, calibrated to FEA) (-).
+        fatigue_margin: required fully reversed fatigue margin S_e / predicted peak
+            (:mod:`springcad.design.fatigue`), or None (not required) (-).
+        stress_concentration: sets the beam stress every candidate is first designed to,
+            sigma = yield / (yield_margin * stress_concentration); screening and the full
+            design then lower it (``stress_derating``) until the predicted peak keeps the
+            margins (-).
         objective: one of :data:`OBJECTIVES`.
         search: the design space.
         manufacturing_table, hardware_table: the TOML tables, passed to the winner's job.
@@ -159,6 +165,7 @@ class Requirements:
     manufacturing_table: dict = field(default_factory=dict)
     hardware_table: dict = field(default_factory=dict)
     source: str = ""
+    fatigue_margin: float | None = None
 
     @property
     def peak_torque_Nmm(self) -> float:
@@ -167,6 +174,32 @@ class Requirements:
     def design_stress_MPa(self, material: Material) -> float:
         """Stress every flexure of ``material`` is designed to (MPa)."""
         return material.yield_strength_MPa / (self.yield_margin * self.stress_concentration)
+
+    def endurance_limit_MPa(self, material: Material) -> float:
+        """Corrected endurance limit S_e of the part (MPa; NaN without fatigue data)."""
+        check = fatigue.check(material.name, 1.0)
+        return check.endurance_limit_MPa if check is not None else float("nan")
+
+    def required_yield_margin(self, material: Material) -> float:
+        """The yield margin that also keeps the fatigue margin (-): yield / allowed peak.
+
+        The fatigue requirement S_e / peak >= fatigue_margin is a peak-stress limit like
+        the yield one, so the synthesis (and the winner's job, as ``safety_factor``)
+        asks for max(yield_margin, fatigue_margin x yield / S_e).
+        """
+        margin = self.yield_margin
+        if self.fatigue_margin is not None:
+            margin = max(margin, self.fatigue_margin * material.yield_strength_MPa
+                         / self.endurance_limit_MPa(material))
+        return margin
+
+    def allowed_peak_MPa(self, material: Material) -> float:
+        """Largest predicted peak stress a disk of ``material`` may carry (MPa)."""
+        return material.yield_strength_MPa / self.required_yield_margin(material)
+
+    def fatigue_limited(self, material: Material) -> bool:
+        """Whether the fatigue margin, not the yield margin, sets the allowed peak."""
+        return self.required_yield_margin(material) > self.yield_margin
 
     @property
     def minimise(self) -> bool:
@@ -178,7 +211,10 @@ class Requirements:
 
     def fingerprint(self) -> str:
         """A hash of everything that changes the candidate table (for resuming runs)."""
+        from springcad.synthesis.candidates import SCREENING_MODEL
+
         d = asdict(self)
+        d["screening_model"] = SCREENING_MODEL
         d.pop("source")
         d.pop("name")
         d.pop("description")
@@ -241,7 +277,7 @@ def _search(table: dict, max_radius_mm: float) -> SearchSpace:
     return SearchSpace(**{**asdict(d), **kw})
 
 
-def _materials(table: dict) -> tuple[tuple[Material, ...], float, float]:
+def _materials(table: dict) -> tuple[tuple[Material, ...], float, float, float | None]:
     p = "materials"
     _check_keys(table, p, {"names", "yield_margin", "stress_concentration", "fatigue_margin"})
     known = material_table()
@@ -249,10 +285,14 @@ def _materials(table: dict) -> tuple[tuple[Material, ...], float, float]:
     if not isinstance(names, list) or not names or any(n not in known for n in names):
         raise ConfigError(f"{p}.names", names,
                           f"must be a non-empty list of built-in materials ({', '.join(known)})")
+    fatigue_margin = None
     if "fatigue_margin" in table:
-        raise ConfigError(f"{p}.fatigue_margin", table["fatigue_margin"],
-                          "cannot be checked: the material table has no fatigue (endurance) data; "
-                          "remove the key and use yield_margin")
+        fatigue_margin = float(_number(table, "fatigue_margin", p, lo=0.05, hi=10.0))
+        missing = [n for n in names if n not in fatigue.fatigue_table()]
+        if missing:
+            raise ConfigError(f"{p}.fatigue_margin", fatigue_margin,
+                              f"cannot be checked for {', '.join(missing)}: no fatigue data "
+                              f"(springcad/data/fatigue.csv has {', '.join(fatigue.fatigue_table())})")
     margin = _number(table, "yield_margin", p, lo=1.0, hi=10.0) if "yield_margin" in table else 1.0
     kt = (_number(table, "stress_concentration", p, lo=1.0, hi=5.0)
           if "stress_concentration" in table else 1.0)
@@ -260,7 +300,8 @@ def _materials(table: dict) -> tuple[tuple[Material, ...], float, float]:
         raise ConfigError(f"{p}.yield_margin", margin,
                           "times stress_concentration must exceed 1 (the design stress must stay "
                           "below the yield strength); raise yield_margin or stress_concentration")
-    return tuple(known[n] for n in dict.fromkeys(names)), float(margin), float(kt)
+    return (tuple(known[n] for n in dict.fromkeys(names)), float(margin), float(kt),
+            fatigue_margin)
 
 
 def requirements_from_dict(data: dict, name: str = "requirements",
@@ -298,7 +339,7 @@ def requirements_from_dict(data: dict, name: str = "requirements",
             raise ConfigError(f"{p}.{key}", None, "is required (mm)")
     r_max = _number(env, "max_outer_radius_mm", p, lo=3.0, hi=1000.0)
     h_max = _number(env, "max_axial_length_mm", p, lo=0.5, hi=5000.0)
-    materials, margin, kt = _materials(data.get("materials", {}))
+    materials, margin, kt, fatigue_margin = _materials(data.get("materials", {}))
     p = "objective"
     obj = data.get("objective", {})
     _check_keys(obj, p, {"minimise", "maximise"})
@@ -326,7 +367,8 @@ def requirements_from_dict(data: dict, name: str = "requirements",
         max_axial_length_mm=float(h_max), materials=materials, yield_margin=margin,
         stress_concentration=kt, objective=value, search=search,
         manufacturing=probe.manufacturing, hardware=probe.hardware,
-        manufacturing_table=dict(mfg_t), hardware_table=dict(hw_t), source=source)
+        manufacturing_table=dict(mfg_t), hardware_table=dict(hw_t), source=source,
+        fatigue_margin=fatigue_margin)
 
 
 def load_requirements(path: Path | str) -> Requirements:

@@ -14,14 +14,25 @@ without building the exact profiles:
    :func:`springcad.design.flexure.design_serpentine` at full tilt (lam = 1) on the
    same radial stations. A disk passes when one shape reaches s: the exact first
    test of the serpentine search, so screening never rejects a disk that the full
-   design accepts on this ground; what it does not check (the exact neighbour
-   clearance, fillet placement, cam tooth coverage) the full design of the
-   finalists does;
+   design accepts on this ground;
 5. root gap for the wire and the cam web over the bore;
-6. mass from the flexure area s x (2/3) w0 L (constant-stress width; the tip web and
-   the small beam-theory width correction ignored) plus tip balls and the rim
-   annulus less the fastener holes; cam area, EDM cut length (an estimate).
+6. the serpentine the design would choose (:func:`~springcad.synthesis.shapes.serpentine_centrelines`:
+   the tilt factor of every shape that reaches s, the wire's concave edge radius,
+   the smallest curved-beam measure) and the *predicted peak stress* of the real
+   geometry with the root flare the design would choose
+   (:func:`~springcad.synthesis.peak.predict_peaks`: the design's FEA-calibrated
+   stress model on arrays);
+7. with ``allowed_peak_MPa`` (yield / required margin): the design's stress passes.
+   While the predicted peak exceeds the allowed one, the beam stress is lowered by
+   allowed / peak x 0.995 and the disk screened again with the same N
+   (:func:`springcad.design.spring.design_spring` does this with the N the synthesis
+   writes into the job), at most ``STRESS_PASSES`` designs; a disk that no pass
+   brings under the allowed peak fails on ``yield_margin`` (or ``fatigue_margin``);
+8. mass from the flexure area integral w ds of that geometry plus tip balls and the
+   rim annulus less the fastener holes; cam area, EDM cut length (an estimate).
 
+What screening does not check (the exact neighbour clearance of the serpentine and
+of each root flare, the fillet and cam profiles) the full design of the finalists does.
 Every number used is one of :mod:`springcad.design.flexure`'s closed forms called
 on arrays. Agreement with the full design is tested in
 ``tests/synthesis/test_synth_screening.py``. Units: N*mm, mm, rad, MPa, kg.
@@ -29,28 +40,25 @@ on arrays. Agreement with the full design is tested in
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from springcad.design import flexure as fx
 from springcad.design.cam import OVERTRAVELS
 from springcad.design.ring import hole_diameter_mm
-from springcad.design.spring import RIM_GAP_RATIO
+from springcad.design.spring import RIM_GAP_RATIO, STRESS_PASSES
+from springcad.synthesis.peak import predict_peaks
+from springcad.synthesis.shapes import U, serpentine_centrelines, serpentine_reach
+
+__all__ = ["REASONS", "cam_tooth_width_mm", "screen_disks", "serpentine_reach"]
 
 #: failure codes (0 = passes), in the order the design meets them
 (OK, ENERGY, TORQUE_CAP, FLEXURE_FIT, RIM_RULE, STRAIGHT, SERPENTINE, ROOT_GAP, CAM_TOOTH,
- CAM_BORE) = range(10)
+ CAM_BORE, SERP_SHAPE, ROOT_FILLET, YIELD, FATIGUE) = range(14)
 REASONS = {ENERGY: "energy_bound", TORQUE_CAP: "torque_cap", FLEXURE_FIT: "flexure_fit",
            RIM_RULE: "rim_rule", STRAIGHT: "straight_limit", SERPENTINE: "serpentine_budget",
-           ROOT_GAP: "root_gap",
-           CAM_TOOTH: "cam_tooth", CAM_BORE: "cam_bore"}
-#: the trial shapes of design_serpentine, widest first so most disks stop at the first
-_SHAPES = tuple(sorted(((k, a) for k in (1, 2, 3, 4, 5, 6) for a in (1.0, 2.0, 3.0)),
-                       key=lambda ka: (ka[0] != 1, -ka[1], ka[0])))
-_U = np.linspace(0.0, 1.0, 241) ** 1.3
-
-
+           ROOT_GAP: "root_gap", CAM_TOOTH: "cam_tooth", CAM_BORE: "cam_bore",
+           SERP_SHAPE: "serpentine_shape", ROOT_FILLET: "root_fillet", YIELD: "yield_margin",
+           FATIGUE: "fatigue_margin"}
 def _nmax(rb, rc):
     """Eq. 6 on arrays: floor(pi hypot(r_b, r_c) / (2 r_b))."""
     return np.floor(np.pi * np.hypot(rb, rc) / (2.0 * rb)).astype(np.int64)
@@ -92,89 +100,88 @@ def _rim_root(ro, n, rc, w0_of_length, iterations=48):
     return 0.5 * (a + b)
 
 
-def _trapz_rows(y, x):
-    return np.sum(0.5 * (y[:, 1:] + y[:, :-1]) * np.diff(x, axis=1), axis=1)
-
-
-#: rows per block of the serpentine test: (rows x 241) float temporaries stay below the
-#: 128 kB at which glibc mmaps; Dask workers set MALLOC_TRIM_THRESHOLD_, which freezes that
-#: threshold, and larger temporaries then cost a page-fault storm (measured 6x slower)
-_BLOCK_ROWS = 48
-
-
-def serpentine_reach(s_req, rc, rr, n, load, z, sigma, clearance_mm, root_zone_mm):
-    """Largest area ratio any trial shape of design_serpentine reaches at full tilt (-).
-
-    Evaluated in blocks of rows, shape by shape, only for the rows not yet known to
-    reach ``s_req``.
-    """
-    m = len(rc)
-    if m > _BLOCK_ROWS:
-        return np.concatenate([
-            serpentine_reach(*(a[k:k + _BLOCK_ROWS] for a in (s_req, rc, rr, n, load, z, sigma)),
-                             clearance_mm, root_zone_mm[k:k + _BLOCK_ROWS])
-            for k in range(0, m, _BLOCK_ROWS)])
-    best = np.zeros(m)
-    todo = np.ones(m, dtype=bool)
-    L = rr - rc
-    for k, a in _SHAPES:
-        i = np.flatnonzero(todo)
-        if i.size == 0:
-            break
-        r = rc[i, None] + L[i, None] * _U[None, :]
-        c = (6.0 * load[i] / (z[i] * sigma[i]))[:, None]
-        w_r = np.sqrt(c * (r - rc[i, None]))
-        straight_area = _trapz_rows(w_r, r)
-        pitch = (2 * np.pi / n[i])[:, None]
-        budget = np.sqrt(np.maximum((r * pitch / (w_r + clearance_mm)) ** 2 - 1.0, 0.0))
-        q = np.clip((rr[i, None] - r) / root_zone_mm[i, None], 0.0, 1.0)
-        h = np.tanh(a * np.sin(k * np.pi * _U))[None, :] / math.tanh(a) * q * q * (3 - 2 * q)
-        if k > 1:  # the balanced serpentine: reversed lobes scaled so the root lines up
-            pos = _trapz_rows(budget * np.maximum(h, 0) / r, r)
-            neg = _trapz_rows(budget * np.minimum(h, 0) / r, r)
-            h = np.maximum(h, 0) - (pos / neg)[:, None] * np.minimum(h, 0)
-            h = h / np.max(np.abs(h), axis=1, keepdims=True)
-        tan_b = budget * h
-        g = tan_b / r
-        theta = np.concatenate([np.zeros((len(i), 1)),
-                                np.cumsum(0.5 * (g[:, 1:] + g[:, :-1]) * np.diff(r, axis=1),
-                                          axis=1)], axis=1)
-        y = r * np.cos(theta)
-        w = np.sqrt(c * np.maximum(y - rc[i, None], 0.0))
-        ratio = _trapz_rows(w * np.sqrt(1.0 + tan_b ** 2), r) / straight_area
-        best[i] = np.maximum(best[i], ratio)
-        todo[i] = ratio < s_req[i]
-    return best
-
-
 def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
                  min_tip_radius_mm: float, manufacturing, hardware,
-                 straight_only: bool = False) -> dict[str, np.ndarray]:
-    """Closed-form design of disks with given r_c; ``n_fixed < 0``: |n_fixed| fewer flexures
-    than the largest count that fits (see :func:`_screen`)."""
+                 straight_only: bool = False, allowed_peak_MPa=None,
+                 fatigue_limited=None) -> dict[str, np.ndarray]:
+    """Closed-form design of disks with given r_c, with the design's stress passes.
+
+    Args:
+        K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, straight_only: see :func:`_screen`.
+        n_fixed: flexure count; 0: the largest that fits; < 0: |n_fixed| fewer than that.
+        allowed_peak_MPa: largest predicted peak each disk may carry (MPa): yield strength
+            / required margin. None: no stress passes (the first design is returned, its
+            predicted peak in ``peak_stress_MPa``).
+        fatigue_limited: per disk, whether the allowed peak comes from the fatigue margin
+            (the failure is then ``fatigue_margin``, else ``yield_margin``).
+
+    Returns:
+        The columns of :func:`_screen` for the last pass, with ``derating`` (beam stress
+        over ``sigma``) and ``derated_code`` (the check that failed at the lowered beam
+        stress of a ``yield_margin`` failure, 0 if none).
+    """
     n_fixed = np.asarray(n_fixed, dtype=np.int64)
+    m = len(n_fixed)
     args = dict(min_tip_radius_mm=min_tip_radius_mm, manufacturing=manufacturing,
                 hardware=hardware, straight_only=straight_only)
-    if not np.any(n_fixed < 0):
-        return _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, **args)
-    first = _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3,
-                    np.where(n_fixed < 0, 0, n_fixed), **args)
-    fewer = (n_fixed < 0) & (first["code"] == OK)
-    if not np.any(fewer):
-        return first
-    i = np.flatnonzero(fewer)
-    sub = [np.broadcast_to(np.asarray(v, dtype=float), n_fixed.shape)[i]
-           for v in (K, theta, ro, z, rc, sigma, E, density_kg_per_mm3)]
-    second = _screen(*sub, np.maximum(first["n"][i] + n_fixed[i], 2), **args)
-    out = {k: v.copy() for k, v in first.items()}
-    for k, v in second.items():
-        out[k][i] = v
+    full = [np.broadcast_to(np.asarray(v, dtype=float), (m,))
+            for v in (K, theta, ro, z, rc, sigma, E, density_kg_per_mm3)]
+
+    def screen(rows, n_rows, sigma_rows, layout_only=False):
+        sub = [v[rows] for v in full]
+        sub[5] = sigma_rows
+        return _screen(*sub, n_rows, **args, layout_only=layout_only)
+
+    everything = np.arange(m)
+    n_run = n_fixed.clip(0)
+    fewer = np.flatnonzero(n_fixed < 0)
+    if fewer.size:
+        # the largest count that fits (layout only), then |n_fixed| fewer
+        first = screen(fewer, n_run[fewer], full[5][fewer], layout_only=True)
+        sel = first["code"] == OK
+        n_run[fewer[sel]] = np.maximum(first["n"][sel] + n_fixed[fewer[sel]], 2)
+    out = screen(everything, n_run, full[5])
+    out["derating"] = np.ones(m)
+    out["derated_code"] = np.zeros(m, dtype=np.int64)
+    if allowed_peak_MPa is None:
+        return out
+    allowed = np.broadcast_to(np.asarray(allowed_peak_MPa, dtype=float), (m,))
+    stress_code = np.where(np.broadcast_to(np.asarray(
+        False if fatigue_limited is None else fatigue_limited, dtype=bool), (m,)), FATIGUE, YIELD)
+    # design_spring: accepted when yield / peak >= required (1 - 1e-3)
+    over = (out["code"] == OK) & (out["peak_stress_MPa"] > allowed / (1 - 1e-3))
+    for _ in range(STRESS_PASSES - 1):
+        i = np.flatnonzero(over)
+        if i.size == 0:
+            break
+        derating = out["derating"][i] * allowed[i] / out["peak_stress_MPa"][i] * 0.995
+        again = screen(i, out["n"][i], full[5][i] * derating)
+        bad = again["code"] != OK
+        # no beam stress keeps the margin: the design stops with the last peak it predicted
+        out["code"][i[bad]] = stress_code[i[bad]]
+        out["value"][i[bad]] = out["peak_stress_MPa"][i[bad]]
+        out["limit"][i[bad]] = allowed[i[bad]]
+        out["derated_code"][i[bad]] = again["code"][bad]
+        good = np.flatnonzero(~bad)
+        _merge(out, i[good], {k: v[good] for k, v in again.items()})
+        out["derating"][i[good]] = derating[good]
+        over = (out["code"] == OK) & (out["peak_stress_MPa"] > allowed / (1 - 1e-3))
+    i = np.flatnonzero(over)
+    out["code"][i] = stress_code[i]
+    out["value"][i] = out["peak_stress_MPa"][i]
+    out["limit"][i] = allowed[i]
     return out
+
+
+def _merge(out: dict, rows, cols: dict) -> None:
+    """Overwrite ``rows`` of every column of ``out`` with ``cols`` (same keys)."""
+    for k, v in cols.items():
+        out[k][rows] = v
 
 
 def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
             min_tip_radius_mm: float, manufacturing, hardware,
-            straight_only: bool = False) -> dict[str, np.ndarray]:
+            straight_only: bool = False, layout_only: bool = False) -> dict[str, np.ndarray]:
     """Closed-form design of disks with given r_c (arrays of equal length).
 
     Args:
@@ -184,13 +191,19 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         density_kg_per_mm3: material density.
         n_fixed: flexure count, 0 = the largest that fits (as design_spring chooses).
         straight_only: reject disks that need serpentine flexures (``straight_limit``).
+        layout_only: stop after the layout checks 1-5 (N, R_r, flexure kind; no
+            centreline, stress or mass).
 
     Returns:
         Columns: ``code`` (0 or a failure code of :data:`REASONS`), ``value`` and
         ``limit`` (the numbers of the failed check), and the design values
         ``n``, ``rr``, ``rb``, ``theta_s``, ``s``, ``w0``, ``straight``,
-        ``peak_stress_MPa``, ``ring_area_mm2``, ``mass_kg``, ``cam_area_mm2``,
-        ``cam_tip_radius_mm``, ``cam_root_radius_mm``, ``cut_ring_mm``, ``cut_cam_mm``.
+        ``beam_stress_MPa`` (the width law's), ``peak_stress_MPa`` (predicted, with
+        ``flank_MPa``, ``root_MPa``, ``neck_MPa``, ``peak_region`` and the chosen
+        ``root_flare``, ``width_scale``), ``stiffness_Nmm_per_rad`` (beam theory of the
+        built widths), ``root_fillet_mm``, ``ring_area_mm2``,
+        ``mass_kg``, ``cam_area_mm2``, ``cam_tip_radius_mm``, ``cam_root_radius_mm``,
+        ``cut_ring_mm``, ``cut_cam_mm``.
     """
     K, theta, ro, z, rc, sigma, E = (np.asarray(v, dtype=float) for v in (K, theta, ro, z, rc, sigma, E))
     n_fixed = np.asarray(n_fixed, dtype=np.int64)
@@ -199,6 +212,7 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     code = np.zeros(m, dtype=np.int64)
     value, limit = nan.copy(), nan.copy()
     mfg, rw = manufacturing, manufacturing.min_inside_radius_mm
+    clearance = max(mfg.min_slot_width_mm, 2 * rw)
 
     def fail(mask, c, v, lim):
         mask = mask & (code == OK)
@@ -271,12 +285,12 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         straight[j] = True
     if straight_only:
         fail(~straight, STRAIGHT, theta, theta_s)
-    # 4. serpentine tilt budget
+    # 4. serpentine tilt budget (the search's first test, exact)
     serp = (code == OK) & ~straight
     if np.any(serp):
         i = np.flatnonzero(serp)
         reach = serpentine_reach(s[i], rc[i], rr[i], n[i], load[i], z[i], sigma[i],
-                                 max(mfg.min_slot_width_mm, 2 * rw), 2.0 * (ro[i] - rr[i]))
+                                 clearance, 2.0 * (ro[i] - rr[i]))
         sel = np.zeros(m, dtype=bool)
         sel[i[reach < s[i]]] = True
         val = np.full(m, np.nan)
@@ -290,12 +304,51 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     cam_root = rc - (rb + mfg.w_gap_mm)
     web = cam_root - 0.5 * hardware.shaft_diameter_mm
     fail(web < mfg.min_web_mm, CAM_BORE, web, np.full(m, mfg.min_web_mm))
-    # 6. areas, mass, cut length
-    peak_stress = np.where(straight, 6 * load * L / (z * w0 ** 2), sigma)
+    if layout_only:
+        return {"code": code, "value": value, "limit": limit, "n": n, "rr": rr}
+    # 6. the centreline the design would build, then the predicted peak of the real geometry
+    t_rim = ro - rr
+    root_fillet = np.maximum(np.minimum(0.5 * t_rim, gap / 3.0), rw)
+    neck_fillet = np.maximum(0.5 * rb, rw)
+    x = np.zeros((m, U.size))
+    y = np.where(np.isfinite(L), rc, 0.0)[:, None] + np.where(np.isfinite(L), L, 0.0)[:, None] * U
+    slope, kappa = np.zeros_like(x), np.zeros_like(x)
+    serp = (code == OK) & ~straight
+    if np.any(serp):
+        i = np.flatnonzero(serp)
+        shape = serpentine_centrelines(s[i], rc[i], rr[i], n[i], load[i], z[i], sigma[i],
+                                       clearance, 2.0 * t_rim[i], rw)
+        sel = np.zeros(m, dtype=bool)
+        sel[i[~shape["ok"]]] = True
+        val = np.full(m, np.nan)
+        val[i] = shape["edge_radius_mm"]
+        fail(sel, SERP_SHAPE, val, np.full(m, rw))
+        for name, arr in (("x", x), ("y", y), ("slope", slope), ("kappa", kappa)):
+            arr[i] = shape[name]
+    ok = code == OK
+    pk = {k: np.full(m, np.nan) for k in ("flank_MPa", "root_MPa", "neck_MPa", "peak_MPa",
+                                         "flare", "width_scale", "flexure_area_mm2",
+                                         "stiffness_Nmm_per_rad")}
+    pk["region"] = np.zeros(m, dtype=np.int64)
+    if np.any(ok):
+        i = np.flatnonzero(ok)
+        coef = np.where(straight[i], w0[i] ** 2 / L[i], 6 * load[i] / (z[i] * sigma[i]))
+        res = predict_peaks(x[i], y[i], slope[i], kappa[i], rc=rc[i], rr=rr[i], ro=ro[i], n=n[i],
+                            load=load[i], z=z[i], E=E[i], K=K[i], width_coef=coef, rb=rb[i],
+                            root_fillet_mm=root_fillet[i], neck_fillet_mm=neck_fillet[i],
+                            manufacturing=mfg)
+        for k in pk:
+            pk[k][i] = res[k]
+        sel = np.zeros(m, dtype=bool)
+        sel[i[~res["ok"]]] = True
+        fail(sel, ROOT_FILLET, root_fillet, t_rim)
+    # 7. areas, mass, cut length
+    ok = code == OK
+    beam_stress = np.where(straight, 6 * load * L / (z * w0 ** 2), sigma)
     holes = min(hardware.fastener_count, 10 ** 9) * np.ones(m)
     holes = np.minimum(holes, n)
     hole_d = hole_diameter_mm(hardware) if hardware.fastener_count else 0.0
-    ring_area = (n * (s * (2.0 / 3.0) * w0 * L + np.pi * rb ** 2)
+    ring_area = (n * (pk["flexure_area_mm2"] + np.pi * rb ** 2)
                  + np.pi * (ro ** 2 - rr ** 2) - holes * np.pi * hole_d ** 2 / 4)
     cam_tip = rc + rb + mfg.w_gap_mm
     ball_share = np.clip(n * 2 * (rb + mfg.w_gap_mm) / (2 * np.pi * rc), 0.0, 1.0)
@@ -305,10 +358,14 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     cut_ring = (n * (2 * s * L + 1.3 * np.pi * rb) + np.maximum(2 * np.pi * rr - n * w0, 0.0)
                 + 2 * np.pi * ro + holes * np.pi * hole_d)
     cut_cam = 2 * np.pi * rc + n * 2 * (cam_tip - cam_root) + 2 * np.pi * bore
-    ok = code == OK
     return {"code": code, "value": value, "limit": limit, "n": n, "rr": rr, "rb": rb,
             "rb_req": rb_req, "theta_s": theta_s, "s": s, "w0": w0, "straight": straight,
-            "peak_stress_MPa": peak_stress, "ring_area_mm2": np.where(ok, ring_area, np.nan),
+            "beam_stress_MPa": beam_stress, "peak_stress_MPa": pk["peak_MPa"],
+            "flank_MPa": pk["flank_MPa"], "root_MPa": pk["root_MPa"], "neck_MPa": pk["neck_MPa"],
+            "peak_region": pk["region"], "root_flare": pk["flare"],
+            "width_scale": pk["width_scale"], "stiffness_Nmm_per_rad": pk["stiffness_Nmm_per_rad"],
+            "root_fillet_mm": root_fillet,
+            "ring_area_mm2": np.where(ok, ring_area, np.nan),
             "mass_kg": np.where(ok, ring_area * z * density_kg_per_mm3, np.nan),
             "cam_area_mm2": cam_area, "cam_tip_radius_mm": cam_tip, "cam_root_radius_mm": cam_root,
             "hole_diameter_mm": np.full(m, hole_d), "n_holes": holes,

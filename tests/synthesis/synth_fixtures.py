@@ -17,7 +17,7 @@ SMALL = {
     "envelope": {"max_outer_radius_mm": 35.05, "max_axial_length_mm": 19.5},
     "materials": {"names": ["420_ht"], "yield_margin": 1.0, "stress_concentration": 1.4737},
     "objective": {"minimise": "mass"},
-    "search": {"max_disks": 5, "thickness_mm": [3.0, 4.5], "contact_radius_mm": [6.0, 7.5],
+    "search": {"max_disks": 5, "thickness_mm": [3.0, 4.5], "contact_radius_mm": [5.9, 7.5],
                "outer_radius_fractions": [1.0], "inputs": ["shaft", "rim"], "mixed": True,
                "compliance_splits": [0.5], "fewer_flexures": [0, 2, 4]},
     "manufacturing": {"t_spring_mm": 0.05, "t_shaft_mm": 0.02, "w_gap_mm": 0.025},

@@ -28,7 +28,7 @@ def test_paper_template_reproduces_the_paper_design_stress():
     ("requirement", "stiffness_Nm_per_rad", -3, "requirement.stiffness_Nm_per_rad.*greater than zero"),
     ("envelope", "max_outer_radius_mm", 1.0, "envelope.max_outer_radius_mm.*at least 3"),
     ("materials", "names", ["unobtainium"], "materials.names.*built-in materials"),
-    ("materials", "fatigue_margin", 2.0, "fatigue.*no fatigue"),
+    ("materials", "fatigue_margin", 0.01, "materials.fatigue_margin.*at least 0.05"),
     ("objective", "minimise", "energy_density", "objective.minimise.*one of mass"),
     ("search", "inputs", ["gear"], "search.inputs.*shaft, rim"),
     ("search", "thickness_mm", [], "search.thickness_mm.*non-empty list"),
@@ -50,3 +50,37 @@ def test_fingerprint_changes_with_the_space_only():
     b = requirements_from_dict(small(requirement={"description": "other words"}))
     c = requirements_from_dict(small(search={"thickness_mm": [3.0]}))
     assert a.fingerprint() == b.fingerprint() != c.fingerprint()
+
+
+def test_fatigue_margin_is_a_peak_stress_limit():
+    """S_e / peak >= fatigue_margin is peak <= S_e / fatigue_margin; the stricter of it and
+    the yield margin sets the allowed peak and the winner's safety_factor."""
+    se = 760.0 * 0.70 * 0.897  # 420_ht polished limit x EDM surface x 90 % reliability
+    loose = requirements_from_dict(small(materials={"fatigue_margin": 0.3}))
+    strict = requirements_from_dict(small(materials={"fatigue_margin": 0.4}))
+    m = loose.materials[0]
+    assert loose.endurance_limit_MPa(m) == pytest.approx(se, rel=1e-12)
+    assert loose.allowed_peak_MPa(m) == pytest.approx(1344.0)  # yield / 1.0 governs
+    assert not loose.fatigue_limited(m)
+    assert strict.allowed_peak_MPa(m) == pytest.approx(se / 0.4, rel=1e-12)
+    assert strict.fatigue_limited(m)
+    assert strict.required_yield_margin(m) == pytest.approx(1344.0 * 0.4 / se, rel=1e-12)
+    assert loose.fingerprint() != strict.fingerprint()
+
+
+def test_fatigue_margin_needs_fatigue_data(monkeypatch):
+    from springcad.design import fatigue
+
+    monkeypatch.setattr(fatigue, "fatigue_table", lambda: {})
+    with pytest.raises(ConfigError, match="fatigue_margin.*cannot be checked for 420_ht"):
+        requirements_from_dict(small(materials={"fatigue_margin": 1.0}))
+
+
+def test_fatigue_margin_objective():
+    data = small()
+    data["objective"] = {"maximise": "fatigue_margin"}
+    req = requirements_from_dict(data)
+    assert req.objective_column == "fatigue_margin" and not req.minimise
+    data["objective"] = {"maximise": "mass"}
+    with pytest.raises(ConfigError, match="objective.maximise.*one of energy_density, fatigue_margin"):
+        requirements_from_dict(data)

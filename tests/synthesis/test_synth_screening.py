@@ -112,5 +112,5 @@ def test_fewer_flexures_keep_the_design_layout():
 
 def test_cam_tooth_width_is_the_cam_designs():
     rc, rho, n, th = 5.5, 0.325, 28, math.radians(16)
-    widths = [_unit(rc, rho, 2 * math.pi / n, rho / rc + f * th)[1].length for f in OVERTRAVELS]
+    widths = [_unit(rc, rho, 2 * math.pi / n, rho / rc + f * th)[2].length for f in OVERTRAVELS]
     assert cam_tooth_width_mm(rc, rho, n, th) == pytest.approx(max(widths), rel=1e-12)
