@@ -47,7 +47,7 @@ class JobDesign:
         out.extend(self.stack.notes())
         return out
 
-    def warnings(self) -> list[str]:
+    def release_warnings(self) -> list[str]:
         """Every spring warning and stack warning (the notes that stop a release)."""
         out = [f"spring {s.name}: {w}" for s in self.springs.values() for w in s.warnings]
         return out + self.stack.warnings()

@@ -96,6 +96,6 @@ def release_status(job_design, verification=None, verify_skipped: bool = False,
             reasons += [f"FEA verification failed: {f}" for f in verification.failures()] or [
                 "FEA verification failed"]
         notes += list(verification.notes())
-    reasons += [f"design warning: {w}" for w in job_design.warnings()]
+    reasons += [f"design warning: {w}" for w in job_design.release_warnings()]
     reasons += [_check_reason(c) for c in checks if not c.passed]
     return ReleaseStatus(tuple(dict.fromkeys(reasons)), tuple(dict.fromkeys(notes)))
