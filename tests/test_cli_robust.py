@@ -251,8 +251,8 @@ def test_low_stiffness_in_range_warns_of_flexures_thinner_than_the_wire(tmp_path
     rc = main(["design", str(job), "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
     assert rc in (0, 2), err
-    if rc == 0:
-        assert "thinner than the EDM wire" in err
+    if rc == 0:  # the tip web is kept at min_web_mm, so the envelope cannot reach the target
+        assert "thinner than the EDM wire" in err or "cannot give that stiffness" in err
     else:
         one_error_line(err)
 
@@ -268,7 +268,7 @@ def test_no_layout_message_does_not_blame_the_torque_cap(tmp_path, capsys):
     """120 flexures cannot fit a 20 mm disk; the torque cap is not the reason (it was quoted)."""
     job = write_job(tmp_path, lambda d: (d["springs"]["S1"].update(
         n_flexures=120, outer_radius_mm=20, stiffness_Nm_per_rad=5), d.update(
-        hardware={"fastener_count": 0})), base="default")
+        hardware={"fastener_count": 0}), d["stack"].update(sequence=["S1"])), base="default")
     assert main(["design", str(job), "--out", str(tmp_path / "o")]) == 2
     line = one_error_line(capsys.readouterr().err)
     assert "no layout fits" in line and "N = 120" in line and "torque cap" not in line

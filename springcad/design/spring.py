@@ -723,21 +723,26 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
     return d
 
 
-def with_stress_derating(design: SpringDesign, derating: float) -> SpringDesign:
-    """The spring redesigned at beam stress ``derating`` x design stress (the FEA stress correction).
+def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign:
+    """The spring redesigned so its predicted peak x ``model_bias`` keeps the required margin.
 
-    Layout, flexure shape and root flare are chosen again for the new beam stress; the
-    rim holes stay on the design's hole circle.
+    The FEA stress correction: when FEA finds the peak ``model_bias`` times the design's
+    prediction, the design's own stress passes (:func:`design_spring`) run against a
+    required margin raised by that factor, so the new geometry is judged by the same
+    model that missed, corrected by what the FEA measured. Rim holes stay on the
+    design's hole circle.
 
     Raises:
-        DesignError: no flexure fits the envelope at that beam stress.
+        DesignError: no beam stress fits the envelope with that margin.
     """
     from springcad.design.ring import with_hole_circle
 
-    d = _choose_root(_design_at(design.spec, design.material, design.manufacturing,
-                                design.hardware, derating))
-    d = _replace(d, warnings=tuple(dict.fromkeys(d.warnings + (
-        f"beam stress lowered to {d.beam_stress_MPa:.0f} MPa by the FEA stress correction",))))
+    mat = design.material
+    biased = _replace(mat, safety_factor=mat.safety_factor * max(model_bias, 1.0))
+    d = design_spring(design.spec, biased, design.manufacturing, design.hardware, explain=False)
+    d = _replace(d, material=mat, warnings=tuple(dict.fromkeys(d.warnings + (
+        f"redesigned by the FEA stress correction (FEA peak {model_bias:.3f} x the design "
+        f"prediction): beam stress {d.beam_stress_MPa:.0f} MPa",))))
     if design.hole_centres_mm:
         d = with_hole_circle(d, math.hypot(*design.hole_centres_mm[0]))
     return d

@@ -32,8 +32,11 @@ def test_violations_fail_without_acceptance(tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["build", str(cfg), "--out", str(out), "--no-verify"]) == 2
     err = capsys.readouterr().err
-    assert "manufacturability violations" in err and "edm.hole_edge" in err
-    assert "--accept-violations" in err
+    # the design step now checks the hole edge against the designed rim before any CAD
+    # (one line, exit 2); the build-time EDM rule is the second line of defence
+    assert ("manufacturability violations" in err and "edm.hole_edge" in err
+            and "--accept-violations" in err) or (
+        "rim holes of 1.5 mm do not fit its rim" in err and err.count("error:") == 1)
     assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["job.toml"]
 
 
@@ -185,10 +188,10 @@ def test_failed_verification_stops_the_build(tmp_path, capsys, monkeypatch):
                                  root_coefficient=0.85 * honest.root_coefficient)
     monkeypatch.setattr(stress, "calibration", lambda: fooled)
 
-    def no_redesign(design, derating):
+    def no_redesign(design, model_bias):
         raise DesignError("no flexure fits (test)")
 
-    monkeypatch.setattr(spring, "with_stress_derating", no_redesign)
+    monkeypatch.setattr(spring, "redesign_for_margin", no_redesign)
     cfg = tmp_path / "s1_strict.toml"
     cfg.write_text(S1.read_text().replace("design_stress_MPa = 912",
                                           "design_stress_MPa = 912\nsafety_factor = 1.2"))

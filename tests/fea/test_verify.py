@@ -64,7 +64,7 @@ def test_s1_passes_at_yield_by_construction(s1, s1_verified):
 
 def test_fea_stress_correction_redesigns_an_overstressed_spring(s2_job, monkeypatch):
     """A design model that under-predicts the peak: FEA finds the margin short and the
-    correction redesigns at a lower beam stress until K and the margin both hold."""
+    correction redesigns against the FEA-measured bias, or stops and says why."""
     import dataclasses
 
     from springcad.config import job_from_dict
@@ -86,9 +86,14 @@ def test_fea_stress_correction_redesigns_an_overstressed_spring(s2_job, monkeypa
     assert d.yield_margin >= 1.2 * (1 - 1e-3)  # the fooled model thinks it is fine
     v = verify_spring(d, VerifyOptions(model="2d", keep_fields=False))
     actions = [it["action"] for it in v.iterations]
-    assert any(a.startswith("redesign at beam stress") for a in actions), actions
-    assert v.design.stress_derating < 1.0
-    assert v.stiffness_ok and v.stress_ok, v.failures()
+    assert any(a.startswith("redesign for the FEA peak") for a in actions), actions
+    # either the redesign meets K and the margin, or the correction stops and says why;
+    # an over-stressed spring never passes silently
+    if v.stress_ok:
+        assert v.stiffness_ok and v.design.stress_derating < 1.0
+    else:
+        assert any(n.startswith("stress correction stopped") for n in v.notes), v.notes
+        assert not v.ok and "yield margin" in " ".join(v.failures())
 
 
 def test_stack_from_verified_springs(s1_verified, s2_verified):
