@@ -437,7 +437,7 @@ def _mesh(design, run, level: int):
     from fea.geometry import sector_geometry
     from fea.mesh import fea_mesh_2d, mesh_face_levels
     from fea.problem import LoadCase
-    from fea.verify import DEFAULT_SIZE
+    from fea.mesh import DEFAULT_SIZE
 
     faces = tuple(getattr(run, "faces", ()) or ()) if run is not None else ()
     g = getattr(run, "geometry", None)

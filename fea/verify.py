@@ -40,7 +40,7 @@ from dataclasses import dataclass, field, replace
 
 from fea import convergence as cv
 from fea.geometry import sector_geometry
-from fea.mesh import MeshSize, fea_mesh_2d, fea_mesh_3d, mesh_face_levels
+from fea.mesh import DEFAULT_SIZE, MeshSize, fea_mesh_2d, fea_mesh_3d, mesh_face_levels
 from fea.problem import LoadCase, Material, assemble, solver_material
 from fea.results import StaticResult, evaluate
 from fea.solve import solve
@@ -51,8 +51,6 @@ SCHEMA = "springcad.fea/1"
 MODELS = ("2d3d", "2d", "3d")
 
 #: default level-0 sizes: levels 1-3 of the 2D study have ~3k, 12k, 48k DOFs for the paper springs
-DEFAULT_SIZE = MeshSize(across_width=1.0, per_fillet_radius=2.0, patch_elements=1.0,
-                        gradation=0.3, rim_size_fraction=0.8, layers=1)
 
 
 class VerificationFailed(SpringcadError):
@@ -725,7 +723,7 @@ class JobVerification:
         return dc_replace(job_design, springs=springs, stack=stack)
 
     def to_dict(self) -> dict:
-        from springcad import __version__
+        from springcad.version import __version__
 
         return {"schema": SCHEMA, "springcad_version": __version__, "job": self.job_name,
                 "options": {"model": self.options.model, "levels": self.options.levels,

@@ -17,7 +17,7 @@ Public API (:mod:`springcad.api`; results in N*m/rad, rad, MPa, kg)::
 are imported by the modules that use them.
 """
 
-__version__ = "0.1.0"
+from springcad.version import __version__  # noqa: E402
 
 from springcad.api import (
                            Design,

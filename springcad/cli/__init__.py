@@ -40,7 +40,7 @@ EXIT_SIGINT, EXIT_SIGTERM = 128 + signal.SIGINT, 128 + signal.SIGTERM
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from springcad import __version__
+    from springcad.version import __version__
 
     parser = argparse.ArgumentParser(
         prog="springcad",
@@ -86,7 +86,7 @@ def crash_log(command: str, text: str) -> Path | None:
 
 
 def _internal_error(command: str, err: BaseException, debug: bool) -> int:
-    from springcad import __version__
+    from springcad.version import __version__
 
     text = "".join(traceback.format_exception(err))
     if debug:

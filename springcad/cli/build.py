@@ -157,14 +157,14 @@ PIPELINE = ["design", "verify", "solids", "checks", "exports"]
 
 
 def _drawn_by() -> str:
-    from springcad import __version__
+    from springcad.version import __version__
 
     return f"springcad {__version__}"
 
 
 def build_json(ctx: BuildContext) -> dict:
     """The ``build.json`` document: inputs, every file written, every check."""
-    from springcad import __version__
+    from springcad.version import __version__
 
     asm, st = ctx.assembly, ctx.design.stack
     qty = asm.quantities()

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from springcad import __version__
+from springcad.version import __version__
 from springcad.config import Job
 from springcad.design.plausibility import check_hardware
 from springcad.design.spring import SpringDesign, design_spring

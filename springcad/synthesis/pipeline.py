@@ -60,7 +60,7 @@ class SynthesisResult:
         return toml_text(self.winner_job, head)
 
     def to_dict(self) -> dict:
-        from springcad import __version__
+        from springcad.version import __version__
 
         req = self.requirements
         return {
