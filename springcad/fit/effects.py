@@ -128,7 +128,10 @@ class Effect:
     def factor(self, x: np.ndarray, p: np.ndarray, sc: Scales) -> np.ndarray | float:
         return 1.0
 
-    def torque(self, p: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray | float:
+    def torque(self, p: np.ndarray, sig: Signals, idx: np.ndarray,
+               fraction: np.ndarray | None = None) -> np.ndarray | float:
+        """Additive torque (N·m) at samples ``idx``; ``fraction`` gives fractional
+        sample positions for a ``delayed`` term (``idx`` is then the nearest sample)."""
         return 0.0
 
 
@@ -196,10 +199,18 @@ class Hysteresis(Effect):
     def starts(self, sc):
         return [np.array([0.02 * sc.torque_ref, f * sc.theta_ref]) for f in (0.003, 0.02, 0.08)]
 
-    def torque(self, p, sig, idx):
+    def torque(self, p, sig, idx, fraction=None):
         # after a reversal friction swings from -H to +H; from rest it rises from 0
-        return p[0] * sig.direction[idx] * (1.0 - sig.swing[idx]
-                                            * np.exp(-sig.from_reversal[idx] / p[1]))
+        away = sig.from_reversal[idx]
+        if fraction is not None:
+            # at a fractional sample position (a delayed channel): the travel since the
+            # reversal interpolated within the run, the direction of the nearest sample
+            i0 = np.minimum(fraction.astype(int), sig.n - 2)
+            same = sig.runs[i0] == sig.runs[i0 + 1]
+            w = fraction - i0
+            inter = (1.0 - w) * sig.from_reversal[i0] + w * sig.from_reversal[i0 + 1]
+            away = np.where(same, inter, away)
+        return p[0] * sig.direction[idx] * (1.0 - sig.swing[idx] * np.exp(-away / p[1]))
 
     def report(self, p, stiffness, sc):
         return {"friction_torque_Nm": float(p[0]), "presliding_rad": float(p[1])}
@@ -229,8 +240,9 @@ class TimeLag(Effect):
     def angle(self, theta, p, sig, idx):
         # shift the smooth motion only: the noise of each sample stays its own,
         # so a fractional lag cannot pose as noise averaging
-        shifted = np.interp(sig.t[idx] - p[0], sig.t, sig.theta_trace)
-        return theta + (shifted - sig.theta_trace[idx])
+        trace = sig.theta_trace
+        shifted = np.interp(sig.t[idx] - p[0], sig.t, trace)
+        return theta + (shifted - trace[idx])
 
     def report(self, p, stiffness, sc):
         return {"lag_s": float(p[0]),

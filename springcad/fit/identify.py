@@ -257,7 +257,7 @@ def protocol_signals(protocol: Protocol | SineSweep, stiffness: float) -> Signal
 def recommend_protocol(model: TorqueModel, x: np.ndarray, sig: Signals, pair: tuple[str, str],
                        vif_record: float, noise_Nm: float, tau: float,
                        limit: float) -> ProtocolAdvice | None:
-    """The candidate protocol on which the pair's VIF is lowest (if below the confounding level).
+    """The shortest candidate protocol that separates the pair (VIF below ``limit``).
 
     Args:
         model: a model holding both effects of ``pair``.
@@ -268,8 +268,10 @@ def recommend_protocol(model: TorqueModel, x: np.ndarray, sig: Signals, pair: tu
         noise_Nm: the record's torque noise (N·m), for the predicted intervals.
         tau: its correlation time (samples).
         limit: the VIF below which the pair counts as separated.
+
+    Returns:
+        The advice, with every protocol tried, or ``None`` if none separates them.
     """
-    best = None
     tried = []
     for change, protocol in candidate_protocols(sig):
         try:
@@ -279,26 +281,22 @@ def recommend_protocol(model: TorqueModel, x: np.ndarray, sig: Signals, pair: tu
         pmodel = TorqueModel(model.effects, psig.scales)
         idx = np.arange(0, psig.n, max(1, psig.n // 8000))
         J = jacobian(pmodel, x, psig, idx)
-        rho, v = pair_vif(pmodel, x, psig, idx, pair[0], pair[1], J)
-        tried.append((change, v, protocol.duration_s))
-        if best is None or v < best[0] - 1e-9 or (abs(v - best[0]) <= 1e-9
-                                                   and protocol.duration_s < best[2].duration_s):
-            stride = psig.n / idx.size
-            a = J.T @ J / stride
-            cov = noise_Nm ** 2 * tau * np.linalg.pinv(a)
-            unc = Uncertainty(cov, 10 ** 6, 10 ** 6)
-            ci = report_intervals(pmodel, x, unc)
-            keys = set()
-            for name in pair:
-                keys |= set(pmodel.effect_report(name, x))
-            half = {k: 0.5 * (ci[k]["ci_high"] - ci[k]["ci_low"]) for k in sorted(keys)}
-            best = (v, change, protocol, half)
-    if best is None or best[0] >= limit:
+        v = pair_vif(pmodel, x, psig, idx, pair[0], pair[1], J)[1]
+        tried.append((change, protocol, v, pmodel, J, psig.n / idx.size))
+    good = [c for c in tried if c[2] < limit]
+    if not good:
         return None
-    v, change, protocol, half = best
+    change, protocol, v, pmodel, J, stride = min(good, key=lambda c: (c[1].duration_s, c[2]))
+    cov = noise_Nm ** 2 * tau * np.linalg.pinv(J.T @ J / stride)
+    ci = report_intervals(pmodel, x, Uncertainty(cov, 10 ** 6, 10 ** 6))
+    keys = set()
+    for name in pair:
+        keys |= set(pmodel.effect_report(name, x))
+    half = {k: 0.5 * (ci[k]["ci_high"] - ci[k]["ci_low"]) for k in sorted(keys)}
     command = (f"springcad simulate --stiffness {float(x[0]):.4g} {protocol.cli_args()} "
                "--out planned_test.csv")
-    return ProtocolAdvice(pair, change, protocol, vif_record, v, half, command, tuple(tried))
+    return ProtocolAdvice(pair, change, protocol, vif_record, v, half, command,
+                          tuple((c[0], c[2], c[1].duration_s) for c in tried))
 
 
 # --- confounded effects of a fitted model ------------------------------------------

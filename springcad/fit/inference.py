@@ -156,6 +156,9 @@ def report_intervals(model: TorqueModel, x: np.ndarray, unc: Uncertainty,
         ``{name: {"value", "ci_low", "ci_high", "se", "at_bound"}}`` for each key of
         ``model.report(x)``; ``at_bound`` is True when a parameter the quantity
         depends on rests on its bound (the interval is then one-sided at best).
+        A quantity of one parameter has its interval clipped to what that
+        parameter's bounds allow (a friction torque or a transition is never
+        negative).
     """
     base = model.report(x)
     lo, hi = model.bounds
@@ -177,6 +180,22 @@ def report_intervals(model: TorqueModel, x: np.ndarray, unc: Uncertainty,
         se = float(math.sqrt(max(g @ unc.cov @ g, 0.0)))
         at_bound = bool(np.any(on_bound & (g != 0)))
         low, high = v - t * se, v + t * se
+        moved = np.flatnonzero(g != 0)
+        if moved.size == 1:  # a quantity of one parameter stays within its bounds
+            j = int(moved[0])
+            ends = []
+            for bound in (lo[j], hi[j]):
+                if np.isfinite(bound):
+                    xb = x.copy()
+                    xb[j] = bound
+                    ends.append(model.report(xb)[k])
+            if ends:
+                if g[j] > 0:
+                    low = max(low, ends[0]) if np.isfinite(lo[j]) else low
+                    high = min(high, ends[-1]) if np.isfinite(hi[j]) else high
+                else:
+                    high = min(high, ends[0]) if np.isfinite(lo[j]) else high
+                    low = max(low, ends[-1]) if np.isfinite(hi[j]) else low
         out[k] = {"value": float(v), "ci_low": float(low), "ci_high": float(high), "se": se,
                   "at_bound": at_bound}
     return out

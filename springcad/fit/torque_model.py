@@ -131,10 +131,8 @@ class TorqueModel:
             if e.stage == "torque" and (names is None or e.name in names):
                 if e.delayed and shift != 0.0:
                     pos = np.clip(idx - shift * sig.scales.sample_rate_hz, 0, sig.n - 1)
-                    i0 = np.minimum(pos.astype(int), sig.n - 2)
-                    w = pos - i0
-                    term = ((1.0 - w) * e.torque(parts[e.name], sig, i0)
-                            + w * e.torque(parts[e.name], sig, i0 + 1))
+                    term = e.torque(parts[e.name], sig, np.rint(pos).astype(int),
+                                    fraction=pos)
                 else:
                     term = e.torque(parts[e.name], sig, idx)
                 out = out + term

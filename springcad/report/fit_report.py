@@ -266,6 +266,9 @@ def _confounded_blocks(data: dict) -> list[tuple]:
                            f"inflation {_f(adv['vif_protocol'], 3)} (now "
                            f"{_f(adv['vif_record'], 3)}); predicted 95 % half-widths with this "
                            f"record's noise: {ci}. Write it with `{adv['command']}`."))
+            b.append(("table", ["protocol tried", "variance inflation", "duration (s)"],
+                      [[a["change"], _f(a["vif"], 3), _f(a["duration_s"], 3)]
+                       for a in adv["alternatives"]]))
     return b
 
 
