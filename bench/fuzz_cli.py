@@ -34,6 +34,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import tomllib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -66,11 +67,18 @@ def run_case(case: dict) -> dict:
         before = set(p.name for p in work.iterdir())
         env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
         t0 = time.perf_counter()
+        proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                                text=True, env=env, cwd=work, errors="replace")
         try:
-            proc = subprocess.run(argv, capture_output=True, text=True, timeout=LIMIT_S, env=env,
-                                  cwd=work, errors="replace")
-            rc, err = proc.returncode, proc.stderr
-        except subprocess.TimeoutExpired:
+            _, err = proc.communicate(timeout=LIMIT_S)
+            rc = proc.returncode
+        except subprocess.TimeoutExpired:  # stop it as a user would: SIGTERM, then wait
+            proc.terminate()
+            try:
+                proc.communicate(timeout=30)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.communicate()
             rc, err = None, "TIMEOUT"
         dt = time.perf_counter() - t0
         verdict = []
@@ -101,6 +109,21 @@ def run_case(case: dict) -> dict:
                 "stderr_tail": err.strip().splitlines()[-3:] if err.strip() else []}
     finally:
         shutil.rmtree(work, ignore_errors=True)
+
+
+def designable(data: bytes) -> bool:
+    """Does ``springcad design`` accept this config (in-process, quick)?"""
+    from springcad.config import job_from_dict
+    from springcad.design.job import design_job
+    from springcad.errors import SpringcadError
+
+    try:
+        design_job(job_from_dict(tomllib.loads(data.decode())))
+        return True
+    except (SpringcadError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
+        return False
+    except Exception:  # noqa: BLE001 - a crash is worth fuzzing further
+        return True
 
 
 def clean_csv() -> str:
@@ -154,11 +177,19 @@ def main(argv=None) -> int:
     ap.add_argument("--command", default="design", help="subcommand (and flags) for the configs")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--json", type=Path, help="write every case result here")
+    ap.add_argument("--limit-s", type=float, default=LIMIT_S, help="time limit per case (s)")
+    ap.add_argument("--designable", action="store_true",
+                    help="keep only configs that `design` accepts (to exercise build/verify)")
     args = ap.parse_args(argv)
+    globals()["LIMIT_S"] = args.limit_s
     rng = random.Random(args.seed)
     cases = []
-    for i in range(args.configs):
+    tries = 0
+    while len(cases) < args.configs and tries < 100 * max(args.configs, 1):
+        tries += 1
         fam, data = mutate_config(rng)
+        if args.designable and not designable(data):
+            continue
         cases.append({"input_name": "job.toml", "data": data, "family": fam,
                       "command": args.command})
     if args.csvs:
