@@ -9,6 +9,9 @@ Rooms
     :mod:`fea.convergence` Richardson extrapolation, stated discretisation error
     :mod:`fea.calculix`    the identical model solved by CalculiX
     :mod:`fea.verify`      verification, correction loop, stacks (``verify_job``)
+    :mod:`fea.contact`     cam-flexure contact sweep to +-theta_max (flags, torque-angle curve)
+    :mod:`fea.contact_solver`  rigid-cam contact: closest points, Newton + exact complementarity
+    :mod:`fea.nonlinear`   total Lagrangian (large-rotation) elasticity for the contact sweep
 
 Choices (and the measurements behind them; paper springs S1/S2, 2-core machine)
     - Quadratic elements only (linear tets lock). The default model solves the

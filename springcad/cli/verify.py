@@ -2,7 +2,10 @@
 
 Writes ``DIR/fea.json`` (the :meth:`fea.verify.JobVerification.to_dict`
 document), per spring a 3D and a 2D ``.vtu`` of the sector at maximum
-deflection (displacement, von Mises) and PNG renders of the von Mises field.
+deflection (displacement, von Mises), PNG renders of the von Mises field and
+``<spring>_contact.png`` (the cam contact sweep: torque-angle curve, stiffness,
+deformed contact at +-max deflection; its flags are printed, they do not change
+the exit status).
 Exit status: 0 verified, 1 a spring or the stack fails its stiffness target or
 stress limit (the report is still written), 2 bad input or a mesher/solver
 failure (one message naming the spring; nothing written).
