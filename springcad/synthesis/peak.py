@@ -78,12 +78,13 @@ def web_floor_mm(width_mm, min_web_mm: float):
     return 0.5 * (width_mm + web + np.sqrt((width_mm - web) ** 2 + (0.1 * web) ** 2))
 
 
-def _edge(x, y, slope, w, side):
-    """Points of one flexure edge and its unit normal towards the void (rows x stations x 2)."""
+def _edge(x, y, slope, w, side, along=U):
+    """Points of one flexure edge and its unit normal towards the void (rows x stations,
+    x and y each); ``along``: the parameter of the stations (only its direction matters)."""
     norm = np.sqrt(1.0 + slope ** 2)
     px = x + side * 0.5 * w / norm
     py = y - side * 0.5 * w * slope / norm
-    tx, ty = np.gradient(px, U, axis=1), np.gradient(py, U, axis=1)
+    tx, ty = np.gradient(px, along, axis=1), np.gradient(py, along, axis=1)
     t = np.hypot(tx, ty)
     return px, py, side * ty / t, -side * tx / t
 
@@ -134,6 +135,35 @@ def _scale_onto(scale, factor, compliance, passes, g):
     return scale
 
 
+def _widths(y, scale, flare, g):
+    """Flexure widths at stations ``y`` (rows x k, mm) with a width scale and root flare."""
+    arm = np.maximum(y - g["rc"], 0.0)
+    yn = (y - (g["rr"] - g["flare_len"])) / g["flare_len"]
+    return web_floor_mm(scale * np.sqrt(g["coef"] * arm) * fx.root_flare_factor(yn, 1.0, flare, 1.0),
+                        g["web"])
+
+
+_FINE = np.linspace(0.0, 1.0, 33)
+
+
+def _neck_nominal(j, side, scale, g):
+    """Nominal stress (MPa) where the neck fillet meets one edge, found between stations
+    j and j + 1 on 33 points (the centreline interpolated, the widths exact)."""
+    rows = np.arange(len(j))
+
+    def between(a):
+        return a[rows, j][:, None] + _FINE * (a[rows, j + 1] - a[rows, j])[:, None]
+
+    y = between(g["y"])
+    w = _widths(y, scale, g["flare"], g)
+    px, py, nx, ny = _edge(between(g["x"]), y, between(g["slope"]), w, side, _FINE)
+    rn, rb, rc = g["rn"], g["rb"], g["rc"]
+    k, frac = _neck_station(np.hypot(px + rn * nx, py + rn * ny - rc) - (rb + rn))
+    y_n = _interp(y, k, frac)[:, None]
+    w_n = _widths(y_n, scale, g["flare"], g)
+    return (6.0 * g["load"] * (y_n - rc) / (g["z"] * w_n ** 2))[:, 0]
+
+
 def _one_flare(flare, g, cal):
     """Flank, root and neck peaks (MPa) of one root flare at the design's load, its
     flexure area (mm^2), width scale, compliance (mm/N), whether the stress model could
@@ -143,6 +173,7 @@ def _one_flare(flare, g, cal):
     :func:`springcad.design.spring.with_width` and the ring profile check)."""
     x, y, slope, kappa, arm, yn = (g[k] for k in ("x", "y", "slope", "kappa", "arm", "yn"))
     factor = fx.root_flare_factor(yn, 1.0, flare, 1.0)
+    g["flare"] = flare
     scale = _scale_onto(g["scale0"], factor, g["c_target"], _FLARE_PASSES, g)
     compliance, w = _compliance(scale, factor, g)
     nominal = 6.0 * g["load"] * arm / (g["z"] * w ** 2)
@@ -170,10 +201,12 @@ def _one_flare(flare, g, cal):
         r_edge = (nom_t * cal.root_coefficient * (w_t / rf) ** cal.root_width_exponent
                   * np.maximum(k_root, 1e-9) ** cal.root_curvature_exponent)
         f_edge = np.maximum(np.max(np.where(past, 0.0, edge), axis=1), edge_t)
-        # neck fillet: tangent to the edge and to the tip ball
-        jn, fn = _neck_station(np.hypot(px + rn[:, None] * nx, py + rn[:, None] * ny - rc[:, None])
-                               - (rb + rn)[:, None])
-        n_edge = _interp(nominal, jn, fn)
+        # neck fillet: tangent to the edge and to the tip ball; bracketed on the stations,
+        # then solved on a fine grid inside the bracket (the width grows like the square
+        # root of the arm there: a straight-line interpolation misses the nominal by 1 %)
+        jn, _ = _neck_station(np.hypot(px + rn[:, None] * nx, py + rn[:, None] * ny - rc[:, None])
+                              - (rb + rn)[:, None])
+        n_edge = _neck_nominal(jn, side, scale, g)
         flank, root, neck = np.maximum(flank, f_edge), np.maximum(root, r_edge), np.maximum(neck, n_edge)
     # flexure outside the tip ball, plus the two root fillets (a right-angle corner each)
     area = trapz_rows(np.where(arm > g["rb"], w, 0.0) * g["ds"], y) + 2 * (1 - np.pi / 4) * rf ** 2
@@ -235,6 +268,7 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
         flare_len = 2.0 * (col(ro) - col(rr))
         g = {"x": x[b], "y": yb, "slope": slope[b], "kappa": kappa[b], "arm": arm,
              "w_law": np.sqrt(col(width_coef) * arm), "ds": np.sqrt(1.0 + slope[b] ** 2),
+             "coef": col(width_coef), "flare_len": flare_len,
              "yn": (yb - (col(rr) - flare_len)) / flare_len, "web": manufacturing.min_web_mm,
              "min_slot": manufacturing.min_slot_width_mm,
              "min_edge": manufacturing.min_inside_radius_mm,
