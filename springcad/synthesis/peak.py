@@ -121,9 +121,10 @@ def _neck_station(h):
 
 
 def _compliance(scale, factor, g):
-    """Tip compliance of one flexure by Castigliano (mm/N) and its widths (mm)."""
+    """Tip compliance of one flexure by Castigliano (mm/N) and its widths (mm):
+    integral 12 (y - r_c)^2 / (E z w^3) ds by the trapezoid rule (weights precomputed)."""
     w = web_floor_mm(scale * g["w_law"] * factor, g["web"])
-    return trapz_rows(12.0 * g["arm"] ** 2 / (g["E"] * g["z"] * w ** 3) * g["ds"], g["y"]), w
+    return np.sum(g["castigliano"] / w ** 3, axis=1), w
 
 
 def _scale_onto(scale, factor, compliance, passes, g):
@@ -177,14 +178,19 @@ def _one_flare(flare, g, cal):
     scale = _scale_onto(g["scale0"], factor, g["c_target"], _FLARE_PASSES, g)
     compliance, w = _compliance(scale, factor, g)
     nominal = 6.0 * g["load"] * arm / (g["z"] * w ** 2)
-    inner, outer = winkler_factors(w, kappa)
-    bends_right = kappa > 0
     rc, rr, rf, rn, rb = (g[k][:, 0] for k in ("rc", "rr", "rf", "rn", "rb"))
     flank = root = neck = np.zeros(len(y))
     ok = np.ones(len(y), dtype=bool)
     rim_angle = {}
-    for side, k_edge in ((+1, np.where(bends_right, inner, outer)),
-                         (-1, np.where(bends_right, outer, inner))):
+    if g["straight"]:
+        # a block of straight flexures: no curvature, both edges mirror images
+        sides = ((+1, np.ones_like(w)),)
+    else:
+        inner, outer = winkler_factors(w, kappa)
+        bends_right = kappa > 0
+        sides = ((+1, np.where(bends_right, inner, outer)),
+                 (-1, np.where(bends_right, outer, inner)))
+    for side, k_edge in sides:
         edge = nominal * k_edge
         px, py, nx, ny = _edge(x, y, slope, w, side)
         # root fillet: centre at distance R_r - r_f from the disk centre
@@ -211,7 +217,7 @@ def _one_flare(flare, g, cal):
     # flexure outside the tip ball, plus the two root fillets (a right-angle corner each)
     area = trapz_rows(np.where(arm > g["rb"], w, 0.0) * g["ds"], y) + 2 * (1 - np.pi / 4) * rf ** 2
     # the next flexure's right fillet must start on the rim after this one's left ends
-    buildable = rim_angle[+1] + g["pitch"] > rim_angle[-1]
+    buildable = rim_angle[+1] + g["pitch"] > rim_angle.get(-1, np.pi - rim_angle[+1])
     curved = np.any(kappa != 0, axis=1)
     if np.any(curved):
         # concave edge radius 1/|kappa| - w/2, and the gap to the neighbour above the tip
@@ -259,6 +265,14 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
     cols["region"] = np.zeros(m, dtype=np.int64)
     cols["ok"] = np.zeros(m, dtype=bool)
     flares = np.array(ROOT_FLARES)
+    # straight flexures first, so that most blocks take the straight path of _one_flare
+    curved = np.any(kappa != 0, axis=1) | np.any(x != 0, axis=1)
+    perm = np.argsort(curved, kind="stable")
+    x, y, slope, kappa = (np.asarray(v)[perm] for v in (x, y, slope, kappa))
+    curved = curved[perm]
+    rc, rr, ro, n, load, z, E, K, width_coef, rb, root_fillet_mm, neck_fillet_mm = (
+        np.broadcast_to(np.asarray(v, dtype=float), (m,))[perm]
+        for v in (rc, rr, ro, n, load, z, E, K, width_coef, rb, root_fillet_mm, neck_fillet_mm))
     for b in blocks(m):
         def col(v):
             return np.asarray(v, dtype=float)[b][:, None]
@@ -274,7 +288,11 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
              "min_edge": manufacturing.min_inside_radius_mm,
              "pitch": 2 * np.pi / np.asarray(n, dtype=float)[b],
              "E": col(E), "z": col(z), "rc": col(rc), "rr": col(rr),
-             "rf": col(root_fillet_mm), "rn": col(neck_fillet_mm), "rb": col(rb)}
+             "rf": col(root_fillet_mm), "rn": col(neck_fillet_mm), "rb": col(rb),
+             "straight": not np.any(curved[b])}
+        step = np.diff(yb, axis=1)
+        weights = 0.5 * (np.pad(step, ((0, 0), (1, 0))) + np.pad(step, ((0, 0), (0, 1))))
+        g["castigliano"] = 12.0 * arm ** 2 / (g["E"] * g["z"]) * g["ds"] * weights
         # the design: widths scaled onto K without a flare, then each flare rescaled onto
         # that flexure's stiffness and its peak predicted at the matching load
         no_flare = np.ones_like(yb)
@@ -309,4 +327,5 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
         cols["flare"][b] = flares[pick]
         cols["region"][b] = np.argmax(np.column_stack(
             [cols["flank_MPa"][b], cols["root_MPa"][b], cols["neck_MPa"][b]]), axis=1)
-    return cols
+    back = np.argsort(perm)
+    return {k: v[back] for k, v in cols.items()}
