@@ -49,7 +49,8 @@ def register(sub):
     p.add_argument("--contact-radius-mm", type=float, nargs="+", default=list(g.contact_radius_mm))
     p.add_argument("--material", default=g.material, help="built-in material (default 420_ht)")
     p.add_argument("--stress-concentration", type=float, default=g.stress_concentration,
-                   help="design stress = yield / this (default 1344/912: the paper's 912 MPa)")
+                   help="first beam stress = yield / this (default 1344/912: the paper's 912 "
+                        "MPa); lowered where the predicted peak would exceed the yield")
     add_dask_options(p)
     p.set_defaults(func=run)
 

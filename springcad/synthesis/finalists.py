@@ -107,8 +107,8 @@ def design_candidate(req, cand: dict):
 
 #: failure classes of a finalist, by a phrase of the design's message (first match wins)
 FAILURE_CLASSES = (("yield margin", "yield_margin"), ("fatigue margin", "fatigue_margin"),
-                   ("neighbour", "neighbour_clearance"), ("edge radius", "concave_edge_radius"),
-                   ("rim holes", "rim_holes"), ("fillet", "fillet"), ("cam", "cam"),
+                   ("fillet", "fillet"), ("neighbour", "neighbour_clearance"),
+                   ("edge radius", "concave_edge_radius"), ("rim holes", "rim_holes"), ("cam", "cam"),
                    ("stack height", "axial_length"), ("envelope radius", "envelope_radius"),
                    ("stiffness", "stiffness"), ("deflection", "deflection"))
 

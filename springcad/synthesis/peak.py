@@ -78,12 +78,13 @@ def web_floor_mm(width_mm, min_web_mm: float):
     return 0.5 * (width_mm + web + np.sqrt((width_mm - web) ** 2 + (0.1 * web) ** 2))
 
 
-def _edge(x, y, slope, w, side):
-    """Points of one flexure edge and its unit normal towards the void (rows x stations x 2)."""
+def _edge(x, y, slope, w, side, along=U):
+    """Points of one flexure edge and its unit normal towards the void (rows x stations,
+    x and y each); ``along``: the parameter of the stations (only its direction matters)."""
     norm = np.sqrt(1.0 + slope ** 2)
     px = x + side * 0.5 * w / norm
     py = y - side * 0.5 * w * slope / norm
-    tx, ty = np.gradient(px, U, axis=1), np.gradient(py, U, axis=1)
+    tx, ty = np.gradient(px, along, axis=1), np.gradient(py, along, axis=1)
     t = np.hypot(tx, ty)
     return px, py, side * ty / t, -side * tx / t
 
@@ -120,9 +121,10 @@ def _neck_station(h):
 
 
 def _compliance(scale, factor, g):
-    """Tip compliance of one flexure by Castigliano (mm/N) and its widths (mm)."""
+    """Tip compliance of one flexure by Castigliano (mm/N) and its widths (mm):
+    integral 12 (y - r_c)^2 / (E z w^3) ds by the trapezoid rule (weights precomputed)."""
     w = web_floor_mm(scale * g["w_law"] * factor, g["web"])
-    return trapz_rows(12.0 * g["arm"] ** 2 / (g["E"] * g["z"] * w ** 3) * g["ds"], g["y"]), w
+    return np.sum(g["castigliano"] / w ** 3, axis=1), w
 
 
 def _scale_onto(scale, factor, compliance, passes, g):
@@ -134,6 +136,35 @@ def _scale_onto(scale, factor, compliance, passes, g):
     return scale
 
 
+def _widths(y, scale, flare, g):
+    """Flexure widths at stations ``y`` (rows x k, mm) with a width scale and root flare."""
+    arm = np.maximum(y - g["rc"], 0.0)
+    yn = (y - (g["rr"] - g["flare_len"])) / g["flare_len"]
+    return web_floor_mm(scale * np.sqrt(g["coef"] * arm) * fx.root_flare_factor(yn, 1.0, flare, 1.0),
+                        g["web"])
+
+
+_FINE = np.linspace(0.0, 1.0, 33)
+
+
+def _neck_nominal(j, side, scale, g):
+    """Nominal stress (MPa) where the neck fillet meets one edge, found between stations
+    j and j + 1 on 33 points (the centreline interpolated, the widths exact)."""
+    rows = np.arange(len(j))
+
+    def between(a):
+        return a[rows, j][:, None] + _FINE * (a[rows, j + 1] - a[rows, j])[:, None]
+
+    y = between(g["y"])
+    w = _widths(y, scale, g["flare"], g)
+    px, py, nx, ny = _edge(between(g["x"]), y, between(g["slope"]), w, side, _FINE)
+    rn, rb, rc = g["rn"], g["rb"], g["rc"]
+    k, frac = _neck_station(np.hypot(px + rn * nx, py + rn * ny - rc) - (rb + rn))
+    y_n = _interp(y, k, frac)[:, None]
+    w_n = _widths(y_n, scale, g["flare"], g)
+    return (6.0 * g["load"] * (y_n - rc) / (g["z"] * w_n ** 2))[:, 0]
+
+
 def _one_flare(flare, g, cal):
     """Flank, root and neck peaks (MPa) of one root flare at the design's load, its
     flexure area (mm^2), width scale, compliance (mm/N), whether the stress model could
@@ -143,17 +174,23 @@ def _one_flare(flare, g, cal):
     :func:`springcad.design.spring.with_width` and the ring profile check)."""
     x, y, slope, kappa, arm, yn = (g[k] for k in ("x", "y", "slope", "kappa", "arm", "yn"))
     factor = fx.root_flare_factor(yn, 1.0, flare, 1.0)
+    g["flare"] = flare
     scale = _scale_onto(g["scale0"], factor, g["c_target"], _FLARE_PASSES, g)
     compliance, w = _compliance(scale, factor, g)
     nominal = 6.0 * g["load"] * arm / (g["z"] * w ** 2)
-    inner, outer = winkler_factors(w, kappa)
-    bends_right = kappa > 0
     rc, rr, rf, rn, rb = (g[k][:, 0] for k in ("rc", "rr", "rf", "rn", "rb"))
     flank = root = neck = np.zeros(len(y))
     ok = np.ones(len(y), dtype=bool)
     rim_angle = {}
-    for side, k_edge in ((+1, np.where(bends_right, inner, outer)),
-                         (-1, np.where(bends_right, outer, inner))):
+    if g["straight"]:
+        # a block of straight flexures: no curvature, both edges mirror images
+        sides = ((+1, np.ones_like(w)),)
+    else:
+        inner, outer = winkler_factors(w, kappa)
+        bends_right = kappa > 0
+        sides = ((+1, np.where(bends_right, inner, outer)),
+                 (-1, np.where(bends_right, outer, inner)))
+    for side, k_edge in sides:
         edge = nominal * k_edge
         px, py, nx, ny = _edge(x, y, slope, w, side)
         # root fillet: centre at distance R_r - r_f from the disk centre
@@ -170,15 +207,17 @@ def _one_flare(flare, g, cal):
         r_edge = (nom_t * cal.root_coefficient * (w_t / rf) ** cal.root_width_exponent
                   * np.maximum(k_root, 1e-9) ** cal.root_curvature_exponent)
         f_edge = np.maximum(np.max(np.where(past, 0.0, edge), axis=1), edge_t)
-        # neck fillet: tangent to the edge and to the tip ball
-        jn, fn = _neck_station(np.hypot(px + rn[:, None] * nx, py + rn[:, None] * ny - rc[:, None])
-                               - (rb + rn)[:, None])
-        n_edge = _interp(nominal, jn, fn)
+        # neck fillet: tangent to the edge and to the tip ball; bracketed on the stations,
+        # then solved on a fine grid inside the bracket (the width grows like the square
+        # root of the arm there: a straight-line interpolation misses the nominal by 1 %)
+        jn, _ = _neck_station(np.hypot(px + rn[:, None] * nx, py + rn[:, None] * ny - rc[:, None])
+                              - (rb + rn)[:, None])
+        n_edge = _neck_nominal(jn, side, scale, g)
         flank, root, neck = np.maximum(flank, f_edge), np.maximum(root, r_edge), np.maximum(neck, n_edge)
     # flexure outside the tip ball, plus the two root fillets (a right-angle corner each)
     area = trapz_rows(np.where(arm > g["rb"], w, 0.0) * g["ds"], y) + 2 * (1 - np.pi / 4) * rf ** 2
     # the next flexure's right fillet must start on the rim after this one's left ends
-    buildable = rim_angle[+1] + g["pitch"] > rim_angle[-1]
+    buildable = rim_angle[+1] + g["pitch"] > rim_angle.get(-1, np.pi - rim_angle[+1])
     curved = np.any(kappa != 0, axis=1)
     if np.any(curved):
         # concave edge radius 1/|kappa| - w/2, and the gap to the neighbour above the tip
@@ -226,6 +265,14 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
     cols["region"] = np.zeros(m, dtype=np.int64)
     cols["ok"] = np.zeros(m, dtype=bool)
     flares = np.array(ROOT_FLARES)
+    # straight flexures first, so that most blocks take the straight path of _one_flare
+    curved = np.any(kappa != 0, axis=1) | np.any(x != 0, axis=1)
+    perm = np.argsort(curved, kind="stable")
+    x, y, slope, kappa = (np.asarray(v)[perm] for v in (x, y, slope, kappa))
+    curved = curved[perm]
+    rc, rr, ro, n, load, z, E, K, width_coef, rb, root_fillet_mm, neck_fillet_mm = (
+        np.broadcast_to(np.asarray(v, dtype=float), (m,))[perm]
+        for v in (rc, rr, ro, n, load, z, E, K, width_coef, rb, root_fillet_mm, neck_fillet_mm))
     for b in blocks(m):
         def col(v):
             return np.asarray(v, dtype=float)[b][:, None]
@@ -235,12 +282,17 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
         flare_len = 2.0 * (col(ro) - col(rr))
         g = {"x": x[b], "y": yb, "slope": slope[b], "kappa": kappa[b], "arm": arm,
              "w_law": np.sqrt(col(width_coef) * arm), "ds": np.sqrt(1.0 + slope[b] ** 2),
+             "coef": col(width_coef), "flare_len": flare_len,
              "yn": (yb - (col(rr) - flare_len)) / flare_len, "web": manufacturing.min_web_mm,
              "min_slot": manufacturing.min_slot_width_mm,
              "min_edge": manufacturing.min_inside_radius_mm,
              "pitch": 2 * np.pi / np.asarray(n, dtype=float)[b],
              "E": col(E), "z": col(z), "rc": col(rc), "rr": col(rr),
-             "rf": col(root_fillet_mm), "rn": col(neck_fillet_mm), "rb": col(rb)}
+             "rf": col(root_fillet_mm), "rn": col(neck_fillet_mm), "rb": col(rb),
+             "straight": not np.any(curved[b])}
+        step = np.diff(yb, axis=1)
+        weights = 0.5 * (np.pad(step, ((0, 0), (1, 0))) + np.pad(step, ((0, 0), (0, 1))))
+        g["castigliano"] = 12.0 * arm ** 2 / (g["E"] * g["z"]) * g["ds"] * weights
         # the design: widths scaled onto K without a flare, then each flare rescaled onto
         # that flexure's stiffness and its peak predicted at the matching load
         no_flare = np.ones_like(yb)
@@ -275,4 +327,5 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
         cols["flare"][b] = flares[pick]
         cols["region"][b] = np.argmax(np.column_stack(
             [cols["flank_MPa"][b], cols["root_MPa"][b], cols["neck_MPa"][b]]), axis=1)
-    return cols
+    back = np.argsort(perm)
+    return {k: v[back] for k, v in cols.items()}
