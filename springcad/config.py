@@ -210,7 +210,8 @@ def _angle(table: dict, stem: str, prefix: str, required=True) -> float | None:
 def _material(table: dict) -> MaterialSpec:
     p = "material"
     allowed = {"name", "youngs_modulus_GPa", "poisson_ratio", "yield_strength_MPa",
-               "density_kg_per_m3", "heat_treatment", "design_stress_MPa", "safety_factor"}
+               "density_kg_per_m3", "heat_treatment", "hardness", "heat_treatment_sequence",
+               "design_stress_MPa", "safety_factor"}
     _check_keys(table, p, allowed)
     name = table.get("name", DEFAULT_MATERIAL)
     known = material_table()
@@ -235,6 +236,11 @@ def _material(table: dict) -> MaterialSpec:
         over["density_kg_per_m3"] = _number(table, "density_kg_per_m3", p)
     if "heat_treatment" in table:
         over["heat_treatment"] = str(table["heat_treatment"])
+        # another heat treatment: the table's hardness no longer applies unless restated
+        over["hardness"] = ""
+    for key in ("hardness", "heat_treatment_sequence"):
+        if key in table:
+            over[key] = str(table[key])
     mat = Material(**{**asdict(base), **over})
     sf = _number(table, "safety_factor", p, lo=1.0) if "safety_factor" in table else None
     if "design_stress_MPa" in table:
