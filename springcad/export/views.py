@@ -181,6 +181,15 @@ def dim_profile(sheet: Sheet, view: View, profile: Profile, part, skip_outer: bo
 
 
 # ------------------------------------------------------------------ side view
+def _bore_extent(region: Profile) -> tuple[float, float] | None:
+    """x extent (mm) of the hole loop around the axis (a bore or socket), or None."""
+    for loop in region.holes:
+        p = loop.sample(0.05)
+        if p[:, 0].min() < 0 < p[:, 0].max() and p[:, 1].min() < 0 < p[:, 1].max():
+            return (round(float(p[:, 0].min()), 6), round(float(p[:, 0].max()), 6))
+    return None
+
+
 def z_levels(part) -> list[float]:
     return sorted({round(z, 6) for s in part.slabs for z in (s.z0_mm, s.z1_mm)})
 
@@ -199,17 +208,30 @@ def side_view(sheet: Sheet, x_axis: float, y_top: float, scale: float, part) -> 
     def xs(x):
         return x_axis + x * scale
 
-    half_widths = []
-    for sl in part.slabs:
-        x0, _, x1, _ = bbox(sl.region)
-        half_widths.append(max(abs(x0), abs(x1)))
-        ya, yb = ys(sl.z1_mm), ys(sl.z0_mm)
-        sheet.rect(xs(x0), ya, (x1 - x0) * scale, yb - ya, lw=THICK)
-        for loop in sl.region.holes:
-            p = loop.sample(0.05)
-            if p[:, 0].min() < 0 < p[:, 0].max() and p[:, 1].min() < 0 < p[:, 1].max():
-                for x in (p[:, 0].min(), p[:, 0].max()):  # a bore: hidden lines
-                    sheet.polyline([(xs(x), ya), (xs(x), yb)], style="--")
+    slabs = sorted(part.slabs, key=lambda s: s.z0_mm)
+    extents = [bbox(s.region)[::2] for s in slabs]  # (x min, x max) of each slab
+    bores = [_bore_extent(s.region) for s in slabs]
+    half_widths = [max(abs(a), abs(b)) for a, b in extents]
+    for k, (sl, (x0, x1)) in enumerate(zip(slabs, extents)):
+        ya, yb = ys(sl.z0_mm), ys(sl.z1_mm)
+        for x in (x0, x1):  # outline sides
+            sheet.polyline([(xs(x), ya), (xs(x), yb)], lw=THICK)
+        if bores[k]:  # a bore or socket: hidden lines, and its blind end
+            for x in bores[k]:
+                sheet.polyline([(xs(x), ya), (xs(x), yb)], style="--")
+            for j, z in ((k - 1, sl.z0_mm), (k + 1, sl.z1_mm)):
+                if 0 <= j < len(slabs) and bores[j] != bores[k]:
+                    sheet.polyline([(xs(bores[k][0]), ys(z)), (xs(bores[k][1]), ys(z))],
+                                   style="--")
+    # outline across the axis: the two ends, and the steps where the width changes
+    sheet.polyline([(xs(extents[0][0]), ys(slabs[0].z0_mm)),
+                    (xs(extents[0][1]), ys(slabs[0].z0_mm))], lw=THICK)
+    sheet.polyline([(xs(extents[-1][0]), ys(slabs[-1].z1_mm)),
+                    (xs(extents[-1][1]), ys(slabs[-1].z1_mm))], lw=THICK)
+    for (a0, a1), (b0, b1), sl in zip(extents, extents[1:], slabs[1:]):
+        for u, v in ((a0, b0), (a1, b1)):
+            if abs(u - v) > 1e-9:
+                sheet.polyline([(xs(u), ys(sl.z0_mm)), (xs(v), ys(sl.z0_mm))], lw=THICK)
     bottom, top = ys(levels[-1]), ys(levels[0])
     sheet.polyline([(x_axis, bottom - 3.0), (x_axis, top + 3.0)], style="-.")
     # length chain: overall, then every step but the first (a tree over the z levels)
@@ -255,14 +277,19 @@ def mark_detail(sheet: Sheet, view: View, centre, radius: float, letter: str) ->
                                                    135, -135, 180))
 
 
+def _room() -> tuple[float, float]:
+    """Top and bottom (sheet mm) between which the main and side views go."""
+    return LEFT_ZONE[3] - CALLOUT_MARGIN + 12.0, LEFT_ZONE[1] + 10.0
+
+
 def choose_scale(width_mm: float, height_mm: float, length_mm: float) -> float:
     """Largest standard scale at which the main view (width x height) and the side view
     (width x length) below it fit the left zone with room for their dimensions."""
     x0, y0, x1, y1 = LEFT_ZONE
     for s in SCALES:
         w = width_mm * s + 2 * CALLOUT_MARGIN
-        h = (height_mm + length_mm) * s + VIEW_GAP + CALLOUT_MARGIN + 14.0
-        if w <= x1 - x0 and h <= y1 - y0:
+        h = (height_mm + length_mm) * s + VIEW_GAP
+        if w <= x1 - x0 and h <= _room()[0] - _room()[1]:
             return s
     return SCALES[-1]
 
@@ -284,7 +311,7 @@ def main_and_side(sheet: Sheet, part, profile: Profile) -> tuple[View, float]:
     s = choose_scale_of(part)
     zx0, zy0, zx1, zy1 = LEFT_ZONE
     block = (y1 - y0 + hi - lo) * s + VIEW_GAP
-    room_top, room_bottom = zy1 - CALLOUT_MARGIN + 12.0, zy0 + 12.0
+    room_top, room_bottom = _room()
     top = room_top - 0.5 * max(0.0, (room_top - room_bottom) - block)
     view = View((0.5 * (zx0 + zx1) - 0.5 * (x0 + x1) * s, top - y1 * s), s)
     draw_profile(sheet, view, profile)
@@ -363,7 +390,7 @@ def _view_b(sheet: Sheet, part, region: Profile, box, scale: float, skip_bore: b
     """View B: the part seen from -z (from behind: x mirrored), with its own dimensions."""
     x0, y0, x1, y1 = bbox(region)
     bx0, by0, bx1, by1 = box
-    s = min(scale, fit_scale(max(x1 - x0, y1 - y0), min(bx1 - bx0, by1 - by0) - 2 * 24.0))
+    s = min(scale, fit_scale(max(x1 - x0, y1 - y0), min(bx1 - bx0, by1 - by0 - 14.0) - 2 * 10.0))
     centre = np.array([0.5 * (bx0 + bx1), 0.5 * (by0 + by1) + 4.0])
     v = View(centre, s, mirror_x=True)
     draw_profile(sheet, v, region)

@@ -37,6 +37,10 @@ def family(kind: str):
     return register
 
 
+#: when a turned steel part is heat treated (drawing notes, part identity)
+TURNED_HEAT_TREATMENT_SEQUENCE = "after rough turning, before grinding the fits"
+
+
 def _r(x: float) -> float:
     return round(float(x), 6)
 
@@ -89,6 +93,9 @@ class BuildContext:
         #: hardness and heat-treatment sequence of the steel parts (drawings, part identity)
         self.steel_spec = {"hardness": mat.hardness,
                            "heat_treatment_sequence": mat.heat_treatment_sequence}
+        #: turned steel parts: hardened after rough turning, fits ground afterwards
+        self.turned_spec = {"hardness": mat.hardness,
+                            "heat_treatment_sequence": TURNED_HEAT_TREATMENT_SEQUENCE}
         #: callout of the rim holes, the same on every part they pass
         self.hole_fits = hole_fits(springs[0].hardware)
         self.cache = cache
@@ -173,7 +180,7 @@ def _alignment_shaft(ctx: BuildContext, comp: Component) -> None:
     r = 0.5 * comp.plan.diameter_mm
     part = ctx.shaped(comp, lambda pn: AlignmentShaft(
         pn, 0.0, r, comp.length_mm, ctx.steel, heat_treatment=ctx.heat_treatment,
-        **ctx.steel_spec),
+        **ctx.turned_spec),
         "ALIGNMENT-SHAFT")
     ctx.place(comp.name, part, comp, Placement(comp.z_mm))
 
@@ -181,7 +188,7 @@ def _alignment_shaft(ctx: BuildContext, comp: Component) -> None:
 @family(pl.TorqueShaftPlan.KIND)
 def _torque_shaft(ctx: BuildContext, comp: Component) -> None:
     part = ctx.shaped(comp, lambda pn: TorqueShaft(pn, comp.plan, comp.length_mm, ctx.steel,
-                                                   ctx.heat_treatment, **ctx.steel_spec),
+                                                   ctx.heat_treatment, **ctx.turned_spec),
                       "TORQUE-SHAFT")
     # the output shaft is the input part turned over
     flipped = comp.role == "output"
