@@ -25,6 +25,9 @@ class Material:
         density_kg_per_m3: density (kg/m^3).
         heat_treatment: as written on drawings.
         description: human-readable name.
+        hardness: the hardness to order, as written on drawings (e.g. ``"48-52 HRC"``).
+        heat_treatment_sequence: when the heat treatment happens relative to the cut
+            (``"before EDM"``: the shop cuts heat-treated stock).
     """
 
     name: str
@@ -35,6 +38,8 @@ class Material:
     heat_treatment: str = ""
     description: str = ""
     source: str = ""
+    hardness: str = ""
+    heat_treatment_sequence: str = ""
 
     @property
     def density_kg_per_mm3(self) -> float:
@@ -56,6 +61,8 @@ def material_table() -> dict[str, Material]:
             heat_treatment=row["heat_treatment"],
             description=row["description"],
             source=row["source"],
+            hardness=row["hardness"],
+            heat_treatment_sequence=row["heat_treatment_sequence"],
         )
     return out
 

@@ -27,3 +27,9 @@ def rad_to_deg(rad: float) -> float:
 
 def nmm_to_nm(torque_Nmm: float) -> float:
     return torque_Nmm / NMM_PER_NM
+
+
+def fmt_mm(value: float) -> str:
+    """A length as written on drawings and in notes: up to 3 decimals, no trailing zeros."""
+    text = f"{value:.3f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text

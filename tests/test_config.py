@@ -92,6 +92,17 @@ def test_material_defaults_and_overrides():
     assert job.material.design_stress_MPa == pytest.approx(1344 / 2.0)
 
 
+def test_hardness_follows_the_heat_treatment():
+    """The table's hardness goes with the table's heat treatment; a new treatment needs its own."""
+    d = paper_s1()
+    mat = job_from_dict(d).material.material
+    assert (mat.hardness, mat.heat_treatment_sequence) == ("48-52 HRC", "before EDM")
+    d["material"] = {"name": "420_ht", "heat_treatment": "tempered 500 C"}
+    assert job_from_dict(d).material.material.hardness == ""
+    d["material"]["hardness"] = "44-48 HRC"
+    assert job_from_dict(d).material.material.hardness == "44-48 HRC"
+
+
 def test_unreadable_file(tmp_path):
     with pytest.raises(ConfigError, match="cannot be read"):
         load_job(tmp_path / "missing.toml")

@@ -141,7 +141,8 @@ def step_exports(ctx: BuildContext) -> None:
             "release": ctx.release}
     parts = export_parts(ctx.assembly, ctx.out_tmp, info, template, progress=ctx.say)
     ctx.files = parts + export_stack(ctx.assembly, ctx.out_tmp, parts,
-                                     render=not ctx.args.no_render, progress=ctx.say)
+                                     render=not ctx.args.no_render, progress=ctx.say,
+                                     release=ctx.release)
     ctx.roundtrip = roundtrip_checks(ctx.assembly, ctx.out_tmp, ctx.files, progress=ctx.say)
     try:
         CheckReport(ctx.roundtrip).raise_if_failed()

@@ -127,6 +127,12 @@ def _material(v: dict) -> MaterialSpec:
     for key in ("poisson_ratio", "yield_strength_MPa", "density_kg_per_m3", "heat_treatment"):
         if key in v:
             over[key] = v[key]
+    if "heat_treatment" in v:
+        # another heat treatment: the table's hardness no longer applies unless restated
+        over["hardness"] = ""
+    for key in ("hardness", "heat_treatment_sequence"):
+        if key in v:
+            over[key] = str(v[key])
     mat = Material(**{**asdict(base), **over})
     sf = v.get("safety_factor")
     if "design_stress_MPa" in v:

@@ -218,6 +218,10 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
         _f("density_kg_per_m3", "kg/m^3", 500.0, 25000.0, CHOSEN, "density of the springs, "
            "camshafts and shafts"),
         _s("heat_treatment", "label", 200, CHOSEN, "as written on the drawings", lo=0),
+        _s("hardness", "label", 60, CHOSEN, "hardness to order, as written on the drawings "
+           "(e.g. \"48-52 HRC\"); cleared when heat_treatment is overridden", lo=0),
+        _s("heat_treatment_sequence", "label", 60, CHOSEN, "when the heat treatment happens "
+           "relative to the cut (e.g. \"before EDM\")", lo=0),
         _f("design_stress_MPa", "MPa", 10.0, 5000.0, CHOSEN, "stress the flexures are sized to; "
            "default yield / safety_factor; below the yield strength"),
         _f("safety_factor", "-", 1.0, 10.0, CHOSEN, "required yield / FEA peak stress (1.5 "

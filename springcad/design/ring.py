@@ -182,6 +182,15 @@ def hole_diameter_mm(hardware) -> float:
     return hardware.hole_diameter_mm
 
 
+def hole_fits(hardware) -> dict:
+    """How the rim holes are called out (every part they pass gets the same callout): a
+    dowel hole is H7 at the pin's nominal size (the m6 pin presses in); a bolt hole is a
+    plain clearance hole (:func:`hole_diameter_mm`)."""
+    if hardware.fastener == "dowel":
+        return {"holes": "H7", "hole_purpose": f"for Ø{hardware.fastener_diameter_mm:g} m6 dowels"}
+    return {"holes": "", "hole_purpose": f"clearance M{hardware.fastener_diameter_mm:g}"}
+
+
 def hole_centres_mm(n_flexures: int, count: int, radius_mm: float) -> tuple:
     """Hole centres midway between flexures, spread evenly over the N gaps."""
     out = []

@@ -8,6 +8,8 @@ Layout of the folder::
     assembly.step                  the stack (parts once, placed per instance)
     bom.csv                        bill of materials
     assembly.png                   render for reports
+    vendor.zip                     per-part STEP/DXF/PDF, BOM and README for the shop
+                                   (:mod:`springcad.export.vendor`)
 
 Units: mm.
 """
@@ -82,11 +84,13 @@ def export_parts(assembly, out_dir: Path, drawing_info: dict, template: dict | N
 
 
 def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render: bool = True,
-                 progress: Progress = no_progress) -> list[WrittenFile]:
-    """Assembly STEP, bill of materials and (optionally) the PNG render.
+                 progress: Progress = no_progress, release=None) -> list[WrittenFile]:
+    """Assembly STEP, bill of materials, (optionally) the PNG render and the vendor bundle.
 
     Args:
         progress: ``progress(message, fraction=None)``, called per file.
+        release: the build's :class:`~springcad.export.release.ReleaseStatus` for the
+            vendor bundle's README (not assessed if None).
     """
     from springcad.export.bom import write_bom
     from springcad.export.step import write_assembly_step
@@ -104,6 +108,12 @@ def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render:
 
         progress("rendering assembly.png", 0.5)
         out.append(_record(out_dir, render_png(assembly, out_dir / "assembly.png"), "png"))
+    from springcad.export.release import UNASSESSED
+    from springcad.export.vendor import write_vendor_bundle
+
+    progress("writing vendor.zip", 0.9)
+    out.append(_record(out_dir, write_vendor_bundle(assembly, out_dir, release or UNASSESSED,
+                                                    assembly.design.job.name), "vendor_zip"))
     return out
 
 

@@ -1,27 +1,38 @@
-"""Vendor drawings (SVG and PDF): the part's profile with its key dimensions, a side
-view with the thickness, a detail where features are small, notes and a title
-block filled from the title block template (``templates/drawing_title_block.toml``,
-shipped as package data).
+"""Vendor drawings (SVG and PDF) a shop can quote from.
 
-The drawing is for ordering and inspection; the shop cuts from the DXF. Every
-dimension value is written as text (see :func:`springcad.export.sheet.fmt`).
-Units: mm.
+One A3 sheet per made part: the views and their dimensions
+(:mod:`springcad.export.views`), a hole table, notes a shop needs (general
+tolerance standard, contour tolerance, material, hardness and when the heat
+treatment happens, surface finish, flatness), the release status
+(:mod:`springcad.export.release`) and a title block filled from the title
+block template (``templates/drawing_title_block.toml``, shipped as package
+data) with the first-angle projection symbol. The shop cuts from the DXF;
+the drawing is for quoting and inspection. Units: mm.
 """
 
 from __future__ import annotations
 
-import math
+import textwrap
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
 from springcad.data import data_path
 from springcad.export.release import UNASSESSED, ReleaseStatus
-from springcad.export.sheet import LABEL_FONT, NOTE_FONT, THICK, THIN, Sheet, View, fit_scale, fmt, scale_text
+from springcad.export.sheet import (FRAME_MM, LABEL_FONT, NOTE_FONT, THICK, Sheet, fmt,
+                                    scale_text)
 
 TITLE_BLOCK_NAME = "drawing_title_block.toml"
+PROCESS_TEXT = {"wire_edm": "wire EDM", "laser": "laser / waterjet / EDM", "turned": "turned",
+                "purchased": "catalogue part"}
+#: the right column (title block, notes, hole table, details): x from here to the frame
+RIGHT_X0 = 230.0
+#: highest y of any view (below the header line)
+VIEWS_TOP = 262.0
+#: notes: font size (pt), line pitch (mm), characters per line
+NOTES_FONT = 6.0
+NOTE_LINE_MM = 3.2
+NOTE_WRAP = 128
 
 
 def default_title_block() -> Path:
@@ -29,18 +40,15 @@ def default_title_block() -> Path:
     ``templates/drawing_title_block.toml``, kept so by a test); pass another path to
     :func:`load_title_block` to use your own."""
     return data_path(TITLE_BLOCK_NAME)
-#: A3 layout (sheet mm): main view (centre, box), a second view at the top right
-#: (centre, box), a side view of flat parts under the main view (centre x, base y)
-MAIN_CENTRE, MAIN_BOX = (130.0, 170.0), 180.0
-RIGHT_CENTRE, RIGHT_BOX = (325.0, 200.0), 100.0
-BELOW = (130.0, 30.0)
-PROCESS_TEXT = {"wire_edm": "wire EDM", "laser": "laser / waterjet / EDM", "turned": "turned",
-                "purchased": "catalogue part"}
 
 
 @dataclass(frozen=True)
 class DrawingInfo:
-    """What the title block needs beyond the part itself."""
+    """What the title block needs beyond the part itself.
+
+    ``release`` defaults to "not assessed": a drawing made outside ``springcad
+    build`` is NOT FOR MANUFACTURE.
+    """
 
     job: str
     quantity: int
@@ -50,18 +58,6 @@ class DrawingInfo:
     release: ReleaseStatus = UNASSESSED
 
 
-def _dim_hole_circle(sheet, v, centre, scale: float, part, start_offset: float = 0.0) -> None:
-    """Bolt circle (drawn and dimensioned) and a leader "n x diameter thru" to the first hole."""
-    if not part.hole_centres:
-        return
-    bc = math.hypot(*part.hole_centres[0])
-    sheet.circle(centre, bc * scale)
-    sheet.dim_diameter(centre, bc * scale, -35, f"Ø{fmt(2 * bc)} bolt circle")
-    h = v(part.hole_centres[0])
-    sheet.leader(h + np.array([start_offset, start_offset]), h + np.array([18.0, 14.0]),
-                 f"{len(part.hole_centres)}× Ø{fmt(part.hole_diameter)} thru")
-
-
 def load_title_block(path: Path | None = None) -> dict:
     """Read the title block template (TOML)."""
     path = Path(path) if path else default_title_block()
@@ -69,238 +65,156 @@ def load_title_block(path: Path | None = None) -> dict:
         return tomllib.load(fh)
 
 
-def _fields(part, info: DrawingInfo, scale: float) -> dict:
+def fields(part, info: DrawingInfo, scale: float, template: dict) -> dict:
+    """The values the template's ``{field}`` placeholders take."""
     p = part.info
-    tol = getattr(part, "tolerance_mm", None)
-    return {"title": p.title, "part_number": p.part_number, "material": p.material,
-            "heat_treatment": p.heat_treatment or "none", "thickness": f"{fmt(p.thickness_mm)} mm",
-            "quantity": str(info.quantity), "tolerance": f"±{fmt(tol)} mm" if tol else "-",
-            "units": "mm", "revision": info.revision, "date": info.date, "scale": scale_text(scale),
+    flat = template.get("flatness_mm", {}).get(p.kind)
+    return {"title": p.title, "part_number": p.part_number, "name": p.name,
+            "material": p.material, "heat_treatment": p.heat_treatment or "none",
+            "hardness": p.hardness or "as supplied",
+            "heat_treatment_sequence": p.heat_treatment_sequence or "before cutting",
+            "thickness": f"{fmt(p.thickness_mm)} mm", "quantity": str(info.quantity),
+            "tolerance": f"±{fmt(part.tolerance_mm)} mm", "units": "mm",
+            "revision": info.revision, "date": info.date, "scale": scale_text(scale),
             "job": info.job, "process": PROCESS_TEXT.get(p.process, p.process),
-            "drawn_by": info.drawn_by, "sheet": "1/1", "standard": p.standard or "-"}
+            "drawn_by": info.drawn_by, "sheet": "1/1", "standard": p.standard or "-",
+            "general_tolerance": template.get("block", {}).get("general_tolerance",
+                                                                "ISO 2768-mK"),
+            "flatness": fmt(flat) if flat is not None else "", "projection": ""}
 
 
-def _title_block(sheet: Sheet, template: dict, fields: dict):
+def note_lines(part, values: dict, template: dict) -> list[str]:
+    """Every note of the drawing, from the template's note lists and the part's own notes."""
+    notes = template.get("notes", {})
+    p = part.info
+    lines = list(notes.get("general", []))
+    if p.heat_treatment:
+        lines += notes.get("heat_treated", {}).get(p.process, [])
+    else:
+        lines += notes.get("not_heat_treated", [])
+    if p.cut_profile is not None:
+        lines += notes.get("cut", [])
+    lines += notes.get("process", {}).get(p.process, [])
+    if values["flatness"]:
+        lines += notes.get("flatness", [])
+    return [n.format(**values) for n in lines] + list(p.notes)
+
+
+def _projection_symbol(sheet: Sheet, x: float, y: float, h: float) -> None:
+    """ISO 5456-2 first-angle symbol in a cell (x, y) of height ``h``: truncated cone, its
+    large end beside the end view (two circles) on the right."""
+    d = 0.55 * h
+    cy = y + 0.45 * h
+    x0 = x + 2.0
+    cone = [(x0, cy - 0.25 * d), (x0 + d, cy - 0.5 * d), (x0 + d, cy + 0.5 * d),
+            (x0, cy + 0.25 * d)]
+    sheet.polyline(cone, closed=True)
+    c = (x0 + 2.0 * d, cy)
+    for r in (0.5 * d, 0.25 * d):
+        sheet.circle(c, r, style="-")
+    sheet.polyline([(x0 - 1.0, cy), (c[0] + 0.5 * d + 1.0, cy)], style="-.")
+
+
+def title_block(sheet: Sheet, template: dict, values: dict) -> tuple[float, float]:
+    """Draw the title block at the bottom right; returns (left x, top y) in sheet mm."""
     block = template["block"]
     w, h = block["width_mm"], block["row_height_mm"]
-    x0 = sheet.width - 10.0 - w
-    y = 10.0 + h * len(template["rows"]) + 6.0
-    sheet.rect(x0, 10.0, w, y - 10.0, lw=THICK)
-    sheet.text(x0 + 2, y - 3, block.get("company", ""), size=NOTE_FONT, ha="left")
-    y -= 6.0
+    x0 = sheet.width - FRAME_MM - w
+    top = FRAME_MM + h * len(template["rows"]) + 6.0
+    sheet.rect(x0, FRAME_MM, w, top - FRAME_MM, lw=THICK)
+    sheet.text(x0 + 2, top - 3, block.get("company", ""), size=NOTE_FONT, ha="left")
+    y = top - 6.0
     for row in template["rows"]:
         x = x0
         for cell in row["cells"]:
             sheet.rect(x, y - h, cell["width_mm"], h)
             sheet.text(x + 1, y - 1.8, cell["label"], size=LABEL_FONT, ha="left", color="0.35")
-            sheet.text(x + 1, y - h + 2.6, cell["value"].format(**fields), size=NOTE_FONT, ha="left")
+            if cell["value"] == "{projection}":
+                _projection_symbol(sheet, x + 0.5 * cell["width_mm"] - 6.0, y - h, h - 2.5)
+            else:
+                sheet.text(x + 1, y - h + 2.6, cell["value"].format(**values), size=NOTE_FONT,
+                           ha="left")
             x += cell["width_mm"]
         y -= h
-    return x0, 10.0 + h * len(template["rows"]) + 6.0
+    return x0, top
 
 
-def _release_box(sheet: Sheet, x0: float, y0: float, width: float, status: ReleaseStatus) -> float:
-    """The release status above the title block: RELEASED, or NOT FOR MANUFACTURE and
-    every reason. Returns the top of the box (sheet mm)."""
-    import textwrap
+def _wrap(items: list[str], width: int, bullet) -> list[str]:
+    out = []
+    for i, item in enumerate(items, 1):
+        parts = textwrap.wrap(item, width) or [""]
+        out += [f"{bullet(i)}{parts[0]}"] + [f"    {p}" for p in parts[1:]]
+    return out
 
-    lines = []
-    for r in status.reasons:
-        parts = textwrap.wrap(r, int(width / 1.25))
-        lines += [f"- {parts[0]}"] + [f"  {p}" for p in parts[1:]]
-    h = 8.0 + 3.2 * len(lines)
+
+def release_box(sheet: Sheet, x0: float, y0: float, width: float,
+                status: ReleaseStatus) -> float:
+    """The release status above the title block: RELEASED, or NOT FOR MANUFACTURE and every
+    reason. Returns the top of the box (sheet mm)."""
+    lines = _wrap(list(status.reasons), 150, lambda i: "- ")
+    h = 9.0 + 3.0 * len(lines)
     sheet.rect(x0, y0, width, h, lw=THICK)
     colour = "black" if status.released else "#c00000"
-    sheet.text(x0 + 2, y0 + h - 4.0, status.stamp, size=11, ha="left", weight="bold",
+    sheet.text(x0 + 2, y0 + h - 4.2, status.stamp, size=11, ha="left", weight="bold",
                color=colour)
-    y = y0 + h - 8.5
+    y = y0 + h - 10.0
     for line in lines:
-        sheet.text(x0 + 2, y, line, size=LABEL_FONT, ha="left")
-        y -= 3.2
+        sheet.text(x0 + 2, y, line, size=LABEL_FONT, ha="left", va="bottom")
+        y -= 3.0
     return y0 + h
 
 
-def _notes(sheet: Sheet, x0: float, y0: float, lines: list[str]):
-    import textwrap
-
-    y = y0 + 8.0
-    wrapped = []
-    for i, line in enumerate(lines, 1):
-        parts = textwrap.wrap(line, 78)
-        wrapped += [f"{i}. {parts[0]}"] + [f"    {p}" for p in parts[1:]]
+def notes_block(sheet: Sheet, x0: float, y0: float, lines: list[str]) -> float:
+    """Numbered notes, bottom at ``y0``; returns the top (sheet mm)."""
+    wrapped = _wrap(lines, NOTE_WRAP, lambda i: f"{i}. ")
+    y = y0 + 2.0
     for line in reversed(wrapped):
-        sheet.text(x0, y, line, size=NOTE_FONT, ha="left")
-        y += 4.2
-    sheet.text(x0, y + 1.0, "NOTES", size=NOTE_FONT, ha="left", weight="bold")
+        sheet.text(x0, y, line, size=NOTES_FONT, ha="left", va="bottom")
+        y += NOTE_LINE_MM
+    sheet.text(x0, y + 0.5, "NOTES", size=NOTE_FONT, ha="left", va="bottom", weight="bold")
+    return y + 5.0
 
 
-def _draw_loops(sheet: Sheet, view: View, profile, step_mm: float, lw=THICK):
-    for loop in profile.loops:
-        sheet.polyline(view(loop.sample(step_mm)), lw=lw, closed=True)
-
-
-def _draw_clipped(sheet: Sheet, view: View, profile, window, step_mm: float):
-    """Draw the loops inside a model window (xmin, ymin, xmax, ymax); a frame around it."""
-    x0, y0, x1, y1 = window
-    for loop in profile.loops:
-        p = loop.sample(step_mm)
-        keep = (p[:, 0] >= x0) & (p[:, 0] <= x1) & (p[:, 1] >= y0) & (p[:, 1] <= y1)
-        q = view(p).copy()
-        q[~keep] = np.nan
-        sheet.ax.plot(q[:, 0], q[:, 1], "-", lw=THICK, color="black")
-    a, b = view((x0, y0)), view((x1, y1))
-    sheet.rect(a[0], a[1], b[0] - a[0], b[1] - a[1], lw=THIN)
-
-
-def _side_view(sheet: Sheet, x: float, y: float, scale: float, steps, caption="SIDE VIEW",
-               horizontal=False):
-    """Side view: stacked rectangles ((length, radius, label), ...) in sheet mm.
-
-    The first step sits on (x, y) and the next ones on top of it; each gets a
-    length dimension. ``horizontal`` drops the axis line (flat parts under the
-    main view). Returns the top edge (sheet mm).
-    """
-    z = y
-    for length, radius, label in steps:
-        h, w = length * scale, 2 * radius * scale
-        sheet.rect(x - w / 2, z, w, h, lw=THICK)
-        if label:
-            sheet.dim_linear((x + w / 2, z), (x + w / 2, z + h), -7.0, label)
-        z += h
-    if not horizontal:
-        sheet.polyline([(x, y - 4), (x, z + 4)], lw=THIN, style="-.")
-    sheet.text(x, y - 5.0, caption, size=NOTE_FONT)
-    return z
-
-
-def _ring_views(sheet: Sheet, part):
-    prof = part.info.cut_profile
-    s = fit_scale(2 * part.outer_radius, MAIN_BOX)
-    v = View(MAIN_CENTRE, s)
-    _draw_loops(sheet, v, prof, 0.4 / s)
-    c = v((0, 0))
-    sheet.centre_mark(c, part.outer_radius * s + 4)
-    sheet.dim_diameter(c, part.outer_radius * s, 35, f"Ø{fmt(2 * part.outer_radius)}")
-    sheet.dim_radius(c, part.root_radius * s, 200, f"R{fmt(part.root_radius)} root (ref)")
-    _dim_hole_circle(sheet, v, c, s, part, start_offset=0.4 * part.hole_diameter * s)
-    # detail A: flexure 0 tip, ball centre at (0, r_c)
-    rc, rb = part.contact_radius, part.tip_radius
-    half = 2.0 * math.pi * rc / part.n_flexures * 1.2
-    window = (-half, rc - 0.5 * half, half, rc + 1.2 * half)
-    sd = fit_scale(max(2 * half, window[3] - window[1]), RIGHT_BOX)
-    dv = View((RIGHT_CENTRE[0], RIGHT_CENTRE[1] - sd * (rc + 0.35 * half)), sd)
-    _draw_clipped(sheet, dv, prof, window, 0.2 / sd)
-    ball = dv((0, rc))
-    sheet.centre_mark(ball, 3.0)
-    a = np.linspace(math.pi / 2 - half / rc, math.pi / 2 + half / rc, 60)
-    sheet.polyline(dv(np.column_stack([rc * np.cos(a), rc * np.sin(a)])), lw=THIN, style="-.")
-    sheet.leader(dv((rb * math.cos(-2.4), rc + rb * math.sin(-2.4))),
-                 ball + np.array([-30.0, -25.0]), f"R{fmt(rb)} tip", ha="right")
-    arc_pt = (rc * math.cos(math.pi / 2 - 0.8 * half / rc), rc * math.sin(math.pi / 2 - 0.8 * half / rc))
-    sheet.leader(dv(arc_pt), dv(arc_pt) + np.array([8.0, -22.0]),
-                 f"R{fmt(rc)} contact radius")
-    sheet.leader(dv((-rb * 0.75, rc + rb * 1.1)), ball + np.array([-30.0, 25.0]),
-                 f"R{fmt(part.neck_fillet_radius)} neck fillet", ha="right")
-    sheet.text(*(dv((0, window[1])) - np.array([0, 6])),
-               f"DETAIL A  flexure 0 tip  {scale_text(sd)}", size=NOTE_FONT)
-    sheet.leader(v((0, rc)), v((0, rc)) + np.array([25.0, 60.0]), "A")
-    _side_view(sheet, BELOW[0], BELOW[1], s, [(part.thickness, part.outer_radius, fmt(part.thickness))],
-               horizontal=True)
-    return s
-
-
-def _cam_views(sheet: Sheet, part):
-    prof = part.info.cut_profile
-    s = fit_scale(2 * part.tip_radius, MAIN_BOX * 0.7)
-    v = View(MAIN_CENTRE, s)
-    _draw_loops(sheet, v, prof, 0.3 / s)
-    c = v((0, 0))
-    sheet.centre_mark(c, part.tip_radius * s + 4)
-    sheet.dim_diameter(c, part.tip_radius * s, 30, f"Ø{fmt(2 * part.tip_radius)} tooth tips")
-    sheet.circle(c, part.root_radius * s)
-    sheet.dim_diameter(c, part.root_radius * s, -30, f"Ø{fmt(2 * part.root_radius)} root")
-    sheet.circle(c, part.contact_radius * s)
-    sheet.dim_radius(c, part.contact_radius * s, 150, f"R{fmt(part.contact_radius)} contact radius")
-    r_bore = 0.5 * part.bore_diameter
-    sheet.dim_diameter(c, r_bore * s, 210, f"Ø{fmt(part.bore_diameter)} bore")
-    if part.bore == "d_flat":
-        flat, = prof.loop("bore").named("flat")
-        y_flat = flat.start[1]
-        sheet.dim_linear(c, v((0, y_flat)), 10.0, f"{fmt(abs(y_flat))} flat")
-    pocket, = prof.loop("teeth").named("pocket", 0)
-    sheet.leader(v(pocket.point_at(-math.pi / 2)), v(pocket.point_at(-math.pi / 2)) + np.array([30, 40]),
-                 f"R{fmt(pocket.radius)} pocket (gap {fmt(part.gap)} to tip)")
-    steps = []
-    if part.hub_length:
-        steps.append((part.hub_length, part.hub_radius, fmt(part.hub_length)))
-    steps.append((part.toothed_length, part.tip_radius, fmt(part.toothed_length)))
-    side_s = fit_scale(max(part.toothed_length + part.hub_length, 2 * part.tip_radius), RIGHT_BOX)
-    _side_view(sheet, RIGHT_CENTRE[0], RIGHT_CENTRE[1] - 0.5 * RIGHT_BOX, side_s, steps,
-               caption=f"SIDE VIEW {scale_text(side_s)} (hub below)")
-    return s
-
-
-def _annulus_views(sheet: Sheet, part):
-    s = fit_scale(2 * part.outer_radius, MAIN_BOX)
-    v = View(MAIN_CENTRE, s)
-    prof = part.slabs[0].region
-    _draw_loops(sheet, v, prof, 0.4 / s)
-    c = v((0, 0))
-    sheet.centre_mark(c, part.outer_radius * s + 4)
-    sheet.dim_diameter(c, part.outer_radius * s, 35, f"Ø{fmt(2 * part.outer_radius)}")
-    if part.inner_radius > 0:
-        sheet.dim_diameter(c, part.inner_radius * s, 215, f"Ø{fmt(2 * part.inner_radius)}")
-    _dim_hole_circle(sheet, v, c, s, part)
-    _side_view(sheet, BELOW[0], BELOW[1], s, [(part.length, part.outer_radius, fmt(part.length))],
-               horizontal=True)
-    return s
-
-
-def _shaft_views(sheet: Sheet, part):
-    """Torque shaft: end view of its profile(s) and a side view with lengths."""
-    top = part.slabs[-1].region
-    r = max(abs(p) for p in top.outer.sample(0.5).ravel())
-    s = fit_scale(2 * r, MAIN_BOX * 0.6)
-    v = View(MAIN_CENTRE, s)
-    _draw_loops(sheet, v, top, 0.3 / s)
-    c = v((0, 0))
-    sheet.centre_mark(c, r * s + 4)
-    for key, value in part.info.dimensions.items():
-        if "diameter" in key:
-            sheet.dim_diameter(c, 0.5 * value * s, 35 if "outer" in key or "shaft" in key else 215,
-                               f"Ø{fmt(value)} {key.replace(' diameter', '')}")
-    steps = [(sl.length_mm, r, fmt(sl.length_mm)) for sl in part.slabs]
-    side_s = fit_scale(max(part.length, 2 * r), RIGHT_BOX)
-    x, y0 = RIGHT_CENTRE[0], RIGHT_CENTRE[1] - 0.5 * RIGHT_BOX
-    top_z = _side_view(sheet, x, y0, side_s, steps,
-                       caption=f"SIDE VIEW {scale_text(side_s)} (spring end up)")
-    sheet.dim_linear((x - r * side_s, y0), (x - r * side_s, top_z), 10.0, fmt(part.length))
-    return s
-
-
-VIEWS = {"flexure_ring": _ring_views, "camshaft": _cam_views, "torque_shaft": _shaft_views}
+def header(sheet: Sheet, part, info: DrawingInfo) -> None:
+    """Title line and the job's name of the part at the top; the stamp at the top right."""
+    y = sheet.height - FRAME_MM - 8.0
+    sheet.text(FRAME_MM + 6, y, f"{part.info.title}   {part.part_number}   REV {info.revision}",
+               size=11, ha="left", weight="bold")
+    sheet.text(FRAME_MM + 6, y - 7.0, f"called {part.info.name} in job {info.job}; quantity "
+               f"{info.quantity}", size=NOTE_FONT, ha="left")
+    if not info.release.released:
+        sheet.text(sheet.width - FRAME_MM - 6, y - 2.0, info.release.stamp, size=16, ha="right",
+                   weight="bold", color="#c00000")
 
 
 def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
     """Lay out the drawing of one part on an A3 sheet.
 
     Returns:
-        the :class:`Sheet`; its ``texts`` list holds every text written.
+        the :class:`~springcad.export.sheet.Sheet`; ``texts`` holds every text,
+        ``dims`` the dimension list, ``conflicts`` labels that found no free place.
     """
+    from springcad.export.views import choose_scale_of, hole_rows, part_views
+
     template = template or load_title_block()
     sheet = Sheet()
-    sheet.rect(10, 10, sheet.width - 20, sheet.height - 20, lw=THICK)
-    scale = VIEWS.get(part.info.kind, _annulus_views)(sheet, part)
-    fields = _fields(part, info, scale)
-    x0, top = _title_block(sheet, template, fields)
-    top = _release_box(sheet, x0, top, template["block"]["width_mm"], info.release)
-    notes = template.get("notes", {})
-    lines = notes.get("general", []) + (notes.get("cut", []) if part.info.cut_profile else [])
-    _notes(sheet, x0, top, [n.format(**fields) for n in lines] + list(part.info.notes))
-    sheet.text(20, sheet.height - 18, f"{part.info.title}  {part.part_number}", size=11,
-               ha="left", weight="bold")
-    dims = "   ".join(f"{k} {fmt(v)}" for k, v in part.info.dimensions.items())
-    sheet.text(20, sheet.height - 25, f"key dimensions (mm): {dims}", size=NOTE_FONT, ha="left")
+    sheet.rect(FRAME_MM, FRAME_MM, sheet.width - 2 * FRAME_MM, sheet.height - 2 * FRAME_MM,
+               lw=THICK)
+    header(sheet, part, info)
+    values = fields(part, info, choose_scale_of(part), template)
+    x0, top = title_block(sheet, template, values)
+    width = template["block"]["width_mm"]
+    top = release_box(sheet, x0, top, width, info.release)
+    top = notes_block(sheet, x0 + 1.0, top, note_lines(part, values, template))
+    rows = hole_rows(part.slabs[-1].region, part.info.fits.get("holes", ""))
+    if rows:
+        sheet.text(x0 + 1.0, top + len(rows) * 4.2 + 2.5, "HOLE TABLE (angles from +Y, "
+                   "counter-clockwise, seen from +Z)", size=NOTE_FONT, ha="left", va="bottom",
+                   weight="bold")
+        sheet.table(x0 + 1.0, top + len(rows) * 4.2, rows, [14.0, 34.0, 22.0, 22.0, 28.0])
+        top += len(rows) * 4.2 + 8.0
+    zone = (max(RIGHT_X0, x0), top + 10.0, sheet.width - FRAME_MM - 2.0, VIEWS_TOP)
+    part_views(sheet, part, zone)
     return sheet
 
 
@@ -313,3 +227,4 @@ def write_drawing(part, info: DrawingInfo, out_dir: Path, template: dict | None 
     sheet.save(*paths)
     sheet.fig.clear()
     return paths
+

@@ -1,29 +1,47 @@
-"""A drawing sheet in millimetres on a matplotlib figure, with dimension primitives.
+"""A drawing sheet in millimetres on a matplotlib figure: primitives, dimensions, free space.
 
-Everything is placed in sheet millimetres (origin bottom left); a
-:class:`View` maps model millimetres to the sheet at a drawing scale. Text
-stays text in SVG and PDF, so the drawing can be searched and checked.
-Units: mm (model and sheet), points only for line widths and font sizes.
+Everything is placed in sheet millimetres (origin bottom left); a :class:`View`
+maps model millimetres to the sheet at a drawing scale. Text stays text in SVG
+and PDF, so the drawing can be searched and checked.
+
+The sheet remembers every line segment and every text box it drew, so a label
+can be *placed*: :meth:`Sheet.place_text` and the dimension primitives try
+candidate positions and take the first whose text box keeps :data:`TEXT_GAP_MM`
+from every other text, every line and the border (text boxes are measured by
+the renderer, not estimated). All text is horizontal (unidirectional
+dimensioning, ISO 129-1). Every dimension written is also recorded as a
+:class:`Dimension`, the drawing's dimension list, which tests hold against the
+solid. Units: mm (model and sheet), points only for line widths and font sizes.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
+from springcad.units import fmt_mm
+
 #: ISO A3 landscape (mm)
 A3 = (420.0, 297.0)
-#: standard drawing scales, largest first
-SCALES = (20.0, 10.0, 5.0, 2.0, 1.0, 0.5, 0.2)
+#: drawing frame inset from the sheet edge (mm)
+FRAME_MM = 10.0
+#: standard drawing scales (ISO 5455), largest first
+SCALES = (50.0, 20.0, 10.0, 5.0, 2.0, 1.0, 0.5, 0.2, 0.1)
 THICK, THIN = 0.7, 0.25  # line widths (pt)
 DIM_FONT, NOTE_FONT, LABEL_FONT = 8.0, 7.0, 5.0  # font sizes (pt)
+#: free space kept around every text box (mm)
+TEXT_GAP_MM = 0.6
+#: arrow head length (mm)
+ARROW_MM = 2.2
+#: dimension text sits this far from its dimension line (mm)
+DIM_TEXT_GAP_MM = 1.0
 
 
 def fmt(value: float) -> str:
-    """A dimension value as written on the drawing: up to 3 decimals, no trailing zeros."""
-    text = f"{value:.3f}".rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text
+    """A dimension value as written on the drawing (:func:`springcad.units.fmt_mm`)."""
+    return fmt_mm(value)
 
 
 def scale_text(scale: float) -> str:
@@ -38,57 +56,199 @@ def fit_scale(extent_mm: float, box_mm: float) -> float:
     return SCALES[-1]
 
 
-class View:
-    """Model (x, y) mm to sheet mm: ``origin + scale * (x, y)``."""
+@dataclass(frozen=True)
+class Dimension:
+    """One dimension written on a drawing (the drawing's dimension list).
 
-    def __init__(self, origin, scale: float):
+    Attributes:
+        kind: "diameter", "radius", "flat" (distance of a flat from the axis),
+            "length" (between two z levels), "position" (a hole centre).
+        value: mm (for a position, the distance from the axis).
+        label: the text as written.
+        feature: what it dimensions ("outer", "bore", "hole pattern", "hub flat" ...).
+        z: for a length, the two z levels of the part frame it spans (mm).
+        angle_deg: for a position, the angle from +Y, counter-clockwise (deg).
+    """
+
+    kind: str
+    value: float
+    label: str
+    feature: str = ""
+    z: tuple[float, float] | None = None
+    angle_deg: float | None = None
+
+
+class View:
+    """Model (x, y) mm to sheet mm: ``origin + scale * (x, y)``, x mirrored for a view
+    from behind (``mirror_x``)."""
+
+    def __init__(self, origin, scale: float, mirror_x: bool = False):
         self.origin = np.asarray(origin, dtype=float)
         self.scale = scale
+        self._flip = np.array([-1.0 if mirror_x else 1.0, 1.0])
 
     def __call__(self, pts) -> np.ndarray:
-        return self.origin + self.scale * np.asarray(pts, dtype=float)
+        return self.origin + self.scale * self._flip * np.asarray(pts, dtype=float)
+
+
+def segments_hit_box(segs: np.ndarray, box) -> np.ndarray:
+    """Which segments (n, 4: x0, y0, x1, y1) cross or touch the box (x0, y0, x1, y1)."""
+    if len(segs) == 0:
+        return np.zeros(0, dtype=bool)
+    bx0, by0, bx1, by1 = box
+    p = segs[:, :2]
+    d = segs[:, 2:] - p
+    t0 = np.zeros(len(segs))
+    t1 = np.ones(len(segs))
+    ok = np.ones(len(segs), dtype=bool)
+    for axis, lo, hi in ((0, bx0, bx1), (1, by0, by1)):  # Liang-Barsky clipping
+        dd, pp = d[:, axis], p[:, axis]
+        flat = np.abs(dd) < 1e-12
+        ok &= ~flat | ((pp >= lo) & (pp <= hi))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ta, tb = (lo - pp) / dd, (hi - pp) / dd
+        t_in = np.where(flat, -np.inf, np.minimum(ta, tb))
+        t_out = np.where(flat, np.inf, np.maximum(ta, tb))
+        t0, t1 = np.maximum(t0, t_in), np.minimum(t1, t_out)
+    return ok & (t0 <= t1)
+
+
+def _boxes_overlap(a, b) -> bool:
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+
+
+def _grow(box, pad: float):
+    return (box[0] - pad, box[1] - pad, box[2] + pad, box[3] + pad)
 
 
 class Sheet:
-    """A matplotlib figure whose single axes spans the sheet in millimetres."""
+    """A matplotlib figure whose single axes spans the sheet in millimetres.
+
+    Attributes:
+        texts: every text written, in order.
+        boxes: the sheet-mm box (x0, y0, x1, y1) of every text.
+        dims: the dimension list (:class:`Dimension`).
+        conflicts: labels that found no free place (drawn at their first
+            candidate); a good layout leaves it empty.
+    """
 
     def __init__(self, size_mm=A3):
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
 
         self.width, self.height = size_mm
         self.fig = Figure(figsize=(self.width / 25.4, self.height / 25.4))
+        self._canvas = FigureCanvasAgg(self.fig)
+        self._renderer = self._canvas.get_renderer()
         self.ax = self.fig.add_axes((0, 0, 1, 1))
         self.ax.set_xlim(0, self.width)
         self.ax.set_ylim(0, self.height)
         self.ax.set_aspect("equal")
         self.ax.axis("off")
         self.texts: list[str] = []
+        self.boxes: list[tuple] = []
+        self.dims: list[Dimension] = []
+        self.conflicts: list[str] = []
+        self._segs: list[np.ndarray] = []
+        self._seg_cache: np.ndarray | None = None
+
+    @property
+    def inner(self) -> tuple[float, float, float, float]:
+        """The drawing area inside the frame (sheet mm)."""
+        return (FRAME_MM, FRAME_MM, self.width - FRAME_MM, self.height - FRAME_MM)
+
+    # ---------------------------------------------------------------- bookkeeping
+    def _add_segments(self, p: np.ndarray) -> None:
+        p = p[~np.isnan(p).any(axis=1)] if np.isnan(p).any() else p
+        if len(p) > 1:
+            self._segs.append(np.hstack([p[:-1], p[1:]]))
+            self._seg_cache = None
+
+    @property
+    def segments(self) -> np.ndarray:
+        """Every line segment drawn so far (n, 4), sheet mm."""
+        if self._seg_cache is None:
+            self._seg_cache = np.vstack(self._segs) if self._segs else np.zeros((0, 4))
+        return self._seg_cache
+
+    def is_free(self, box, pad: float = TEXT_GAP_MM, lines: bool = True) -> bool:
+        """Whether a text box keeps ``pad`` from every text, line and the frame."""
+        x0, y0, x1, y1 = self.inner
+        if box[0] < x0 + pad or box[1] < y0 + pad or box[2] > x1 - pad or box[3] > y1 - pad:
+            return False
+        grown = _grow(box, pad)
+        if any(_boxes_overlap(grown, b) for b in self.boxes):
+            return False
+        return not (lines and segments_hit_box(self.segments, grown).any())
+
+    def path_is_free(self, pts, pad: float = 0.3) -> bool:
+        """Whether a polyline (sheet mm) keeps ``pad`` from every text box."""
+        p = np.asarray(pts, float)
+        segs = np.hstack([p[:-1], p[1:]])
+        return not any(segments_hit_box(segs, _grow(b, pad)).any() for b in self.boxes)
 
     # ---------------------------------------------------------------- primitives
-    def polyline(self, pts, lw=THICK, style="-", closed=False, color="black"):
+    def polyline(self, pts, lw=THIN, style="-", closed=False, color="black"):
         p = np.asarray(pts, dtype=float)
         if closed:
             p = np.vstack([p, p[:1]])
         self.ax.plot(p[:, 0], p[:, 1], style, lw=lw, color=color, solid_joinstyle="round")
+        self._add_segments(p)
 
-    def text(self, x, y, s, size=DIM_FONT, ha="center", va="center", rotation=0.0, **kw):
+    def _make_text(self, x, y, s, size, ha, va, **kw):
+        t = self.ax.text(x, y, s, fontsize=size, ha=ha, va=va, family="DejaVu Sans", **kw)
+        bb = t.get_window_extent(self._renderer)
+        (a, b), (c, d) = self.ax.transData.inverted().transform([[bb.x0, bb.y0], [bb.x1, bb.y1]])
+        return t, (float(a), float(b), float(c), float(d))
+
+    def text(self, x, y, s, size=DIM_FONT, ha="center", va="center", **kw):
+        """Write text at a fixed place (title block, notes); returns its box."""
+        _, box = self._make_text(x, y, s, size, ha, va, **kw)
         self.texts.append(s)
-        self.ax.text(x, y, s, fontsize=size, ha=ha, va=va, rotation=rotation,
-                     rotation_mode="anchor", family="DejaVu Sans", **kw)
+        self.boxes.append(box)
+        return box
+
+    def text_size(self, s, size=DIM_FONT, **kw) -> tuple[float, float]:
+        """Width and height of a text (mm), measured by the renderer."""
+        t, box = self._make_text(0.0, 0.0, s, size, "left", "bottom", **kw)
+        t.remove()
+        return box[2] - box[0], box[3] - box[1]
+
+    def place_text(self, candidates, s, size=DIM_FONT, ha="left", va="bottom", **kw):
+        """Write text at the first candidate (x, y) where it is free; returns its box."""
+        first = None
+        for x, y in candidates:
+            t, box = self._make_text(x, y, s, size, ha, va, **kw)
+            if self.is_free(box):
+                self.texts.append(s)
+                self.boxes.append(box)
+                return box
+            t.remove()
+            first = first or (x, y)
+        self.conflicts.append(s)
+        return self.text(*first, s, size=size, ha=ha, va=va, **kw)
 
     def rect(self, x, y, w, h, lw=THIN):
         self.polyline([(x, y), (x + w, y), (x + w, y + h), (x, y + h)], lw=lw, closed=True)
 
     def arrow(self, tail, head):
-        self.ax.annotate("", xy=tuple(head), xytext=tuple(tail),
-                         arrowprops=dict(arrowstyle="-|>", lw=THIN, color="black",
-                                         shrinkA=0, shrinkB=0, mutation_scale=6))
+        """A thin line from ``tail`` with a filled arrow head at ``head``."""
+        tail, head = np.asarray(tail, float), np.asarray(head, float)
+        u = head - tail
+        n = np.linalg.norm(u)
+        u = u / n if n > 0 else np.array([1.0, 0.0])
+        w = np.array([-u[1], u[0]])
+        base = head - ARROW_MM * u
+        tri = np.array([head, base + 0.35 * w, base - 0.35 * w])
+        self.ax.fill(tri[:, 0], tri[:, 1], color="black", lw=0)
+        self.polyline([tail, head])
+        self._add_segments(np.vstack([tri, tri[:1]]))
 
     def centre_mark(self, c, size):
         c = np.asarray(c)
         for d in ((1, 0), (0, 1)):
             d = np.asarray(d) * size
-            self.polyline([c - d, c + d], lw=THIN, style="-.")
+            self.polyline([c - d, c + d], style="-.")
 
     def circle(self, c, r, lw=THIN, style="-."):
         a = np.linspace(0, 2 * math.pi, 361)
@@ -96,60 +256,122 @@ class Sheet:
                       style=style)
 
     # ---------------------------------------------------------------- dimensions
-    def dim_linear(self, p1, p2, offset, label, text_side=1.0):
-        """Dimension between two sheet points, drawn ``offset`` mm to the left of p1->p2."""
+    def callout(self, target, label, direction, dim: Dimension | None = None,
+                reach=(8.0, 13.0, 19.0, 26.0, 34.0, 44.0), turn=(0, 20, -20, 40, -40, 60, -60)):
+        """Leader from a point of the part to a label: arrow, knee, shoulder under the text.
+
+        Candidate knees lie ``reach`` mm from the target along ``direction`` (sheet,
+        unit vector) turned by ``turn`` degrees; the first whose text box is free and
+        whose leader crosses no text is taken. The text runs away from the part.
+        """
+        target = np.asarray(target, float)
+        base = math.atan2(direction[1], direction[0])
+        w, h = self.text_size(label)
+        fallback = None
+        for r in reach:
+            for dt in turn:
+                a = base + math.radians(dt)
+                knee = target + r * np.array([math.cos(a), math.sin(a)])
+                right = math.cos(a) >= -1e-9
+                end = knee + np.array([w + 2.0 if right else -(w + 2.0), 0.0])
+                box = ((knee[0] + 1.0, knee[1] + 0.6, knee[0] + 1.0 + w, knee[1] + 0.6 + h)
+                       if right else (knee[0] - 1.0 - w, knee[1] + 0.6, knee[0] - 1.0, knee[1] + 0.6 + h))
+                fallback = fallback or (knee, end, box)
+                own = np.array([[*target, *knee], [*knee, *end]])
+                clear_of_own = not segments_hit_box(own, _grow(box, 0.4)).any()
+                if self.is_free(box) and self.path_is_free([target, knee, end]) and clear_of_own:
+                    return self._draw_callout(target, knee, end, box, label, dim)
+        self.conflicts.append(label)
+        return self._draw_callout(target, *fallback, label, dim)
+
+    def _draw_callout(self, target, knee, end, box, label, dim):
+        self.arrow(knee, target)
+        self.polyline([knee, end])
+        self.text(box[0], box[1], label, ha="left", va="bottom")
+        if dim is not None:
+            self.dims.append(dim)
+        return box
+
+    def dim_linear(self, p1, p2, side: float, label: str, dim: Dimension | None = None,
+                   offsets=(7.0, 12.0, 17.0, 23.0, 30.0)):
+        """Horizontal or vertical dimension between sheet points p1 and p2.
+
+        ``side`` is the direction the dimension line moves away from the points:
+        +1 above / right, -1 below / left (for a vertical dimension, the x of the
+        points decides "right" as +1). Arrows turn outside when the span is
+        shorter than two arrow heads; the text is horizontal, beside a vertical
+        dimension line and above (or beside, when it does not fit) a horizontal one.
+        """
         p1, p2 = np.asarray(p1, float), np.asarray(p2, float)
-        d = (p2 - p1) / np.linalg.norm(p2 - p1)
-        n = np.array([-d[1], d[0]])
-        a, b = p1 + offset * n, p2 + offset * n
-        ext = 1.5 * np.sign(offset) * n
-        self.polyline([p1, a + ext], lw=THIN)
-        self.polyline([p2, b + ext], lw=THIN)
-        mid = 0.5 * (a + b)
-        self.arrow(mid, a)
-        self.arrow(mid, b)
-        angle = math.degrees(math.atan2(d[1], d[0]))
-        if angle > 90 or angle <= -90:
-            angle -= 180 * np.sign(angle)
-        t = mid + 1.8 * text_side * np.array([-math.sin(math.radians(angle)),
-                                                math.cos(math.radians(angle))])
-        self.text(*t, label, rotation=angle)
+        vertical = abs(p2[0] - p1[0]) < abs(p2[1] - p1[1])
+        ax = 0 if vertical else 1  # the coordinate the offset moves along
+        span = abs(p2[1 - ax] - p1[1 - ax])
+        w, h = self.text_size(label)
+        outside = span < 2 * ARROW_MM + 1.0
+        fallback = None
+        for off in offsets:
+            ref = (max(p1[ax], p2[ax]) if side > 0 else min(p1[ax], p2[ax])) + side * off
+            a, b = p1.copy(), p2.copy()
+            a[ax] = b[ax] = ref
+            lo, hi = (a, b) if a[1 - ax] <= b[1 - ax] else (b, a)
+            mid = 0.5 * (a + b)
+            if vertical:  # beside the line, beyond the 1.5 mm overshoot of the extension lines
+                tx = ref + 1.5 + DIM_TEXT_GAP_MM if side > 0 else ref - 1.5 - DIM_TEXT_GAP_MM - w
+                cands = [(tx, mid[1] - 0.5 * h)]
+                if outside:
+                    cands += [(tx, hi[1] + ARROW_MM), (tx, lo[1] - ARROW_MM - h)]
+            else:
+                ty = ref + DIM_TEXT_GAP_MM if side > 0 else ref - DIM_TEXT_GAP_MM - h
+                cands = [(mid[0] - 0.5 * w, ty)] if w + 2 <= span - 2 * ARROW_MM else []
+                cands += [(hi[0] + ARROW_MM + 3.0, ref - 0.5 * h), (lo[0] - ARROW_MM - 3.0 - w,
+                                                                     ref - 0.5 * h)]
+            ext = [(p1, a + side * 1.5 * _unit(ax)), (p2, b + side * 1.5 * _unit(ax))]
+            own = np.array([[*p, *q] for p, q in ext] + [[*lo, *hi]])
+            if outside:
+                u = (hi - lo) / max(np.linalg.norm(hi - lo), 1e-9)
+                own = np.vstack([own, [[*(lo - (ARROW_MM + 3.0) * u), *lo],
+                                       [*(hi + (ARROW_MM + 3.0) * u), *hi]]])
+            for x, y in cands:
+                box = (x, y, x + w, y + h)
+                fallback = fallback or (a, b, lo, hi, ext, box)
+                lines_ok = all(self.path_is_free(e) for e in ext) and self.path_is_free([lo, hi])
+                clear_of_own = not segments_hit_box(own, _grow(box, TEXT_GAP_MM)).any()
+                if self.is_free(box) and lines_ok and clear_of_own:
+                    return self._draw_linear(lo, hi, ext, box, label, outside, dim)
+        self.conflicts.append(label)
+        a, b, lo, hi, ext, box = fallback
+        return self._draw_linear(lo, hi, ext, box, label, outside, dim)
 
-    def dim_diameter(self, c, r, angle_deg, label):
-        """Diameter dimension through the centre at an angle, text outside the circle."""
-        c = np.asarray(c, float)
-        u = np.array([math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))])
-        self.arrow(c, c + r * u)
-        self.arrow(c, c - r * u)
-        knee = c + (r + 6.0) * u
-        self.polyline([c + r * u, knee], lw=THIN)
-        end = knee + np.array([8.0 if u[0] >= 0 else -8.0, 0.0])
-        self.polyline([knee, end], lw=THIN)
-        self.text(end[0], end[1] + 0.5, label, ha="left" if u[0] >= 0 else "right", va="bottom")
-
-    def dim_radius(self, c, r, angle_deg, label, inside=True):
-        """Radius dimension: arrow from the centre (or from outside) to the arc."""
-        c = np.asarray(c, float)
-        u = np.array([math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))])
-        tip = c + r * u
-        if inside:
-            self.arrow(c, tip)
-            start = c
+    def _draw_linear(self, lo, hi, ext, box, label, outside, dim):
+        for e in ext:
+            self.polyline(e)
+        if outside:
+            u = (hi - lo) / max(np.linalg.norm(hi - lo), 1e-9)
+            self.arrow(lo - (ARROW_MM + 3.0) * u, lo)
+            self.arrow(hi + (ARROW_MM + 3.0) * u, hi)
+            self.polyline([lo, hi])
         else:
-            start = tip + 8.0 * u
-            self.arrow(start, tip)
-        knee = tip + 4.0 * u if inside else start
-        self.polyline([start if inside else tip, knee], lw=THIN)
-        end = knee + np.array([7.0 if u[0] >= 0 else -7.0, 0.0])
-        self.polyline([knee, end], lw=THIN)
-        self.text(end[0], end[1] + 0.5, label, ha="left" if u[0] >= 0 else "right", va="bottom")
+            mid = 0.5 * (lo + hi)
+            self.arrow(mid, lo)
+            self.arrow(mid, hi)
+        self.text(box[0], box[1], label, ha="left", va="bottom")
+        if dim is not None:
+            self.dims.append(dim)
+        return box
 
-    def leader(self, target, text_at, label, ha="left"):
-        """Arrow from a text to a point of the part."""
-        target, text_at = np.asarray(target, float), np.asarray(text_at, float)
-        self.arrow(text_at, target)
-        self.text(*(text_at + np.array([1.0 if ha == "left" else -1.0, 0.5])), label,
-                  ha=ha, va="bottom")
+    def table(self, x: float, y_top: float, rows: list[tuple[str, ...]], widths: list[float],
+              row_h: float = 4.2, size: float = LABEL_FONT + 1) -> float:
+        """A ruled table, top left at (x, y_top); returns its bottom (sheet mm)."""
+        y = y_top
+        for r, row in enumerate(rows):
+            cx = x
+            for text, wcol in zip(row, widths):
+                self.rect(cx, y - row_h, wcol, row_h)
+                self.text(cx + 1.0, y - 0.5 * row_h, text, size=size, ha="left",
+                          weight="bold" if r == 0 else "normal")
+                cx += wcol
+            y -= row_h
+        return y
 
     # ---------------------------------------------------------------- output
     def save(self, *paths):
@@ -159,3 +381,7 @@ class Sheet:
                                     "pdf.compression": 6}):
             for p in paths:
                 self.fig.savefig(p, dpi=150 if str(p).endswith(".png") else 72)
+
+
+def _unit(axis: int) -> np.ndarray:
+    return np.array([1.0, 0.0]) if axis == 0 else np.array([0.0, 1.0])

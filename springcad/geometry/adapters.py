@@ -18,6 +18,7 @@ class AlignmentShaft(AnnularPart):
 
     KIND, TITLE, PROCESS, COLOUR = "alignment_shaft", "Alignment shaft", "turned", "cam"
     CODE = "ALIGNMENT-SHAFT"
+    FITS = {"outer": "g6"}
     NOTES = ("Ground to g6; the camshaft bores and centre spacers run on it.",)
 
 
@@ -47,7 +48,8 @@ class TorqueShaft(SpringcadPart):
     """
 
     def __init__(self, name: str, plan: TorqueShaftPlan, length_mm: float,
-                 material: tuple[str, float], heat_treatment: str = ""):
+                 material: tuple[str, float], heat_treatment: str = "", hardness: str = "",
+                 heat_treatment_sequence: str = ""):
         self.style = plan.STYLE
         self.length = length_mm
         self.flat_ratio = plan.flat_ratio
@@ -60,6 +62,7 @@ class TorqueShaft(SpringcadPart):
             key = {"shaft diameter": self.diameter, "length": length_mm,
                    "engaged length": plan.engaged_length_mm}
             note = "D flat matches the camshaft bore (slip fit)."
+            fits = {"outer": "g6"}
         elif isinstance(plan, HubSocketPlan):
             self.outer_radius = plan.outer_radius_mm
             self.socket_depth = plan.socket_depth_mm
@@ -71,13 +74,15 @@ class TorqueShaft(SpringcadPart):
                    "socket depth": self.socket_depth,
                    "socket diameter": 2 * plan.hub_radius_mm}
             note = "D socket matches the camshaft hub (slip fit)."
+            fits = {"bore": "H7"}
         else:
             raise GeometryError(f"{name}: no torque shaft of style "
                                 f"{type(plan).__name__}; use a D shaft or a hub socket")
         info = PartInfo(name=name, code="TORQUE-SHAFT", title="Torque shaft", kind="torque_shaft",
                         material=material[0], heat_treatment=heat_treatment,
                         density_kg_per_m3=material[1], process="turned",
-                        thickness_mm=length_mm, dimensions=key,
+                        thickness_mm=length_mm, dimensions=key, hardness=hardness,
+                        heat_treatment_sequence=heat_treatment_sequence, fits=fits,
                         notes=(note, "Coupling to the drive is left to the user."))
         super().__init__(info, slabs, COLOURS["steel"])
 

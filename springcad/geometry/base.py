@@ -96,6 +96,10 @@ class PartInfo:
         notes: drawing notes specific to this part.
         standard: catalogue designation for purchased parts.
         code: the family code that starts the part number (``"RING"``, ``"CAM"``).
+        hardness: hardness to order, as written on the drawing (``"48-52 HRC"``).
+        heat_treatment_sequence: when the heat treatment happens (``"before EDM"``).
+        fits: ISO fits and purposes of features: ``"outer"``, ``"bore"``, ``"holes"``
+            (e.g. ``"g6"``, ``"H7"``) and ``"hole_purpose"`` (``"(dowel pins)"``).
         part_number: ``CODE-HASH`` of the part's identity (module docstring); set by
             :class:`SpringcadPart`, never by hand.
     """
@@ -113,6 +117,9 @@ class PartInfo:
     notes: tuple[str, ...] = ()
     standard: str = ""
     code: str = ""
+    hardness: str = ""
+    heat_treatment_sequence: str = ""
+    fits: dict = field(default_factory=dict)
     part_number: str = ""
 
 
@@ -142,7 +149,9 @@ def identity_text(info: PartInfo, slabs, tolerance_mm: float) -> str:
     Not part of it: the job-local name, the title, notes, quantity and placement.
     """
     lines = [f"code {info.code}", f"kind {info.kind}", f"material {info.material}",
-             f"heat treatment {info.heat_treatment}", f"process {info.process}",
+             f"heat treatment {info.heat_treatment}", f"hardness {info.hardness}",
+             f"heat treatment sequence {info.heat_treatment_sequence}",
+             f"fits {sorted(info.fits.items())}", f"process {info.process}",
              f"standard {info.standard}", f"tolerance {_num(tolerance_mm)}"]
     for sl in slabs:
         lines.append(f"slab {_num(sl.z0_mm)} {_num(sl.z1_mm)}")

@@ -12,7 +12,9 @@ import math
 
 from springcad.design.curves import Profile
 from springcad.design.plans import CamshaftPlan
+from springcad.design.ring import hole_fits
 from springcad.errors import GeometryError
+from springcad.units import fmt_mm
 from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, circle_loop, d_loop
 
 
@@ -61,21 +63,29 @@ class FlexureRing(SpringcadPart):
             dims["hole diameter"] = self.hole_diameter
         info = PartInfo(
             name=f"{spring.name}-RING", code="RING",
-            title=f"Flexure ring, {self.n_flexures} flexures", kind="flexure_ring", material=mat.description or mat.name,
+            title=f"Flexure ring, {self.n_flexures} flexures", kind="flexure_ring",
+            material=mat.description or mat.name,
             heat_treatment=mat.heat_treatment, density_kg_per_m3=mat.density_kg_per_m3,
             process="wire_edm", thickness_mm=self.thickness, cut_profile=spring.ring,
-            dimensions=dims,
-            notes=(f"{self.n_flexures} flexures, equally spaced; flexure 0 on +Y.",
-                   f"Tip balls R{self.tip_radius:g} at contact radius R{self.contact_radius:g}: "
-                   "critical to function (cam-to-tip gap "
-                   f"{spring.manufacturing.w_gap_mm:g} mm).",
-                   f"{len(self.hole_centres)} x {self.hole_diameter:g} holes "
-                   + ("for dowel pins (ream to H7)." if spring.hardware.fastener == "dowel"
-                      else "clearance for bolts.") if self.hole_centres else "No rim holes."))
+            dimensions=dims, hardness=mat.hardness,
+            heat_treatment_sequence=mat.heat_treatment_sequence,
+            fits=hole_fits(spring.hardware) if self.hole_centres else {},
+            notes=(f"{self.n_flexures} flexures equally spaced, flexure 0 on +Y (details A, B "
+                   "show flexure 0; every flexure is the same).",
+                   f"Tip balls R{fmt_mm(self.tip_radius)} on R{fmt_mm(self.contact_radius)}: "
+                   "critical to "
+                   f"function (cam-to-tip gap {spring.manufacturing.w_gap_mm:g} mm).",
+                   "Do not round or chamfer the cut edges of the flexures; remove burrs only."))
         super().__init__(info, (Slab(0.0, self.thickness, spring.ring),), COLOURS["steel"])
 
     @property
     def tolerance_mm(self) -> float:
+        return self.spring.manufacturing.t_spring_mm
+
+    @property
+    def length_tolerance_mm(self) -> float:
+        """Thickness tolerance (mm): the stiffness is proportional to the thickness, so it
+        gets the spring's manufacturing tolerance, not the general one."""
         return self.spring.manufacturing.t_spring_mm
 
     def describe(self, x: float, y: float) -> str:
@@ -145,25 +155,26 @@ class Camshaft(SpringcadPart):
         if hub_length_mm:
             dims["hub length"] = hub_length_mm
             dims["hub diameter"] = 2 * self.hub_radius
-        notes = [f"{self.n_teeth} teeth; pocket 0 on +Y. Tooth flanks keep a {self.gap:g} mm gap "
-                 f"to the flexure tips of spring {names}.",
-                 ("Bore: D flat at {:.2f} mm from the axis (takes the D torque shaft)."
-                  .format(flat_ratio * 0.5 * bore_diameter_mm)) if bore == "d_flat" else
-                 "Bore: running fit on the alignment shaft (H7/g6)."]
+        notes = [f"{self.n_teeth} teeth equally spaced, pocket 0 on +Y (detail C). Tooth flanks "
+                 f"keep a {self.gap:g} mm gap to the flexure tips.",
+                 "Bore: D bore, takes the D torque shaft (slip fit)." if bore == "d_flat" else
+                 "Bore: running fit on the alignment shaft (H7/g6).",
+                 "Do not round or chamfer the cut edges of the teeth; remove burrs only."]
         if hub_length_mm:
-            notes.append("Hub: turned, concentric to the bore within 0.01 mm; "
-                         + ("D flat on the hub drives the torque shaft." if drive == "hub_flat"
-                            else "torque through the D bore."))
-            notes.append(f"Hub diameter {2 * self.hub_radius:.3f} is "
-                         f"{self.root_radius - self.hub_radius:.2f} mm inside the root radius: "
-                         "the wire cutting the teeth passes it.")
+            notes.append("Hub: turned before the teeth are cut, concentric to the bore within "
+                         "0.01 mm; " + ("its D flat drives the torque shaft (view B)."
+                                        if drive == "hub_flat" else "torque through the D bore."))
+            notes.append(f"The hub is {self.root_radius - self.hub_radius:.2f} mm inside the "
+                         "tooth root: the wire cutting the teeth passes it.")
         info = PartInfo(
             name=tag, code="CAM",
             title=("End camshaft" if hub_length_mm else "Camshaft") + f", {self.n_teeth} teeth",
             kind="camshaft", material=mat.description or mat.name,
             heat_treatment=mat.heat_treatment, density_kg_per_m3=mat.density_kg_per_m3,
             process="wire_edm", thickness_mm=toothed_length_mm + hub_length_mm,
-            cut_profile=teeth, dimensions=dims, notes=tuple(notes))
+            cut_profile=teeth, dimensions=dims, notes=tuple(notes), hardness=mat.hardness,
+            heat_treatment_sequence=mat.heat_treatment_sequence,
+            fits={"bore": "H7", **({"outer": "g6"} if drive == "hub_flat" else {})})
         super().__init__(info, tuple(slabs), COLOURS["cam"])
 
     @classmethod

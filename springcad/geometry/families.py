@@ -13,6 +13,7 @@ from typing import Callable
 
 from springcad.design import plans as pl
 from springcad.design.hardware import Component
+from springcad.design.ring import hole_fits
 from springcad.errors import GeometryError
 from springcad.geometry.adapters import AlignmentShaft, RimFlange, TorqueShaft
 from springcad.geometry.base import COLOURS, SpringcadPart
@@ -34,6 +35,10 @@ def family(kind: str):
         FAMILIES[kind] = builder
         return builder
     return register
+
+
+#: when a turned steel part is heat treated (drawing notes, part identity)
+TURNED_HEAT_TREATMENT_SEQUENCE = "after rough turning, before grinding the fits"
 
 
 def _r(x: float) -> float:
@@ -85,6 +90,14 @@ class BuildContext:
         mat = springs[0].material.material
         self.steel = (mat.description or mat.name, mat.density_kg_per_m3)
         self.heat_treatment = mat.heat_treatment
+        #: hardness and heat-treatment sequence of the steel parts (drawings, part identity)
+        self.steel_spec = {"hardness": mat.hardness,
+                           "heat_treatment_sequence": mat.heat_treatment_sequence}
+        #: turned steel parts: hardened after rough turning, fits ground afterwards
+        self.turned_spec = {"hardness": mat.hardness,
+                            "heat_treatment_sequence": TURNED_HEAT_TREATMENT_SEQUENCE}
+        #: callout of the rim holes, the same on every part they pass
+        self.hole_fits = hole_fits(springs[0].hardware)
         self.cache = cache
         self.instances: list[Instance] = []
 
@@ -131,21 +144,25 @@ def _camshaft(ctx: BuildContext, comp: Component) -> None:
     ctx.place(comp.name, part, comp, Placement(z, flipped=flipped), comp.role)
 
 
-def _annular_family(cls, prefix: str, heat: str = ""):
+def _annular_family(cls, prefix: str, heat: str = "", **spec):
     """Register the builder of a ring-shaped part class placed on the axis.
 
-    The part's material and density are the component's (the hardware config's densities).
+    The part's material and density are the component's (the hardware config's densities);
+    ``spec``: hardness and heat-treatment sequence of its stock (drawing notes).
     """
     @family(cls.KIND)
     def build(ctx: BuildContext, comp: Component) -> None:
         material = (comp.material, comp.density_kg_per_m3)
+        fits = ctx.hole_fits if comp.plan.hole_centres_mm else {}
         part = ctx.shaped(comp, lambda pn: cls.from_plan(pn, comp.plan, comp.length_mm,
-                                                         material, heat), prefix)
+                                                         material, heat, fits=fits, **spec),
+                          prefix)
         ctx.place(comp.name, part, comp, Placement(comp.z_mm))
     return build
 
 
-_annular_family(RimSpacer, "RIM-SPACER", "T6")
+_annular_family(RimSpacer, "RIM-SPACER", "T6", hardness="95 HB (T6 as supplied)",
+                heat_treatment_sequence="as supplied")
 _annular_family(RimWasher, "RIM-WASHER")
 _annular_family(CentreSpacer, "CENTRE-SPACER")
 _annular_family(Bushing, "BUSHING")
@@ -153,8 +170,10 @@ _annular_family(Bushing, "BUSHING")
 
 @family(pl.RimFlangePlan.KIND)
 def _rim_flange(ctx: BuildContext, comp: Component) -> None:
+    fits = ctx.hole_fits if comp.plan.hole_centres_mm else {}
     part = ctx.shaped(comp, lambda pn: RimFlange.from_plan(
-        pn, comp.plan, comp.length_mm, ctx.steel, ctx.heat_treatment), "RIM-FLANGE")
+        pn, comp.plan, comp.length_mm, ctx.steel, ctx.heat_treatment, fits=fits,
+        **ctx.steel_spec), "RIM-FLANGE")
     ctx.place(comp.name, part, comp, Placement(comp.z_mm), comp.role, COLOURS[comp.role])
 
 
@@ -162,7 +181,8 @@ def _rim_flange(ctx: BuildContext, comp: Component) -> None:
 def _alignment_shaft(ctx: BuildContext, comp: Component) -> None:
     r = 0.5 * comp.plan.diameter_mm
     part = ctx.shaped(comp, lambda pn: AlignmentShaft(
-        pn, 0.0, r, comp.length_mm, ctx.steel, heat_treatment=ctx.heat_treatment),
+        pn, 0.0, r, comp.length_mm, ctx.steel, heat_treatment=ctx.heat_treatment,
+        **ctx.turned_spec),
         "ALIGNMENT-SHAFT")
     ctx.place(comp.name, part, comp, Placement(comp.z_mm))
 
@@ -170,7 +190,8 @@ def _alignment_shaft(ctx: BuildContext, comp: Component) -> None:
 @family(pl.TorqueShaftPlan.KIND)
 def _torque_shaft(ctx: BuildContext, comp: Component) -> None:
     part = ctx.shaped(comp, lambda pn: TorqueShaft(pn, comp.plan, comp.length_mm, ctx.steel,
-                                                   ctx.heat_treatment), "TORQUE-SHAFT")
+                                                   ctx.heat_treatment, **ctx.turned_spec),
+                      "TORQUE-SHAFT")
     # the output shaft is the input part turned over
     flipped = comp.role == "output"
     z = comp.z_mm + (comp.length_mm if flipped else 0.0)

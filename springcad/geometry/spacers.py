@@ -39,10 +39,13 @@ class AnnularPart(SpringcadPart):
     NOTES: tuple[str, ...] = ()
     #: planar sheet parts get a DXF cutting profile
     SHEET = False
+    #: ISO fits of the outer diameter and bore (e.g. ``{"outer": "g6"}``)
+    FITS: dict = {}
 
     def __init__(self, name: str, inner_radius_mm: float, outer_radius_mm: float,
                  length_mm: float, material: tuple[str, float], hole_centres=(),
-                 hole_diameter_mm: float = 0.0, heat_treatment: str = "", standard: str = ""):
+                 hole_diameter_mm: float = 0.0, heat_treatment: str = "", standard: str = "",
+                 hardness: str = "", heat_treatment_sequence: str = "", fits: dict | None = None):
         self.inner_radius = inner_radius_mm
         self.outer_radius = outer_radius_mm
         self.length = length_mm
@@ -61,15 +64,20 @@ class AnnularPart(SpringcadPart):
                         material=material[0], heat_treatment=heat_treatment,
                         density_kg_per_m3=material[1], process=self.PROCESS,
                         thickness_mm=length_mm, cut_profile=region if self.SHEET else None,
-                        dimensions=dims, notes=self.NOTES, standard=standard)
+                        dimensions=dims, notes=self.NOTES, standard=standard,
+                        hardness=hardness, heat_treatment_sequence=heat_treatment_sequence,
+                        fits={**self.FITS, **(fits or {})})
         super().__init__(info, (Slab(0.0, length_mm, region),), COLOURS[self.COLOUR])
 
     @classmethod
     def from_plan(cls, name: str, plan: AnnulusPlan, length_mm: float,
-                  material: tuple[str, float], heat_treatment: str = "") -> "AnnularPart":
-        """The part of a stack plan: its radii and holes, ``length_mm`` long (mm)."""
+                  material: tuple[str, float], heat_treatment: str = "", **spec) -> "AnnularPart":
+        """The part of a stack plan: its radii and holes, ``length_mm`` long (mm).
+
+        ``spec``: ``hardness``, ``heat_treatment_sequence``, ``fits`` (see :class:`PartInfo`).
+        """
         return cls(name, plan.inner_radius_mm, plan.outer_radius_mm, length_mm, material,
-                   plan.hole_centres_mm, plan.hole_diameter_mm, heat_treatment)
+                   plan.hole_centres_mm, plan.hole_diameter_mm, heat_treatment, **spec)
 
 
 class RimSpacer(AnnularPart):
@@ -77,7 +85,7 @@ class RimSpacer(AnnularPart):
 
     KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_spacer", "Rim spacer", "laser", "aluminium", True
     CODE = "RIM-SPACER"
-    NOTES = ("Cut from flat sheet; deburr both faces; flatness 0.02 mm.",
+    NOTES = ("Cut from flat sheet; deburr both faces.",
              "Holes match the flexure-ring rim holes.")
 
 
@@ -97,8 +105,7 @@ class CentreSpacer(AnnularPart):
 
     KIND, TITLE, PROCESS, COLOUR, SHEET = "centre_spacer", "Centre spacer", "laser", "plastic", True
     CODE = "CENTRE-SPACER"
-    NOTES = ("Low-friction grade; the flexure tips slide on both faces.",
-             "Outer diameter larger than the cam tooth tips on both sides.")
+    NOTES = ("Low-friction grade: the parts beside it slide on both faces.",)
 
 
 class Bushing(AnnularPart):

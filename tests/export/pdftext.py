@@ -57,3 +57,35 @@ def pdf_png(path: Path, out_prefix: Path, dpi: int) -> Path:
     subprocess.run([_poppler("pdftoppm"), "-png", "-r", str(dpi), "-f", "1", "-l", "1",
                     "-singlefile", str(path), str(out_prefix)], check=True)
     return Path(f"{out_prefix}.png")
+
+
+def pdf_without_text(src: Path, dst: Path) -> Path:
+    """A copy of a matplotlib PDF with every text object (BT ... ET) removed from the page.
+
+    The page content stream is rewritten in place: the new (shorter) Flate stream is
+    padded after ``endstream`` and its length object padded with spaces, so every byte
+    offset of the cross-reference table stays valid.
+    """
+    import zlib
+
+    data = Path(src).read_bytes()
+    contents = int(re.search(rb"/Contents (\d+) 0 R", data).group(1))
+    head = re.search(rb"\n%d 0 obj\n<< /Length (\d+) 0 R /Filter /FlateDecode >>\nstream\n"
+                     % contents, data)
+    len_obj = int(head.group(1))
+    len_m = re.search(rb"\n%d 0 obj\n(\d+)\nendobj" % len_obj, data)
+    old_len = int(len_m.group(1))
+    start = head.end()
+    content = zlib.decompress(data[start:start + old_len])
+    stripped = re.sub(rb"BT\n.*?\nET\n", b"", content, flags=re.S)
+    new = zlib.compress(stripped, 9)
+    assert len(new) <= old_len and len(str(len(new))) <= len(len_m.group(1))
+    tail_at = start + old_len
+    assert data[tail_at:tail_at + 10] == b"\nendstream"
+    out = (data[:start] + new + b"\nendstream" + b" " * (old_len - len(new))
+           + data[tail_at + 10:])
+    num = str(len(new)).encode().rjust(len(len_m.group(1)))
+    a, b = len_m.span(1)
+    out = out[:a] + num + out[b:]
+    Path(dst).write_bytes(out)
+    return Path(dst)

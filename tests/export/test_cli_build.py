@@ -55,7 +55,7 @@ def test_build_writes_everything_it_lists(built):
         assert pn.startswith("RING-" if "RING" in name else "CAM-")
         for ext in ("step", "stl", "dxf", "svg", "pdf"):
             assert f"parts/{pn}.{ext}" in paths
-    assert {"assembly.step", "bom.csv", "assembly.png", "design.json"} <= paths
+    assert {"assembly.step", "bom.csv", "assembly.png", "design.json", "vendor.zip"} <= paths
     # BOM, build.json and drawings agree on every part number
     import csv
 
@@ -112,6 +112,51 @@ def test_unverified_build_is_not_for_manufacture(built):
         text = pdf_text(pdf)
         assert "NOT FOR MANUFACTURE" in text and "--no-verify" in text, pdf.name
         assert "tip ball 0.300 mm" in text, pdf.name
+
+
+def test_vendor_bundle(built, tmp_path):
+    """One zip: a folder per made part (STEP, DXF for cut parts, PDF), the BOM and a README
+    with quantities and materials; the same names (and bytes) when written again."""
+    import csv
+    import shutil
+    import zipfile
+
+    from springcad.export.release import ReleaseStatus
+    from springcad.export.vendor import write_vendor_bundle
+
+    _, out = built
+    doc = json.loads((out / "build.json").read_text())
+    bom = list(csv.DictReader((out / "bom.csv").open()))
+    made = [r for r in bom if r["make_or_buy"] == "make"]
+    expected = {"README.txt", "bom.csv"}
+    for r in made:
+        pn = r["part_number"]
+        kinds = ("step", "pdf") + (("dxf",) if (out / "parts" / f"{pn}.dxf").exists() else ())
+        expected |= {f"{pn}/{pn}.{k}" for k in kinds}
+    zf = zipfile.ZipFile(out / "vendor.zip")
+    assert set(zf.namelist()) == expected
+    assert any(n.endswith(".dxf") for n in expected)
+    for name in expected - {"README.txt"}:
+        src = out / "bom.csv" if name == "bom.csv" else out / "parts" / name.split("/")[1]
+        assert zf.read(name) == src.read_bytes(), name
+    readme = zf.read("README.txt").decode()
+    assert "Status: NOT FOR MANUFACTURE" in readme and "DO NOT MANUFACTURE" in readme
+    for reason in doc["release"]["reasons"]:
+        assert reason in readme
+    for r in made:  # quantity and material of every part, next to its number
+        block = readme.split(r["part_number"] + "  ", 1)[1].split("\n\n", 1)[0]
+        assert f"quantity:        {r['quantity']}" in block
+        assert f"material:        {r['material']}" in block
+    # written again (another folder, same files): same names, same bytes
+    again = tmp_path / "again"
+    shutil.copytree(out / "parts", again / "parts")
+    shutil.copy(out / "bom.csv", again / "bom.csv")
+    from cad_fixtures import assembly  # the same S1 stack, for the README's part data
+
+    status = ReleaseStatus(tuple(doc["release"]["reasons"]))
+    path = write_vendor_bundle(assembly("S1"), again, status, doc["job"]["name"])
+    assert path.name == "vendor.zip"
+    assert path.read_bytes() == (out / "vendor.zip").read_bytes()
 
 
 def test_existing_output_is_never_overwritten_silently(built, tmp_path, capsys):

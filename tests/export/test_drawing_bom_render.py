@@ -40,29 +40,43 @@ def title_values(part):
 def test_ring_drawing_has_its_dimensions(ring_s1, tmp_path):
     r = ring_s1
     bc = 2 * math.hypot(*r.hole_centres[0])
-    expected = [f"Ø{fmt(2 * r.outer_radius)}", f"R{fmt(r.contact_radius)} contact radius",
-                f"R{fmt(r.tip_radius)} tip", f"Ø{fmt(bc)} bolt circle",
-                f"{len(r.hole_centres)}× Ø{fmt(r.hole_diameter)}", fmt(r.thickness),
-                f"±{fmt(r.spring.manufacturing.t_spring_mm)} mm"] + title_values(r)
+    t = fmt(r.spring.manufacturing.t_spring_mm)
+    expected = [f"Ø{fmt(2 * r.outer_radius)}", f"R{fmt(r.contact_radius)} ball centres",
+                f"R{fmt(r.tip_radius)}", f"PCD Ø{fmt(bc)}",
+                f"{len(r.hole_centres)}× Ø{fmt(r.hole_diameter)} H7 THRU",
+                f"{fmt(r.thickness)} ±{t}", f"±{t} mm", "ISO 2768-mK", "48-52 HRC",
+                "Heat treatment before EDM", "Ra 0.8 um", "Flatness of each face 0.02 mm",
+                f"2× R{fmt(r.neck_fillet_radius)}", f"2× R{fmt(r.root_fillet_radius)}",
+                "DETAIL A", "HOLE TABLE"] + title_values(r)
     svg, pdf = drawing_texts(r, tmp_path)
     assert_all_in(expected, svg)
     assert_all_in(expected, pdf)
-    assert fmt(r.thickness) in svg  # the side view's dimension is its own text
+    # one hole callout: no "thru" beside a "ream to H7" note
+    blob = "\n".join(svg).lower()
+    assert "ream" not in blob and blob.count("thru") == 1
 
 
 def test_cam_and_spacer_drawings(stack_4xs1, tmp_path):
     cam = stack_4xs1.part_named("S1-CAM-L4.5-H6-R")
     svg, pdf = drawing_texts(cam, tmp_path)
-    expected = [f"Ø{fmt(2 * cam.tip_radius)} tooth tips", f"Ø{fmt(2 * cam.root_radius)} root",
-                f"R{fmt(cam.contact_radius)} contact radius", f"Ø{fmt(cam.bore_diameter)} bore",
-                fmt(cam.toothed_length), fmt(cam.hub_length)] + title_values(cam)
+    expected = [f"Ø{fmt(2 * cam.tip_radius)} tooth tips",
+                f"R{fmt(cam.contact_radius)} pocket centres", f"Ø{fmt(cam.bore_diameter)} H7",
+                fmt(cam.toothed_length + cam.hub_length), fmt(cam.toothed_length),
+                f"Ø{fmt(2 * cam.hub_radius)}", "VIEW B", "DETAIL C"] + title_values(cam)
     assert_all_in(expected, svg)
     assert_all_in(expected, pdf)
+    floating = stack_4xs1.part_named("S1-CAM-L9.5-R")
+    svg, _ = drawing_texts(floating, tmp_path)
+    assert not any("hub" in t.lower() for t in svg)  # no "(hub below)" on a cam without one
     spacer = stack_4xs1.part_named("RIM-SPACER")
     svg, pdf = drawing_texts(spacer, tmp_path)
     expected = [f"Ø{fmt(2 * spacer.outer_radius)}", f"Ø{fmt(2 * spacer.inner_radius)}",
-                f"{len(spacer.hole_centres)}× Ø{fmt(spacer.hole_diameter)}", fmt(spacer.length)]
+                f"{len(spacer.hole_centres)}× Ø{fmt(spacer.hole_diameter)} H7 THRU",
+                fmt(spacer.length), "Ra 3.2 um", "Flatness of each face 0.02 mm"]
     assert_all_in(expected + title_values(spacer), svg + pdf)
+    for part in (spacer, stack_4xs1.part_named("CENTRE-SPACER")):  # notes of their own only
+        svg, _ = drawing_texts(part, tmp_path)
+        assert not any(w in t.lower() for t in svg for w in ("flexures", "teeth"))
 
 
 def test_title_block_comes_from_the_template(ring_s1, tmp_path):

@@ -24,6 +24,8 @@ TABLE_I = {
     "S1+2xS2": "paper_S1_2xS2.toml",
     "S2+3xS1": "paper_S2_3xS1.toml",
 }
+#: other templates built in-process (the README's default job)
+OTHER_TEMPLATES = {"default": "default.toml"}
 #: the same springs driven through the first rim (built in-process): rim flanges at the
 #: input, and for S2+3xS1 only floating camshafts
 RIM_INPUT = {
@@ -76,8 +78,8 @@ def design(name: str):
     from springcad.config import job_from_dict, load_job
     from springcad.design.job import design_job
 
-    if name in TABLE_I:
-        return design_job(load_job(TEMPLATES / TABLE_I[name]))
+    if name in TABLE_I or name in OTHER_TEMPLATES:
+        return design_job(load_job(TEMPLATES / {**TABLE_I, **OTHER_TEMPLATES}[name]))
     sequence, inp = RIM_INPUT[name]
     return design_job(job_from_dict(job_data(sequence, inp)))
 

@@ -1,0 +1,94 @@
+"""The vendor bundle: one zip a shop can quote and make the parts from.
+
+``vendor.zip`` in the build folder, always with the same names::
+
+    README.txt                 release status, what to make, how many, of what
+    bom.csv                    the bill of materials (every part, made and bought)
+    <PN>/<PN>.step             every made part: the solid,
+    <PN>/<PN>.dxf              the cutting profile (wire-EDM and sheet parts),
+    <PN>/<PN>.pdf              the drawing
+
+Entries are written in sorted order with a fixed time stamp, so a bundle of
+unchanged files is byte-for-byte the same zip. Units: mm, g.
+"""
+
+from __future__ import annotations
+
+import zipfile
+from pathlib import Path
+
+from springcad.export.release import ReleaseStatus
+
+BUNDLE_NAME = "vendor.zip"
+#: zip time stamp of every entry (the zip format's epoch): no build date in the bundle
+_EPOCH = (1980, 1, 1, 0, 0, 0)
+#: files of a made part that go into its folder
+PART_KINDS = ("step", "dxf", "pdf")
+
+
+def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[dict],
+                files_by_part: dict[str, list[str]]) -> str:
+    """The shop's README: status first, then one block per part to make, then the buy list."""
+    lines = [f"Job: {job_name}", f"Status: {release.stamp}"]
+    if not release.released:
+        lines += ["", "DO NOT MANUFACTURE: these drawings are for quoting and review only.",
+                  "Reasons:"] + [f"  - {r}" for r in release.reasons]
+    lines += ["", "Units: mm. Each part folder holds the STEP solid, the drawing (PDF) and, for",
+              "cut parts, the DXF (layer CUT: one closed line-and-arc polyline per contour, true",
+              "size; the DXF governs the contour, the drawing the tolerances and finishes).",
+              "A part number names one geometry; the same number in another job is the same part.",
+              "", "PARTS TO MAKE"]
+    for r in bom_rows:
+        if r["make_or_buy"] != "make":
+            continue
+        info = assembly.parts[r["part_number"]].info
+        lines += ["", f"{r['part_number']}  {r['title']}",
+                  f"  quantity:        {r['quantity']}",
+                  f"  material:        {r['material']}",
+                  f"  hardness:        {info.hardness or 'as supplied'}",
+                  f"  heat treatment:  {r['heat_treatment'] or 'none'}"
+                  + (f" ({info.heat_treatment_sequence})" if info.heat_treatment_sequence
+                     and r["heat_treatment"] else ""),
+                  f"  process:         {r['process']}",
+                  f"  thickness/length: {r['thickness_or_length_mm']} mm",
+                  f"  files:           {', '.join(sorted(files_by_part.get(r['part_number'], [])))}"]
+    buy = [r for r in bom_rows if r["make_or_buy"] == "buy"]
+    if buy:
+        lines += ["", "PARTS TO BUY (not made by the shop; for reference)"]
+        lines += [f"  {r['quantity']} x {r['standard'] or r['title']}  ({r['part_number']})"
+                  for r in buy]
+    return "\n".join(lines) + "\n"
+
+
+def write_vendor_bundle(assembly, out_dir: Path, release: ReleaseStatus, job_name: str) -> Path:
+    """Zip a build folder's part files, BOM and a README into ``out_dir/vendor.zip``.
+
+    Reads the files a build wrote (``parts/<PN>.*``, ``bom.csv``); returns the zip path.
+    """
+    import csv
+
+    out_dir = Path(out_dir)
+    bom_path = out_dir / "bom.csv"
+    with open(bom_path, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    entries: dict[str, bytes] = {"bom.csv": bom_path.read_bytes()}
+    files_by_part: dict[str, list[str]] = {}
+    for r in rows:
+        pn = r["part_number"]
+        if r["make_or_buy"] != "make":
+            continue
+        for kind in PART_KINDS:
+            src = out_dir / "parts" / f"{pn}.{kind}"
+            if src.exists():
+                entries[f"{pn}/{pn}.{kind}"] = src.read_bytes()
+                files_by_part.setdefault(pn, []).append(f"{pn}.{kind}")
+    entries["README.txt"] = readme_text(assembly, release, job_name, rows,
+                                        files_by_part).encode()
+    path = out_dir / BUNDLE_NAME
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as zf:
+        for name in sorted(entries):
+            info = zipfile.ZipInfo(name, date_time=_EPOCH)
+            info.compress_type = zipfile.ZIP_DEFLATED
+            info.external_attr = 0o644 << 16
+            zf.writestr(info, entries[name])
+    return path

@@ -1,0 +1,185 @@
+"""Drawings read back with poppler: no text on text, lines or border; every view on the sheet.
+
+Every made part of the default job and of the paper's 4xS1 stack is drawn (with a long
+NOT FOR MANUFACTURE box, the fullest title-block area). ``pdftotext -bbox`` gives each
+word's box as the PDF shows it; ``pdftoppm`` renders the page with its text objects
+removed, so any ink inside a word's box is a line, an arrow or the border.
+"""
+
+import numpy as np
+import pytest
+
+from cad_fixtures import assembly
+from pdftext import pdf_png, pdf_without_text, pdf_words
+from springcad.export.drawing import DrawingInfo, draw_part
+from springcad.export.release import ReleaseStatus
+from springcad.export.sheet import FRAME_MM
+
+DPI = 150
+#: a word box is shrunk by this before looking for ink in it (antialiased glyph and line
+#: edges, one pixel at 150 dpi = 0.17 mm)
+INK_MARGIN_MM = 0.15
+REASONS = ("FEA verification skipped (--no-verify): beam-theory design, stiffness and stress "
+           "not verified",
+           "design warning: spring S1: tip ball 0.300 mm is below the 0.344 mm the peak load "
+           "272.0 N needs at the design stress; torque cap at r_c = 5.5 mm is 37.53 N*m vs peak "
+           "41.89 N*m: expect higher stress at the tip neck",
+           "design warning: interference warning: worst-case gap d_min < 0 (worst_min backlash "
+           "-0.0655 rad); 67.3 % of Monte Carlo stacks have at least one cam interface in "
+           "interference: tighten tolerances or raise w_gap_mm")
+
+
+@pytest.fixture(scope="session")
+def drawings(tmp_path_factory):
+    """(job, part, sheet, pdf) of every made part of the default and the 4xS1 job."""
+    out = []
+    for job in ("default", "4xS1"):
+        asm = assembly(job)
+        qty = asm.quantities()
+        folder = tmp_path_factory.mktemp(f"drawings_{job}")
+        for pn, part in asm.parts.items():
+            if part.info.process == "purchased":
+                continue
+            sheet = draw_part(part, DrawingInfo(job, qty[pn], release=ReleaseStatus(REASONS)))
+            pdf = folder / f"{pn}.pdf"
+            sheet.save(pdf)
+            out.append((job, part, sheet, pdf))
+            sheet.fig.clear()
+    return out
+
+
+def _ink(pdf, tmp) -> np.ndarray:
+    import matplotlib.image as mpimg
+
+    img = mpimg.imread(pdf_png(pdf, tmp, DPI))
+    return img[..., :3].mean(axis=-1) < 0.8
+
+
+def test_every_part_has_a_drawing(drawings):
+    kinds = {p.info.kind for _, p, _, _ in drawings}
+    assert {"flexure_ring", "camshaft", "torque_shaft", "rim_spacer", "centre_spacer",
+            "rim_washer", "bushing", "alignment_shaft"} <= kinds
+    assert all(not sheet.conflicts for _, _, sheet, _ in drawings), \
+        [(p.name, sheet.conflicts) for _, p, sheet, _ in drawings if sheet.conflicts]
+
+
+def test_text_clear_of_text_lines_and_border(drawings, tmp_path):
+    px = DPI / 25.4
+    bad = []
+    for job, part, _, pdf in drawings:
+        words, (w, h) = pdf_words(pdf)
+        assert len(words) > 50
+        ink = _ink(pdf_without_text(pdf, tmp_path / "bare.pdf"), tmp_path / "bare")
+        for wd in words:
+            x0, y0 = wd.x0 + INK_MARGIN_MM, wd.y0 + INK_MARGIN_MM
+            x1, y1 = wd.x1 - INK_MARGIN_MM, wd.y1 - INK_MARGIN_MM
+            if not (FRAME_MM < wd.x0 and wd.x1 < w - FRAME_MM and FRAME_MM < wd.y0
+                    and wd.y1 < h - FRAME_MM):
+                bad.append((job, part.name, wd.text, "outside the frame"))
+            hit = ink[int(y0 * px):int(np.ceil(y1 * px)), int(x0 * px):int(np.ceil(x1 * px))]
+            if hit.any():
+                bad.append((job, part.name, wd.text, f"{int(hit.sum())} px of line"))
+        boxes = np.array([(wd.x0, wd.y0, wd.x1, wd.y1) for wd in words]) + \
+            np.array([0.05, 0.05, -0.05, -0.05])
+        for i, b in enumerate(boxes):
+            over = ((boxes[:, 0] < b[2]) & (b[0] < boxes[:, 2]) & (boxes[:, 1] < b[3])
+                    & (b[1] < boxes[:, 3]))
+            over[i] = False
+            for j in np.flatnonzero(over):
+                if j > i:
+                    bad.append((job, part.name, words[i].text, f"on text {words[j].text!r}"))
+    assert not bad, bad[:20]
+
+
+def test_every_view_inside_the_frame(drawings, tmp_path):
+    """No ink between the sheet edge and the frame: views, dimensions and text stay inside."""
+    px = DPI / 25.4
+    for job, part, _, pdf in drawings:
+        ink = _ink(pdf, tmp_path / "full")
+        m = int((FRAME_MM - 0.6) * px)
+        margin = ink.copy()
+        margin[m:-m, m:-m] = False
+        assert not margin.any(), (job, part.name, int(margin.sum()))
+        assert ink[m:-m, m:-m].any()
+
+
+def step_features(path) -> dict:
+    """Functional features of a STEP solid, measured by OCCT on the read-back solid (mm).
+
+    radii: every cylinder radius (holes, bores, outer diameters, fillets, arcs);
+    holes: (distance from the axis, angle from +Y) of off-axis cylinders that close
+    into a full circle; flats: distance from the axis of planes parallel to the axis;
+    z: the z levels of planes normal to the axis.
+    """
+    import math
+
+    import build123d as bd
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_Cylinder, GeomAbs_Plane
+
+    shape = bd.import_step(str(path))
+    radii, flats, z, sweep = set(), set(), set(), {}
+    for face in shape.faces():
+        s = BRepAdaptor_Surface(face.wrapped)
+        if s.GetType() == GeomAbs_Cylinder:
+            cyl = s.Cylinder()
+            assert abs(abs(cyl.Axis().Direction().Z()) - 1) < 1e-9
+            loc = cyl.Axis().Location()
+            r = round(cyl.Radius(), 5)
+            radii.add(r)
+            key = (round(loc.X(), 5), round(loc.Y(), 5), r)
+            sweep[key] = sweep.get(key, 0.0) + s.LastUParameter() - s.FirstUParameter()
+        elif s.GetType() == GeomAbs_Plane:
+            pl = s.Plane()
+            n, p = pl.Axis().Direction(), pl.Location()
+            if abs(abs(n.Z()) - 1) < 1e-9:
+                z.add(round(p.Z(), 5))
+            elif abs(n.Z()) < 1e-9:
+                flats.add(round(abs(n.X() * p.X() + n.Y() * p.Y()), 5))
+    holes = {(round(math.hypot(x, y), 4), math.degrees(math.atan2(-x, y)) % 360.0)
+             for (x, y, r), a in sweep.items()
+             if math.hypot(x, y) > 1e-4 and a >= 2 * math.pi - 1e-6}
+    return {"radii": radii, "flats": flats, "z": sorted(z), "holes": holes}
+
+
+def test_every_functional_feature_of_the_step_is_dimensioned(drawings, tmp_path):
+    """The solid read back from its STEP against the drawing's dimension list; every
+    dimension's text is on the PDF (poppler)."""
+    from pdftext import pdf_text
+    from springcad.export.step import write_part_step
+
+    missing = []
+    for job, part, sheet, pdf in drawings:
+        f = step_features(write_part_step(part, tmp_path / "p.step"))
+        dims = sheet.dims
+        for r in f["radii"]:
+            if not any((d.kind == "diameter" and abs(d.value - 2 * r) < 2e-4)
+                       or (d.kind == "radius" and abs(d.value - r) < 1e-4) for d in dims):
+                missing.append((job, part.name, f"radius {r}"))
+        for dist in f["flats"]:
+            if not any(d.kind == "flat" and abs(d.value - dist) < 1e-4 for d in dims):
+                missing.append((job, part.name, f"flat at {dist} from the axis"))
+        for dist, ang in f["holes"]:
+            if not any(d.kind == "position" and abs(d.value - dist) < 1e-4
+                       and abs((d.angle_deg - ang + 180) % 360 - 180) < 1e-3 for d in dims):
+                missing.append((job, part.name, f"hole at {dist} mm, {ang:.3f} deg"))
+        # axial lengths: the dimensioned pairs of z levels form a tree over all levels
+        # (every level located, none twice: "the length dimensioned twice" is an error)
+        lengths = [d.z for d in dims if d.kind == "length"]
+        levels = {round(v, 5) for v in f["z"]}
+        assert {round(v, 5) for pair in lengths for v in pair} == levels, (job, part.name)
+        assert len(lengths) == len(levels) - 1, (job, part.name, lengths)
+        parent = {v: v for v in levels}
+
+        def root(v):
+            while parent[v] != v:
+                v = parent[v]
+            return v
+        for a, b in lengths:
+            parent[root(round(a, 5))] = root(round(b, 5))
+        assert len({root(v) for v in levels}) == 1, (job, part.name, lengths)
+        text = " ".join(pdf_text(pdf).split())
+        for d in dims:
+            if " ".join(d.label.split()) not in text:
+                missing.append((job, part.name, f"label {d.label!r} not on the PDF"))
+    assert not missing, missing
