@@ -13,10 +13,12 @@ Model
     Kinematics are total Lagrangian (:mod:`fea.nonlinear`; ``nonlinear=False``:
     linear): the ball's radial motion decides where it bears on the cam, and
     the flexure's foreshortening (~0.6 delta^2 / L, tens of um) is of the order
-    of w_gap. A serpentine flexure also couples tangential load and radial tip
-    motion (c_xy / c_xx = -0.13 for the default spring, -0.31 for paper S1):
-    pushed one way the ball climbs the flank, pushed the other it sinks into
-    the pocket. The linear FEA's tangential traction sees none of this.
+    of w_gap. A serpentine flexure can also couple tangential load and radial tip
+    motion: pushed one way the ball climbs the flank, pushed the other it sinks
+    into the pocket, and the linear FEA's tangential traction sees none of it.
+    The design's serpentines are shaped to cancel that coupling
+    (:func:`springcad.design.flexure.uncoupled_tilt`); this sweep is what checks
+    that the ball then stays on its flank.
 
 Contact
     Points on the quadratic boundary of ball, neck fillets and edges within

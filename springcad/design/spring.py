@@ -106,6 +106,13 @@ class SpringDesign:
         return self.root_radius_mm - self.contact_radius_mm
 
     @property
+    def root_station_mm(self) -> float:
+        """y where the flexure centreline meets the root circle (mm): R_r for a flexure whose
+        root sits on the tip's radial line, less when the root sits off it (an uncoupled
+        serpentine, a swept arm). Beam integrals run from r_c to here; beyond it is rim."""
+        return float(self.centreline.y_mm[-1])
+
+    @property
     def max_deflection_rad(self) -> float:
         return self.spec.max_deflection_rad
 
@@ -186,7 +193,7 @@ class SpringDesign:
         """
         E = youngs_modulus_MPa or self.material.material.youngs_modulus_MPa
         rc, z = self.contact_radius_mm, self.thickness_mm
-        y = np.linspace(rc, self.root_radius_mm, 4001)
+        y = np.linspace(rc, self.root_station_mm, 4001)
         w = self.width_mm(y)
 
         def compliance(width):
@@ -216,7 +223,7 @@ class SpringDesign:
     @property
     def model_area_mm2(self) -> float:
         """Flexures (width law x area ratio) plus rim annulus: the reference tool's area (mm^2)."""
-        y = np.linspace(self.contact_radius_mm, self.root_radius_mm, 2001)
+        y = np.linspace(self.contact_radius_mm, self.root_station_mm, 2001)
         flex = fx.area_mm2(self.centreline, y, self.width_mm(y))
         rim = math.pi * (self.outer_radius_mm ** 2 - self.root_radius_mm ** 2)
         return self.n_flexures * flex + rim
@@ -319,7 +326,7 @@ def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0)
     """
     d = _replace(design, width_scale=design.width_scale * scale, width_offset_mm=offset_mm,
                  tip_radius_mm=design.tip_radius_mm - design.width_offset_mm + offset_mm)
-    y = np.linspace(d.contact_radius_mm, d.root_radius_mm, 1201)
+    y = np.linspace(d.contact_radius_mm, d.root_station_mm, 1201)
     mfg = d.manufacturing
     clearance = None
     if not d.centreline.is_straight:

@@ -190,7 +190,7 @@ def _edge_radius_mm(design) -> float | None:
 
     if design.centreline.is_straight:
         return None
-    y = np.linspace(design.contact_radius_mm, design.root_radius_mm, 1201)
+    y = np.linspace(design.contact_radius_mm, design.root_station_mm, 1201)
     return concave_edge_radius_mm(design.centreline, y, design.width_mm(y))
 
 

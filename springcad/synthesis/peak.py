@@ -13,8 +13,7 @@ same model on many screened disks at once, on the centreline stations of
    stiffness, exactly as the design steps (the tip web does not scale, so where it is a
    large part of the flexure the passes stop short of the target, as the design's do);
 2. nominal stress 6 F (y - r_c) / (z w^2) times the Winkler factors of the centreline
-   curvature on both edges (:func:`winkler_factors`: the design's, without its loss of
-   precision on nearly straight stretches);
+   curvature on both edges (:func:`springcad.design.stress.winkler_factors`);
 3. the root-fillet and neck-fillet tangent stations on each edge (fillet circle
    tangent to the edge and to the rim circle or the tip ball), the root model
    a (w / r_f)^b k^c there, the flank maximum below the root station, the neck nominal;
@@ -41,33 +40,6 @@ REGIONS = ("flexure flank", "root fillet", "tip-neck fillet")
 #: width-scale passes: onto the target stiffness without a flare (_design_at), then of
 #: each flare onto that stiffness (_with_flare)
 _DESIGN_PASSES, _FLARE_PASSES = 2, 3
-
-
-def winkler_factors(width_mm, curvature_per_mm):
-    """Inner and outer fibre stress over 6M/(z w^2) of a curved rectangular bar (-).
-
-    The Winkler-Bach factors of :func:`springcad.design.stress.winkler_factors` in a form
-    that keeps its precision on nearly straight stretches. With x = |kappa| w / 2 the
-    eccentricity is e = R t, t = 1 - x / artanh(x), and
-
-        inner = x (x - t) / (3 t (1 - x)),   outer = x (x + t) / (3 t (1 + x)).
-
-    The design's form e = R - w / ln(r_o / r_i) cancels catastrophically when kappa w
-    is below about 1e-4 (at an inflection point of a serpentine it returned a factor of
-    13.5 for kappa w = 1e-5); here t comes from its series x^2/3 + 4x^4/45 + 44x^6/945
-    below x = 0.01 (truncation below 1e-16) and tends to (1, 1) for a straight bar.
-    """
-    w = np.asarray(width_mm, dtype=float)
-    x = np.minimum(0.5 * np.abs(np.asarray(curvature_per_mm, dtype=float)) * w, 1.0 - 1e-12)
-    small = x < 0.01
-    xs = np.where(small, x, 0.5)
-    xl = np.where(small, 0.5, x)
-    t = np.where(small, xs ** 2 / 3 + 4 * xs ** 4 / 45 + 44 * xs ** 6 / 945,
-                 1.0 - xl / np.arctanh(xl))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        inner = np.where(x > 0, x * (x - t) / (3 * t * (1 - x)), 1.0)
-        outer = np.where(x > 0, x * (x + t) / (3 * t * (1 + x)), 1.0)
-    return inner, outer
 
 
 def web_floor_mm(width_mm, min_web_mm: float):
@@ -186,7 +158,7 @@ def _one_flare(flare, g, cal):
         # a block of straight flexures: no curvature, both edges mirror images
         sides = ((+1, np.ones_like(w)),)
     else:
-        inner, outer = winkler_factors(w, kappa)
+        inner, outer = stress.winkler_factors(w, kappa)
         bends_right = kappa > 0
         sides = ((+1, np.where(bends_right, inner, outer)),
                  (-1, np.where(bends_right, outer, inner)))

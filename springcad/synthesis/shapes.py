@@ -25,16 +25,18 @@ Units: mm, N, MPa, rad.
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
+from springcad.design.flexure import SERPENTINE_SHAPES, shape_rank, trial_tilt
+
 #: the radial stations of design_serpentine: u = (r - r_c) / L
 U = np.linspace(0.0, 1.0, 241) ** 1.3
-#: the trial shapes (k, a) in design_serpentine's order (ties go to the first)
-DESIGN_SHAPES = tuple((k, a) for k in (1, 2, 3, 4, 5, 6) for a in (1.0, 2.0, 3.0))
+#: the trial shapes (k, a, balance) in design_serpentine's order (ties go to the first)
+DESIGN_SHAPES = SERPENTINE_SHAPES
 #: the same shapes, widest first, so the reach test of most disks stops at the first
-_REACH_ORDER = tuple(sorted(DESIGN_SHAPES, key=lambda ka: (ka[0] != 1, -ka[1], ka[0])))
+_REACH_ORDER = tuple(sorted(DESIGN_SHAPES, key=lambda s: (s[0] != 1, -s[1], s[0],
+                                                          s[2] != "root")))
 #: rows per block: (rows x 241) float temporaries stay below the 128 kB at which glibc
 #: mmaps; Dask workers set MALLOC_TRIM_THRESHOLD_, which freezes that threshold, and larger
 #: temporaries then cost a page-fault storm (measured 6x slower)
@@ -68,23 +70,19 @@ class _Tilt:
         self.rc, self.L = rc[:, None], (rr - rc)[:, None]
         self.r = self.rc + self.L * U[None, :]
         self.c = (6.0 * load / (z * sigma))[:, None]
-        w_r = np.sqrt(self.c * (self.r - self.rc))
+        self.w_r = w_r = np.sqrt(self.c * (self.r - self.rc))
         self.straight_area = trapz_rows(w_r, self.r)
         pitch = (2 * np.pi / n)[:, None]
         self.budget = np.sqrt(np.maximum((self.r * pitch / (w_r + clearance_mm)) ** 2 - 1.0, 0.0))
         q = np.clip((rr[:, None] - self.r) / root_zone_mm[:, None], 0.0, 1.0)
         self.taper = q * q * (3 - 2 * q)
 
-    def shape(self, k: int, a: float, rows=slice(None)):
-        """tan(beta) at full tilt and theta(r) per unit tilt of shape (k, a) (the balanced
-        serpentine for k >= 2: reversed lobes scaled so the root lines up with the tip)."""
+    def shape(self, k: int, a: float, balance: str, rows=slice(None)):
+        """tan(beta) at full tilt and theta(r) per unit tilt of shape (k, a, balance)
+        (:func:`springcad.design.flexure.trial_tilt`)."""
         r, budget = self.r[rows], self.budget[rows]
-        h = np.tanh(a * np.sin(k * np.pi * U))[None, :] / math.tanh(a) * self.taper[rows]
-        if k > 1:
-            pos = trapz_rows(budget * np.maximum(h, 0) / r, r)
-            neg = trapz_rows(budget * np.minimum(h, 0) / r, r)
-            h = np.maximum(h, 0) - (pos / neg)[:, None] * np.minimum(h, 0)
-            h = h / np.max(np.abs(h), axis=1, keepdims=True)
+        h = trial_tilt(k, a, balance, U[None, :], self.taper[rows], budget, r, self.rc[rows],
+                       self.w_r[rows])
         tan_b = budget * h
         return tan_b, cumtrapz_rows(tan_b / r, r)
 
@@ -107,11 +105,11 @@ def serpentine_reach(s_req, rc, rr, n, load, z, sigma, clearance_mm, root_zone_m
         t = _Tilt(rc[b], rr[b], n[b], load[b], z[b], sigma[b], clearance_mm, root_zone_mm[b])
         todo = np.ones(b.stop - b.start, dtype=bool)
         out = best[b]
-        for k, a in _REACH_ORDER:
+        for k, a, balance in _REACH_ORDER:
             i = np.flatnonzero(todo)
             if i.size == 0:
                 break
-            tan_b, theta1 = t.shape(k, a, i)
+            tan_b, theta1 = t.shape(k, a, balance, i)
             ratio = t.ratio(1.0, tan_b, theta1, i)
             out[i] = np.maximum(out[i], ratio)
             todo[i] = ratio < s_req[b][i]
@@ -194,8 +192,8 @@ def serpentine_centrelines(s_req, rc, rr, n, load, z, sigma, clearance_mm, root_
         t = _Tilt(rc[b], rr[b], n[b], load[b], z[b], sigma[b], clearance_mm, root_zone_mm[b])
         s = s_req[b][:, None]
         best_key = np.full(b.stop - b.start, np.inf)
-        for idx, (k, a) in enumerate(DESIGN_SHAPES):
-            tan_b, theta1 = t.shape(k, a)
+        for idx, (k, a, balance) in enumerate(DESIGN_SHAPES):
+            tan_b, theta1 = t.shape(k, a, balance)
             r1 = t.ratio(1.0, tan_b, theta1)
             out["reach"][b] = np.maximum(out["reach"][b], r1)
             i = np.flatnonzero(r1 >= s[:, 0])
@@ -238,7 +236,7 @@ def serpentine_centrelines(s_req, rc, rr, n, load, z, sigma, clearance_mm, root_
             out["edge_radius_mm"][rows] = np.where(
                 out["ok"][rows], out["edge_radius_mm"][rows],
                 np.maximum(out["edge_radius_mm"][rows], np.where(monotone, edge, -np.inf)))
-            key = (k == 1) * 1e6 + np.round(measure, 4)
+            key = shape_rank(balance, measure)
             better = good & (key < best_key[i])
             j = rows[better]
             best_key[i[better]] = key[better]

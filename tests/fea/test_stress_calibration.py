@@ -70,3 +70,18 @@ def test_winkler_factor_closed_form():
     k_in = (rn - (R - c)) / (2 * c * e * (R - c)) / (6 / (2 * c) ** 2)
     assert inner[1] == pytest.approx(k_in, rel=1e-12)
     assert inner[1] == pytest.approx(1.52, abs=0.01)
+
+
+def test_winkler_factor_nearly_straight_bar():
+    """Where the curvature changes sign the bar is nearly straight: the factors follow their
+    Taylor expansion 1 +- (w kappa)/3 + O((w kappa)^2) smoothly, without the cancellation
+    spike of the direct formula (it gave 1.24 at w kappa ~ 1e-5 on a calibration spring)."""
+    import numpy as np
+
+    from springcad.design.stress import winkler_factors
+
+    eps = np.logspace(-8, -2, 200)  # w * kappa
+    inner, outer = winkler_factors(np.full_like(eps, 2.0), eps / 2.0)
+    assert np.all(np.abs(inner - 1 - eps / 3) < eps ** 2 + 1e-14)
+    assert np.all(np.abs(outer - 1 + eps / 3) < eps ** 2 + 1e-14)
+    assert np.all(np.diff(inner) > 0) and np.all(np.diff(outer) < 0)

@@ -9,7 +9,7 @@ import pytest
 from springcad.cli import main
 from springcad.config import load_job
 from springcad.design.job import design_job
-from synth_fixtures import requirements_toml, small
+from synth_fixtures import SMALL, requirements_toml, small
 
 
 @pytest.fixture(scope="module")
@@ -35,7 +35,8 @@ def test_synthesize_writes_a_buildable_winner(synthesized):
     jd = design_job(job)
     st = jd.stack
     assert st.stiffness_Nmm_per_rad == pytest.approx(37.5e3, rel=0.01)
-    assert st.max_deflection_rad == pytest.approx(math.radians(64), rel=1e-6)
+    assert st.max_deflection_rad == pytest.approx(
+        math.radians(SMALL["requirement"]["deflection_deg"]), rel=1e-6)
     assert st.height_mm <= 19.5 + 1e-9 and st.envelope_radius_mm <= 35.05 + 1e-9
     full = next(f for f in report["finalists_full_design"] if f["cid"] == winner["cid"])
     assert st.mass_kg == pytest.approx(full["mass_kg"], rel=1e-9)
