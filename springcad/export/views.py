@@ -82,6 +82,13 @@ def dim_circle(sheet: Sheet, view: View, radius: float, label: str, feature: str
                   Dimension("diameter", 2 * radius, label, feature))
 
 
+def flat_deviations(tol: float, outer: bool) -> str:
+    """Deviations of a flat's distance from the axis: one-sided, so a D shaft (or hub) and
+    the D bore it slides into, drawn at the same nominal flat, never interfere: the shaft's
+    flat may only move towards the axis, the bore's only away from it."""
+    return f"0/-{fmt(tol)}" if outer else f"+{fmt(tol)}/0"
+
+
 def dim_d_loop(sheet: Sheet, view: View, loop: Loop, feature: str, fit: str, tol: float,
                outer: bool, clear_mm: float = 0.0) -> None:
     """A D loop: diameter of its arc, distance of its flat from the axis, corner radii.
@@ -94,7 +101,7 @@ def dim_d_loop(sheet: Sheet, view: View, loop: Loop, feature: str, fit: str, tol
     y_flat = flat.start[1]
     d_label = f"Ø{fmt(2 * arc.radius)} {fit}".strip()
     dim_circle(sheet, view, arc.radius, d_label, feature, 60 if outer else 120)
-    label = f"{fmt(abs(y_flat))} ±{fmt(tol)}"
+    label = f"{fmt(abs(y_flat))} {flat_deviations(tol, outer)}"
     c = view((0.0, 0.0))
     sheet.dim_linear(c, view((0.0, y_flat)), 1.0 if not outer else -1.0, label,
                      Dimension("flat", abs(y_flat), label, f"{feature} flat"),

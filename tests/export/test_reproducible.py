@@ -1,0 +1,44 @@
+"""Two builds of one job on one day give the same bytes: no clock time in any file a shop
+gets (STEP header, DXF header, PDF and SVG meta data), so ``vendor.zip`` is identical."""
+
+import time
+import zipfile
+
+from springcad.export.bom import write_bom
+from springcad.export.bundle import export_parts
+from springcad.export.release import ReleaseStatus
+from springcad.export.vendor import write_vendor_bundle
+
+INFO = {"job": "S1", "revision": "A", "date": "2026-01-02", "drawn_by": "test",
+        "release": ReleaseStatus(("FEA verification skipped (--no-verify)",))}
+
+
+def _build(assembly, out):
+    files = export_parts(assembly, out, INFO)
+    by_part = {}
+    for f in files:
+        by_part.setdefault(f.part, []).append(f.path)
+    write_bom(assembly, out / "bom.csv", by_part)
+    return write_vendor_bundle(assembly, out, INFO["release"], "S1")
+
+
+def test_vendor_zip_is_byte_identical_across_builds(s1_stack, tmp_path):
+    """The second export starts more than a second later: every clock-stamped field (STEP's
+    FILE_NAME to the second, DXF and SVG to the microsecond, PDF to the second) would
+    differ if it were still written."""
+    first = _build(s1_stack, tmp_path / "a")
+    time.sleep(1.1)
+    second = _build(s1_stack, tmp_path / "b")
+    a, b = zipfile.ZipFile(first), zipfile.ZipFile(second)
+    assert a.namelist() == b.namelist()
+    kinds = {n.rsplit(".", 1)[-1] for n in a.namelist()}
+    assert {"step", "dxf", "pdf", "csv", "txt"} <= kinds
+    differ = [n for n in a.namelist() if a.read(n) != b.read(n)]
+    assert not differ, differ
+    assert first.read_bytes() == second.read_bytes()
+    # the date the build gives is the one in the files
+    step = next(n for n in a.namelist() if n.endswith(".step"))
+    assert "'2026-01-02T00:00:00'" in a.read(step).decode("latin-1")
+    # and the SVG drawings (not in the zip) are reproducible too
+    for svg in (tmp_path / "a" / "parts").glob("*.svg"):
+        assert svg.read_bytes() == (tmp_path / "b" / "parts" / svg.name).read_bytes(), svg.name
