@@ -42,3 +42,32 @@ def test_vendor_zip_is_byte_identical_across_builds(s1_stack, tmp_path):
     # and the SVG drawings (not in the zip) are reproducible too
     for svg in (tmp_path / "a" / "parts").glob("*.svg"):
         assert svg.read_bytes() == (tmp_path / "b" / "parts" / svg.name).read_bytes(), svg.name
+
+
+def test_build_date_follows_source_date_epoch(monkeypatch):
+    import datetime
+
+    import pytest
+
+    from springcad.cli.build import build_date
+    from springcad.errors import ConfigError
+
+    monkeypatch.delenv("SOURCE_DATE_EPOCH", raising=False)
+    assert build_date() == datetime.date.today().isoformat()
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1767312000")  # 2026-01-02 00:00:00 UTC
+    assert build_date() == "2026-01-02"
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "yesterday")
+    with pytest.raises(ConfigError, match="SOURCE_DATE_EPOCH.*whole seconds"):
+        build_date()
+
+
+def test_step_date_replaces_only_the_header_time_stamp(tmp_path):
+    from springcad.export.step import set_step_date
+
+    path = tmp_path / "x.step"
+    body = "DATA;\n#1 = PRODUCT('FILE_NAME(''a'',''2020-01-01T00:00:00'')','',$);\nENDSEC;\n"
+    path.write_bytes(("ISO-10303-21;\nHEADER;\nFILE_NAME('it''s','2026-11-23T12:10:50',"
+                      "('Author'));\nENDSEC;\n" + body).encode())
+    text = set_step_date(path, "2026-01-02").read_text()
+    assert "FILE_NAME('it''s','2026-01-02T00:00:00'," in text
+    assert text.endswith(body)  # the data section is untouched
