@@ -5,21 +5,36 @@ import time
 import zipfile
 
 from springcad.export.bom import write_bom
-from springcad.export.bundle import export_parts
+from springcad.export.drawing import DrawingInfo, write_drawing
+from springcad.export.dxf import write_dxf
 from springcad.export.release import ReleaseStatus
+from springcad.export.step import write_part_step
 from springcad.export.vendor import write_vendor_bundle
 
-INFO = {"job": "S1", "revision": "A", "date": "2026-01-02", "drawn_by": "test",
-        "release": ReleaseStatus(("FEA verification skipped (--no-verify)",))}
+RELEASE = ReleaseStatus(("FEA verification skipped (--no-verify)",))
+DATE = "2026-01-02"
+#: every kind of file the zip holds, each from a part quick to export (what is tested is
+#: the absence of clock time, the same for every part): STEP and DXF of the cam, STEP and
+#: drawing of the torque shaft
+PARTS = ("S1-CAM-L4.5-H6", "TORQUE-SHAFT")
+DRAWN = ("TORQUE-SHAFT",)
 
 
 def _build(assembly, out):
-    files = export_parts(assembly, out, INFO)
-    by_part = {}
-    for f in files:
-        by_part.setdefault(f.part, []).append(f.path)
-    write_bom(assembly, out / "bom.csv", by_part)
-    return write_vendor_bundle(assembly, out, INFO["release"], "S1")
+    """The files of ``PARTS`` as ``springcad build`` writes them, then the bundle."""
+    parts = out / "parts"
+    parts.mkdir(parents=True)
+    qty = assembly.quantities()
+    for name in PARTS:
+        part = assembly.part_named(name)
+        pn = part.part_number
+        write_part_step(part, parts / f"{pn}.step", DATE)
+        if part.info.cut_profile is not None:
+            write_dxf(part.info.cut_profile, parts / f"{pn}.dxf", pn, part.info.thickness_mm)
+        if name in DRAWN:
+            write_drawing(part, DrawingInfo("S1", qty[pn], date=DATE, release=RELEASE), parts)
+    write_bom(assembly, out / "bom.csv")
+    return write_vendor_bundle(assembly, out, RELEASE, "S1")
 
 
 def test_vendor_zip_is_byte_identical_across_builds(s1_stack, tmp_path):
@@ -38,7 +53,7 @@ def test_vendor_zip_is_byte_identical_across_builds(s1_stack, tmp_path):
     assert first.read_bytes() == second.read_bytes()
     # the date the build gives is the one in the files
     step = next(n for n in a.namelist() if n.endswith(".step"))
-    assert "'2026-01-02T00:00:00'" in a.read(step).decode("latin-1")
+    assert f"'{DATE}T00:00:00'" in a.read(step).decode("latin-1")
     # and the SVG drawings (not in the zip) are reproducible too
     for svg in (tmp_path / "a" / "parts").glob("*.svg"):
         assert svg.read_bytes() == (tmp_path / "b" / "parts" / svg.name).read_bytes(), svg.name
