@@ -28,6 +28,8 @@ LEFT_ZONE = (14.0, 14.0, 226.0, 262.0)
 CALLOUT_MARGIN = 30.0
 #: gap between the main view and the side view (sheet mm)
 VIEW_GAP = 26.0
+#: a dimension line keeps at least this from the extreme of the part's outline (sheet mm)
+OUTLINE_GAP_MM = 2.0
 #: hole centres on one circle closer than this to equal spacing are "EQ SP" (deg)
 EQUAL_SPACING_TOL_DEG = 1e-6
 
@@ -103,10 +105,14 @@ def dim_d_loop(sheet: Sheet, view: View, loop: Loop, feature: str, fit: str, tol
     dim_circle(sheet, view, arc.radius, d_label, feature, 60 if outer else 120)
     label = f"{fmt(abs(y_flat))} {flat_deviations(tol, outer)}"
     c = view((0.0, 0.0))
+    # dimension line candidates beside the D, then beyond the outline; never one lying on
+    # the outline's extreme (a line tangent to the outer circle reads as part of it)
+    edge = clear_mm * view.scale
+    offsets = tuple(off for off in (r * view.scale + o for r in (arc.radius, clear_mm)
+                                    for o in (5.0, 10.0, 16.0))
+                    if clear_mm <= 0 or abs(off - edge) > OUTLINE_GAP_MM)
     sheet.dim_linear(c, view((0.0, y_flat)), 1.0 if not outer else -1.0, label,
-                     Dimension("flat", abs(y_flat), label, f"{feature} flat"),
-                     offsets=tuple(r * view.scale + o for r in (arc.radius, clear_mm)
-                                   for o in (5.0, 10.0, 16.0)))
+                     Dimension("flat", abs(y_flat), label, f"{feature} flat"), offsets=offsets)
     try:
         corners = loop.named("corner")
     except KeyError:
