@@ -137,12 +137,12 @@ def step_exports(ctx: BuildContext) -> None:
     ctx.release = release_status(ctx.design, ctx.verification, ctx.args.no_verify,
                                  ctx.report.checks)
     info = {"job": ctx.job.name, "revision": ctx.args.revision,
-            "date": datetime.date.today().isoformat(), "drawn_by": _drawn_by(),
+            "date": build_date(), "drawn_by": _drawn_by(),
             "release": ctx.release}
     parts = export_parts(ctx.assembly, ctx.out_tmp, info, template, progress=ctx.say)
     ctx.files = parts + export_stack(ctx.assembly, ctx.out_tmp, parts,
                                      render=not ctx.args.no_render, progress=ctx.say,
-                                     release=ctx.release)
+                                     release=ctx.release, date=info["date"])
     ctx.roundtrip = roundtrip_checks(ctx.assembly, ctx.out_tmp, ctx.files, progress=ctx.say)
     try:
         CheckReport(ctx.roundtrip).raise_if_failed()
@@ -155,6 +155,28 @@ STEPS = {"design": step_design, "verify": step_verify, "solids": step_solids,
 #: step order: the FEA verification (and correction) comes before any solid is made, so
 #: the parts checked and exported are the corrected ones
 PIPELINE = ["design", "verify", "solids", "checks", "exports"]
+
+
+def build_date() -> str:
+    """The build's date (YYYY-MM-DD) for title blocks and STEP headers: today, or the UTC
+    day of ``SOURCE_DATE_EPOCH`` (seconds since 1970, the reproducible-builds convention)
+    when it is set, so two builds of one job give byte-identical files.
+
+    Raises:
+        ConfigError: ``SOURCE_DATE_EPOCH`` is not a whole number of seconds.
+    """
+    import os
+
+    epoch = os.environ.get("SOURCE_DATE_EPOCH", "").strip()
+    if not epoch:
+        return datetime.date.today().isoformat()
+    try:
+        stamp = datetime.datetime.fromtimestamp(int(epoch), datetime.timezone.utc)
+    except (ValueError, OverflowError, OSError) as err:
+        raise ConfigError("SOURCE_DATE_EPOCH (environment)", epoch,
+                          "must be whole seconds since 1970-01-01 UTC",
+                          "unset it to date the build today") from err
+    return stamp.date().isoformat()
 
 
 def _drawn_by() -> str:

@@ -68,7 +68,8 @@ def export_parts(assembly, out_dir: Path, drawing_info: dict, template: dict | N
     out = []
     for k, (pn, part) in enumerate(assembly.parts.items()):
         progress(f"exporting {pn}", k / len(assembly.parts))
-        out.append(_record(out_dir, write_part_step(part, parts_dir / f"{pn}.step"), "step", pn))
+        step = write_part_step(part, parts_dir / f"{pn}.step", drawing_info.get("date", ""))
+        out.append(_record(out_dir, step, "step", pn))
         out.append(_record(out_dir, write_part_stl(part, parts_dir / f"{pn}.stl"), "stl", pn))
         if part.info.cut_profile is not None:
             rep = write_dxf(part.info.cut_profile, parts_dir / f"{pn}.dxf", pn,
@@ -84,20 +85,22 @@ def export_parts(assembly, out_dir: Path, drawing_info: dict, template: dict | N
 
 
 def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render: bool = True,
-                 progress: Progress = no_progress, release=None) -> list[WrittenFile]:
+                 progress: Progress = no_progress, release=None,
+                 date: str = "") -> list[WrittenFile]:
     """Assembly STEP, bill of materials, (optionally) the PNG render and the vendor bundle.
 
     Args:
         progress: ``progress(message, fraction=None)``, called per file.
         release: the build's :class:`~springcad.export.release.ReleaseStatus` for the
             vendor bundle's README (not assessed if None).
+        date: YYYY-MM-DD of the assembly STEP's header (the build's date).
     """
     from springcad.export.bom import write_bom
     from springcad.export.step import write_assembly_step
 
     out_dir = Path(out_dir)
     progress("exporting assembly STEP", 0.0)
-    out = [_record(out_dir, write_assembly_step(assembly, out_dir / "assembly.step"),
+    out = [_record(out_dir, write_assembly_step(assembly, out_dir / "assembly.step", date),
                    "step_assembly")]
     by_part: dict[str, list[str]] = {}
     for f in part_files:

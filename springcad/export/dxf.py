@@ -12,12 +12,14 @@ What a CAM system gets:
   corner, where a round part has no material), so the drawing extents are the
   cut extents.
 * units mm (``$INSUNITS`` = 4, ``$MEASUREMENT`` = 1), DXF R2010.
+* no clock time and no random GUID in the file: one profile, one byte sequence.
 
 Units: mm.
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -63,6 +65,22 @@ def _info_text(msp, lines: list[str], bbox) -> None:
             (x0 + 0.1 * side, y0 + 0.1 * side + 1.6 * h * (len(lines) - 1 - k)))
 
 
+@contextlib.contextmanager
+def _fixed_meta_data():
+    """ezdxf's fixed meta data while a document is made and saved: no creation or update
+    time, no random GUIDs and no time in ezdxf's own marker, so one profile always gives
+    the same bytes (vendor.zip of two builds is byte-identical). The option is
+    ezdxf-global: restored afterwards."""
+    import ezdxf
+
+    before = ezdxf.options.write_fixed_meta_data_for_testing
+    ezdxf.options.write_fixed_meta_data_for_testing = True
+    try:
+        yield
+    finally:
+        ezdxf.options.write_fixed_meta_data_for_testing = before
+
+
 def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: float) -> DxfReport:
     """Write a cutting profile (mm) as DXF R2010: one closed line-and-arc polyline per loop.
 
@@ -72,22 +90,23 @@ def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: floa
     import ezdxf
     from ezdxf import units
 
-    doc = ezdxf.new("R2010", setup=False)
-    doc.units = units.MM
-    doc.header["$MEASUREMENT"] = 1
-    doc.header["$LUNITS"] = 2
-    doc.layers.add(CUT_LAYER, color=1)
-    doc.layers.add(INFO_LAYER, color=7)
-    msp = doc.modelspace()
     bulged = [loop_bulges(loop, BIARC_TOL_MM) for loop in profile.loops]
-    for b in bulged:
-        msp.add_lwpolyline(b.vertices.tolist(), format="xyb", close=True,
-                           dxfattribs={"layer": CUT_LAYER})
     pts = profile.outer.sample(0.05)
     bbox = (*pts.min(axis=0), *pts.max(axis=0))
-    _info_text(msp, [part_number, f"t {thickness_mm:g} mm, units mm",
-                     f"CUT: lines+arcs, tol {CHORD_TOL_MM:g} mm"], bbox)
-    doc.saveas(path)
+    with _fixed_meta_data():
+        doc = ezdxf.new("R2010", setup=False)
+        doc.units = units.MM
+        doc.header["$MEASUREMENT"] = 1
+        doc.header["$LUNITS"] = 2
+        doc.layers.add(CUT_LAYER, color=1)
+        doc.layers.add(INFO_LAYER, color=7)
+        msp = doc.modelspace()
+        for b in bulged:
+            msp.add_lwpolyline(b.vertices.tolist(), format="xyb", close=True,
+                               dxfattribs={"layer": CUT_LAYER})
+        _info_text(msp, [part_number, f"t {thickness_mm:g} mm, units mm",
+                         f"CUT: lines+arcs, tol {CHORD_TOL_MM:g} mm"], bbox)
+        doc.saveas(path)
     return DxfReport(Path(path), len(bulged), sum(b.n_biarcs for b in bulged),
                      max(b.max_deviation_mm for b in bulged))
 

@@ -68,6 +68,21 @@ def _check_reason(c) -> str:
     return f"{what} {c.name} failed on {c.subject}: {c.message}".rstrip(": ")
 
 
+def contact_notes(verification) -> list[str]:
+    """The cam contact sweep's findings (ball leaving the flank, second contacts, stiffness
+    departing from the linear FEA) of every spring of a verification, one line each.
+
+    The FEA verification reports them without failing (``fea.verify``): they do not stop a
+    release, but the console summary lists them with the release verdict.
+    """
+    out = []
+    for name, spring in getattr(verification, "springs", {}).items():
+        sweep = getattr(spring, "contact", None)
+        for flag in getattr(sweep, "flags", None) or ():
+            out.append(f"FEA contact sweep, spring {name}: {flag['message']}")
+    return out
+
+
 def release_status(job_design, verification=None, verify_skipped: bool = False,
                    checks=()) -> ReleaseStatus:
     """Judge a build.
@@ -95,7 +110,7 @@ def release_status(job_design, verification=None, verify_skipped: bool = False,
         if not verification.ok:
             reasons += [f"FEA verification failed: {f}" for f in verification.failures()] or [
                 "FEA verification failed"]
-        notes += list(verification.notes())
+        notes += list(verification.notes()) + contact_notes(verification)
     reasons += [f"design warning: {w}" for w in job_design.release_warnings()]
     reasons += [_check_reason(c) for c in checks if not c.passed]
     return ReleaseStatus(tuple(dict.fromkeys(reasons)), tuple(dict.fromkeys(notes)))

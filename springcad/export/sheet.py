@@ -375,12 +375,19 @@ class Sheet:
 
     # ---------------------------------------------------------------- output
     def save(self, *paths):
+        """Write the sheet (SVG, PDF or PNG by suffix) without the clock time: no creation
+        date in the PDF or SVG meta data and fixed SVG ids, so a drawing is a function of
+        its content (the date in the title block included) and two builds give the same
+        bytes."""
         import matplotlib
 
+        no_clock = {".pdf": {"CreationDate": None}, ".svg": {"Date": None}}
         with matplotlib.rc_context({"svg.fonttype": "none", "pdf.fonttype": 42,
-                                    "pdf.compression": 6}):
+                                    "pdf.compression": 6, "svg.hashsalt": "springcad"}):
             for p in paths:
-                self.fig.savefig(p, dpi=150 if str(p).endswith(".png") else 72)
+                suffix = str(p)[-4:].lower()
+                self.fig.savefig(p, dpi=150 if suffix == ".png" else 72,
+                                 metadata=no_clock.get(suffix))
 
 
 def _unit(axis: int) -> np.ndarray:

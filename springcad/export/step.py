@@ -9,6 +9,7 @@ stack. Lengths in mm.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -17,17 +18,40 @@ from springcad.units import M_PER_MM
 #: STL chordal tolerance (mm) and angular tolerance (rad): fine enough to show 0.025 mm gaps
 STL_TOLERANCE_MM = 0.005
 STL_ANGULAR_RAD = 0.2
+#: date of a STEP header when none is given (the zip format's epoch, as in vendor.zip)
+STEP_EPOCH_DATE = "1980-01-01"
+_FILE_NAME_STAMP = re.compile(r"(FILE_NAME\s*\(\s*'(?:[^']|'')*'\s*,\s*')[^']*(')")
 
 
-def write_part_step(part, path: Path) -> Path:
-    """Write one part as STEP (mm), product named by its part number."""
+def set_step_date(path: Path, date: str = "") -> Path:
+    """Put ``date`` (YYYY-MM-DD, midnight) in the time stamp of a STEP file's header.
+
+    OCCT writes the clock time of the export there, so two exports of one solid
+    would differ; with the build's date the file is a function of the geometry and
+    the date only (vendor.zip of two builds on one day is byte-identical).
+    """
+    path = Path(path)
+    text = path.read_bytes().decode("latin-1")
+    head, sep, rest = text.partition("ENDSEC;")
+    stamp = f"{date or STEP_EPOCH_DATE}T00:00:00"
+    new_head, n = _FILE_NAME_STAMP.subn(lambda m: m.group(1) + stamp + m.group(2), head,
+                                        count=1)
+    if n != 1:
+        raise OSError(f"{path}: no FILE_NAME time stamp in the STEP header")
+    path.write_bytes((new_head + sep + rest).encode("latin-1"))
+    return path
+
+
+def write_part_step(part, path: Path, date: str = "") -> Path:
+    """Write one part as STEP (mm), product named by its part number, dated ``date``
+    (YYYY-MM-DD; :data:`STEP_EPOCH_DATE` if empty) instead of the clock time."""
     import build123d as bd
 
     solid = part.solid
     solid.label = part.part_number
     solid.color = bd.Color(*part.colour)
     bd.export_step(solid, str(path), unit=bd.Unit.MM)
-    return Path(path)
+    return set_step_date(path, date)
 
 
 def write_part_stl(part, path: Path) -> Path:
@@ -56,8 +80,9 @@ def _quiet_occt():
         printer.SetTraceLevel(Message_Gravity.Message_Fail)
 
 
-def write_assembly_step(assembly, path: Path) -> Path:
-    """Write the stack as a STEP assembly: parts once, placed per instance (mm)."""
+def write_assembly_step(assembly, path: Path, date: str = "") -> Path:
+    """Write the stack as a STEP assembly: parts once, placed per instance (mm), dated
+    ``date`` (see :func:`write_part_step`)."""
     from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
     from OCP.IFSelect import IFSelect_ReturnStatus
     from OCP.STEPCAFControl import STEPCAFControl_Controller, STEPCAFControl_Writer
@@ -112,7 +137,7 @@ def write_assembly_step(assembly, path: Path) -> Path:
     writer.Transfer(doc, STEPControl_StepModelType.STEPControl_AsIs)
     if writer.Write(str(path)) != IFSelect_ReturnStatus.IFSelect_RetDone:
         raise OSError(f"could not write the assembly STEP {path}")
-    return Path(path)
+    return set_step_date(path, date)
 
 
 @dataclass(frozen=True)
@@ -129,8 +154,6 @@ class StepReadback:
 
 def read_step(path: Path) -> StepReadback:
     """Import a STEP file and measure it (volume by :func:`solid_volume_mm3`)."""
-    import re
-
     import build123d as bd
 
     from springcad.geometry.base import solid_volume_mm3

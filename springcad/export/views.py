@@ -28,6 +28,8 @@ LEFT_ZONE = (14.0, 14.0, 226.0, 262.0)
 CALLOUT_MARGIN = 30.0
 #: gap between the main view and the side view (sheet mm)
 VIEW_GAP = 26.0
+#: a dimension line keeps at least this from the extreme of the part's outline (sheet mm)
+OUTLINE_GAP_MM = 2.0
 #: hole centres on one circle closer than this to equal spacing are "EQ SP" (deg)
 EQUAL_SPACING_TOL_DEG = 1e-6
 
@@ -82,6 +84,13 @@ def dim_circle(sheet: Sheet, view: View, radius: float, label: str, feature: str
                   Dimension("diameter", 2 * radius, label, feature))
 
 
+def flat_deviations(tol: float, outer: bool) -> str:
+    """Deviations of a flat's distance from the axis: one-sided, so a D shaft (or hub) and
+    the D bore it slides into, drawn at the same nominal flat, never interfere: the shaft's
+    flat may only move towards the axis, the bore's only away from it."""
+    return f"0/-{fmt(tol)}" if outer else f"+{fmt(tol)}/0"
+
+
 def dim_d_loop(sheet: Sheet, view: View, loop: Loop, feature: str, fit: str, tol: float,
                outer: bool, clear_mm: float = 0.0) -> None:
     """A D loop: diameter of its arc, distance of its flat from the axis, corner radii.
@@ -94,12 +103,16 @@ def dim_d_loop(sheet: Sheet, view: View, loop: Loop, feature: str, fit: str, tol
     y_flat = flat.start[1]
     d_label = f"Ø{fmt(2 * arc.radius)} {fit}".strip()
     dim_circle(sheet, view, arc.radius, d_label, feature, 60 if outer else 120)
-    label = f"{fmt(abs(y_flat))} ±{fmt(tol)}"
+    label = f"{fmt(abs(y_flat))} {flat_deviations(tol, outer)}"
     c = view((0.0, 0.0))
+    # dimension line candidates beside the D, then beyond the outline; never one lying on
+    # the outline's extreme (a line tangent to the outer circle reads as part of it)
+    edge = clear_mm * view.scale
+    offsets = tuple(off for off in (r * view.scale + o for r in (arc.radius, clear_mm)
+                                    for o in (5.0, 10.0, 16.0))
+                    if clear_mm <= 0 or abs(off - edge) > OUTLINE_GAP_MM)
     sheet.dim_linear(c, view((0.0, y_flat)), 1.0 if not outer else -1.0, label,
-                     Dimension("flat", abs(y_flat), label, f"{feature} flat"),
-                     offsets=tuple(r * view.scale + o for r in (arc.radius, clear_mm)
-                                   for o in (5.0, 10.0, 16.0)))
+                     Dimension("flat", abs(y_flat), label, f"{feature} flat"), offsets=offsets)
     try:
         corners = loop.named("corner")
     except KeyError:

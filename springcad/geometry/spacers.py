@@ -66,7 +66,8 @@ class AnnularPart(SpringcadPart):
                         thickness_mm=length_mm, cut_profile=region if self.SHEET else None,
                         dimensions=dims, notes=self.NOTES, standard=standard,
                         hardness=hardness, heat_treatment_sequence=heat_treatment_sequence,
-                        fits={**self.FITS, **(fits or {})})
+                        fits={k: v for k, v in {**self.FITS, **(fits or {})}.items()
+                              if k != "bore" or inner_radius_mm > 0})
         super().__init__(info, (Slab(0.0, length_mm, region),), COLOURS[self.COLOUR])
 
     @classmethod
@@ -106,6 +107,8 @@ class CentreSpacer(AnnularPart):
     KIND, TITLE, PROCESS, COLOUR, SHEET = "centre_spacer", "Centre spacer", "laser", "plastic", True
     CODE = "CENTRE-SPACER"
     NOTES = ("Low-friction grade: the parts beside it slide on both faces.",)
+    #: the bore (floating stacks) runs on the g6 alignment shaft of the same nominal size
+    FITS = {"bore": "H11"}
 
 
 class Bushing(AnnularPart):
@@ -114,3 +117,6 @@ class Bushing(AnnularPart):
     KIND, TITLE, PROCESS, COLOUR = "bushing", "Outer bushing", "turned", "plastic"
     CODE = "BUSHING"
     NOTES = ("Running clearance over the rims; bore concentric to the housing seat.",)
+    #: the bore clears the rims by 0.1 mm on the diameter: less than the general tolerance
+    #: (ISO 2768-m: ±0.3 mm at this size), so it gets a fit whose lower deviation is zero
+    FITS = {"bore": "H9"}

@@ -183,3 +183,31 @@ def test_every_functional_feature_of_the_step_is_dimensioned(drawings, tmp_path)
             if " ".join(d.label.split()) not in text:
                 missing.append((job, part.name, f"label {d.label!r} not on the PDF"))
     assert not missing, missing
+
+
+def test_d_flats_of_mating_parts_cannot_interfere(drawings):
+    """A D shaft or hub and the D bore it slides into share a nominal flat; the shaft's
+    flat is toleranced towards the axis only, the bore's away from it only, so the worst
+    case is a zero gap, never an overlap (default job: torque shaft in the cam's D bore;
+    4xS1: the cam's D hub in the torque shaft's socket)."""
+    import re
+
+    pairs = {}
+    for job, part, sheet, _ in drawings:
+        for d in sheet.dims:
+            if d.kind != "flat":
+                continue
+            m = re.fullmatch(r"([\d.]+) (\+[\d.]+|0)/(0|-[\d.]+)", d.label)
+            assert m, (job, part.name, d.label)
+            upper, lower = float(m.group(2)), float(m.group(3))
+            assert float(m.group(1)) == pytest.approx(d.value, abs=5e-4)
+            assert (upper == 0) != (lower == 0), d.label  # one-sided
+            pairs.setdefault((job, round(d.value, 4)), []).append((upper, lower))
+    mated = [v for v in pairs.values() if len(v) >= 2]
+    assert len(mated) >= 2  # one D fit in each job
+    for devs in mated:
+        shafts = [(up, lo) for up, lo in devs if up == 0]
+        bores = [(up, lo) for up, lo in devs if lo == 0]
+        assert shafts and bores, devs
+        # largest shaft flat (nominal + upper deviation) <= smallest bore flat
+        assert max(up for up, _ in shafts) <= min(lo for _, lo in bores), devs

@@ -13,8 +13,12 @@ from springcad.geometry.checks import Check
 class FakeVerification:
     """Stands in for fea.verify.JobVerification (only what the gate reads)."""
 
-    def __init__(self, failures=(), notes=()):
+    def __init__(self, failures=(), notes=(), contact_flags=None):
+        from types import SimpleNamespace
+
         self._failures, self._notes = list(failures), list(notes)
+        self.springs = {n: SimpleNamespace(contact=None if flags is None else SimpleNamespace(
+            flags=[{"message": m} for m in flags])) for n, flags in (contact_flags or {}).items()}
 
     @property
     def ok(self):
@@ -89,3 +93,17 @@ def test_drawing_carries_the_stamp_and_reasons(ring_s1, tmp_path):
 def test_a_drawing_nobody_assessed_is_not_for_manufacture(ring_s1, tmp_path):
     _, pdf = write_drawing(ring_s1, DrawingInfo(job="j", quantity=1), tmp_path)
     assert NOT_FOR_MANUFACTURE in pdf_text(pdf)
+
+
+def test_contact_sweep_findings_are_listed_not_blocking(designs):
+    """The FEA contact sweep flags (no verification failure) are notes of the verdict: in
+    the console summary beside RELEASED, never a reason."""
+    ver = FakeVerification(contact_flags={"S1": ["+: the ball leaves the driving flank",
+                                                 "-: second contact: ball:0 touches pocket:0"],
+                                          "S2": None})
+    status = release_status(designs["default"], ver)
+    assert status.released
+    assert status.notes == ("FEA contact sweep, spring S1: +: the ball leaves the driving flank",
+                            "FEA contact sweep, spring S1: -: second contact: ball:0 touches "
+                            "pocket:0")
+    assert [f"  note: {n}" for n in status.notes] == status.summary_lines()[1:]

@@ -1,0 +1,88 @@
+"""Two builds of one job on one day give the same bytes: no clock time in any file a shop
+gets (STEP header, DXF header, PDF and SVG meta data), so ``vendor.zip`` is identical."""
+
+import time
+import zipfile
+
+from springcad.export.bom import write_bom
+from springcad.export.drawing import DrawingInfo, write_drawing
+from springcad.export.dxf import write_dxf
+from springcad.export.release import ReleaseStatus
+from springcad.export.step import write_part_step
+from springcad.export.vendor import write_vendor_bundle
+
+RELEASE = ReleaseStatus(("FEA verification skipped (--no-verify)",))
+DATE = "2026-01-02"
+#: every kind of file the zip holds, each from a part quick to export (what is tested is
+#: the absence of clock time, the same for every part): STEP and DXF of the cam, STEP and
+#: drawing of the torque shaft
+PARTS = ("S1-CAM-L4.5-H6", "TORQUE-SHAFT")
+DRAWN = ("TORQUE-SHAFT",)
+
+
+def _build(assembly, out):
+    """The files of ``PARTS`` as ``springcad build`` writes them, then the bundle."""
+    parts = out / "parts"
+    parts.mkdir(parents=True)
+    qty = assembly.quantities()
+    for name in PARTS:
+        part = assembly.part_named(name)
+        pn = part.part_number
+        write_part_step(part, parts / f"{pn}.step", DATE)
+        if part.info.cut_profile is not None:
+            write_dxf(part.info.cut_profile, parts / f"{pn}.dxf", pn, part.info.thickness_mm)
+        if name in DRAWN:
+            write_drawing(part, DrawingInfo("S1", qty[pn], date=DATE, release=RELEASE), parts)
+    write_bom(assembly, out / "bom.csv")
+    return write_vendor_bundle(assembly, out, RELEASE, "S1")
+
+
+def test_vendor_zip_is_byte_identical_across_builds(s1_stack, tmp_path):
+    """The second export starts more than a second later: every clock-stamped field (STEP's
+    FILE_NAME to the second, DXF and SVG to the microsecond, PDF to the second) would
+    differ if it were still written."""
+    first = _build(s1_stack, tmp_path / "a")
+    time.sleep(1.1)
+    second = _build(s1_stack, tmp_path / "b")
+    a, b = zipfile.ZipFile(first), zipfile.ZipFile(second)
+    assert a.namelist() == b.namelist()
+    kinds = {n.rsplit(".", 1)[-1] for n in a.namelist()}
+    assert {"step", "dxf", "pdf", "csv", "txt"} <= kinds
+    differ = [n for n in a.namelist() if a.read(n) != b.read(n)]
+    assert not differ, differ
+    assert first.read_bytes() == second.read_bytes()
+    # the date the build gives is the one in the files
+    step = next(n for n in a.namelist() if n.endswith(".step"))
+    assert f"'{DATE}T00:00:00'" in a.read(step).decode("latin-1")
+    # and the SVG drawings (not in the zip) are reproducible too
+    for svg in (tmp_path / "a" / "parts").glob("*.svg"):
+        assert svg.read_bytes() == (tmp_path / "b" / "parts" / svg.name).read_bytes(), svg.name
+
+
+def test_build_date_follows_source_date_epoch(monkeypatch):
+    import datetime
+
+    import pytest
+
+    from springcad.cli.build import build_date
+    from springcad.errors import ConfigError
+
+    monkeypatch.delenv("SOURCE_DATE_EPOCH", raising=False)
+    assert build_date() == datetime.date.today().isoformat()
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1767312000")  # 2026-01-02 00:00:00 UTC
+    assert build_date() == "2026-01-02"
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "yesterday")
+    with pytest.raises(ConfigError, match="SOURCE_DATE_EPOCH.*whole seconds"):
+        build_date()
+
+
+def test_step_date_replaces_only_the_header_time_stamp(tmp_path):
+    from springcad.export.step import set_step_date
+
+    path = tmp_path / "x.step"
+    body = "DATA;\n#1 = PRODUCT('FILE_NAME(''a'',''2020-01-01T00:00:00'')','',$);\nENDSEC;\n"
+    path.write_bytes(("ISO-10303-21;\nHEADER;\nFILE_NAME('it''s','2026-11-23T12:10:50',"
+                      "('Author'));\nENDSEC;\n" + body).encode())
+    text = set_step_date(path, "2026-01-02").read_text()
+    assert "FILE_NAME('it''s','2026-01-02T00:00:00'," in text
+    assert text.endswith(body)  # the data section is untouched
