@@ -117,6 +117,25 @@ def test_failed_verification_is_exit_1_from_build(tmp_path, capsys, monkeypatch)
     assert not out.exists() and not list(tmp_path.iterdir())
 
 
+def test_failed_verification_is_exit_1_from_verify_and_the_report_is_written(tmp_path, capsys,
+                                                                            monkeypatch):
+    """verify and build agree: a failed verification is exit 1 (it was 1 and 2), not 3."""
+    import fea.verify
+    import springcad.cli.verify as verify_cli
+
+    monkeypatch.setattr(fea.verify, "verify_job", lambda *a, **k: _FailedVerification())
+    written = []
+    monkeypatch.setattr(verify_cli, "write_outputs",
+                        lambda result, folder, **k: written.append(folder) or
+                        (folder / "fea.json").write_text("{}"))
+    out = tmp_path / "o"
+    assert main(["verify", str(template("paper_S1")), "--out", str(out), "--quiet"]) == \
+        EXIT_CHECK_FAILED
+    captured = capsys.readouterr()
+    assert "S1: K off by 5 %" in captured.out and "Traceback" not in captured.err
+    assert (out / "fea.json").exists() and written
+
+
 def test_failed_checks_are_exit_1_from_build(tmp_path, capsys, monkeypatch):
     from springcad.geometry import checks
 
@@ -155,6 +174,18 @@ def test_out_that_is_a_file_or_under_a_file_is_refused_before_work(tmp_path, cap
         assert re.search(pattern, line), line
     assert afile.read_text() == "mine"
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["afile"] + (["rec.csv"] if command == "fit" else []))
+
+
+def test_paper_refuses_an_existing_output_before_any_fea(tmp_path, capsys):
+    """paper ran ~27 s of FEA before refusing an existing --out; now as fast as the others."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "keep.txt").write_text("mine")
+    t0 = time.perf_counter()
+    assert main(["paper", "--out", str(out)]) == EXIT_BAD_INPUT
+    assert time.perf_counter() - t0 < 5
+    assert re.search(r"already exists.*--overwrite", one_error_line(capsys.readouterr().err))
+    assert [p.name for p in out.iterdir()] == ["keep.txt"]
 
 
 def test_out_containing_the_input_or_the_current_folder_is_refused(tmp_path, capsys, monkeypatch):
