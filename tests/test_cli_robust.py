@@ -136,9 +136,17 @@ def test_failed_verification_is_exit_1_from_verify_and_the_report_is_written(tmp
     assert (out / "fea.json").exists() and written
 
 
-def test_failed_checks_are_exit_1_from_build(tmp_path, capsys, monkeypatch):
+def test_failed_checks_are_exit_1_and_overwrite_keeps_the_old_output(tmp_path, capsys,
+                                                                     monkeypatch):
+    """A build that fails after its solids (a failed check) is exit 1, and under --overwrite
+    the old output folder comes back byte-identical."""
     from springcad.geometry import checks
 
+    out = tmp_path / "out"
+    (out / "parts").mkdir(parents=True)
+    (out / "design.json").write_bytes(b'{"old": true}\n')
+    (out / "parts" / "old.step").write_bytes(b"ISO-10303-21;\x00\xff")
+    before = {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()}
     real = checks.run_checks
 
     def failing(assembly, progress=None):
@@ -147,10 +155,11 @@ def test_failed_checks_are_exit_1_from_build(tmp_path, capsys, monkeypatch):
         return report
 
     monkeypatch.setattr(checks, "run_checks", failing)
-    out = tmp_path / "o"
-    rc = main(["build", str(template("paper_S1")), "--out", str(out), "--no-verify", "--no-render"])
+    rc = main(["build", str(template("paper_S1")), "--out", str(out), "--overwrite",
+               "--no-verify", "--no-render"])
     assert rc == EXIT_CHECK_FAILED, capsys.readouterr().err
-    assert not out.exists() and not list(tmp_path.iterdir())
+    assert {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
+    assert [p.name for p in tmp_path.iterdir()] == ["out"]
 
 
 # ----------------------------------------------------------------------------- output paths
