@@ -42,6 +42,8 @@ sys.path.insert(0, str(ROOT))
 from tests.fuzz_cases import mutate_config, mutate_csv  # noqa: E402
 
 LIMIT_S = 60.0
+#: folder to keep the inputs of failing cases in (``--save``)
+SAVE_DIR: Path | None = None
 
 def _leftovers(folder: Path, keep: set[str]) -> list[str]:
     return sorted(p.name for p in folder.iterdir() if p.name not in keep)
@@ -104,6 +106,10 @@ def run_case(case: dict) -> dict:
                 verdict.append("nonsense")
         if not verdict:
             verdict.append("refused" if rc == 2 else "ok")
+        elif SAVE_DIR is not None:  # keep the input of every failing case to reproduce it
+            SAVE_DIR.mkdir(parents=True, exist_ok=True)
+            (SAVE_DIR / f"case{case['id']}-{case['family'].replace(':', '_')}"
+                        f"{Path(case['input_name']).suffix}").write_bytes(case["data"])
         return {"id": case["id"], "family": case["family"], "command": case["command"],
                 "rc": rc, "seconds": round(dt, 2), "verdict": verdict,
                 "stderr_tail": err.strip().splitlines()[-3:] if err.strip() else []}
@@ -180,8 +186,10 @@ def main(argv=None) -> int:
     ap.add_argument("--limit-s", type=float, default=LIMIT_S, help="time limit per case (s)")
     ap.add_argument("--designable", action="store_true",
                     help="keep only configs that `design` accepts (to exercise build/verify)")
+    ap.add_argument("--save", type=Path, help="keep the input of every failing case here")
     args = ap.parse_args(argv)
     globals()["LIMIT_S"] = args.limit_s
+    globals()["SAVE_DIR"] = args.save
     rng = random.Random(args.seed)
     cases = []
     tries = 0
