@@ -18,11 +18,14 @@ Usage::
     PYTHONPATH=. python bench/fuzz_cli.py --designable --configs 10 --csvs 0 --paths 0 \
         --command "build --no-render" --interrupt 60      # SIGINT/SIGTERM at random times
 
-The families follow issue 11: sections of the wrong type, values of the wrong
-type, huge/tiny/negative/non-finite numbers, 400-digit integers, deep nesting,
-non-UTF-8 bytes, names unusable in exports, unknown keys; CSVs with flipped,
-scaled, broken or non-UTF-8 data; output paths that are files, lie under files
-or are not writable.
+The families follow issue 11 (``tests/fuzz_cases.py``): sections of the wrong
+type, values of the wrong type, huge/tiny/negative/non-finite numbers, 400-digit
+integers, deep nesting, non-UTF-8 bytes, names unusable in exports, unknown keys,
+every length at once (1e300, tiny), every key at a bound of its schema range, the
+issue's own values, rad vs deg; CSVs with flipped, scaled, broken or non-UTF-8
+data (also one Latin-1 byte in a cell, degrees under the rad header, huge cells,
+swapped columns); output paths that are files, lie under files or are not
+writable, and ``simulate``/``paper`` outputs that exist.
 """
 
 from __future__ import annotations
