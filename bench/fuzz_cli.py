@@ -239,7 +239,7 @@ def main(argv=None) -> int:
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
         for r in pool.map(run_case, cases):
             results.append(r)
-            if not set(r["verdict"]) <= {"ok", "refused"}:
+            if not set(r["verdict"]) <= {"ok", "refused", "interrupted"}:
                 print(f"#{r['id']} {r['family']} {r['command']}: {r['verdict']} rc={r['rc']} "
                       f"{r['seconds']} s: {' | '.join(r['stderr_tail'])[-300:]}", flush=True)
     counts = collections.Counter(v for r in results for v in r["verdict"])
