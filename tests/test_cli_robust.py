@@ -79,6 +79,28 @@ def test_internal_error_is_exit_3_with_a_log(tmp_path, capsys, monkeypatch):
     assert "Traceback (most recent call last)" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("signum", [2, 15], ids=["SIGINT", "SIGTERM"])
+def test_an_interrupt_inside_a_c_extension_import_is_an_interrupt(tmp_path, capsys, monkeypatch,
+                                                                  signum):
+    """A signal while OCP initialises surfaces as ImportError("initialization failed") caused
+    by the interrupt (fuzz --interrupt, seed 15): exit 130/143, not an internal error."""
+    import springcad.design.job as job_module
+    from springcad.errors import Interrupted
+
+    def importing(job):
+        try:
+            raise KeyboardInterrupt() if signum == 2 else Interrupted(signum)
+        except BaseException as err:
+            raise ImportError("initialization failed") from err
+
+    monkeypatch.setattr(job_module, "design_job", importing)
+    out = tmp_path / "o"
+    assert main(["design", str(template("paper_S1")), "--out", str(out)]) == 128 + signum
+    err = capsys.readouterr().err
+    assert "temporary files removed" in err and "internal error" not in err
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_a_library_failure_names_the_stage(tmp_path, capsys, monkeypatch):
     """A numerical library failure inside design is one line naming stage and job, exit 2."""
     import springcad.design.job as job_module
