@@ -2,8 +2,10 @@
 
 Every case runs ``python -m springcad ...`` in a subprocess (60 s limit) and is
 classified: ``ok`` (exit 0/1 without a traceback), ``refused`` (exit 2 with a
-one-line error), ``traceback`` (a Python traceback on the console, or an exit
-status outside {0, 1, 2}), ``hang`` (over the time limit), ``multiline`` (an
+one-line error), ``interrupted`` (``--interrupt``: exit 130/143 after the signal),
+``traceback`` (a Python traceback on the console, or an exit status outside
+{0, 1, 2}), ``killed`` (ended by a signal it did not handle, so no cleanup ran),
+``hang`` (over the time limit), ``multiline`` (an
 error message longer than one line), ``leftover`` (a temporary or partial
 folder left beside the output), ``input_changed`` (an input file modified) and
 ``nonsense`` (exit 0 with an implausible number in design.json: negative or
@@ -13,12 +15,17 @@ Usage::
 
     PYTHONPATH=. python bench/fuzz_cli.py --configs 300 --csvs 60 --paths 30 --seed 1
     PYTHONPATH=. python bench/fuzz_cli.py --configs 40 --command "build --no-verify --no-render"
+    PYTHONPATH=. python bench/fuzz_cli.py --designable --configs 10 --csvs 0 --paths 0 \
+        --command "build --no-render" --interrupt 60      # SIGINT/SIGTERM at random times
 
-The families follow issue 11: sections of the wrong type, values of the wrong
-type, huge/tiny/negative/non-finite numbers, 400-digit integers, deep nesting,
-non-UTF-8 bytes, names unusable in exports, unknown keys; CSVs with flipped,
-scaled, broken or non-UTF-8 data; output paths that are files, lie under files
-or are not writable.
+The families follow issue 11 (``tests/fuzz_cases.py``): sections of the wrong
+type, values of the wrong type, huge/tiny/negative/non-finite numbers, 400-digit
+integers, deep nesting, non-UTF-8 bytes, names unusable in exports, unknown keys,
+every length at once (1e300, tiny), every key at a bound of its schema range, the
+issue's own values, rad vs deg; CSVs with flipped, scaled, broken or non-UTF-8
+data (also one Latin-1 byte in a cell, degrees under the rad header, huge cells,
+swapped columns); output paths that are files, lie under files or are not
+writable, and ``simulate``/``paper`` outputs that exist.
 """
 
 from __future__ import annotations
@@ -30,6 +37,7 @@ import json
 import os
 import random
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -42,6 +50,8 @@ sys.path.insert(0, str(ROOT))
 from tests.fuzz_cases import mutate_config, mutate_csv  # noqa: E402
 
 LIMIT_S = 60.0
+#: folder to keep the inputs of failing cases in (``--save``)
+SAVE_DIR: Path | None = None
 
 def _leftovers(folder: Path, keep: set[str]) -> list[str]:
     return sorted(p.name for p in folder.iterdir() if p.name not in keep)
@@ -68,8 +78,16 @@ def run_case(case: dict) -> dict:
         env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
         t0 = time.perf_counter()
         proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                                text=True, env=env, cwd=work, errors="replace")
+                                text=True, env=env, cwd=work, errors="replace",
+                                # let Python install its SIGINT handler in a background job
+                                preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
         try:
+            if case.get("interrupt"):  # (signal, seconds): as a user pressing Ctrl-C or a kill
+                sig, delay = case["interrupt"]
+                try:
+                    proc.communicate(timeout=delay)  # finished before the signal: that's fine
+                except subprocess.TimeoutExpired:
+                    proc.send_signal(sig)
             _, err = proc.communicate(timeout=LIMIT_S)
             rc = proc.returncode
         except subprocess.TimeoutExpired:  # stop it as a user would: SIGTERM, then wait
@@ -84,7 +102,10 @@ def run_case(case: dict) -> dict:
         verdict = []
         if rc is None:
             verdict.append("hang")
-        elif "Traceback" in err or rc not in (0, 1, 2):
+        elif rc < 0:  # ended by a signal it did not handle: no cleanup ran
+            verdict.append("killed")
+        elif "Traceback" in err or rc not in (0, 1, 2) and not (
+                case.get("interrupt") and rc == 128 + case["interrupt"][0]):
             verdict.append("traceback")
         if rc == 2:
             errors = [l for l in err.splitlines() if "error:" in l]
@@ -103,7 +124,11 @@ def run_case(case: dict) -> dict:
             if any(m is None or m <= 0 or m > 100 for m in masses):
                 verdict.append("nonsense")
         if not verdict:
-            verdict.append("refused" if rc == 2 else "ok")
+            verdict.append("refused" if rc == 2 else "interrupted" if rc and rc > 128 else "ok")
+        elif SAVE_DIR is not None:  # keep the input of every failing case to reproduce it
+            SAVE_DIR.mkdir(parents=True, exist_ok=True)
+            (SAVE_DIR / f"case{case['id']}-{case['family'].replace(':', '_')}"
+                        f"{Path(case['input_name']).suffix}").write_bytes(case["data"])
         return {"id": case["id"], "family": case["family"], "command": case["command"],
                 "rc": rc, "seconds": round(dt, 2), "verdict": verdict,
                 "stderr_tail": err.strip().splitlines()[-3:] if err.strip() else []}
@@ -180,8 +205,13 @@ def main(argv=None) -> int:
     ap.add_argument("--limit-s", type=float, default=LIMIT_S, help="time limit per case (s)")
     ap.add_argument("--designable", action="store_true",
                     help="keep only configs that `design` accepts (to exercise build/verify)")
+    ap.add_argument("--save", type=Path, help="keep the input of every failing case here")
+    ap.add_argument("--interrupt", type=float, default=0.0, metavar="S",
+                    help="send SIGINT or SIGTERM to every config case after a random 0.5..S s "
+                         "(exit 130/143 expected, no temporary folder left)")
     args = ap.parse_args(argv)
     globals()["LIMIT_S"] = args.limit_s
+    globals()["SAVE_DIR"] = args.save
     rng = random.Random(args.seed)
     cases = []
     tries = 0
@@ -192,6 +222,9 @@ def main(argv=None) -> int:
             continue
         cases.append({"input_name": "job.toml", "data": data, "family": fam,
                       "command": args.command})
+        if args.interrupt:
+            cases[-1]["interrupt"] = (rng.choice([signal.SIGINT, signal.SIGTERM]),
+                                      rng.uniform(0.5, args.interrupt))
     if args.csvs:
         clean = clean_csv()
         for i in range(args.csvs):
@@ -206,7 +239,7 @@ def main(argv=None) -> int:
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
         for r in pool.map(run_case, cases):
             results.append(r)
-            if not set(r["verdict"]) <= {"ok", "refused"}:
+            if not set(r["verdict"]) <= {"ok", "refused", "interrupted"}:
                 print(f"#{r['id']} {r['family']} {r['command']}: {r['verdict']} rc={r['rc']} "
                       f"{r['seconds']} s: {' | '.join(r['stderr_tail'])[-300:]}", flush=True)
     counts = collections.Counter(v for r in results for v in r["verdict"])
@@ -216,7 +249,7 @@ def main(argv=None) -> int:
           + f"; slowest #{slowest['id']} {slowest['seconds']} s")
     if args.json:
         args.json.write_text(json.dumps(results, indent=1))
-    bad = {"traceback", "hang", "multiline", "leftover", "input_changed", "nonsense"}
+    bad = {"traceback", "hang", "killed", "multiline", "leftover", "input_changed", "nonsense"}
     return 1 if any(set(r["verdict"]) & bad for r in results) else 0
 
 

@@ -243,6 +243,25 @@ class MeshQuality:
 
 
 # =============================================================================== gmsh
+def _restore_signal_handlers() -> None:
+    """Put Python's SIGINT and SIGTERM handlers back after ``gmsh.initialize``.
+
+    The gmsh library installs its own C handlers for them, which end the process at
+    once: an interrupted ``verify`` or ``build`` would then leave its temporary
+    output folder behind. Python still records its handlers, so setting them again
+    reinstalls them (only possible from the main thread).
+    """
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        handler = signal.getsignal(sig)
+        if handler is not None:
+            signal.signal(sig, handler)
+
+
 @contextlib.contextmanager
 def _gmsh_session(name: str):
     import gmsh
@@ -250,6 +269,7 @@ def _gmsh_session(name: str):
     own = not gmsh.isInitialized()
     if own:
         gmsh.initialize(interruptible=False)
+        _restore_signal_handlers()
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.option.setNumber("General.Verbosity", 1)
     gmsh.option.setNumber("General.NumThreads", 1)  # deterministic meshes

@@ -14,7 +14,9 @@ import tomllib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-TEMPLATES = sorted(p for p in (ROOT / "templates").glob("*.toml") if "title_block" not in p.name)
+#: job configs only (the requirement files of `synthesize` and the title block are other formats)
+TEMPLATES = sorted(p for p in (ROOT / "templates").glob("*.toml")
+                   if "[springs." in p.read_text())
 
 #: every numeric key a config can hold, by section (springs use the "S" placeholder)
 NUMERIC_KEYS = {
@@ -84,6 +86,80 @@ def bad_values(rng: random.Random, current):
         int(1e9), 0.001, 50, 1000, 2, 3, 0.5, 5.0, 20.0, x + 0.3])
 
 
+def _schema_bounds() -> dict[str, dict[str, tuple]]:
+    """(lo, hi, kind) of every numeric key, by section, from the config schema."""
+    from springcad.config.schema import SECTIONS
+
+    out = {sec.split(".")[0]: {k.name: (k.lo, k.hi, k.kind) for k in keys
+                               if k.kind in ("float", "int")}
+           for sec, keys in SECTIONS.items()}
+    return {sec: ks for sec, ks in out.items() if ks}
+
+
+#: values the issue names, by (section, key)
+ISSUE_VALUES = [
+    ("springs", "max_deflection_deg", 1e-6), ("manufacturing", "min_slot_width_mm", 50),
+    ("hardware", "shaft_diameter_mm", 0.001), ("analysis", "monte_carlo_samples", int(1e9)),
+    ("analysis", "monte_carlo_samples", 2 ** 63 - 1), ("hardware", "fastener_diameter_mm", 50),
+    ("hardware", "fastener_count", 1000), ("springs", "stiffness_Nm_per_rad", 1e-6),
+    ("springs", "outer_radius_mm", 1e6), ("hardware", "rim_spacer_thickness_mm", 1e6),
+    ("springs", "min_tip_radius_mm", 2.0), ("analysis", "monte_carlo_samples", 1),
+    ("analysis", "monte_carlo_samples", 2), ("hardware", "fastener_diameter_mm", 12.0),
+    ("hardware", "fastener_count", 199), ("springs", "stiffness_Nm_per_rad", 0.001),
+    ("springs", "stiffness_Nm_per_rad", 1e5), ("hardware", "rim_spacer_thickness_mm", 20.0),
+    ("manufacturing", "min_web_mm", 0.02), ("manufacturing", "wire_diameter_mm", 0.5),
+    ("springs", "thickness_mm", 0.2), ("springs", "thickness_mm", 100.0),
+]
+
+
+def _mutate_physics(rng: random.Random, fam: str, data: dict, springs: list[str]) -> dict:
+    """Numbers that are legal one by one or that the issue names: every length at once
+    (1e300, tiny), every key at a bound of its range, the issue's values, rad vs deg."""
+    bounds = _schema_bounds()
+
+    def table(sec):
+        if sec == "springs":
+            return data["springs"][rng.choice(springs)]
+        return data.setdefault(sec, {})
+
+    if fam == "every_length":
+        v = rng.choice([1e300, 1e-300, 1e6, 1e-6, 0.001, 0.01, -1.0, 0.0, "hi", "lo"])
+        for sec, ks in bounds.items():
+            for t in ([data["springs"][s] for s in springs] if sec == "springs" else [table(sec)]):
+                for k, (lo, hi, _) in ks.items():
+                    if k.endswith("_mm") and (k in t or rng.random() < 0.3):
+                        t[k] = hi if v == "hi" else lo if v == "lo" else v
+    elif fam == "bounds":  # in range: the corners of the accepted space
+        for _ in range(rng.randint(1, 4)):
+            sec = rng.choice(list(bounds))
+            k, (lo, hi, kind) = rng.choice(list(bounds[sec].items()))
+            if k.startswith("max_deflection"):
+                continue
+            t = table(sec)
+            x = rng.choice([lo, hi, lo * 1.01 + 1e-9, hi * 0.99])
+            t[k] = int(round(x)) if kind == "int" else float(x)
+    elif fam == "issue":
+        for _ in range(rng.randint(1, 2)):
+            sec, k, v = rng.choice(ISSUE_VALUES)
+            t = table(sec)
+            if k == "max_deflection_deg":
+                t.pop("max_deflection_rad", None)
+            t[k] = v
+    else:  # rad written as deg and deg as rad
+        t = table("springs")
+        deg = t.pop("max_deflection_deg", None)
+        rad = t.pop("max_deflection_rad", None)
+        if deg is not None:
+            t[rng.choice(["max_deflection_rad", "max_deflection_deg"])] = \
+                rng.choice([deg, math.radians(deg)])
+        else:
+            t[rng.choice(["max_deflection_rad", "max_deflection_deg"])] = \
+                rng.choice([rad, math.degrees(rad)])
+        if rng.random() < 0.3:
+            t["max_deflection_deg"], t["max_deflection_rad"] = 16.0, 0.28
+    return data
+
+
 def mutate_config(rng: random.Random, templates=None) -> tuple[str, bytes]:
     """One mutated config: (family, bytes)."""
     base = rng.choice(templates or TEMPLATES)
@@ -91,7 +167,10 @@ def mutate_config(rng: random.Random, templates=None) -> tuple[str, bytes]:
     data = tomllib.loads(text)
     springs = list(data.get("springs", {}))
     fam = rng.choices(["value", "value_new_key", "section", "names", "encoding", "structure",
-                       "stack", "unknown", "multi"], [30, 20, 6, 8, 5, 5, 6, 4, 16])[0]
+                       "stack", "unknown", "multi", "every_length", "bounds", "issue", "rad_deg"],
+                      [30, 20, 6, 8, 5, 5, 6, 4, 16, 6, 12, 8, 4])[0]
+    if fam in ("every_length", "bounds", "issue", "rad_deg"):
+        return fam, toml_dumps(_mutate_physics(rng, fam, data, springs)).encode()
     if fam in ("value", "value_new_key", "multi"):
         for _ in range(1 if fam != "multi" else rng.randint(2, 4)):
             sec = rng.choice(list(NUMERIC_KEYS))
@@ -208,7 +287,40 @@ def mutate_csv(rng: random.Random, clean: str) -> tuple[str, bytes]:
 
     fam = rng.choice(["negate", "scale_big", "scale_small", "latin1", "nan", "truncate",
                       "missing_col", "junk_cell", "few_rows", "constant", "utf16", "decreasing_time",
-                      "inf", "empty", "dup_header", "semicolon"])
+                      "inf", "empty", "dup_header", "semicolon", "latin1_cell", "deg_column",
+                      "scale_rows", "offset", "huge_cell", "swap_columns"])
+    di = header.index("deflection_rad")
+
+    def column(i, f):
+        out = []
+        for l in body:
+            cells = l.split(",")
+            cells[i] = repr(f(float(cells[i])))
+            out.append(",".join(cells))
+        return "\n".join(lines[:header_i + 1] + out) + "\n"
+
+    if fam == "latin1_cell":  # one Latin-1 byte inside the data
+        raw = clean.encode()
+        i = raw.index(b"\n", rng.randrange(len(raw) // 2, len(raw) - 2))
+        return fam, raw[:i] + b" \xb0" + raw[i:]
+    if fam == "deg_column":  # deflection written in degrees under the rad header
+        return fam, column(di, math.degrees).encode()
+    if fam == "scale_rows":
+        f = rng.choice([1e300, 1e-300, -1e300, 1e20])
+        return fam, column(ti, lambda t: t * f if rng.random() < 0.05 else t).encode()
+    if fam == "offset":
+        c = rng.choice([1e6, -1e6, 1e300])
+        return fam, column(rng.choice([ti, di]), lambda t: t + c).encode()
+    if fam == "huge_cell":
+        i = rng.randrange(len(body))
+        cells = body[i].split(",")
+        cells[rng.choice([ti, di])] = rng.choice(["9" * 400, "1e999", "-1e400", "0x10", "1_0"])
+        body[i] = ",".join(cells)
+        return fam, ("\n".join(lines[:header_i + 1] + body) + "\n").encode()
+    if fam == "swap_columns":
+        hdr = lines[header_i].replace("torque_Nm", "TMP").replace("deflection_rad", "torque_Nm")
+        return fam, ("\n".join(lines[:header_i] + [hdr.replace("TMP", "deflection_rad")] + body)
+                     + "\n").encode()
     if fam == "negate":
         return fam, scale(lambda t: -t).encode()
     if fam == "scale_big":

@@ -79,6 +79,28 @@ def test_internal_error_is_exit_3_with_a_log(tmp_path, capsys, monkeypatch):
     assert "Traceback (most recent call last)" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("signum", [2, 15], ids=["SIGINT", "SIGTERM"])
+def test_an_interrupt_inside_a_c_extension_import_is_an_interrupt(tmp_path, capsys, monkeypatch,
+                                                                  signum):
+    """A signal while OCP initialises surfaces as ImportError("initialization failed") caused
+    by the interrupt (fuzz --interrupt, seed 15): exit 130/143, not an internal error."""
+    import springcad.design.job as job_module
+    from springcad.errors import Interrupted
+
+    def importing(job):
+        try:
+            raise KeyboardInterrupt() if signum == 2 else Interrupted(signum)
+        except BaseException as err:
+            raise ImportError("initialization failed") from err
+
+    monkeypatch.setattr(job_module, "design_job", importing)
+    out = tmp_path / "o"
+    assert main(["design", str(template("paper_S1")), "--out", str(out)]) == 128 + signum
+    err = capsys.readouterr().err
+    assert "temporary files removed" in err and "internal error" not in err
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_a_library_failure_names_the_stage(tmp_path, capsys, monkeypatch):
     """A numerical library failure inside design is one line naming stage and job, exit 2."""
     import springcad.design.job as job_module
@@ -117,9 +139,36 @@ def test_failed_verification_is_exit_1_from_build(tmp_path, capsys, monkeypatch)
     assert not out.exists() and not list(tmp_path.iterdir())
 
 
-def test_failed_checks_are_exit_1_from_build(tmp_path, capsys, monkeypatch):
+def test_failed_verification_is_exit_1_from_verify_and_the_report_is_written(tmp_path, capsys,
+                                                                            monkeypatch):
+    """verify and build agree: a failed verification is exit 1 (it was 1 and 2), not 3."""
+    import fea.verify
+    import springcad.cli.verify as verify_cli
+
+    monkeypatch.setattr(fea.verify, "verify_job", lambda *a, **k: _FailedVerification())
+    written = []
+    monkeypatch.setattr(verify_cli, "write_outputs",
+                        lambda result, folder, **k: written.append(folder) or
+                        (folder / "fea.json").write_text("{}"))
+    out = tmp_path / "o"
+    assert main(["verify", str(template("paper_S1")), "--out", str(out), "--quiet"]) == \
+        EXIT_CHECK_FAILED
+    captured = capsys.readouterr()
+    assert "S1: K off by 5 %" in captured.out and "Traceback" not in captured.err
+    assert (out / "fea.json").exists() and written
+
+
+def test_failed_checks_are_exit_1_and_overwrite_keeps_the_old_output(tmp_path, capsys,
+                                                                     monkeypatch):
+    """A build that fails after its solids (a failed check) is exit 1, and under --overwrite
+    the old output folder comes back byte-identical."""
     from springcad.geometry import checks
 
+    out = tmp_path / "out"
+    (out / "parts").mkdir(parents=True)
+    (out / "design.json").write_bytes(b'{"old": true}\n')
+    (out / "parts" / "old.step").write_bytes(b"ISO-10303-21;\x00\xff")
+    before = {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()}
     real = checks.run_checks
 
     def failing(assembly, progress=None):
@@ -128,10 +177,11 @@ def test_failed_checks_are_exit_1_from_build(tmp_path, capsys, monkeypatch):
         return report
 
     monkeypatch.setattr(checks, "run_checks", failing)
-    out = tmp_path / "o"
-    rc = main(["build", str(template("paper_S1")), "--out", str(out), "--no-verify", "--no-render"])
+    rc = main(["build", str(template("paper_S1")), "--out", str(out), "--overwrite",
+               "--no-verify", "--no-render"])
     assert rc == EXIT_CHECK_FAILED, capsys.readouterr().err
-    assert not out.exists() and not list(tmp_path.iterdir())
+    assert {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
+    assert [p.name for p in tmp_path.iterdir()] == ["out"]
 
 
 # ----------------------------------------------------------------------------- output paths
@@ -155,6 +205,18 @@ def test_out_that_is_a_file_or_under_a_file_is_refused_before_work(tmp_path, cap
         assert re.search(pattern, line), line
     assert afile.read_text() == "mine"
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["afile"] + (["rec.csv"] if command == "fit" else []))
+
+
+def test_paper_refuses_an_existing_output_before_any_fea(tmp_path, capsys):
+    """paper ran ~27 s of FEA before refusing an existing --out; now as fast as the others."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "keep.txt").write_text("mine")
+    t0 = time.perf_counter()
+    assert main(["paper", "--out", str(out)]) == EXIT_BAD_INPUT
+    assert time.perf_counter() - t0 < 5
+    assert re.search(r"already exists.*--overwrite", one_error_line(capsys.readouterr().err))
+    assert [p.name for p in out.iterdir()] == ["keep.txt"]
 
 
 def test_out_containing_the_input_or_the_current_folder_is_refused(tmp_path, capsys, monkeypatch):

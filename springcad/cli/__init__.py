@@ -129,10 +129,35 @@ def main(argv: list[str] | None = None) -> int:
         print(f"springcad {command}: terminated; temporary files removed", file=sys.stderr)
         return EXIT_SIGTERM
     except Exception as err:  # noqa: BLE001 - the one place every other failure is caught
+        signum = _interrupt_behind(err)
+        if signum == signal.SIGINT:
+            print(f"springcad {command}: interrupted; temporary files removed", file=sys.stderr)
+            return EXIT_SIGINT
+        if signum == signal.SIGTERM:
+            print(f"springcad {command}: terminated; temporary files removed", file=sys.stderr)
+            return EXIT_SIGTERM
         return _internal_error(command, err, getattr(args, "debug", False))
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
+
+
+def _interrupt_behind(err: BaseException) -> int | None:
+    """The signal behind an exception that a library raised while handling an interrupt.
+
+    A signal that arrives while a C extension initialises (importing OCP during
+    ``build``) surfaces as ``ImportError: initialization failed`` whose cause is the
+    KeyboardInterrupt or :class:`Interrupted`; that is an interrupted run, not a bug.
+    """
+    seen = set()
+    while err is not None and id(err) not in seen:
+        seen.add(id(err))
+        if isinstance(err, KeyboardInterrupt):
+            return signal.SIGINT
+        if isinstance(err, Interrupted):
+            return signal.SIGTERM
+        err = err.__cause__ or err.__context__
+    return None
 
 
 def _main_thread() -> bool:

@@ -304,12 +304,20 @@ def neighbour_clearance_mm(centreline: Centreline, y, width, n_flexures: int,
     """Exact smallest gap between a flexure's edge and its neighbour's, above the tip ball (mm).
 
     The neighbour is the same flexure rotated by 2 pi / N about the centre.
+
+    Raises:
+        DesignError: the flexure is no longer than its tip ball is wide (nothing above it).
     """
     pitch = 2.0 * math.pi / n_flexures
     c, s = math.cos(-pitch), math.sin(-pitch)
     rot = np.array([[c, -s], [s, c]])
     right, left, _ = edges(centreline, y, width)
     m = np.asarray(y) > y[0] + 2.0 * tip_radius_mm
+    if not m.any():
+        raise DesignError(
+            f"the flexures are {y[-1] - y[0]:.3g} mm long (contact to root radius), no longer "
+            f"than their tip balls are wide ({2.0 * tip_radius_mm:.3g} mm): use a smaller "
+            "tip_radius_mm or contact_radius_mm, or a larger outer radius")
     return float(_point_polyline_distance(right[m], left @ rot.T).min())
 
 

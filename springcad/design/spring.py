@@ -586,12 +586,16 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
         def width_fn(y):
             return fx.constant_stress_width_mm(y, lay.load, rc, z, sigma)
 
-        res = fx.design_serpentine(
-            target_area_ratio=s_req, contact_radius_mm=rc, root_radius_mm=rr, n_flexures=n,
-            width_fn=width_fn, tip_radius_mm=rb,
-            min_clearance_mm=max(manufacturing.min_slot_width_mm, 2 * manufacturing.min_inside_radius_mm),
-            min_inside_radius_mm=manufacturing.min_inside_radius_mm,
-            root_zone_mm=2.0 * (spec.outer_radius_mm - rr))
+        try:
+            res = fx.design_serpentine(
+                target_area_ratio=s_req, contact_radius_mm=rc, root_radius_mm=rr, n_flexures=n,
+                width_fn=width_fn, tip_radius_mm=rb,
+                min_clearance_mm=max(manufacturing.min_slot_width_mm,
+                                     2 * manufacturing.min_inside_radius_mm),
+                min_inside_radius_mm=manufacturing.min_inside_radius_mm,
+                root_zone_mm=2.0 * (spec.outer_radius_mm - rr))
+        except DesignError as err:  # the flexure module does not know the spring's name
+            raise DesignError(f"spring '{spec.name}': {err}") from None
         centre, ratio, clearance = res.centreline, res.area_ratio, res.min_clearance_mm
 
 

@@ -1,6 +1,7 @@
 """``springcad build`` in-process: atomic output, violations, build.json, read-backs."""
 
 import json
+import os
 
 import pytest
 
@@ -8,6 +9,7 @@ from cad_fixtures import TEMPLATES, job_data, toml_text
 from springcad.cli import main
 
 S1 = TEMPLATES / "paper_S1.toml"
+BUILD_UMASK = 0o027
 
 
 @pytest.fixture(scope="module")
@@ -18,11 +20,26 @@ def built(tmp_path_factory):
 
     out = tmp_path_factory.mktemp("build") / "s1"
     console = io.StringIO()
-    with contextlib.redirect_stdout(console):
-        code = main(["build", str(S1), "--out", str(out), "--accept-violations", "--revision",
-                     "B", "--no-verify"])
+    old_mask = os.umask(BUILD_UMASK)  # an unusual umask: every output must follow it
+    try:
+        with contextlib.redirect_stdout(console):
+            code = main(["build", str(S1), "--out", str(out), "--accept-violations",
+                         "--revision", "B", "--no-verify"])
+    finally:
+        os.umask(old_mask)
     (out.parent / "stdout").write_text(console.getvalue())
     return code, out
+
+
+def test_build_output_modes_follow_the_umask(built):
+    """Outputs were created 0700/0600 regardless of the umask (issue 11)."""
+    import stat
+
+    _, out = built
+    wrong = [(p.relative_to(out.parent).as_posix(), oct(stat.S_IMODE(p.stat().st_mode)))
+             for p in [out, *out.rglob("*")]
+             if stat.S_IMODE(p.stat().st_mode) != (0o777 if p.is_dir() else 0o666) & ~BUILD_UMASK]
+    assert wrong == []
 
 
 def test_violations_fail_without_acceptance(tmp_path, capsys):
