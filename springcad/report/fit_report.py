@@ -418,23 +418,44 @@ def _plot_all(result: FitResult, out_dir: Path) -> dict[str, Path]:
     return images
 
 
+#: drawing order: model lines and points below, the measured data on top (a reader judges
+#: the models against the data, so the data must never be hidden)
+ZORDER_MODELS, ZORDER_FINAL, ZORDER_DATA = 2, 3, 4
+
+
 def _plot_models(plt, result: FitResult, path: Path, zoom: bool) -> Path:
+    fig = models_figure(plt, result, zoom)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def models_figure(plt, result: FitResult, zoom: bool):
+    """Torque against deflection: the measured data above the paper models and the final model.
+
+    Args:
+        plt: ``matplotlib.pyplot`` (Agg).
+        result: the fit.
+        zoom: show the crossover region around zero torque only.
+
+    Returns:
+        The figure (the caller saves and closes it).
+    """
     sig, rec = result.signals, result.record
     th, tq = rec.deflection_rad, rec.torque_Nm
     final = result.loop.final
     pred_final = final.model.predict(final.x, sig, np.arange(sig.n))
     fig, ax = plt.subplots(figsize=(7, 5))
     sel = _every(th.size)
-    # the data above the models (zorder): the reader compares the models with it
-    ax.plot(th[sel], tq[sel], ".", ms=1.2, color="0.2", alpha=0.45, label="measured", rasterized=True,
-            zorder=4)
+    ax.plot(th[sel], tq[sel], ".", ms=1.6, color="0.15", alpha=0.35, label="measured",
+            rasterized=True, zorder=ZORDER_DATA)
     grid = np.linspace(th.min(), th.max(), 2001)
     styles = {"linear": "C0", "deadband": "C1", "logit": "C2"}
     for name, m in result.paper_models.items():
-        ax.plot(grid, m.predict(grid), color=styles[name], lw=1.2,
+        ax.plot(grid, m.predict(grid), color=styles[name], lw=1.4, zorder=ZORDER_MODELS,
                 label=f"{name} (NRMSE {m.nrmse_pct:.2f} %)")
     if not result.loop.no_spring:
-        ax.plot(th[sel], pred_final[sel], ".", ms=1.0, color="C3", alpha=0.5, zorder=2,
+        ax.plot(th[sel], pred_final[sel], ".", ms=1.0, color="C3", alpha=0.5, zorder=ZORDER_FINAL,
                 label=f"final: {final_label(result.loop)} (NRMSE {result.nrmse_pct(final):.2f} %)")
     if zoom:
         b = max(result.paper_models["deadband"].backlash_rad, 0.02 * sig.scales.theta_ref)
@@ -450,9 +471,7 @@ def _plot_models(plt, result: FitResult, path: Path, zoom: bool) -> Path:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="upper left", markerscale=4)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return fig
 
 
 def _plot_energy(plt, result: FitResult, path: Path) -> Path:
