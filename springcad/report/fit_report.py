@@ -36,7 +36,8 @@ def write_fit_outputs(result: FitResult, out_dir: Path | str, fmt: str = "md",
     Args:
         result: the fit result.
         out_dir: an existing, empty folder (use ``atomic_output_dir``).
-        fmt: ``"md"`` or ``"html"``.
+        fmt: ``"md"`` (``report.md`` and ``report.html``) or ``"html"`` (only
+            ``report.html``, self-contained).
         plots: draw the PNG plots.
 
     Returns:
@@ -53,10 +54,12 @@ def write_fit_outputs(result: FitResult, out_dir: Path | str, fmt: str = "md",
     images = _plot_all(result, out_dir) if plots else {}
     written += list(images.values())
     blocks = report_blocks(result, data, {k: p.name for k, p in images.items()})
-    report = out_dir / f"report.{fmt}"
-    report.write_text(render_markdown(blocks) if fmt == "md" else render_html(blocks),
-                      encoding="utf-8")
-    written.append(report)
+    if fmt == "md":
+        written.append(out_dir / "report.md")
+        written[-1].write_text(render_markdown(blocks), encoding="utf-8")
+    # report.html always: one self-contained page (plots inlined) to open or send
+    written.append(out_dir / "report.html")
+    written[-1].write_text(render_html(blocks, out_dir), encoding="utf-8")
     return written
 
 
@@ -78,6 +81,7 @@ def report_blocks(result: FitResult, data: dict, images: dict[str, str]) -> list
     b: list[tuple] = []
     final = data["final"]
     b.append(("h1", f"Bench fit: {data['input']['source']}"))
+    b.append(("h2", "Verdict"))
     b += _verdict_blocks(data)
     inp, seg = data["input"], data["segmentation"]
     b.append(("h2", "Data"))
@@ -344,37 +348,37 @@ def render_markdown(blocks: list[tuple]) -> str:
     return "\n\n".join(out) + "\n"
 
 
-def render_html(blocks: list[tuple]) -> str:
-    """Report blocks as a self-contained HTML page (images by relative file name)."""
-    import re
+def render_html(blocks: list[tuple], image_dir: Path | str | None = None) -> str:
+    """Report blocks as a self-contained HTML page.
 
-    def inline(text):
-        text = html.escape(text)
-        text = re.sub(r"\*\*(.+?)\*\*", r"<b>\1</b>", text)
-        text = re.sub(r"\*(.+?)\*", r"<i>\1</i>", text)
-        return re.sub(r"`(.+?)`", r"<code>\1</code>", text)
+    Args:
+        blocks: see :func:`report_blocks`.
+        image_dir: folder of the plots; they are inlined (else linked by file name).
+    """
+    from springcad.report.html_page import img_tag, inline_md, page
 
-    out = ["<!DOCTYPE html>", "<html><head><meta charset='utf-8'><title>springcad fit</title>",
-           "<style>body{font-family:sans-serif;max-width:60em;margin:auto}"
-           "table{border-collapse:collapse}td,th{border:1px solid #aaa;padding:2px 6px}"
-           "img{max-width:100%}</style></head><body>"]
+    out = []
+    title = "springcad fit"
     for blk in blocks:
         kind = blk[0]
         if kind in ("h1", "h2", "h3"):
-            out.append(f"<{kind}>{inline(blk[1])}</{kind}>")
+            title = blk[1] if kind == "h1" else title
+            out.append(f"<{kind}>{inline_md(blk[1])}</{kind}>")
         elif kind == "p":
-            out.append(f"<p>{inline(blk[1])}</p>")
+            out.append(f"<p>{inline_md(blk[1])}</p>")
         elif kind == "ul":
-            out.append("<ul>" + "".join(f"<li>{inline(i)}</li>" for i in blk[1]) + "</ul>")
+            out.append("<ul>" + "".join(f"<li>{inline_md(i)}</li>" for i in blk[1]) + "</ul>")
         elif kind == "table":
-            head = "".join(f"<th>{inline(h)}</th>" for h in blk[1])
-            body = "".join("<tr>" + "".join(f"<td>{inline(c)}</td>" for c in r) + "</tr>"
+            head = "".join(f"<th>{inline_md(h)}</th>" for h in blk[1])
+            body = "".join("<tr>" + "".join(f"<td>{inline_md(c)}</td>" for c in r) + "</tr>"
                            for r in blk[2])
             out.append(f"<table><tr>{head}</tr>{body}</table>")
         elif kind == "img":
-            out.append(f"<p><img src='{html.escape(blk[1])}' alt='{html.escape(blk[2])}'></p>")
-    out.append("</body></html>")
-    return "\n".join(out) + "\n"
+            path = Path(image_dir) / blk[1] if image_dir is not None else None
+            img = (img_tag(path, blk[2]) if path is not None and path.is_file()
+                   else f"<img src='{html.escape(blk[1])}' alt='{html.escape(blk[2])}'>")
+            out.append(f"<p>{img}</p>")
+    return page(title, "\n".join(out))
 
 
 # --- plots ---------------------------------------------------------------------

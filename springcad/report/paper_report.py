@@ -146,6 +146,13 @@ def markdown(v) -> str:
     lines = [
         "# springcad validation against the paper",
         "",
+        "## Verdict",
+        "",
+        f"Stiffness of the seven Table I configurations: mean |error| "
+        f"**{s['mean_abs_error_before_pct']:.2f} % before** (design target), "
+        f"**{s['mean_abs_error_after_pct']:.2f} % after** (enriched model, leave-one-out); "
+        f"worst {s['worst_abs_error_before_pct']:.2f} % -> {s['worst_abs_error_after_pct']:.2f} %.",
+        "",
         "Every predicted number comes from springcad's design, tolerance"
         + (" and FEA" if any(m.source != "beam" for m in v.springs.values()) else "")
         + " models run on the paper templates; only the *measured* columns come from the "
@@ -281,8 +288,19 @@ def _geometry_change_lines(changes: list[dict]) -> list[str]:
 
 
 def write_paper_report(v, out_dir: Path) -> list[Path]:
+    """Write ``validation.json``, the plot, ``validation.md`` and ``report.html``.
+
+    ``report.html`` is the Markdown report as one self-contained page (the plot inlined).
+    """
+    from springcad.report.html_page import markdown_html, page
+
     out_dir = Path(out_dir)
     write_json(out_dir / "validation.json", v.to_dict())
     plot_predicted_vs_measured(v, out_dir / "predicted_vs_measured.png")
-    (out_dir / "validation.md").write_text(markdown(v))
-    return [out_dir / n for n in ("validation.json", "predicted_vs_measured.png", "validation.md")]
+    md = markdown(v)
+    (out_dir / "validation.md").write_text(md, encoding="utf-8")
+    (out_dir / "report.html").write_text(
+        page("springcad validation against the paper", markdown_html(md, out_dir)),
+        encoding="utf-8")
+    return [out_dir / n for n in ("validation.json", "predicted_vs_measured.png",
+                                  "validation.md", "report.html")]
