@@ -8,6 +8,7 @@ off-screen (VTK's EGL or OSMesa window); no display is needed.
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -196,8 +197,8 @@ def render_png(assembly, path: Path, size=(1600, 1200), cutaway: bool = True) ->
     img = _render_model(assembly, size, cutaway)
     rows, cols = _content_box(img)
     img = img[rows, cols]
-    dpi = 100
-    fig = plt.figure(figsize=(size[0] / dpi, size[1] / dpi), dpi=dpi)
+    dpi = size[0] / 16.0  # a 16-inch-wide figure: text keeps its share of any image size
+    fig = plt.figure(figsize=(16.0, size[1] / dpi), dpi=dpi)
     entries = legend_entries(assembly)
     box, legend_kw = _layout(img.shape[1] / img.shape[0], size, len(entries))
     ax = fig.add_axes(box)
@@ -206,9 +207,17 @@ def render_png(assembly, path: Path, size=(1600, 1200), cutaway: bool = True) ->
     st = assembly.design.stack
     fig.text(TITLE_XY[0], TITLE_XY[1], f"{assembly.design.job.name}: {' + '.join(st.sequence)}  "
              f"(input {st.input}, output {st.output})", fontsize=15, va="top")
-    handles = [Patch(facecolor=c, edgecolor="0.3", label=label) for label, c in entries]
-    fig.legend(handles=handles, fontsize=11, frameon=False, title="part colours",
-               title_fontsize=12, alignment="left", **legend_kw)
+    handles = [Patch(facecolor=c, edgecolor="0.3", label=textwrap.fill(label, 34))
+               for label, c in entries]
+    fig.canvas.draw()
+    for fontsize in (11, 10, 9, 8, 7):  # the legend stays inside the picture
+        legend = fig.legend(handles=handles, fontsize=fontsize, frameon=False,
+                            title="part colours", title_fontsize=fontsize + 1, alignment="left",
+                            **legend_kw)
+        box = legend.get_window_extent(fig.canvas.get_renderer())
+        if box.x1 <= fig.bbox.x1 - 4 and box.y0 >= 2:
+            break
+        legend.remove()
     fig.savefig(path, dpi=dpi)
     plt.close(fig)
     return Path(path)
