@@ -124,3 +124,36 @@ def test_notebook_example_runs_the_whole_flow(tmp_path, monkeypatch):
     for call in ("sc.load(", "sc.design_job(", "sc.verify(", "sc.build(", "sc.export(",
                  "sc.simulate(", "sc.fit_record("):
         assert call in source
+
+
+def test_stack_svg_shows_the_sequence_and_the_limit():
+    d = sc.design_job(ROOT / "templates" / "paper_S1_2xS2.toml")
+    svg = d.stack._repr_svg_()
+    st = d.stack
+    names = re.findall(r"font-weight='bold'>([^<]+)</text>", svg)
+    assert names == list(st.sequence) == ["S1", "S2", "S2"]
+    # the limiting spring's boxes are the thick red ones; the others are not
+    thick = re.findall(r"stroke='#b8322a' stroke-width='3'", svg)
+    assert len(thick) == sum(n == st.limiting_spring for n in st.sequence) == 2
+    for n in ("S1", "S2"):
+        sp = d.springs[n]
+        assert f"{sp.stiffness_Nm_per_rad:.4g} N·m/rad" in svg
+        assert f"θmax {sp.max_deflection_rad:.3g} rad" in svg
+    assert f"limit {st.max_deflection_rad:.4g} rad" in svg and "<svg" in st._repr_html_()
+
+
+def test_export_refuses_what_build_did_not_make(tmp_path):
+    with pytest.raises(ConfigError, match="Build"):
+        sc.export("not a build", tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+
+
+def test_api_never_imports_the_cli():
+    import ast
+
+    for path in (ROOT / "springcad" / "api").glob("*.py"):
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            mods = ([a.name for a in node.names] if isinstance(node, ast.Import)
+                    else [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+            assert not any(m.startswith("springcad.cli") for m in mods), path.name

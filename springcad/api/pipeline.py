@@ -308,6 +308,7 @@ def export(built: Build, out, overwrite: bool = False, render: bool = True, revi
     built.options = {"revision": revision, "render": render}
     inputs = [x for x in (d.job.source, title_block) if isinstance(x, (str, Path)) and x
               and Path(x).is_file()]
+    fea_files = []
     with atomic_output_dir(out, overwrite=overwrite, inputs=inputs) as tmp:
         tmp = Path(tmp)
         with stage("exports", track.subject("exports")):
@@ -316,7 +317,7 @@ def export(built: Build, out, overwrite: bool = False, render: bool = True, revi
                 from springcad.report.fea_outputs import write_outputs
 
                 (tmp / "fea").mkdir()
-                write_outputs(ver.raw, tmp / "fea", render=render, progress=track)
+                fea_files = write_outputs(ver.raw, tmp / "fea", render=render, progress=track)
             built.release = release_status(d.raw, ver.raw if ver is not None else None,
                                            ver is None, built.checks.checks)
             info = {"job": d.job.name, "revision": revision,
@@ -333,6 +334,8 @@ def export(built: Build, out, overwrite: bool = False, render: bool = True, revi
         from springcad.export.bundle import WrittenFile
 
         files.append(WrittenFile("design.json", "design", "", (tmp / "design.json").stat().st_size))
+        files += [WrittenFile(str(f.relative_to(tmp)), "fea", "", f.stat().st_size)
+                  for f in fea_files]
         built.files = files
         built.timings_s = {**(timings_s or {}), **built.timings_s,
                            "exports": round(time.perf_counter() - t0, 3)}

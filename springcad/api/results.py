@@ -185,6 +185,9 @@ class Stack:
                 f"limit {self.max_deflection_rad:.4g} rad ({self.limiting_spring}), backlash "
                 f"{self.backlash_nominal_rad:.4g} rad, mass {self.mass_kg:.4g} kg)")
 
+    def _repr_svg_(self) -> str:
+        return stack_svg(self.raw)
+
     def _repr_html_(self) -> str:
         lo, hi = self.backlash_worst_range_rad
         b = self.raw.backlash
@@ -199,7 +202,52 @@ class Stack:
                 ("backlash MC p1–p99 (rad)", f"{b.mc_p01:.4g} … {b.mc_p99:.4g}"),
                 ("mass (kg)", _g(self.mass_kg)),
                 ("energy (J)", _g(self.energy_J))]
-        return _table_html(rows, "stack")
+        return (f"<div>{stack_svg(self.raw)}{_table_html(rows, 'stack')}</div>")
+
+
+def stack_svg(raw, box_px: int = 110) -> str:
+    """An inline SVG of a stack: input -> springs in series -> output, the limiting one red.
+
+    Each spring box gives its stiffness (N*m/rad) and its own deflection limit
+    (rad); the caption gives the stack's stiffness and eq. 10 limit.
+
+    Args:
+        raw: a :class:`~springcad.design.stack.StackDesign`.
+        box_px: width of one spring box (px).
+    """
+    springs = list(raw.springs)
+    gap, h, end = 28, 64, 70
+    width = 2 * end + len(springs) * (box_px + gap) + gap
+    items = [f"<rect x='4' y='20' width='{end - 8}' height='{h}' rx='8' fill='#dcefe0' "
+             f"stroke='#2e7d32'/><text x='{end / 2}' y='56' text-anchor='middle'>input</text>"
+             f"<text x='{end / 2}' y='72' text-anchor='middle' font-size='10'>"
+             f"{html.escape(str(raw.input))}</text>"]
+    x = end + gap
+    for sp in springs:
+        limiting = sp.name == raw.limiting_spring
+        colour = "#b8322a" if limiting else "#4a6fa5"
+        items.append(
+            f"<line x1='{x - gap}' y1='52' x2='{x}' y2='52' stroke='#555' stroke-width='2'/>"
+            f"<rect x='{x}' y='20' width='{box_px}' height='{h}' rx='6' fill='#f4f6fb' "
+            f"stroke='{colour}' stroke-width='{3 if limiting else 1.5}'/>"
+            f"<text x='{x + box_px / 2}' y='38' text-anchor='middle' font-weight='bold'>"
+            f"{html.escape(sp.name)}</text>"
+            f"<text x='{x + box_px / 2}' y='55' text-anchor='middle' font-size='11'>"
+            f"{sp.stiffness_beam_Nmm_per_rad / _NMM_PER_NM:.4g} N·m/rad</text>"
+            f"<text x='{x + box_px / 2}' y='72' text-anchor='middle' font-size='11' "
+            f"fill='{colour}'>θmax {sp.max_deflection_rad:.3g} rad</text>")
+        x += box_px + gap
+    items.append(f"<line x1='{x - gap}' y1='52' x2='{x}' y2='52' stroke='#555' stroke-width='2'/>"
+                 f"<rect x='{x}' y='20' width='{end - 8}' height='{h}' rx='8' fill='#fbe6dc' "
+                 f"stroke='#c0504d'/><text x='{x + (end - 8) / 2}' y='56' text-anchor='middle'>"
+                 f"output</text><text x='{x + (end - 8) / 2}' y='72' text-anchor='middle' "
+                 f"font-size='10'>{html.escape(str(raw.output))}</text>")
+    caption = (f"series: K = {raw.stiffness_Nmm_per_rad / _NMM_PER_NM:.4g} N·m/rad, limit "
+               f"{raw.max_deflection_rad:.4g} rad (eq. 10, set by {raw.limiting_spring})")
+    total_w = x + end
+    return (f"<svg xmlns='http://www.w3.org/2000/svg' width='{max(total_w, 360)}' height='110' "
+            f"font-family='sans-serif' font-size='12'><title>stack {html.escape(' + '.join(raw.sequence))}"
+            f"</title>{''.join(items)}<text x='4' y='102'>{html.escape(caption)}</text></svg>")
 
 
 class Design:
