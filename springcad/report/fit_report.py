@@ -15,7 +15,6 @@ same blocks. Units: N·m, rad, s.
 
 from __future__ import annotations
 
-import html
 import json
 import math
 from pathlib import Path
@@ -349,36 +348,16 @@ def render_markdown(blocks: list[tuple]) -> str:
 
 
 def render_html(blocks: list[tuple], image_dir: Path | str | None = None) -> str:
-    """Report blocks as a self-contained HTML page.
+    """Report blocks as a self-contained HTML page (the Markdown text, plots inlined).
 
     Args:
         blocks: see :func:`report_blocks`.
-        image_dir: folder of the plots; they are inlined (else linked by file name).
+        image_dir: folder of the plots (an image not found there shows its alt text).
     """
-    from springcad.report.html_page import img_tag, inline_md, page
+    from springcad.report.html_page import markdown_html, page
 
-    out = []
-    title = "springcad fit"
-    for blk in blocks:
-        kind = blk[0]
-        if kind in ("h1", "h2", "h3"):
-            title = blk[1] if kind == "h1" else title
-            out.append(f"<{kind}>{inline_md(blk[1])}</{kind}>")
-        elif kind == "p":
-            out.append(f"<p>{inline_md(blk[1])}</p>")
-        elif kind == "ul":
-            out.append("<ul>" + "".join(f"<li>{inline_md(i)}</li>" for i in blk[1]) + "</ul>")
-        elif kind == "table":
-            head = "".join(f"<th>{inline_md(h)}</th>" for h in blk[1])
-            body = "".join("<tr>" + "".join(f"<td>{inline_md(c)}</td>" for c in r) + "</tr>"
-                           for r in blk[2])
-            out.append(f"<table><tr>{head}</tr>{body}</table>")
-        elif kind == "img":
-            path = Path(image_dir) / blk[1] if image_dir is not None else None
-            img = (img_tag(path, blk[2]) if path is not None and path.is_file()
-                   else f"<img src='{html.escape(blk[1])}' alt='{html.escape(blk[2])}'>")
-            out.append(f"<p>{img}</p>")
-    return page(title, "\n".join(out))
+    title = next((blk[1] for blk in blocks if blk[0] == "h1"), "springcad fit")
+    return page(title, markdown_html(render_markdown(blocks), image_dir))
 
 
 # --- plots ---------------------------------------------------------------------
