@@ -188,7 +188,14 @@ class Build:
         fails = "".join(f"<li>{html.escape(f)}</li>" for f in self.failures())
         reasons = "".join(f"<li>{html.escape(r)}</li>" for r in
                           (self.release.reasons if self.release is not None else ()))
-        return (f"<div><h4>build {html.escape(self.design.job.name)}</h4>"
+        render = self.out_dir / "assembly.png" if self.out_dir is not None else None
+        if render is not None and render.is_file():
+            from springcad.report.html_page import img_tag
+
+            picture = img_tag(render, "assembly render", width=480)
+        else:
+            picture = ""
+        return (f"<div><h4>build {html.escape(self.design.job.name)}</h4>{picture}"
                 + _table_html(rows) + (f"<p>failed checks:</p><ul>{fails}</ul>" if fails else "")
                 + (f"<p>not for manufacture because:</p><ul>{reasons}</ul>" if reasons else "")
                 + _grid_html(("part", "qty", "title", "process"), parts) + "</div>")
