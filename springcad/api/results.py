@@ -217,11 +217,10 @@ def stack_svg(raw, box_px: int = 110) -> str:
     """
     springs = list(raw.springs)
     gap, h, end = 28, 64, 70
-    width = 2 * end + len(springs) * (box_px + gap) + gap
-    items = [f"<rect x='4' y='20' width='{end - 8}' height='{h}' rx='8' fill='#dcefe0' "
-             f"stroke='#2e7d32'/><text x='{end / 2}' y='56' text-anchor='middle'>input</text>"
-             f"<text x='{end / 2}' y='72' text-anchor='middle' font-size='10'>"
-             f"{html.escape(str(raw.input))}</text>"]
+    items = [(f"<rect x='4' y='20' width='{end - 8}' height='{h}' rx='8' fill='#dcefe0' "
+              f"stroke='#2e7d32'/><text x='{end / 2}' y='56' text-anchor='middle'>input</text>"
+              f"<text x='{end / 2}' y='72' text-anchor='middle' font-size='10'>"
+              f"{html.escape(str(raw.input))}</text>")]
     x = end + gap
     for sp in springs:
         limiting = sp.name == raw.limiting_spring
