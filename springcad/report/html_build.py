@@ -185,7 +185,8 @@ def _fea_html(out: Path, design: dict) -> str:
                for n in design.get("springs", {})]
     if not any(p.is_file() for p, _ in imgs + contact):
         return "<h2>FEA</h2><p>no FEA images in this build (not verified, or --no-render)</p>"
-    return "<h2>FEA</h2>" + _figures(imgs, 520) + _figures(contact, 1050)
+    has_contact = any(p.is_file() for p, _ in contact)  # no contact sweep: no empty block
+    return "<h2>FEA</h2>" + _figures(imgs, 520) + (_figures(contact, 1050) if has_contact else "")
 
 
 def _drawings_html(out: Path) -> str:
