@@ -296,7 +296,15 @@ class Verification:
 
     def __init__(self, raw, design: Design):
         self.raw = raw
-        self.design = Design(raw.corrected_job_design(design.raw))
+        self._input = design
+        self._design = None
+
+    @property
+    def design(self) -> Design:
+        """The verified design: the input with the FEA-corrected springs (made on first use)."""
+        if self._design is None:
+            self._design = Design(self.raw.corrected_job_design(self._input.raw))
+        return self._design
 
     @property
     def ok(self) -> bool:
