@@ -34,7 +34,7 @@ built = sc.build(verification, accept_violations=True)
 print(built)
 
 # %% export STEP/DXF/drawings/BOM and report.html into one folder
-built = sc.export(built, OUT, render=RENDER)
+built = sc.export_build(built, OUT, render=RENDER)
 print(f"open {built.report_html} in a web browser")
 
 # %% simulate a bench record of the verified stack (the paper's staircase protocol)

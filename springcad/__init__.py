@@ -13,7 +13,7 @@ Public API (:mod:`springcad.api`; results in N*m/rad, rad, MPa, kg)::
     rec = sc.simulate(v, seed=1)                  # a simulated bench record
     f = sc.fit_record(rec, design=v.design)       # Fit: model, K, backlash, effects
     b = sc.build(v)                               # Build: solids and checks, in memory
-    sc.export(b, "out/S1")                        # CAD, drawings, BOM, out/S1/report.html
+    sc.export_build(b, "out/S1")                        # CAD, drawings, BOM, out/S1/report.html
 
 ``import springcad`` stays light: CAD, meshing and plotting libraries
 are imported by the modules that use them.
@@ -30,7 +30,7 @@ from springcad.api import (
     Verification,
     build,
     design_job,
-    export,
+    export_build,
     fit_record,
     load,
     simulate,
@@ -39,5 +39,5 @@ from springcad.api import (
 from springcad.errors import SpringcadError
 
 __all__ = ["Build", "Design", "Fit", "Spring", "SpringcadError", "Stack", "Verification",
-           "__version__", "build", "design_job", "export", "fit_record", "load", "simulate",
+           "__version__", "build", "design_job", "export_build", "fit_record", "load", "simulate",
            "verify"]

@@ -121,7 +121,7 @@ def test_notebook_example_runs_the_whole_flow(tmp_path, monkeypatch):
     assert len(repr(built)) < 400 and "FEA" in repr(built) and "<table>" in built._repr_html_()
     source = (ROOT / "examples" / "notebook_flow.py").read_text()
     assert "springcad.cli" not in source and "import springcad as sc" in source
-    for call in ("sc.load(", "sc.design_job(", "sc.verify(", "sc.build(", "sc.export(",
+    for call in ("sc.load(", "sc.design_job(", "sc.verify(", "sc.build(", "sc.export_build(",
                  "sc.simulate(", "sc.fit_record("):
         assert call in source
 
@@ -144,7 +144,7 @@ def test_stack_svg_shows_the_sequence_and_the_limit():
 
 def test_export_refuses_what_build_did_not_make(tmp_path):
     with pytest.raises(ConfigError, match="Build"):
-        sc.export("not a build", tmp_path / "out")
+        sc.export_build("not a build", tmp_path / "out")
     assert not (tmp_path / "out").exists()
 
 
@@ -157,3 +157,18 @@ def test_api_never_imports_the_cli():
             mods = ([a.name for a in node.names] if isinstance(node, ast.Import)
                     else [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
             assert not any(m.startswith("springcad.cli") for m in mods), path.name
+
+
+def test_public_names_survive_importing_every_subpackage():
+    """A subpackage import rebinds its name on ``springcad``: no public function may share one."""
+    import importlib
+    import pkgutil
+
+    import springcad
+
+    for mod in pkgutil.iter_modules(springcad.__path__):
+        if mod.name != "__main__":  # running it is the CLI
+            importlib.import_module(f"springcad.{mod.name}")
+    for name in ("load", "design_job", "verify", "build", "export_build", "simulate", "fit_record"):
+        assert callable(getattr(springcad, name)) and name in springcad.__all__, name
+        assert getattr(springcad, name).__module__.startswith("springcad.api"), name

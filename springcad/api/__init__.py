@@ -1,5 +1,9 @@
 """The public Python API: load, design, verify, build, export, simulate, fit; SI results.
 
+The functions are ``load``, ``design_job``, ``verify``, ``build``, ``export_build``,
+``simulate`` and ``fit_record`` (``springcad.design``, ``.export`` and ``.fit`` are
+subpackages, whose import would rebind those names on the package).
+
 The functions are what a notebook or script calls (:mod:`springcad.api.calls`,
 :mod:`springcad.api.pipeline`); each returns a result object
 (:mod:`springcad.api.results`) with the field's units in its names
@@ -11,14 +15,14 @@ Example:
     >>> import springcad as sc
     >>> d = sc.design_job(sc.load("templates/paper_S1.toml"))
     >>> v = sc.verify(d, model="2d", keep_fields=True)
-    >>> b = sc.export(sc.build(v), "out/S1")     # out/S1/report.html
+    >>> b = sc.export_build(sc.build(v), "out/S1")     # out/S1/report.html
     >>> f = sc.fit_record(sc.simulate(v, seed=1), design=v.design)
 """
 
 from springcad.api.calls import design_job, fit_record, load, simulate, verify
-from springcad.api.pipeline import Build, build, export, load_title_block
+from springcad.api.pipeline import Build, build, export_build, load_title_block
 from springcad.api.results import Design, Fit, Spring, Stack, Verification, profile_svg
 
 __all__ = ["Build", "Design", "Fit", "Spring", "Stack", "Verification", "build", "design_job",
-           "export", "fit_record", "load", "load_title_block", "profile_svg", "simulate",
+           "export_build", "fit_record", "load", "load_title_block", "profile_svg", "simulate",
            "verify"]

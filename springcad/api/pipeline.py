@@ -1,11 +1,13 @@
 """Build and export through the public API: solids and checks, then every file of a build.
 
 ``build`` makes the solids of a (verified) design and runs the geometry and
-wire-EDM checks in memory; ``export`` writes the build folder: ``design.json``,
+wire-EDM checks in memory; ``export_build`` writes the build folder: ``design.json``,
 ``fea/`` (when the design was FEA-verified), per-part STEP/STL/DXF/drawings,
 the assembly, BOM, renders, ``build.json`` and ``report.html``. The folder
 appears only when every file was written and read back (an atomic rename);
 ``springcad build`` is these two calls after ``design_job`` and ``verify``.
+The name is ``export_build``, not ``export``, because ``springcad.export`` is a
+subpackage: importing it rebinds that attribute of the package.
 
 Units: lengths mm, stiffness N*m/rad, angles rad, masses kg.
 """
@@ -24,7 +26,7 @@ from springcad.stages import stage
 #: schema of ``build.json``
 SCHEMA = "springcad.build/1"
 
-__all__ = ["Build", "build", "export", "load_title_block"]
+__all__ = ["Build", "build", "export_build", "load_title_block"]
 
 
 class _Tracker:
@@ -49,7 +51,7 @@ class _Tracker:
 
 
 class Build:
-    """A built stack: solids and check results, and after :func:`export` its files.
+    """A built stack: solids and check results, and after :func:`export_build` its files.
 
     Attributes:
         design: the :class:`Design` that was built (FEA-corrected when verified).
@@ -57,7 +59,7 @@ class Build:
         assembly: the :class:`springcad.geometry.stack.StackAssembly` (solids in mm).
         checks: the :class:`springcad.geometry.checks.CheckReport` of the solids.
         accept_violations: wire-EDM rule violations were accepted.
-        out_dir: the build folder after :func:`export`, else None.
+        out_dir: the build folder after :func:`export_build`, else None.
         files: the written files (:class:`springcad.export.bundle.WrittenFile`).
         roundtrip: the export read-back checks.
         release: the :class:`springcad.export.release.ReleaseStatus` after export.
@@ -84,7 +86,7 @@ class Build:
 
     @property
     def released(self) -> bool | None:
-        """Released for manufacture (None before :func:`export` judged it)."""
+        """Released for manufacture (None before :func:`export_build` judged it)."""
         return None if self.release is None else self.release.released
 
     @property
@@ -105,7 +107,7 @@ class Build:
 
     @property
     def report_html(self) -> Path | None:
-        """``report.html`` of the build folder (after :func:`export`)."""
+        """``report.html`` of the build folder (after :func:`export_build`)."""
         return None if self.out_dir is None else self.out_dir / "report.html"
 
     def parts(self) -> list[dict]:
@@ -130,7 +132,7 @@ class Build:
             raise CheckFailed(str(err)) from err
 
     def to_dict(self) -> dict:
-        """The ``build.json`` document (needs :func:`export` for files and release)."""
+        """The ``build.json`` document (needs :func:`export_build` for files and release)."""
         from springcad.version import __version__
 
         asm, st = self.assembly, self.design.raw.stack
@@ -272,7 +274,7 @@ def _drawn_by() -> str:
     return f"springcad {__version__}"
 
 
-def export(built: Build, out, overwrite: bool = False, render: bool = True, revision: str = "A",
+def export_build(built: Build, out, overwrite: bool = False, render: bool = True, revision: str = "A",
            title_block=None, progress=None, timings_s: dict | None = None) -> Build:
     """Write a build folder: design, FEA results, CAD, drawings, BOM, build.json, report.html.
 
@@ -302,7 +304,7 @@ def export(built: Build, out, overwrite: bool = False, render: bool = True, revi
     from springcad.report.outdir import atomic_output_dir
 
     if not isinstance(built, Build):
-        raise ConfigError("export", type(built).__name__, "takes the Build that sc.build returned")
+        raise ConfigError("export_build", type(built).__name__, "takes the Build that sc.build returned")
     if not (isinstance(revision, str) and 1 <= len(revision) <= 8 and revision.isascii()
             and revision.isalnum()):
         raise ConfigError("revision", revision, "is 1 to 8 ASCII letters or digits")
