@@ -19,8 +19,6 @@ Public API (:mod:`springcad.api`; results in N*m/rad, rad, MPa, kg)::
 are imported by the modules that use them.
 """
 
-from springcad.version import __version__  # noqa: E402
-
 from springcad.api import (
     Build,
     Design,
@@ -37,6 +35,7 @@ from springcad.api import (
     verify,
 )
 from springcad.errors import SpringcadError
+from springcad.version import __version__
 
 __all__ = ["Build", "Design", "Fit", "Spring", "SpringcadError", "Stack", "Verification",
            "__version__", "build", "design_job", "export_build", "fit_record", "load", "simulate",

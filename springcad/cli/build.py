@@ -1,10 +1,10 @@
 """``springcad build CONFIG --out DIR``: design, verify, solids, checks, exports.
 
 A thin layer on the public API (:mod:`springcad.api`): ``design_job``,
-``verify``, ``build`` and ``export`` are the stages (:data:`PIPELINE`), each
+``verify``, ``build`` and ``export_build`` are the stages (:data:`PIPELINE`), each
 announced as ``[i/n] name`` on stderr with its progress and time. The output
 folder is checked before any work and appears only when every file was
-written (``export`` writes into a temporary folder). A failed FEA
+written (``export_build`` writes into a temporary folder). A failed FEA
 verification or check is exit status 1; a CAD-kernel, mesher or solver failure
 is one message naming the stage, the part and what to change (exit status 2).
 """
