@@ -12,38 +12,31 @@ Public API (:mod:`springcad.api`; results in N*m/rad, rad, MPa, kg)::
     v = sc.verify(d, model="2d")                  # Verification: FEA, corrected .design
     rec = sc.simulate(v, seed=1)                  # a simulated bench record
     f = sc.fit_record(rec, design=v.design)       # Fit: model, K, backlash, effects
+    b = sc.build(v)                               # Build: solids and checks, in memory
+    sc.export_build(b, "out/S1")                        # CAD, drawings, BOM, out/S1/report.html
 
 ``import springcad`` stays light: CAD, meshing and plotting libraries
 are imported by the modules that use them.
 """
 
-from springcad.version import __version__  # noqa: E402
-
 from springcad.api import (
-                           Design,
-                           Fit,
-                           Spring,
-                           Stack,
-                           Verification,
-                           design_job,
-                           fit_record,
-                           load,
-                           simulate,
-                           verify,
+    Build,
+    Design,
+    Fit,
+    Spring,
+    Stack,
+    Verification,
+    build,
+    design_job,
+    export_build,
+    fit_record,
+    load,
+    simulate,
+    verify,
 )
 from springcad.errors import SpringcadError
+from springcad.version import __version__
 
-__all__ = [
-                           "Design",
-                           "Fit",
-                           "Spring",
-                           "SpringcadError",
-                           "Stack",
-                           "Verification",
-                           "__version__",
-                           "design_job",
-                           "fit_record",
-                           "load",
-                           "simulate",
-                           "verify",
-]
+__all__ = ["Build", "Design", "Fit", "Spring", "SpringcadError", "Stack", "Verification",
+           "__version__", "build", "design_job", "export_build", "fit_record", "load", "simulate",
+           "verify"]

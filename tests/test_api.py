@@ -94,14 +94,81 @@ def test_simulate_then_fit_recovers_the_truth():
     assert base64.b64decode(png)[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def test_notebook_example_runs_the_whole_flow():
-    """examples/notebook_flow.py: design -> 2D FEA -> simulate -> fit, public API only."""
+def test_notebook_example_runs_the_whole_flow(tmp_path, monkeypatch):
+    """examples/notebook_flow.py: load, design, 2D FEA, build, export, simulate, fit; API only."""
+    import json
+
+    out = tmp_path / "S1"
+    monkeypatch.setattr(sys, "argv", ["notebook_flow.py", str(out)])
     ns = runpy.run_path(str(ROOT / "examples" / "notebook_flow.py"), run_name="__main__")
-    v, result = ns["verification"], ns["result"]
+    v, built, result = ns["verification"], ns["built"], ns["result"]
     assert v.ok
     k_fea = v.stack_stiffness_Nm_per_rad
     assert k_fea == pytest.approx(150.0, rel=0.01)  # corrected to the target within 1 %
     assert result.stiffness_Nm_per_rad == pytest.approx(k_fea, rel=0.02)
     assert "<table>" in v._repr_html_() and len(repr(v)) < 400 and len(repr(v.raw)) < 600
+    # the export is the same folder the CLI writes: build.json lists what is on disk
+    assert built.out_dir == out and built.report_html.is_file() and built.ok
+    doc = json.loads((out / "build.json").read_text())
+    on_disk = {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()} - {"build.json"}
+    assert on_disk == {f["path"] for f in doc["files"]}
+    # the corrected (FEA) widths were built: design.json holds the verified design
+    saved = json.loads((out / "design.json").read_text())
+    assert saved["springs"]["S1"]["stiffness_Nm_per_rad"] == pytest.approx(
+        v.design.springs["S1"].stiffness_Nm_per_rad, rel=1e-9)
+    assert doc["verification"]["ok"] is True
+    assert doc["verification"]["springs"]["S1"]["stiffness_fea_Nm_per_rad"] == pytest.approx(k_fea)
+    assert len(repr(built)) < 400 and "FEA" in repr(built) and "<table>" in built._repr_html_()
     source = (ROOT / "examples" / "notebook_flow.py").read_text()
     assert "springcad.cli" not in source and "import springcad as sc" in source
+    for call in ("sc.load(", "sc.design_job(", "sc.verify(", "sc.build(", "sc.export_build(",
+                 "sc.simulate(", "sc.fit_record("):
+        assert call in source
+
+
+def test_stack_svg_shows_the_sequence_and_the_limit():
+    d = sc.design_job(ROOT / "templates" / "paper_S1_2xS2.toml")
+    svg = d.stack._repr_svg_()
+    st = d.stack
+    names = re.findall(r"font-weight='bold'>([^<]+)</text>", svg)
+    assert names == list(st.sequence) == ["S1", "S2", "S2"]
+    # the limiting spring's boxes are the thick red ones; the others are not
+    thick = re.findall(r"stroke='#b8322a' stroke-width='3'", svg)
+    assert len(thick) == sum(n == st.limiting_spring for n in st.sequence) == 2
+    for n in ("S1", "S2"):
+        sp = d.springs[n]
+        assert f"{sp.stiffness_Nm_per_rad:.4g} N·m/rad" in svg
+        assert f"θmax {sp.max_deflection_rad:.3g} rad" in svg
+    assert f"limit {st.max_deflection_rad:.4g} rad" in svg and "<svg" in st._repr_html_()
+
+
+def test_export_refuses_what_build_did_not_make(tmp_path):
+    with pytest.raises(ConfigError, match="Build"):
+        sc.export_build("not a build", tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+
+
+def test_api_never_imports_the_cli():
+    import ast
+
+    for path in (ROOT / "springcad" / "api").glob("*.py"):
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            mods = ([a.name for a in node.names] if isinstance(node, ast.Import)
+                    else [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+            assert not any(m.startswith("springcad.cli") for m in mods), path.name
+
+
+def test_public_names_survive_importing_every_subpackage():
+    """A subpackage import rebinds its name on ``springcad``: no public function may share one."""
+    import importlib
+    import pkgutil
+
+    import springcad
+
+    for mod in pkgutil.iter_modules(springcad.__path__):
+        if mod.name != "__main__":  # running it is the CLI
+            importlib.import_module(f"springcad.{mod.name}")
+    for name in ("load", "design_job", "verify", "build", "export_build", "simulate", "fit_record"):
+        assert callable(getattr(springcad, name)) and name in springcad.__all__, name
+        assert getattr(springcad, name).__module__.startswith("springcad.api"), name

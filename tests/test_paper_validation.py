@@ -6,6 +6,7 @@ import pytest
 
 from springcad.cli import main
 from springcad.validation.paper import validate_paper
+from tests.browser import assert_rendered, assert_self_contained, headings, needs_chromium, screenshot
 
 KEYS = {"configuration", "measured_stiffness", "target_stiffness", "predicted_stiffness_before",
         "predicted_stiffness_after", "error_before_pct", "error_after_pct",
@@ -93,3 +94,21 @@ def test_shipped_paper_tables_are_the_shared_ones():
     for name in ("paper_table1_configurations.csv", "paper_table2_manufacturers.csv"):
         assert (ROOT / "springcad" / "data" / "paper" / name).read_bytes() == \
             (SHARED / "data" / name).read_bytes()
+
+
+@needs_chromium
+def test_paper_report_html_renders(beam_validation, tmp_path):
+    from springcad.report.paper_report import write_paper_report
+
+    out = tmp_path / "paper"
+    out.mkdir()
+    write_paper_report(beam_validation, out)
+    text = (out / "report.html").read_text(encoding="utf-8")
+    assert_self_contained(text)
+    h2 = headings(text)
+    assert h2[0] == "Verdict" and "Stiffness (N·m/rad)" in h2 and "Deflection limits (eq. 10)" in h2
+    mean_after = beam_validation.errors("after")[0]
+    assert f"{mean_after:.2f} % after" in text
+    assert text.count("<table>") >= 4 and "data:image/png;base64," in text
+    img = screenshot(out / "report.html", tmp_path)
+    assert_rendered(img)

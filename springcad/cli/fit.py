@@ -130,6 +130,7 @@ def run(args) -> int:
     with atomic_output_dir(out, overwrite=args.overwrite, inputs=inputs) as tmp:
         written = write_fit_outputs(result, tmp, fmt=args.format, plots=not args.no_plots)
     _print_summary(result, out, [p.name for p in written])
+    print(f"  report: {out / 'report.html'} (open it in a web browser)")
     return 0
 
 

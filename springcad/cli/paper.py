@@ -38,4 +38,5 @@ def run(args) -> int:
           f"{s['mean_abs_error_after_pct']:.2f} % (leave-one-out); worst "
           f"{s['worst_abs_error_before_pct']:.2f} % -> {s['worst_abs_error_after_pct']:.2f} %")
     print(f"wrote {args.out / 'validation.md'}")
+    print(f"report: {args.out / 'report.html'} (open it in a web browser)")
     return 0

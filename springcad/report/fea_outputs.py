@@ -30,10 +30,11 @@ def write_outputs(result, folder: Path, render: bool = True,
                 written.append(write_vtu(r2, folder / f"{name}_sector_{tag}.vtu"))
                 written.append(render_von_mises(
                     r2, folder / f"{name}_von_mises.png",
-                    f"{name}: von Mises at {math.degrees(v.design.max_deflection_rad):.1f} deg "
-                    f"({tag}, finest level)", reported_peak_MPa=v.peak_von_mises_MPa))
+                    f"{name} at {math.degrees(v.design.max_deflection_rad):.1f}° ({v.model})",
+                    reported_peak_MPa=v.peak_von_mises_MPa))
                 written.append(render_von_mises(
-                    r2, folder / f"{name}_von_mises_peak.png", f"{name}: at the peak",
+                    r2, folder / f"{name}_von_mises_peak.png",
+                    f"{name} at {math.degrees(v.design.max_deflection_rad):.1f}° ({v.model}), zoomed",
                     zoom_mm=max(1.0, 1.5 * v.design.root_fillet_radius_mm),
                     reported_peak_MPa=v.peak_von_mises_MPa))
             if r3 is not None and r3.fields:

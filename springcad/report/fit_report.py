@@ -15,7 +15,6 @@ same blocks. Units: N·m, rad, s.
 
 from __future__ import annotations
 
-import html
 import json
 import math
 from pathlib import Path
@@ -36,7 +35,8 @@ def write_fit_outputs(result: FitResult, out_dir: Path | str, fmt: str = "md",
     Args:
         result: the fit result.
         out_dir: an existing, empty folder (use ``atomic_output_dir``).
-        fmt: ``"md"`` or ``"html"``.
+        fmt: ``"md"`` (``report.md`` and ``report.html``) or ``"html"`` (only
+            ``report.html``, self-contained).
         plots: draw the PNG plots.
 
     Returns:
@@ -53,10 +53,12 @@ def write_fit_outputs(result: FitResult, out_dir: Path | str, fmt: str = "md",
     images = _plot_all(result, out_dir) if plots else {}
     written += list(images.values())
     blocks = report_blocks(result, data, {k: p.name for k, p in images.items()})
-    report = out_dir / f"report.{fmt}"
-    report.write_text(render_markdown(blocks) if fmt == "md" else render_html(blocks),
-                      encoding="utf-8")
-    written.append(report)
+    if fmt == "md":
+        written.append(out_dir / "report.md")
+        written[-1].write_text(render_markdown(blocks), encoding="utf-8")
+    # report.html always: one self-contained page (plots inlined) to open or send
+    written.append(out_dir / "report.html")
+    written[-1].write_text(render_html(blocks, out_dir), encoding="utf-8")
     return written
 
 
@@ -78,6 +80,7 @@ def report_blocks(result: FitResult, data: dict, images: dict[str, str]) -> list
     b: list[tuple] = []
     final = data["final"]
     b.append(("h1", f"Bench fit: {data['input']['source']}"))
+    b.append(("h2", "Verdict"))
     b += _verdict_blocks(data)
     inp, seg = data["input"], data["segmentation"]
     b.append(("h2", "Data"))
@@ -344,37 +347,17 @@ def render_markdown(blocks: list[tuple]) -> str:
     return "\n\n".join(out) + "\n"
 
 
-def render_html(blocks: list[tuple]) -> str:
-    """Report blocks as a self-contained HTML page (images by relative file name)."""
-    import re
+def render_html(blocks: list[tuple], image_dir: Path | str | None = None) -> str:
+    """Report blocks as a self-contained HTML page (the Markdown text, plots inlined).
 
-    def inline(text):
-        text = html.escape(text)
-        text = re.sub(r"\*\*(.+?)\*\*", r"<b>\1</b>", text)
-        text = re.sub(r"\*(.+?)\*", r"<i>\1</i>", text)
-        return re.sub(r"`(.+?)`", r"<code>\1</code>", text)
+    Args:
+        blocks: see :func:`report_blocks`.
+        image_dir: folder of the plots (an image not found there shows its alt text).
+    """
+    from springcad.report.html_page import markdown_html, page
 
-    out = ["<!DOCTYPE html>", "<html><head><meta charset='utf-8'><title>springcad fit</title>",
-           "<style>body{font-family:sans-serif;max-width:60em;margin:auto}"
-           "table{border-collapse:collapse}td,th{border:1px solid #aaa;padding:2px 6px}"
-           "img{max-width:100%}</style></head><body>"]
-    for blk in blocks:
-        kind = blk[0]
-        if kind in ("h1", "h2", "h3"):
-            out.append(f"<{kind}>{inline(blk[1])}</{kind}>")
-        elif kind == "p":
-            out.append(f"<p>{inline(blk[1])}</p>")
-        elif kind == "ul":
-            out.append("<ul>" + "".join(f"<li>{inline(i)}</li>" for i in blk[1]) + "</ul>")
-        elif kind == "table":
-            head = "".join(f"<th>{inline(h)}</th>" for h in blk[1])
-            body = "".join("<tr>" + "".join(f"<td>{inline(c)}</td>" for c in r) + "</tr>"
-                           for r in blk[2])
-            out.append(f"<table><tr>{head}</tr>{body}</table>")
-        elif kind == "img":
-            out.append(f"<p><img src='{html.escape(blk[1])}' alt='{html.escape(blk[2])}'></p>")
-    out.append("</body></html>")
-    return "\n".join(out) + "\n"
+    title = next((blk[1] for blk in blocks if blk[0] == "h1"), "springcad fit")
+    return page(title, markdown_html(render_markdown(blocks), image_dir))
 
 
 # --- plots ---------------------------------------------------------------------
@@ -418,23 +401,44 @@ def _plot_all(result: FitResult, out_dir: Path) -> dict[str, Path]:
     return images
 
 
+#: drawing order: model lines and points below, the measured data on top (a reader judges
+#: the models against the data, so the data must never be hidden)
+ZORDER_MODELS, ZORDER_FINAL, ZORDER_DATA = 2, 3, 4
+
+
 def _plot_models(plt, result: FitResult, path: Path, zoom: bool) -> Path:
+    fig = models_figure(plt, result, zoom)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def models_figure(plt, result: FitResult, zoom: bool):
+    """Torque against deflection: the measured data above the paper models and the final model.
+
+    Args:
+        plt: ``matplotlib.pyplot`` (Agg).
+        result: the fit.
+        zoom: show the crossover region around zero torque only.
+
+    Returns:
+        The figure (the caller saves and closes it).
+    """
     sig, rec = result.signals, result.record
     th, tq = rec.deflection_rad, rec.torque_Nm
     final = result.loop.final
     pred_final = final.model.predict(final.x, sig, np.arange(sig.n))
     fig, ax = plt.subplots(figsize=(7, 5))
     sel = _every(th.size)
-    # the data above the models (zorder): the reader compares the models with it
-    ax.plot(th[sel], tq[sel], ".", ms=1.2, color="0.2", alpha=0.45, label="measured", rasterized=True,
-            zorder=4)
+    ax.plot(th[sel], tq[sel], ".", ms=1.6, color="0.15", alpha=0.35, label="measured",
+            rasterized=True, zorder=ZORDER_DATA)
     grid = np.linspace(th.min(), th.max(), 2001)
     styles = {"linear": "C0", "deadband": "C1", "logit": "C2"}
     for name, m in result.paper_models.items():
-        ax.plot(grid, m.predict(grid), color=styles[name], lw=1.2,
+        ax.plot(grid, m.predict(grid), color=styles[name], lw=1.4, zorder=ZORDER_MODELS,
                 label=f"{name} (NRMSE {m.nrmse_pct:.2f} %)")
     if not result.loop.no_spring:
-        ax.plot(th[sel], pred_final[sel], ".", ms=1.0, color="C3", alpha=0.5, zorder=2,
+        ax.plot(th[sel], pred_final[sel], ".", ms=1.0, color="C3", alpha=0.5, zorder=ZORDER_FINAL,
                 label=f"final: {final_label(result.loop)} (NRMSE {result.nrmse_pct(final):.2f} %)")
     if zoom:
         b = max(result.paper_models["deadband"].backlash_rad, 0.02 * sig.scales.theta_ref)
@@ -450,9 +454,7 @@ def _plot_models(plt, result: FitResult, path: Path, zoom: bool) -> Path:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="upper left", markerscale=4)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return fig
 
 
 def _plot_energy(plt, result: FitResult, path: Path) -> Path:

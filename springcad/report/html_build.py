@@ -11,7 +11,6 @@ the assembly render, the drawings, the bill of materials.
 
 from __future__ import annotations
 
-import base64
 import csv
 import html
 import io
@@ -19,36 +18,18 @@ import json
 import math
 from pathlib import Path
 
+from springcad.report.html_page import img_tag as _img
+from springcad.report.html_page import page
+
 #: headings every report has, in order (tests look for them)
 SECTIONS = ("Verdict", "Spec vs achieved", "Warnings", "FEA", "Assembly", "Drawings",
             "Bill of materials")
-
-_CSS = """
-body{font-family:system-ui,Segoe UI,Helvetica,Arial,sans-serif;margin:2em auto;max-width:1100px;
-color:#222;line-height:1.35}
-h1{margin-bottom:.2em}h2{border-bottom:2px solid #ddd;padding-bottom:.15em;margin-top:1.6em}
-table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;padding:.25em .6em}
-th{background:#f2f2f2;text-align:left}td.n{text-align:right;font-variant-numeric:tabular-nums}
-.verdict{padding:.8em 1.2em;border-radius:6px;font-size:1.25em;font-weight:600}
-.ok{background:#e3f4e1;border:2px solid #3a8d34}.bad{background:#fbe3e1;border:2px solid #b8322a}
-.fail{color:#b8322a;font-weight:600}.figs{display:flex;flex-wrap:wrap;gap:1em}
-figure{margin:0}img{max-width:100%;height:auto}figcaption{font-size:.9em;color:#555}
-.thumb{border:1px solid #ccc;background:#fff;width:260px;height:185px;object-fit:contain}
-"""
-
 
 def _read_json(path: Path) -> dict | None:
     try:
         return json.loads(path.read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return None
-
-
-def _img(path: Path, alt: str, cls: str = "", width: int | None = None) -> str:
-    mime = {".png": "image/png", ".svg": "image/svg+xml"}[path.suffix.lower()]
-    data = base64.b64encode(path.read_bytes()).decode("ascii")
-    extra = (f" class='{cls}'" if cls else "") + (f" width='{width}'" if width else "")
-    return f"<img alt='{html.escape(alt)}' src='data:{mime};base64,{data}'{extra}/>"
 
 
 def _n(v, digits: int = 4) -> str:
@@ -58,11 +39,15 @@ def _n(v, digits: int = 4) -> str:
 
 
 def verdict(build: dict, fea: dict | None) -> tuple[bool, list[str]]:
-    """Released or not, and why: ``build.json``'s own verdict when it has one.
+    """Released or not, and why: the release gate's verdict in ``build.json`` (the one
+    stamped on the drawings) when it has one.
 
     Returns:
         (released, reasons): the reasons explain a refusal (or list caveats).
     """
+    rel = build.get("release")
+    if isinstance(rel, dict) and "released" in rel:  # the release gate's verdict, as stamped
+        return bool(rel["released"]), [str(r) for r in rel.get("reasons", [])]
     if isinstance(build.get("verdict"), (str, dict)):
         v = build["verdict"]
         status = v if isinstance(v, str) else str(v.get("status", ""))
@@ -102,7 +87,8 @@ def _verdict_html(build: dict, fea: dict | None, design: dict) -> str:
     released, reasons = verdict(build, fea)
     head = ("Released for manufacture" if released else "Not for manufacture")
     items = "".join(f"<li>{html.escape(r)}</li>" for r in reasons)
-    notes = "".join(f"<li>{html.escape(c)}</li>" for c in caveats(design, fea))
+    extra = (build.get("release") or {}).get("notes", []) if isinstance(build.get("release"), dict) else []
+    notes = "".join(f"<li>{html.escape(str(c))}</li>" for c in caveats(design, fea) + list(extra))
     return (f"<h2>Verdict</h2><div class='verdict {'ok' if released else 'bad'}'>{head}</div>"
             + (f"<p>Why:</p><ul>{items}</ul>" if items else "")
             + (f"<p>Caveats:</p><ul>{notes}</ul>" if notes else ""))
@@ -199,7 +185,8 @@ def _fea_html(out: Path, design: dict) -> str:
                for n in design.get("springs", {})]
     if not any(p.is_file() for p, _ in imgs + contact):
         return "<h2>FEA</h2><p>no FEA images in this build (not verified, or --no-render)</p>"
-    return "<h2>FEA</h2>" + _figures(imgs, 520) + _figures(contact, 1050)
+    has_contact = any(p.is_file() for p, _ in contact)  # no contact sweep: no empty block
+    return "<h2>FEA</h2>" + _figures(imgs, 520) + (_figures(contact, 1050) if has_contact else "")
 
 
 def _drawings_html(out: Path) -> str:
@@ -237,8 +224,6 @@ def render_build_report(out_dir: Path | str) -> str:
             f", built {html.escape(str(build.get('started', '')))}, config "
             f"{html.escape(str(build.get('job', {}).get('config', design.get('job', {}).get('config', ''))))}")
     parts = [
-        "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
-        f"<title>springcad build report: {html.escape(job)}</title><style>{_CSS}</style></head><body>",
         f"<h1>Build report: {html.escape(job)}</h1><p>{meta}</p>",
         _verdict_html(build, fea, design),
         _spec_rows(design, fea),
@@ -247,9 +232,8 @@ def render_build_report(out_dir: Path | str) -> str:
         "<h2>Assembly</h2>" + _figures([(out / "assembly.png", "assembly render")], 700),
         _drawings_html(out),
         _bom_html(out),
-        "</body></html>",
     ]
-    return "\n".join(parts)
+    return page(f"springcad build report: {job}", "\n".join(parts))
 
 
 def write_build_report(out_dir: Path | str) -> Path:

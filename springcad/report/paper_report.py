@@ -7,34 +7,137 @@ from pathlib import Path
 from springcad.report.jsonio import write_json
 
 
+#: below this max/min ratio of the stiffness range the axes are linear with plain ticks
+LOG_AXES_RATIO = 10.0
+#: distance of a point's label from the diagonal side of the point (px at the figure's dpi)
+LABEL_OFFSET_PX = 28.0
+
+
 def plot_predicted_vs_measured(v, path: Path) -> None:
     """Predicted (before/after) vs measured stiffness, one point per configuration."""
+    fig = predicted_vs_measured_figure(v.configurations)
+    fig.savefig(path, dpi=130)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+
+
+def predicted_vs_measured_figure(configurations):
+    """The figure of :func:`plot_predicted_vs_measured` (matplotlib, Agg).
+
+    Args:
+        configurations: objects with ``configuration``, ``measured_stiffness``,
+            ``target_stiffness`` and ``predicted_stiffness_after`` (N*m/rad).
+
+    Returns:
+        The figure; its axes carry the configuration labels as ``ax.texts``
+        (placed by :func:`place_diagonal_labels`, so no two overlap).
+    """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import NullFormatter, ScalarFormatter
 
-    fig, ax = plt.subplots(figsize=(6, 5.5))
-    meas = [c.measured_stiffness for c in v.configurations]
-    ax.plot(meas, [c.target_stiffness for c in v.configurations], "o", mfc="none",
-            label="before: design target")
-    ax.plot(meas, [c.predicted_stiffness_after for c in v.configurations], "s",
-            label="after: enriched model (leave-one-out)")
-    for c in v.configurations:
-        ax.annotate(c.configuration, (c.measured_stiffness, c.predicted_stiffness_after),
-                    textcoords="offset points", xytext=(4, -10), fontsize=7)
-    lim = [0.9 * min(meas), 1.1 * max(meas)]
-    ax.plot(lim, lim, "k-", lw=0.8, label="predicted = measured")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
+    fig, ax = plt.subplots(figsize=(6, 5.5), dpi=130)
+    meas = [c.measured_stiffness for c in configurations]
+    before = [c.target_stiffness for c in configurations]
+    after = [c.predicted_stiffness_after for c in configurations]
+    ax.plot(meas, before, "o", mfc="none", label="before: design target", zorder=3)
+    ax.plot(meas, after, "s", label="after: enriched model (leave-one-out)", zorder=3)
+    values = meas + before + after
+    lo, hi = min(values), max(values)
+    log = hi / lo >= LOG_AXES_RATIO
+    if log:
+        lim = [lo / 1.25, hi * 1.1]
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        for axis in (ax.xaxis, ax.yaxis):  # plain numbers (30, 100), not 3x10^1
+            axis.set_major_formatter(ScalarFormatter())
+            axis.set_minor_formatter(NullFormatter())
+    else:
+        pad = 0.08 * (hi - lo)
+        lim = [max(0.0, lo - 2.0 * pad), hi + pad]
+    ax.plot(lim, lim, "k-", lw=0.8, label="predicted = measured", zorder=2)
+    ax.set_xlim(lim)
+    ax.set_ylim(lim)
+    ax.set_aspect("equal", adjustable="box")
     ax.set_xlabel("measured stiffness (N·m/rad)")
     ax.set_ylabel("predicted stiffness (N·m/rad)")
     ax.set_title("Paper Table I: predicted vs measured")
-    ax.legend(fontsize=8)
-    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=8, loc="upper left")
+    ax.grid(True, which="major", lw=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
+    anchors = [(m, min(b, a)) for m, b, a in zip(meas, before, after)]
+    place_diagonal_labels(ax, anchors, [c.configuration for c in configurations])
+    return fig
+
+
+def place_diagonal_labels(ax, anchors, labels, offset_px: float = LABEL_OFFSET_PX,
+                          fontsize: float = 7.5, pad_px: float = 3.0) -> list:
+    """Label points that lie near the diagonal without collisions (a 1D label adjuster).
+
+    Each label sits below-right of its point, ``offset_px`` from it across the
+    diagonal (the side where the points leave room), with a leader line. Taken
+    from the lower left up, each label slides up along the diagonal until its
+    box clears every label placed before by ``pad_px``; then all slide back by
+    their mean shift, which keeps every clearance.
+
+    Args:
+        ax: the axes (limits and layout final).
+        anchors: (x, y) data points, one per label.
+        labels: the texts.
+        offset_px: distance across the diagonal (px).
+        fontsize: label size (pt).
+        pad_px: clearance between boxes (px).
+
+    Returns:
+        The annotation artists, in the order of ``labels``.
+    """
+    import numpy as np
+
+    fig = ax.figure
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    to_px = ax.transData
+    pts = to_px.transform(np.asarray(anchors, dtype=float))
+    u = np.array([1.0, 1.0]) / np.sqrt(2.0)   # along the diagonal
+    n = np.array([1.0, -1.0]) / np.sqrt(2.0)  # across it, toward the lower right
+    sizes = []
+    for text in labels:  # measure each label's box at its font size
+        t = ax.text(0, 0, text, fontsize=fontsize)
+        box = t.get_window_extent(renderer)
+        sizes.append((box.width + pad_px, box.height + pad_px))
+        t.remove()
+    s = pts @ u
+    across = pts @ n + offset_px
+
+    def corner(i, along):  # top-left corner of label i (px)
+        return along * u + across[i] * n
+
+    def overlaps(i, j, along_i, along_j) -> bool:
+        (xi, yi), (xj, yj) = corner(i, along_i), corner(j, along_j)
+        return (xi < xj + sizes[j][0] and xj < xi + sizes[i][0]
+                and yi - sizes[i][1] < yj and yj - sizes[j][1] < yi)
+
+    placed = s.copy()
+    done = []
+    step = 0.25 * min(h for _, h in sizes)
+    for i in np.argsort(s, kind="stable"):  # bottom-left first; push each up the diagonal
+        while any(overlaps(i, j, placed[i], placed[j]) for j in done):
+            placed[i] += step
+        done.append(i)
+    placed -= (placed - s).mean()  # a common shift keeps every clearance
+    out = []
+    inv = to_px.inverted()
+    for i, text in enumerate(labels):
+        xytext = inv.transform(corner(i, placed[i]))
+        out.append(ax.annotate(
+            text, xy=anchors[i], xytext=xytext, textcoords="data", fontsize=fontsize,
+            ha="left", va="top",
+            arrowprops={"arrowstyle": "-", "lw": 0.5, "color": "0.4", "shrinkA": 0,
+                        "shrinkB": 3}))
+    return out
 
 
 def markdown(v) -> str:
@@ -42,6 +145,13 @@ def markdown(v) -> str:
     s = d["summary"]
     lines = [
         "# springcad validation against the paper",
+        "",
+        "## Verdict",
+        "",
+        f"Stiffness of the seven Table I configurations: mean |error| "
+        f"**{s['mean_abs_error_before_pct']:.2f} % before** (design target), "
+        f"**{s['mean_abs_error_after_pct']:.2f} % after** (enriched model, leave-one-out); "
+        f"worst {s['worst_abs_error_before_pct']:.2f} % -> {s['worst_abs_error_after_pct']:.2f} %.",
         "",
         "Every predicted number comes from springcad's design, tolerance"
         + (" and FEA" if any(m.source != "beam" for m in v.springs.values()) else "")
@@ -178,8 +288,19 @@ def _geometry_change_lines(changes: list[dict]) -> list[str]:
 
 
 def write_paper_report(v, out_dir: Path) -> list[Path]:
+    """Write ``validation.json``, the plot, ``validation.md`` and ``report.html``.
+
+    ``report.html`` is the Markdown report as one self-contained page (the plot inlined).
+    """
+    from springcad.report.html_page import markdown_html, page
+
     out_dir = Path(out_dir)
     write_json(out_dir / "validation.json", v.to_dict())
     plot_predicted_vs_measured(v, out_dir / "predicted_vs_measured.png")
-    (out_dir / "validation.md").write_text(markdown(v))
-    return [out_dir / n for n in ("validation.json", "predicted_vs_measured.png", "validation.md")]
+    md = markdown(v)
+    (out_dir / "validation.md").write_text(md, encoding="utf-8")
+    (out_dir / "report.html").write_text(
+        page("springcad validation against the paper", markdown_html(md, out_dir)),
+        encoding="utf-8")
+    return [out_dir / n for n in ("validation.json", "predicted_vs_measured.png",
+                                  "validation.md", "report.html")]

@@ -122,3 +122,10 @@ def test_render_shows_the_stack(stack_4xs1, tmp_path):
     green = (img[..., 1] > img[..., 0] + 0.15) & (img[..., 1] > img[..., 2] + 0.15)
     orange = (img[..., 0] > img[..., 1] + 0.2) & (img[..., 0] > img[..., 2] + 0.2)
     assert green.sum() > 100 and orange.sum() > 100
+    # the title keeps clear of the edges; the model fills the picture, no empty half
+    ink = ~np.all(img > 0.98, axis=-1)
+    assert not ink[:6].any() and not ink[:, :6].any() and not ink[:, -6:].any()
+    rows = np.flatnonzero(ink[60:].any(axis=1))  # below the title band
+    assert rows[-1] - rows[0] > 0.65 * img.shape[0]  # 0.69 for 4xS1 at 800 x 600
+    for half in (ink[: img.shape[0] // 2], ink[img.shape[0] // 2:]):
+        assert half.mean() > 0.08

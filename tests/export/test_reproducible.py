@@ -64,7 +64,7 @@ def test_build_date_follows_source_date_epoch(monkeypatch):
 
     import pytest
 
-    from springcad.cli.build import build_date
+    from springcad.api.pipeline import build_date
     from springcad.errors import ConfigError
 
     monkeypatch.delenv("SOURCE_DATE_EPOCH", raising=False)

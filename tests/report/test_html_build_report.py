@@ -4,18 +4,16 @@ from __future__ import annotations
 
 import json
 import re
-import shutil
-import subprocess
 from pathlib import Path
 
 import pytest
 
 from springcad.cli import main
 from springcad.report.html_build import SECTIONS, render_build_report, verdict
+from tests.browser import assert_rendered, assert_self_contained, needs_chromium, screenshot
 
 ROOT = Path(__file__).resolve().parents[2]
 S1 = ROOT / "templates" / "paper_S1.toml"
-CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 
 
 @pytest.fixture(scope="module")
@@ -35,6 +33,9 @@ def test_verdict_uses_build_json_and_explains_refusals():
     assert verdict(verified, {"failures": []}) == (True, [])
     ok, why = verdict({"verification": "skipped (--no-verify)", "checks": {"passed": True}}, None)
     assert not ok and "not FEA-verified" in why[0]
+    ok, why = verdict({"release": {"released": False, "reasons": ["design warning: w"]},
+                       "verification": {"ok": True}}, None)
+    assert not ok and why == ["design warning: w"]
     ok, why = verdict({"verification": {"ok": False}, "checks": {"passed": True}},
                       {"failures": ["S1: K 3 % low"]})
     assert not ok and "S1: K 3 % low" in why
@@ -47,10 +48,14 @@ def test_report_is_written_listed_and_self_contained(built):
     assert entry and entry[0]["bytes"] == (built / "report.html").stat().st_size
     positions = [text.index(f"<h2>{s}</h2>") for s in SECTIONS]
     assert positions == sorted(positions)  # verdict first, BOM last
-    assert "Not for manufacture" in text and "not FEA-verified" in text
+    assert "Not for manufacture" in text and "--no-verify" in text
+    # the page gives the release gate's reasons, the ones stamped on the drawings
+    import html
+
+    for reason in doc["release"]["reasons"]:
+        assert html.escape(reason) in text
     # no network: every image is inline data, the only links are the drawing PDFs
-    assert not re.search(r"(src|href)=['\"]https?:", text)
-    assert all(s.startswith("data:") for s in re.findall(r"src=['\"]([^'\"]+)", text))
+    assert_self_contained(text)
     pdfs = re.findall(r"href='([^']+)'", text)
     assert pdfs and all(p.endswith(".pdf") and (built / p).is_file() for p in pdfs)
     design = json.loads((built / "design.json").read_text())
@@ -61,23 +66,10 @@ def test_report_is_written_listed_and_self_contained(built):
     assert render_build_report(built) == text  # rendered from the files alone
 
 
-@pytest.mark.skipif(not Path(CHROMIUM).exists(), reason="Debian's chromium package is not installed")
+@needs_chromium
 def test_report_renders_in_headless_chromium(built, tmp_path):
-    import numpy as np
-    from PIL import Image
-
-    shot = tmp_path / "report.png"
-    cmd = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu",
-           "--disable-background-networking", "--disable-component-update", "--disable-sync",
-           "--no-first-run", f"--user-data-dir={tmp_path / 'profile'}", f"--screenshot={shot}",
-           "--window-size=1200,2000", (built / "report.html").as_uri()]
-    subprocess.run(cmd, capture_output=True, timeout=120, check=False)
-    assert shot.is_file(), "chromium wrote no screenshot"
-    img = np.asarray(Image.open(shot).convert("RGB")).astype(float)
-    assert img.shape[:2] == (2000, 1200)
-    # rendered, not blank: many distinct colours, dark text and the red verdict box
-    assert img.std() > 20
-    assert len(np.unique(img.reshape(-1, 3)[::7], axis=0)) > 200
+    img = screenshot(built / "report.html", tmp_path)
+    assert_rendered(img)
     red = (img[..., 0] > 200) & (img[..., 1] < 240) & (img[..., 2] < 235) & \
           (img[..., 0] - img[..., 1] > 15)
     assert red[:500].sum() > 1000  # the verdict box is near the top

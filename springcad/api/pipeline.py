@@ -1,0 +1,381 @@
+"""Build and export through the public API: solids and checks, then every file of a build.
+
+``build`` makes the solids of a (verified) design and runs the geometry and
+wire-EDM checks in memory; ``export_build`` writes the build folder: ``design.json``,
+``fea/`` (when the design was FEA-verified), per-part STEP/STL/DXF/drawings,
+the assembly, BOM, renders, ``build.json`` and ``report.html``. The folder
+appears only when every file was written and read back (an atomic rename);
+``springcad build`` is these two calls after ``design_job`` and ``verify``.
+The name is ``export_build``, not ``export``, because ``springcad.export`` is a
+subpackage: importing it rebinds that attribute of the package.
+
+Units: lengths mm, stiffness N*m/rad, angles rad, masses kg.
+"""
+
+from __future__ import annotations
+
+import datetime
+import html
+import time
+from pathlib import Path
+
+from springcad.api.results import Design, Verification, _g, _grid_html, _table_html
+from springcad.errors import CheckFailed, ConfigError
+from springcad.stages import stage
+
+#: schema of ``build.json``
+SCHEMA = "springcad.build/1"
+
+__all__ = ["Build", "build", "export_build", "load_title_block"]
+
+
+class _Tracker:
+    """Remembers the last progress message: it names the part a failing stage worked on."""
+
+    def __init__(self, progress=None):
+        self.progress = progress
+        self.last = ""
+
+    def __call__(self, message: str, fraction: float | None = None) -> None:
+        self.last = message
+        if self.progress is not None:
+            self.progress(message, fraction)
+
+    def subject(self, name: str):
+        def subject() -> str:
+            if name == "solids":
+                return (f"the part after {self.last.split()[-1]}" if self.last.startswith("built ")
+                        else "the first part")
+            return f"the step after '{self.last}'" if self.last else ""
+        return subject
+
+
+class Build:
+    """A built stack: solids and check results, and after :func:`export_build` its files.
+
+    Attributes:
+        design: the :class:`Design` that was built (FEA-corrected when verified).
+        verification: the :class:`Verification`, or None (beam-theory design).
+        assembly: the :class:`springcad.geometry.stack.StackAssembly` (solids in mm).
+        checks: the :class:`springcad.geometry.checks.CheckReport` of the solids.
+        accept_violations: wire-EDM rule violations were accepted.
+        out_dir: the build folder after :func:`export_build`, else None.
+        files: the written files (:class:`springcad.export.bundle.WrittenFile`).
+        roundtrip: the export read-back checks.
+        release: the :class:`springcad.export.release.ReleaseStatus` after export.
+        timings_s: seconds per stage.
+    """
+
+    def __init__(self, design: Design, verification: Verification | None, assembly, checks,
+                 accept_violations: bool = False, timings_s: dict | None = None):
+        self.design, self.verification = design, verification
+        self.assembly, self.checks = assembly, checks
+        self.accept_violations = accept_violations
+        self.timings_s = dict(timings_s or {})
+        self.started = datetime.datetime.now().isoformat(timespec="seconds")
+        self.out_dir: Path | None = None
+        self.files: list = []
+        self.roundtrip: list = []
+        self.release = None
+        self.options: dict = {}
+
+    @property
+    def ok(self) -> bool:
+        """No geometry error, and no rule violation unless accepted."""
+        return self.checks.passed(self.accept_violations)
+
+    @property
+    def released(self) -> bool | None:
+        """Released for manufacture (None before :func:`export_build` judged it)."""
+        return None if self.release is None else self.release.released
+
+    @property
+    def stiffness_Nm_per_rad(self) -> float:
+        """The stack stiffness: FEA when verified, else beam theory (N*m/rad)."""
+        if self.verification is not None:
+            return self.verification.stack_stiffness_Nm_per_rad
+        return self.design.stack.stiffness_Nm_per_rad
+
+    @property
+    def max_deflection_rad(self) -> float:
+        return self.design.stack.max_deflection_rad
+
+    @property
+    def mass_kg(self) -> float:
+        """Mass of the springs of the stack (kg)."""
+        return self.design.stack.mass_kg
+
+    @property
+    def report_html(self) -> Path | None:
+        """``report.html`` of the build folder (after :func:`export_build`)."""
+        return None if self.out_dir is None else self.out_dir / "report.html"
+
+    def parts(self) -> list[dict]:
+        """Per distinct part: part number, name, title, kind, quantity, process."""
+        qty = self.assembly.quantities()
+        return [{"part_number": pn, "name": p.info.name, "title": p.info.title,
+                 "kind": p.info.kind, "quantity": qty[pn], "process": p.info.process}
+                for pn, p in self.assembly.parts.items()]
+
+    def failures(self) -> list[str]:
+        """The failed checks, one line each (geometry errors; violations unless accepted)."""
+        bad = self.checks.errors + ([] if self.accept_violations else self.checks.violations)
+        return [f"{c.subject}: {c.name}: {c.message}" for c in bad]
+
+    def raise_for_failures(self) -> None:
+        """Raises :class:`~springcad.errors.CheckFailed` when a check failed."""
+        from springcad.geometry.checks import ChecksFailed
+
+        try:
+            self.checks.raise_if_failed(self.accept_violations)
+        except ChecksFailed as err:
+            raise CheckFailed(str(err)) from err
+
+    def to_dict(self) -> dict:
+        """The ``build.json`` document (needs :func:`export_build` for files and release)."""
+        from springcad.version import __version__
+
+        asm, st = self.assembly, self.design.raw.stack
+        checks = self.checks.checks + self.roundtrip
+        ver = self.verification
+        return {
+            "schema": SCHEMA,
+            "springcad_version": __version__,
+            "job": {"name": self.design.job.name, "config": str(self.design.job.source)},
+            "started": self.started,
+            "verification": ({"ok": ver.ok, "fea_json": "fea/fea.json",
+                              "springs": {r["spring"]: {
+                                  "stiffness_fea_Nm_per_rad": r["stiffness_fea_Nm_per_rad"],
+                                  "yield_margin": r["yield_margin"]} for r in ver.spring_table()}}
+                             if ver is not None else "skipped (--no-verify)"),
+            "options": {"accept_violations": self.accept_violations, "verify": ver is not None,
+                        **self.options},
+            "timings_s": self.timings_s,
+            "release": self.release.to_dict() if self.release is not None else None,
+            "stack": {"sequence": list(st.sequence), "input": st.input, "output": st.output,
+                      "joints": list(st.joints), "input_parts": asm.input_names,
+                      "output_parts": asm.output_names, "instances": len(asm.instances)},
+            "parts": [{**{k: p[k] for k in ("part_number", "name", "title", "kind", "quantity",
+                                            "process")},
+                       "dimensions_mm": asm.parts[p["part_number"]].info.dimensions}
+                      for p in self.parts()],
+            "files": [f.to_dict() for f in self.files],
+            "checks": {
+                "passed": all(c.passed for c in checks if c.kind == "error"),
+                "violations_accepted": bool(self.checks.violations) and self.accept_violations,
+                "summary": self.checks.summary(),
+                "n_checks": len(checks),
+                "n_failed": sum(not c.passed for c in checks),
+                "items": [c.to_dict() for c in checks]},
+        }
+
+    def __repr__(self) -> str:
+        state = (f"exported to {self.out_dir} ({self.release.stamp})" if self.out_dir is not None
+                 else "not exported")
+        return (f"Build({self.design.job.name!r}: {len(self.assembly.parts)} parts, "
+                f"{len(self.assembly.instances)} instances; {self.checks.summary()}"
+                f"{' (accepted)' if self.checks.violations and self.accept_violations else ''}; "
+                f"K={self.stiffness_Nm_per_rad:.4g} N*m/rad "
+                f"({'FEA' if self.verification is not None else 'beam'}); {state})")
+
+    def _repr_html_(self) -> str:
+        rows = [("stack stiffness (N·m/rad)", _g(self.stiffness_Nm_per_rad)),
+                ("from", "FEA" if self.verification is not None else "beam theory (not verified)"),
+                ("deflection limit (rad)", _g(self.max_deflection_rad)),
+                ("spring mass (kg)", _g(self.mass_kg)),
+                ("checks", self.checks.summary()),
+                ("release", self.release.stamp if self.release is not None else "not exported"),
+                ("folder", str(self.out_dir) if self.out_dir is not None else "–")]
+        parts = [(p["part_number"], p["quantity"], p["title"], p["process"]) for p in self.parts()]
+        fails = "".join(f"<li>{html.escape(f)}</li>" for f in self.failures())
+        reasons = "".join(f"<li>{html.escape(r)}</li>" for r in
+                          (self.release.reasons if self.release is not None else ()))
+        render = self.out_dir / "assembly.png" if self.out_dir is not None else None
+        if render is not None and render.is_file():
+            from springcad.report.html_page import img_tag
+
+            picture = img_tag(render, "assembly render", width=480)
+        else:
+            picture = ""
+        return (f"<div><h4>build {html.escape(self.design.job.name)}</h4>{picture}"
+                + _table_html(rows) + (f"<p>failed checks:</p><ul>{fails}</ul>" if fails else "")
+                + (f"<p>not for manufacture because:</p><ul>{reasons}</ul>" if reasons else "")
+                + _grid_html(("part", "qty", "title", "process"), parts) + "</div>")
+
+
+def _design_of(design) -> tuple[Design, Verification | None]:
+    if isinstance(design, Verification):
+        return design.design, design
+    if isinstance(design, Design):
+        return design, None
+    from springcad.api.calls import design_job
+
+    return design_job(design), None
+
+
+def build(design, accept_violations: bool = False, progress=None) -> Build:
+    """Make the solids of every part and run the geometry and wire-EDM checks.
+
+    Args:
+        design: a :class:`Verification` (its FEA-corrected design is built), a
+            :class:`Design` (beam theory, not for manufacture), a Job, a TOML
+            path or a config dict.
+        accept_violations: a wire-EDM rule violation does not fail the build
+            (it is recorded and stops the release).
+        progress: optional ``callable(message, fraction=None)``.
+
+    Returns:
+        The :class:`Build` (``.ok`` says whether the checks passed; nothing is written).
+
+    Raises:
+        StageError: the CAD kernel failed on a part (names the part and what to change).
+    """
+    from springcad.geometry.checks import run_checks
+    from springcad.geometry.stack import build_stack
+
+    d, ver = _design_of(design)
+    track = _Tracker(progress)
+    timings = {}
+    t0 = time.perf_counter()
+    with stage("solids", track.subject("solids")):
+        assembly = build_stack(d.raw, progress=track)
+    timings["solids"] = round(time.perf_counter() - t0, 3)
+    t0 = time.perf_counter()
+    track.last = ""
+    with stage("checks", track.subject("checks")):
+        report = run_checks(assembly, progress=track)
+    timings["checks"] = round(time.perf_counter() - t0, 3)
+    return Build(d, ver, assembly, report, accept_violations, timings)
+
+
+def load_title_block(source=None) -> dict:
+    """The drawing title block: a TOML path, a dict, or None for the default template.
+
+    Raises:
+        ConfigError: a table the drawings need is missing.
+    """
+    from springcad.config import read_toml
+    from springcad.export.drawing import load_title_block as _default
+
+    if isinstance(source, dict):
+        template = source
+    else:
+        template = read_toml(source) if source else _default(None)
+    for key in ("block", "rows"):
+        if key not in template:
+            raise ConfigError(f"{source}: {key}", None, "is required in a title block template "
+                                                        "(see templates/drawing_title_block.toml)")
+    return template
+
+
+def build_date() -> str:
+    """The build's date (YYYY-MM-DD) for title blocks and STEP headers: today, or the UTC
+    day of ``SOURCE_DATE_EPOCH`` (seconds since 1970, the reproducible-builds convention)
+    when it is set, so two builds of one job give byte-identical files.
+
+    Raises:
+        ConfigError: ``SOURCE_DATE_EPOCH`` is not a whole number of seconds.
+    """
+    import os
+
+    epoch = os.environ.get("SOURCE_DATE_EPOCH", "").strip()
+    if not epoch:
+        return datetime.date.today().isoformat()
+    try:
+        stamp = datetime.datetime.fromtimestamp(int(epoch), datetime.timezone.utc)
+    except (ValueError, OverflowError, OSError) as err:
+        raise ConfigError("SOURCE_DATE_EPOCH (environment)", epoch,
+                          "must be whole seconds since 1970-01-01 UTC",
+                          "unset it to date the build today") from err
+    return stamp.date().isoformat()
+
+
+def _drawn_by() -> str:
+    from springcad.version import __version__
+
+    return f"springcad {__version__}"
+
+
+def export_build(built: Build, out, overwrite: bool = False, render: bool = True, revision: str = "A",
+           title_block=None, progress=None, timings_s: dict | None = None) -> Build:
+    """Write a build folder: design, FEA results, CAD, drawings, BOM, build.json, report.html.
+
+    Args:
+        built: a :class:`Build` whose checks passed.
+        out: the output folder; it appears only when everything was written.
+        overwrite: replace an existing folder.
+        render: draw the PNG renders (assembly, FEA stress).
+        revision: drawing revision (1 to 8 ASCII letters or digits).
+        title_block: title block template (path or dict; default the packaged one).
+        progress: optional ``callable(message, fraction=None)``.
+        timings_s: times of earlier stages (s) to record in ``build.json``.
+
+    Returns:
+        The same :class:`Build`, now with ``out_dir``, ``files``, ``release`` and
+        ``report_html``.
+
+    Raises:
+        CheckFailed: the build's checks, or an export read-back, failed (nothing written).
+        OutputExistsError, OutputPathError: the folder cannot be written.
+    """
+    from springcad.export.bundle import export_parts, export_stack, roundtrip_checks
+    from springcad.export.release import release_status
+    from springcad.geometry.checks import CheckReport, ChecksFailed
+    from springcad.report.html_build import write_build_report
+    from springcad.report.jsonio import write_json
+    from springcad.report.outdir import atomic_output_dir
+
+    if not isinstance(built, Build):
+        raise ConfigError("export_build", type(built).__name__, "takes the Build that sc.build returned")
+    if not (isinstance(revision, str) and 1 <= len(revision) <= 8 and revision.isascii()
+            and revision.isalnum()):
+        raise ConfigError("revision", revision, "is 1 to 8 ASCII letters or digits")
+    built.raise_for_failures()
+    template = load_title_block(title_block)
+    out = Path(out)
+    track = _Tracker(progress)
+    t0 = time.perf_counter()
+    d, ver = built.design, built.verification
+    built.options = {"revision": revision, "render": render}
+    inputs = [x for x in (d.job.source, title_block) if isinstance(x, (str, Path)) and x
+              and Path(x).is_file()]
+    fea_files = []
+    with atomic_output_dir(out, overwrite=overwrite, inputs=inputs) as tmp:
+        tmp = Path(tmp)
+        with stage("exports", track.subject("exports")):
+            write_json(tmp / "design.json", d.to_dict())
+            if ver is not None:
+                from springcad.report.fea_outputs import write_outputs
+
+                (tmp / "fea").mkdir()
+                fea_files = write_outputs(ver.raw, tmp / "fea", render=render, progress=track)
+            built.release = release_status(d.raw, ver.raw if ver is not None else None,
+                                           ver is None, built.checks.checks)
+            info = {"job": d.job.name, "revision": revision,
+                    "date": build_date(), "drawn_by": _drawn_by(),
+                    "release": built.release}
+            parts = export_parts(built.assembly, tmp, info, template, progress=track)
+            files = parts + export_stack(built.assembly, tmp, parts, render=render,
+                                         progress=track, release=built.release,
+                                         date=info["date"])
+            built.roundtrip = roundtrip_checks(built.assembly, tmp, files, progress=track)
+        try:
+            CheckReport(built.roundtrip).raise_if_failed()
+        except ChecksFailed as err:
+            raise CheckFailed(str(err)) from err
+        from springcad.export.bundle import WrittenFile
+
+        files.append(WrittenFile("design.json", "design", "", (tmp / "design.json").stat().st_size))
+        files += [WrittenFile(str(f.relative_to(tmp)), "fea", "", f.stat().st_size)
+                  for f in fea_files]
+        built.files = files
+        built.timings_s = {**(timings_s or {}), **built.timings_s,
+                           "exports": round(time.perf_counter() - t0, 3)}
+        built.timings_s["total"] = round(sum(v for k, v in built.timings_s.items()
+                                             if k != "total"), 3)
+        write_json(tmp / "build.json", built.to_dict())
+        report = write_build_report(tmp)  # last: it reads the files written above
+        built.files.append(WrittenFile("report.html", "report", "", report.stat().st_size))
+        write_json(tmp / "build.json", built.to_dict())  # now listing the report too
+    built.out_dir = out
+    return built
