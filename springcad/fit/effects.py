@@ -135,6 +135,10 @@ class Effect:
         return 0.0
 
 
+#: widest logit transition of a crossover, as a fraction of the largest deflection
+MAX_TRANSITION = 0.25
+
+
 class Backlash(Effect):
     """Crossover of width b = 2h (rad) with a logit transition l (rad): paper eqs. 4, 9."""
 
@@ -156,8 +160,10 @@ class Backlash(Effect):
     def params(self, sc):
         # a crossover narrower than the deflection noise cannot be told from it: with samples
         # resting at zero deflection, a tiny deadband would only shrink the noise there
+        # a transition of a quarter of the deflection range or more is no crossover but a
+        # curvature of the whole curve (stiffening reads so), so the bound stops it there
         return (Param("half_backlash", sc.theta_noise, 0.45 * sc.theta_ref, 0.0, 0.03 * sc.theta_ref),
-                Param("transition", 0.0, sc.theta_ref, 0.0, 0.01 * sc.theta_ref))
+                Param("transition", 0.0, MAX_TRANSITION * sc.theta_ref, 0.0, 0.01 * sc.theta_ref))
 
     def starts(self, sc):
         return [np.array([f * sc.theta_ref, 0.25 * f * sc.theta_ref])
