@@ -439,8 +439,10 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=7301)
     ap.add_argument("--only", nargs="*", default=None)
     ap.add_argument("--keep", type=Path, default=None, help="keep CSVs and outputs here")
+    ap.add_argument("--code", type=Path, default=REPO,
+                    help="folder holding the springcad package to run (default: this checkout)")
     args = ap.parse_args(argv)
-    env = {**os.environ, "PYTHONPATH": str(REPO)}
+    env = {**os.environ, "PYTHONPATH": str(args.code)}
     all_cases = cases(args.seed)
     if args.only:
         all_cases = [c for c in all_cases if c.name in args.only]

@@ -37,20 +37,17 @@ Units: those of each effect's parameters.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from springcad.fit.inference import uncertainty, wald_p
+from springcad.fit.nuisance import nuisance_kind, nuisance_views
 from springcad.fit.signals import Signals
 from springcad.fit.torque_model import TorqueModel
 
 SPLITS = ("time", "amplitude", "direction")
-
-#: effects that are torques of time: judged on the record as measured (see ``audit``)
-TIME_EFFECTS = ("torque_offset", "drift")
 
 #: a split part needs at least this many runs (clusters of the covariance)
 MIN_RUNS = 4
@@ -265,11 +262,10 @@ def audit(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, f_sc
 
         model = model.with_effect(get_effect("torque_offset"))
         x = model.transfer(full, x_full, use_null=True)
-    slow = slow_time_structure(full.residual(x_full, sig, idx), idx, sig)
-    # effects that are not themselves torques of time are judged with the record's
-    # unexplained slow torque changes (a zero that jumps or wanders) taken out, so a
-    # friction or a crossover is not rejected for a structure it does not describe
-    cleaned = sig if slow is None else dataclasses.replace(sig, torque=sig.torque - slow)
+    # each effect is judged with the unexplained structure it cannot describe taken out
+    # (see springcad.fit.nuisance), so a friction or a crossover is not rejected for a
+    # zero jump or a hard stop beside it
+    views = nuisance_views(full.residual(x_full, sig, idx), idx, sig)
     for split, parts in split_parts(sig, idx).items():
         tested = [e for e in model.effects if split in e.splits and e.name in full.names]
         if not tested:
@@ -279,12 +275,12 @@ def audit(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, f_sc
             for e in model.effects:
                 if e.direction_signed:
                     free[model.slice_of(e.name)] = False
-        groups = ([(sig, tested)] if slow is None else
-                  [(s, g) for s, g in ((sig, [e for e in tested if e.name in TIME_EFFECTS]),
-                                       (cleaned, [e for e in tested
-                                                  if e.name not in TIME_EFFECTS])) if g])
+        groups: dict[str, list] = {}
+        for e in tested:
+            groups.setdefault(nuisance_kind(e), []).append(e)
         out.splits[split] = (parts[0].label, parts[1].label)
-        for signals, group in groups:
+        for kind, group in groups.items():
+            signals = views.get(kind, sig)
             fits = []
             for part in parts:
                 sub = idx[part.mask]
@@ -314,60 +310,3 @@ def _compare(checks: dict, model: TorqueModel, tested: list, split: str, parts, 
             split, (parts[0].label, parts[1].label),
             e.params(model.scales)[e.primary].name, (va, vb), (sa, sb), p, z,
             p >= agreement_p, abs(z) >= support_z))
-
-
-def cycle_windows(sig: Signals, idx: np.ndarray) -> np.ndarray:
-    """Per-sample window number: consecutive runs grouped until a window holds a whole
-    cycle (deflection beyond half its largest value on both sides of zero).
-
-    Friction, a crossover, stiffening and a lag average out over a whole cycle;
-    a torque zero that jumps or wanders does not.
-    """
-    runs = sig.runs
-    labels, inv = np.unique(runs[idx], return_inverse=True)
-    th = sig.theta_smooth[idx]
-    hi = np.full(labels.size, -np.inf)
-    lo = np.full(labels.size, np.inf)
-    np.maximum.at(hi, inv, th)
-    np.minimum.at(lo, inv, th)
-    window = np.zeros(labels.size, dtype=int)
-    w, top, bottom = 0, 0.0, 0.0
-    for k in range(labels.size):
-        window[k] = w
-        top, bottom = max(top, hi[k]), min(bottom, lo[k])
-        big = max(top, -bottom)
-        if big > 0 and top > 0.5 * big and bottom < -0.5 * big:
-            w, top, bottom = w + 1, 0.0, 0.0
-    if w > 0 and window[-1] == w:  # an unfinished last window joins the one before
-        window[window == w] = w - 1
-    out = np.full(sig.n, -1, dtype=int)
-    run_window = dict(zip(labels.tolist(), window.tolist()))
-    for label, win in run_window.items():
-        out[runs == label] = win
-    return out
-
-
-def slow_time_structure(r: np.ndarray, idx: np.ndarray, sig: Signals,
-                        p_level: float = 1e-6) -> np.ndarray | None:
-    """The residual's mean over each whole-cycle window (N·m, every sample), or ``None``
-    when those means are within noise (chi-squared at ``p_level``) or there are too few
-    windows to tell."""
-    from scipy import stats
-
-    from springcad.fit.residual import noise_model
-
-    win_all = cycle_windows(sig, idx)
-    win = win_all[idx]
-    n_win = int(win.max()) + 1 if win.size else 0
-    if n_win < MIN_RUNS:
-        return None
-    cnt = np.bincount(win, minlength=n_win).astype(float)
-    mean = np.bincount(win, weights=r, minlength=n_win) / np.maximum(cnt, 1.0)
-    rate = sig.scales.sample_rate_hz / max(float(np.median(np.diff(idx))), 1.0)
-    nm = noise_model(r, rate)
-    if nm.sigma <= 0.0:
-        return None
-    chi2 = float(np.sum(cnt * mean ** 2)) / (nm.sigma ** 2 * nm.tau)
-    if stats.chi2.sf(chi2, n_win) >= p_level:
-        return None
-    return np.where(win_all >= 0, mean[np.maximum(win_all, 0)], 0.0)

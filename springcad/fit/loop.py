@@ -48,6 +48,7 @@ from springcad.fit.identify import (Confounded, contribution, find_confounded,
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
 from springcad.fit.localise import localise
 from springcad.fit.models import nrmse_pct
+from springcad.fit.nuisance import nuisance_views
 from springcad.fit.residual import residual_structure
 from springcad.fit.search import (Candidate, LoopSettings, Search, State,  # noqa: F401
                                   line_fit)
@@ -478,6 +479,15 @@ def _backward(state: State, score_now: float, f_scale: float, lp: Search,
             x_minus = m_minus.transfer(state.model, state.x)
             score, heldout = lp.cv_score(m_minus, x_minus, state.mask, f_scale)
             loss = score - score_now
+            if loss < 0.0 and e.direction_signed:
+                # an effect found beside structure it cannot describe is judged as it was
+                # found: with that structure taken out (see springcad.fit.nuisance)
+                idx = state.inliers(lp.cv)
+                views = nuisance_views(state.model.residual(state.x, sig, idx), idx, sig)
+                if "direction" in views:
+                    alt = lp.view(views["direction"])
+                    loss = (alt.cv_score(m_minus, x_minus, state.mask, f_scale)[0]
+                            - alt.cv_score(state.model, state.x, state.mask, f_scale)[0])
             if best is None or loss < best[0]:
                 best = (loss, e, m_minus, x_minus, score, heldout)
         if best is None or best[0] >= 0.0:
