@@ -424,7 +424,9 @@ def run_case(case: Case, seed: int, workdir: Path, env: dict) -> dict:
     cmd = [sys.executable, "-m", "springcad", "fit", str(csv), "--out", str(out), "--no-plots",
            *case.args]
     t0 = time.perf_counter()
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    # run from the work folder: ``python -m`` puts the current folder first on the path,
+    # which must not shadow the package chosen by PYTHONPATH (--code)
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=workdir)
     dt = time.perf_counter() - t0
     d = None
     if proc.returncode == 0 and (out / "fit.json").is_file():
@@ -442,14 +444,14 @@ def main(argv=None) -> int:
     ap.add_argument("--code", type=Path, default=REPO,
                     help="folder holding the springcad package to run (default: this checkout)")
     args = ap.parse_args(argv)
-    env = {**os.environ, "PYTHONPATH": str(args.code)}
+    env = {**os.environ, "PYTHONPATH": str(args.code.resolve())}
     all_cases = cases(args.seed)
     if args.only:
         all_cases = [c for c in all_cases if c.name in args.only]
     tmp = args.keep or Path(tempfile.mkdtemp(prefix="fit_heldout_"))
     tmp.mkdir(parents=True, exist_ok=True)
     rows = []
-    print(f"seed {args.seed}, {len(all_cases)} records, work in {tmp}")
+    print(f"seed {args.seed}, {len(all_cases)} records, code {args.code}, work in {tmp}")
     print(f"{'case':<26}{'named':>6}{'flag':>5}{'conf':>5}{'ci':>6}{'valid':>6}{'s':>6}  got / notes")
     for case in all_cases:
         row = run_case(case, args.seed, tmp, env)

@@ -106,14 +106,24 @@ def slow_part(r: np.ndarray, idx: np.ndarray, sig: Signals, var_noise: float,
     return np.where(win_all >= 0, mean[np.maximum(win_all, 0)], 0.0)
 
 
-def profile_part(r: np.ndarray, idx: np.ndarray, sig: Signals, var_noise: float,
-                 p_level: float, bins: int = PROFILE_BINS) -> np.ndarray | None:
-    """The residual's deflection profile common to both directions (N·m, every sample),
-    or ``None``. Bins visited in one direction only get none (a turn's own bin)."""
+def common_profile(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int = PROFILE_BINS,
+                   var_noise: float | None = None):
+    """The residual's mean in bins of deflection, averaged over the two directions.
+
+    Returns:
+        ``(centre_rad, common_Nm, n_eff, var_noise)`` per bin (``n_eff`` 0 where a
+        bin is visited in one direction only: a turn's own bin), with
+        ``var_noise`` the variance of one sample's noise times its correlation
+        time, or ``None`` when the residual has no noise to compare with.
+    """
+    if var_noise is None:
+        nm = noise_model(r, sig.scales.sample_rate_hz / max(float(np.median(np.diff(idx))), 1.0))
+        var_noise = nm.sigma ** 2 * nm.tau
+    if var_noise <= 0.0:
+        return None
     theta = sig.theta_smooth
     edges = np.linspace(theta[idx].min(), theta[idx].max(), bins + 1)
-    b_all = np.clip(np.searchsorted(edges, theta, side="right") - 1, 0, bins - 1)
-    b = b_all[idx]
+    b = np.clip(np.searchsorted(edges, theta[idx], side="right") - 1, 0, bins - 1)
     up = sig.direction[idx] > 0
     means, counts = [], []
     for sel in (up, ~up):
@@ -125,12 +135,20 @@ def profile_part(r: np.ndarray, idx: np.ndarray, sig: Signals, var_noise: float,
     # a mean of two direction means: its noise variance is a quarter of the sum of theirs
     n_eff = np.where(both, 4.0 / (1.0 / np.maximum(counts[0], 1) + 1.0 / np.maximum(counts[1], 1)),
                      0.0)
+    return 0.5 * (edges[1:] + edges[:-1]), common, n_eff, var_noise
+
+
+def profile_part(r: np.ndarray, idx: np.ndarray, sig: Signals, var_noise: float,
+                 p_level: float, bins: int = PROFILE_BINS) -> np.ndarray | None:
+    """The residual's deflection profile common to both directions (N·m, every sample),
+    or ``None`` when it is within noise."""
+    centre, common, n_eff, _ = common_profile(r, idx, sig, bins, var_noise)
+    both = n_eff > 0
     if not _significant(common, n_eff, var_noise, p_level):
         return None
     # piecewise linear through the bin centres: a steep profile (a hard stop) changes a
     # lot within one bin
-    centre = 0.5 * (edges[1:] + edges[:-1])
-    return np.interp(theta, centre[both], common[both])
+    return np.interp(sig.theta_smooth, centre[both], common[both])
 
 
 def nuisance_views(r: np.ndarray, idx: np.ndarray, sig: Signals,
