@@ -11,12 +11,19 @@
    ``N'`` the independent samples for noise correlated over ``τ`` samples; the
    best candidate is added if it lowers the criterion by more than
    ``gain_threshold``. A backward pass removes effects later ones made
-   redundant.
+   redundant. Friction and a late channel, which flip with the direction of
+   motion, are also judged with the structure they cannot describe taken out
+   (:mod:`springcad.fit.nuisance`: the residual's whole-cycle means and its
+   deflection profile common to both directions), and proposed that way only
+   after every effect the record as measured asks for: a hard stop or a zero
+   jump beside them does not hide them.
 3. **Evidence audit** (:mod:`springcad.fit.evidence`). Each effect's size is
    fitted again on separate parts of the record (early and late, small and
    large amplitudes, loading and unloading) with the rest of the model free
    on each part; it must agree between the parts and be supported by them
-   together, and its values must be physically possible. The worst failing
+   together, and its values must be physically possible; a shape effect
+   (crossover, cubic) must not leave the residual's deflection profile standing
+   above noise where it acts (``evidence.shape_check``). The worst failing
    effect is rejected and the search resumes without it, until all pass.
 4. **Identifiability** (:mod:`springcad.fit.identify`). Pairs of effects the
    record cannot separate (variance inflation ≥ ``vif_confounded``, also
