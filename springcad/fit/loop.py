@@ -445,7 +445,7 @@ def _drop(state: State, name: str, lp: Search, f_scale: float, steps: list[Step]
 def _refresh_mask(state: State, lp: Search, f_scale: float) -> State:
     """Re-detect glitches on the new residual and refit if they changed."""
     r = state.model.residual(state.x, lp.sig, lp.all)
-    mask = find_glitches(r, lp.s.glitch_threshold)
+    mask = find_glitches(r, lp.s.glitch_threshold, guard=lp.sig.near_turn)
     if np.array_equal(mask, state.mask):
         return state
     x = lp.refit(state.model, state.x, mask, f_scale)

@@ -292,7 +292,7 @@ class Search:
                 continue
             if effect.stage == "mask":
                 full_r = state.model.residual(state.x, sig, self.all)
-                mask = find_glitches(full_r, self.s.glitch_threshold)
+                mask = find_glitches(full_r, self.s.glitch_threshold, guard=sig.near_turn)
                 n_glitch = int(mask.sum())
                 if n_glitch == 0:
                     cands.append(Candidate(effect.name, 0.0, False))
