@@ -44,6 +44,9 @@ TIME_EFFECTS = ("torque_offset", "drift")
 #: fewest whole-cycle windows for the slow part to be told from the effects
 MIN_WINDOWS = 4
 
+#: least RMS of a part, in noise levels, for it to be taken out (``structure_min_rms``)
+MIN_RMS = 0.25
+
 #: rounds of alternating between the slow part and the profile
 BACKFIT_ROUNDS = 5
 
@@ -84,11 +87,15 @@ def cycle_windows(sig: Signals, idx: np.ndarray) -> np.ndarray:
 
 
 def _significant(means: np.ndarray, counts: np.ndarray, var_noise: float, p_level: float) -> bool:
+    """Whether bin means stand above noise: significant at ``p_level`` and of an RMS
+    of ``MIN_RMS`` noise levels at least (the rule that flags a residual unexplained)."""
     ok = counts > 0
     if var_noise <= 0.0 or not ok.any():
         return False
-    chi2 = float(np.sum(counts[ok] * means[ok] ** 2)) / var_noise
-    return bool(stats.chi2.sf(chi2, int(ok.sum())) < p_level)
+    energy = float(np.sum(counts[ok] * means[ok] ** 2))
+    excess = (energy - int(ok.sum()) * var_noise) / float(np.sum(counts[ok]))
+    return bool(stats.chi2.sf(energy / var_noise, int(ok.sum())) < p_level
+                and excess > MIN_RMS ** 2 * var_noise)
 
 
 def slow_part(r: np.ndarray, idx: np.ndarray, sig: Signals, var_noise: float,

@@ -283,8 +283,7 @@ class Search:
         residual = state.model.residual(state.x, sig, idx)
         jac = jacobian(state.model, state.x, sig, idx)
         active = set(state.effects)
-        cands, proposals, late = [], [], []
-        views = None
+        cands, proposals, pending = [], [], []
         for effect in LIBRARY:
             if effect.name in active or not effect.applicable(active, sig):
                 continue
@@ -323,24 +322,7 @@ class Search:
                 continue
             found = self._try(state, effect, residual, jac, idx, score_now, f_scale)
             if (found is None or found[0] <= self.s.gain_threshold) and effect.direction_signed:
-                if views is None:
-                    views = nuisance_views(residual, idx, sig)
-                if "direction" in views:
-                    # beside structure it cannot describe (a hard stop, a zero jump), judged
-                    # with that structure taken out; proposed only after every effect the
-                    # record as measured asks for
-                    alt = self.view(views["direction"])
-                    now = alt.cv_score(state.model, state.x, state.mask, f_scale)[0]
-                    r_alt = state.model.residual(state.x, alt.sig, idx)
-                    seen = alt._try(state, effect, r_alt, jac, idx, now, f_scale)
-                    if seen is not None and seen[-1] is None and seen[0] > self.s.gain_threshold:
-                        gain, z, m2, x_start, heldout, note = seen
-                        cands.append(Candidate(effect.name, z, True, gain, heldout,
-                                               "judged with the structure it cannot describe "
-                                               "taken out"))
-                        late.append((gain, effect, State(m2, x_start, state.mask, state.series),
-                                     z, heldout, m2.size - state.model.size))
-                        continue
+                pending.append(effect)
             if found is None:
                 cands.append(Candidate(effect.name, self._last_z, False))
                 continue
@@ -350,9 +332,37 @@ class Search:
                 proposals.append((gain, effect, State(m2, x_start, state.mask, state.series), z,
                                   heldout, m2.size - state.model.size))
         proposals.sort(key=lambda p: -p[0])
-        late.sort(key=lambda p: -p[0])
-        above = [p for p in proposals if p[0] > self.s.gain_threshold]
-        return cands, above + late + proposals[len(above):]
+        if pending and not (proposals and proposals[0][0] > self.s.gain_threshold):
+            # nothing the record as measured asks for is left: effects that flip with the
+            # direction of motion are judged beside the structure they cannot describe, with
+            # it taken out (a hard stop, a zero jump; see springcad.fit.nuisance)
+            late = self._beside_structure(state, pending, residual, jac, idx, f_scale, cands)
+            proposals = late + proposals
+        return cands, proposals
+
+    def _beside_structure(self, state: State, effects: list[Effect], residual: np.ndarray,
+                          jac: np.ndarray, idx: np.ndarray, f_scale: float,
+                          cands: list[Candidate]) -> list:
+        """Proposals of ``effects`` judged on the record with the residual's structure
+        they cannot describe taken out (best first); their candidates are updated."""
+        views = nuisance_views(residual, idx, self.sig)
+        if "direction" not in views:
+            return []
+        alt = self.view(views["direction"])
+        now = alt.cv_score(state.model, state.x, state.mask, f_scale)[0]
+        r_alt = state.model.residual(state.x, alt.sig, idx)
+        out = []
+        for effect in effects:
+            seen = alt._try(state, effect, r_alt, jac, idx, now, f_scale)
+            if seen is None or seen[-1] is not None or seen[0] <= self.s.gain_threshold:
+                continue
+            gain, z, m2, x_start, heldout, _ = seen
+            k = next(i for i, c in enumerate(cands) if c.effect == effect.name)
+            cands[k] = Candidate(effect.name, z, True, gain, heldout,
+                                 "judged with the structure it cannot describe taken out")
+            out.append((gain, effect, State(m2, x_start, state.mask, state.series), z, heldout,
+                        m2.size - state.model.size))
+        return sorted(out, key=lambda p: -p[0])
 
     def _try(self, state: State, effect: Effect, residual: np.ndarray, jac: np.ndarray,
              idx: np.ndarray, score_now: float, f_scale: float):
