@@ -57,8 +57,8 @@ from springcad.fit.localise import localise
 from springcad.fit.models import nrmse_pct
 from springcad.fit.nuisance import nuisance_views
 from springcad.fit.residual import residual_structure
-from springcad.fit.search import (Candidate, LoopSettings, Search, State,  # noqa: F401
-                                  line_fit)
+from springcad.fit.search import (BESIDE_STRUCTURE, Candidate, LoopSettings, Search,  # noqa: F401
+                                  State, line_fit)
 from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel, single_threaded_blas
 
@@ -410,6 +410,12 @@ def _forward(state: State, lp: Search, steps: list[Step], rounds: list,
                                  heldout_before=heldout_now, heldout_after=heldout, unit="Nm")
             if effect.stage == "mask":
                 evidence["n_glitches"] = int(mask.sum())
+            if any(c.effect == effect.name and c.note == BESIDE_STRUCTURE for c in cands):
+                evidence["beside_structure"] = (
+                    "found with the residual's structure it cannot describe (its whole-cycle "
+                    "means and its deflection profile common to both directions) taken out: "
+                    "the held-out gain and detector are measured there; on the record as "
+                    "measured that structure dominates the error")
         steps.append(Step("add", effect.name, evidence, before, after,
                           _nrmse(before, sig, lp.half_range), _nrmse(after, sig, lp.half_range)))
         added += 1

@@ -27,6 +27,10 @@ from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel
 
 
+#: candidate note of an effect judged beside structure it cannot describe
+BESIDE_STRUCTURE = "judged with the structure it cannot describe taken out"
+
+
 @dataclass(frozen=True)
 class LoopSettings:
     """Knobs of the residual loop.
@@ -358,8 +362,7 @@ class Search:
                 continue
             gain, z, m2, x_start, heldout, _ = seen
             k = next(i for i, c in enumerate(cands) if c.effect == effect.name)
-            cands[k] = Candidate(effect.name, z, True, gain, heldout,
-                                 "judged with the structure it cannot describe taken out")
+            cands[k] = Candidate(effect.name, z, True, gain, heldout, BESIDE_STRUCTURE)
             out.append((gain, effect, State(m2, x_start, state.mask, state.series), z, heldout,
                         m2.size - state.model.size))
         return sorted(out, key=lambda p: -p[0])

@@ -37,6 +37,10 @@ def test_library_effects_beside_a_large_structure_are_still_named(extra, effects
     res, _ = loop_on_record(with_extra_torque(sim, extra))
     assert set(res.identified) == set(sim.injected), (res.identified, res.rejected)
     assert res.confounded == () and res.unexplained
+    if extra is hard_stop:
+        # found beside the stop, and the step says so
+        step = next(s for s in res.steps if s.effect == "hysteresis")
+        assert "structure it cannot describe" in step.evidence["beside_structure"]
 
 
 def test_a_hard_stop_alone_gets_no_friction():
