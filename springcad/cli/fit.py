@@ -48,6 +48,8 @@ MAX_CSV_BYTES = 200_000_000
 #: file are wrong, and the fit's numerics would be meaningless
 TORQUE_RANGE_NM = (1e-6, 1e6)
 DEFLECTION_RANGE_RAD = (1e-6, 1e4)
+#: correlation of torque with deflection below minus this reads as a flipped channel
+FLIPPED_CORRELATION = 0.3
 
 
 def read_record(path: Path, columns, angle_unit: str, torque_unit: str):
@@ -81,6 +83,8 @@ def check_record(record) -> None:
     Raises:
         DataError: naming the channel, the value and what to check.
     """
+    import math
+
     import numpy as np
 
     src = record.source
@@ -95,7 +99,11 @@ def check_record(record) -> None:
     x = record.deflection_rad - record.deflection_rad.mean()
     y = record.torque_Nm - record.torque_Nm.mean()
     slope = float(x @ y) / float(x @ x)
-    if not slope > 0:
+    # a record with no spring (torque noise only) has a slope of either sign: it is refused
+    # only when the torque clearly follows the deflection downwards, and otherwise the fit
+    # reports whether any stiffness stands above the noise
+    correlation = float(x @ y) / math.sqrt(float(x @ x) * float(y @ y))
+    if correlation < -FLIPPED_CORRELATION:
         raise DataError(f"{src}: the torque falls as the deflection rises (least-squares slope "
                         f"{slope:.3g} N*m/rad): the sign of the torque or the deflection column "
                         "is flipped; negate one of them")

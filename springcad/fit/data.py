@@ -154,12 +154,14 @@ def parse_bench_csv(text: str, columns: ColumnMap = ColumnMap(), angle_unit: str
             encoder_rad = encoder_rad - data[encoder[1]] * angle_scale
     names = {"time": columns.time, "torque": columns.torque, "deflection": columns.deflection}
     return make_record(time_s, torque_Nm, deflection_rad, encoder_rad, source=source,
-                       line_numbers=line_numbers, names=names, angle_unit=angle_unit)
+                       line_numbers=line_numbers, names=names, angle_unit=angle_unit,
+                       torque_unit=torque_unit)
 
 
 def make_record(time_s, torque_Nm, deflection_rad, encoder_deflection_rad=None, *,
                 source: str = "", line_numbers: np.ndarray | None = None,
-                names: dict | None = None, angle_unit: str = "rad") -> BenchRecord:
+                names: dict | None = None, angle_unit: str = "rad",
+                torque_unit: str = "Nm") -> BenchRecord:
     """Validate arrays in internal units and wrap them in a :class:`BenchRecord`.
 
     Args:
@@ -171,6 +173,7 @@ def make_record(time_s, torque_Nm, deflection_rad, encoder_deflection_rad=None, 
         line_numbers: file line of each sample, for messages (default: index + 2).
         names: column names for messages (keys ``time``, ``torque``, ``deflection``).
         angle_unit: unit the angles were given in, for unit warnings.
+        torque_unit: unit the torque was given in, for unit warnings.
 
     Raises:
         DataError: see :func:`read_bench_csv`.
@@ -213,7 +216,7 @@ def make_record(time_s, torque_Nm, deflection_rad, encoder_deflection_rad=None, 
         if bad.any():
             raise DataError(f"{source}: encoder column(s) have {int(bad.sum())} non-finite value(s), "
                             f"first at line {line_numbers[int(np.argmax(bad))]}")
-    warnings = _unit_warnings(arrays, names, angle_unit, source)
+    warnings = _unit_warnings(arrays, names, angle_unit, source, torque_unit)
     return BenchRecord(arrays["time"], arrays["torque"], arrays["deflection"], encoder,
                        source=source, warnings=tuple(warnings))
 
@@ -276,6 +279,10 @@ def _numeric_column(name: str, col: int, rows: list[list[str]], line_numbers: np
 
 #: a flexure torsion spring of this kind deflects far less than a full turn
 MAX_DEFLECTION_RAD = 2.0 * np.pi
+#: angles read as degrees that never reach one degree are angles in rad (rad)
+MIN_DEFLECTION_DEG_RAD = float(np.radians(1.0))
+#: torque range over deflection range of compact torsion springs (N·m/rad)
+IMPLIED_STIFFNESS_RANGE_NM_PER_RAD = (0.05, 1e5)
 
 
 def _named_unit_contradictions(angle_columns: list[str], torque_column: str, angle_unit: str,
@@ -298,12 +305,16 @@ def _named_unit_contradictions(angle_columns: list[str], torque_column: str, ang
     return out
 
 
-def _unit_warnings(arrays: dict, names: dict, angle_unit: str, source: str) -> list[str]:
+def _unit_warnings(arrays: dict, names: dict, angle_unit: str, source: str,
+                   torque_unit: str = "Nm") -> list[str]:
     """Warnings where magnitudes suggest a wrong unit.
 
     Raises:
-        DataError: the deflection exceeds a full turn, which no spring of this
-            kind does: the angles are not in the unit they are read in.
+        DataError: the data contradicts the units it is read in: the
+            deflection exceeds a full turn (no spring of this kind does), angles
+            read as degrees never reach one degree (angles in rad), or a torque
+            read as N·mm gives a spring softer than any bench measures while
+            N·m gives an ordinary one.
     """
     out = []
     theta_max = float(np.max(np.abs(arrays["deflection"])))
@@ -323,9 +334,14 @@ def _unit_warnings(arrays: dict, names: dict, angle_unit: str, source: str) -> l
     elif theta_max < 2e-3:
         out.append(f"deflection never exceeds {theta_max:.3g} rad: is the column in rad "
                    "(not revolutions or a scaled unit)?")
-    elif theta_max < 0.0175 and angle_unit == "deg":
-        out.append(f"deflection never exceeds {units.rad_to_deg(theta_max):.3g} deg: if the "
-                   "column is in rad, do not pass --angle-unit deg")
+    elif theta_max < MIN_DEFLECTION_DEG_RAD and angle_unit == "deg":
+        # the file's angles never reach one degree: what angles in rad look like, and 180/pi
+        # times less than the ramps (several degrees) a torsion-spring bench runs
+        raise DataError(
+            f"{source}: read with --angle-unit deg, the deflection never exceeds "
+            f"{units.rad_to_deg(theta_max):.3g} deg, less than the degree or more a bench ramp "
+            "reaches; values this small are angles in rad: drop --angle-unit deg (a test that "
+            "truly stayed below 1 deg: convert its angles to rad and read them as rad)")
     if torque_max > 2000.0:
         out.append(f"torque reaches {torque_max:.4g} N·m: if the column is in N·mm, "
                    "pass --torque-unit Nmm")
@@ -339,7 +355,15 @@ def _unit_warnings(arrays: dict, names: dict, angle_unit: str, source: str) -> l
                    "seconds (not hours or minutes)?")
     ptp_theta = float(np.ptp(arrays["deflection"]))
     implied = float(np.ptp(arrays["torque"])) / ptp_theta
-    if implied < 0.05 or implied > 1e5:
+    low, high = IMPLIED_STIFFNESS_RANGE_NM_PER_RAD
+    if torque_unit == "Nmm" and implied < low <= 1000.0 * implied <= high:
+        # read as N*mm the spring is implausibly soft, read as N*m it is an ordinary one
+        raise DataError(
+            f"{source}: read with --torque-unit Nmm, torque range over deflection range is "
+            f"{implied:.3g} N·m/rad, softer than any torsion spring bench measures, and "
+            f"{1000.0 * implied:.3g} N·m/rad read as N·m: the torque column is in N·m; drop "
+            "--torque-unit Nmm")
+    if implied < low or implied > high:
         out.append(f"torque range over deflection range is {implied:.3g} N·m/rad, far from any "
                    "compact torsion spring: check the units of both columns")
     return out

@@ -118,6 +118,11 @@ class Effect:
         """How late (s) this effect makes the whole torque channel (0 for most)."""
         return 0.0
 
+    def acts_within(self, p: np.ndarray, sc: Scales) -> tuple[float, float] | None:
+        """The band of |deflection| (rad) where the term has its shape, or ``None`` when
+        it acts everywhere alike (see ``springcad.fit.evidence.shape_check``)."""
+        return None
+
     # hooks of the torque model; the defaults leave the torque unchanged
     def angle(self, theta: np.ndarray, p: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
         return theta
@@ -133,6 +138,10 @@ class Effect:
         """Additive torque (N·m) at samples ``idx``; ``fraction`` gives fractional
         sample positions for a ``delayed`` term (``idx`` is then the nearest sample)."""
         return 0.0
+
+
+#: widest logit transition of a crossover, as a fraction of the largest deflection
+MAX_TRANSITION = 0.25
 
 
 class Backlash(Effect):
@@ -156,8 +165,10 @@ class Backlash(Effect):
     def params(self, sc):
         # a crossover narrower than the deflection noise cannot be told from it: with samples
         # resting at zero deflection, a tiny deadband would only shrink the noise there
+        # a transition of a quarter of the deflection range or more is no crossover but a
+        # curvature of the whole curve (stiffening reads so), so the bound stops it there
         return (Param("half_backlash", sc.theta_noise, 0.45 * sc.theta_ref, 0.0, 0.03 * sc.theta_ref),
-                Param("transition", 0.0, sc.theta_ref, 0.0, 0.01 * sc.theta_ref))
+                Param("transition", 0.0, MAX_TRANSITION * sc.theta_ref, 0.0, 0.01 * sc.theta_ref))
 
     def starts(self, sc):
         return [np.array([f * sc.theta_ref, 0.25 * f * sc.theta_ref])
@@ -165,6 +176,11 @@ class Backlash(Effect):
 
     def map(self, x, p):
         return spring_angle(x, p[0], p[1])
+
+    def acts_within(self, p, sc):
+        # the crossover and its transition with a margin as wide again, and never less
+        # than a tenth of the range (a narrow crossover fitted to a wider feature)
+        return 0.0, max(2.0 * float(p[0] + p[1]), 0.1 * sc.theta_ref)
 
     def report(self, p, stiffness, sc):
         return {"backlash_rad": 2.0 * float(p[0]), "transition_rad": float(p[1])}
@@ -294,6 +310,10 @@ class Stiffening(Effect):
 
     def factor(self, x, p, sc):
         return 1.0 + p[0] * np.square(x / sc.theta_ref)
+
+    def acts_within(self, p, sc):
+        # the cubic term is mostly at large deflection
+        return 0.6 * sc.theta_ref, np.inf
 
     def report(self, p, stiffness, sc):
         return {"cubic_stiffness_Nm_per_rad3": float(stiffness * p[0] / sc.theta_ref ** 2),

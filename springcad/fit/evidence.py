@@ -41,8 +41,10 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy import stats
 
 from springcad.fit.inference import uncertainty, wald_p
+from springcad.fit.nuisance import common_profile, nuisance_kind, nuisance_views
 from springcad.fit.signals import Signals
 from springcad.fit.torque_model import TorqueModel
 
@@ -245,10 +247,11 @@ def audit(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, f_sc
         The audit (physically impossible values are reported even without splits).
     """
     out = Audit()
+    shapes = shape_check(model, x, sig, idx)
     for e in model.effects:
         sl = model.slice_of(e.name)
         out.effects[e.name] = EffectEvidence(
-            e.name, (), e.physical_problem(x[sl], float(x[0]), model.scales))
+            e.name, (), e.physical_problem(x[sl], float(x[0]), model.scales) or shapes.get(e.name))
     if not model.effects:
         return out
     checks: dict[str, list[SplitCheck]] = {e.name: [] for e in model.effects}
@@ -261,6 +264,10 @@ def audit(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, f_sc
 
         model = model.with_effect(get_effect("torque_offset"))
         x = model.transfer(full, x_full, use_null=True)
+    # each effect is judged with the unexplained structure it cannot describe taken out
+    # (see springcad.fit.nuisance), so a friction or a crossover is not rejected for a
+    # zero jump or a hard stop beside it
+    views = nuisance_views(full.residual(x_full, sig, idx), idx, sig)
     for split, parts in split_parts(sig, idx).items():
         tested = [e for e in model.effects if split in e.splits and e.name in full.names]
         if not tested:
@@ -270,27 +277,92 @@ def audit(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, f_sc
             for e in model.effects:
                 if e.direction_signed:
                     free[model.slice_of(e.name)] = False
-        fits = []
-        for part in parts:
-            sub = idx[part.mask]
-            xp = model.fit(sig, sub, x, f_scale, max_nfev=max_nfev, free=free)
-            fits.append((xp, uncertainty(model, xp, sig, sub, sample_rate_hz=rate)))
-        out.splits[split] = (parts[0].label, parts[1].label)
+        groups: dict[str, list] = {}
         for e in tested:
-            j = model.slice_of(e.name).start + e.primary
-            null = e.params(model.scales)[e.primary].null
-            (xa, ua), (xb, ub) = fits
-            va, vb = float(xa[j]), float(xb[j])
-            sa, sb = float(ua.se[j]), float(ub.se[j])
-            p = wald_p(np.array([va - vb]), np.array([[sa * sa + sb * sb]]),
-                       min(ua.dof, ub.dof))
-            wa, wb = 1.0 / max(sa * sa, 1e-300), 1.0 / max(sb * sb, 1e-300)
-            pooled = (wa * va + wb * vb) / (wa + wb)
-            z = (pooled - null) * math.sqrt(wa + wb)
-            checks[e.name].append(SplitCheck(
-                split, (parts[0].label, parts[1].label),
-                e.params(model.scales)[e.primary].name, (va, vb), (sa, sb), p, z,
-                p >= agreement_p, abs(z) >= support_z))
+            groups.setdefault(nuisance_kind(e), []).append(e)
+        out.splits[split] = (parts[0].label, parts[1].label)
+        for kind, group in groups.items():
+            signals = views.get(kind, sig)
+            fits = []
+            for part in parts:
+                sub = idx[part.mask]
+                xp = model.fit(signals, sub, x, f_scale, max_nfev=max_nfev, free=free)
+                fits.append((xp, uncertainty(model, xp, signals, sub, sample_rate_hz=rate)))
+            _compare(checks, model, group, split, parts, fits, agreement_p, support_z)
     for name, cs in checks.items():
         out.effects[name] = EffectEvidence(name, tuple(cs), out.effects[name].problem)
+    return out
+
+
+def _compare(checks: dict, model: TorqueModel, tested: list, split: str, parts, fits,
+             agreement_p: float, support_z: float) -> None:
+    """Agreement and support of each effect in ``tested`` from the two part fits."""
+    for e in tested:
+        j = model.slice_of(e.name).start + e.primary
+        null = e.params(model.scales)[e.primary].null
+        (xa, ua), (xb, ub) = fits
+        va, vb = float(xa[j]), float(xb[j])
+        sa, sb = float(ua.se[j]), float(ub.se[j])
+        p = wald_p(np.array([va - vb]), np.array([[sa * sa + sb * sb]]),
+                   min(ua.dof, ub.dof))
+        wa, wb = 1.0 / max(sa * sa, 1e-300), 1.0 / max(sb * sb, 1e-300)
+        pooled = (wa * va + wb * vb) / (wa + wb)
+        z = (pooled - null) * math.sqrt(wa + wb)
+        checks[e.name].append(SplitCheck(
+            split, (parts[0].label, parts[1].label),
+            e.params(model.scales)[e.primary].name, (va, vb), (sa, sb), p, z,
+            p >= agreement_p, abs(z) >= support_z))
+
+
+#: leftover structure where a shape effect acts must be this many times (in mean square)
+#: that elsewhere for the shape to count as not the record's
+SHAPE_CONCENTRATION = 4.0
+
+
+def shape_check(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,
+                p_level: float = 1e-6, min_rms: float = 0.25) -> dict[str, str]:
+    """Shape effects whose own band of deflection still holds the structure.
+
+    A crossover fitted to a torque-sensor dead band, or a cubic fitted to a hard
+    stop, takes a little off the error and leaves the rest where it acts: the
+    residual's deflection profile (common to both directions, see
+    :mod:`springcad.fit.nuisance`) stands above noise inside the effect's band
+    (``Effect.acts_within``) and is concentrated there (``SHAPE_CONCENTRATION``
+    times its mean square outside). Such an effect describes a structure of
+    another shape, and is not named.
+
+    Returns:
+        ``{effect: reason}`` for the effects that fail.
+    """
+    bands = {}
+    for e in model.effects:
+        band = e.acts_within(x[model.slice_of(e.name)], model.scales)
+        if band is not None:
+            bands[e.name] = band
+    if not bands:
+        return {}
+    r = model.residual(x, sig, idx)
+    prof = common_profile(r, idx, sig)
+    if prof is None:
+        return {}
+    centre, common, n_eff, var_noise = prof
+    out = {}
+    for name, (lo, hi) in bands.items():
+        inside = (np.abs(centre) >= lo) & (np.abs(centre) <= hi) & (n_eff > 0)
+        outside = ~inside & (n_eff > 0)
+        if inside.sum() < 2 or outside.sum() < 2:
+            continue
+        chi2 = float(np.sum(n_eff[inside] * common[inside] ** 2)) / var_noise
+        ms_in = max(float(np.mean(common[inside] ** 2)) - var_noise / float(np.mean(n_eff[inside])),
+                    0.0)
+        ms_out = max(float(np.mean(common[outside] ** 2))
+                     - var_noise / float(np.mean(n_eff[outside])), 0.0)
+        sigma2 = var_noise  # per-sample noise variance times its correlation
+        if (stats.chi2.sf(chi2, int(inside.sum())) < p_level and ms_in > min_rms ** 2 * sigma2
+                and ms_in > SHAPE_CONCENTRATION * ms_out):
+            where = (f"|deflection| below {hi:.3g} rad" if lo == 0 else
+                     f"|deflection| beyond {lo:.3g} rad")
+            out[name] = (f"the residual still holds structure of RMS {math.sqrt(ms_in):.3g} N·m "
+                         f"where {name} acts ({where}), {math.sqrt(ms_in / max(ms_out, 1e-300)):.2g} "
+                         "times that elsewhere: the record's shape there is not this effect's")
     return out

@@ -11,12 +11,19 @@
    ``N'`` the independent samples for noise correlated over ``τ`` samples; the
    best candidate is added if it lowers the criterion by more than
    ``gain_threshold``. A backward pass removes effects later ones made
-   redundant.
+   redundant. Friction and a late channel, which flip with the direction of
+   motion, are also judged with the structure they cannot describe taken out
+   (:mod:`springcad.fit.nuisance`: the residual's whole-cycle means and its
+   deflection profile common to both directions), and proposed that way only
+   after every effect the record as measured asks for: a hard stop or a zero
+   jump beside them does not hide them.
 3. **Evidence audit** (:mod:`springcad.fit.evidence`). Each effect's size is
    fitted again on separate parts of the record (early and late, small and
    large amplitudes, loading and unloading) with the rest of the model free
    on each part; it must agree between the parts and be supported by them
-   together, and its values must be physically possible. The worst failing
+   together, and its values must be physically possible; a shape effect
+   (crossover, cubic) must not leave the residual's deflection profile standing
+   above noise where it acts (``evidence.shape_check``). The worst failing
    effect is rejected and the search resumes without it, until all pass.
 4. **Identifiability** (:mod:`springcad.fit.identify`). Pairs of effects the
    record cannot separate (variance inflation ≥ ``vif_confounded``, also
@@ -48,9 +55,10 @@ from springcad.fit.identify import (Confounded, contribution, find_confounded,
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
 from springcad.fit.localise import localise
 from springcad.fit.models import nrmse_pct
+from springcad.fit.nuisance import nuisance_views
 from springcad.fit.residual import residual_structure
-from springcad.fit.search import (Candidate, LoopSettings, Search, State,  # noqa: F401
-                                  line_fit)
+from springcad.fit.search import (BESIDE_STRUCTURE, Candidate, LoopSettings, Search,  # noqa: F401
+                                  State, line_fit)
 from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel, single_threaded_blas
 
@@ -402,6 +410,12 @@ def _forward(state: State, lp: Search, steps: list[Step], rounds: list,
                                  heldout_before=heldout_now, heldout_after=heldout, unit="Nm")
             if effect.stage == "mask":
                 evidence["n_glitches"] = int(mask.sum())
+            if any(c.effect == effect.name and c.note == BESIDE_STRUCTURE for c in cands):
+                evidence["beside_structure"] = (
+                    "found with the residual's structure it cannot describe (its whole-cycle "
+                    "means and its deflection profile common to both directions) taken out: "
+                    "the held-out gain and detector are measured there; on the record as "
+                    "measured that structure dominates the error")
         steps.append(Step("add", effect.name, evidence, before, after,
                           _nrmse(before, sig, lp.half_range), _nrmse(after, sig, lp.half_range)))
         added += 1
@@ -437,7 +451,7 @@ def _drop(state: State, name: str, lp: Search, f_scale: float, steps: list[Step]
 def _refresh_mask(state: State, lp: Search, f_scale: float) -> State:
     """Re-detect glitches on the new residual and refit if they changed."""
     r = state.model.residual(state.x, lp.sig, lp.all)
-    mask = find_glitches(r, lp.s.glitch_threshold)
+    mask = find_glitches(r, lp.s.glitch_threshold, guard=lp.sig.near_turn)
     if np.array_equal(mask, state.mask):
         return state
     x = lp.refit(state.model, state.x, mask, f_scale)
@@ -478,6 +492,15 @@ def _backward(state: State, score_now: float, f_scale: float, lp: Search,
             x_minus = m_minus.transfer(state.model, state.x)
             score, heldout = lp.cv_score(m_minus, x_minus, state.mask, f_scale)
             loss = score - score_now
+            if loss < 0.0 and e.direction_signed:
+                # an effect found beside structure it cannot describe is judged as it was
+                # found: with that structure taken out (see springcad.fit.nuisance)
+                idx = state.inliers(lp.cv)
+                views = nuisance_views(state.model.residual(state.x, sig, idx), idx, sig)
+                if "direction" in views:
+                    alt = lp.view(views["direction"])
+                    loss = (alt.cv_score(m_minus, x_minus, state.mask, f_scale)[0]
+                            - alt.cv_score(state.model, state.x, state.mask, f_scale)[0])
             if best is None or loss < best[0]:
                 best = (loss, e, m_minus, x_minus, score, heldout)
         if best is None or best[0] >= 0.0:

@@ -12,6 +12,7 @@ Torque in N·m, angles in rad, time in s.
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass
 
@@ -20,9 +21,14 @@ import numpy as np
 from springcad.fit.effects import LIBRARY, Effect
 from springcad.fit.inference import jacobian
 from springcad.fit.models import rmse
+from springcad.fit.nuisance import nuisance_views
 from springcad.fit.residual import noise_model
 from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel
+
+
+#: candidate note of an effect judged beside structure it cannot describe
+BESIDE_STRUCTURE = "judged with the structure it cannot describe taken out"
 
 
 @dataclass(frozen=True)
@@ -281,7 +287,7 @@ class Search:
         residual = state.model.residual(state.x, sig, idx)
         jac = jacobian(state.model, state.x, sig, idx)
         active = set(state.effects)
-        cands, proposals = [], []
+        cands, proposals, pending = [], [], []
         for effect in LIBRARY:
             if effect.name in active or not effect.applicable(active, sig):
                 continue
@@ -289,7 +295,7 @@ class Search:
                 continue
             if effect.stage == "mask":
                 full_r = state.model.residual(state.x, sig, self.all)
-                mask = find_glitches(full_r, self.s.glitch_threshold)
+                mask = find_glitches(full_r, self.s.glitch_threshold, guard=sig.near_turn)
                 n_glitch = int(mask.sum())
                 if n_glitch == 0:
                     cands.append(Candidate(effect.name, 0.0, False))
@@ -318,20 +324,71 @@ class Search:
                     new = State(state.model, state.x, state.mask, (float(coef[0]), float(coef[1])))
                     proposals.append((gain, effect, new, z, (r0, r1), 1))
                 continue
-            z = self.score_test(state, effect, residual, jac, idx)
-            if abs(z) < self.s.screen_z:
-                cands.append(Candidate(effect.name, z, False))
+            found = self._try(state, effect, residual, jac, idx, score_now, f_scale)
+            if (found is None or found[0] <= self.s.gain_threshold) and effect.direction_signed:
+                pending.append(effect)
+            if found is None:
+                cands.append(Candidate(effect.name, self._last_z, False))
                 continue
-            m2, x_start, score, heldout = self.try_torque_effect(state, effect, f_scale)
-            gain = score_now - score
-            sl = m2.slice_of(effect.name)
-            note = effect.physical_problem(x_start[sl], float(x_start[0]), m2.scales)
+            gain, z, m2, x_start, heldout, note = found
             cands.append(Candidate(effect.name, z, True, gain, heldout, note))
             if note is None:
                 proposals.append((gain, effect, State(m2, x_start, state.mask, state.series), z,
                                   heldout, m2.size - state.model.size))
         proposals.sort(key=lambda p: -p[0])
+        if pending and not (proposals and proposals[0][0] > self.s.gain_threshold):
+            # nothing the record as measured asks for is left: effects that flip with the
+            # direction of motion are judged beside the structure they cannot describe, with
+            # it taken out (a hard stop, a zero jump; see springcad.fit.nuisance)
+            late = self._beside_structure(state, pending, residual, jac, idx, f_scale, cands)
+            proposals = late + proposals
         return cands, proposals
+
+    def _beside_structure(self, state: State, effects: list[Effect], residual: np.ndarray,
+                          jac: np.ndarray, idx: np.ndarray, f_scale: float,
+                          cands: list[Candidate]) -> list:
+        """Proposals of ``effects`` judged on the record with the residual's structure
+        they cannot describe taken out (best first); their candidates are updated."""
+        views = nuisance_views(residual, idx, self.sig)
+        if "direction" not in views:
+            return []
+        alt = self.view(views["direction"])
+        now = alt.cv_score(state.model, state.x, state.mask, f_scale)[0]
+        r_alt = state.model.residual(state.x, alt.sig, idx)
+        out = []
+        for effect in effects:
+            seen = alt._try(state, effect, r_alt, jac, idx, now, f_scale)
+            if seen is None or seen[-1] is not None or seen[0] <= self.s.gain_threshold:
+                continue
+            gain, z, m2, x_start, heldout, _ = seen
+            k = next(i for i, c in enumerate(cands) if c.effect == effect.name)
+            cands[k] = Candidate(effect.name, z, True, gain, heldout, BESIDE_STRUCTURE)
+            out.append((gain, effect, State(m2, x_start, state.mask, state.series), z, heldout,
+                        m2.size - state.model.size))
+        return sorted(out, key=lambda p: -p[0])
+
+    def _try(self, state: State, effect: Effect, residual: np.ndarray, jac: np.ndarray,
+             idx: np.ndarray, score_now: float, f_scale: float):
+        """Screen and cross-validate one torque-model candidate.
+
+        Returns:
+            ``None`` when screened out (``self._last_z`` holds its detector), else
+            ``(gain, z, model, x_start, heldout_rmse, physical_problem)``.
+        """
+        z = self.score_test(state, effect, residual, jac, idx)
+        self._last_z = z
+        if abs(z) < self.s.screen_z:
+            return None
+        m2, x_start, score, heldout = self.try_torque_effect(state, effect, f_scale)
+        sl = m2.slice_of(effect.name)
+        note = effect.physical_problem(x_start[sl], float(x_start[0]), m2.scales)
+        return score_now - score, z, m2, x_start, heldout, note
+
+    def view(self, sig: Signals) -> "Search":
+        """This search on other signals (the same folds, noise correlation and scales)."""
+        other = copy.copy(self)
+        other.sig = sig
+        return other
 
 
 def line_fit(x: np.ndarray, y: np.ndarray, with_slope: bool) -> tuple[float, float]:

@@ -123,13 +123,44 @@ class Signals:
         """Per-sample friction swing after the last turn: 1 from rest, 2 after a reversal."""
         return np.where(self.virgin, 1.0, 2.0)
 
+    @functools.cached_property
+    def near_turn(self) -> np.ndarray:
+        """Per-sample flag: at a reversal of the motion, where the instant of the turn is
+        uncertain: within ``TURN_GUARD_S`` of a detected reversal, or while the smoothed
+        deflection is within ``TURN_GUARD_BAND`` of the largest deflection (or
+        five deflection noise levels, if more) of the angle the run starts or ends at
+        (a slow, rounded turn)."""
+        runs = self.runs
+        bounds = np.flatnonzero(np.diff(runs) != 0) + 1
+        if bounds.size == 0:
+            return np.zeros(self.n, dtype=bool)
+        starts = self.t[bounds]
+        k = np.clip(np.searchsorted(starts, self.t), 1, max(starts.size - 1, 1))
+        gap = np.abs(self.t - starts[np.minimum(k, starts.size - 1)])
+        gap = np.minimum(gap, np.abs(self.t - starts[k - 1]))
+        first = np.concatenate([[0], bounds])
+        last = np.concatenate([bounds - 1, [self.n - 1]])
+        th = self.theta_smooth
+        label = np.searchsorted(bounds, np.arange(self.n), side="right")
+        band = max(TURN_GUARD_BAND * self.scales.theta_ref, 5.0 * self.scales.theta_noise)
+        flat = ((np.abs(th - th[first][label]) < band) & (label > 0)) | (
+            (np.abs(th - th[last][label]) < band) & (label < bounds.size))
+        return (gap < TURN_GUARD_S) | flat
+
     @property
     def loading(self) -> np.ndarray:
         """Per-sample flag: |deflection| growing (moving away from zero)."""
         return self.direction * np.sign(self.theta_smooth) > 0
 
 
-def find_glitches(x: np.ndarray, threshold: float = 6.0, width: int = 9) -> np.ndarray:
+#: a residual may swing for this long (s) either side of a reversal for the model's reasons
+TURN_GUARD_S = 0.025
+#: ...and while the deflection is this close to the turn's, as a fraction of the largest
+TURN_GUARD_BAND = 0.01
+
+
+def find_glitches(x: np.ndarray, threshold: float = 6.0, width: int = 9,
+                  guard: np.ndarray | None = None) -> np.ndarray:
     """Isolated spikes: samples far from the median of their neighbours.
 
     A sample is a glitch when it differs from the running median over ``width``
@@ -141,6 +172,10 @@ def find_glitches(x: np.ndarray, threshold: float = 6.0, width: int = 9) -> np.n
         x: a signal or a residual, sampled uniformly.
         threshold: in noise standard deviations.
         width: running-median window (samples).
+        guard: samples where a residual may swing for a few samples for a
+            model's reasons (at a reversal of the motion, whose instant the model
+            reads on a smoothed deflection): there a glitch must also stand out
+            from both its neighbours by the threshold, as a one-sample spike does.
 
     Returns:
         Boolean mask, True at glitches.
@@ -150,7 +185,14 @@ def find_glitches(x: np.ndarray, threshold: float = 6.0, width: int = 9) -> np.n
     sigma = noise_std(dev)
     if sigma == 0.0:
         return np.zeros(x.size, dtype=bool)
-    return np.abs(dev) > threshold * sigma
+    out = np.abs(dev) > threshold * sigma
+    if guard is not None and out.any():
+        prev = np.concatenate([[x[0]], x[:-1]])
+        nxt = np.concatenate([x[1:], [x[-1]]])
+        sign = np.sign(dev)
+        spike = np.minimum((x - prev) * sign, (x - nxt) * sign) > threshold * sigma
+        out &= ~guard | spike
+    return out
 
 
 def torque_half_range(torque: np.ndarray) -> float:

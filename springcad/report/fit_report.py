@@ -203,6 +203,8 @@ def _loop_blocks(data: dict, images: dict[str, str]) -> list[tuple]:
             params = ", ".join(f"{k} = {_f(v)}" for k, v in s["params"].items())
             b.append(("p", f"**Step {i + 1}: {s['action']} `{s['effect']}`.** "
                            f"{_sentence(s['evidence'].get('meaning', ''))} "
+                           + (f"{_sentence(s['evidence']['beside_structure'])} "
+                              if s["evidence"].get("beside_structure") else "")
                            + (f"Parameters right after this step (later steps refit them): "
                               f"{params}." if params else "")))
             if f"step{i}" in images:

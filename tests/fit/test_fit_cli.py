@@ -140,9 +140,10 @@ def test_too_few_cycles_exits_2(tmp_path, capsys):
     assert "too few cycles" in capsys.readouterr().err
 
 
-def _csv_with(path, header, rec, deflection):
+def _csv_with(path, header, rec, deflection, torque=None):
+    torque = rec.torque_Nm if torque is None else torque
     path.write_text(header + "\n" + "\n".join(
-        f"{t},{q},{a}" for t, q, a in zip(rec.time_s, rec.torque_Nm, deflection)))
+        f"{t},{q},{a}" for t, q, a in zip(rec.time_s, torque, deflection)))
     return path
 
 
@@ -179,14 +180,26 @@ def test_radians_read_as_degrees_are_refused_by_the_column_name(tmp_path, capsys
     assert "'deflection_rad' is named in rad but --angle-unit deg" in err
 
 
-def test_radians_read_as_degrees_are_refused_by_the_target(tmp_path, capsys):
-    # with an unnamed column, the target stiffness is what the data contradicts
+def test_radians_read_as_degrees_are_refused_by_the_data(tmp_path, capsys):
+    # with an unnamed column, the angles themselves contradict --angle-unit deg: read as
+    # degrees they never reach one degree (tests/fit/test_fit_heldout_patterns.py too)
     rec = simulate(BenchSpring(40.0), protocol=FAST, seed=5).record
     path = _csv_with(tmp_path / "rad.csv", "time_s,torque_Nm,angle", rec, rec.deflection_rad)
     assert main(["fit", str(path), "--out", str(tmp_path / "o"), "--deflection-col", "angle",
                  "--angle-unit", "deg", "--target-stiffness", "40", "--no-plots"]) == 2
+    assert "drop --angle-unit deg" in capsys.readouterr().err
+
+
+def test_newton_millimetres_read_as_newton_metres_are_refused_by_the_target(tmp_path, capsys):
+    # a torque column with no unit in its name, in N·mm, read as N·m: magnitudes alone only
+    # warn (a stiff spring is possible), the target stiffness is what the data contradicts
+    rec = simulate(BenchSpring(40.0), protocol=FAST, seed=5).record
+    path = _csv_with(tmp_path / "nmm.csv", "time_s,torque,deflection_rad", rec,
+                     rec.deflection_rad, torque=1000.0 * rec.torque_Nm)
+    assert main(["fit", str(path), "--out", str(tmp_path / "o"), "--torque-col", "torque",
+                 "--target-stiffness", "40", "--no-plots"]) == 2
     err = capsys.readouterr().err
-    assert "a unit factor" in err and "rad were read as degrees" in err
+    assert "a unit factor" in err and "N·mm was read as N·m" in err
 
 
 def test_non_positive_target_is_rejected(bench_csv, tmp_path):
