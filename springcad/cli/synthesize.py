@@ -111,8 +111,11 @@ def run(args) -> int:
         (out / "winner.toml").write_text(result.winner_toml())
         w = result.winner
         full = next(f for f in result.finalists if f["cid"] == int(w["cid"]))
+        fea = result.verifications.get(int(w["cid"]), {})
+        built = (f" ({1000 * fea['mass_kg']:.1f} g with the FEA-corrected widths build makes)"
+                 if "mass_kg" in fea else "")
         print(f"winner: candidate {w['cid']} ({w['family']}, input {w['input']}), "
-              f"{1000 * full['mass_kg']:.1f} g, {full['axial_length_mm']:.1f} mm long, "
+              f"{1000 * full['mass_kg']:.1f} g{built}, {full['axial_length_mm']:.1f} mm long, "
               f"R {full['envelope_radius_mm']:.2f} mm: {result.winner_status}")
         print(f"wrote {out / 'winner.toml'} (springcad build {out / 'winner.toml'})")
     else:
