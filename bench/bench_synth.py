@@ -229,6 +229,8 @@ def main() -> int:
               f"{b['load']:.1f}, other sessions running <= {a['busy']} / {b['busy']}); "
               f"{2 * a['cpu_s'] / b['cpu_s']:.2f}x at dedicated cores "
               f"(worker CPU {a['cpu_s']:.1f} s -> {b['cpu_s']:.1f} s)")
+    if not args.repeats:
+        return 0
     w1 = [x["wall_s"] for x in runs[1]]
     w2 = [x["wall_s"] for x in runs[2]]
     ratios = [a / b for a, b in zip(w1, w2)]
