@@ -3,12 +3,13 @@
 Enumerates every stack of the requirement's design space, screens them with
 the closed-form design on a Dask cluster (a local one by default), ranks the
 feasible ones by the objective and says why each infeasible family fails, gives
-the best ones the full design and the top ones a coarse FEA, and writes the
-winner as a job config that ``springcad build`` accepts.
+the best ones the full design and the top ones ``springcad build``'s FEA and
+geometry checks, and writes the winner (the best that passed) as a job config that
+``springcad build`` accepts.
 
 Writes ``DIR/parts/*.parquet`` (every candidate; a rerun resumes), ``DIR/synthesis.json``
 and ``DIR/winner.toml``. Exit status: 0 a winner that passed (or skipped) FEA,
-1 no feasible stack or the FEA failed every verified finalist (the report is
+1 no feasible stack or the FEA or build checks failed every verified finalist (the report is
 still written), 2 bad input.
 """
 
@@ -47,10 +48,14 @@ def register(sub):
     p.add_argument("--max-finalists", type=int, default=40,
                    help="most screened stacks given the full design in all (default 40)")
     p.add_argument("--verify-top", type=int, default=2,
-                   help="full-design-feasible finalists given a coarse FEA (default 2)")
-    p.add_argument("--no-verify", action="store_true", help="skip the FEA of the finalists")
-    p.add_argument("--fea-model", choices=("2d", "2d3d"), default="2d",
-                   help="FEA model of the finalists (default 2d: plane stress, fastest)")
+                   help="full-design-feasible finalists given the FEA and checks of "
+                        "`springcad build`, best first; the winner is the first that passes "
+                        "(default 2)")
+    p.add_argument("--no-verify", action="store_true",
+                   help="skip the FEA and build checks of the finalists")
+    p.add_argument("--fea-model", choices=("2d", "2d3d"), default="2d3d",
+                   help="FEA model of the finalists (default 2d3d: build's; 2d: plane stress "
+                        "only, faster)")
     p.set_defaults(func=run)
 
 
@@ -106,8 +111,11 @@ def run(args) -> int:
         (out / "winner.toml").write_text(result.winner_toml())
         w = result.winner
         full = next(f for f in result.finalists if f["cid"] == int(w["cid"]))
+        fea = result.verifications.get(int(w["cid"]), {})
+        built = (f" ({1000 * fea['mass_kg']:.1f} g with the FEA-corrected widths build makes)"
+                 if "mass_kg" in fea else "")
         print(f"winner: candidate {w['cid']} ({w['family']}, input {w['input']}), "
-              f"{1000 * full['mass_kg']:.1f} g, {full['axial_length_mm']:.1f} mm long, "
+              f"{1000 * full['mass_kg']:.1f} g{built}, {full['axial_length_mm']:.1f} mm long, "
               f"R {full['envelope_radius_mm']:.2f} mm: {result.winner_status}")
         print(f"wrote {out / 'winner.toml'} (springcad build {out / 'winner.toml'})")
     else:

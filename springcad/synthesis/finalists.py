@@ -194,15 +194,43 @@ def _edge_radius_mm(design) -> float | None:
     return concave_edge_radius_mm(design.centreline, y, design.width_mm(y))
 
 
-def verify_candidate(req, cand: dict, model: str = "2d", levels: int = 3, progress=None):
-    """Coarse FEA verification (and width correction) of a candidate's springs.
+def verify_candidate(req, cand: dict, model: str = "2d3d", levels: int = 3, progress=None):
+    """FEA verification (and width correction) of a candidate's springs.
+
+    The options are ``springcad build``'s (:class:`fea.verify.VerifyOptions` defaults:
+    2D convergence study with the 3D factor, stiffness correction, stress passes, cam
+    contact sweep) but for ``model`` and the stiffness tolerance, which is the
+    requirement's when that is tighter than the build's.
 
     Returns:
-        the :class:`fea.verify.JobVerification` (``.ok``, ``.failures()``, ``.summary()``).
+        ``(verification, corrected)``: the :class:`fea.verify.JobVerification` (``.ok``,
+        ``.failures()``, ``.summary()``) and the job design with the FEA-corrected springs
+        (what ``springcad build`` makes its solids from).
     """
     from fea.verify import VerifyOptions, verify_job
 
     jd = design_candidate(req, cand)
     opts = VerifyOptions(model=model, levels=levels, keep_fields=False,
-                         tolerance=min(0.01, req.stiffness_tolerance))
-    return verify_job(jd, opts, progress or (lambda msg, frac=None: None))
+                         tolerance=min(VerifyOptions.tolerance, req.stiffness_tolerance))
+    v = verify_job(jd, opts, progress or (lambda msg, frac=None: None))
+    return v, jd.with_springs(v.corrected_designs())
+
+
+def build_checks(job_design, progress=None) -> dict:
+    """``springcad build``'s solids and checks steps on a job design, without writing files.
+
+    Returns:
+        ``{"ok", "summary", "failures"}``: ``ok`` as build decides it (no geometry error and
+        no manufacturability violation); one line per failed check.
+
+    Raises:
+        GeometryError: a part cannot be made (as ``build`` would stop).
+    """
+    from springcad.geometry.checks import run_checks
+    from springcad.geometry.stack import build_stack
+
+    quiet = progress or (lambda msg, frac=None: None)
+    report = run_checks(build_stack(job_design, quiet), quiet)
+    return {"ok": report.passed(), "summary": report.summary(),
+            "failures": [f"{c.subject}: {c.name}: {c.message}"
+                         for c in report.errors + report.violations]}

@@ -1,4 +1,4 @@
-"""``synthesize``: sweep -> rank -> full design of the finalists -> FEA of the top -> winner.
+"""``synthesize``: sweep -> rank -> full design of the finalists -> FEA and build checks -> winner.
 
 Library code: it never prints (messages go to ``say``) and writes nothing but
 the sweep's part files through the store; the CLI writes the report and the
@@ -13,8 +13,8 @@ from collections import Counter
 from dataclasses import dataclass, field
 
 from springcad.synthesis import ranking
-from springcad.synthesis.finalists import (full_design_summary, job_document, toml_text,
-                                           verify_candidate)
+from springcad.synthesis.finalists import (build_checks, full_design_summary, job_document,
+                                           toml_text, verify_candidate)
 from springcad.synthesis.runner import run_sweep
 
 SCHEMA = "springcad.synthesis/1"
@@ -43,7 +43,7 @@ class SynthesisResult:
 
     @property
     def ok(self) -> bool:
-        """A winner exists and, when FEA ran on it, it passed."""
+        """A winner exists and, when FEA and build checks ran on it, they passed."""
         if self.winner is None:
             return False
         v = self.verifications.get(int(self.winner["cid"]))
@@ -94,8 +94,40 @@ class SynthesisResult:
         }
 
 
+def verification_entry(req, cand: dict, fea_model: str) -> dict:
+    """What ``springcad build`` would decide about a candidate, as a report entry.
+
+    The FEA (:func:`verify_candidate`, build's options) and then, if it passed, build's
+    solids and checks on the FEA-corrected design (:func:`build_checks`). ``ok`` only when
+    both pass. A failed solve or solid is a finding (``failures``), not a crash.
+    """
+    try:
+        v, corrected = verify_candidate(req, cand, model=fea_model)
+    except Exception as err:  # noqa: BLE001 - a failed solve is a finding, not a crash
+        return {"ok": False, "failures": [f"FEA: {type(err).__name__}: {err}"], "notes": [],
+                "summary": "", "springs": {}, "build_checks": None}
+    entry = {"ok": v.ok, "failures": v.failures(), "notes": v.notes(), "summary": v.summary(),
+             "springs": {n: {"stiffness_fea_Nm_per_rad": sv.stiffness_fea_Nmm_per_rad / 1e3,
+                             "peak_von_mises_MPa": sv.peak_von_mises_MPa,
+                             "peak_region": sv.run.peak_result.peak_region,
+                             "yield_margin": sv.yield_margin,
+                             "width_scale": sv.design.width_scale}
+                         for n, sv in v.springs.items()},
+             "mass_kg": corrected.stack.mass_kg, "build_checks": None}
+    if not v.ok:
+        return entry
+    try:
+        checks = build_checks(corrected)
+    except Exception as err:  # noqa: BLE001 - a part that cannot be made is a finding
+        checks = {"ok": False, "summary": "", "failures": [f"{type(err).__name__}: {err}"]}
+    entry["build_checks"] = checks
+    entry["ok"] = checks["ok"]
+    entry["failures"] = entry["failures"] + [f"build checks: {f}" for f in checks["failures"]]
+    return entry
+
+
 def synthesize(req, space, store, client, *, finalists: int = 8, max_finalists: int = 40,
-               verify_top: int = 2, verify: bool = True, fea_model: str = "2d",
+               verify_top: int = 2, verify: bool = True, fea_model: str = "2d3d",
                progress=_quiet, say=_quiet) -> SynthesisResult:
     """Run the whole synthesis for requirements ``req``.
 
@@ -106,9 +138,11 @@ def synthesize(req, space, store, client, *, finalists: int = 8, max_finalists: 
         finalists: screened stacks given the full design per round (Dask tasks), best
             first; while no finalist passes, the next round goes further down the ranking.
         max_finalists: most stacks given the full design in all.
-        verify_top: how many of the full-design-feasible finalists get FEA (best first).
-        verify: run the FEA at all.
-        fea_model: :class:`fea.verify.VerifyOptions` model for the finalists ("2d": fastest).
+        verify_top: how many of the full-design-feasible finalists get build's FEA and
+            checks (best first); the winner is the first that passes both.
+        verify: run the FEA and build checks at all.
+        fea_model: :class:`fea.verify.VerifyOptions` model for the finalists ("2d3d":
+            ``springcad build``'s; "2d": faster, without the 3D factor).
         progress: sweep progress callback (see :func:`run_sweep`).
         say: one-line status messages.
     """
@@ -155,35 +189,23 @@ def synthesize(req, space, store, client, *, finalists: int = 8, max_finalists: 
             + summaries[0]["error"])
         result.timings_s = t
         return result
-    winner, status = good[0][0], "full design passed; FEA not run"
+    winner, status = good[0][0], "full design passed; FEA and build checks not run"
     if verify:
         t0 = time.perf_counter()
         status = None
         for r, s in good[:verify_top]:
-            say(f"FEA ({fea_model}) of candidate {int(r['cid'])} ({r['family']}, "
-                f"{1000 * s['mass_kg']:.1f} g)")
-            try:
-                v = verify_candidate(req, r, model=fea_model)
-                entry = {"ok": v.ok, "failures": v.failures(), "notes": v.notes(),
-                         "summary": v.summary(),
-                         "springs": {n: {"stiffness_fea_Nm_per_rad": sv.stiffness_fea_Nmm_per_rad / 1e3,
-                                         "peak_von_mises_MPa": sv.peak_von_mises_MPa,
-                                         "peak_region": sv.run.peak_result.peak_region,
-                                         "yield_margin": sv.yield_margin,
-                                         "width_scale": sv.design.width_scale}
-                                     for n, sv in v.springs.items()}}
-            except Exception as err:  # noqa: BLE001 - a failed solve is a finding, not a crash
-                entry = {"ok": False, "failures": [f"{type(err).__name__}: {err}"], "notes": [],
-                         "summary": "", "springs": {}}
+            say(f"FEA ({fea_model}) and build checks of candidate {int(r['cid'])} "
+                f"({r['family']}, {1000 * s['mass_kg']:.1f} g)")
+            entry = verification_entry(req, r, fea_model)
             result.verifications[int(r["cid"])] = entry
             say(entry["summary"] or "; ".join(entry["failures"]))
-            if entry["ok"] and status is None:
-                winner, status = r, f"FEA ({fea_model}) passed"
+            if entry["ok"]:
+                winner, status = r, f"FEA ({fea_model}) and build checks passed"
                 break
         if status is None:
             winner = good[0][0]
             first = result.verifications[int(winner["cid"])]
-            status = ("FEA FAILED for every verified finalist; best shown. "
+            status = ("FEA or build checks FAILED for every verified finalist; best shown. "
                       + "; ".join(first["failures"]))
         t["fea"] = time.perf_counter() - t0
     result.winner = winner

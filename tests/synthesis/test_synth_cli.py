@@ -45,6 +45,18 @@ def test_synthesize_writes_a_buildable_winner(synthesized):
     assert job.material.design_stress_MPa == pytest.approx(912.0, abs=0.05)
 
 
+@pytest.mark.slow
+def test_winner_passes_the_build_checks(synthesized):
+    """`springcad build`'s solids and geometry checks (no FEA, no exports) pass on the
+    winner's job as written: no geometry error, no manufacturability violation (~60 s)."""
+    from springcad.synthesis.finalists import build_checks
+
+    _, run = synthesized
+    checks = build_checks(design_job(load_job(run / "winner.toml")))
+    assert checks["ok"], checks["failures"]
+    assert checks["failures"] == [] and "0 geometry errors, 0 manufacturability" in checks["summary"]
+
+
 def test_synthesize_resumes(synthesized, capsys):
     """A second run in the same folder evaluates no candidate again."""
     _, run = synthesized

@@ -1,4 +1,4 @@
-"""The synthesized winner passes the coarse FEA that synthesize runs on its finalists (slow),
+"""The synthesized winner passes the 2D FEA and build checks synthesize runs on its finalists (slow),
 with the peak stress that screening predicted."""
 
 import json
@@ -23,6 +23,7 @@ def test_winner_passes_fea(tmp_path, capsys):
     path = tmp_path / "req.toml"
     path.write_text(requirements_toml(CONSERVATIVE))
     code = main(["synthesize", str(path), "--out", str(tmp_path / "run"), "--workers", "1",
+                 "--fea-model", "2d",
                  "--finalists", "2", "--verify-top", "1"])
     report = json.loads((tmp_path / "run" / "synthesis.json").read_text())
     assert code == 0, report["winner_status"]

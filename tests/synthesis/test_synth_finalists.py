@@ -72,3 +72,61 @@ def test_no_finalist_passes_says_why(tmp_path, monkeypatch, ranked):
 ])
 def test_failure_classes(message, kind):
     assert failure_class(message) == kind
+
+
+def _verified_run(tmp_path, monkeypatch, failing_checks, verify_top):
+    """synthesize with verify=True, the full design and FEA passing and build's checks
+    failing for the stacks in ``failing_checks`` (full design, FEA and solids replaced: what
+    is tested is the choice)."""
+    from types import SimpleNamespace
+
+    def full_design(req, cand):
+        return {"cid": int(cand["cid"]), "ok": True, "error": "", "failure": "",
+                "mass_kg": float(cand["mass_kg"])}
+
+    def fea(req, cand, model):
+        v = SimpleNamespace(ok=True, failures=lambda: [], notes=lambda: [],
+                            summary=lambda: f"FEA of {int(cand['cid'])} passed", springs={})
+        return v, SimpleNamespace(cid=int(cand["cid"]), stack=SimpleNamespace(mass_kg=0.3))
+
+    def checks(corrected):
+        bad = corrected.cid in failing_checks
+        return {"ok": not bad, "summary": "",
+                "failures": ["RING-1: edm.min_web: 0.31 mm < 0.35 mm"] if bad else []}
+
+    monkeypatch.setattr(pipeline, "full_design_summary", full_design)
+    monkeypatch.setattr(pipeline, "verify_candidate", fea)
+    monkeypatch.setattr(pipeline, "build_checks", checks)
+    store = ResultStore(tmp_path / "run", REQ.fingerprint(), SPACE.total, 300)
+    with dask_client(n_workers=1, processes=False) as client:
+        return pipeline.synthesize(REQ, SPACE, store, client, finalists=6, max_finalists=6,
+                                   verify=True, verify_top=verify_top)
+
+
+def test_winner_is_the_best_finalist_that_passes_build_checks(tmp_path, monkeypatch):
+    result = _verified_run(tmp_path, monkeypatch, set(), verify_top=3)
+    first_pick = int(result.winner["cid"])
+    assert result.ok and list(result.verifications) == [first_pick]  # first passed: stop
+    again = _verified_run(tmp_path / "b", monkeypatch, {first_pick}, verify_top=3)
+    cids = list(again.verifications)
+    assert cids[0] == first_pick and len(cids) == 2
+    assert not again.verifications[first_pick]["ok"]
+    assert again.verifications[first_pick]["failures"] == [
+        "build checks: RING-1: edm.min_web: 0.31 mm < 0.35 mm"]
+    assert again.ok and int(again.winner["cid"]) == cids[1] != first_pick
+    assert again.winner_status == "FEA (2d3d) and build checks passed"
+    assert again.winner_job["job"]["description"].endswith(
+        f"candidate {cids[1]}, 37.5 N*m/rad over +-64 deg")
+
+
+def test_no_finalist_passes_build_checks_is_not_ok(tmp_path, monkeypatch):
+    everyone = {int(r["cid"]) for r in _ranked_all()}
+    result = _verified_run(tmp_path, monkeypatch, everyone, verify_top=2)
+    assert not result.ok and len(result.verifications) == 2
+    assert result.winner_status.startswith("FEA or build checks FAILED for every verified "
+                                           "finalist; best shown. build checks: RING-1")
+
+
+def _ranked_all():
+    cols = evaluate_batch(SPACE, 0, SPACE.total)
+    return ranking.distinct(cols, ranking.rank(cols, "mass_kg"), 1000)
