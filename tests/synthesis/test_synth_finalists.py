@@ -10,7 +10,7 @@ from springcad.synthesis.finalists import failure_class
 from springcad.synthesis.requirements import requirements_from_dict
 from springcad.synthesis.runner import dask_client
 from springcad.synthesis.store import ResultStore
-from synth_fixtures import small
+from synth_fixtures import SMALL, small
 
 #: maraging steel: 14 distinct feasible stacks in the small space
 REQ = requirements_from_dict(small(materials={"names": ["maraging_300"]}))
@@ -116,7 +116,7 @@ def test_winner_is_the_best_finalist_that_passes_build_checks(tmp_path, monkeypa
     assert again.ok and int(again.winner["cid"]) == cids[1] != first_pick
     assert again.winner_status == "FEA (2d3d) and build checks passed"
     assert again.winner_job["job"]["description"].endswith(
-        f"candidate {cids[1]}, 37.5 N*m/rad over +-64 deg")
+        f"candidate {cids[1]}, 37.5 N*m/rad over +-{SMALL['requirement']['deflection_deg']:g} deg")
 
 
 def test_no_finalist_passes_build_checks_is_not_ok(tmp_path, monkeypatch):
