@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from springcad.design.numeric import cumtrapz_last, trapz_last
+
 from springcad.errors import DesignError
 
 
@@ -176,18 +178,6 @@ def area_mm2(centreline: Centreline, y, width) -> float:
     return float(np.trapezoid(np.asarray(width) * np.sqrt(1.0 + dx ** 2), y))
 
 
-def _trapz_last(y, x):
-    """Trapezoid rule along the last axis (x broadcast against y)."""
-    return np.sum(0.5 * (y[..., 1:] + y[..., :-1]) * np.diff(x, axis=-1), axis=-1)
-
-
-def _cumtrapz_last(y, x):
-    """Cumulative trapezoid along the last axis, starting at 0."""
-    steps = 0.5 * (y[..., 1:] + y[..., :-1]) * np.diff(x, axis=-1)
-    return np.concatenate([np.zeros(steps.shape[:-1] + (1,)), np.cumsum(steps, axis=-1)],
-                          axis=-1)
-
-
 def uncoupled_tilt(h0, budget, r, contact_radius_mm, width_mm):
     """Reshape a serpentine tilt shape so that a tangential tip load moves the tip ball
     tangentially only (rows along the last axis).
@@ -223,7 +213,7 @@ def uncoupled_tilt(h0, budget, r, contact_radius_mm, width_mm):
     ramp = h0 * u
 
     def coupling(h):
-        return _trapz_last(weight * _cumtrapz_last(budget * h / r, r), r)
+        return trapz_last(weight * cumtrapz_last(budget * h / r, r), r)
 
     c = -coupling(h0) / coupling(ramp)
     h = h0 + np.asarray(c)[..., None] * ramp
@@ -236,7 +226,7 @@ def root_aligned_tilt(h0, budget, r):
     Leaves the tip's tangential-radial coupling (:func:`uncoupled_tilt`); used only where
     no uncoupled shape fits."""
     pos, neg = np.maximum(h0, 0.0), np.minimum(h0, 0.0)
-    scale = -_trapz_last(budget * pos / r, r) / _trapz_last(budget * neg / r, r)
+    scale = -trapz_last(budget * pos / r, r) / trapz_last(budget * neg / r, r)
     h = pos + np.asarray(scale)[..., None] * neg
     return h / np.max(np.abs(h), axis=-1, keepdims=True)
 

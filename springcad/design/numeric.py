@@ -58,6 +58,18 @@ def cumtrapz(y, x) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(0.5 * (y[1:] + y[:-1]) * np.diff(x))])
 
 
+
+def trapz_last(y, x):
+    """Trapezoid rule along the last axis (rows of y at once; x broadcast against y)."""
+    return np.sum(0.5 * (y[..., 1:] + y[..., :-1]) * np.diff(x, axis=-1), axis=-1)
+
+
+def cumtrapz_last(y, x):
+    """Cumulative trapezoid along the last axis, starting at 0 (rows of y at once)."""
+    steps = 0.5 * (y[..., 1:] + y[..., :-1]) * np.diff(x, axis=-1)
+    return np.concatenate([np.zeros(steps.shape[:-1] + (1,)), np.cumsum(steps, axis=-1)],
+                          axis=-1)
+
 class ClampedCubic:
     """C2 cubic spline through (x_i, y_i) with given end slopes dy/dx.
 

@@ -29,6 +29,8 @@ from __future__ import annotations
 import numpy as np
 
 from springcad.design.flexure import SERPENTINE_SHAPES, shape_rank, trial_tilt
+from springcad.design.numeric import cumtrapz_last as cumtrapz_rows
+from springcad.design.numeric import trapz_last as trapz_rows
 
 #: the radial stations of design_serpentine: u = (r - r_c) / L
 U = np.linspace(0.0, 1.0, 241) ** 1.3
@@ -50,17 +52,6 @@ _RATIO_TOL = 1e-7
 def blocks(m: int):
     """Slices of at most :data:`BLOCK_ROWS` rows covering ``range(m)``."""
     return [slice(k, min(k + BLOCK_ROWS, m)) for k in range(0, m, BLOCK_ROWS)]
-
-
-def trapz_rows(y, x):
-    """Trapezoid rule along the last axis (x broadcast against y)."""
-    return np.sum(0.5 * (y[..., 1:] + y[..., :-1]) * np.diff(x, axis=-1), axis=-1)
-
-
-def cumtrapz_rows(y, x):
-    """Cumulative trapezoid along the last axis, starting at 0."""
-    steps = 0.5 * (y[:, 1:] + y[:, :-1]) * np.diff(x, axis=1)
-    return np.concatenate([np.zeros((len(y), 1)), np.cumsum(steps, axis=1)], axis=1)
 
 
 class _Tilt:
