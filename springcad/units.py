@@ -33,3 +33,16 @@ def fmt_mm(value: float) -> str:
     """A length as written on drawings and in notes: up to 3 decimals, no trailing zeros."""
     text = f"{value:.3f}".rstrip("0").rstrip(".")
     return "0" if text in ("-0", "") else text
+
+
+def fmt_interval(low: float, high: float, digits: int = 4) -> tuple[str, str]:
+    """The two ends of an interval with enough significant digits that they differ.
+
+    ``digits`` is the least number of significant digits; more are used (up to 10) when a
+    narrow interval would otherwise print as ``[150, 150]``.
+    """
+    for d in range(digits, 11):
+        lo, hi = f"{low:.{d}g}", f"{high:.{d}g}"
+        if lo != hi or low == high:
+            return lo, hi
+    return lo, hi

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from springcad.cli.common import bounded
 from springcad.errors import DataError
+from springcad.units import fmt_interval
 
 
 def register(subparsers) -> None:
@@ -162,12 +163,14 @@ def _print_summary(result, out: Path, files: list[str]) -> None:
             chain.append(f"{sign[s['action']]}{s['effect']} ({s['nrmse_after_pct']:.3g} %)")
         print("  loop: " + " -> ".join(chain))
         k = final["intervals"]["stiffness_Nm_per_rad"]
+        lo, hi = fmt_interval(k["ci_low"], k["ci_high"])
         print(f"  final: {final['model']}, K = {k['value']:.4g} N·m/rad "
-              f"[{k['ci_low']:.4g}, {k['ci_high']:.4g}], NRMSE {final['nrmse_pct']:.3g} % "
+              f"[{lo}, {hi}], NRMSE {final['nrmse_pct']:.3g} % "
               f"(noise floor {final['noise_floor_nrmse_pct']:.3g} %)")
         for name, ci in final["intervals"].items():
             if name != "stiffness_Nm_per_rad" and not ci.get("confounded_with"):
-                print(f"    {name} = {ci['value']:.4g} [{ci['ci_low']:.4g}, {ci['ci_high']:.4g}]")
+                lo, hi = fmt_interval(ci["ci_low"], ci["ci_high"])
+                print(f"    {name} = {ci['value']:.4g} [{lo}, {hi}]")
         for r in d["rejected"]:
             print(f"  rejected {r['effect']}: {r['short_reason']}")
         for g in final["confounded"]:

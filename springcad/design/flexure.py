@@ -321,7 +321,8 @@ def concave_edge_radius_mm(centreline: Centreline, y, width) -> float:
 def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
                       root_radius_mm: float, n_flexures: int, width_fn,
                       tip_radius_mm: float, min_clearance_mm: float,
-                      min_inside_radius_mm: float, root_zone_mm: float = 0.0) -> SerpentineResult:
+                      min_inside_radius_mm: float, root_zone_mm: float = 0.0,
+                      balances: tuple[str, ...] = BALANCES) -> SerpentineResult:
     """Find a curved (serpentine) centreline with a given area ratio, deterministically.
 
     Neighbouring flexures are copies rotated by the pitch 2 pi/N, so in polar
@@ -352,7 +353,8 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
     reference tool's balance, root lined up with the tip (which leaves the ball
     climbing the cam flank), wins only when no uncoupled shape fits or the best one
     curves 1.5 x more (:func:`shape_rank`), and the swept arm (k = 1) only when no
-    serpentine fits (:data:`SERPENTINE_SHAPES`). No random starts, no time budget.
+    serpentine fits (:data:`SERPENTINE_SHAPES`). ``balances`` limits the shapes tried
+    (``("root", "swept")``: the reference tool's shapes). No random starts, no time budget.
 
     Raises:
         DesignError: no candidate meets all constraints.
@@ -409,6 +411,8 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
     best, best_key, failures, start = None, None, [], 0
     for k, a, balance in SERPENTINE_SHAPES:
         start += 1
+        if balance not in balances:
+            continue
         margin = min_clearance_mm
         for _ in range(6):
             w_r = width_fn(r)

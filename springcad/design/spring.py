@@ -99,6 +99,10 @@ class SpringDesign:
     required yield margin (:func:`design_spring`)."""
     stress: "StressPrediction | None" = None
     """Predicted peak stresses of the real geometry (:mod:`springcad.design.stress`)."""
+    serpentine_balance: str | None = None
+    """How the serpentine's lobes are balanced (:data:`flexure.BALANCES`): "uncoupled" (a
+    tangential tip load moves the ball tangentially only), "root" (the reference tool's:
+    root on the tip's radial line) or "swept"; None for straight flexures."""
 
     # ------------------------------------------------------------- predictions
     @property
@@ -285,6 +289,7 @@ class SpringDesign:
             "root_width_mm": self.root_width_mm,
             "tip_load_N": self.tip_load_N,
             "flexure": self.flexure,
+            "serpentine_balance": self.serpentine_balance,
             "width_law": self.width_law,
             "serpentine_factor": self.serpentine_factor,
             "area_ratio": self.area_ratio,
@@ -519,10 +524,12 @@ def _choose_layout(spec: SpringSpec, sigma, E) -> _Layout:
 
 # --------------------------------------------------------------------- synthesis
 def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
-               hardware: HardwareSpec, derating: float = 1.0) -> SpringDesign:
+               hardware: HardwareSpec, derating: float = 1.0,
+               balances: tuple[str, ...] = fx.BALANCES) -> SpringDesign:
     """Layout, flexure shape and width calibration at beam stress ``derating`` x design stress.
 
-    No root flare, no profiles yet (:func:`design_spring` adds both).
+    No root flare, no profiles yet (:func:`design_spring` adds both). ``balances``: the
+    serpentine balances tried (:func:`flexure.design_serpentine`).
 
     Raises:
         DesignError: the spec cannot be met in its envelope (the message says why
@@ -564,7 +571,7 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
         warnings.append("serpentine requested but straight flexures already reach the target "
                         "deflection; straight flexures used")
     L = rr - rc
-    clearance = None
+    clearance = balance = None
     if use_straight:
         def w0_stiff(length):
             return fx.straight_root_width_for_stiffness_mm(K, n, rc, length, E, z)
@@ -593,10 +600,11 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
                 min_clearance_mm=max(manufacturing.min_slot_width_mm,
                                      2 * manufacturing.min_inside_radius_mm),
                 min_inside_radius_mm=manufacturing.min_inside_radius_mm,
-                root_zone_mm=2.0 * (spec.outer_radius_mm - rr))
+                root_zone_mm=2.0 * (spec.outer_radius_mm - rr), balances=balances)
         except DesignError as err:  # the flexure module does not know the spring's name
             raise DesignError(f"spring '{spec.name}': {err}") from None
         centre, ratio, clearance = res.centreline, res.area_ratio, res.min_clearance_mm
+        balance = res.balance
 
 
     t_rim = spec.outer_radius_mm - rr
@@ -616,6 +624,7 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
         width_law=width_law, root_width_mm=w0, tip_load_N=lay.load,
         straight_limit_rad=lay.theta_s, serpentine_factor=s_req, centreline=centre,
         area_ratio=ratio, min_neighbour_clearance_mm=clearance, rim_thickness_mm=t_rim,
+        serpentine_balance=balance,
         root_fillet_radius_mm=root_fillet, neck_fillet_radius_mm=neck_fillet,
         torque_cap_Nmm=fx.torque_cap_Nmm(rc, z, sigma), stiffness_beam_Nmm_per_rad=float("nan"),
         peak_stress_MPa=float("nan"), warnings=tuple(warnings), stress_derating=derating)

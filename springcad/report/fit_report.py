@@ -23,6 +23,7 @@ import numpy as np
 
 from springcad.fit.analysis import FitResult, final_label
 from springcad.fit.loop import State
+from springcad.units import fmt_interval
 
 #: at most this many points are drawn per scatter (evenly decimated)
 _MAX_POINTS = 6000
@@ -141,7 +142,7 @@ def report_blocks(result: FitResult, data: dict, images: dict[str, str]) -> list
             rows.append([k, "not separately identified",
                          f"confounded with {', '.join(ci['confounded_with'])}", ""])
             continue
-        rows.append([k, _f(ci["value"], 5), f"{_f(ci['ci_low'], 4)} … {_f(ci['ci_high'], 4)}",
+        rows.append([k, _f(ci["value"], 5), " … ".join(fmt_interval(ci["ci_low"], ci["ci_high"])),
                      "yes" if ci.get("at_bound") else ""])
     for k, v in final["params"].items():
         if k not in final["intervals"]:

@@ -265,19 +265,27 @@ def _geometry_change_lines(changes: list[dict]) -> list[str]:
         return []
     fea = "peak_fea_2d_MPa" in changes[0]["reference"]
     lines = ["", "## What springcad changed against the reference geometry", "",
-             "The reference tool draws a plain circular root fillet and sizes the flexures to the "
-             "design stress as a beam. springcad adds a root flare (the flexure widens smoothly "
-             "over the last part before the rim, chosen by the FEA-calibrated stress model) and "
-             "rescales the widths so the beam stiffness is unchanged; it would lower the beam "
-             "stress if the predicted peak still missed the required yield margin.", "",
-             "| spring | geometry | root flare | beam K N·m/rad | nominal beam MPa | predicted peak MPa "
-             "| yield margin | mass g |" + (" FEA 2D K N·m/rad | FEA 2D peak MPa | FEA margin |" if fea else ""),
-             "|---|---|---|---|---|---|---|---|" + ("---|---|---|" if fea else "")]
+             "The reference tool balances each serpentine so that its root sits on the tip's "
+             "radial line, draws a plain circular root fillet and sizes the flexures to the "
+             "design stress as a beam. springcad makes two changes. (1) The serpentine's tilt "
+             "amplitude is ramped along the flexure so that a tangential tip load moves the ball "
+             "tangentially only (balance \"uncoupled\"): with the reference balance the ball "
+             "climbs the cam flank one way and sinks into the pocket the other, and the "
+             "small-angle stiffness of the cam contact departs from the linear one. (2) A root "
+             "flare (the flexure widens smoothly over the last part before the rim), chosen by "
+             "the FEA-calibrated stress model. The widths are rescaled so the beam stiffness "
+             "is unchanged; the beam stress would be lowered too if the predicted peak still "
+             "missed the required yield margin.", "",
+             "| spring | geometry | serpentine | root flare | beam K N·m/rad | nominal beam MPa "
+             "| predicted peak MPa | yield margin | mass g |"
+             + (" FEA 2D K N·m/rad | FEA 2D peak MPa | FEA margin |" if fea else ""),
+             "|---|---|---|---|---|---|---|---|---|" + ("---|---|---|" if fea else "")]
     for c in changes:
         for tag in ("reference", "springcad"):
             g = c[tag]
             flare = "0" if tag == "reference" else f"{c['root_flare']:g} over {c['root_flare_length_mm']:.2f} mm"
-            row = (f"| {c['spring']} | {tag} | {flare} | {g['beam_stiffness_Nm_per_rad']:.2f} "
+            row = (f"| {c['spring']} | {tag} | {g.get('serpentine_balance') or 'straight'} "
+                   f"| {flare} | {g['beam_stiffness_Nm_per_rad']:.2f} "
                    f"| {g['nominal_beam_stress_MPa']:.0f} | {g['predicted_peak_MPa']:.0f} "
                    f"({g['predicted_region']}) | {g['yield_margin_predicted']:.3f} | {g['mass_g']:.2f} |")
             if fea:

@@ -255,9 +255,10 @@ def fea_spring_effects(designs: dict, progress: Progress = no_progress) -> dict:
 def geometry_changes(designs: dict, use_fea: bool = False, progress=lambda message: None) -> list[dict]:
     """What springcad changed against the reference tool's geometry, per paper spring.
 
-    The reference geometry is the same design with a plain root (no flare) at the
-    configured design stress, its widths rescaled to the same beam stiffness: what
-    the reference method (design-method.md) draws. Both are compared on beam
+    The reference geometry is the same spec with the reference tool's serpentine (root
+    on the tip's radial line, :data:`flexure.BALANCES` "root") and a plain root (no
+    flare) at the configured design stress, its widths calibrated to the same beam
+    stiffness: what the reference method (design-method.md) draws. Both are compared on beam
     stiffness, predicted peak stress, yield margin and mass; with ``use_fea`` also on
     a 2D FEA solve of each (stiffness and peak von Mises at the max deflection).
     """
@@ -269,13 +270,15 @@ def geometry_changes(designs: dict, use_fea: bool = False, progress=lambda messa
         for name, s in d.springs.items():
             seen.setdefault(name, s)
     for name, s in seen.items():
-        ref = with_root(_design_at(s.spec, s.material, s.manufacturing, s.hardware, 1.0), 0.0)
+        ref = with_root(_design_at(s.spec, s.material, s.manufacturing, s.hardware, 1.0,
+                                   balances=("root", "swept")), 0.0)
         row = {"spring": name, "root_flare": s.root_flare,
                "root_flare_length_mm": s.root_flare_length_mm,
                "beam_stress_MPa": s.beam_stress_MPa,
                "design_stress_MPa": s.material.design_stress_MPa}
         for tag, g in (("reference", ref), ("springcad", s)):
-            row[tag] = {"beam_stiffness_Nm_per_rad": g.stiffness_beam_Nmm_per_rad / NMM_PER_NM,
+            row[tag] = {"serpentine_balance": g.serpentine_balance,
+                        "beam_stiffness_Nm_per_rad": g.stiffness_beam_Nmm_per_rad / NMM_PER_NM,
                         "nominal_beam_stress_MPa": g.peak_stress_MPa,
                         "predicted_peak_MPa": g.predicted_peak_stress_MPa,
                         "predicted_region": g.stress.region,
