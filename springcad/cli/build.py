@@ -2,7 +2,9 @@
 
 A thin layer on the public API (:mod:`springcad.api`): ``design_job``,
 ``verify``, ``build`` and ``export_build`` are the stages (:data:`PIPELINE`), each
-announced as ``[i/n] name`` on stderr with its progress and time. The output
+announced as ``[i/n] name`` on stderr with its progress and time. The verification
+includes the cam contact sweep over +-theta_max (its curve is in fea.json, a PNG and
+report.html; its flags are release notes, not failures). The output
 folder is checked before any work and appears only when every file was
 written (``export_build`` writes into a temporary folder). A failed FEA
 verification or check is exit status 1; a CAD-kernel, mesher or solver failure
@@ -94,7 +96,7 @@ def run(args) -> int:
     else:
         with stage("verify", lambda: f"spring {say.spring}" if say.spring else ""):
             verification = sc.verify(design, model="2d3d", keep_fields=not args.no_render,
-                                     progress=say)
+                                     contact=True, progress=say)
         say(verification.raw.summary().replace("\n", "\n  "))
         if not verification.ok:
             from fea.verify import VerificationFailed

@@ -141,9 +141,11 @@ def render_contact(sweep, path: Path | str, title: str = "") -> Path:
             "no flags: the ball stays on the driving flank, nothing else touches, stiffness "
             "linear")
     fig.suptitle(title or f"{sweep.name}: cam contact sweep", fontsize=12)
-    fig.text(0.01, 0.005, text, fontsize=7, va="bottom", wrap=True,
+    fig.text(0.01, 0.005, text, fontsize=9, va="bottom", wrap=True,
              color="darkred" if flags else "darkgreen")
     fig.tight_layout(rect=(0, 0.07, 1, 0.97))
+    # the colour bars of the lower panels keep tight_layout from seeing the upper x labels
+    fig.subplots_adjust(hspace=0.28)
     fig.savefig(path, dpi=100)
     plt.close(fig)
     return Path(path)

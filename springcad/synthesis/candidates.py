@@ -67,6 +67,8 @@ class CandidateSpace:
             compliance_splits: the dimensions.
         fewer_flexures: with ``n_flexures`` empty, N = (largest that fits) - k for each k.
         min_tip_radius_mm: smallest tip-ball radius (mm).
+        tip_radius_mm: fixed tip-ball radius (mm; None: sized for the peak load), see
+            :class:`~springcad.synthesis.requirements.SearchSpace`.
         yield_margin, stress_concentration: required yield strength / predicted peak
             stress, and the factor that set ``design_stress_MPa`` (reported only).
         allowed_peak_MPa: per material, the largest predicted peak stress of a disk
@@ -103,6 +105,7 @@ class CandidateSpace:
     fatigue_limited: tuple[bool, ...] = ()
     endurance_limit_MPa: tuple[float, ...] = ()
     fatigue_margin: float | None = None
+    tip_radius_mm: float | None = None
 
     @classmethod
     def from_requirements(cls, req) -> "CandidateSpace":
@@ -124,7 +127,7 @@ class CandidateSpace:
             allowed_peak_MPa=tuple(req.allowed_peak_MPa(m) for m in req.materials),
             fatigue_limited=tuple(req.fatigue_limited(m) for m in req.materials),
             endurance_limit_MPa=tuple(req.endurance_limit_MPa(m) for m in req.materials),
-            fatigue_margin=req.fatigue_margin)
+            fatigue_margin=req.fatigue_margin, tip_radius_mm=s.tip_radius_mm)
 
     def stress_limits(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Per material: allowed predicted peak (MPa), fatigue-limited, S_e (MPa; NaN)."""

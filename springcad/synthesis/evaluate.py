@@ -127,6 +127,7 @@ def _screen_groups(space, cols):
     allowed, fatigue_limited, _ = space.stress_limits()
     res = screen_disks(uniq[:, 0], uniq[:, 1], uniq[:, 2], uniq[:, 3], uniq[:, 4], sigma, E, rho,
                        uniq[:, 6].astype(np.int64), min_tip_radius_mm=space.min_tip_radius_mm,
+                       tip_radius_mm=space.tip_radius_mm,
                        manufacturing=space.manufacturing, hardware=space.hardware,
                        straight_only=space.flexure == "straight", allowed_peak_MPa=allowed[mat],
                        fatigue_limited=fatigue_limited[mat])

@@ -26,13 +26,15 @@ def job_document(req, cand: dict) -> dict:
     n_a, n_b, split = int(cand["n_a"]), int(cand["n_b"]), float(cand["split"])
     K, th = cand["stiffness_Nm_per_rad"], cand["deflection_rad"]
     mat = next(m for m in req.materials if m.name == cand["material"])
+    ball = ({"tip_radius_mm": req.search.tip_radius_mm} if req.search.tip_radius_mm is not None
+            else {"min_tip_radius_mm": req.search.min_tip_radius_mm})
 
     def spring(k_nm, theta, z, n):
         return {"stiffness_Nm_per_rad": round(float(k_nm), 9),
                 "max_deflection_rad": round(float(theta), 12),
                 "outer_radius_mm": round(float(cand["outer_radius_mm"]), 9),
                 "thickness_mm": float(z), "contact_radius_mm": float(cand["contact_radius_mm"]),
-                "n_flexures": int(n), "min_tip_radius_mm": req.search.min_tip_radius_mm,
+                "n_flexures": int(n), **ball,
                 "flexure": "straight" if req.search.flexure == "straight" else "auto"}
 
     springs = {"A": spring(n_a * K / split, split * th / n_a, cand["thickness_a_mm"],

@@ -13,7 +13,7 @@ Sections of a requirements TOML (units in key names; see
 ``[search]``         the design space: max_disks, thickness_mm, contact_radius_mm,
                      outer_radius_fractions, n_flexures or fewer_flexures, inputs, mixed,
                      compliance_splits,
-                     min_tip_radius_mm
+                     min_tip_radius_mm, tip_radius_mm
 ``[manufacturing]``, ``[hardware]``  as in a job config (passed through to the winner's job)
 
 A bad value raises :class:`~springcad.errors.ConfigError` naming the key, the value
@@ -106,6 +106,10 @@ class SearchSpace:
         compliance_splits: share of the stack compliance taken by the A group of a
             mixed stack (-); every disk is designed for the same peak torque.
         min_tip_radius_mm: smallest tip-ball radius (mm).
+        tip_radius_mm: fixed tip-ball radius (mm), as the paper's hardware (0.3 mm): balls
+            are not sized for the peak load and the torque-cap rule is not applied; the
+            calibrated peak stress (tip-neck fillet included) decides, as in a job config
+            with ``tip_radius_mm``. None (default): balls sized for the peak load.
         flexure: "auto" (straight where it reaches, else serpentine) or "straight" (only
             straight flexures: no serpentine turns, whose concave edges raise the stress).
     """
@@ -120,6 +124,7 @@ class SearchSpace:
     mixed: bool = True
     compliance_splits: tuple[float, ...] = (0.25, 0.5, 0.75)
     min_tip_radius_mm: float = 0.3
+    tip_radius_mm: float | None = None
     flexure: str = "auto"
 
 
@@ -274,6 +279,8 @@ def _search(table: dict, max_radius_mm: float) -> SearchSpace:
         kw["flexure"] = table["flexure"]
     if "min_tip_radius_mm" in table:
         kw["min_tip_radius_mm"] = _number(table, "min_tip_radius_mm", p, lo=0.05, hi=5)
+    if "tip_radius_mm" in table:
+        kw["tip_radius_mm"] = float(_number(table, "tip_radius_mm", p, lo=0.05, hi=5))
     return SearchSpace(**{**asdict(d), **kw})
 
 
@@ -356,10 +363,12 @@ def requirements_from_dict(data: dict, name: str = "requirements",
                                                  "max_deflection_rad": 0.1,
                                                  "outer_radius_mm": 10.0, "thickness_mm": 1.0}},
                            "manufacturing": mfg_t, "hardware": hw_t})
-    if search.min_tip_radius_mm < probe.manufacturing.min_inside_radius_mm:
-        raise ConfigError("search.min_tip_radius_mm", search.min_tip_radius_mm,
-                          f"must be at least the wire radius + spark gap = "
-                          f"{probe.manufacturing.min_inside_radius_mm:g} mm")
+    for ball_key in ("min_tip_radius_mm", "tip_radius_mm"):
+        ball_mm = getattr(search, ball_key)
+        if ball_mm is not None and ball_mm < probe.manufacturing.min_inside_radius_mm:
+            raise ConfigError(f"search.{ball_key}", ball_mm,
+                              f"must be at least the wire radius + spark gap = "
+                              f"{probe.manufacturing.min_inside_radius_mm:g} mm")
     return Requirements(
         name=str(req.get("name", name)), description=str(req.get("description", "")),
         stiffness_Nmm_per_rad=float(k) * NMM_PER_NM, stiffness_tolerance=float(tol) / 100.0,

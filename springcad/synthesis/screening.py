@@ -103,11 +103,12 @@ def _rim_root(ro, n, rc, w0_of_length, iterations=48):
 def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
                  min_tip_radius_mm: float, manufacturing, hardware,
                  straight_only: bool = False, allowed_peak_MPa=None,
-                 fatigue_limited=None) -> dict[str, np.ndarray]:
+                 fatigue_limited=None, tip_radius_mm: float | None = None) -> dict[str, np.ndarray]:
     """Closed-form design of disks with given r_c, with the design's stress passes.
 
     Args:
-        K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, straight_only: see :func:`_screen`.
+        K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, straight_only, tip_radius_mm:
+            see :func:`_screen`.
         n_fixed: flexure count; 0: the largest that fits; < 0: |n_fixed| fewer than that.
         allowed_peak_MPa: largest predicted peak each disk may carry (MPa): yield strength
             / required margin. None: no stress passes (the first design is returned, its
@@ -123,7 +124,7 @@ def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     n_fixed = np.asarray(n_fixed, dtype=np.int64)
     m = len(n_fixed)
     args = dict(min_tip_radius_mm=min_tip_radius_mm, manufacturing=manufacturing,
-                hardware=hardware, straight_only=straight_only)
+                hardware=hardware, straight_only=straight_only, tip_radius_mm=tip_radius_mm)
     full = [np.broadcast_to(np.asarray(v, dtype=float), (m,))
             for v in (K, theta, ro, z, rc, sigma, E, density_kg_per_mm3)]
 
@@ -181,7 +182,8 @@ def _merge(out: dict, rows, cols: dict) -> None:
 
 def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
             min_tip_radius_mm: float, manufacturing, hardware,
-            straight_only: bool = False, layout_only: bool = False) -> dict[str, np.ndarray]:
+            straight_only: bool = False, layout_only: bool = False,
+            tip_radius_mm: float | None = None) -> dict[str, np.ndarray]:
     """Closed-form design of disks with given r_c (arrays of equal length).
 
     Args:
@@ -193,6 +195,10 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         straight_only: reject disks that need serpentine flexures (``straight_limit``).
         layout_only: stop after the layout checks 1-5 (N, R_r, flexure kind; no
             centreline, stress or mass).
+        tip_radius_mm: fixed tip-ball radius (mm), as the design's ``tip_radius_mm``
+            (as-built balls): no ball sizing and no torque-cap rule; the tip-neck stress
+            of that ball is checked by the calibrated peak prediction (step 6) instead.
+            None: balls sized for the peak load, at least ``min_tip_radius_mm``.
 
     Returns:
         Columns: ``code`` (0 or a failure code of :data:`REASONS`), ``value`` and
@@ -214,6 +220,14 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     mfg, rw = manufacturing, manufacturing.min_inside_radius_mm
     clearance = max(mfg.min_slot_width_mm, 2 * rw)
 
+    def ball(load, z_, sigma_):
+        """Tip-ball radius (mm) of disks with these tip loads (N)."""
+        if tip_radius_mm is not None:
+            return np.full(np.shape(load), float(tip_radius_mm))
+        return np.maximum(min_tip_radius_mm, fx.tip_ball_required_radius_mm(load, z_, sigma_))
+
+    capped = tip_radius_mm is None
+
     def fail(mask, c, v, lim):
         mask = mask & (code == OK)
         code[mask] = c
@@ -227,14 +241,14 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     # 2. torque cap and flexure count
     peak = K * theta
     cap = fx.torque_cap_Nmm(rc, z, sigma)
-    fail((n_fixed == 0) & (peak > cap), TORQUE_CAP, peak, cap)
-    n = np.where(n_fixed > 0, n_fixed, _nmax(min_tip_radius_mm, rc))
+    fail(capped & (n_fixed == 0) & (peak > cap), TORQUE_CAP, peak, cap)
+    n = np.where(n_fixed > 0, n_fixed, _nmax(tip_radius_mm or min_tip_radius_mm, rc))
     rr = nan.copy()
     active = code == OK
     while np.any(active):
         i = np.flatnonzero(active)
         load = fx.tip_load_N(K[i], theta[i], n[i], rc[i])
-        rb_i = np.maximum(min_tip_radius_mm, fx.tip_ball_required_radius_mm(load, z[i], sigma[i]))
+        rb_i = ball(load, z[i], sigma[i])
         c_i = 6 * load / (z[i] * sigma[i])
         rr_i = _rim_root(ro[i], n[i], rc[i], lambda L, c=c_i: np.sqrt(c * np.maximum(L, 0.0)))
         rim_bad = np.isnan(rr_i)
@@ -248,20 +262,20 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         fixed = n_fixed[i] > 0
         sel[:] = False
         sel[i[retry & fixed]] = True
-        fail(sel & (peak > cap), TORQUE_CAP, peak, cap)
-        fail(sel, FLEXURE_FIT, n.astype(float), _nmax(np.maximum(
-            min_tip_radius_mm, fx.tip_ball_required_radius_mm(
-                fx.tip_load_N(K, theta, n, rc), z, sigma)), rc).astype(float))
+        fail(sel & capped & (peak > cap), TORQUE_CAP, peak, cap)
+        fail(sel, FLEXURE_FIT, n.astype(float),
+             _nmax(ball(fx.tip_load_N(K, theta, n, rc), z, sigma), rc).astype(float))
         free = i[retry & ~fixed]
         n[free] -= 1
         sel[:] = False
         sel[free[n[free] < 2]] = True
-        fail(sel, TORQUE_CAP, peak, cap)
+        fail(sel, TORQUE_CAP if capped else FLEXURE_FIT, peak if capped else n.astype(float),
+             cap if capped else np.full(m, 2.0))
         active = (code == OK) & np.isnan(rr)
     good = code == OK
     load = fx.tip_load_N(K, theta, n, rc)
     rb_req = fx.tip_ball_required_radius_mm(load, z, sigma)
-    rb = np.maximum(min_tip_radius_mm, rb_req)
+    rb = ball(load, z, sigma)
     L = rr - rc
     theta_s = fx.straight_limit_rad(n, z, sigma, L, E, K, rc)
     # 3. straight flexures with the stiffness width law where they reach the deflection

@@ -33,6 +33,7 @@ def test_paper_template_reproduces_the_paper_design_stress():
     ("search", "inputs", ["gear"], "search.inputs.*shaft, rim"),
     ("search", "thickness_mm", [], "search.thickness_mm.*non-empty list"),
     ("search", "max_disk", 3, "search.max_disk.*not a known key"),
+    ("search", "tip_radius_mm", 0.1, "search.tip_radius_mm.*wire radius"),
     ("manufacturing", "w_gap_mm", -1, "manufacturing.w_gap_mm.*from 0.005 to 1 mm"),
 ])
 def test_bad_values_name_the_key(section, key, value, match):
@@ -84,3 +85,19 @@ def test_fatigue_margin_objective():
     data["objective"] = {"maximise": "mass"}
     with pytest.raises(ConfigError, match="objective.maximise.*one of energy_density, fatigue_margin"):
         requirements_from_dict(data)
+
+
+def test_fixed_tip_balls_reach_the_winner_job():
+    """search.tip_radius_mm becomes each spring's tip_radius_mm in the job a winner is built from."""
+    from springcad.config import job_from_dict
+    from springcad.synthesis.finalists import job_document
+
+    req = load_requirements(TEMPLATES / "requirements_4xS1.toml")
+    assert req.search.tip_radius_mm == 0.3
+    cand = {"n_a": 4, "n_b": 0, "split": 1.0, "stiffness_Nm_per_rad": 37.5,
+            "deflection_rad": req.deflection_rad, "material": req.materials[0].name,
+            "outer_radius_mm": 33.5, "thickness_a_mm": 4.5, "contact_radius_mm": 5.5,
+            "n_flexures_a": 28, "family": "4 identical", "cid": 1, "input": "rim"}
+    job = job_from_dict(job_document(req, cand))
+    assert job.springs["A"].tip_radius_mm == 0.3
+    assert job.springs["A"].stiffness_Nmm_per_rad == pytest.approx(150e3)

@@ -34,7 +34,7 @@ def _cases(seed: int, count: int):
     return np.array(out)
 
 
-def _screen(cases, n_fixed=None):
+def _screen(cases, n_fixed=None, tip_radius_mm=None):
     m = len(cases)
     return screen_disks(cases[:, 0], cases[:, 1], cases[:, 2], cases[:, 3], cases[:, 4],
                         np.full(m, MAT.design_stress_MPa),
@@ -42,13 +42,13 @@ def _screen(cases, n_fixed=None):
                         MAT.material.density_kg_per_mm3,
                         np.zeros(m, dtype=int) if n_fixed is None else n_fixed,
                         min_tip_radius_mm=0.3, manufacturing=JOB.manufacturing,
-                        hardware=JOB.hardware)
+                        hardware=JOB.hardware, tip_radius_mm=tip_radius_mm)
 
 
-def _full(case, n=None):
+def _full(case, n=None, tip_radius_mm=None):
     K, th, ro, z, rc = case
     spec = replace(BASE, stiffness_Nmm_per_rad=K, max_deflection_rad=th, outer_radius_mm=ro,
-                   thickness_mm=z, contact_radius_mm=rc, n_flexures=n)
+                   thickness_mm=z, contact_radius_mm=rc, n_flexures=n, tip_radius_mm=tip_radius_mm)
     return design_spring(spec, MAT, JOB.manufacturing, JOB.hardware)
 
 
@@ -118,3 +118,24 @@ def test_cam_tooth_width_is_the_cam_designs():
     rc, rho, n, th = 5.5, 0.325, 28, math.radians(16)
     widths = [_unit(rc, rho, 2 * math.pi / n, rho / rc + f * th)[2].length for f in OVERTRAVELS]
     assert cam_tooth_width_mm(rc, rho, n, th) == pytest.approx(max(widths), rel=1e-12)
+
+
+def test_fixed_tip_balls_screen_as_the_design_with_tip_radius():
+    """search.tip_radius_mm (as-built 0.3 mm balls, as the paper's hardware): no torque-cap
+    rule; the layout, ball and predicted peak are those of design_spring with tip_radius_mm.
+    The paper's S1 point is refused by the cap rule with sized balls and made with fixed ones."""
+    cases = np.array([[150e3, math.radians(16), 33.5, 4.5, 5.5],
+                      [150e3, math.radians(16), 33.5, 4.5, 5.8],
+                      [75e3, math.radians(20), 33.5, 4.5, 5.5]])
+    sized = _screen(cases[:1])
+    assert REASONS[int(sized["code"][0])] == "torque_cap"
+    fixed = _screen(cases, tip_radius_mm=0.3)
+    for j, case in enumerate(cases):
+        d = _full(case, tip_radius_mm=0.3)
+        assert fixed["code"][j] == 0
+        assert fixed["rb"][j] == d.tip_radius_mm == 0.3
+        assert fixed["n"][j] == d.n_flexures
+        assert fixed["rr"][j] == pytest.approx(d.root_radius_mm, abs=1e-6)
+        assert fixed["peak_stress_MPa"][j] == pytest.approx(d.predicted_peak_stress_MPa, rel=0.03)
+        assert fixed["mass_kg"][j] == pytest.approx(d.mass_kg, rel=0.03)
+    assert fixed["n"][0] == 28  # the paper's S1: N 28 at r_c 5.5 mm with 0.3 mm balls
