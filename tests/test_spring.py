@@ -212,3 +212,20 @@ def test_stress_infeasible_names_the_binding_constraint_with_numbers():
                                           "n_flexures": 28}}})
     s = design_spring(ok.springs["A"], ok.material, ok.manufacturing, ok.hardware)
     assert s.yield_margin >= 1.6 * (1 - 1e-3)
+
+
+def test_pruned_clearance_is_the_brute_force_minimum():
+    """The neighbour clearance prunes points by their nearest vertex; the minimum over the
+    points is the all-pairs point-to-segment minimum, exactly (random wavy polylines)."""
+    import numpy as np
+
+    from springcad.design.flexure import _min_point_polyline_distance, _point_polyline_distance
+
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        n, m = rng.integers(2, 200), rng.integers(1, 200)
+        t = np.sort(rng.uniform(0, 10, n))
+        poly = np.c_[t, np.sin(t * rng.uniform(0.2, 3)) + rng.normal(0, 0.05, n)]
+        pts = rng.uniform(-2, 12, (m, 2))
+        assert _min_point_polyline_distance(pts, poly) == pytest.approx(
+            _point_polyline_distance(pts, poly).min(), abs=1e-12)

@@ -289,6 +289,21 @@ def _point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> np.ndarray
     return np.sqrt(((points[:, None, :] - foot) ** 2).sum(-1)).min(axis=1)
 
 
+def _min_point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> float:
+    """Smallest distance from a set of points to a polyline (mm), exact.
+
+    A point's distance to the polyline is at most its distance to the nearest vertex d_v
+    and at least d_v - l/2 (l: the longest segment), so only the points whose d_v comes
+    within l/2 of the smallest d_v can hold the minimum; those are measured against every
+    segment (:func:`_point_polyline_distance`).
+    """
+    d2 = ((points[:, None, :] - poly[None, :, :]) ** 2).sum(-1)
+    d_vertex = np.sqrt(d2.min(axis=1))
+    half = 0.5 * float(np.max(np.hypot(*np.diff(poly, axis=0).T)))
+    near = d_vertex <= d_vertex.min() + half
+    return float(_point_polyline_distance(points[near], poly).min())
+
+
 def neighbour_clearance_mm(centreline: Centreline, y, width, n_flexures: int,
                            tip_radius_mm: float) -> float:
     """Exact smallest gap between a flexure's edge and its neighbour's, above the tip ball (mm).
@@ -308,7 +323,7 @@ def neighbour_clearance_mm(centreline: Centreline, y, width, n_flexures: int,
             f"the flexures are {y[-1] - y[0]:.3g} mm long (contact to root radius), no longer "
             f"than their tip balls are wide ({2.0 * tip_radius_mm:.3g} mm): use a smaller "
             "tip_radius_mm or contact_radius_mm, or a larger outer radius")
-    return float(_point_polyline_distance(right[m], left @ rot.T).min())
+    return _min_point_polyline_distance(right[m], left @ rot.T)
 
 
 def concave_edge_radius_mm(centreline: Centreline, y, width) -> float:

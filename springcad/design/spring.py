@@ -502,6 +502,8 @@ def _choose_layout(spec: SpringSpec, sigma, E) -> _Layout:
     best: _Layout | None = None
     for rc in np.linspace(rc_min, 0.6 * ro, 60):
         for n in ns:
+            if n > fx.max_flexures(_tip_ball(spec, sigma, n, float(rc))[2], float(rc)):
+                continue  # the balls do not fit (as _fits below), no rim rule to solve
             try:
                 lay = _layout(spec, sigma, E, n, float(rc))
             except DesignError:
