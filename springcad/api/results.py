@@ -407,7 +407,8 @@ class Fit:
         """The torque-deflection plot (data and models) as PNG bytes."""
         import tempfile
 
-        from springcad.report.fit_report import _plot_models, _pyplot
+        from springcad.report.fit_plots import _plot_models
+        from springcad.report.mpl import pyplot as _pyplot
 
         plt = _pyplot()
         with tempfile.TemporaryDirectory() as tmp:

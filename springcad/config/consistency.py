@@ -18,7 +18,7 @@ from springcad.errors import ConfigError
 
 #: Monte Carlo stacks below which the 1 %/99 % percentiles are not worth quoting
 MIN_USEFUL_SAMPLES = 1000
-#: largest contact radius springcad tries, as a fraction of R_o (design.spring._choose_layout)
+#: largest contact radius springcad tries, as a fraction of R_o (design.layout.choose_layout)
 CONTACT_SEARCH_FRACTION = 0.6
 #: thinnest rim as a fraction of the outer radius (the rim carries the whole torque)
 MIN_RIM_FRACTION = 0.02

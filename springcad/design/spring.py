@@ -30,14 +30,12 @@ import numpy as np
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.design import flexure as fx
 from springcad.design.curves import Profile
+from springcad.design.layout import Layout, choose_layout, rim_root_radius
 from springcad.errors import DesignError
 from springcad.units import J_PER_NMM, MM3_PER_CM3, NMM_PER_NM
 
 if TYPE_CHECKING:
     from springcad.design.stress import StressPrediction
-
-#: gap between flexure roots over rim thickness (reference rim rule, eq. 8)
-RIM_GAP_RATIO = 1.5
 
 
 @dataclass(frozen=True, repr=False)
@@ -404,126 +402,6 @@ def with_width_scale(design: SpringDesign, scale: float) -> SpringDesign:
     return with_width(design, scale / design.width_scale, design.width_offset_mm)
 
 
-# --------------------------------------------------------------------- layout rules
-def _rim_root_radius(outer_radius_mm, n, contact_radius_mm, root_width_fn) -> float:
-    """Solve R_o - R_r = (2 pi R_r / N - w0(R_r)) / 1.5 for R_r by bracketing (eq. 8)."""
-    from springcad.design.numeric import find_root
-
-    def f(rr):
-        return (outer_radius_mm - rr
-                - (2 * math.pi * rr / n - root_width_fn(rr - contact_radius_mm)) / RIM_GAP_RATIO)
-
-    lo, hi = contact_radius_mm * (1 + 1e-6) + 1e-6, outer_radius_mm
-    if f(lo) <= 0 or f(hi) >= 0:
-        raise DesignError(
-            f"{n} flexures do not fit between r_c = {contact_radius_mm:.3g} mm and "
-            f"R_o = {outer_radius_mm:.3g} mm: the flexure roots are wider than the rim circle "
-            "allows; use fewer flexures, a larger outer radius or a lower stiffness")
-    return find_root(f, lo, hi, xtol=1e-10)
-
-
-@dataclass(frozen=True)
-class _Layout:
-    n: int
-    rc: float
-    rb: float
-    rb_req: float
-    rr: float
-    theta_s: float
-    load: float
-
-
-def _tip_ball(spec: SpringSpec, sigma, n, rc):
-    load = fx.tip_load_N(spec.stiffness_Nmm_per_rad, spec.max_deflection_rad, n, rc)
-    rb_req = fx.tip_ball_required_radius_mm(load, spec.thickness_mm, sigma)
-    rb = spec.tip_radius_mm if spec.tip_radius_mm is not None else max(spec.min_tip_radius_mm, rb_req)
-    return load, rb_req, rb
-
-
-def _layout(spec: SpringSpec, sigma, E, n, rc) -> _Layout:
-    """Tip ball, root radius (rim rule unless given) and straight limit for (N, r_c)."""
-    load, rb_req, rb = _tip_ball(spec, sigma, n, rc)
-    z = spec.thickness_mm
-    if spec.root_radius_mm is not None:
-        rr = spec.root_radius_mm
-    else:
-        rr = _rim_root_radius(spec.outer_radius_mm, n, rc,
-                              lambda L: math.sqrt(6 * load * L / (z * sigma)))
-    theta_s = fx.straight_limit_rad(n, z, sigma, rr - rc, E, spec.stiffness_Nmm_per_rad, rc)
-    return _Layout(n, rc, rb, rb_req, rr, theta_s, load)
-
-
-def _fits(spec: SpringSpec, lay: _Layout) -> bool:
-    return lay.n <= fx.max_flexures(lay.rb, lay.rc)
-
-
-def _choose_layout(spec: SpringSpec, sigma, E) -> _Layout:
-    """N and r_c by exact enumeration (eqs. 6-7); deterministic."""
-    z = spec.thickness_mm
-    cap = fx.torque_cap_Nmm
-    peak = spec.stiffness_Nmm_per_rad * spec.max_deflection_rad
-
-    def cap_error(rc):
-        return DesignError(
-            f"spring '{spec.name}': peak torque {peak / NMM_PER_NM:.3g} N*m exceeds the torque cap "
-            f"{cap(rc, z, sigma) / NMM_PER_NM:.3g} N*m of tip balls sized for the peak load at "
-            f"contact radius {rc:.3g} mm (cap = pi r_c^2 z sigma / (6 sqrt 3)); raise "
-            "contact_radius_mm or thickness_mm, lower the deflection, or fix tip_radius_mm to "
-            "accept an undersized ball")
-
-    if spec.contact_radius_mm is not None:
-        rc = spec.contact_radius_mm
-        if spec.n_flexures is not None:
-            lay = _layout(spec, sigma, E, spec.n_flexures, rc)
-            if not _fits(spec, lay):
-                nmax = fx.max_flexures(lay.rb, rc)
-                if spec.tip_radius_mm is None and peak > cap(rc, z, sigma):
-                    raise cap_error(rc)
-                raise DesignError(
-                    f"spring '{spec.name}': n_flexures = {spec.n_flexures} do not fit: tip balls of "
-                    f"radius {lay.rb:.3g} mm and equal cam teeth leave room for at most {nmax} "
-                    f"flexures at contact radius {rc:.3g} mm")
-            return lay
-        if spec.tip_radius_mm is not None:
-            return _layout(spec, sigma, E, fx.max_flexures(spec.tip_radius_mm, rc), rc)
-        if peak > cap(rc, z, sigma):
-            raise cap_error(rc)
-        for n in range(fx.max_flexures(spec.min_tip_radius_mm, rc), 1, -1):
-            lay = _layout(spec, sigma, E, n, rc)
-            if _fits(spec, lay):
-                return lay
-        raise cap_error(rc)
-
-    # r_c free: maximise the straight limit over a fixed grid, then refine (eq. 7)
-    ro = spec.outer_radius_mm
-    rc_min = max(ro / 30, math.sqrt(6 * math.sqrt(3) * peak / (math.pi * z * sigma)) * 1.001
-                 if spec.tip_radius_mm is None else ro / 30)
-    ns = [spec.n_flexures] if spec.n_flexures is not None else range(3, 200)
-    best: _Layout | None = None
-    for rc in np.linspace(rc_min, 0.6 * ro, 60):
-        for n in ns:
-            if n > fx.max_flexures(_tip_ball(spec, sigma, n, float(rc))[2], float(rc)):
-                continue  # the balls do not fit (as _fits below), no rim rule to solve
-            try:
-                lay = _layout(spec, sigma, E, n, float(rc))
-            except DesignError:
-                continue
-            if not _fits(spec, lay):
-                continue
-            if best is None or lay.theta_s > best.theta_s:
-                best = lay
-    if best is None:
-        if peak > cap(0.6 * ro, z, sigma):
-            raise cap_error(0.6 * ro)
-        raise DesignError(
-            f"spring '{spec.name}': no layout fits: for contact radii {rc_min:.3g} to "
-            f"{0.6 * ro:.3g} mm and N = {ns[0]}{'' if len(ns) == 1 else f' to {ns[-1]}'} the tip "
-            "balls or the flexure roots "
-            f"do not fit in R_o = {ro:.3g} mm; use a larger outer radius, a thicker disk or a "
-            "lower stiffness, or fewer n_flexures")
-    return best
-
-
 # --------------------------------------------------------------------- synthesis
 def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
                hardware: HardwareSpec, derating: float = 1.0,
@@ -553,7 +431,7 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
             "no flexure geometry in this envelope can reach that deflection: lower the stiffness or "
             "deflection, enlarge the disk, or put springs in series")
 
-    lay = _choose_layout(spec, sigma, E)
+    lay = choose_layout(spec, sigma, E)
     n, rc, rb, rr = lay.n, lay.rc, lay.rb, lay.rr
     if rb < lay.rb_req:
         warnings.append(
@@ -577,11 +455,11 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
     if use_straight:
         def w0_stiff(length):
             return fx.straight_root_width_for_stiffness_mm(K, n, rc, length, E, z)
-        rr_s = spec.root_radius_mm or _rim_root_radius(spec.outer_radius_mm, n, rc, w0_stiff)
+        rr_s = spec.root_radius_mm or rim_root_radius(spec.outer_radius_mm, n, rc, w0_stiff)
         theta_s2 = fx.straight_limit_rad(n, z, sigma, rr_s - rc, E, K, rc)
         if theta_s2 >= theta_d:
             rr, L = rr_s, rr_s - rc
-            lay = _Layout(n, rc, rb, lay.rb_req, rr, theta_s2, lay.load)
+            lay = Layout(n, rc, rb, lay.rb_req, rr, theta_s2, lay.load)
             width_law, w0 = "stiffness", w0_stiff(L)
             centre = fx.Centreline.straight(rc, rr)
             s_req = ratio = 1.0

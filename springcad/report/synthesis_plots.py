@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from springcad.report.mpl import pyplot
+
 
 def write_parquet(path: Path | str, columns: dict) -> Path:
     """Write numpy columns as one Parquet file."""
@@ -26,18 +28,9 @@ def write_parquet(path: Path | str, columns: dict) -> Path:
     return Path(path)
 
 
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def plot_region(region: dict, path: Path | str, title: str = "") -> Path:
     """Reachable peak torque vs deflection: one disk, and stacks of up to n disks."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 5.2))
     n_all = np.unique(region["n_disks"]) if len(region["n_disks"]) else np.array([], dtype=int)
     cmap = plt.get_cmap("viridis", max(len(n_all), 2))
@@ -77,7 +70,7 @@ def plot_region(region: dict, path: Path | str, title: str = "") -> Path:
 
 def plot_mass_fronts(fronts: dict, path: Path | str, max_curves: int = 7) -> Path:
     """Lightest stack vs deflection, one curve per stiffness (a spread of the grid's values)."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 5.2))
     ks = np.unique(fronts["stiffness_Nm_per_rad"])
     if len(ks) > max_curves:
@@ -106,7 +99,7 @@ def plot_mass_fronts(fronts: dict, path: Path | str, max_curves: int = 7) -> Pat
 
 def plot_energy_front(cols: dict, front: dict, path: Path | str) -> Path:
     """Energy density vs deflection: every feasible stack (by number of disks) and the front."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 5.2))
     f = cols["feasible"]
     n = cols["n_disks"][f]

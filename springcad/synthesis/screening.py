@@ -44,8 +44,9 @@ import numpy as np
 
 from springcad.design import flexure as fx
 from springcad.design.cam import OVERTRAVELS
+from springcad.design.layout import RIM_GAP_RATIO
 from springcad.design.ring import hole_diameter_mm
-from springcad.design.spring import RIM_GAP_RATIO, STRESS_PASSES
+from springcad.design.spring import STRESS_PASSES
 from springcad.synthesis.peak import predict_peaks
 from springcad.synthesis.shapes import U, serpentine_centrelines, serpentine_reach
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 
 import springcad as sc
-from springcad.report.fit_report import _pyplot, models_figure
+from springcad.report.fit_plots import models_figure
+from springcad.report.mpl import pyplot as _pyplot
 from tests.browser import assert_rendered, assert_self_contained, headings, needs_chromium, screenshot
 
 

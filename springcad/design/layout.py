@@ -1,0 +1,148 @@
+"""Layout of one spring: flexure count N, contact radius r_c, tip ball and root radius R_r.
+
+The reference method's rules (``shared/notes/design-method.md``, eqs. 6-8) by exact
+enumeration and bracketing, with springcad's deviation 1 (:mod:`springcad.design.spring`):
+the tip ball is sized for the *peak* load at the target deflection, and a spec over the
+torque cap pi r_c^2 z sigma / (6 sqrt 3) stops unless ``tip_radius_mm`` is fixed.
+
+Units: mm, N, MPa, N*mm, rad.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from springcad.config import SpringSpec
+from springcad.design import flexure as fx
+from springcad.errors import DesignError
+from springcad.units import NMM_PER_NM
+
+#: gap between flexure roots over rim thickness (reference rim rule, eq. 8)
+RIM_GAP_RATIO = 1.5
+
+
+def rim_root_radius(outer_radius_mm, n, contact_radius_mm, root_width_fn) -> float:
+    """Solve R_o - R_r = (2 pi R_r / N - w0(R_r)) / 1.5 for R_r by bracketing (eq. 8)."""
+    from springcad.design.numeric import find_root
+
+    def f(rr):
+        return (outer_radius_mm - rr
+                - (2 * math.pi * rr / n - root_width_fn(rr - contact_radius_mm)) / RIM_GAP_RATIO)
+
+    lo, hi = contact_radius_mm * (1 + 1e-6) + 1e-6, outer_radius_mm
+    if f(lo) <= 0 or f(hi) >= 0:
+        raise DesignError(
+            f"{n} flexures do not fit between r_c = {contact_radius_mm:.3g} mm and "
+            f"R_o = {outer_radius_mm:.3g} mm: the flexure roots are wider than the rim circle "
+            "allows; use fewer flexures, a larger outer radius or a lower stiffness")
+    return find_root(f, lo, hi, xtol=1e-10)
+
+
+@dataclass(frozen=True)
+class Layout:
+    """One (N, r_c) layout: flexure count, contact radius (mm), tip ball and the radius the
+    peak load needs (mm), root radius (mm), straight-flexure limit (rad), tip load (N)."""
+
+    n: int
+    rc: float
+    rb: float
+    rb_req: float
+    rr: float
+    theta_s: float
+    load: float
+
+
+def tip_ball(spec: SpringSpec, sigma, n, rc):
+    """(tip load N, required ball radius mm, ball radius mm) at beam stress ``sigma`` (MPa)."""
+    load = fx.tip_load_N(spec.stiffness_Nmm_per_rad, spec.max_deflection_rad, n, rc)
+    rb_req = fx.tip_ball_required_radius_mm(load, spec.thickness_mm, sigma)
+    rb = spec.tip_radius_mm if spec.tip_radius_mm is not None else max(spec.min_tip_radius_mm, rb_req)
+    return load, rb_req, rb
+
+
+def layout_at(spec: SpringSpec, sigma, E, n, rc) -> Layout:
+    """Tip ball, root radius (rim rule unless given) and straight limit for (N, r_c)."""
+    load, rb_req, rb = tip_ball(spec, sigma, n, rc)
+    z = spec.thickness_mm
+    if spec.root_radius_mm is not None:
+        rr = spec.root_radius_mm
+    else:
+        rr = rim_root_radius(spec.outer_radius_mm, n, rc,
+                              lambda L: math.sqrt(6 * load * L / (z * sigma)))
+    theta_s = fx.straight_limit_rad(n, z, sigma, rr - rc, E, spec.stiffness_Nmm_per_rad, rc)
+    return Layout(n, rc, rb, rb_req, rr, theta_s, load)
+
+
+def fits(spec: SpringSpec, lay: Layout) -> bool:
+    """Whether N balls and equal cam teeth fit around the contact circle (eq. 6)."""
+    return lay.n <= fx.max_flexures(lay.rb, lay.rc)
+
+
+def choose_layout(spec: SpringSpec, sigma, E) -> Layout:
+    """N and r_c by exact enumeration (eqs. 6-7); deterministic."""
+    z = spec.thickness_mm
+    cap = fx.torque_cap_Nmm
+    peak = spec.stiffness_Nmm_per_rad * spec.max_deflection_rad
+
+    def cap_error(rc):
+        return DesignError(
+            f"spring '{spec.name}': peak torque {peak / NMM_PER_NM:.3g} N*m exceeds the torque cap "
+            f"{cap(rc, z, sigma) / NMM_PER_NM:.3g} N*m of tip balls sized for the peak load at "
+            f"contact radius {rc:.3g} mm (cap = pi r_c^2 z sigma / (6 sqrt 3)); raise "
+            "contact_radius_mm or thickness_mm, lower the deflection, or fix tip_radius_mm to "
+            "accept an undersized ball")
+
+    if spec.contact_radius_mm is not None:
+        rc = spec.contact_radius_mm
+        if spec.n_flexures is not None:
+            lay = layout_at(spec, sigma, E, spec.n_flexures, rc)
+            if not fits(spec, lay):
+                nmax = fx.max_flexures(lay.rb, rc)
+                if spec.tip_radius_mm is None and peak > cap(rc, z, sigma):
+                    raise cap_error(rc)
+                raise DesignError(
+                    f"spring '{spec.name}': n_flexures = {spec.n_flexures} do not fit: tip balls of "
+                    f"radius {lay.rb:.3g} mm and equal cam teeth leave room for at most {nmax} "
+                    f"flexures at contact radius {rc:.3g} mm")
+            return lay
+        if spec.tip_radius_mm is not None:
+            return layout_at(spec, sigma, E, fx.max_flexures(spec.tip_radius_mm, rc), rc)
+        if peak > cap(rc, z, sigma):
+            raise cap_error(rc)
+        for n in range(fx.max_flexures(spec.min_tip_radius_mm, rc), 1, -1):
+            lay = layout_at(spec, sigma, E, n, rc)
+            if fits(spec, lay):
+                return lay
+        raise cap_error(rc)
+
+    # r_c free: maximise the straight limit over a fixed grid, then refine (eq. 7)
+    ro = spec.outer_radius_mm
+    rc_min = max(ro / 30, math.sqrt(6 * math.sqrt(3) * peak / (math.pi * z * sigma)) * 1.001
+                 if spec.tip_radius_mm is None else ro / 30)
+    ns = [spec.n_flexures] if spec.n_flexures is not None else range(3, 200)
+    best: Layout | None = None
+    for rc in np.linspace(rc_min, 0.6 * ro, 60):
+        for n in ns:
+            if n > fx.max_flexures(tip_ball(spec, sigma, n, float(rc))[2], float(rc)):
+                continue  # the balls do not fit (as _fits below), no rim rule to solve
+            try:
+                lay = layout_at(spec, sigma, E, n, float(rc))
+            except DesignError:
+                continue
+            if not fits(spec, lay):
+                continue
+            if best is None or lay.theta_s > best.theta_s:
+                best = lay
+    if best is None:
+        if peak > cap(0.6 * ro, z, sigma):
+            raise cap_error(0.6 * ro)
+        raise DesignError(
+            f"spring '{spec.name}': no layout fits: for contact radii {rc_min:.3g} to "
+            f"{0.6 * ro:.3g} mm and N = {ns[0]}{'' if len(ns) == 1 else f' to {ns[-1]}'} the tip "
+            "balls or the flexure roots "
+            f"do not fit in R_o = {ro:.3g} mm; use a larger outer radius, a thicker disk or a "
+            "lower stiffness, or fewer n_flexures")
+    return best
