@@ -2,7 +2,10 @@
 
 Rooms
     :mod:`fea.geometry`    one-flexure sector and full ring faces from the exact design curves
-    :mod:`fea.mesh`        quadratic meshes (gmsh, extrusion, pytetwild) and their quality
+    :mod:`fea.mesh`        quadratic face meshes from the exact curves (gmsh) and their extrusion
+    :mod:`fea.mesh_size`   element size rules over the ring face
+    :mod:`fea.mesh_solid`  quadratic tets of any CAD solid (gmsh or pytetwild)
+    :mod:`fea.mesh_quality` quality report and rejection of broken meshes
     :mod:`fea.problem`     material, supports, cam load, vectorised assembly
     :mod:`fea.solve`       checked direct solves (PARDISO / SuperLU)
     :mod:`fea.results`     stiffness, von Mises, peak stress and where it is

@@ -16,8 +16,8 @@ from __future__ import annotations
 
 from fea.geometry import sector_geometry
 from fea.mesh import fea_mesh_2d, mesh_face_levels
+from fea.mesh_size import DEFAULT_SIZE
 from fea.problem import LoadCase, solver_material
-from fea.mesh import DEFAULT_SIZE
 from fea.verify import solve_mesh
 
 #: root flares of the calibration set (the design chooses within this range)

@@ -438,8 +438,8 @@ def _mesh(design, run, level: int):
             return res.mesh, res.stiffness_Nmm_per_rad
     from fea.geometry import sector_geometry
     from fea.mesh import fea_mesh_2d, mesh_face_levels
+    from fea.mesh_size import DEFAULT_SIZE
     from fea.problem import LoadCase
-    from fea.mesh import DEFAULT_SIZE
 
     faces = tuple(getattr(run, "faces", ()) or ()) if run is not None else ()
     g = getattr(run, "geometry", None)

@@ -40,7 +40,8 @@ from dataclasses import dataclass, field, replace
 
 from fea import convergence as cv
 from fea.geometry import sector_geometry
-from fea.mesh import DEFAULT_SIZE, MeshSize, fea_mesh_2d, fea_mesh_3d, mesh_face_levels
+from fea.mesh import fea_mesh_2d, fea_mesh_3d, mesh_face_levels
+from fea.mesh_size import DEFAULT_SIZE, MeshSize
 from fea.problem import LoadCase, Material, assemble, solver_material
 from fea.results import StaticResult, evaluate
 from fea.solve import solve
@@ -219,7 +220,7 @@ def _run_pytetwild(design, geometry, material, options, progress) -> ModelRun:
     """3D study on fTetWild meshes of the build123d sector solid (not nested)."""
     from springcad.geometry.profile import extrude_profile
 
-    from fea.mesh import mesh_solid
+    from fea.mesh_solid import mesh_solid
 
     solid = extrude_profile(geometry.profile, geometry.thickness_mm, f"{design.name} sector")
     res, mesh_time = [], 0.0

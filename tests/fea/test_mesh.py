@@ -134,7 +134,8 @@ def test_pytetwild_and_gmsh_solid_agree_with_the_extruded_mesh(s1, material):
     from springcad.geometry.profile import extrude_profile
 
     from fea.geometry import sector_geometry
-    from fea.mesh import mesh_face_levels, fea_mesh_3d, mesh_solid
+    from fea.mesh import mesh_face_levels, fea_mesh_3d
+    from fea.mesh_solid import mesh_solid
     from fea.problem import LoadCase
     from fea.verify import DEFAULT_SIZE, solve_mesh
 
