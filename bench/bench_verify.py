@@ -87,7 +87,7 @@ def compare_solvers(config: Path, levels=(0, 1, 2)) -> dict:
     from fea.mesh import fea_mesh_3d, mesh_face_levels
     from fea.problem import LoadCase, solver_material
     from fea.solve import _pardiso
-    from fea.verify import DEFAULT_SIZE
+    from fea.mesh_size import DEFAULT_SIZE
 
     design = design_job(load_job(config))
     spring = next(iter(design.springs.values()))

@@ -11,7 +11,9 @@ Rooms
     :mod:`fea.results`     stiffness, von Mises, peak stress and where it is
     :mod:`fea.convergence` Richardson extrapolation, stated discretisation error
     :mod:`fea.calculix`    the identical model solved by CalculiX
-    :mod:`fea.verify`      verification, correction loop, stacks (``verify_job``)
+    :mod:`fea.study`       one geometry meshed and solved on its levels (K, stress, 3D factor)
+    :mod:`fea.verdict`     verified spring, stack and job: pass/fail, reasons, ``fea.json``
+    :mod:`fea.verify`      verification and the correction loop (``verify_job``)
     :mod:`fea.contact`     cam-flexure contact sweep to +-theta_max (flags, torque-angle curve)
     :mod:`fea.contact_solver`  rigid-cam contact: closest points, Newton + exact complementarity
     :mod:`fea.nonlinear`   total Lagrangian (large-rotation) elasticity for the contact sweep

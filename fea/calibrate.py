@@ -18,7 +18,7 @@ from fea.geometry import sector_geometry
 from fea.mesh import fea_mesh_2d, mesh_face_levels
 from fea.mesh_size import DEFAULT_SIZE
 from fea.problem import LoadCase, solver_material
-from fea.verify import solve_mesh
+from fea.study import solve_mesh
 
 #: root flares of the calibration set (the design chooses within this range)
 FLARES = (0.0, 0.1, 0.2, 0.3)

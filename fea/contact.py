@@ -508,7 +508,7 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
     Args:
         design: :class:`~springcad.design.spring.SpringDesign` (ring and cam profiles).
         material: :class:`~fea.problem.Material` (default: the design's).
-        run: the verification's :class:`~fea.verify.ModelRun` whose 2D mesh of level
+        run: the verification's :class:`~fea.study.ModelRun` whose 2D mesh of level
             ``options.level`` is reused (None: mesh the sector here).
         options: :class:`ContactOptions`.
         cam: a cam :class:`~springcad.design.curves.Profile` to use instead of the

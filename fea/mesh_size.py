@@ -37,7 +37,8 @@ class MeshSize:
     layers: int = 2
 
 
-#: the verification's level-0 mesh rules (2D study levels 1..n refine them)
+#: the verification's level-0 mesh rules (2D study levels 1..n refine them; levels 1-3
+#: have ~3k, 12k, 48k DOFs for the paper springs)
 DEFAULT_SIZE = MeshSize(across_width=1.0, per_fillet_radius=2.0, patch_elements=1.0,
                         gradation=0.3, rim_size_fraction=0.8, layers=1)
 

@@ -13,7 +13,7 @@ Supports (``support``)
     spring's rim; it is the sector model's support (N-fold symmetric).
     ``"holes"``: only the rim holes' faces are held (press-fit dowels or
     bolts), the rim is otherwise free: the full ring is modelled because the
-    holes break the N-fold symmetry. :func:`fea.verify.support_study` reports
+    holes break the N-fold symmetry. :func:`fea.study.support_study` reports
     the difference.
 
 Cam load (``load``)

@@ -123,7 +123,7 @@ class _FailedVerification:
         return "S1: K off by 5 %"
 
     def raise_for_failures(self):
-        from fea.verify import VerificationFailed
+        from fea.verdict import VerificationFailed
         raise VerificationFailed("FEA verification failed: S1 stiffness 5 % off target")
 
 

@@ -287,7 +287,7 @@ class Design:
 
 
 class Verification:
-    """FEA verification of a job (wraps :class:`fea.verify.JobVerification`).
+    """FEA verification of a job (wraps :class:`fea.verdict.JobVerification`).
 
     Attributes:
         raw: the internal result (N*mm).

@@ -99,7 +99,7 @@ def run(args) -> int:
                                      contact=True, progress=say)
         say(verification.raw.summary().replace("\n", "\n  "))
         if not verification.ok:
-            from fea.verify import VerificationFailed
+            from fea.verdict import VerificationFailed
 
             try:
                 verification.raw.raise_for_failures()

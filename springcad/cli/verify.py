@@ -1,6 +1,6 @@
 """``springcad verify CONFIG [--out DIR]``: FEA-verify (and correct) every spring of a job.
 
-Writes ``DIR/fea.json`` (the :meth:`fea.verify.JobVerification.to_dict`
+Writes ``DIR/fea.json`` (the :meth:`fea.verdict.JobVerification.to_dict`
 document), per spring a 3D and a 2D ``.vtu`` of the sector at maximum
 deflection (displacement, von Mises), PNG renders of the von Mises field and
 ``<spring>_contact.png`` (the cam contact sweep: torque-angle curve, stiffness,

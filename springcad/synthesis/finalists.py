@@ -199,13 +199,13 @@ def _edge_radius_mm(design) -> float | None:
 def verify_candidate(req, cand: dict, model: str = "2d3d", levels: int = 3, progress=None):
     """FEA verification (and width correction) of a candidate's springs.
 
-    The options are ``springcad build``'s (:class:`fea.verify.VerifyOptions` defaults:
+    The options are ``springcad build``'s (:class:`fea.study.VerifyOptions` defaults:
     2D convergence study with the 3D factor, stiffness correction, stress passes, cam
     contact sweep) but for ``model`` and the stiffness tolerance, which is the
     requirement's when that is tighter than the build's.
 
     Returns:
-        ``(verification, corrected)``: the :class:`fea.verify.JobVerification` (``.ok``,
+        ``(verification, corrected)``: the :class:`fea.verdict.JobVerification` (``.ok``,
         ``.failures()``, ``.summary()``) and the job design with the FEA-corrected springs
         (what ``springcad build`` makes its solids from).
     """

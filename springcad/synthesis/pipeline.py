@@ -141,7 +141,7 @@ def synthesize(req, space, store, client, *, finalists: int = 8, max_finalists: 
         verify_top: how many of the full-design-feasible finalists get build's FEA and
             checks (best first); the winner is the first that passes both.
         verify: run the FEA and build checks at all.
-        fea_model: :class:`fea.verify.VerifyOptions` model for the finalists ("2d3d":
+        fea_model: :class:`fea.study.VerifyOptions` model for the finalists ("2d3d":
             ``springcad build``'s; "2d": faster, without the 3D factor).
         progress: sweep progress callback (see :func:`run_sweep`).
         say: one-line status messages.

@@ -11,7 +11,7 @@ from springcad.geometry.checks import Check
 
 
 class FakeVerification:
-    """Stands in for fea.verify.JobVerification (only what the gate reads)."""
+    """Stands in for fea.verdict.JobVerification (only what the gate reads)."""
 
     def __init__(self, failures=(), notes=(), contact_flags=None):
         from types import SimpleNamespace

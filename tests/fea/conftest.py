@@ -72,7 +72,7 @@ def s1_faces(s1):
     """Nested quadratic triangle meshes of the S1 sector, levels 0-2."""
     from fea.geometry import sector_geometry
     from fea.mesh import mesh_face_levels
-    from fea.verify import DEFAULT_SIZE
+    from fea.mesh_size import DEFAULT_SIZE
 
     g = sector_geometry(s1)
     return g, mesh_face_levels(g, DEFAULT_SIZE, 3)

@@ -13,7 +13,8 @@ def sector_2d(design, material, levels=(0, 1, 2)):
     from fea.geometry import sector_geometry
     from fea.mesh import fea_mesh_2d, mesh_face_levels
     from fea.problem import LoadCase
-    from fea.verify import DEFAULT_SIZE, solve_mesh
+    from fea.mesh_size import DEFAULT_SIZE
+    from fea.study import solve_mesh
 
     g = sector_geometry(design)
     faces = mesh_face_levels(g, DEFAULT_SIZE, max(levels) + 1)

@@ -78,7 +78,7 @@ def test_c_sector_against_full_ring(s1, s1_faces, material):
     from fea.geometry import ring_geometry
     from fea.mesh import fea_mesh_2d, pattern_sector
     from fea.problem import LoadCase
-    from fea.verify import solve_mesh
+    from fea.study import solve_mesh
 
     g, faces = s1_faces
     case, theta = LoadCase(), s1.max_deflection_rad
@@ -104,7 +104,8 @@ def test_c_rim_held_at_the_holes_vs_the_outer_rim(s1, material):
     from fea.geometry import ring_geometry
     from fea.mesh import fea_mesh_2d, mesh_face_levels
     from fea.problem import LoadCase
-    from fea.verify import DEFAULT_SIZE, solve_mesh
+    from fea.mesh_size import DEFAULT_SIZE
+    from fea.study import solve_mesh
 
     g = ring_geometry(s1, holes=True)
     fm = fea_mesh_2d(mesh_face_levels(g, DEFAULT_SIZE, 1)[0], g)
@@ -124,7 +125,7 @@ def test_d_plane_stress_against_3d_tets(s1, s1_faces, material):
     """
     from fea.mesh import fea_mesh_2d, fea_mesh_3d
     from fea.problem import LoadCase
-    from fea.verify import solve_mesh
+    from fea.study import solve_mesh
 
     g, faces = s1_faces
     case, theta = LoadCase(), s1.max_deflection_rad

@@ -64,7 +64,7 @@ def test_observed_stiffness_rate_3d(s1, s1_faces, material):
     from fea.convergence import study
     from fea.mesh import fea_mesh_3d
     from fea.problem import LoadCase
-    from fea.verify import solve_mesh
+    from fea.study import solve_mesh
 
     g, faces = s1_faces
     res = [solve_mesh(fea_mesh_3d(faces[k], g, 2 ** k, k), material, LoadCase(),

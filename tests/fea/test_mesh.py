@@ -137,7 +137,8 @@ def test_pytetwild_and_gmsh_solid_agree_with_the_extruded_mesh(s1, material):
     from fea.mesh import mesh_face_levels, fea_mesh_3d
     from fea.mesh_solid import mesh_solid
     from fea.problem import LoadCase
-    from fea.verify import DEFAULT_SIZE, solve_mesh
+    from fea.mesh_size import DEFAULT_SIZE
+    from fea.study import solve_mesh
 
     g = sector_geometry(s1)
     case = LoadCase()

@@ -12,7 +12,7 @@ def sector(straight, material):
     from fea.geometry import sector_geometry
     from fea.mesh import fea_mesh_2d, mesh_face_levels
     from fea.problem import LoadCase, assemble
-    from fea.verify import DEFAULT_SIZE
+    from fea.mesh_size import DEFAULT_SIZE
 
     g = sector_geometry(straight)
     fm = fea_mesh_2d(mesh_face_levels(g, DEFAULT_SIZE, 1)[0], g, 0)

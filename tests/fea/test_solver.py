@@ -49,7 +49,7 @@ def test_rigid_cam_agrees_with_traction_patch(s1_faces, s1, material):
     """Two cam models, same K: the smooth traction patch and a rigid flat cam pad."""
     from fea.mesh import fea_mesh_2d
     from fea.problem import LoadCase
-    from fea.verify import solve_mesh
+    from fea.study import solve_mesh
 
     g, faces = s1_faces
     fm = fea_mesh_2d(faces[2], g, 2)
@@ -64,7 +64,7 @@ def test_patch_width_barely_moves_k(s1_faces, s1, material):
     face (15-30 deg: < 0.02 %); a 60 deg patch reaches the neck and moves K by ~0.4 %."""
     from fea.mesh import fea_mesh_2d
     from fea.problem import LoadCase
-    from fea.verify import solve_mesh
+    from fea.study import solve_mesh
 
     g, faces = s1_faces
     fm = fea_mesh_2d(faces[2], g, 2)

@@ -98,7 +98,7 @@ def test_fea_stress_correction_redesigns_an_overstressed_spring(s2_job, monkeypa
 
 def test_stack_from_verified_springs(s1_verified, s2_verified):
     """S1 + S2 in series: eq. 10 with the FEA stiffnesses, each spring's stress at the limit."""
-    from fea.verify import verify_stack
+    from fea.verdict import verify_stack
 
     verified = {"S1": s1_verified, "S2": s2_verified}
     st = verify_stack(("S1", "S2"), verified, required_safety_factor=1.0)

@@ -1,0 +1,270 @@
+"""One spring geometry meshed and solved on nested levels: the study behind a verification.
+
+:class:`VerifyOptions` says how to verify. :func:`run_model` meshes the
+one-flexure sector (:mod:`fea.mesh`) on the levels of the chosen model
+(``"2d3d"``, ``"2d"``, ``"3d"``, or pytetwild meshes of the CAD sector), solves
+each with :func:`solve_mesh` and Richardson-extrapolates K and the peak stress
+(:mod:`fea.convergence`) into a :class:`ModelRun`; :func:`add_3d_factor` adds the
+3D/2D factors from extruded quadratic tets on the same in-plane meshes.
+:func:`support_study` compares the full ring held at its outer rim with it held
+at its rim holes. The correction loop that drives these studies is
+:mod:`fea.verify`. Units: mm, N, MPa, N*mm, rad.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, replace
+
+from fea import convergence as cv
+from fea.geometry import sector_geometry
+from fea.mesh import fea_mesh_2d, fea_mesh_3d, mesh_face_levels
+from fea.mesh_size import DEFAULT_SIZE, MeshSize
+from fea.problem import LoadCase, Material, assemble, solver_material
+from fea.results import StaticResult, evaluate
+from fea.solve import solve
+from springcad.errors import SpringcadError
+from springcad.units import NMM_PER_NM
+
+MODELS = ("2d3d", "2d", "3d")
+
+
+def _noop(message: str, fraction: float | None = None) -> None:
+    return None
+
+
+@dataclass(frozen=True)
+class VerifyOptions:
+    """How to verify.
+
+    Attributes:
+        model: "2d3d" (default), "2d" or "3d" (see module docstring).
+        levels: mesh levels in the convergence study (>= 3).
+        size: level-0 mesh size rules (level 0 is only used by the 3D factor;
+            the 2D study uses levels 1..levels).
+        case: supports and cam load (:class:`~fea.problem.LoadCase`).
+        tolerance: accepted |K_fea / K_target - 1| (-).
+        max_iterations: stiffness correction iterations before giving up.
+        max_stress_passes: redesigns at a lower beam stress when the FEA peak misses the
+            required yield margin (each followed by stiffness correction).
+        correct: run the correction loop (False: verify the design as is).
+        keep_fields: keep displacement/stress fields of the final meshes for output.
+        support_study: also solve the full ring with its rim holes held at the outer
+            rim and at the holes only (2D, one mesh) and report the difference.
+        mesher: "gmsh" (default: exact face, nested levels, extruded tets) or
+            "pytetwild" (the build123d sector solid tetrahedralised by fTetWild at
+            ``pytetwild_edge_fac`` levels; model "3d" only; ~1 min).
+        pytetwild_edge_fac: fTetWild ideal edge lengths (fraction of the bounding
+            box diagonal), coarse to fine.
+        contact: also turn the rigid cam from 0 to +-theta_max against the final
+            sector (:func:`fea.contact.contact_sweep`, on the 2D mesh of level 0).
+    """
+
+    model: str = "2d3d"
+    levels: int = 3
+    size: MeshSize = DEFAULT_SIZE
+    case: LoadCase = LoadCase()
+    tolerance: float = 0.01
+    max_iterations: int = 4
+    max_stress_passes: int = 3
+    correct: bool = True
+    keep_fields: bool = True
+    support_study: bool = False
+    mesher: str = "gmsh"
+    pytetwild_edge_fac: tuple = (0.04, 0.028, 0.02)
+    contact: bool = True
+
+    def __post_init__(self):
+        if self.mesher not in ("gmsh", "pytetwild"):
+            raise SpringcadError(f"mesher '{self.mesher}' is not one of gmsh, pytetwild")
+        if self.mesher == "pytetwild" and self.model != "3d":
+            raise SpringcadError("the pytetwild mesher makes 3D meshes only: use model '3d'")
+        if self.model not in MODELS:
+            raise SpringcadError(f"FEA model '{self.model}' is not one of {', '.join(MODELS)}")
+        if self.levels < 3:
+            raise SpringcadError(f"a convergence study needs at least 3 mesh levels, got "
+                                 f"{self.levels}")
+        if not 0 < self.tolerance < 0.5:
+            raise SpringcadError(f"stiffness tolerance {self.tolerance} must be in (0, 0.5)")
+
+
+def with_options(options: VerifyOptions, **kw) -> VerifyOptions:
+    """``dataclasses.replace`` for options (convenience for the CLI and tests)."""
+    return replace(options, **kw)
+
+
+# ================================================================== one model
+def solve_mesh(fm, material: Material, case: LoadCase, max_deflection_rad: float,
+               keep_fields: bool = False, method: str | None = None) -> StaticResult:
+    """Assemble, solve and post-process one mesh (timed)."""
+    t0 = time.perf_counter()
+    system = assemble(fm, material, case)
+    t1 = time.perf_counter()
+    u, info = solve(system, method)
+    t2 = time.perf_counter()
+    res = evaluate(fm, system, u, case, max_deflection_rad, {}, info, keep_fields=keep_fields)
+    t3 = time.perf_counter()
+    res.timings_s.update(assemble=t1 - t0, solve=t2 - t1, post=t3 - t2)
+    return res
+
+
+@dataclass
+class ModelRun:
+    """Solved levels of one spring geometry: the convergence study and the 3D factors."""
+
+    study: cv.ConvergenceStudy
+    geometry: object = None
+    faces: tuple = ()
+    factor_K: float = 1.0
+    factor_stress: float = 1.0
+    factor_K_error: float = 0.0
+    factor_stress_error: float = 0.0
+    check3d: tuple = ()
+    base2d: tuple = ()
+    mesh_time_s: float = 0.0
+
+    @property
+    def stiffness_Nmm_per_rad(self) -> float:
+        return self.study.stiffness.extrapolated * self.factor_K
+
+    @property
+    def stiffness_error(self) -> float:
+        return math.hypot(self.study.stiffness.error, self.factor_K_error)
+
+    @property
+    def peak_stress_MPa(self) -> float:
+        return self.study.peak_stress.extrapolated * self.factor_stress
+
+    @property
+    def peak_stress_error(self) -> float:
+        return math.hypot(self.study.peak_stress.error, self.factor_stress_error)
+
+    @property
+    def peak_result(self) -> StaticResult:
+        """The solved mesh whose peak location is reported (3D when there is one)."""
+        return self.check3d[-1] if self.check3d else self.study.finest
+
+    def all_results(self) -> list:
+        return list(self.base2d or self.study.results) + list(self.check3d)
+
+    def carry_factor(self, other: "ModelRun") -> None:
+        """Use another geometry's 3D factors (correction iterations between 3D checks)."""
+        self.factor_K, self.factor_stress = other.factor_K, other.factor_stress
+        self.factor_K_error, self.factor_stress_error = other.factor_K_error, \
+            other.factor_stress_error
+
+
+def run_model(design, material: Material, options: VerifyOptions, with_3d: bool,
+              progress=_noop) -> ModelRun:
+    """Mesh and solve one spring geometry on all levels of the chosen model."""
+    geometry = sector_geometry(design)
+    theta = design.max_deflection_rad
+    case = options.case
+    n = options.levels
+    if options.mesher == "pytetwild":
+        return _run_pytetwild(design, geometry, material, options, progress)
+    t0 = time.perf_counter()
+    faces = tuple(mesh_face_levels(geometry, options.size, n + 1,
+                                   case.patch_half_width_mm(geometry.tip_radius_mm)))
+    mesh_time = time.perf_counter() - t0
+    keep = options.keep_fields
+    if options.model == "3d":  # levels 0 .. n-1, layers doubling: uniform 3D refinement
+        res = []
+        for k in range(n):
+            progress(f"3D level {k}", None)
+            t = time.perf_counter()
+            fm = fea_mesh_3d(faces[k], geometry, options.size.layers * 2 ** k, k)
+            mesh_time += time.perf_counter() - t
+            res.append(solve_mesh(fm, material, case, theta, keep and k == n - 1))
+        return ModelRun(study=cv.study(res, "3d"), geometry=geometry, faces=faces,
+                        mesh_time_s=mesh_time)
+    res2 = []
+    for k in range(0, n + 1):
+        progress(f"2D level {k}", None)
+        t = time.perf_counter()
+        fm = fea_mesh_2d(faces[k], geometry, k)
+        mesh_time += time.perf_counter() - t
+        res2.append(solve_mesh(fm, material, case, theta, keep and k == n))
+    run = ModelRun(study=cv.study(res2[1:], "2d"), geometry=geometry, faces=faces,
+                   base2d=tuple(res2), mesh_time_s=mesh_time)
+    if with_3d:
+        add_3d_factor(run, design, material, options, progress)
+    return run
+
+
+def _run_pytetwild(design, geometry, material, options, progress) -> ModelRun:
+    """3D study on fTetWild meshes of the build123d sector solid (not nested)."""
+    from springcad.geometry.profile import extrude_profile
+
+    from fea.mesh_solid import mesh_solid
+
+    solid = extrude_profile(geometry.profile, geometry.thickness_mm, f"{design.name} sector")
+    res, mesh_time = [], 0.0
+    facs = list(options.pytetwild_edge_fac)
+    for k, fac in enumerate(facs):
+        progress(f"pytetwild level {k} (edge length {fac:g} x diagonal)", None)
+        t = time.perf_counter()
+        fm = mesh_solid(solid, geometry, "pytetwild", edge_length_fac=fac)
+        fm.level = k
+        mesh_time += time.perf_counter() - t
+        res.append(solve_mesh(fm, material, options.case, design.max_deflection_rad,
+                              options.keep_fields and k == len(facs) - 1))
+    return ModelRun(study=cv.study(res, "3d", nested=False), geometry=geometry,
+                    mesh_time_s=mesh_time)
+
+
+def add_3d_factor(run: ModelRun, design, material: Material, options: VerifyOptions,
+                  progress=_noop) -> ModelRun:
+    """3D/2D factors on levels 0 and 1 (extruded quadratic tets, layers doubling).
+
+    The factor's error is its change between the two levels, taken as a
+    second-order change with the GCI safety factor: 1.25 |r1 - r0| / 3.
+    """
+    res3 = []
+    for k in (0, 1):
+        progress(f"3D factor, level {k}", None)
+        t = time.perf_counter()
+        fm = fea_mesh_3d(run.faces[k], run.geometry, options.size.layers * 2 ** k, k)
+        run.mesh_time_s += time.perf_counter() - t
+        res3.append(solve_mesh(fm, material, options.case, design.max_deflection_rad,
+                               options.keep_fields and k == 1))
+    res2 = run.base2d
+    rk = [r3.stiffness_Nmm_per_rad / r2.stiffness_Nmm_per_rad for r3, r2 in zip(res3, res2)]
+    rs = [r3.peak_von_mises_MPa / r2.peak_von_mises_MPa for r3, r2 in zip(res3, res2)]
+    run.factor_K, run.factor_stress = rk[1], rs[1]
+    run.factor_K_error = cv.SAFETY_FACTOR * abs(rk[1] - rk[0]) / 3.0 / rk[1]
+    run.factor_stress_error = cv.SAFETY_FACTOR * abs(rs[1] - rs[0]) / 3.0 / rs[1]
+    run.check3d = tuple(res3)
+    return run
+
+
+def support_study(design, material: Material | None = None, size: MeshSize = DEFAULT_SIZE,
+                  level: int = 0) -> dict:
+    """How the rim is held: outer rim (housing) vs rim holes only (dowels/bolts).
+
+    The full ring with its holes, 2D plane stress, one mesh, both supports.
+    Measured for S1 (7 dowels, 28 flexures): K(holes) / K(rim) = 0.991, the free
+    rim between dowels adding compliance. The sector model (outer rim held) is
+    the verification default; this ratio says how far a dowel-held rim sits
+    from it.
+    """
+    from fea.geometry import ring_geometry
+
+    material = material or solver_material(design.material)
+    g = ring_geometry(design, holes=True)
+    if not g.hole_centres_mm:
+        return {"note": "the ring has no rim holes; held at the outer rim only"}
+    fm = fea_mesh_2d(mesh_face_levels(g, size, level + 1)[level], g, level)
+    theta = design.max_deflection_rad
+    out = {"model": "full ring with rim holes, 2D plane stress", "dofs": None}
+    for sup in ("rim", "holes"):
+        r = solve_mesh(fm, material, LoadCase(support=sup), theta)
+        out["dofs"] = r.dofs
+        out[sup] = {"stiffness_Nm_per_rad": r.stiffness_Nmm_per_rad / NMM_PER_NM,
+                    "peak_von_mises_MPa": r.peak_von_mises_MPa, "peak_region": r.peak_region,
+                    "peak_location_mm": list(r.peak_location_mm),
+                    "excluded_zone_peak_MPa": r.excluded_peak_MPa}
+    out["stiffness_holes_over_rim"] = (out["holes"]["stiffness_Nm_per_rad"]
+                                       / out["rim"]["stiffness_Nm_per_rad"])
+    return out

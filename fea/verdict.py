@@ -1,0 +1,373 @@
+"""The verdicts of a verification: a verified spring, a stack, a whole job.
+
+:class:`SpringVerification` (FEA stiffness and stress with their errors, the
+correction history, pass or fail with the reasons), :class:`StackVerification`
+(series K and the eq. 10 load case from the FEA stiffnesses, made by
+:func:`verify_stack`) and :class:`JobVerification` (every spring and the stack;
+``to_dict`` is the ``fea.json`` document, ``summary`` the printed table).
+:class:`VerificationFailed` is raised for a failed verdict. The studies behind
+them are :mod:`fea.study`, the correction loop :mod:`fea.verify`.
+Units: mm, N, MPa, N*mm, rad; JSON keys carry N*m where they say so.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from fea.problem import LoadCase
+from fea.study import ModelRun, VerifyOptions
+from springcad.errors import SpringcadError
+from springcad.units import NMM_PER_NM
+
+SCHEMA = "springcad.fea/1"
+
+
+class VerificationFailed(SpringcadError):
+    """A verified spring or stack misses its stiffness target or its stress limit."""
+
+
+# ================================================================== one spring
+@dataclass(repr=False)
+class SpringVerification:
+    """The verified spring: FEA stiffness and stress with errors, and the correction history.
+
+    Stiffness N*mm/rad, stress MPa, lengths mm; ``to_dict`` gives the ``fea.json`` entry.
+    """
+
+    name: str
+    design: object
+    """The final (corrected) :class:`~springcad.design.spring.SpringDesign`."""
+    original: object
+    run: ModelRun
+    model: str
+    tolerance: float
+    iterations: list
+    required_safety_factor: float
+    yield_strength_MPa: float
+    timings_s: dict
+    case: LoadCase
+    notes: list = field(default_factory=list)
+    support: dict | None = None
+    contact: object | None = None
+    """The :class:`~fea.contact.ContactSweep` of the final design (None: not run)."""
+
+    def __repr__(self) -> str:
+        return (f"SpringVerification({self.name!r}, K_fea={self.stiffness_fea_Nmm_per_rad:.6g} "
+                f"N*mm/rad ({100 * self.error_vs_target:+.2f} % vs target), peak "
+                f"{self.peak_von_mises_MPa:.0f} MPa, ok={self.ok})")
+
+    @property
+    def stiffness_fea_Nmm_per_rad(self) -> float:
+        return self.run.stiffness_Nmm_per_rad
+
+    @property
+    def stiffness_target_Nmm_per_rad(self) -> float:
+        return self.design.target_stiffness_Nmm_per_rad
+
+    @property
+    def error_vs_target(self) -> float:
+        return self.stiffness_fea_Nmm_per_rad / self.stiffness_target_Nmm_per_rad - 1.0
+
+    @property
+    def peak_von_mises_MPa(self) -> float:
+        return self.run.peak_stress_MPa
+
+    @property
+    def yield_margin(self) -> float:
+        return self.yield_strength_MPa / self.peak_von_mises_MPa
+
+    @property
+    def fatigue(self):
+        """Fully reversed fatigue at +-theta_max from the FEA peak (or None without data)."""
+        from springcad.design import fatigue
+
+        return fatigue.check(self.design.material.material.name, self.peak_von_mises_MPa)
+
+    @property
+    def stiffness_ok(self) -> bool:
+        return abs(self.error_vs_target) <= self.tolerance
+
+    @property
+    def stress_ok(self) -> bool:
+        return self.yield_margin >= self.required_safety_factor
+
+    @property
+    def ok(self) -> bool:
+        return self.stiffness_ok and self.stress_ok
+
+    def failures(self) -> list[str]:
+        return self.stiffness_failures() + self.stress_failures()
+
+    def stiffness_failures(self) -> list[str]:
+        out = []
+        if not self.stiffness_ok:
+            out.append(f"spring {self.name}: FEA stiffness "
+                       f"{self.stiffness_fea_Nmm_per_rad / NMM_PER_NM:.2f} N*m/rad misses the "
+                       f"target {self.stiffness_target_Nmm_per_rad / NMM_PER_NM:.2f} by "
+                       f"{100 * self.error_vs_target:+.2f} % "
+                       f"(tolerance {100 * self.tolerance:.2g} %)")
+        return out
+
+    def stress_failures(self) -> list[str]:
+        out = []
+        if not self.stress_ok:
+            r = self.run.peak_result
+            out.append(
+                f"spring {self.name}: peak von Mises {self.peak_von_mises_MPa:.0f} MPa at the "
+                f"{r.peak_region} gives a yield margin {self.yield_margin:.3f} below the required "
+                f"{self.required_safety_factor:.3g} after the stress correction (see the "
+                "correction iterations and notes): lower design_stress_MPa, thicken the disk "
+                "or lower the deflection")
+        return out
+
+    def to_dict(self) -> dict:
+        run, d = self.run, self.design
+        st = run.study
+        pr = run.peak_result
+        finest = st.finest
+        q2 = finest.mesh
+        out = {
+            "stiffness_fea_Nm_per_rad": self.stiffness_fea_Nmm_per_rad / NMM_PER_NM,
+            "stiffness_beam_Nm_per_rad": d.stiffness_beam_Nmm_per_rad / NMM_PER_NM,
+            "stiffness_beam_original_Nm_per_rad":
+                self.original.stiffness_beam_Nmm_per_rad / NMM_PER_NM,
+            "stiffness_target_Nm_per_rad": self.stiffness_target_Nmm_per_rad / NMM_PER_NM,
+            "error_vs_target_pct": 100.0 * self.error_vs_target,
+            "fea_vs_beam_pct": 100.0 * (self.stiffness_fea_Nmm_per_rad
+                                        / d.stiffness_beam_Nmm_per_rad - 1.0),
+            "discretisation_error_pct": 100.0 * run.stiffness_error,
+            "tolerance_pct": 100.0 * self.tolerance,
+            "peak_von_mises_MPa": self.peak_von_mises_MPa,
+            "peak_von_mises_error_pct": 100.0 * run.peak_stress_error,
+            "peak_stress_kind": "nodal (element stresses at their quadratic nodes, averaged); "
+                                "excludes the held-face zone and the cam contact patch",
+            "peak_ip_von_mises_MPa": pr.peak_ip_von_mises_MPa,
+            "peak_location_mm": list(pr.peak_location_mm),
+            "peak_region": pr.peak_region,
+            "peak_by_region_MPa": dict(finest.peak_by_region_MPa),
+            "peak_by_region_note": f"{st.model} finest level, not extrapolated",
+            "max_deflection_rad": d.max_deflection_rad,
+            "torque_at_max_deflection_Nm": self.stiffness_fea_Nmm_per_rad * d.max_deflection_rad
+            / NMM_PER_NM,
+            "design_stress_MPa": d.material.design_stress_MPa,
+            "peak_stress_beam_MPa": d.peak_stress_MPa,
+            "yield_strength_MPa": self.yield_strength_MPa,
+            "yield_margin": self.yield_margin,
+            "fatigue": self.fatigue.to_dict() if self.fatigue is not None else None,
+            "required_safety_factor": self.required_safety_factor,
+            "stiffness_ok": self.stiffness_ok,
+            "stress_ok": self.stress_ok,
+            "ok": self.ok,
+            "failures": self.failures(),
+            "width_scale": d.width_scale,
+            "model": self.model,
+            "factor_3d_over_2d": {"stiffness": run.factor_K, "peak_stress": run.factor_stress,
+                                  "stiffness_error_pct": 100 * run.factor_K_error,
+                                  "peak_stress_error_pct": 100 * run.factor_stress_error},
+            "load_case": {"support": self.case.support, "load": self.case.load,
+                          "patch_half_angle_deg": math.degrees(self.case.patch_half_angle_rad),
+                          "model": "one-flexure sector, free sides, outer rim held"},
+            "dofs": finest.dofs,
+            "n_elements": finest.n_elements,
+            "mesh_quality": q2.quality.to_dict() if q2 is not None else None,
+            "convergence": st.to_list(),
+            "richardson": st.to_dict(),
+            "correction_iterations": list(self.iterations),
+            "timings_s": dict(self.timings_s),
+            "notes": list(self.notes),
+        }
+        if self.support is not None:
+            out["support_study"] = dict(self.support)
+        if self.contact is not None:
+            out["contact_sweep"] = self.contact.to_dict()
+        if run.check3d:
+            c3 = run.check3d[-1]
+            out["dofs_3d"] = c3.dofs
+            out["n_elements_3d"] = c3.n_elements
+            out["mesh_quality_3d"] = c3.mesh.quality.to_dict() if c3.mesh is not None else None
+            out["mesh_quality_3d_note"] = (
+                "quadratic tets from prisms of the extruded face mesh (upper half, mid-plane "
+                "symmetry): long through the thickness by design, where the field varies "
+                "slowly; small dihedral angles are that elongation, not slivers. The layer "
+                "doubling between the two 3D levels measures its effect (factor error).")
+            out["check_3d"] = [{"level": r.level, "dofs": r.dofs,
+                                "stiffness_Nm_per_rad": r.stiffness_Nmm_per_rad / NMM_PER_NM,
+                                "peak_von_mises_MPa": r.peak_von_mises_MPa,
+                                "peak_location_mm": list(r.peak_location_mm)}
+                               for r in run.check3d]
+        return out
+
+
+# ================================================================== stacks
+@dataclass
+class StackVerification:
+    """A stack from verified springs: series K and the eq. 10 load case (N*mm, rad, MPa)."""
+
+    sequence: tuple
+    stiffness_Nmm_per_rad: float
+    target_Nmm_per_rad: float
+    max_deflection_rad: float
+    torque_at_limit_Nmm: float
+    limiting_spring: str
+    springs: list
+    required_safety_factor: float
+
+    @property
+    def ok(self) -> bool:
+        return all(s["yield_margin"] >= self.required_safety_factor for s in self.springs)
+
+    def failures(self) -> list[str]:
+        return [f"stack: spring #{i + 1} ({s['spring']}) at the stack limit "
+                f"{self.max_deflection_rad:.3f} rad carries {s['torque_Nm']:.2f} N*m, peak "
+                f"{s['peak_von_mises_MPa']:.0f} MPa, yield margin {s['yield_margin']:.3f} < "
+                f"{self.required_safety_factor:.3g}"
+                for i, s in enumerate(self.springs)
+                if s["yield_margin"] < self.required_safety_factor]
+
+    def to_dict(self) -> dict:
+        return {"sequence": list(self.sequence),
+                "stiffness_fea_Nm_per_rad": self.stiffness_Nmm_per_rad / NMM_PER_NM,
+                "stiffness_target_Nm_per_rad": self.target_Nmm_per_rad / NMM_PER_NM,
+                "error_vs_target_pct": 100 * (self.stiffness_Nmm_per_rad / self.target_Nmm_per_rad
+                                              - 1),
+                "max_deflection_rad": self.max_deflection_rad,
+                "torque_at_limit_Nm": self.torque_at_limit_Nmm / NMM_PER_NM,
+                "limiting_spring": self.limiting_spring,
+                "springs": self.springs, "ok": self.ok, "failures": self.failures()}
+
+
+def verify_stack(sequence, verified: dict, required_safety_factor: float) -> StackVerification:
+    """Series stiffness and eq. 10 with FEA stiffnesses; each spring's torque, stress, margin.
+
+    At the stack limit every spring carries the same torque T = min_i(theta_max,i K_i);
+    a spring's peak stress scales linearly from its own verified value at its
+    maximum deflection: sigma_i = sigma_i(theta_max,i) * T / (K_i theta_max,i).
+    """
+    from springcad.design.stack import eq10_limit, series_stiffness
+
+    ks = [verified[n].stiffness_fea_Nmm_per_rad for n in sequence]
+    limits = [verified[n].design.max_deflection_rad for n in sequence]
+    limit, torque, shares = eq10_limit(limits, ks)
+    springs = []
+    for n, k, th_max, th in zip(sequence, ks, limits, shares):
+        v = verified[n]
+        sigma = v.peak_von_mises_MPa * torque / (k * th_max)
+        springs.append({"spring": n, "deflection_rad": th, "fraction_of_own_limit": th / th_max,
+                        "torque_Nm": torque / NMM_PER_NM, "peak_von_mises_MPa": sigma,
+                        "yield_margin": v.yield_strength_MPa / sigma})
+    t = [th * k for th, k in zip(limits, ks)]
+    return StackVerification(
+        sequence=tuple(sequence), stiffness_Nmm_per_rad=series_stiffness(ks),
+        target_Nmm_per_rad=series_stiffness([verified[n].stiffness_target_Nmm_per_rad
+                                             for n in sequence]),
+        max_deflection_rad=limit, torque_at_limit_Nmm=torque,
+        limiting_spring=sequence[t.index(min(t))], springs=springs,
+        required_safety_factor=required_safety_factor)
+
+
+@dataclass(repr=False)
+class JobVerification:
+    """Every spring of a job verified (and corrected), and the stack."""
+
+    job_name: str
+    springs: dict
+    stack: StackVerification
+    options: VerifyOptions
+    timings_s: dict
+
+    @property
+    def ok(self) -> bool:
+        """Every spring meets its stiffness target and every spring's yield margin in the
+        stack's eq. 10 load case meets the required factor (a spring that the stack never
+        drives to its own limit is judged at the load it actually carries)."""
+        return all(v.stiffness_ok for v in self.springs.values()) and self.stack.ok
+
+    def __repr__(self) -> str:
+        return (f"JobVerification({self.job_name!r}, springs={list(self.springs.values())!r}, "
+                f"ok={self.ok})")
+
+    def failures(self) -> list[str]:
+        out = []
+        for v in self.springs.values():
+            out += v.stiffness_failures()
+        return out + self.stack.failures()
+
+    def notes(self) -> list[str]:
+        """Spring-level stress failures that the stack load case does not reach."""
+        out = []
+        shares = {s["spring"]: s for s in self.stack.springs}
+        for n, v in self.springs.items():
+            if not v.stress_ok and n in shares and shares[n]["yield_margin"] >= \
+                    self.stack.required_safety_factor:
+                out.append(f"spring {n} alone, at its own limit, has yield margin "
+                           f"{v.yield_margin:.3f} < {v.required_safety_factor:.3g}; in this "
+                           f"stack it reaches {100 * shares[n]['fraction_of_own_limit']:.0f} % "
+                           f"of that limit (margin {shares[n]['yield_margin']:.3f})")
+        return out
+
+    def raise_for_failures(self) -> None:
+        """Raise :class:`VerificationFailed` listing every failure (for ``springcad build``)."""
+        if not self.ok:
+            raise VerificationFailed("FEA verification failed: " + "; ".join(self.failures()))
+
+    def corrected_designs(self) -> dict:
+        """Spring name -> the corrected :class:`SpringDesign` (what ``build`` should export)."""
+        return {n: v.design for n, v in self.springs.items()}
+
+    def corrected_job_design(self, job_design):
+        """The job design with every spring replaced by its corrected design and the stack
+        rebuilt from them (what ``springcad build`` should export after verification)."""
+        from dataclasses import replace as dc_replace
+
+        from springcad.design.stack import design_stack
+
+        springs = {n: self.springs[n].design if n in self.springs else d
+                   for n, d in job_design.springs.items()}
+        job = job_design.job
+        stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
+                             job.analysis.monte_carlo_samples, job.analysis.seed)
+        return dc_replace(job_design, springs=springs, stack=stack)
+
+    def to_dict(self) -> dict:
+        from springcad.version import __version__
+
+        return {"schema": SCHEMA, "springcad_version": __version__, "job": self.job_name,
+                "options": {"model": self.options.model, "levels": self.options.levels,
+                            "mesher": self.options.mesher,
+                            "tolerance_pct": 100 * self.options.tolerance,
+                            "support": self.options.case.support,
+                            "load": self.options.case.load},
+                "springs": {n: v.to_dict() for n, v in self.springs.items()},
+                "stack": self.stack.to_dict(), "ok": self.ok, "failures": self.failures(),
+                "notes": self.notes(), "timings_s": dict(self.timings_s)}
+
+    def summary(self) -> str:
+        rows = [("spring", "K_fea", "K_beam", "target", "err %", "disc %", "sigma MPa", "design",
+                 "where", "margin", "req", "fatigue", "iters", "ok alone")]
+        for n, v in self.springs.items():
+            r = v.run.peak_result
+            fat = v.fatigue
+            fat_txt = ("-" if fat is None else f"{fat.margin:.2f}" if fat.margin >= 1
+                       else f"{fat.life_cycles:.2g} cyc")
+            rows.append((n, f"{v.stiffness_fea_Nmm_per_rad / 1e3:.2f}",
+                         f"{v.design.stiffness_beam_Nmm_per_rad / 1e3:.2f}",
+                         f"{v.stiffness_target_Nmm_per_rad / 1e3:.2f}",
+                         f"{100 * v.error_vs_target:+.2f}", f"{100 * v.run.stiffness_error:.3f}",
+                         f"{v.peak_von_mises_MPa:.0f}", f"{v.design.predicted_peak_stress_MPa:.0f}",
+                         r.peak_region, f"{v.yield_margin:.3f}", f"{v.required_safety_factor:.2f}",
+                         fat_txt, str(len(v.iterations) - 1), "yes" if v.ok else "NO"))
+        widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+        lines = ["  ".join(c.rjust(w) for c, w in zip(r, widths)) for r in rows]
+        st = self.stack
+        lines.append(f"stack {' + '.join(st.sequence)}: K_fea {st.stiffness_Nmm_per_rad / 1e3:.2f} "
+                     f"N*m/rad (target {st.target_Nmm_per_rad / 1e3:.2f}), limit "
+                     f"{st.max_deflection_rad:.3f} rad at {st.torque_at_limit_Nmm / 1e3:.2f} N*m")
+        lines.append("sigma: FEA peak von Mises at the max deflection; design: the design's "
+                     "prediction for the same geometry; fatigue: endurance margin at +-theta_max "
+                     "(R = -1, wire-EDM surface), or the finite life")
+        lines += [f"FAIL: {f}" for f in self.failures()]
+        lines += [f"note: {n}" for n in self.notes()]
+        lines += [f"contact {n}: {f['message']}" for n, v in self.springs.items()
+                  if v.contact is not None for f in v.contact.flags]
+        return "\n".join(lines)
