@@ -5,7 +5,7 @@ Rooms
     :mod:`fea.mesh`        quadratic face meshes from the exact curves (gmsh) and their extrusion
     :mod:`fea.mesh_size`   element size rules over the ring face
     :mod:`fea.mesh_solid`  quadratic tets of any CAD solid (gmsh or pytetwild)
-    :mod:`fea.mesh_quality` quality report and rejection of broken meshes
+    :mod:`fea.mesh_quality`  quality report and rejection of broken meshes
     :mod:`fea.problem`     material, supports, cam load, vectorised assembly
     :mod:`fea.solve`       checked direct solves (PARDISO / SuperLU)
     :mod:`fea.results`     stiffness, von Mises, peak stress and where it is
@@ -14,7 +14,8 @@ Rooms
     :mod:`fea.study`       one geometry meshed and solved on its levels (K, stress, 3D factor)
     :mod:`fea.verdict`     verified spring, stack and job: pass/fail, reasons, ``fea.json``
     :mod:`fea.verify`      verification and the correction loop (``verify_job``)
-    :mod:`fea.contact`     cam-flexure contact sweep to +-theta_max (flags, torque-angle curve)
+    :mod:`fea.contact`     cam-flexure contact sweep to +-theta_max (torque-angle curve)
+    :mod:`fea.contact_result`  the sweep's options, steps and result, and its flags
     :mod:`fea.contact_solver`  rigid-cam contact: closest points, Newton + exact complementarity
     :mod:`fea.nonlinear`   total Lagrangian (large-rotation) elasticity for the contact sweep
 

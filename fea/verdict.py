@@ -50,7 +50,7 @@ class SpringVerification:
     notes: list = field(default_factory=list)
     support: dict | None = None
     contact: object | None = None
-    """The :class:`~fea.contact.ContactSweep` of the final design (None: not run)."""
+    """The :class:`~fea.contact_result.ContactSweep` of the final design (None: not run)."""
 
     def __repr__(self) -> str:
         return (f"SpringVerification({self.name!r}, K_fea={self.stiffness_fea_Nmm_per_rad:.6g} "

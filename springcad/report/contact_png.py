@@ -1,7 +1,7 @@
 """PNG of a cam contact sweep: torque and stiffness against cam angle, and the deformed
 contact at +-theta_max (matplotlib, Agg backend, imported here only).
 
-Renders a :class:`fea.contact.ContactSweep`; computes nothing. Units on the
+Renders a :class:`fea.contact_result.ContactSweep`; computes nothing. Units on the
 axes: deg, N*m, N*m/rad, mm, MPa.
 """
 
@@ -120,7 +120,7 @@ def render_contact(sweep, path: Path | str, title: str = "") -> Path:
     """Torque-angle curve, stiffness and the deformed contact at +-theta_max into a PNG.
 
     Args:
-        sweep: :class:`fea.contact.ContactSweep` (with its pictures).
+        sweep: :class:`fea.contact_result.ContactSweep` (with its pictures).
         path: output PNG.
         title: figure title.
     """

@@ -97,7 +97,7 @@ def test_flat_pad_reproduces_the_linear_fea(which, request, material):
 
 
 def test_options_are_validated():
-    from fea.contact import ContactOptions
+    from fea.contact_result import ContactOptions
     from springcad.errors import SolverError
 
     for bad in ({"steps": 4}, {"linearity_tolerance": 0.0}, {"gap_tolerance": 0.7}):
