@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 from fea import convergence as cv
 from fea.geometry import sector_geometry
@@ -87,11 +87,6 @@ class VerifyOptions:
                                  f"{self.levels}")
         if not 0 < self.tolerance < 0.5:
             raise SpringcadError(f"stiffness tolerance {self.tolerance} must be in (0, 0.5)")
-
-
-def with_options(options: VerifyOptions, **kw) -> VerifyOptions:
-    """``dataclasses.replace`` for options (convenience for the CLI and tests)."""
-    return replace(options, **kw)
 
 
 # ================================================================== one model
