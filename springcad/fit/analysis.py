@@ -8,7 +8,9 @@ Quantities reported are physically valid or refused:
 * the record must hold a spring (stiffness above noise) — otherwise it is
   reported as such and nothing else is fitted;
 * a torque that falls with deflection, or a stiffness a unit factor (180/π,
-  1000) away from the target, is refused as a channel sign or unit mistake;
+  1000) away from the target, is refused as a channel sign or unit mistake
+  (the unit mistake is kept with a warning when the user vouches for the
+  units: ``trust_units``, ``--trust-units``);
 * the energy loss comes from the hysteresis model only (the loop area of the
   friction term over the energy stored on loading), so lags, drifts and
   offsets cannot make it negative; with no hysteresis above noise it is zero,
