@@ -37,6 +37,10 @@ def register(subparsers) -> None:
                    help="unit of every angle column [rad]")
     p.add_argument("--torque-unit", choices=("Nm", "Nmm"), default="Nm",
                    help="unit of the torque column [Nm]")
+    p.add_argument("--trust-units", action="store_true",
+                   help="fit even when the data contradicts --angle-unit/--torque-unit (a "
+                        "stiffness 1000 or 57.3 times off the target, angles below a degree read "
+                        "as degrees): a warning instead of the refusal")
     p.add_argument("--format", choices=("md", "html"), default="md", help="report format [md]")
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output folder")
@@ -53,7 +57,8 @@ DEFLECTION_RANGE_RAD = (1e-6, 1e4)
 FLIPPED_CORRELATION = 0.3
 
 
-def read_record(path: Path, columns, angle_unit: str, torque_unit: str):
+def read_record(path: Path, columns, angle_unit: str, torque_unit: str,
+                trust_units: bool = False):
     """Read a bench CSV: file, UTF-8 and size checks here, parsing by :mod:`springcad.fit.data`.
 
     Raises:
@@ -74,7 +79,8 @@ def read_record(path: Path, columns, angle_unit: str, torque_unit: str):
     text, problem = decode_utf8(raw)
     if text is None:
         raise DataError(f"bench data file '{path}' {problem}")
-    return parse_bench_csv(text, columns, angle_unit, torque_unit, source=str(path))
+    return parse_bench_csv(text, columns, angle_unit, torque_unit, source=str(path),
+                           trust_units=trust_units)
 
 
 def check_record(record) -> None:
@@ -125,7 +131,7 @@ def run(args) -> int:
                         tuple(args.encoder_cols) if args.encoder_cols else None)
     out = args.out or default_out(args.data)
     inputs = [args.data, args.config]
-    record = read_record(args.data, columns, args.angle_unit, args.torque_unit)
+    record = read_record(args.data, columns, args.angle_unit, args.torque_unit, args.trust_units)
     check_record(record)
     warn("fit", record.warnings)
     design = None
@@ -135,7 +141,8 @@ def run(args) -> int:
         warn("fit", design.get("warnings", []))
     check_output_dir(out, args.overwrite, inputs=inputs)  # before the fit
     with stage("fit", lambda: f"record {args.data}"):
-        result = fit_record(record, args.target_stiffness, design)
+        result = fit_record(record, args.target_stiffness, design, trust_units=args.trust_units)
+    warn("fit", result.record.warnings[len(record.warnings):])
     with atomic_output_dir(out, overwrite=args.overwrite, inputs=inputs) as tmp:
         written = write_fit_outputs(result, tmp, fmt=args.format, plots=not args.no_plots)
     _print_summary(result, out, [p.name for p in written])

@@ -8,7 +8,9 @@ Quantities reported are physically valid or refused:
 * the record must hold a spring (stiffness above noise) — otherwise it is
   reported as such and nothing else is fitted;
 * a torque that falls with deflection, or a stiffness a unit factor (180/π,
-  1000) away from the target, is refused as a channel sign or unit mistake;
+  1000) away from the target, is refused as a channel sign or unit mistake
+  (the unit mistake is kept with a warning when the user vouches for the
+  units: ``trust_units``, ``--trust-units``);
 * the energy loss comes from the hysteresis model only (the loop area of the
   friction term over the energy stored on loading), so lags, drifts and
   offsets cannot make it negative; with no hysteresis above noise it is zero,
@@ -28,7 +30,7 @@ import numpy as np
 
 from springcad.errors import DataError
 from springcad.fit.compare import compare_with_design
-from springcad.fit.data import BenchRecord
+from springcad.fit.data import BenchRecord, unit_contradiction
 from springcad.fit.identify import record_protocol
 from springcad.fit.loop import LoopResult, LoopSettings, State, run_loop
 from springcad.fit.models import PaperModelFit, fit_paper_models, rmse, stiffness_error_pct
@@ -38,11 +40,17 @@ from springcad.fit.torque_model import single_threaded_blas
 
 SCHEMA = "springcad.fit/2"
 
-#: unit factors a stiffness can be off by when a unit is misread: (factor, explanation)
-UNIT_FACTORS = ((180.0 / math.pi, "angles in rad were read as degrees (drop --angle-unit deg)"),
-                (math.pi / 180.0, "angles in degrees were read as rad (pass --angle-unit deg)"),
-                (1000.0, "torque in N·mm was read as N·m (pass --torque-unit Nmm)"),
-                (1e-3, "torque in N·m was read as N·mm (drop --torque-unit Nmm)"))
+#: unit factors a stiffness can be off by when a unit is misread:
+#: (factor, the factor in words, what happened, the fix)
+UNIT_FACTORS = (
+    (180.0 / math.pi, "57.3 (180/pi)", "angles in rad were read as degrees", "drop --angle-unit deg"),
+    (math.pi / 180.0, "1/57.3 (pi/180)", "angles in degrees were read as rad",
+     "pass --angle-unit deg"),
+    (1000.0, "1000", "torque in N·mm was read as N·m", "pass --torque-unit Nmm"),
+    (1e-3, "1/1000", "torque in N·m was read as N·mm", "drop --torque-unit Nmm"))
+#: a stiffness within this factor of a unit factor times the target reads as a unit mistake
+#: (a real spring misses its target by tens of percent, not by 38 to 86 times)
+UNIT_FACTOR_TOLERANCE = 1.5
 
 
 @dataclass(frozen=True)
@@ -185,7 +193,8 @@ def _where(loc: dict | None) -> dict | None:
 
 
 def fit_record(record: BenchRecord, target_stiffness_Nm_per_rad: float | None = None,
-               design: dict | None = None, settings: LoopSettings = LoopSettings()) -> FitResult:
+               design: dict | None = None, settings: LoopSettings = LoopSettings(),
+               trust_units: bool = False) -> FitResult:
     """Fit the paper's models and run the residual loop on one record.
 
     Args:
@@ -194,6 +203,9 @@ def fit_record(record: BenchRecord, target_stiffness_Nm_per_rad: float | None = 
             (``stack.target_stiffness_Nm_per_rad``) when not given.
         design: the job's design dict, for the comparison with the design.
         settings: residual-loop settings.
+        trust_units: keep a stiffness a unit factor away from the target (the
+            user vouches for the units; ``--trust-units``): a warning in the
+            record's warnings instead of the refusal.
 
     Returns:
         The fit result.
@@ -222,8 +234,11 @@ def fit_record(record: BenchRecord, target_stiffness_Nm_per_rad: float | None = 
                 design, final["stiffness_Nm_per_rad"], final["backlash_rad"],
                 method=f"residual loop final model ({loop.final.label})")
     if target_stiffness_Nm_per_rad and not loop.no_spring:
-        _check_unit_factor(record, loop.final.params()["stiffness_Nm_per_rad"],
-                           target_stiffness_Nm_per_rad)
+        problem = unit_factor_problem(loop.final.params()["stiffness_Nm_per_rad"],
+                                      target_stiffness_Nm_per_rad)
+        if problem:
+            note = unit_contradiction(problem, record.source, trust_units)
+            record = dataclasses.replace(record, warnings=record.warnings + (note,))
     cycles = cycle_energies(record, seg)
     energy = model_energy_loss(sig, seg, loop)
     return FitResult(record, seg, sig, paper, cycles, energy, loop, target_stiffness_Nm_per_rad,
@@ -240,14 +255,17 @@ def _check_sign(record: BenchRecord, loop: LoopResult) -> None:
             "columns swapped); flip the sign of the torque or the deflection column")
 
 
-def _check_unit_factor(record: BenchRecord, k: float, target: float) -> None:
+def unit_factor_problem(k: float, target: float) -> str | None:
+    """Why a fitted stiffness ``k`` (N·m/rad) a unit factor from ``target`` reads as a unit
+    mistake, naming the factor and the option to fix; ``None`` when it does not."""
     ratio = k / target
-    for factor, why in UNIT_FACTORS:
-        if abs(math.log(ratio / factor)) < math.log(1.5):
-            raise DataError(
-                f"{record.source}: the fitted stiffness {k:.4g} N·m/rad is {ratio:.3g} × the "
-                f"target {target:.4g} N·m/rad, a unit factor ({factor:.4g}) away: the data "
-                f"contradicts the units it was read in; likely {why}")
+    for factor, words, why, fix in UNIT_FACTORS:
+        if abs(math.log(ratio / factor)) < math.log(UNIT_FACTOR_TOLERANCE):
+            return (f"the fitted stiffness {k:.4g} N·m/rad is {ratio:.4g} × the target "
+                    f"{target:.4g} N·m/rad, close to a unit factor of {words}: the data "
+                    f"contradicts the units it was read in; likely {why}: {fix} (if the "
+                    "target is what is wrong, correct --target-stiffness or the job's stiffness)")
+    return None
 
 
 def model_energy_loss(sig: Signals, seg: Segmentation, loop: LoopResult) -> EnergyLoss:

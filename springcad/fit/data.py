@@ -88,7 +88,8 @@ class BenchRecord:
 
 
 def read_bench_csv(path: Path | str, columns: ColumnMap = ColumnMap(),
-                   angle_unit: str = "rad", torque_unit: str = "Nm") -> BenchRecord:
+                   angle_unit: str = "rad", torque_unit: str = "Nm",
+                   trust_units: bool = False) -> BenchRecord:
     """Read and validate a bench CSV.
 
     Lines starting with ``#`` and blank lines are skipped; the first other line
@@ -99,24 +100,29 @@ def read_bench_csv(path: Path | str, columns: ColumnMap = ColumnMap(),
         columns: which columns hold time, torque, deflection and encoders.
         angle_unit: ``"rad"`` or ``"deg"`` for every angle column.
         torque_unit: ``"Nm"`` or ``"Nmm"`` for the torque column.
+        trust_units: keep units the data contradicts (a warning instead of
+            the refusal; see :func:`make_record`).
 
     Returns:
         The record in s, N·m and rad.
 
     Raises:
         DataError: missing file or columns, non-numeric or non-finite values,
-            time not strictly increasing, too few samples, constant channels.
+            time not strictly increasing, too few samples, constant channels,
+            units the data contradicts.
     """
     path = Path(path)
     if not path.is_file():
         raise DataError(f"bench data file '{path}' does not exist or is not a file")
     with open(path, newline="", encoding="utf-8-sig") as fh:
         text = fh.read()
-    return parse_bench_csv(text, columns, angle_unit, torque_unit, source=str(path))
+    return parse_bench_csv(text, columns, angle_unit, torque_unit, source=str(path),
+                           trust_units=trust_units)
 
 
 def parse_bench_csv(text: str, columns: ColumnMap = ColumnMap(), angle_unit: str = "rad",
-                    torque_unit: str = "Nm", source: str = "<text>") -> BenchRecord:
+                    torque_unit: str = "Nm", source: str = "<text>",
+                    trust_units: bool = False) -> BenchRecord:
     """Parse and validate bench CSV text (see :func:`read_bench_csv`)."""
     if angle_unit not in ANGLE_UNITS:
         raise DataError(f"angle unit {angle_unit!r} is not one of {ANGLE_UNITS}")
@@ -155,13 +161,13 @@ def parse_bench_csv(text: str, columns: ColumnMap = ColumnMap(), angle_unit: str
     names = {"time": columns.time, "torque": columns.torque, "deflection": columns.deflection}
     return make_record(time_s, torque_Nm, deflection_rad, encoder_rad, source=source,
                        line_numbers=line_numbers, names=names, angle_unit=angle_unit,
-                       torque_unit=torque_unit)
+                       torque_unit=torque_unit, trust_units=trust_units)
 
 
 def make_record(time_s, torque_Nm, deflection_rad, encoder_deflection_rad=None, *,
                 source: str = "", line_numbers: np.ndarray | None = None,
                 names: dict | None = None, angle_unit: str = "rad",
-                torque_unit: str = "Nm") -> BenchRecord:
+                torque_unit: str = "Nm", trust_units: bool = False) -> BenchRecord:
     """Validate arrays in internal units and wrap them in a :class:`BenchRecord`.
 
     Args:
@@ -174,9 +180,11 @@ def make_record(time_s, torque_Nm, deflection_rad, encoder_deflection_rad=None, 
         names: column names for messages (keys ``time``, ``torque``, ``deflection``).
         angle_unit: unit the angles were given in, for unit warnings.
         torque_unit: unit the torque was given in, for unit warnings.
+        trust_units: the user vouches for the units (``--trust-units``): a unit
+            the magnitudes contradict is a warning, not a refusal.
 
     Raises:
-        DataError: see :func:`read_bench_csv`.
+        DataError: see :func:`read_bench_csv` and ``_unit_warnings``.
     """
     names = names or {"time": "time_s", "torque": "torque_Nm", "deflection": "deflection_rad"}
     arrays = {"time": np.asarray(time_s, float), "torque": np.asarray(torque_Nm, float),
@@ -216,7 +224,7 @@ def make_record(time_s, torque_Nm, deflection_rad, encoder_deflection_rad=None, 
         if bad.any():
             raise DataError(f"{source}: encoder column(s) have {int(bad.sum())} non-finite value(s), "
                             f"first at line {line_numbers[int(np.argmax(bad))]}")
-    warnings = _unit_warnings(arrays, names, angle_unit, source, torque_unit)
+    warnings = _unit_warnings(arrays, names, angle_unit, source, torque_unit, trust_units)
     return BenchRecord(arrays["time"], arrays["torque"], arrays["deflection"], encoder,
                        source=source, warnings=tuple(warnings))
 
@@ -283,6 +291,24 @@ MAX_DEFLECTION_RAD = 2.0 * np.pi
 MIN_DEFLECTION_DEG_RAD = float(np.radians(1.0))
 #: torque range over deflection range of compact torsion springs (N·m/rad)
 IMPLIED_STIFFNESS_RANGE_NM_PER_RAD = (0.05, 1e5)
+#: read as N·mm, a spring softer than this (N·m/rad) is worth a question: the springs
+#: springcad designs and benches are tens to hundreds of N·m/rad (templates: 37.5 to 150)
+SOFT_IN_NMM_NM_PER_RAD = 1.0
+#: the option that keeps units the data contradicts
+TRUST_UNITS_OPTION = "--trust-units"
+
+
+def unit_contradiction(message: str, source: str, trust_units: bool) -> str:
+    """A unit the data contradicts: raise it, or return it as a warning when the user
+    vouches for the units (``--trust-units``).
+
+    Raises:
+        DataError: unless ``trust_units``.
+    """
+    if trust_units:
+        return f"{message} (kept: {TRUST_UNITS_OPTION})"
+    raise DataError(f"{source}: {message}; if the units are right after all, pass "
+                    f"{TRUST_UNITS_OPTION}")
 
 
 def _named_unit_contradictions(angle_columns: list[str], torque_column: str, angle_unit: str,
@@ -306,7 +332,7 @@ def _named_unit_contradictions(angle_columns: list[str], torque_column: str, ang
 
 
 def _unit_warnings(arrays: dict, names: dict, angle_unit: str, source: str,
-                   torque_unit: str = "Nm") -> list[str]:
+                   torque_unit: str = "Nm", trust_units: bool = False) -> list[str]:
     """Warnings where magnitudes suggest a wrong unit.
 
     Raises:
@@ -314,7 +340,8 @@ def _unit_warnings(arrays: dict, names: dict, angle_unit: str, source: str,
             deflection exceeds a full turn (no spring of this kind does), angles
             read as degrees never reach one degree (angles in rad), or a torque
             read as N·mm gives a spring softer than any bench measures while
-            N·m gives an ordinary one.
+            N·m gives an ordinary one. The last two are warnings with
+            ``trust_units`` (a full turn never is).
     """
     out = []
     theta_max = float(np.max(np.abs(arrays["deflection"])))
@@ -337,11 +364,11 @@ def _unit_warnings(arrays: dict, names: dict, angle_unit: str, source: str,
     elif theta_max < MIN_DEFLECTION_DEG_RAD and angle_unit == "deg":
         # the file's angles never reach one degree: what angles in rad look like, and 180/pi
         # times less than the ramps (several degrees) a torsion-spring bench runs
-        raise DataError(
-            f"{source}: read with --angle-unit deg, the deflection never exceeds "
+        out.append(unit_contradiction(
+            f"read with --angle-unit deg, the deflection never exceeds "
             f"{units.rad_to_deg(theta_max):.3g} deg, less than the degree or more a bench ramp "
-            "reaches; values this small are angles in rad: drop --angle-unit deg (a test that "
-            "truly stayed below 1 deg: convert its angles to rad and read them as rad)")
+            "reaches; values this small are angles in rad (a factor 57.3 = 180/pi): drop "
+            "--angle-unit deg", source, trust_units))
     if torque_max > 2000.0:
         out.append(f"torque reaches {torque_max:.4g} N·m: if the column is in N·mm, "
                    "pass --torque-unit Nmm")
@@ -358,12 +385,17 @@ def _unit_warnings(arrays: dict, names: dict, angle_unit: str, source: str,
     low, high = IMPLIED_STIFFNESS_RANGE_NM_PER_RAD
     if torque_unit == "Nmm" and implied < low <= 1000.0 * implied <= high:
         # read as N*mm the spring is implausibly soft, read as N*m it is an ordinary one
-        raise DataError(
-            f"{source}: read with --torque-unit Nmm, torque range over deflection range is "
+        out.append(unit_contradiction(
+            f"read with --torque-unit Nmm, torque range over deflection range is "
             f"{implied:.3g} N·m/rad, softer than any torsion spring bench measures, and "
-            f"{1000.0 * implied:.3g} N·m/rad read as N·m: the torque column is in N·m; drop "
-            "--torque-unit Nmm")
-    if implied < low or implied > high:
+            f"{1000.0 * implied:.3g} N·m/rad read as N·m (a factor 1000): the torque column is "
+            "in N·m; drop --torque-unit Nmm", source, trust_units))
+    elif torque_unit == "Nmm" and low <= implied < SOFT_IN_NMM_NM_PER_RAD <= 1000.0 * implied <= high:
+        out.append(f"read with --torque-unit Nmm, torque range over deflection range is "
+                   f"{implied:.3g} N·m/rad, a very soft spring, and {1000.0 * implied:.3g} "
+                   "N·m/rad read as N·m: is the column in N·m? If so, drop --torque-unit Nmm "
+                   "(with a target stiffness, the fit checks this against it)")
+    elif implied < low or implied > high:
         out.append(f"torque range over deflection range is {implied:.3g} N·m/rad, far from any "
                    "compact torsion spring: check the units of both columns")
     return out

@@ -9,6 +9,7 @@ fold of each sample. Units: s, rad, N·m.
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -74,41 +75,104 @@ class Signals:
 
     @functools.cached_property
     def theta_trace(self) -> np.ndarray:
-        """Deflection smoothed for time shifts (rad): a local quadratic over 60 ms,
-        fitted within each run so a sharp turn is not rounded off.
+        """Deflection smoothed for time shifts (rad): a local cubic fitted within each run
+        (so a sharp turn is not rounded off) over ``TRACE_RUN_FRACTION`` of the run's
+        duration, between ``TRACE_WINDOW_S`` bounds.
 
         Shifting a rounded turn (a linear ramp's corner under a moving average)
         biased a time lag by 1 % (many standard errors on a long record); within
-        a run the local quadratic follows linear and cosine motion alike.
+        a run the local fit follows linear and cosine motion alike. A cubic, not
+        a quadratic: at the end of a run the fit is one-sided, and a quadratic
+        there missed the peak of a 2 Hz sine by 1.7 mrad (0.2 mrad for the cubic).
+        A window that grows with the run: the noise the trace keeps sits in the
+        regressor of a time lag and of friction's travel since the turn (errors in
+        variables), and on slow ramps a fixed 60 ms window biased a lag and the
+        friction fitted with it by 3 standard errors in the same direction
+        (``bench/fit_coverage.py``); over 15 % of a run the cubic still follows a
+        sine's curvature.
         """
         from scipy.signal import savgol_filter
 
-        width = max(5, int(round(0.06 * self.scales.sample_rate_hz)) | 1)
+        rate = self.scales.sample_rate_hz
+        w_min = max(5, int(round(TRACE_WINDOW_S[0] * rate)))
+        w_max = max(w_min, int(round(TRACE_WINDOW_S[1] * rate)))
         out = self.theta_smooth.copy()
         runs = self.runs
         bounds = np.concatenate([[0], np.flatnonzero(np.diff(runs) != 0) + 1, [self.n]])
         for a, b in zip(bounds[:-1], bounds[1:]):
-            w = min(width, (b - a) | 1 if (b - a) % 2 else b - a - 1)
-            if w >= 5:
-                out[a:b] = savgol_filter(self.theta[a:b], w, 2, mode="interp")
+            w = min(max(w_min, int(TRACE_RUN_FRACTION * (b - a))), w_max) | 1
+            for c, d, hold in self._pieces(a, b, 2 * w_min):
+                wp = min(w, (d - c) if (d - c) % 2 else d - c - 1)
+                if hold:
+                    out[c:d] = float(np.mean(self.theta[c:d]))
+                elif wp >= 5:
+                    out[c:d] = savgol_filter(self.theta[c:d], wp, 3, mode="interp")
         return out
+
+    def _pieces(self, a: int, b: int, min_hold: int) -> list[tuple[int, int, bool]]:
+        """Run ``[a, b)`` cut where the motion leaves the turn's angle after a hold, and
+        where it arrives at the next turn's angle before one.
+
+        A hold's corners are sharp (a motor stops and starts), and a fit across
+        one rounds it off as a fit across a turn would; the turning point itself
+        falls anywhere in the hold. The motion has left (or not yet reached) the
+        turn's angle where the smoothed deflection is more than
+        ``HOLD_BAND_NOISE`` noise levels from it; the corner is placed by a hinge
+        fit (:func:`_corner`) within that stretch. Runs that start or end moving
+        give corners at the run's own ends, and no cut. A piece cut off at the
+        run's start or end is a hold (``True``: its trace is its mean, and the
+        travel since the turn stays zero on it) when it lasts ``min_hold`` samples
+        and its two halves agree within the noise; a slow turn (a cosine ramp's)
+        drifts and stays a fitted piece.
+        """
+        if b - a < 4 * min_hold:
+            return [(a, b, False)]
+        ts = self.theta_smooth
+        band = max(HOLD_BAND_NOISE * self.scales.theta_noise, 1e-3 * self.scales.theta_ref)
+        cuts = []
+        left = np.flatnonzero(np.abs(ts[a:b] - ts[a]) > band)
+        if left.size and left[0] >= 3:
+            cuts.append(a + _corner(self.theta[a:b], int(left[0]), True, min_hold))
+        came = np.flatnonzero(np.abs(ts[a:b] - ts[b - 1]) > band)
+        if came.size and b - a - 1 - came[-1] >= 3:
+            cuts.append(a + _corner(self.theta[a:b], int(came[-1]), False, min_hold))
+        points = [a, *sorted(c for c in cuts if a + 2 < c < b - 2), b]
+        out = []
+        for k, (c, d) in enumerate(zip(points[:-1], points[1:])):
+            end = (k == 0 and c == a and d in cuts) or (d == b and c in cuts and k > 0)
+            out.append((c, d, bool(end and self._flat(c, d, min_hold))))
+        return out
+
+    def _flat(self, c: int, d: int, min_hold: int) -> bool:
+        """Whether samples ``[c, d)`` hold still: long enough, halves equal within noise."""
+        n = d - c
+        if n < min_hold:
+            return False
+        h = n // 2
+        diff = abs(float(np.mean(self.theta[c:c + h]) - np.mean(self.theta[c + h:d])))
+        return diff < 4.0 * self.scales.theta_noise * math.sqrt(4.0 / n)
 
     @functools.cached_property
     def from_reversal(self) -> np.ndarray:
-        """Per-sample |smoothed deflection - deflection at the last reversal| (rad).
+        """Per-sample travel since the last reversal (rad): |deflection - deflection at the turn|.
 
-        The reversal angle is read on a deflection averaged over 3 samples only: the
-        20 ms smoothing cuts a sharp turn (a linear ramp's) short by a quarter of
-        the speed times 20 ms, as much as friction's presliding angle at 0.3 rad/s;
-        the noise left on it is one value per run, which the clustered intervals
-        see.
+        After the first turn both are read on :attr:`theta_trace`, the local fit
+        within the run: the 20 ms moving average cuts a sharp turn (a linear
+        ramp's) short by a quarter of the speed times 20 ms, as much as
+        friction's presliding angle at 0.3 rad/s, and read the travel as 2.6 mrad
+        at the turn itself; that mismatch biased friction and a time lag fitted
+        together by 1 to 2 standard errors (``bench/fit_coverage.py``). The noise
+        left on the turn angle is one value per run, which the clustered intervals
+        see. Before the first turn: the smoothed deflection from the rest angle.
         """
         runs = self.runs
         start = np.flatnonzero(np.diff(runs, prepend=runs[0] - 1) != 0)
         first = start[np.searchsorted(start, np.arange(self.n), side="right") - 1]
-        light = ndimage.uniform_filter1d(self.theta, size=3, mode="nearest")
-        turn = np.where(first > 0, light[first], self.reversal)
-        return np.abs(self.theta_smooth - turn)
+        trace = self.theta_trace
+        after = first > 0
+        out = np.abs(self.theta_smooth - self.reversal)
+        out[after] = np.abs(trace[after] - trace[first[after]])
+        return out
 
     @functools.cached_property
     def since_turn_s(self) -> np.ndarray:
@@ -153,10 +217,41 @@ class Signals:
         return self.direction * np.sign(self.theta_smooth) > 0
 
 
+#: window of :attr:`Signals.theta_trace`: this fraction of each run's duration...
+TRACE_RUN_FRACTION = 0.15
+#: ...within these bounds (s)
+TRACE_WINDOW_S = (0.06, 0.3)
+#: the motion has left a turn's angle where the smoothed deflection is this many
+#: deflection noise levels away from it (see ``Signals._pieces``)
+HOLD_BAND_NOISE = 5.0
 #: a residual may swing for this long (s) either side of a reversal for the model's reasons
 TURN_GUARD_S = 0.025
 #: ...and while the deflection is this close to the turn's, as a fraction of the largest
 TURN_GUARD_BAND = 0.01
+
+
+def _corner(theta: np.ndarray, near: int, leaving: bool, half: int) -> int:
+    """Index of the corner between a hold and motion at or before ``near`` (leaving a
+    hold) or at or after it (arriving at one): the break of the hinge (constant on
+    the hold side, a straight line on the other) fitting ``theta`` best within
+    ``half`` samples; the first sample on the far side of the break."""
+    if leaving:
+        lo, hi = max(near - 2 * half, 0), min(near + half // 2, theta.size)
+        candidates = range(lo + 2, min(near + 1, hi - 2))
+    else:
+        lo, hi = max(near - half // 2, 0), min(near + 2 * half, theta.size)
+        candidates = range(max(near, lo + 2), hi - 2)
+    y = theta[lo:hi]
+    i = np.arange(lo, hi, dtype=float)
+    best, where = np.inf, near
+    for j in candidates:
+        x = np.maximum(i - j, 0.0) if leaving else np.minimum(i - j, 0.0)
+        a = np.column_stack([np.ones_like(x), x])
+        coef, *_ = np.linalg.lstsq(a, y, rcond=None)
+        sse = float(np.sum((y - a @ coef) ** 2))
+        if sse < best:
+            best, where = sse, j
+    return where if leaving else where + 1
 
 
 def find_glitches(x: np.ndarray, threshold: float = 6.0, width: int = 9,

@@ -3,6 +3,7 @@ and every parameter has a confidence interval that covers the truth at its state
 
 import numpy as np
 import pytest
+from scipy import stats
 
 from springcad.errors import DataError
 from springcad.fit.analysis import fit_record
@@ -103,20 +104,55 @@ def test_stiffness_interval_coverage_of_a_linear_spring():
     assert hits >= 34
 
 
-@pytest.mark.slow
-def test_interval_coverage_with_three_effects():
-    # a seeded Monte Carlo of backlash + friction + drift: each 95 % interval must cover its
-    # truth in at least 26 of 30 records (probability below 2 % at the nominal rate), and
-    # all of them together at least 90 % of the time
-    truth = {"stiffness_Nm_per_rad": K, "backlash_rad": 0.04, "friction_torque_Nm": 0.15,
-             "drift_Nm_per_s": 0.01}
-    bench = BenchSpring(K, backlash_rad=0.04, friction_torque_Nm=0.15, drift_Nm_per_s=0.01)
+def binomial_floor(n: int, level: float = 0.95, alpha: float = 0.01) -> int:
+    """Fewest hits of ``n`` intervals at coverage ``level`` that a test accepts: at the
+    nominal rate fewer hits happen with probability below ``alpha``."""
+    return int(stats.binom.ppf(alpha, n, level))
+
+
+def _coverage(bench, protocol, truth, effects, seeds):
     hits = dict.fromkeys(truth, 0)
-    for seed in range(30):
-        res, _ = loop_on_record(simulate(bench, protocol=SHORT, seed=1000 + seed).record)
-        assert set(res.identified) == {"backlash", "hysteresis", "drift"}
+    for seed in seeds:
+        res, _ = loop_on_record(simulate(bench, protocol=protocol, seed=seed).record)
+        assert set(res.identified) == effects and res.confounded == ()
         for key, value in truth.items():
             ci = res.intervals[key]
             hits[key] += ci["ci_low"] <= value <= ci["ci_high"]
-    assert min(hits.values()) >= 26, hits
-    assert sum(hits.values()) >= 0.9 * 30 * len(truth), hits
+    return hits
+
+
+@pytest.mark.slow
+def test_interval_coverage_with_three_effects():
+    # a seeded Monte Carlo of backlash + friction + drift: each 95 % interval must cover its
+    # truth at least as often as a binomial at 95 % does with probability 99 %, and so must
+    # all of them pooled (bench/fit_coverage.py measures the same with more records)
+    truth = {"stiffness_Nm_per_rad": K, "backlash_rad": 0.04, "friction_torque_Nm": 0.15,
+             "drift_Nm_per_s": 0.01}
+    bench = BenchSpring(K, backlash_rad=0.04, friction_torque_Nm=0.15, drift_Nm_per_s=0.01)
+    n = 30
+    hits = _coverage(bench, SHORT, truth, {"backlash", "hysteresis", "drift"},
+                     range(1000, 1000 + n))
+    assert min(hits.values()) >= binomial_floor(n), hits
+    assert sum(hits.values()) >= binomial_floor(n * len(truth)), hits
+
+
+#: friction and a lag on linear ramps at two speeds (about 16 000 samples): separable.
+#: At 0.6 rad/s the turns fall between samples by up to 1.2 mrad, a quarter of the
+#: presliding angle, which the model does not resolve: there the pooled coverage was 107
+#: of 120 (friction 25/30), a known limit of sharp corners at high speed
+TWO_SPEEDS = Protocol(amplitudes_rad=(0.1, 0.2, 0.3), rates_rad_per_s=(0.3, 0.1),
+                      profile="linear")
+
+
+@pytest.mark.slow
+def test_interval_coverage_of_friction_and_a_lag():
+    # the pair whose intervals were too tight: deflection noise in the smoothed trace the
+    # lag and friction's presliding read biased both by ~3 standard errors on slow ramps
+    truth = {"stiffness_Nm_per_rad": K, "friction_torque_Nm": 0.15, "presliding_rad": 0.005,
+             "lag_s": 0.015}
+    bench = BenchSpring(K, friction_torque_Nm=0.15, lag_s=0.015)
+    n = 30
+    hits = _coverage(bench, TWO_SPEEDS, truth, {"hysteresis", "time_lag"},
+                     range(4000, 4000 + n))
+    assert min(hits.values()) >= binomial_floor(n), hits
+    assert sum(hits.values()) >= binomial_floor(n * len(truth)), hits
