@@ -13,13 +13,21 @@ import base64
 import html
 from pathlib import Path
 
-#: N*mm per N*m (the design layer works in N*mm)
-_NMM_PER_NM = 1000.0
+from springcad.units import NMM_PER_NM as _NMM_PER_NM
 
 __all__ = ["Design", "Fit", "Spring", "Stack", "Verification"]
 
 
 # --------------------------------------------------------------------------- helpers
+def _field(attr: str, doc: str | None = None) -> property:
+    """A read-only view of ``self.raw.<attr>`` (same units)."""
+    return property(lambda self: getattr(self.raw, attr), doc=doc)
+
+
+def _torque_Nm(attr: str, doc: str | None = None) -> property:
+    """A read-only view of ``self.raw.<attr>`` (N*mm or N*mm/rad) in N*m (or N*m/rad)."""
+    return property(lambda self: getattr(self.raw, attr) / _NMM_PER_NM, doc=doc)
+
 
 def _table_html(rows: list[tuple[str, str]], caption: str = "") -> str:
     cap = f"<caption style='text-align:left'><b>{html.escape(caption)}</b></caption>" if caption else ""
@@ -51,44 +59,19 @@ class Spring:
     def __init__(self, raw):
         self.raw = raw
 
-    name = property(lambda self: self.raw.name)
-    n_flexures = property(lambda self: self.raw.n_flexures)
-    outer_radius_mm = property(lambda self: self.raw.outer_radius_mm)
-    thickness_mm = property(lambda self: self.raw.thickness_mm)
-
-    @property
-    def stiffness_Nm_per_rad(self) -> float:
-        """Beam-theory stiffness (N*m/rad)."""
-        return self.raw.stiffness_beam_Nmm_per_rad / _NMM_PER_NM
-
-    @property
-    def target_stiffness_Nm_per_rad(self) -> float:
-        return self.raw.target_stiffness_Nmm_per_rad / _NMM_PER_NM
-
-    @property
-    def max_deflection_rad(self) -> float:
-        return self.raw.max_deflection_rad
-
-    @property
-    def peak_torque_Nm(self) -> float:
-        return self.raw.peak_torque_Nmm / _NMM_PER_NM
-
-    @property
-    def peak_stress_MPa(self) -> float:
-        """Predicted peak stress of the real geometry at the max deflection (MPa)."""
-        return self.raw.predicted_peak_stress_MPa
-
-    @property
-    def yield_margin(self) -> float:
-        return self.raw.yield_margin
-
-    @property
-    def mass_kg(self) -> float:
-        return self.raw.mass_kg
-
-    @property
-    def energy_density_J_per_cm3(self) -> float:
-        return self.raw.energy_density_J_per_cm3
+    name = _field("name")
+    n_flexures = _field("n_flexures")
+    outer_radius_mm = _field("outer_radius_mm")
+    thickness_mm = _field("thickness_mm")
+    stiffness_Nm_per_rad = _torque_Nm("stiffness_beam_Nmm_per_rad", "Beam-theory stiffness (N*m/rad).")
+    target_stiffness_Nm_per_rad = _torque_Nm("target_stiffness_Nmm_per_rad", "Target stiffness (N*m/rad).")
+    max_deflection_rad = _field("max_deflection_rad")
+    peak_torque_Nm = _torque_Nm("peak_torque_Nmm", "Torque at the max deflection (N*m).")
+    peak_stress_MPa = _field("predicted_peak_stress_MPa", "Predicted peak stress of the real "
+                             "geometry at the max deflection (MPa).")
+    yield_margin = _field("yield_margin")
+    mass_kg = _field("mass_kg")
+    energy_density_J_per_cm3 = _field("energy_density_J_per_cm3")
 
     def to_dict(self) -> dict:
         """The ``design.json`` entry (units in key names)."""
@@ -151,23 +134,13 @@ class Stack:
     def __init__(self, raw):
         self.raw = raw
 
-    sequence = property(lambda self: self.raw.sequence)
-    limiting_spring = property(lambda self: self.raw.limiting_spring)
-    mass_kg = property(lambda self: self.raw.mass_kg)
-    energy_J = property(lambda self: self.raw.energy_J)
-
-    @property
-    def stiffness_Nm_per_rad(self) -> float:
-        return self.raw.stiffness_Nmm_per_rad / _NMM_PER_NM
-
-    @property
-    def target_stiffness_Nm_per_rad(self) -> float:
-        return self.raw.target_stiffness_Nmm_per_rad / _NMM_PER_NM
-
-    @property
-    def max_deflection_rad(self) -> float:
-        """The eq. 10 stack limit (rad)."""
-        return self.raw.max_deflection_rad
+    sequence = _field("sequence")
+    limiting_spring = _field("limiting_spring")
+    mass_kg = _field("mass_kg")
+    energy_J = _field("energy_J")
+    stiffness_Nm_per_rad = _torque_Nm("stiffness_Nmm_per_rad", "Beam-theory stiffness (N*m/rad).")
+    target_stiffness_Nm_per_rad = _torque_Nm("target_stiffness_Nmm_per_rad", "Target stiffness (N*m/rad).")
+    max_deflection_rad = _field("max_deflection_rad", "The eq. 10 stack limit (rad).")
 
     @property
     def backlash_nominal_rad(self) -> float:
