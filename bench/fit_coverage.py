@@ -1,6 +1,9 @@
 """Monte Carlo of the fit's confidence intervals against known truth.
 
-Run: ``PYTHONPATH=. python bench/fit_coverage.py [--n 100] [--only NAME ...] [--seed0 20000]``.
+Run: ``PYTHONPATH=. python bench/fit_coverage.py [--n 100] [--only NAME ...] [--seed0 20000]``,
+or ``... --heldout [--only NAME ...]`` for records of the held-out cases of
+``bench/fit_heldout.py`` (its own simulator and protocols: sine sweeps, cosine
+ramps, linear ramps at two or three speeds), ``--n`` seeds each from ``--seed0``.
 
 For each case (an effect combination on a short protocol), ``--n`` seeded
 records are simulated with :func:`springcad.fit.bench.simulate` and fitted
@@ -23,11 +26,13 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+import zlib
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from springcad.fit.bench import BenchSpring, Protocol, SineSweep, simulate  # noqa: E402
 from springcad.fit.loop import run_loop  # noqa: E402
@@ -67,21 +72,51 @@ CASES = {
 }
 
 
-def run_case(name: str, n: int, seed0: int) -> dict:
+def _library_records(name: str, n: int, seed0: int):
+    """``(record, truth, named_ok)`` of case ``name`` simulated with :mod:`springcad.fit.bench`."""
     spring, protocol, truth, effects = CASES[name]
     truth = {"stiffness_Nm_per_rad": spring.stiffness_Nm_per_rad, **truth}
-    rows = {k: [] for k in truth}
-    named = 0
     for i in range(n):
-        sim = simulate(spring, protocol=protocol, seed=seed0 + i)
-        sig = make_signals(sim.record, segment(sim.record))
-        res = run_loop(sig)
-        named += set(res.identified) == effects and not res.confounded
+        record = simulate(spring, protocol=protocol, seed=seed0 + i).record
+        yield record, truth, lambda res: set(res.identified) == effects and not res.confounded
+
+
+def _heldout_records(name: str, n: int, seed0: int):
+    """``(record, truth, named_ok)`` of the held-out case ``name`` (bench/fit_heldout.py)."""
+    import fit_heldout
+
+    from springcad.fit.data import make_record
+
+    for i in range(n):
+        seed = seed0 + i
+        case = next((c for c in fit_heldout.cases(seed) if c.name == name), None)
+        if case is None:
+            raise SystemExit(f"no held-out case {name!r}; the cases are "
+                             + ", ".join(c.name for c in fit_heldout.cases(seed)))
+        rng = np.random.default_rng([seed, zlib.crc32(name.encode())])
+        t, theta = case.protocol
+        torque, measured = fit_heldout.make(case.truth, t, theta, rng)
+
+        def named_ok(res, accept=case.accept):
+            named = set(res.identified) | {"|".join(sorted(g.effects)) for g in res.confounded}
+            return frozenset(named) in accept
+
+        yield make_record(t, torque, measured), case.truth.intervals(), named_ok
+
+
+def run_case(name: str, n: int, seed0: int, heldout: bool = False) -> dict:
+    records = (_heldout_records if heldout else _library_records)(name, n, seed0)
+    rows: dict[str, list] = {}
+    named = 0
+    for record, truth, named_ok in records:
+        res = run_loop(make_signals(record, segment(record)))
+        named += bool(named_ok(res))
         for k, v in truth.items():
             ci = res.intervals.get(k)
             if ci is None or ci.get("confounded_with"):
+                rows.setdefault(k, [])
                 continue
-            rows[k].append((ci["value"], ci["se"], ci["ci_low"], ci["ci_high"], v))
+            rows.setdefault(k, []).append((ci["value"], ci["se"], ci["ci_low"], ci["ci_high"], v))
     out = {"named": named, "n": n, "params": {}}
     for k, r in rows.items():
         if not r:
@@ -96,18 +131,26 @@ def run_case(name: str, n: int, seed0: int) -> dict:
     return out
 
 
+#: held-out cases measured by ``--heldout`` without ``--only``: every protocol that
+#: carries friction and a lag
+HELDOUT_CASES = ("three_sweep", "three_rates", "sep_two_rates", "quiet_friction_lag_cos",
+                 "lag_sweep", "friction_cos")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", type=int, default=100)
     ap.add_argument("--seed0", type=int, default=20000)
     ap.add_argument("--only", nargs="*", default=None)
+    ap.add_argument("--heldout", action="store_true",
+                    help="records of bench/fit_heldout.py's cases and simulator")
     args = ap.parse_args(argv)
-    names = args.only or list(CASES)
+    names = args.only or (list(HELDOUT_CASES) if args.heldout else list(CASES))
     print(f"{'case':<26}{'parameter':<30}{'cover':>7}{'n':>5}{'bias/se':>9}{'sd(z)':>7}"
           f"{'med width':>11}")
     for name in names:
         t0 = time.perf_counter()
-        res = run_case(name, args.n, args.seed0)
+        res = run_case(name, args.n, args.seed0, args.heldout)
         for k, p in res["params"].items():
             if p is None:
                 print(f"{name:<26}{k:<30}{'-':>7}{0:>5}")

@@ -44,11 +44,16 @@ import numpy as np
 from scipy import stats
 
 from springcad.fit.inference import uncertainty, wald_p
-from springcad.fit.nuisance import common_profile, nuisance_kind, nuisance_views
+from springcad.fit.nuisance import (common_profile, nuisance_kind, nuisance_parts,
+                                     views_without)
 from springcad.fit.signals import Signals
 from springcad.fit.torque_model import TorqueModel
 
 SPLITS = ("time", "amplitude", "direction")
+
+#: how strongly a patch fails (:attr:`EffectEvidence.strength`): below any disagreement
+#: (-log10 p >= 3) or lack of support (10 - |z| > 7)
+PATCH_STRENGTH = 1.0
 
 #: a split part needs at least this many runs (clusters of the covariance)
 MIN_RUNS = 4
@@ -150,11 +155,16 @@ class EffectEvidence:
         effect: library name.
         checks: one per applicable split.
         problem: why the fitted values are physically impossible, or ``None``.
+        patch: why the effect is a patch over a structure of another kind
+            (:func:`time_check`), or ``None``. It fails more weakly than any
+            split (``PATCH_STRENGTH``): with another failing effect gone first,
+            the patch is judged again.
     """
 
     effect: str
     checks: tuple[SplitCheck, ...] = ()
     problem: str | None = None
+    patch: str | None = None
 
     @property
     def consistent(self) -> bool:
@@ -166,14 +176,14 @@ class EffectEvidence:
 
     @property
     def ok(self) -> bool:
-        return self.problem is None and self.consistent and self.supported
+        return self.problem is None and self.patch is None and self.consistent and self.supported
 
     @property
     def strength(self) -> float:
         """How badly it fails (larger = worse): used to drop the worst effect first."""
         if self.problem is not None:
             return math.inf
-        bad = 0.0
+        bad = PATCH_STRENGTH if self.patch is not None else 0.0
         for c in self.checks:
             if not c.agrees:
                 bad = max(bad, -math.log10(max(c.agreement_p, 1e-300)))
@@ -185,7 +195,7 @@ class EffectEvidence:
         """One sentence on why it failed (empty when it did not)."""
         if self.problem is not None:
             return self.problem
-        out = []
+        out = [] if self.patch is None else [self.patch]
         for c in self.checks:
             if not c.agrees:
                 out.append(f"{c.parameter} differs between {c.parts[0]} ({c.values[0]:.4g} ± "
@@ -202,6 +212,8 @@ class EffectEvidence:
         """The first failure only, in a few words."""
         if self.problem is not None:
             return self.problem
+        if self.patch is not None:
+            return self.patch
         for c in self.checks:
             if not c.agrees:
                 return (f"{c.parameter} differs between {c.parts[0]} and {c.parts[1]} "
@@ -215,6 +227,7 @@ class EffectEvidence:
     def to_dict(self) -> dict:
         return {"effect": self.effect, "ok": self.ok, "consistent": self.consistent,
                 "supported": self.supported, "physical_problem": self.problem,
+                "patch": self.patch,
                 "reason": self.reason() or None, "splits": [c.to_dict() for c in self.checks]}
 
 
@@ -267,7 +280,9 @@ def audit(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, f_sc
     # each effect is judged with the unexplained structure it cannot describe taken out
     # (see springcad.fit.nuisance), so a friction or a crossover is not rejected for a
     # zero jump or a hard stop beside it
-    views = nuisance_views(full.residual(x_full, sig, idx), idx, sig)
+    slow, profile, var_noise = nuisance_parts(full.residual(x_full, sig, idx), idx, sig)
+    views = views_without(sig, slow, profile)
+    patches = time_check(full, slow, idx, var_noise)
     for split, parts in split_parts(sig, idx).items():
         tested = [e for e in model.effects if split in e.splits and e.name in full.names]
         if not tested:
@@ -290,7 +305,8 @@ def audit(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, f_sc
                 fits.append((xp, uncertainty(model, xp, signals, sub, sample_rate_hz=rate)))
             _compare(checks, model, group, split, parts, fits, agreement_p, support_z)
     for name, cs in checks.items():
-        out.effects[name] = EffectEvidence(name, tuple(cs), out.effects[name].problem)
+        out.effects[name] = EffectEvidence(name, tuple(cs), out.effects[name].problem,
+                                           patches.get(name))
     return out
 
 
@@ -312,6 +328,43 @@ def _compare(checks: dict, model: TorqueModel, tested: list, split: str, parts, 
             split, (parts[0].label, parts[1].label),
             e.params(model.scales)[e.primary].name, (va, vb), (sa, sb), p, z,
             p >= agreement_p, abs(z) >= support_z))
+
+
+def time_check(model: TorqueModel, slow: np.ndarray | None, idx: np.ndarray,
+               var_noise: float) -> dict[str, str]:
+    """A torque offset beside a torque zero that still moves.
+
+    A torque offset says the torque zero stays put (a drift, if fitted with it,
+    moves it at a steady rate). When, with the offset fitted, the residual's
+    mean over whole cycles (:func:`springcad.fit.nuisance.slow_part`) still
+    stands above noise, the zero moves in a way the model does not describe (it
+    settles, jumps or wanders) and no single offset is the sensor's: the one
+    fitted is the mean of that motion, a patch over it. A sensor that settles
+    after switch-on reads as an offset equal to its mean, which the time split
+    misses: the early part's own settling widens its interval. The offset is not
+    named; the loop reports the motion as unexplained structure and localises it
+    in time. A drift is not judged here: its rate can agree on both sides of a
+    jump, which the time split checks.
+
+    Args:
+        model: the torque model.
+        slow: the slow part of its residual (N·m, every sample), ``None`` when
+            within noise.
+        idx: the samples it was judged on.
+        var_noise: the noise variance it was judged against (N·m² per sample,
+            times the correlation time).
+
+    Returns:
+        ``{"torque_offset": reason}`` when it fails, else ``{}``.
+    """
+    if slow is None or "torque_offset" not in model.names:
+        return {}
+    rms = math.sqrt(float(np.mean(slow[idx] ** 2)))
+    return {"torque_offset": (
+        f"with torque_offset fitted, the torque zero still moves over the record: the "
+        f"residual's mean over whole cycles varies by {rms:.3g} N·m RMS (sample noise "
+        f"{math.sqrt(var_noise):.2g} N·m), so no single offset describes it (the zero settles, "
+        "jumps or wanders)")}
 
 
 #: leftover structure where a shape effect acts must be this many times (in mean square)

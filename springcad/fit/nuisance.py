@@ -158,6 +158,39 @@ def profile_part(r: np.ndarray, idx: np.ndarray, sig: Signals, var_noise: float,
     return np.interp(sig.theta_smooth, centre[both], common[both])
 
 
+def nuisance_parts(r: np.ndarray, idx: np.ndarray, sig: Signals, p_level: float = 1e-6
+                   ) -> tuple[np.ndarray | None, np.ndarray | None, float]:
+    """The slow part and the common deflection profile of residual ``r`` (see module docstring).
+
+    Args:
+        r: residual (N·m) of the current model at samples ``idx``.
+        idx: sample indices (glitches excluded), sorted.
+        sig: record signals.
+        p_level: significance a part must reach to be kept.
+
+    Returns:
+        ``(slow, profile, var_noise)``: each part (N·m, every sample) or ``None`` when
+        it is within noise, and the noise variance they were judged against
+        (N·m², one sample's variance times its correlation time).
+    """
+    rate = sig.scales.sample_rate_hz / max(float(np.median(np.diff(idx))), 1.0)
+    nm = noise_model(r, rate)
+    var_noise = nm.sigma ** 2 * nm.tau
+    if var_noise <= 0.0:
+        return None, None, var_noise
+    # the two parts are not orthogonal (a window of runs holds more of one side of a hard
+    # stop than of the other; a zero jump has a mean over deflection): fitted jointly by
+    # alternating between them (backfitting)
+    slow = profile = None
+    for _ in range(BACKFIT_ROUNDS):
+        slow = slow_part(r if profile is None else r - profile[idx], idx, sig, var_noise, p_level)
+        profile = profile_part(r if slow is None else r - slow[idx], idx, sig, var_noise,
+                               p_level)
+        if slow is None or profile is None:
+            break
+    return slow, profile, var_noise
+
+
 def nuisance_views(r: np.ndarray, idx: np.ndarray, sig: Signals,
                    p_level: float = 1e-6) -> dict[str, Signals]:
     """The record as each kind of effect judges it (see module docstring).
@@ -173,22 +206,14 @@ def nuisance_views(r: np.ndarray, idx: np.ndarray, sig: Signals,
         the kinds whose nuisance stands above noise (a missing kind: judge on
         ``sig`` as measured).
     """
-    rate = sig.scales.sample_rate_hz / max(float(np.median(np.diff(idx))), 1.0)
-    nm = noise_model(r, rate)
-    var_noise = nm.sigma ** 2 * nm.tau
-    if var_noise <= 0.0:
-        return {}
+    slow, profile, _ = nuisance_parts(r, idx, sig, p_level)
+    return views_without(sig, slow, profile)
+
+
+def views_without(sig: Signals, slow: np.ndarray | None,
+                  profile: np.ndarray | None) -> dict[str, Signals]:
+    """:func:`nuisance_views` from parts already found by :func:`nuisance_parts`."""
     out: dict[str, Signals] = {}
-    # the two parts are not orthogonal (a window of runs holds more of one side of a hard
-    # stop than of the other; a zero jump has a mean over deflection): fitted jointly by
-    # alternating between them (backfitting)
-    slow = profile = None
-    for _ in range(BACKFIT_ROUNDS):
-        slow = slow_part(r if profile is None else r - profile[idx], idx, sig, var_noise, p_level)
-        profile = profile_part(r if slow is None else r - slow[idx], idx, sig, var_noise,
-                               p_level)
-        if slow is None or profile is None:
-            break
     if slow is not None:
         out["slow"] = dataclasses.replace(sig, torque=sig.torque - slow)
     if slow is not None or profile is not None:

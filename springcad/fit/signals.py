@@ -75,21 +75,29 @@ class Signals:
 
     @functools.cached_property
     def theta_trace(self) -> np.ndarray:
-        """Deflection smoothed for time shifts (rad): a local cubic fitted within each run
-        (so a sharp turn is not rounded off) over ``TRACE_RUN_FRACTION`` of the run's
-        duration, between ``TRACE_WINDOW_S`` bounds.
+        """Deflection smoothed for time shifts (rad): a local cubic over ``TRACE_RUN_FRACTION``
+        of each run's duration (between ``TRACE_WINDOW_S`` bounds), fitted across the
+        motion wherever it is smooth and cut only where it is not.
 
-        Shifting a rounded turn (a linear ramp's corner under a moving average)
-        biased a time lag by 1 % (many standard errors on a long record); within
-        a run the local fit follows linear and cosine motion alike. A cubic, not
-        a quadratic: at the end of a run the fit is one-sided, and a quadratic
-        there missed the peak of a 2 Hz sine by 1.7 mrad (0.2 mrad for the cubic).
-        A window that grows with the run: the noise the trace keeps sits in the
-        regressor of a time lag and of friction's travel since the turn (errors in
+        The cuts are the corners of holds (:meth:`_pieces`; a hold's own trace is its
+        mean) and *sharp* turns and corners, where a linear ramp reverses or stops at
+        once (a V fits better than a parabola, :func:`_sharp_turn`; the corner may lie
+        a few samples from the run's end, where :meth:`_pieces` finds it): a fit across either would
+        round it off, and shifting a rounded turn biased a time lag by 1 % (many
+        standard errors on a long record). A smooth turn (a sine's, a cosine ramp's)
+        is fitted across, with samples on both sides: a fit cut there reads the turn
+        angle at the end of a one-sided window, where its noise is largest, and the
+        presliding friction, which starts at that angle, and a lag fitted with it were
+        biased by up to 0.8 standard errors and their intervals covered 83 % of the
+        time on sine sweeps (``bench/fit_coverage.py --heldout``).
+
+        A cubic, not a quadratic: at the end of a cut piece the fit is one-sided, and
+        a quadratic there missed the peak of a 2 Hz sine by 1.7 mrad (0.2 mrad for the
+        cubic). A window that grows with the run: the noise the trace keeps sits in
+        the regressor of a time lag and of friction's travel since the turn (errors in
         variables), and on slow ramps a fixed 60 ms window biased a lag and the
-        friction fitted with it by 3 standard errors in the same direction
-        (``bench/fit_coverage.py``); over 15 % of a run the cubic still follows a
-        sine's curvature.
+        friction fitted with it by 3 standard errors in the same direction; over 15 %
+        of a run the cubic still follows a sine's curvature.
         """
         from scipy.signal import savgol_filter
 
@@ -97,16 +105,33 @@ class Signals:
         w_min = max(5, int(round(TRACE_WINDOW_S[0] * rate)))
         w_max = max(w_min, int(round(TRACE_WINDOW_S[1] * rate)))
         out = self.theta_smooth.copy()
-        runs = self.runs
-        bounds = np.concatenate([[0], np.flatnonzero(np.diff(runs) != 0) + 1, [self.n]])
-        for a, b in zip(bounds[:-1], bounds[1:]):
+        bounds = np.concatenate([[0], np.flatnonzero(np.diff(self.runs) != 0) + 1, [self.n]])
+        # pieces (start, end, hold, window), joined into blocks fitted as one
+        blocks: list[list[tuple[int, int, bool, int]]] = []
+        for k, (a, b) in enumerate(zip(bounds[:-1], bounds[1:])):
             w = min(max(w_min, int(TRACE_RUN_FRACTION * (b - a))), w_max) | 1
             for c, d, hold in self._pieces(a, b, 2 * w_min):
-                wp = min(w, (d - c) if (d - c) % 2 else d - c - 1)
-                if hold:
-                    out[c:d] = float(np.mean(self.theta[c:d]))
-                elif wp >= 5:
-                    out[c:d] = savgol_filter(self.theta[c:d], wp, 3, mode="interp")
+                prev = blocks[-1][-1] if blocks else None
+                joined = (prev is not None and not hold and not prev[2]
+                          and not _sharp_turn(self.theta, c, min(w, prev[3])))
+                if joined:
+                    blocks[-1].append((c, d, hold, w))
+                else:
+                    blocks.append([(c, d, hold, w)])
+        for block in blocks:
+            c0, d0 = block[0][0], block[-1][1]
+            if block[0][2]:
+                out[c0:d0] = float(np.mean(self.theta[c0:d0]))
+                continue
+            fits: dict[int, np.ndarray] = {}
+            longest = (d0 - c0) if (d0 - c0) % 2 else d0 - c0 - 1
+            for c, d, _, w in block:
+                wp = min(w, longest)
+                if wp < 5:
+                    continue
+                if wp not in fits:
+                    fits[wp] = savgol_filter(self.theta[c0:d0], wp, 3, mode="interp")
+                out[c:d] = fits[wp][c - c0:d - c0]
         return out
 
     def _pieces(self, a: int, b: int, min_hold: int) -> list[tuple[int, int, bool]]:
@@ -252,6 +277,32 @@ def _corner(theta: np.ndarray, near: int, leaving: bool, half: int) -> int:
         if sse < best:
             best, where = sse, j
     return where if leaving else where + 1
+
+
+def _sharp_turn(theta: np.ndarray, i: int, half: int) -> bool:
+    """Whether the motion turns sharply at sample ``i``: over ``half`` samples either side,
+    a V (two straight lines meeting near ``i``) fits ``theta`` better than a parabola.
+
+    A linear ramp that reverses at once is a V; a sine's or a cosine ramp's turn is a
+    parabola to within its curvature's change. Too few samples: sharp (cut, the safe
+    side).
+    """
+    lo, hi = max(i - half, 0), min(i + half, theta.size)
+    y = theta[lo:hi]
+    x = np.arange(lo, hi, dtype=float) - i
+    if y.size < 8:
+        return True
+    quad = np.column_stack([np.ones_like(x), x, x * x])
+    sse_quad = float(np.sum((y - quad @ np.linalg.lstsq(quad, y, rcond=None)[0]) ** 2))
+    # V with its vertex anywhere within a quarter window of i, solved for all vertices at once
+    vertex = np.arange(-(half // 4), half // 4 + 1, dtype=float)
+    left = np.minimum(x[None, :] - vertex[:, None], 0.0)
+    right = np.maximum(x[None, :] - vertex[:, None], 0.0)
+    basis = np.stack([np.ones_like(left), left, right], axis=2)        # (vertex, sample, 3)
+    gram = np.einsum("vsi,vsj->vij", basis, basis) + 1e-9 * np.eye(3)
+    coef = np.linalg.solve(gram, np.einsum("vsi,s->vi", basis, y)[..., None])[..., 0]
+    sse_v = np.sum((y[None, :] - np.einsum("vsi,vi->vs", basis, coef)) ** 2, axis=1)
+    return bool(sse_v.min() < sse_quad)
 
 
 def find_glitches(x: np.ndarray, threshold: float = 6.0, width: int = 9,

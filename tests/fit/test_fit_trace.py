@@ -1,0 +1,57 @@
+"""The deflection trace used for time shifts and friction's travel since the turn.
+
+References: the true (noise-free) deflection of the simulated bench, and the
+variance of a cubic least-squares fit (centred in its window: about 2.25 σ²/w;
+at the end of a one-sided window: about 16 σ²/w).
+"""
+
+import numpy as np
+import pytest
+
+from springcad.fit.bench import BenchSpring, Protocol, SineSweep, simulate
+from springcad.fit.segment import segment
+from springcad.fit.signals import _sharp_turn, make_signals
+
+FS_HZ = 500.0
+NOISE_RAD = 8e-4
+
+
+def _turn_errors(protocol, seed):
+    """Trace minus true deflection at the true turning points (rad), and the noise level."""
+    sim = simulate(BenchSpring(40.0), protocol=protocol, seed=seed)
+    rec = sim.record
+    sig = make_signals(rec, segment(rec))
+    true = protocol.deflection(rec.time_s)
+    d = np.diff(true)
+    turns = np.flatnonzero(np.sign(d[1:]) * np.sign(d[:-1]) < 0) + 1
+    return sig.theta_trace[turns] - true[turns], sig.scales.theta_noise
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_a_straight_turn_is_sharp_and_a_round_one_is_not(seed):
+    rng = np.random.default_rng(seed)
+    i = np.arange(-60, 61, dtype=float)
+    noise = NOISE_RAD * rng.normal(size=i.size)
+    v_shape = 0.3 - 0.2 * np.abs(i) / FS_HZ + noise          # a linear ramp reversing at 0.2 rad/s
+    sine = 0.3 * np.cos(2 * np.pi * 1.0 * i / FS_HZ) + noise  # the turn of a 1 Hz sine
+    assert _sharp_turn(v_shape, 60, 60)
+    assert not _sharp_turn(sine, 60, 60)
+
+
+def test_the_trace_at_a_sine_turn_is_fitted_from_both_sides():
+    # a fit cut at the turn reads the turn angle at the end of a one-sided window (noise
+    # about 4 σ/√w); fitted across the turn it is about 1.5 σ/√w
+    sweep = SineSweep(amplitudes_rad=(0.15, 0.3), frequencies_hz=(0.4, 1.0), cycles=4)
+    err, sigma = _turn_errors(sweep, seed=11)
+    assert err.size >= 20
+    rms = float(np.sqrt(np.mean(err ** 2)))
+    # the window is at least 60 ms (31 samples): one-sided ≈ 0.72 σ, two-sided ≈ 0.27 σ
+    assert rms < 0.45 * sigma, (rms, sigma)
+
+
+def test_the_trace_keeps_a_linear_ramps_corner():
+    # fitted across, a corner at 0.3 rad/s would be rounded off by millirad
+    ramps = Protocol(amplitudes_rad=(0.1, 0.2, 0.3), rates_rad_per_s=(0.3,), profile="linear")
+    err, sigma = _turn_errors(ramps, seed=12)
+    assert err.size >= 5
+    assert float(np.sqrt(np.mean(err ** 2))) < 1.2 * sigma
