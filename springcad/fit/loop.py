@@ -31,7 +31,7 @@
    named as a group and carried as one term, with the protocol that would
    separate them.
 5. **Uncertainty** (:mod:`springcad.fit.inference`): every reported quantity
-   with a clustered-sandwich 95 % confidence interval.
+   with a 95 % confidence interval from the leave-one-run-out jackknife.
 6. **What is left** (:mod:`springcad.fit.residual`, :mod:`springcad.fit.localise`):
    the final residual is tested for structure beyond noise (by deflection and
    direction, by time, by run, periodic in time); if any is found it is

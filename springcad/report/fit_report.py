@@ -124,7 +124,8 @@ def report_blocks(result: FitResult, data: dict, images: dict[str, str]) -> list
     b.append(("h2", "Final model"))
     b.append(("p", f"`{final['model']}`, NRMSE {_f(final['nrmse_pct'])} %, RMSE "
                    f"{_f(final['rmse_Nm'])} N·m. Intervals are 95 % confidence intervals "
-                   "(sandwich covariance clustered on the runs between reversals, Student t)."))
+                   "(leave-one-run-out jackknife over the runs between reversals, floored at "
+                   "the noise, Student t)."))
     rows = []
     for k, ci in final["intervals"].items():
         if ci.get("confounded_with"):
