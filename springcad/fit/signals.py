@@ -16,7 +16,7 @@ import numpy as np
 from scipy import ndimage
 
 from springcad.fit.data import BenchRecord
-from springcad.fit.segment import Segmentation, noise_std
+from springcad.fit.segment import Segmentation, _sharp_turn, noise_std
 
 
 @dataclass(frozen=True)
@@ -277,32 +277,6 @@ def _corner(theta: np.ndarray, near: int, leaving: bool, half: int) -> int:
         if sse < best:
             best, where = sse, j
     return where if leaving else where + 1
-
-
-def _sharp_turn(theta: np.ndarray, i: int, half: int) -> bool:
-    """Whether the motion turns sharply at sample ``i``: over ``half`` samples either side,
-    a V (two straight lines meeting near ``i``) fits ``theta`` better than a parabola.
-
-    A linear ramp that reverses at once is a V; a sine's or a cosine ramp's turn is a
-    parabola to within its curvature's change. Too few samples: sharp (cut, the safe
-    side).
-    """
-    lo, hi = max(i - half, 0), min(i + half, theta.size)
-    y = theta[lo:hi]
-    x = np.arange(lo, hi, dtype=float) - i
-    if y.size < 8:
-        return True
-    quad = np.column_stack([np.ones_like(x), x, x * x])
-    sse_quad = float(np.sum((y - quad @ np.linalg.lstsq(quad, y, rcond=None)[0]) ** 2))
-    # V with its vertex anywhere within a quarter window of i, solved for all vertices at once
-    vertex = np.arange(-(half // 4), half // 4 + 1, dtype=float)
-    left = np.minimum(x[None, :] - vertex[:, None], 0.0)
-    right = np.maximum(x[None, :] - vertex[:, None], 0.0)
-    basis = np.stack([np.ones_like(left), left, right], axis=2)        # (vertex, sample, 3)
-    gram = np.einsum("vsi,vsj->vij", basis, basis) + 1e-9 * np.eye(3)
-    coef = np.linalg.solve(gram, np.einsum("vsi,s->vi", basis, y)[..., None])[..., 0]
-    sse_v = np.sum((y[None, :] - np.einsum("vsi,vi->vs", basis, coef)) ** 2, axis=1)
-    return bool(sse_v.min() < sse_quad)
 
 
 def find_glitches(x: np.ndarray, threshold: float = 6.0, width: int = 9,
