@@ -223,38 +223,38 @@ def _sharp_turn(theta: np.ndarray, i: int, half: int) -> bool:
     parabola to within its curvature's change. Too few samples: sharp (cut, the safe
     side).
     """
-    lo, hi = max(i - half, 0), min(i + half, theta.size)
-    y = theta[lo:hi]
-    x = np.arange(lo, hi, dtype=float) - i
+    x, y = _window(theta, i, half)
     if y.size < 8:
         return True
     quad = np.column_stack([np.ones_like(x), x, x * x])
     sse_quad = float(np.sum((y - quad @ np.linalg.lstsq(quad, y, rcond=None)[0]) ** 2))
     # V with its vertex anywhere within a quarter window of i
-    sse_v, _ = _v_fits(x, y, np.arange(-(half // 4), half // 4 + 1, dtype=float))
-    return bool(sse_v.min() < sse_quad)
+    return bool(_v_sse(x, y, np.arange(-(half // 4), half // 4 + 1, dtype=float)).min() < sse_quad)
 
 
 def _vertex(theta: np.ndarray, i: int, half: int, step: float = 0.25) -> float:
     """Sample position (fractional) of the vertex of the V fitting ``theta`` best over ``half``
     samples either side of ``i``, searched within half a window of ``i`` in ``step``s."""
+    x, y = _window(theta, i, half)
+    vertex = np.arange(-(half // 2), half // 2 + 1e-9, step)
+    return i + float(vertex[int(np.argmin(_v_sse(x, y, vertex)))])
+
+
+def _window(theta: np.ndarray, i: int, half: int) -> tuple[np.ndarray, np.ndarray]:
+    """Sample offsets from ``i`` and values of ``theta`` within ``half`` samples of ``i``."""
     lo, hi = max(i - half, 0), min(i + half, theta.size)
-    y = theta[lo:hi]
-    x = np.arange(lo, hi, dtype=float) - i
-    sse, _ = _v_fits(x, y, np.arange(-(half // 2), half // 2 + 1e-9, step))
-    return i + float(np.arange(-(half // 2), half // 2 + 1e-9, step)[int(np.argmin(sse))])
+    return np.arange(lo, hi, dtype=float) - i, theta[lo:hi]
 
 
-def _v_fits(x: np.ndarray, y: np.ndarray, vertex: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Squared error and coefficients (level, slope before, slope after) of the V with its
-    vertex at each of ``vertex`` (same units as ``x``) fitted to ``y``, all at once."""
+def _v_sse(x: np.ndarray, y: np.ndarray, vertex: np.ndarray) -> np.ndarray:
+    """Squared error of the least-squares V (a level and a slope either side) with its vertex
+    at each of ``vertex`` (units of ``x``) fitted to ``y``, all at once."""
     left = np.minimum(x[None, :] - vertex[:, None], 0.0)
     right = np.maximum(x[None, :] - vertex[:, None], 0.0)
     basis = np.stack([np.ones_like(left), left, right], axis=2)        # (vertex, sample, 3)
     gram = np.einsum("vsi,vsj->vij", basis, basis) + 1e-9 * np.eye(3)
     coef = np.linalg.solve(gram, np.einsum("vsi,s->vi", basis, y)[..., None])[..., 0]
-    sse = np.sum((y[None, :] - np.einsum("vsi,vi->vs", basis, coef)) ** 2, axis=1)
-    return sse, coef
+    return np.sum((y[None, :] - np.einsum("vsi,vi->vs", basis, coef)) ** 2, axis=1)
 
 
 def _refine_sharp_turns(theta: np.ndarray, tps: np.ndarray, half: int) -> np.ndarray:
