@@ -41,7 +41,8 @@ def test_unit_torque_load_and_equilibrium(s1_faces, material):
     fx, fy = sys_.f[0::2].sum(), sys_.f[1::2].sum()
     assert fx < 0 and abs(fy) < 1e-3 * abs(fx)
     u, info = solve(sys_)
-    assert info.residual < 1e-8  # RESIDUAL_TOLERANCE; round-off floor ~1e-10
+    assert info.residual < 1e-14  # backward error of a stable direct solve: ~eps
+    assert 1 < info.growth < 1e13
     assert info.equilibrium_error < 1e-8
 
 
@@ -138,3 +139,50 @@ def test_solver_uses_the_one_material_type(s1):
     assert mu * (3 * lam3 + 2 * mu) / (lam3 + mu) == pytest.approx(E, rel=1e-12)
     lam2, _ = lame(m, plane_stress=True)
     assert lam2 == pytest.approx(2 * lam3 * mu / (lam3 + 2 * mu), rel=1e-12)
+
+
+def _chain(n: int, hold_first: bool):
+    """A 1D chain of n springs whose stiffnesses span 1e-4..1 (a badly scaled but regular
+    system), loaded at its far end; held at node 0 unless ``hold_first`` is False."""
+    from types import SimpleNamespace
+
+    from scipy.sparse import diags
+
+    k = np.logspace(-4, 0, n)
+    main = np.concatenate([k, [0.0]]) + np.concatenate([[0.0], k])
+    A = diags([main, -k, -k], [0, 1, -1], format="csr")
+    f = np.zeros(n + 1)
+    f[-1] = 1.0
+    fixed = np.array([0]) if hold_first else np.array([], dtype=int)
+    return SimpleNamespace(A=A, f=f, fixed=fixed, constraints=None, dim=2,
+                           rotation=np.linspace(0.0, 1.0, n + 1))
+
+
+def test_solve_check_is_scaled_by_the_backward_error_not_the_size():
+    """A large badly scaled chain has a relative residual at round-off far above 1e-8
+    (the old test refused it), yet its backward error is ~eps; the same chain with its
+    hold removed (singular) is still refused."""
+    from fea.solve import backward_error, solve
+
+    system = _chain(200_000, hold_first=True)
+    u, info = solve(system, "superlu")
+    x_true = np.cumsum(1.0 / np.logspace(-4, 0, 200_000))  # closed form: the compliances add
+    assert u[1:] == pytest.approx(x_true, rel=1e-6)
+    free = np.arange(1, 200_001)
+    M = system.A[free][:, free]
+    r_rel = np.linalg.norm(M @ u[1:] - system.f[1:]) / np.linalg.norm(system.f[1:])
+    assert info.residual < 1e-14 and info.residual == pytest.approx(
+        backward_error(M, u[1:], system.f[1:])[0])
+    assert r_rel > 1e-8  # the relative residual has a size-dependent floor: the old check refused it
+
+    singular = _chain(2_000, hold_first=True)
+    singular.fixed = np.array([], dtype=int)
+    with pytest.raises(SolverError):
+        solve(singular, "superlu")
+    floating = _chain(2_000, hold_first=True)
+    floating.A = floating.A.tolil()
+    floating.A[1000, 1001] = floating.A[1001, 1000] = 0.0  # cut the chain: a free piece
+    floating.A[1000, 1000] -= 1e-4 * 10 ** (4 * 1000 / 1999)
+    floating.A[1001, 1001] -= 1e-4 * 10 ** (4 * 1000 / 1999)
+    with pytest.raises(SolverError):
+        solve(floating, "superlu")
