@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from springcad.design.curves import Arc, Circle, Line, Loop, Profile
+from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
 from springcad.design.planar import (find_defect, inside_region, points_in_polygon,
                                      sample_loop)
 
@@ -89,3 +89,16 @@ def test_sampled_loop_length_and_area_match_closed_forms():
     assert np.allclose(s.curvature[on_arc], 0.5)
     # the two convex corners of the left side turn by +90 deg each
     assert sorted(np.round(np.degrees(s.corners[:, 3])).tolist()) == [90.0, 90.0]
+
+
+def test_a_short_finely_sampled_flank_is_not_a_self_touch():
+    """A 0.03 mm spline flank (a cam at small deflection) is sampled ~1 um apart; samples
+    five apart are neighbours on the curve, not the loop touching itself. The same square
+    with a fillet swept the long way is still a touch."""
+    flank = Spline(tuple((4.0 + 0.03 * t, 0.004 * t * t) for t in np.linspace(0, 1, 8)),
+                   (1.0, 0.0), (0.03, 0.008))
+    end = flank.points[-1]
+    loop = Loop((Line((0, 0), (4, 0)), flank, Line(end, (5, 5)), Line((5, 5), (0, 5)),
+                 Line((0, 5), (0, 0))))
+    assert len(flank.sample(0.02)) >= 30  # far finer than the step
+    assert find_defect(Profile(loop)) is None

@@ -21,9 +21,12 @@ import numpy as np
 
 from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
 
-#: two samples of one loop closer than half a step count as the loop touching itself
-#: only when more than this many samples apart along it (else they are neighbours)
-_TOUCH_MIN_SAMPLES_APART = 4
+#: two samples of one loop closer than half a step count as the loop touching itself only
+#: when they lie more than this many steps apart along it (else they are neighbours on the
+#: curve). Measured along the loop, not in samples: a short spline is sampled far more
+#: finely than the step (4 samples per fit point), and five samples of a 0.02 mm cam flank
+#: are ~1 um apart
+_TOUCH_MIN_STEPS_APART = 2.0
 
 
 # ------------------------------------------------------------------------------ sampling
@@ -223,7 +226,10 @@ def find_defect(profile: Profile, step_mm: float = 0.02) -> LoopDefect | None:
     sizes = np.array([len(p) for p in pts])
     p0 = np.vstack(pts)
     loop_of = np.repeat(np.arange(len(pts)), sizes)
-    index = np.arange(len(p0)) - np.repeat(np.cumsum(sizes) - sizes, sizes)
+    # arc length of every sample from its loop's start, and each loop's length (mm)
+    chords = [np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1) for p in pts]
+    s_along = np.concatenate([np.concatenate([[0.0], np.cumsum(c)[:-1]]) for c in chords])
+    loop_length = np.array([c.sum() for c in chords])
     nxt = np.concatenate([start + (np.arange(n) + 1) % n
                           for start, n in zip(np.cumsum(sizes) - sizes, sizes)])
     p1 = p0[nxt]
@@ -247,9 +253,9 @@ def find_defect(profile: Profile, step_mm: float = 0.02) -> LoopDefect | None:
     near = cKDTree(p0).query_pairs(0.5 * step_mm, output_type="ndarray")
     if len(near):
         a, b = near[:, 0], near[:, 1]
-        gap = np.abs(index[a] - index[b])
-        gap = np.minimum(gap, sizes[loop_of[a]] - gap)
-        touch = (loop_of[a] != loop_of[b]) | (gap > _TOUCH_MIN_SAMPLES_APART)
+        gap_mm = np.abs(s_along[a] - s_along[b])
+        gap_mm = np.minimum(gap_mm, loop_length[loop_of[a]] - gap_mm)
+        touch = (loop_of[a] != loop_of[b]) | (gap_mm > _TOUCH_MIN_STEPS_APART * step_mm)
         if touch.any():
             k = int(np.flatnonzero(touch)[0])
             return LoopDefect("touch", (int(loop_of[a[k]]), int(loop_of[b[k]])),
