@@ -117,7 +117,7 @@ def inner_loop(space, batch_size: int) -> None:
 
 def full_design_rate() -> None:
     from springcad.config import load_job
-    from springcad.design.spring import design_spring
+    from springcad.design.search import design_spring
 
     job = load_job(ROOT / "templates" / "paper_S1.toml")
     from springcad.errors import DesignError

@@ -112,7 +112,7 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
                 k, design, run, target, f"redesign for the FEA peak ({bias:.3f} x the design's "
                 f"prediction; yield margin {margin:.3f} < {required:g})"))
             try:
-                from springcad.design import spring as spring_design
+                from springcad.design import search as spring_design
 
                 design = spring_design.redesign_for_margin(design, bias * (1.0 + 0.01 * stress_passes))
             except DesignError as exc:

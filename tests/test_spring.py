@@ -7,7 +7,7 @@ import pytest
 
 from springcad.config import job_from_dict
 from springcad.design import flexure as fx
-from springcad.design.spring import design_spring
+from springcad.design.search import design_spring
 from springcad.errors import DesignError
 
 
@@ -159,7 +159,7 @@ def test_width_hooks_follow_beam_theory(paper_designs):
 def test_root_flare_is_the_lowest_predicted_peak(straight, paper_designs):
     """The chosen root flare predicts no higher a peak than any other flare of the list."""
     from springcad.design import stress
-    from springcad.design.spring import ROOT_FLARES, FLARE_GAIN, _with_flare
+    from springcad.design.search import ROOT_FLARES, FLARE_GAIN, _with_flare
 
     for s in (straight, paper_designs["paper_S1"].springs["S1"]):
         peaks = {f: stress.predict(_with_flare(s, f)).peak_MPa for f in ROOT_FLARES}

@@ -8,7 +8,8 @@ from dataclasses import dataclass
 from springcad.version import __version__
 from springcad.config import Job
 from springcad.design.plausibility import check_hardware
-from springcad.design.spring import SpringDesign, design_spring
+from springcad.design.search import design_spring
+from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
 from springcad.units import G_PER_KG, MM3_PER_CM3, NMM_PER_NM
 

@@ -81,11 +81,29 @@ def fits(spec: SpringSpec, lay: Layout) -> bool:
     return lay.n <= fx.max_flexures(lay.rb, lay.rc)
 
 
-def choose_layout(spec: SpringSpec, sigma, E) -> Layout:
-    """N and r_c by exact enumeration (eqs. 6-7); deterministic."""
+#: layouts the design search tries, best first, before it gives up on a spec
+MAX_CANDIDATES = 12
+
+
+def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES) -> list[Layout]:
+    """Every distinct flexure count N that fits, each at its best contact radius, best first.
+
+    The free parameters are searched by exact enumeration (eqs. 6-7): for each N the
+    contact radius r_c that maximises the straight-flexure limit on a 60-point grid
+    (or the fixed ``contact_radius_mm``), the tip ball sized for the peak load (or the
+    fixed ``tip_radius_mm``), the root radius by the rim rule (or the fixed
+    ``root_radius_mm``). Layouts are ranked by their straight limit (the deflection
+    reachable without serpentine), so the first is the reference method's choice and
+    the later ones are what a designer tries when a later rule (cam tooth, fillets,
+    rim holes, serpentine reach) rejects it. Deterministic.
+
+    Raises:
+        DesignError: no (N, r_c) fits at all (names the binding limit and what to change).
+    """
     z = spec.thickness_mm
     cap = fx.torque_cap_Nmm
     peak = spec.stiffness_Nmm_per_rad * spec.max_deflection_rad
+    ro = spec.outer_radius_mm
 
     def cap_error(rc):
         return DesignError(
@@ -97,52 +115,53 @@ def choose_layout(spec: SpringSpec, sigma, E) -> Layout:
 
     if spec.contact_radius_mm is not None:
         rc = spec.contact_radius_mm
-        if spec.n_flexures is not None:
-            lay = layout_at(spec, sigma, E, spec.n_flexures, rc)
-            if not fits(spec, lay):
-                nmax = fx.max_flexures(lay.rb, rc)
-                if spec.tip_radius_mm is None and peak > cap(rc, z, sigma):
-                    raise cap_error(rc)
-                raise DesignError(
-                    f"spring '{spec.name}': n_flexures = {spec.n_flexures} do not fit: tip balls of "
-                    f"radius {lay.rb:.3g} mm and equal cam teeth leave room for at most {nmax} "
-                    f"flexures at contact radius {rc:.3g} mm")
-            return lay
-        if spec.tip_radius_mm is not None:
-            return layout_at(spec, sigma, E, fx.max_flexures(spec.tip_radius_mm, rc), rc)
-        if peak > cap(rc, z, sigma):
+        if spec.tip_radius_mm is None and peak > cap(rc, z, sigma):
             raise cap_error(rc)
-        for n in range(fx.max_flexures(spec.min_tip_radius_mm, rc), 1, -1):
-            lay = layout_at(spec, sigma, E, n, rc)
-            if fits(spec, lay):
-                return lay
-        raise cap_error(rc)
-
-    # r_c free: maximise the straight limit over a fixed grid, then refine (eq. 7)
-    ro = spec.outer_radius_mm
-    rc_min = max(ro / 30, math.sqrt(6 * math.sqrt(3) * peak / (math.pi * z * sigma)) * 1.001
-                 if spec.tip_radius_mm is None else ro / 30)
-    ns = [spec.n_flexures] if spec.n_flexures is not None else range(3, 200)
-    best: Layout | None = None
-    for rc in np.linspace(rc_min, 0.6 * ro, 60):
+        radii = [rc]
+    else:
+        rc_min = max(ro / 30, math.sqrt(6 * math.sqrt(3) * peak / (math.pi * z * sigma)) * 1.001
+                     if spec.tip_radius_mm is None else ro / 30)
+        if rc_min >= 0.6 * ro:
+            raise cap_error(0.6 * ro)
+        radii = [float(r) for r in np.linspace(rc_min, 0.6 * ro, 60)]
+    if spec.n_flexures is not None:
+        ns = [spec.n_flexures]
+    elif spec.tip_radius_mm is not None and spec.contact_radius_mm is not None:
+        ns = [fx.max_flexures(spec.tip_radius_mm, spec.contact_radius_mm)]
+    else:
+        ns = range(3, 200)
+    best: dict[int, Layout] = {}
+    for rc in radii:
         for n in ns:
-            if n > fx.max_flexures(tip_ball(spec, sigma, n, float(rc))[2], float(rc)):
-                continue  # the balls do not fit (as _fits below), no rim rule to solve
+            if n > fx.max_flexures(tip_ball(spec, sigma, n, rc)[2], rc):
+                continue  # the balls do not fit (as fits() below), no rim rule to solve
             try:
-                lay = layout_at(spec, sigma, E, n, float(rc))
+                lay = layout_at(spec, sigma, E, n, rc)
             except DesignError:
                 continue
-            if not fits(spec, lay):
-                continue
-            if best is None or lay.theta_s > best.theta_s:
-                best = lay
-    if best is None:
-        if peak > cap(0.6 * ro, z, sigma):
-            raise cap_error(0.6 * ro)
+            if fits(spec, lay) and (n not in best or lay.theta_s > best[n].theta_s):
+                best[n] = lay
+    if not best:
+        if spec.contact_radius_mm is not None and spec.n_flexures is not None:
+            lay = layout_at(spec, sigma, E, spec.n_flexures, spec.contact_radius_mm)
+            raise DesignError(
+                f"spring '{spec.name}': n_flexures = {spec.n_flexures} do not fit: tip balls of "
+                f"radius {lay.rb:.3g} mm and equal cam teeth leave room for at most "
+                f"{fx.max_flexures(lay.rb, lay.rc)} flexures at contact radius {lay.rc:.3g} mm")
+        if spec.tip_radius_mm is None and peak > cap(radii[-1], z, sigma):
+            raise cap_error(radii[-1])
         raise DesignError(
-            f"spring '{spec.name}': no layout fits: for contact radii {rc_min:.3g} to "
-            f"{0.6 * ro:.3g} mm and N = {ns[0]}{'' if len(ns) == 1 else f' to {ns[-1]}'} the tip "
-            "balls or the flexure roots "
-            f"do not fit in R_o = {ro:.3g} mm; use a larger outer radius, a thicker disk or a "
-            "lower stiffness, or fewer n_flexures")
-    return best
+            f"spring '{spec.name}': no layout fits: for contact radii {radii[0]:.3g} to "
+            f"{radii[-1]:.3g} mm and N = {ns[0]}{'' if len(ns) == 1 else f' to {ns[-1]}'} the tip "
+            f"balls or the flexure roots do not fit in R_o = {ro:.3g} mm; use a larger outer "
+            "radius, a thicker disk or a lower stiffness, or fewer n_flexures")
+    if spec.contact_radius_mm is not None:  # r_c fixed: the most flexures first (eq. 6)
+        ranked = sorted(best.values(), key=lambda lay: -lay.n)
+    else:  # r_c free: the longest straight reach first (eq. 7)
+        ranked = sorted(best.values(), key=lambda lay: (-lay.theta_s, lay.n))
+    return ranked[:limit]
+
+
+def choose_layout(spec: SpringSpec, sigma, E) -> Layout:
+    """The reference method's layout: the first of :func:`candidate_layouts`."""
+    return candidate_layouts(spec, sigma, E, limit=1)[0]

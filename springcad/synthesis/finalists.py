@@ -94,7 +94,7 @@ def design_candidate(req, cand: dict):
     """
     from springcad.config import job_from_dict
     from springcad.design.job import JobDesign, common_hole_circle
-    from springcad.design.spring import design_spring
+    from springcad.design.search import design_spring
     from springcad.design.stack import design_stack
 
     job = job_from_dict(job_document(req, cand), name="synthesized")

@@ -1,6 +1,6 @@
 """Predicted peak stress of screened disks: the design's stress model on arrays.
 
-:func:`springcad.design.spring.design_spring` keeps the *predicted* peak of the
+:func:`springcad.design.search.design_spring` keeps the *predicted* peak of the
 real geometry (:mod:`springcad.design.stress`: the Winkler-Bach curved-beam flank,
 the root fillet and the tip-neck fillet, calibrated to FEA) below yield / margin,
 choosing the root flare with the lowest peak. :func:`predict_peaks` evaluates the
@@ -9,7 +9,7 @@ same model on many screened disks at once, on the centreline stations of
 
 1. the flexure widths w = web-floor(scale x w_law(y) x flare(y)): the scale brought
    onto the target stiffness (Castigliano) in two passes without a flare, then, for each
-   root flare of :data:`springcad.design.spring.ROOT_FLARES`, three passes onto that
+   root flare of :data:`springcad.design.search.ROOT_FLARES`, three passes onto that
    stiffness, exactly as the design steps (the tip web does not scale, so where it is a
    large part of the flexure the passes stop short of the target, as the design's do);
 2. nominal stress 6 F (y - r_c) / (z w^2) times the Winkler factors of the centreline
@@ -18,7 +18,7 @@ same model on many screened disks at once, on the centreline stations of
    tangent to the edge and to the rim circle or the tip ball), the root model
    a (w / r_f)^b k^c there, the flank maximum below the root station, the neck nominal;
 4. the flare with the lowest peak, a larger flare only when it gains more than
-   :data:`springcad.design.spring.FLARE_GAIN`.
+   :data:`springcad.design.search.FLARE_GAIN`.
 
 A flare whose profile the design cannot build (neighbouring root fillets overlapping,
 clearance or edge radius broken: the design falls back to the next flare) is skipped
@@ -32,7 +32,7 @@ import numpy as np
 
 from springcad.design import flexure as fx
 from springcad.design import stress
-from springcad.design.spring import FLARE_GAIN, ROOT_FLARES
+from springcad.design.search import FLARE_GAIN, ROOT_FLARES
 from springcad.synthesis.shapes import U, blocks, trapz_rows
 
 #: peak regions, in the order of :class:`springcad.design.stress.StressPrediction`
@@ -101,7 +101,7 @@ def _compliance(scale, factor, g):
 
 def _scale_onto(scale, factor, compliance, passes, g):
     """The width scale after ``passes`` steps scale x (C / C_target)^(1/3) (K ~ scale^3
-    away from the tip web), as :func:`springcad.design.spring._design_at` and
+    away from the tip web), as :func:`springcad.design.search._design_at` and
     ``_with_flare`` step."""
     for _ in range(passes):
         scale = scale * (_compliance(scale, factor, g)[0] / compliance)[:, None] ** (1 / 3)

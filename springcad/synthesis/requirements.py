@@ -97,7 +97,7 @@ class SearchSpace:
         outer_radius_fractions: disk outer radius R_o as fractions of the largest the
             envelope allows (the bushing of a stack of 3+ disks taken off) (-).
         n_flexures: flexure counts to try; empty = derived from the largest count that
-            fits (the design rule of :func:`springcad.design.spring.design_spring`) by
+            fits (the design rule of :func:`springcad.design.search.design_spring`) by
             ``fewer_flexures``.
         fewer_flexures: when ``n_flexures`` is empty, try N = N_max - k for each k
             (fewer flexures leave a thicker rim for the fastener holes).

@@ -1,6 +1,6 @@
 """Screening: the closed-form single-disk design of many disks at once (numpy arrays).
 
-:func:`screen_disks` follows :func:`springcad.design.spring.design_spring` step
+:func:`screen_disks` follows :func:`springcad.design.search.design_spring` step
 by step for disks whose contact radius is given (the synthesis enumerates r_c),
 without building the exact profiles:
 
@@ -25,7 +25,7 @@ without building the exact profiles:
 7. with ``allowed_peak_MPa`` (yield / required margin): the design's stress passes.
    While the predicted peak exceeds the allowed one, the beam stress is lowered by
    allowed / peak x 0.995 and the disk screened again with the same N
-   (:func:`springcad.design.spring.design_spring` does this with the N the synthesis
+   (:func:`springcad.design.search.design_spring` does this with the N the synthesis
    writes into the job), at most ``STRESS_PASSES`` designs; a disk that no pass
    brings under the allowed peak fails on ``yield_margin`` (or ``fatigue_margin``);
 8. mass from the flexure area integral w ds of that geometry plus tip balls and the
@@ -46,7 +46,7 @@ from springcad.design import flexure as fx
 from springcad.design.cam import OVERTRAVELS
 from springcad.design.layout import RIM_GAP_RATIO
 from springcad.design.ring import hole_diameter_mm
-from springcad.design.spring import STRESS_PASSES
+from springcad.design.search import STRESS_PASSES
 from springcad.synthesis.peak import predict_peaks
 from springcad.synthesis.shapes import U, serpentine_centrelines, serpentine_reach
 

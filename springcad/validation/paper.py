@@ -262,7 +262,8 @@ def geometry_changes(designs: dict, use_fea: bool = False, progress=lambda messa
     stiffness, predicted peak stress, yield margin and mass; with ``use_fea`` also on
     a 2D FEA solve of each (stiffness and peak von Mises at the max deflection).
     """
-    from springcad.design.spring import _design_at, with_root
+    from springcad.design.search import _design_at
+    from springcad.design.spring import with_root
 
     out = []
     seen = {}

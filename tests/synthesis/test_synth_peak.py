@@ -24,7 +24,8 @@ import pytest
 
 from springcad.config import load_job
 from springcad.design import flexure as fx
-from springcad.design.spring import FLARE_GAIN, design_spring, with_root
+from springcad.design.search import FLARE_GAIN, design_spring
+from springcad.design.spring import with_root
 from springcad.errors import DesignError
 from springcad.synthesis import peak
 from springcad.synthesis.screening import (ENERGY, FLEXURE_FIT, OK, REASONS, RIM_RULE,

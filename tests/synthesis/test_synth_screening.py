@@ -15,7 +15,7 @@ import pytest
 
 from springcad.config import load_job
 from springcad.design.cam import OVERTRAVELS, _unit
-from springcad.design.spring import design_spring
+from springcad.design.search import design_spring
 from springcad.errors import DesignError
 from springcad.synthesis.screening import REASONS, cam_tooth_width_mm, screen_disks
 from synth_fixtures import TEMPLATES

@@ -1,0 +1,397 @@
+"""The design search: from a :class:`~springcad.config.SpringSpec` to a :class:`SpringDesign`.
+
+Every parameter the user did not fix is searched, every rule that can fail later is
+checked on the design's own exact profiles (:func:`springcad.design.spring.with_width`
+builds the ring and cam), and the choice is deterministic and explained:
+
+1. Layouts (N, r_c, tip ball, root radius) come ranked from
+   :func:`springcad.design.layout.candidate_layouts`: the reference method's choice
+   first, then every other flexure count that fits, each at its best contact radius.
+2. For each, the flexure shape and widths at the design stress (:func:`_design_at`),
+   the root flare with the lowest predicted peak (:func:`_choose_root`), and the stress
+   passes that keep the yield margin (:func:`_design_with_margin`).
+3. The first layout that passes every rule is the design; ``design_choice`` says which
+   layouts were tried before it and why each was rejected.
+4. When none passes, the refusal names the binding rule and the nearest values of the
+   user's own keys that would pass (:mod:`springcad.design.feasibility`).
+
+Units: mm, N, MPa, N*mm, rad.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace as _replace
+
+from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
+from springcad.design import flexure as fx
+from springcad.design.layout import Layout, candidate_layouts, rim_root_radius
+from springcad.design.spring import SpringDesign, with_width
+from springcad.errors import DesignError
+from springcad.units import J_PER_NMM, NMM_PER_NM
+
+
+class _NoMoreLayouts(Exception):
+    """The layout rank asked for is past the last candidate layout."""
+
+
+# --------------------------------------------------------------------- one layout
+def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
+               hardware: HardwareSpec, derating: float = 1.0,
+               balances: tuple[str, ...] = fx.BALANCES, rank: int = 0) -> SpringDesign:
+    """Layout, flexure shape and width calibration at beam stress ``derating`` x design stress.
+
+    No root flare, no profiles yet (:func:`design_spring` adds both). ``balances``: the
+    serpentine balances tried (:func:`flexure.design_serpentine`); ``rank``: which of the
+    ranked candidate layouts (:func:`~springcad.design.layout.candidate_layouts`, 0 = the
+    reference method's choice).
+
+    Raises:
+        DesignError: the spec cannot be met in its envelope (the message says why
+            and what to change).
+        _NoMoreLayouts: ``rank`` is past the last candidate.
+    """
+    sigma = material.design_stress_MPa * derating
+    E = material.material.youngs_modulus_MPa
+    z, K, theta_d = spec.thickness_mm, spec.stiffness_Nmm_per_rad, spec.max_deflection_rad
+    warnings: list[str] = []
+
+    # energy bound: no geometry can store more than sigma^2/(6E) per unit flexure volume
+    annulus = math.pi * (spec.outer_radius_mm ** 2) * z
+    bound_J = fx.energy_bound_J_per_mm3(sigma, E) * annulus
+    need_J = 0.5 * K * theta_d ** 2 * J_PER_NMM
+    if need_J > bound_J:
+        raise DesignError(
+            f"spring '{spec.name}': storing {need_J:.3g} J at {theta_d:.3g} rad needs more than the "
+            f"whole disk can hold at the design stress (sigma^2/(6E) x disk volume = {bound_J:.3g} J); "
+            "no flexure geometry in this envelope can reach that deflection: lower the stiffness or "
+            "deflection, enlarge the disk, or put springs in series")
+
+    layouts = candidate_layouts(spec, sigma, E)
+    if rank >= len(layouts):
+        raise _NoMoreLayouts(rank)
+    lay = layouts[rank]
+    n, rc, rb, rr = lay.n, lay.rc, lay.rb, lay.rr
+    if rb < lay.rb_req:
+        warnings.append(
+            f"tip ball {rb:.3f} mm is below the {lay.rb_req:.3f} mm the peak load "
+            f"{lay.load:.1f} N needs at the design stress; torque cap at r_c = {rc:g} mm is "
+            f"{fx.torque_cap_Nmm(rc, z, sigma) / NMM_PER_NM:.2f} N*m vs peak "
+            f"{K * theta_d / NMM_PER_NM:.2f} N*m: expect higher stress at the tip neck")
+
+    shape = spec.flexure
+    if shape == "straight" and lay.theta_s < theta_d:
+        raise DesignError(
+            f"spring '{spec.name}': straight flexures reach only {lay.theta_s:.4f} rad "
+            f"({math.degrees(lay.theta_s):.2f} deg) < max deflection {theta_d:.4f} rad; "
+            "allow flexure = \"serpentine\" or \"auto\"")
+    use_straight = lay.theta_s >= theta_d
+    if shape == "serpentine" and use_straight:
+        warnings.append("serpentine requested but straight flexures already reach the target "
+                        "deflection; straight flexures used")
+    L = rr - rc
+    clearance = balance = None
+    if use_straight:
+        def w0_stiff(length):
+            return fx.straight_root_width_for_stiffness_mm(K, n, rc, length, E, z)
+        rr_s = spec.root_radius_mm or rim_root_radius(spec.outer_radius_mm, n, rc, w0_stiff)
+        theta_s2 = fx.straight_limit_rad(n, z, sigma, rr_s - rc, E, K, rc)
+        if theta_s2 >= theta_d:
+            rr, L = rr_s, rr_s - rc
+            lay = Layout(n, rc, rb, lay.rb_req, rr, theta_s2, lay.load)
+            width_law, w0 = "stiffness", w0_stiff(L)
+            centre = fx.Centreline.straight(rc, rr)
+            s_req = ratio = 1.0
+        else:
+            use_straight = False
+    if not use_straight:
+        width_law = "stress"
+        w0 = math.sqrt(6 * lay.load * L / (z * sigma))
+        s_req = fx.serpentine_factor(theta_d, lay.theta_s)
+
+        def width_fn(y):
+            return fx.constant_stress_width_mm(y, lay.load, rc, z, sigma)
+
+        try:
+            res = fx.design_serpentine(
+                target_area_ratio=s_req, contact_radius_mm=rc, root_radius_mm=rr, n_flexures=n,
+                width_fn=width_fn, tip_radius_mm=rb,
+                min_clearance_mm=max(manufacturing.min_slot_width_mm,
+                                     2 * manufacturing.min_inside_radius_mm),
+                min_inside_radius_mm=manufacturing.min_inside_radius_mm,
+                root_zone_mm=2.0 * (spec.outer_radius_mm - rr), balances=balances)
+        except DesignError as err:  # the flexure module does not know the spring's name
+            raise DesignError(f"spring '{spec.name}': {err}") from None
+        centre, ratio, clearance = res.centreline, res.area_ratio, res.min_clearance_mm
+        balance = res.balance
+
+
+    t_rim = spec.outer_radius_mm - rr
+    gap_root = 2 * math.pi * rr / n - w0
+    if gap_root <= 2 * manufacturing.min_inside_radius_mm:
+        raise DesignError(f"spring '{spec.name}': flexure roots ({w0:.3g} mm wide) leave "
+                          f"{gap_root:.3g} mm between them at R_r = {rr:.3g} mm; the wire needs "
+                          f"{2 * manufacturing.min_inside_radius_mm:.3g} mm")
+    root_fillet = max(min(0.5 * t_rim, gap_root / 3.0), manufacturing.min_inside_radius_mm)
+    neck_fillet = max(0.5 * rb, manufacturing.min_inside_radius_mm)
+
+    design = SpringDesign(
+        name=spec.name, spec=spec, material=material, manufacturing=manufacturing,
+        hardware=hardware, n_flexures=n, contact_radius_mm=rc, root_radius_mm=rr,
+        outer_radius_mm=spec.outer_radius_mm, thickness_mm=z, tip_radius_mm=rb,
+        tip_radius_required_mm=lay.rb_req, flexure="straight" if use_straight else "serpentine",
+        width_law=width_law, root_width_mm=w0, tip_load_N=lay.load,
+        straight_limit_rad=lay.theta_s, serpentine_factor=s_req, centreline=centre,
+        area_ratio=ratio, min_neighbour_clearance_mm=clearance, rim_thickness_mm=t_rim,
+        serpentine_balance=balance,
+        root_fillet_radius_mm=root_fillet, neck_fillet_radius_mm=neck_fillet,
+        torque_cap_Nmm=fx.torque_cap_Nmm(rc, z, sigma), stiffness_beam_Nmm_per_rad=float("nan"),
+        peak_stress_MPa=float("nan"), warnings=tuple(warnings), stress_derating=derating)
+    # beam prediction of the generated centreline (Castigliano). The web kept at the tip
+    # stiffens the ring by ~0.1-0.3 %: a width factor brings beam theory back onto the
+    # target (K ~ scale^3; two passes because the web itself does not scale)
+    for _ in range(2):
+        k_beam = design.beam_stiffness_Nmm_per_rad()
+        design = _replace(design, width_scale=design.width_scale * (K / k_beam) ** (1 / 3))
+    return design
+
+
+# --------------------------------------------------------------------- stress-aware root
+#: root flares the design chooses from (the range the stress model is calibrated on)
+ROOT_FLARES = (0.0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3)
+#: a flare must lower the predicted peak by more than this to be preferred to a smaller one
+FLARE_GAIN = 0.005
+#: design passes at lower beam stress before the stress correction gives up
+STRESS_PASSES = 5
+
+
+def _with_flare(d: SpringDesign, flare: float) -> SpringDesign:
+    """``d`` with a root flare, widths rescaled back onto its beam stiffness; no profiles."""
+    target = d.beam_stiffness_Nmm_per_rad()
+    c = _replace(d, root_flare=flare, root_flare_length_mm=2.0 * d.rim_thickness_mm if flare else 0.0)
+    for _ in range(3):
+        c = _replace(c, width_scale=c.width_scale * (target / c.beam_stiffness_Nmm_per_rad()) ** (1 / 3))
+    return _replace(c, stiffness_beam_Nmm_per_rad=target)
+
+
+def _choose_root(d: SpringDesign) -> SpringDesign:
+    """The root flare with the lowest predicted peak, with its profiles built.
+
+    Each flare of :data:`ROOT_FLARES` is rescaled to the same beam stiffness and its
+    peak predicted by the FEA-calibrated model (:mod:`springcad.design.stress`); a
+    larger flare must gain at least :data:`FLARE_GAIN`. Candidates whose profile
+    breaks a wire-EDM rule (neighbour clearance, fillets) fall back to the next best.
+    Deterministic; about 0.1 s per candidate.
+    """
+    from springcad.design import stress
+
+    scored = []
+    for flare in ROOT_FLARES:
+        c = _with_flare(d, flare)
+        try:
+            scored.append((stress.predict(c).peak_MPa, flare, c))
+        except DesignError:
+            continue
+    if not scored:
+        return with_width(d, 1.0, d.width_offset_mm)
+    best = min(p for p, _, _ in scored)
+    order = sorted(scored, key=lambda s: (s[0] > best * (1 + FLARE_GAIN), s[1] if s[0] <= best * (
+        1 + FLARE_GAIN) else s[0]))
+    error = None
+    for _, _, c in order:
+        try:
+            return with_width(c, 1.0, c.width_offset_mm)
+        except DesignError as err:
+            error = err
+    raise error
+
+
+def _design_with_margin(spec: SpringSpec, material: MaterialSpec,
+                        manufacturing: ManufacturingSpec, hardware: HardwareSpec,
+                        rank: int) -> tuple[SpringDesign | None, list, DesignError | None]:
+    """One candidate layout through the stress passes.
+
+    Returns:
+        (design, history, error): the design, or None with the error that stopped it;
+        ``history`` holds (derating, predicted peak MPa, region) of every pass.
+
+    Raises:
+        _NoMoreLayouts: ``rank`` is past the last candidate.
+    """
+    required = material.safety_factor
+    derating, history = 1.0, []
+    d = None
+    for _ in range(STRESS_PASSES):
+        try:
+            d = _choose_root(_design_at(spec, material, manufacturing, hardware, derating,
+                                        rank=rank))
+        except DesignError as err:
+            return None, history, err
+        history.append((derating, d.predicted_peak_stress_MPa, d.stress.region))
+        if d.yield_margin >= required * (1.0 - 1e-3):
+            break
+        # the raisers scale with the beam stress: aim 0.5 % inside the margin
+        derating *= d.yield_margin / required * 0.995
+    else:
+        d = _replace(d, warnings=d.warnings + (
+            f"predicted peak {d.predicted_peak_stress_MPa:.0f} MPa ({d.stress.region}) leaves a "
+            f"yield margin {d.yield_margin:.3f} < required {required:g} after {STRESS_PASSES} "
+            "stress passes",))
+    if d.peak_torque_Nmm > d.torque_cap_Nmm * (1 + 1e-3) and not any("tip ball" in w for w in d.warnings):
+        d = _replace(d, warnings=d.warnings + (
+            f"peak torque {d.peak_torque_Nmm / NMM_PER_NM:.2f} N*m exceeds the tip-ball torque cap "
+            f"{d.torque_cap_Nmm / NMM_PER_NM:.2f} N*m at r_c = {d.contact_radius_mm:.3g} mm",))
+    if derating < 1.0:
+        d = _replace(d, warnings=d.warnings + (
+            f"beam stress lowered from {material.design_stress_MPa:.0f} to {d.beam_stress_MPa:.0f} "
+            f"MPa so the predicted peak ({d.predicted_peak_stress_MPa:.0f} MPa at the "
+            f"{d.stress.region}) keeps the yield margin {required:g}",))
+    return d, history, None
+
+
+def _short(err: Exception) -> str:
+    """An error's message without the spring's name prefix."""
+    text = str(err)
+    return text.split("': ", 1)[1] if text.startswith("spring '") and "': " in text else text
+
+
+def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
+                  hardware: HardwareSpec, explain: bool = True) -> SpringDesign:
+    """Synthesise one spring whose *predicted* peak stress keeps the required yield margin.
+
+    The candidate layouts are tried best first (module docstring); for each:
+
+    1. Layout, flexure shape and widths at the design stress (:func:`_design_at`).
+    2. The root flare with the lowest predicted peak (:func:`_choose_root`).
+    3. While yield / predicted peak < the required margin (``material.safety_factor``),
+       the beam stress is lowered by that ratio and the spring redesigned (longer,
+       more serpentine flexures store the same energy at a lower stress).
+
+    The first layout that passes every rule is returned, its ``design_choice`` naming the
+    layouts rejected before it and why.
+
+    Args:
+        explain: when no layout passes, search the thickness and deflection that
+            would (about 10-40 s; False for searches that only need a yes or no).
+
+    Raises:
+        DesignError: no layout meets the spec in its envelope (the message names the
+            binding constraint of the reference layout, how many others were tried, and,
+            with ``explain``, the thickness or deflection that would fit).
+    """
+    rejected: list[tuple[Layout | None, DesignError, list]] = []
+    for rank in range(MAX_CANDIDATES):
+        try:
+            d, history, err = _design_with_margin(spec, material, manufacturing, hardware, rank)
+        except _NoMoreLayouts:
+            break
+        if d is not None:
+            return _replace(d, design_choice=_choice_text(d, rejected))
+        rejected.append((None, err, history))
+        if rank == 0 and not history and _spec_level(err):
+            break  # no layout can help: the energy bound or the torque cap
+    if not rejected:
+        raise DesignError(f"spring '{spec.name}': no candidate layout")
+    _, first, history = rejected[0]
+    tried = "" if len(rejected) == 1 else (
+        f" ({len(rejected)} layouts tried; the others: "
+        + "; ".join(_short(e) for _, e, _ in rejected[1:4]) + ")")
+    if history and explain:
+        raise _stress_infeasible(spec, material, manufacturing, hardware, history, first) from first
+    if history:
+        raise DesignError(
+            f"spring '{spec.name}': no beam stress keeps the yield margin "
+            f"{material.safety_factor:g} in this envelope (predicted peak "
+            f"{history[-1][1]:.0f} MPa at the {history[-1][2]}): {first}{tried}") from first
+    raise DesignError(f"{first}{tried}") from first
+
+
+#: layouts tried before the search gives up
+MAX_CANDIDATES = 12
+
+
+def _spec_level(err: DesignError) -> bool:
+    """Whether an error is about the spec itself (no layout can change it)."""
+    text = str(err)
+    return any(k in text for k in ("whole disk can hold", "torque cap", "no layout fits",
+                                   "do not fit: tip balls"))
+
+
+def _choice_text(d: SpringDesign, rejected) -> str:
+    """Why this layout: the reference choice, or the rejected ones before it."""
+    what = (f"N = {d.n_flexures}, r_c = {d.contact_radius_mm:.3f} mm, tip ball "
+            f"{d.tip_radius_mm:.3f} mm, R_r = {d.root_radius_mm:.3f} mm, {d.flexure}")
+    if not rejected:
+        return f"{what}: the layout with the longest straight reach that passes every rule"
+    return (f"{what}: layout {len(rejected) + 1} of the ranked candidates; rejected before it: "
+            + "; ".join(_short(e) for _, e, _ in rejected))
+
+
+def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign:
+    """The spring redesigned so its predicted peak x ``model_bias`` keeps the required margin.
+
+    The FEA stress correction: when FEA finds the peak ``model_bias`` times the design's
+    prediction, the design's own stress passes (:func:`design_spring`) run against a
+    required margin raised by that factor, so the new geometry is judged by the same
+    model that missed, corrected by what the FEA measured. Rim holes stay on the
+    design's hole circle.
+
+    Raises:
+        DesignError: no beam stress fits the envelope with that margin.
+    """
+    from springcad.design.ring import with_hole_circle
+
+    mat = design.material
+    biased = _replace(mat, safety_factor=mat.safety_factor * max(model_bias, 1.0))
+    d = design_spring(design.spec, biased, design.manufacturing, design.hardware, explain=False)
+    d = _replace(d, material=mat, warnings=tuple(dict.fromkeys(d.warnings + (
+        f"redesigned by the FEA stress correction (FEA peak {model_bias:.3f} x the design "
+        f"prediction): beam stress {d.beam_stress_MPa:.0f} MPa",))))
+    if design.hole_centres_mm:
+        d = with_hole_circle(d, math.hypot(*design.hole_centres_mm[0]))
+    return d
+
+
+def _stress_infeasible(spec, material, manufacturing, hardware, history, err) -> DesignError:
+    """Why no beam stress keeps the yield margin, with the changes that would fit (numbers)."""
+    derating, peak, region = history[-1]
+    required = material.safety_factor
+    sigma_need = material.design_stress_MPa * derating * (
+        material.material.yield_strength_MPa / required / peak)
+
+    need = sigma_need / material.design_stress_MPa
+
+    def feasible(s):
+        try:
+            d = _choose_root(_design_at(s, material, manufacturing, hardware, need))
+            return d.yield_margin >= required * (1 - 1e-3)
+        except DesignError:
+            return False
+
+    def bisect(lo, hi, make, want_low):
+        """Boundary between infeasible ``lo``/feasible ``hi`` (or reverse), 6 halvings."""
+        if not feasible(make(hi if want_low else lo)):
+            return None
+        for _ in range(6):
+            mid = 0.5 * (lo + hi)
+            if feasible(make(mid)) == want_low:
+                hi = mid
+            else:
+                lo = mid
+        return hi if want_low else lo
+
+    z = spec.thickness_mm
+    theta = spec.max_deflection_rad
+    z_fit = bisect(z, 2.5 * z, lambda v: _replace(spec, thickness_mm=v), True)
+    th_fit = bisect(0.3 * theta, theta, lambda v: _replace(spec, max_deflection_rad=v), False)
+    fixes = []
+    if z_fit is not None:
+        fixes.append(f"thickness_mm {z_fit:.2f}")
+    if th_fit is not None:
+        fixes.append(f"max_deflection_deg {math.degrees(th_fit):.2f}")
+    return DesignError(
+        f"spring '{spec.name}': the predicted peak {peak:.0f} MPa at the {region} leaves a yield "
+        f"margin {material.material.yield_strength_MPa / peak:.3f} < required {required:g}; the "
+        f"flexures would need a beam stress of about {sigma_need:.0f} MPa, and at that stress "
+        f"{err}. Feasible with: {' or '.join(fixes) if fixes else 'no change of thickness (up to 2.5x) or deflection alone'}"
+        " (other things equal)")
