@@ -3,14 +3,17 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from springcad.version import __version__
 from springcad.config import Job
+from springcad.config.consistency import min_rim_mm
+from springcad.design.connections import camshaft_indices, connection_sequence
 from springcad.design.plausibility import check_hardware
 from springcad.design.search import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
+from springcad.errors import DesignError
 from springcad.units import G_PER_KG, MM3_PER_CM3, NMM_PER_NM
 
 SCHEMA = "springcad.design/1"
@@ -139,14 +142,92 @@ def common_hole_circle(springs: dict[str, SpringDesign]) -> dict[str, SpringDesi
             for name, s in springs.items()}
 
 
+def camshaft_groups(job: Job) -> list[tuple[str, ...]]:
+    """Names of the distinct springs that share a camshaft (shaft-to-shaft joints), per shaft
+    with more than one distinct spring. A shared camshaft has one tooth profile, so its
+    springs must share N, r_c and the tip ball (the gap ``w_gap_mm`` is the job's)."""
+    seq = job.stack.sequence
+    joints, _ = connection_sequence(len(seq), job.stack.input)
+    cams = camshaft_indices(joints)
+    groups = {}
+    for name, cam in zip(seq, cams):
+        groups.setdefault(cam, [])
+        if name not in groups[cam]:
+            groups[cam].append(name)
+    return [tuple(g) for g in groups.values() if len(g) > 1]
+
+
+def _cam_key(d: SpringDesign) -> tuple:
+    return (d.n_flexures, round(d.contact_radius_mm, 9), round(d.tip_radius_mm, 9))
+
+
+def shared_rim_limit_mm(job: Job) -> float:
+    """Largest root radius any spring of a multi-spring stack may have (mm): the rim holes
+    lie on one circle (:func:`common_hole_circle`) that must fit the rim of the spring
+    with the smallest outer radius, with its holes' edge distances."""
+    names = set(job.stack.sequence)
+    if len(names) < 2 or job.hardware.fastener_count == 0:
+        return math.inf
+    ro = min(job.springs[n].outer_radius_mm for n in names)
+    return ro - min_rim_mm(ro, job.manufacturing, job.hardware)
+
+
+def _share_camshafts(job: Job, springs: dict[str, SpringDesign],
+                     max_root_radius_mm: float = math.inf) -> dict[str, SpringDesign]:
+    """Springs sharing a camshaft redesigned on one layout (N, r_c, tip ball).
+
+    Each member's own layout is tried as the shared one (the largest ball of the group,
+    so every member's tip load is carried), the other members redesigned with those three
+    fixed; the first that designs every member wins. Milliseconds to seconds, at design
+    time, instead of a conflict found by the solids' checks after the FEA.
+
+    Raises:
+        DesignError: no member's layout suits the others (names the springs and each try).
+    """
+    out = dict(springs)
+    for group in camshaft_groups(job):
+        if len({_cam_key(out[n]) for n in group}) == 1:
+            continue
+        tries = []
+        for leader in group:
+            lead = out[leader]
+            tip = max(out[n].tip_radius_mm for n in group)
+            fixed = dict(n_flexures=lead.n_flexures, contact_radius_mm=lead.contact_radius_mm,
+                         tip_radius_mm=tip, min_tip_radius_mm=min(tip, lead.spec.min_tip_radius_mm))
+            try:
+                redone = {n: design_spring(replace(job.springs[n], **fixed), job.material,
+                                           job.manufacturing, job.hardware, explain=False,
+                                           max_root_radius_mm=max_root_radius_mm)
+                          for n in group}
+            except DesignError as err:
+                tries.append(f"{leader}'s N = {lead.n_flexures}, r_c = "
+                             f"{lead.contact_radius_mm:.3f} mm, tip {tip:.3f} mm: {err}")
+                continue
+            for n, d in redone.items():
+                out[n] = replace(d, design_choice=(
+                    f"{d.design_choice}; N, r_c and tip ball shared with "
+                    f"{', '.join(m for m in group if m != n)} (one camshaft)"))
+            break
+        else:
+            raise DesignError(
+                f"springs {', '.join(group)} share a camshaft, so they need one N, contact "
+                f"radius and tip ball, and no member's layout suits the others: "
+                + "; ".join(tries) + "; give them the same n_flexures, contact_radius_mm and "
+                "tip_radius_mm that one of them can carry, or similar stiffness and envelope")
+    return out
+
+
 def design_job(job: Job) -> JobDesign:
     """Design every spring named in the job and the stack.
 
     Raises:
         DesignError: a spring or a hardware part cannot be made as specified.
     """
-    springs = {name: design_spring(spec, job.material, job.manufacturing, job.hardware)
+    rr_max = shared_rim_limit_mm(job)
+    springs = {name: design_spring(spec, job.material, job.manufacturing, job.hardware,
+                                   max_root_radius_mm=rr_max)
                for name, spec in job.springs.items()}
+    springs = _share_camshafts(job, springs, rr_max)
     springs = common_hole_circle(springs)
     stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
                          job.analysis.monte_carlo_samples, job.analysis.seed)

@@ -63,15 +63,24 @@ def tip_ball(spec: SpringSpec, sigma, n, rc):
     return load, rb_req, rb
 
 
-def layout_at(spec: SpringSpec, sigma, E, n, rc) -> Layout:
-    """Tip ball, root radius (rim rule unless given) and straight limit for (N, r_c)."""
+def layout_at(spec: SpringSpec, sigma, E, n, rc, max_root_radius_mm: float = math.inf) -> Layout:
+    """Tip ball, root radius (rim rule unless given) and straight limit for (N, r_c).
+
+    ``max_root_radius_mm``: the largest root radius the rim allows (its holes, web and
+    fillets need R_o - R_r; :func:`springcad.config.consistency.min_rim_mm`); the rim
+    rule's root radius is lowered to it when it would leave a thinner rim.
+    """
     load, rb_req, rb = tip_ball(spec, sigma, n, rc)
     z = spec.thickness_mm
     if spec.root_radius_mm is not None:
         rr = spec.root_radius_mm
     else:
-        rr = rim_root_radius(spec.outer_radius_mm, n, rc,
-                              lambda L: math.sqrt(6 * load * L / (z * sigma)))
+        rr = min(max_root_radius_mm,
+                 rim_root_radius(spec.outer_radius_mm, n, rc,
+                                 lambda L: math.sqrt(6 * load * L / (z * sigma))))
+        if rr <= rc:
+            raise DesignError(f"spring '{spec.name}': the rim leaves no room for flexures "
+                              f"beyond r_c = {rc:.3g} mm")
     theta_s = fx.straight_limit_rad(n, z, sigma, rr - rc, E, spec.stiffness_Nmm_per_rad, rc)
     return Layout(n, rc, rb, rb_req, rr, theta_s, load)
 
@@ -85,14 +94,16 @@ def fits(spec: SpringSpec, lay: Layout) -> bool:
 MAX_CANDIDATES = 12
 
 
-def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES) -> list[Layout]:
+def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
+                      max_root_radius_mm: float = math.inf) -> list[Layout]:
     """Every distinct flexure count N that fits, each at its best contact radius, best first.
 
     The free parameters are searched by exact enumeration (eqs. 6-7): for each N the
     contact radius r_c that maximises the straight-flexure limit on a 60-point grid
     (or the fixed ``contact_radius_mm``), the tip ball sized for the peak load (or the
     fixed ``tip_radius_mm``), the root radius by the rim rule (or the fixed
-    ``root_radius_mm``). Layouts are ranked by their straight limit (the deflection
+    ``root_radius_mm``), at most ``max_root_radius_mm`` so the rim keeps room for its
+    holes (:func:`layout_at`). Layouts are ranked by their straight limit (the deflection
     reachable without serpentine), so the first is the reference method's choice and
     the later ones are what a designer tries when a later rule (cam tooth, fillets,
     rim holes, serpentine reach) rejects it. Deterministic.
@@ -136,7 +147,7 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES) -
             if n > fx.max_flexures(tip_ball(spec, sigma, n, rc)[2], rc):
                 continue  # the balls do not fit (as fits() below), no rim rule to solve
             try:
-                lay = layout_at(spec, sigma, E, n, rc)
+                lay = layout_at(spec, sigma, E, n, rc, max_root_radius_mm)
             except DesignError:
                 continue
             if fits(spec, lay) and (n not in best or lay.theta_s > best[n].theta_s):
@@ -159,9 +170,30 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES) -
         ranked = sorted(best.values(), key=lambda lay: -lay.n)
     else:  # r_c free: the longest straight reach first (eq. 7)
         ranked = sorted(best.values(), key=lambda lay: (-lay.theta_s, lay.n))
-    return ranked[:limit]
+    return _spread(ranked, limit)
 
 
-def choose_layout(spec: SpringSpec, sigma, E) -> Layout:
+#: later candidates differ from every earlier one by at least this factor in N, so that
+#: the search reaches the few long flexures a large deflection needs as well as the many
+#: short ones the straight reach prefers
+N_SPREAD = 1.15
+
+
+def _spread(ranked: list[Layout], limit: int) -> list[Layout]:
+    """The first ``limit`` layouts, best first, N spread out: a layout whose N lies within
+    :data:`N_SPREAD` of an already chosen one waits until the spread ones are taken."""
+    chosen: list[Layout] = []
+    for lay in ranked:
+        if len(chosen) < limit and all(max(lay.n / c.n, c.n / lay.n) >= N_SPREAD for c in chosen):
+            chosen.append(lay)
+    for lay in ranked:
+        if len(chosen) >= limit:
+            break
+        if lay not in chosen:
+            chosen.append(lay)
+    return chosen
+
+
+def choose_layout(spec: SpringSpec, sigma, E, max_root_radius_mm: float = math.inf) -> Layout:
     """The reference method's layout: the first of :func:`candidate_layouts`."""
-    return candidate_layouts(spec, sigma, E, limit=1)[0]
+    return candidate_layouts(spec, sigma, E, 1, max_root_radius_mm)[0]

@@ -24,6 +24,7 @@ import math
 from dataclasses import replace as _replace
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
+from springcad.config.consistency import min_rim_mm
 from springcad.design import flexure as fx
 from springcad.design.layout import Layout, candidate_layouts, rim_root_radius
 from springcad.design.spring import SpringDesign, with_width
@@ -38,13 +39,15 @@ class _NoMoreLayouts(Exception):
 # --------------------------------------------------------------------- one layout
 def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
                hardware: HardwareSpec, derating: float = 1.0,
-               balances: tuple[str, ...] = fx.BALANCES, rank: int = 0) -> SpringDesign:
+               balances: tuple[str, ...] = fx.BALANCES, rank: int = 0,
+               max_root_radius_mm: float = math.inf) -> SpringDesign:
     """Layout, flexure shape and width calibration at beam stress ``derating`` x design stress.
 
     No root flare, no profiles yet (:func:`design_spring` adds both). ``balances``: the
     serpentine balances tried (:func:`flexure.design_serpentine`); ``rank``: which of the
     ranked candidate layouts (:func:`~springcad.design.layout.candidate_layouts`, 0 = the
-    reference method's choice).
+    reference method's choice); ``max_root_radius_mm``: a root radius cap from outside the
+    spring (a stack's common rim-hole circle), besides the spring's own rim.
 
     Raises:
         DesignError: the spec cannot be met in its envelope (the message says why
@@ -67,7 +70,9 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
             "no flexure geometry in this envelope can reach that deflection: lower the stiffness or "
             "deflection, enlarge the disk, or put springs in series")
 
-    layouts = candidate_layouts(spec, sigma, E)
+    rr_max = min(max_root_radius_mm,
+                 spec.outer_radius_mm - min_rim_mm(spec.outer_radius_mm, manufacturing, hardware))
+    layouts = candidate_layouts(spec, sigma, E, max_root_radius_mm=rr_max)
     if rank >= len(layouts):
         raise _NoMoreLayouts(rank)
     lay = layouts[rank]
@@ -94,7 +99,8 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
     if use_straight:
         def w0_stiff(length):
             return fx.straight_root_width_for_stiffness_mm(K, n, rc, length, E, z)
-        rr_s = spec.root_radius_mm or rim_root_radius(spec.outer_radius_mm, n, rc, w0_stiff)
+        rr_s = spec.root_radius_mm or min(rr_max, rim_root_radius(spec.outer_radius_mm, n, rc,
+                                                                   w0_stiff))
         theta_s2 = fx.straight_limit_rad(n, z, sigma, rr_s - rc, E, K, rc)
         if theta_s2 >= theta_d:
             rr, L = rr_s, rr_s - rc
@@ -208,7 +214,8 @@ def _choose_root(d: SpringDesign) -> SpringDesign:
 
 def _design_with_margin(spec: SpringSpec, material: MaterialSpec,
                         manufacturing: ManufacturingSpec, hardware: HardwareSpec,
-                        rank: int) -> tuple[SpringDesign | None, list, DesignError | None]:
+                        rank: int, max_root_radius_mm: float = math.inf
+                        ) -> tuple[SpringDesign | None, list, DesignError | None]:
     """One candidate layout through the stress passes.
 
     Returns:
@@ -224,7 +231,7 @@ def _design_with_margin(spec: SpringSpec, material: MaterialSpec,
     for _ in range(STRESS_PASSES):
         try:
             d = _choose_root(_design_at(spec, material, manufacturing, hardware, derating,
-                                        rank=rank))
+                                        rank=rank, max_root_radius_mm=max_root_radius_mm))
         except DesignError as err:
             return None, history, err
         history.append((derating, d.predicted_peak_stress_MPa, d.stress.region))
@@ -256,10 +263,12 @@ def _short(err: Exception) -> str:
 
 
 def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
-                  hardware: HardwareSpec, explain: bool = True) -> SpringDesign:
+                  hardware: HardwareSpec, explain: bool = True,
+                  max_root_radius_mm: float = math.inf) -> SpringDesign:
     """Synthesise one spring whose *predicted* peak stress keeps the required yield margin.
 
-    The candidate layouts are tried best first (module docstring); for each:
+    ``max_root_radius_mm``: a root radius cap from the stack (the common rim-hole circle of
+    springs pinned rim to rim must fit the thinnest rim; mm). The candidate layouts are tried best first (module docstring); for each:
 
     1. Layout, flexure shape and widths at the design stress (:func:`_design_at`).
     2. The root flare with the lowest predicted peak (:func:`_choose_root`).
@@ -282,11 +291,13 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
     rejected: list[tuple[Layout | None, DesignError, list]] = []
     for rank in range(MAX_CANDIDATES):
         try:
-            d, history, err = _design_with_margin(spec, material, manufacturing, hardware, rank)
+            d, history, err = _design_with_margin(spec, material, manufacturing, hardware, rank,
+                                                  max_root_radius_mm)
         except _NoMoreLayouts:
             break
         if d is not None:
-            return _replace(d, design_choice=_choice_text(d, rejected))
+            return _replace(d, design_choice=_choice_text(d, rejected),
+                            max_root_radius_mm=max_root_radius_mm)
         rejected.append((None, err, history))
         if rank == 0 and not history and _spec_level(err):
             break  # no layout can help: the energy bound or the torque cap
@@ -343,7 +354,8 @@ def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign
 
     mat = design.material
     biased = _replace(mat, safety_factor=mat.safety_factor * max(model_bias, 1.0))
-    d = design_spring(design.spec, biased, design.manufacturing, design.hardware, explain=False)
+    d = design_spring(design.spec, biased, design.manufacturing, design.hardware, explain=False,
+                      max_root_radius_mm=design.max_root_radius_mm)
     d = _replace(d, material=mat, warnings=tuple(dict.fromkeys(d.warnings + (
         f"redesigned by the FEA stress correction (FEA peak {model_bias:.3f} x the design "
         f"prediction): beam stress {d.beam_stress_MPa:.0f} MPa",))))

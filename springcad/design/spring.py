@@ -96,6 +96,8 @@ class SpringDesign:
     required yield margin (:func:`design_spring`)."""
     stress: "StressPrediction | None" = None
     """Predicted peak stresses of the real geometry (:mod:`springcad.design.stress`)."""
+    max_root_radius_mm: float = math.inf
+    """Root radius cap from the stack (common rim-hole circle) the design was searched under (mm)."""
     design_choice: str = ""
     """Which layout the design search chose and why (the candidates it rejected first)."""
     serpentine_balance: str | None = None
