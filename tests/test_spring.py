@@ -190,28 +190,26 @@ def test_fatigue_check_against_its_closed_forms():
 
 
 @pytest.mark.slow
-def test_stress_infeasible_names_the_binding_constraint_with_numbers():
-    """S1 asked for a yield margin of 1.6: no beam stress fits the disk; the error says which
-    deflection would, and that deflection really designs with the margin."""
+def test_a_refusal_names_changes_in_numbers_and_each_change_designs():
+    """S1 asked for a yield margin of 1.6: no layout keeps it in the disk. The refusal names
+    the binding constraint and, for the user's own keys, the nearest values that design;
+    applying each suggested value alone gives a spring that designs with the margin."""
     import re
 
-    j = job_from_dict({"material": {"design_stress_MPa": 912, "safety_factor": 1.6},
-                       "springs": {"A": {"stiffness_Nm_per_rad": 150, "max_deflection_deg": 16,
-                                         "outer_radius_mm": 33.5, "thickness_mm": 4.5,
-                                         "contact_radius_mm": 5.5, "tip_radius_mm": 0.3,
-                                         "n_flexures": 28}}})
-    with pytest.raises(DesignError, match=r"yield margin .* < required 1.6.*Feasible with") as exc:
+    base = {"stiffness_Nm_per_rad": 150, "max_deflection_deg": 16, "outer_radius_mm": 33.5,
+            "thickness_mm": 4.5, "contact_radius_mm": 5.5, "tip_radius_mm": 0.3,
+            "n_flexures": 28}
+    mat = {"design_stress_MPa": 912, "safety_factor": 1.6}
+    j = job_from_dict({"material": mat, "springs": {"A": base}})
+    with pytest.raises(DesignError, match=r"yield margin .* < required 1.6.*feasible with") as exc:
         design_spring(j.springs["A"], j.material, j.manufacturing, j.hardware)
-    m = re.search(r"max_deflection_deg (\d+\.\d+)", str(exc.value))
-    assert m, str(exc.value)
-    ok = job_from_dict({"material": {"design_stress_MPa": 912, "safety_factor": 1.6},
-                        "springs": {"A": {"stiffness_Nm_per_rad": 150,
-                                          "max_deflection_deg": float(m.group(1)) - 0.2,
-                                          "outer_radius_mm": 33.5, "thickness_mm": 4.5,
-                                          "contact_radius_mm": 5.5, "tip_radius_mm": 0.3,
-                                          "n_flexures": 28}}})
-    s = design_spring(ok.springs["A"], ok.material, ok.manufacturing, ok.hardware)
-    assert s.yield_margin >= 1.6 * (1 - 1e-3)
+    changes = re.findall(r"springs\.A\.(\w+) = ([\d.]+) \(now ([\d.]+)\)", str(exc.value))
+    assert {k for k, _, _ in changes} >= {"thickness_mm", "max_deflection_deg"}, str(exc.value)
+    for key, value, now in changes:
+        assert float(now) == pytest.approx(base[key])
+        ok = job_from_dict({"material": mat, "springs": {"A": {**base, key: float(value)}}})
+        s = design_spring(ok.springs["A"], ok.material, ok.manufacturing, ok.hardware)
+        assert s.yield_margin >= 1.6 * (1 - 1e-3)
 
 
 def test_pruned_clearance_is_the_brute_force_minimum():

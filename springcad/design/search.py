@@ -26,7 +26,8 @@ from dataclasses import replace as _replace
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.config.consistency import min_rim_mm
 from springcad.design import flexure as fx
-from springcad.design.layout import Layout, candidate_layouts, rim_root_radius
+from springcad.design.feasibility import describe, nearest_changes
+from springcad.design.layout import MAX_CANDIDATES, Layout, candidate_layouts, rim_root_radius
 from springcad.design.spring import SpringDesign, with_width
 from springcad.errors import DesignError
 from springcad.units import J_PER_NMM, NMM_PER_NM
@@ -264,7 +265,8 @@ def _short(err: Exception) -> str:
 
 def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
                   hardware: HardwareSpec, explain: bool = True,
-                  max_root_radius_mm: float = math.inf) -> SpringDesign:
+                  max_root_radius_mm: float = math.inf,
+                  candidates: int = MAX_CANDIDATES) -> SpringDesign:
     """Synthesise one spring whose *predicted* peak stress keeps the required yield margin.
 
     ``max_root_radius_mm``: a root radius cap from the stack (the common rim-hole circle of
@@ -280,8 +282,10 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
     layouts rejected before it and why.
 
     Args:
-        explain: when no layout passes, search the thickness and deflection that
-            would (about 10-40 s; False for searches that only need a yes or no).
+        explain: when no layout passes, find the nearest thickness, outer radius,
+            deflection and stiffness that would (:mod:`springcad.design.feasibility`;
+            seconds to a minute; False for searches that only need a yes or no).
+        candidates: how many ranked layouts to try.
 
     Raises:
         DesignError: no layout meets the spec in its envelope (the message names the
@@ -289,7 +293,7 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
             with ``explain``, the thickness or deflection that would fit).
     """
     rejected: list[tuple[Layout | None, DesignError, list]] = []
-    for rank in range(MAX_CANDIDATES):
+    for rank in range(candidates):
         try:
             d, history, err = _design_with_margin(spec, material, manufacturing, hardware, rank,
                                                   max_root_radius_mm)
@@ -305,20 +309,13 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
         raise DesignError(f"spring '{spec.name}': no candidate layout")
     _, first, history = rejected[0]
     tried = "" if len(rejected) == 1 else (
-        f" ({len(rejected)} layouts tried; the others: "
-        + "; ".join(_short(e) for _, e, _ in rejected[1:4]) + ")")
-    if history and explain:
-        raise _stress_infeasible(spec, material, manufacturing, hardware, history, first) from first
-    if history:
-        raise DesignError(
-            f"spring '{spec.name}': no beam stress keeps the yield margin "
-            f"{material.safety_factor:g} in this envelope (predicted peak "
-            f"{history[-1][1]:.0f} MPa at the {history[-1][2]}): {first}{tried}") from first
-    raise DesignError(f"{first}{tried}") from first
-
-
-#: layouts tried before the search gives up
-MAX_CANDIDATES = 12
+        f" ({len(rejected)} layouts tried; the next: "
+        + "; ".join(_short(e) for _, e, _ in rejected[1:3]) + ")")
+    text = (_stress_text(spec, material, history, first) if history else str(first)) + tried
+    if explain:
+        raise _refusal(spec, material, manufacturing, hardware, max_root_radius_mm,
+                       text) from first
+    raise DesignError(text) from first
 
 
 def _spec_level(err: DesignError) -> bool:
@@ -364,46 +361,31 @@ def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign
     return d
 
 
-def _stress_infeasible(spec, material, manufacturing, hardware, history, err) -> DesignError:
-    """Why no beam stress keeps the yield margin, with the changes that would fit (numbers)."""
+def _stress_text(spec, material, history, err) -> str:
+    """Why no beam stress keeps the yield margin (the last stress pass, numbers)."""
     derating, peak, region = history[-1]
     required = material.safety_factor
     sigma_need = material.design_stress_MPa * derating * (
         material.material.yield_strength_MPa / required / peak)
+    return (f"spring '{spec.name}': the predicted peak {peak:.0f} MPa at the {region} leaves a "
+            f"yield margin {material.material.yield_strength_MPa / peak:.3f} < required "
+            f"{required:g}; the flexures would need a beam stress of about {sigma_need:.0f} MPa, "
+            f"and at that stress {_short(err)}")
 
-    need = sigma_need / material.design_stress_MPa
 
-    def feasible(s):
+#: candidate layouts each feasibility probe tries (a subset of the full search's, in the
+#: same order, so a probe that designs implies the full search designs)
+PROBE_CANDIDATES = 4
+
+
+def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text) -> DesignError:
+    """The refusal with the nearest values of the user's own keys that design (numbers)."""
+    def designs(s) -> bool:
         try:
-            d = _choose_root(_design_at(s, material, manufacturing, hardware, need))
-            return d.yield_margin >= required * (1 - 1e-3)
+            d = design_spring(s, material, manufacturing, hardware, explain=False,
+                              max_root_radius_mm=max_root_radius_mm, candidates=PROBE_CANDIDATES)
         except DesignError:
             return False
+        return d.yield_margin >= material.safety_factor * (1.0 - 1e-3)
 
-    def bisect(lo, hi, make, want_low):
-        """Boundary between infeasible ``lo``/feasible ``hi`` (or reverse), 6 halvings."""
-        if not feasible(make(hi if want_low else lo)):
-            return None
-        for _ in range(6):
-            mid = 0.5 * (lo + hi)
-            if feasible(make(mid)) == want_low:
-                hi = mid
-            else:
-                lo = mid
-        return hi if want_low else lo
-
-    z = spec.thickness_mm
-    theta = spec.max_deflection_rad
-    z_fit = bisect(z, 2.5 * z, lambda v: _replace(spec, thickness_mm=v), True)
-    th_fit = bisect(0.3 * theta, theta, lambda v: _replace(spec, max_deflection_rad=v), False)
-    fixes = []
-    if z_fit is not None:
-        fixes.append(f"thickness_mm {z_fit:.2f}")
-    if th_fit is not None:
-        fixes.append(f"max_deflection_deg {math.degrees(th_fit):.2f}")
-    return DesignError(
-        f"spring '{spec.name}': the predicted peak {peak:.0f} MPa at the {region} leaves a yield "
-        f"margin {material.material.yield_strength_MPa / peak:.3f} < required {required:g}; the "
-        f"flexures would need a beam stress of about {sigma_need:.0f} MPa, and at that stress "
-        f"{err}. Feasible with: {' or '.join(fixes) if fixes else 'no change of thickness (up to 2.5x) or deflection alone'}"
-        " (other things equal)")
+    return DesignError(f"{text}; {describe(spec.name, nearest_changes(spec, designs))}")
