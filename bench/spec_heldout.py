@@ -382,18 +382,23 @@ class Run:
     timeout: bool = False
 
 
-def run_cli(code: Path, args: list[str], timeout_s: float, cwd: Path) -> Run:
+def run_cli(code: Path, args: list[str], timeout_s: float, cwd: Path,
+            log: Path | None = None) -> Run:
     env = dict(os.environ, PYTHONPATH=str(code) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     t0 = time.monotonic()
     try:
         p = subprocess.run([sys.executable, "-m", "springcad", *args], capture_output=True,
                            text=True, timeout=timeout_s, env=env, cwd=cwd)
-        return Run(p.returncode, time.monotonic() - t0, p.stdout + p.stderr)
+        run = Run(p.returncode, time.monotonic() - t0, p.stdout + p.stderr)
     except subprocess.TimeoutExpired as e:
         out = (e.stdout or b"") + (e.stderr or b"")
         if isinstance(out, bytes):
             out = out.decode(errors="replace")
-        return Run(None, time.monotonic() - t0, out, timeout=True)
+        run = Run(None, time.monotonic() - t0, out, timeout=True)
+    if log is not None:
+        log.write_text(f"$ springcad {' '.join(args)}\n# exit {run.rc}, {run.seconds:.1f} s"
+                       f"{', TIMEOUT' if run.timeout else ''}\n{run.text}")
+    return run
 
 
 def _is_crash(r: Run) -> bool:
@@ -412,8 +417,10 @@ def reason_lines(text: str) -> list[str]:
     key = [ln for ln in lines if re.match(r"\s*(error|warning|springcad:|refused|cannot|"
                                           r"no |the |S\w*: )", ln, re.I)
            and not _NOISE.match(ln)]
-    errs = [ln for ln in lines if "error" in ln.lower()[:30]]
-    return errs or key or lines[-3:]
+    cli = [ln for ln in lines if re.match(r"springcad \w+: ", ln)]
+    errs = [ln for ln in lines if re.search(r"\berror\b|\bfail", ln.lower()[:40])
+            and not _NOISE.match(ln)]
+    return cli or errs or key or lines[-3:]
 
 
 #: keys a refusal may name with a new value, and where they live
@@ -524,6 +531,7 @@ class Result:
     reasons: list[str] = field(default_factory=list)
     fixes: list[tuple[str, str]] = field(default_factory=list)   # (change, outcome)
     fix_note: str = ""
+    load: float = 0.0       # 1-minute load average when the spec started
 
 
 MAX_ALTERNATIVES = 2
@@ -532,11 +540,13 @@ MAX_ALTERNATIVES = 2
 def run_spec(cfg_path: Path, out_root: Path, code: Path, design_only: bool, timeout_s: float,
              try_fix: bool = True) -> Result:
     cfg = tomllib.loads(cfg_path.read_text())
-    res = Result(cfg_path.stem, assess(cfg))
+    res = Result(cfg_path.stem, assess(cfg), load=os.getloadavg()[0])
     d = out_root / cfg_path.stem
     t0 = time.monotonic()
+    logs = out_root / "logs"
+    logs.mkdir(exist_ok=True)
     r = run_cli(code, ["design", str(cfg_path), "--out", str(d), "--overwrite"], timeout_s,
-                out_root)
+                out_root, logs / f"{cfg_path.stem}.design.log")
     if r.timeout:
         res.outcome, res.reason = "TIMEOUT (design)", f"> {timeout_s:.0f} s"
     elif _is_crash(r):
@@ -567,7 +577,7 @@ def run_spec(cfg_path: Path, out_root: Path, code: Path, design_only: bool, time
         res.reasons = [ln for ln in r.text.splitlines() if "warning" in ln.lower()]
     else:
         b = run_cli(code, ["build", str(cfg_path), "--out", str(d), "--overwrite"],
-                    timeout_s, out_root)
+                    timeout_s, out_root, logs / f"{cfg_path.stem}.build.log")
         if b.timeout:
             res.outcome, res.reason = "TIMEOUT (build)", f"> {timeout_s:.0f} s"
         elif _is_crash(b):
@@ -645,6 +655,14 @@ def report(results: list[Result]) -> str:
                     + ", ".join(f"{k} {v}" for k, v in _count(r.fix_note.split(' (')[0]
                                                               for r in refused
                                                               if not r.fixes).items()) + ")")
+        drop = [r for r in tried if all(c == "fastener_count=0" for c, _ in r.fixes)]
+        if drop:
+            rows.append(f"  of these, {len(drop)} named no number but fastener_count = 0 (drop "
+                        f"every rim fastener): " + ", ".join(r.name for r in drop))
+    loads = [r.load for r in results if r.load]
+    if loads:
+        rows.append(f"load average (1 min) at the start of a spec: {min(loads):.1f} to "
+                    f"{max(loads):.1f} (2 cores)")
     return "\n".join(rows)
 
 
@@ -653,7 +671,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seed", type=int, default=2511)
     ap.add_argument("--n", type=int, default=30)
-    ap.add_argument("--keep", type=Path, required=True, help="folder for the TOMLs and outputs")
+    ap.add_argument("--keep", type=Path, help="folder for the TOMLs and outputs")
     ap.add_argument("--configs", type=Path, help="run the TOMLs of this folder instead")
     ap.add_argument("--code", type=Path, default=here,
                     help="checkout whose springcad is run (prepended to PYTHONPATH)")
@@ -662,12 +680,20 @@ def main(argv=None) -> int:
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--timeout", type=float, default=300.0)
     ap.add_argument("--only", default="", help="comma-separated spec names to run")
+    ap.add_argument("--report-from", type=Path, help="print the report of a results_*.json")
     args = ap.parse_args(argv)
+    if args.report_from:
+        results = [Result(**{k: v for k, v in d.items()})
+                   for d in json.loads(args.report_from.read_text())]
+        print(report(results))
+        return 0
+    if args.keep is None:
+        ap.error("--keep DIR is required")
     keep = args.keep.resolve()
     keep.mkdir(parents=True, exist_ok=True)
     if args.configs:
         paths = sorted(p for p in args.configs.resolve().glob("*.toml")
-                       if not p.stem.endswith("_fix"))
+                       if not re.search(r"_fix\d+$", p.stem))
     else:
         cfg_dir = keep / "configs"
         cfg_dir.mkdir(exist_ok=True)
