@@ -84,10 +84,12 @@ def _cases():
              lambda r: base(r, stair(r))))
     add(Case("clean_levels_deg", "linear spring, random levels (cosine ramps), file in degrees",
              lambda r: base(r, random_levels(r, r.uniform(0.2, 0.35), 12, 0.4, (0.5, 2.0), "cosine"), fs=500),
-             angle_unit="deg", opts=["--angle-unit", "deg"] + TGT))
+             angle_unit="deg", columns=("time_s", "torque_Nm", "deflection_deg"),
+             opts=["--deflection-col", "deflection_deg", "--angle-unit", "deg"] + TGT))
     add(Case("clean_3rates_Nmm_quant", "linear spring, cosine ramps at 3 rates, N·mm, 16-bit encoder",
              lambda r: dict(base(r, multi_rate(0.3, [0.2, 0.6, 1.5], 2, "cosine"), fs=2000), quant_counts=2 ** 16),
-             torque_unit="Nmm", opts=["--torque-unit", "Nmm"] + TGT))
+             torque_unit="Nmm", columns=("time_s", "torque_Nmm", "deflection_rad"),
+             opts=["--torque-col", "torque_Nmm", "--torque-unit", "Nmm"] + TGT))
     add(Case("clean_stack_K12_deg_Nmm", "soft stack K~12 to 1.1 rad, triangles with holds, deg + N·mm, own column names, 200 Hz",
              lambda r: base(r, multi_rate(1.1, [0.5], 4, "linear", 0.5), fs=200, K=lu(r, 10, 20)),
              angle_unit="deg", torque_unit="Nmm", columns=("t", "tau_Nmm", "defl_deg"),
@@ -164,7 +166,8 @@ def _cases():
              [("hysteresis", "time_lag")]))
     add(Case("dahl_levels_deg", "Dahl friction 2 % on random levels, file in degrees",
              lambda r: dict(base(r, random_levels(r, 0.3, 14, 0.5, (0.4, 1.5))), friction=("dahl", 0, 8e-4)) | _fric(r, 0.018, 0.025),
-             ["hysteresis"], angle_unit="deg", opts=["--angle-unit", "deg"]))
+             ["hysteresis"], angle_unit="deg", columns=("time_s", "torque_Nm", "angle"),
+             opts=["--deflection-col", "angle", "--angle-unit", "deg"]))
     # ---------------------------------------------------------------- out of library, alone
     OOL = dict(unexplained=True, k_check=False, in_library=False)
     add(Case("tanh_stair_cos_holds", "regularised Coulomb 2.5 % that vanishes at rest (tanh, v0 0.01 rad/s), cosine staircase with 1.5 s holds",
@@ -206,13 +209,15 @@ def _cases():
              lambda r: dict(base(r, _two_sines()), friction=("dahl", 0, 5e-4), delay=0.01) | _fric(r, 0.018, 0.025),
              ["hysteresis", "time_lag"]))
     # ---------------------------------------------------------------- unit mistakes
-    REF = dict(refuse=True, k_check=False)
+    # unit-neutral column names, so only the data can show the mistake
+    REF = dict(refuse=True, k_check=False, columns=("time_s", "torque", "deflection"))
+    NEUTRAL = ["--torque-col", "torque", "--deflection-col", "deflection"]
     add(Case("unit_deg_as_rad", "file in degrees read as radians (no --angle-unit), target stiffness given",
-             lambda r: base(r, stair(r)), angle_unit="deg", opts=TGT, **REF))
+             lambda r: base(r, stair(r)), angle_unit="deg", opts=NEUTRAL + TGT, **REF))
     add(Case("unit_Nmm_as_Nm", "torque in N·mm read as N·m (no --torque-unit), target stiffness given",
-             lambda r: base(r, tri(r)), torque_unit="Nmm", opts=TGT, **REF))
+             lambda r: base(r, tri(r)), torque_unit="Nmm", opts=NEUTRAL + TGT, **REF))
     add(Case("unit_rad_as_deg", "file in radians read with --angle-unit deg (0.3 'degree' deflections), target given",
-             lambda r: base(r, random_levels(r, 0.3, 10, 0.5, (0.5, 1.5))), opts=["--angle-unit", "deg"] + TGT, **REF))
+             lambda r: base(r, random_levels(r, 0.3, 10, 0.5, (0.5, 1.5))), opts=NEUTRAL + ["--angle-unit", "deg"] + TGT, **REF))
     return C
 
 
