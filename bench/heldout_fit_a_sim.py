@@ -19,7 +19,8 @@ Laws (own forms, not the library's):
   (Coulomb with a linear presliding stiffness), Dahl (exponential reversal), LuGre bristle
   with a Stribeck curve and viscous term, regularised Coulomb tanh(v/v0) (zero at rest),
   viscous c*v;
-- sensor: pure delay of the torque channel, or a first-order low-pass filter; torque zero
+- sensor: pure delay of the torque channel (or of the deflection channel), or a first-order
+  low-pass filter on the torque; torque zero
   offset, linear drift, exponentially settling (thermal) drift, clipping at the range;
   white or AR(1) coloured noise, isolated spikes; encoder quantisation and angle offset.
 """
@@ -330,7 +331,7 @@ def simulate(spec, rng):
     t = np.arange(0.0, T_end, 1.0 / fs)
     torque = np.interp(t, tf, T_true)
     diff = np.interp(t, tf, T_true - T_lib)
-    th_s = np.interp(t, tf, theta)
+    th_s = np.interp(t - p.get("angle_delay", 0.0), tf, theta, left=0.0)  # a late deflection channel
     basis = np.c_[th_s, np.ones_like(th_s)]
     diff = diff - basis @ np.linalg.lstsq(basis, diff, rcond=None)[0]
     sigma = p.get("noise_frac", 0.003) * Tp
