@@ -452,10 +452,17 @@ def _kstep(rng):
     return p, sp, b, lab, {}, struct
 
 
-def _lpf_struct(rec, k, fs):
+def _delay_structure(rec: Record, comp: np.ndarray, signal: np.ndarray, taus, k: float) -> tuple[float, float]:
+    """Structure left when ``comp`` is mimicked by an exact delay of ``signal`` (best tau of ``taus``, s)."""
+    t = rec.t_s
+    sets = [[np.interp(t - tau, t, signal) - signal] for tau in taus]
+    return _best_structure(rec, comp, sets, k)
+
+
+def _lpf_struct(rec, k, tau):
     comp = rec.parts["sensed_minus_clean"]
     clean = rec.parts["elastic"] + rec.parts["viscoelastic"] + rec.parts["friction"]
-    return _structure(rec, comp, [_derivative(clean, fs)], k)
+    return _delay_structure(rec, comp, clean, tau * np.linspace(0.5, 1.5, 41), k)
 
 
 def _lpf20_fast(rng):
@@ -467,7 +474,7 @@ def _lpf20_fast(rng):
     b = Bench(sample_rate_hz=2000, filter_tau_s=0.02, torque_noise_Nm=_noise(k * 0.4, 0.25), angle_noise_rad=1e-4)
     lab = Label(required={L}, in_library=False, unexplained=True, k_true=k, k_scored=False,
                 physics="torque sensor first-order filter 20 ms, fast triangles (2 rad/s) and 2 Hz sines")
-    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: _lpf_struct(rec, k, 2000)
+    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: _lpf_struct(rec, k, 0.02)
 
 
 def _lpf5_slow(rng):
@@ -476,7 +483,7 @@ def _lpf5_slow(rng):
     b = Bench(sample_rate_hz=500, filter_tau_s=0.005, torque_noise_Nm=_noise(k * 0.3, 0.2), angle_noise_rad=1e-4)
     lab = Label(required={L}, k_true=k,
                 physics="torque sensor first-order filter 5 ms on slow sines (omega*tau < 0.007: a pure delay)")
-    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: _lpf_struct(rec, k, 500)
+    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: _lpf_struct(rec, k, 0.005)
 
 
 def _clip(rng):
@@ -561,8 +568,10 @@ def _viscous(rng):
     fr = {"law": "viscous", "c_Nms_per_rad": 0.012 * k}
     b = Bench(sample_rate_hz=1000, torque_noise_Nm=_noise(k * 0.25, 0.25), angle_noise_rad=1e-4)
     lab = Label(required={L}, k_true=k, physics="viscous damping c = 0.012 K (torque leads angle by 12 ms: a "
-                                                "negative channel delay to first order), sine sweep")
-    return p, Specimen(Stack([k]), friction=fr), b, lab, {}, None
+                                                "negative channel delay except at the velocity steps where each "
+                                                "sine starts and stops), sine sweep")
+    return p, Specimen(Stack([k]), friction=fr), b, lab, {}, lambda rec: _delay_structure(
+        rec, rec.parts["friction"], rec.parts["elastic"], -0.012 * np.linspace(0.5, 1.5, 41), k)
 
 
 # ---- borderline (effect 2-5x the noise)
