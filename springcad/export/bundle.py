@@ -75,7 +75,8 @@ def export_parts(assembly, out_dir: Path, drawing_info: dict, template: dict | N
             rep = write_dxf(part.info.cut_profile, parts_dir / f"{pn}.dxf", pn,
                             part.info.thickness_mm)
             out.append(_record(out_dir, rep.path, "dxf", pn,
-                               f"{rep.n_loops} closed line-and-arc loops, {rep.n_biarcs} biarcs, "
+                               f"{rep.n_loops} closed contours as {rep.n_entities} "
+                               f"{rep.entities} entities, {rep.n_biarcs} biarcs, "
                                f"max deviation {1e3 * rep.max_deviation_mm:.3f} um"))
         if part.info.process != "purchased":
             info = DrawingInfo(quantity=qty[pn], **drawing_info)
@@ -125,8 +126,8 @@ def roundtrip_checks(assembly, out_dir: Path, files: list[WrittenFile],
     """Read every part STEP and DXF back and hold it against the part.
 
     STEP: one valid solid, same volume (0.1 %) and bounding box (1 um).
-    DXF: the CUT layer holds one closed line-and-arc polyline per loop of the
-    profile, the file audits clean, the enclosed area equals the kernel's area
+    DXF: the CUT layer's lines, arcs and circles chain into one closed contour per
+    loop of the profile, the file audits clean, the enclosed area equals the kernel's area
     of the profile face within the chordal tolerance x the perimeter, and the
     perimeter the kernel's within :data:`PERIMETER_RTOL`.
     """
@@ -169,7 +170,7 @@ def roundtrip_checks(assembly, out_dir: Path, files: list[WrittenFile],
                   and abs(area - ref) <= CHORD_TOL_MM * ref_len
                   and abs(length - ref_len) <= PERIMETER_RTOL * ref_len)
             out.append(Check("dxf_roundtrip", f.path, ok, value=area, limit=ref, unit="mm^2",
-                             message=f"{len(loops)} closed line-and-arc loops (profile has "
+                             message=f"{len(loops)} closed line-and-arc contours (profile has "
                                      f"{n_loops}), {len(auditor.errors)} audit errors, area "
                                      f"{area - ref:+.2e} mm^2, perimeter {length - ref_len:+.2e} "
                                      f"mm against the face; {f.info}"))

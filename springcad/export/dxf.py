@@ -1,17 +1,28 @@
-"""Wire-EDM cutting profiles as DXF for CAM, and reading them back.
+"""Cutting profiles as DXF for CAM, and reading them back.
 
-What a CAM system gets:
+What a CAM system gets (the default, ``entities="lines-arcs"``):
 
-* layer ``CUT``: every loop of the cutting profile as **one closed LWPOLYLINE
-  of lines and arcs** (bulges), so one entity is one contour. Lines, arcs and
-  circles of the design are exact; the design's splines are replaced by biarcs
+* layer ``CUT``: every contour of the cutting profile as **LINE, ARC and CIRCLE
+  entities** only, the entity set of DXF R12 that every CAM reads the same way;
+  a hole is one CIRCLE (start-hole recognition finds it). Consecutive entities
+  of a contour meet end to end (within 1e-9 mm). Lines, arcs and circles of the
+  design are exact; the design's splines are replaced by biarcs
   (:mod:`springcad.export.biarc`) within :data:`CHORD_TOL_MM` of the design
-  curve (measured at the writer, stated in the file). No SPLINE, no loose pieces.
-* layer ``INFO``: part number, thickness, units and the tolerance as text,
-  placed inside the bounding box of the cut contours (the outline's bottom left
-  corner, where a round part has no material), so the drawing extents are the
-  cut extents.
-* units mm (``$INSUNITS`` = 4, ``$MEASUREMENT`` = 1), DXF R2010.
+  curve (measured at the writer, stated in the file). No SPLINE, no bulge.
+* ``entities="polyline"``: every contour as **one closed LWPOLYLINE of lines and
+  arcs** (bulges), one entity per contour, for CAM systems that prefer chained
+  contours. (Some CAM programs apply a bulge to the wrong segment: an issue-26
+  review saw dxf2gcode move the ring's balls by 0.43 mm; hence not the default.)
+* ``version="R12"`` writes the same LINE/ARC/CIRCLE file as DXF R12 (AC1009) for
+  the oldest readers; R12 has no ``$INSUNITS``, so the units are stated only in
+  the INFO text. Default: DXF R2010 with ``$INSUNITS`` = 4 (mm) and
+  ``$MEASUREMENT`` = 1.
+* layer ``INFO``: part number, thickness, units and the tolerance as TEXT of
+  :data:`INFO_TEXT_HEIGHT_MM` capital height, placed below the part, clear of
+  every cut contour by one text height (switch the layer off, or leave it out,
+  in CAM).
+* ``$EXTMIN``/``$EXTMAX``: the true extents of everything in the file (the cut
+  contours and the INFO text), and the view zoomed to them.
 * no clock time and no random GUID in the file: one profile, one byte sequence.
 
 Units: mm.
@@ -27,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from springcad.design.curves import Profile
-from springcad.export.biarc import BulgeLoop, loop_bulges
+from springcad.export.biarc import BulgeLoop, arc_centre, loop_bulges
 
 CUT_LAYER = "CUT"
 INFO_LAYER = "INFO"
@@ -36,33 +47,44 @@ INFO_LAYER = "INFO"
 #: the design curve) stays inside the budget
 CHORD_TOL_MM = 0.001
 BIARC_TOL_MM = 0.5 * CHORD_TOL_MM
-#: INFO text: character width / height of the DXF standard font (ezdxf's estimate ~0.6-0.9)
-_CHAR_ASPECT = 1.0
+#: capital height of the INFO text (mm): ISO 3098's smallest usual height for notes
+INFO_TEXT_HEIGHT_MM = 2.5
+#: contour entity styles (see the module docstring); the first is the default
+ENTITY_STYLES = ("lines-arcs", "polyline")
+#: DXF versions the writer offers; the first is the default
+DXF_VERSIONS = ("R2010", "R12")
+#: two entity ends closer than this (mm) are one point when contours are chained on reading
+CHAIN_TOL_MM = 1e-6
 
 
 @dataclass(frozen=True)
 class DxfReport:
-    """What the writer did: loops written, biarcs and the largest measured deviation (mm)."""
+    """What the writer did: loops written, biarcs, the largest measured deviation (mm),
+    the entity style and the number of CUT entities."""
 
     path: Path
     n_loops: int
     n_biarcs: int
     max_deviation_mm: float
+    entities: str = ENTITY_STYLES[0]
+    n_entities: int = 0
+
+
+def info_lines(part_number: str, thickness_mm: float, entities: str) -> list[str]:
+    """The INFO text: part number, thickness and units, what the CUT layer holds."""
+    what = "LINE ARC CIRCLE" if entities == "lines-arcs" else "LWPOLYLINE"
+    return [part_number, f"t {thickness_mm:g} mm", "units mm", f"CUT: {what}",
+            f"tol {CHORD_TOL_MM:g} mm"]
 
 
 def _info_text(msp, lines: list[str], bbox) -> None:
-    """Text lines in the bottom left corner of ``bbox`` (xmin, ymin, xmax, ymax), inside it.
-
-    The corner square of side (1 - 1/sqrt 2) x radius of a round outline holds no
-    material; the lines are sized to fit a square of 0.8 x that side.
-    """
-    x0, y0, x1, y1 = bbox
-    side = 0.8 * (1 - 1 / math.sqrt(2)) * 0.5 * min(x1 - x0, y1 - y0)
-    longest = max(len(s) for s in lines)
-    h = min(side / (_CHAR_ASPECT * longest), side / (1.6 * len(lines)))
+    """Text lines below ``bbox`` (xmin, ymin, xmax, ymax), left-aligned with it, the top
+    line one text height below the lowest cut point."""
+    x0, y0 = bbox[0], bbox[1]
+    h = INFO_TEXT_HEIGHT_MM
     for k, line in enumerate(lines):
         msp.add_text(line, height=h, dxfattribs={"layer": INFO_LAYER}).set_placement(
-            (x0 + 0.1 * side, y0 + 0.1 * side + 1.6 * h * (len(lines) - 1 - k)))
+            (x0, y0 - 2.0 * h - 1.6 * h * k))
 
 
 @contextlib.contextmanager
@@ -81,60 +103,174 @@ def _fixed_meta_data():
         ezdxf.options.write_fixed_meta_data_for_testing = before
 
 
-def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: float) -> DxfReport:
-    """Write a cutting profile (mm) as DXF R2010: one closed line-and-arc polyline per loop.
+def _is_circle(loop: BulgeLoop) -> bool:
+    """Two half-circle bulges (how :func:`loop_bulges` writes a Circle)."""
+    v = loop.vertices
+    return len(v) == 2 and np.allclose(v[:, 2], 1.0)
+
+
+def _add_lines_arcs(msp, loop: BulgeLoop) -> int:
+    """One loop as LINE/ARC entities (a circle as one CIRCLE); returns the entity count.
+
+    ARC entities run counter-clockwise from the start to the end angle, so a clockwise
+    bulge segment is written with its ends swapped.
+    """
+    attribs = {"layer": CUT_LAYER}
+    if _is_circle(loop):
+        a, b = loop.vertices[:, :2]
+        msp.add_circle(tuple(0.5 * (a + b)), 0.5 * float(np.linalg.norm(b - a)),
+                       dxfattribs=attribs)
+        return 1
+    for a, b, bulge in loop.segments():
+        if not bulge:
+            msp.add_line(tuple(a), tuple(b), dxfattribs=attribs)
+            continue
+        centre, r, sweep = arc_centre(a, b, bulge)
+        ang_a = math.degrees(math.atan2(a[1] - centre[1], a[0] - centre[0]))
+        ang_b = math.degrees(math.atan2(b[1] - centre[1], b[0] - centre[0]))
+        start, end = (ang_a, ang_b) if sweep > 0 else (ang_b, ang_a)
+        msp.add_arc(tuple(centre), r, start, end, dxfattribs=attribs)
+    return len(loop.vertices)
+
+
+def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: float,
+              entities: str = ENTITY_STYLES[0], version: str = DXF_VERSIONS[0]) -> DxfReport:
+    """Write a cutting profile (mm) as DXF.
+
+    Args:
+        entities: ``"lines-arcs"`` (LINE/ARC/CIRCLE, default) or ``"polyline"`` (one
+            closed LWPOLYLINE with bulges per loop).
+        version: ``"R2010"`` (default) or ``"R12"`` (lines-arcs only).
 
     Raises:
-        ValueError: a spline cannot be matched by arcs within the tolerance.
+        ValueError: an unknown style or version, or a spline that cannot be matched by
+            arcs within the tolerance.
     """
     import ezdxf
-    from ezdxf import units
+    from ezdxf import bbox as ezbbox
+    from ezdxf import units, zoom
 
+    if entities not in ENTITY_STYLES:
+        raise ValueError(f"DXF entities {entities!r}: allowed {', '.join(ENTITY_STYLES)}")
+    if version not in DXF_VERSIONS:
+        raise ValueError(f"DXF version {version!r}: allowed {', '.join(DXF_VERSIONS)}")
+    if version == "R12" and entities != "lines-arcs":
+        raise ValueError("DXF R12 has no LWPOLYLINE: use entities='lines-arcs' with R12")
     bulged = [loop_bulges(loop, BIARC_TOL_MM) for loop in profile.loops]
     pts = profile.outer.sample(0.05)
     bbox = (*pts.min(axis=0), *pts.max(axis=0))
     with _fixed_meta_data():
-        doc = ezdxf.new("R2010", setup=False)
-        doc.units = units.MM
-        doc.header["$MEASUREMENT"] = 1
+        doc = ezdxf.new(version, setup=False)
+        if version != "R12":
+            doc.units = units.MM
+            doc.header["$MEASUREMENT"] = 1
         doc.header["$LUNITS"] = 2
         doc.layers.add(CUT_LAYER, color=1)
         doc.layers.add(INFO_LAYER, color=7)
         msp = doc.modelspace()
+        n_entities = 0
         for b in bulged:
-            msp.add_lwpolyline(b.vertices.tolist(), format="xyb", close=True,
-                               dxfattribs={"layer": CUT_LAYER})
-        _info_text(msp, [part_number, f"t {thickness_mm:g} mm, units mm",
-                         f"CUT: lines+arcs, tol {CHORD_TOL_MM:g} mm"], bbox)
+            if entities == "polyline":
+                msp.add_lwpolyline(b.vertices.tolist(), format="xyb", close=True,
+                                   dxfattribs={"layer": CUT_LAYER})
+                n_entities += 1
+            else:
+                n_entities += _add_lines_arcs(msp, b)
+        _info_text(msp, info_lines(part_number, thickness_mm, entities), bbox)
+        box = ezbbox.extents(msp)
+        msp.dxf.extmin, msp.dxf.extmax = box.extmin, box.extmax  # -> $EXTMIN/$EXTMAX
+        zoom.extents(msp)
         doc.saveas(path)
     return DxfReport(Path(path), len(bulged), sum(b.n_biarcs for b in bulged),
-                     max(b.max_deviation_mm for b in bulged))
+                     max(b.max_deviation_mm for b in bulged), entities, n_entities)
+
+
+def _entity_segments(e) -> list[tuple]:
+    """``(start, end, bulge)`` of one LINE or ARC entity (mm)."""
+    if e.dxftype() == "LINE":
+        return [((e.dxf.start.x, e.dxf.start.y), (e.dxf.end.x, e.dxf.end.y), 0.0)]
+    c, r = (e.dxf.center.x, e.dxf.center.y), e.dxf.radius
+    a0, a1 = math.radians(e.dxf.start_angle), math.radians(e.dxf.end_angle)
+    sweep = (a1 - a0) % (2 * math.pi) or 2 * math.pi
+    return [((c[0] + r * math.cos(a0), c[1] + r * math.sin(a0)),
+             (c[0] + r * math.cos(a1), c[1] + r * math.sin(a1)), math.tan(sweep / 4.0))]
+
+
+def chain_segments(segments: list[tuple], tol_mm: float = CHAIN_TOL_MM) -> list[BulgeLoop]:
+    """Closed loops from loose ``(start, end, bulge)`` segments (either direction).
+
+    Raises:
+        ValueError: a segment end meets no other end (an open contour) or three ends
+            meet in one point (a branch).
+    """
+    from scipy.spatial import cKDTree
+
+    if not segments:
+        return []
+    ends = np.array([p for a, b, _ in segments for p in (a, b)], dtype=float)  # 2k, 2k+1
+    pairs = cKDTree(ends).query_pairs(tol_mm, output_type="ndarray")
+    partner = np.full(len(ends), -1)
+    for i, j in pairs:
+        if i // 2 == j // 2:
+            continue  # the two ends of one segment (a tiny segment)
+        if partner[i] >= 0 or partner[j] >= 0:
+            raise ValueError(f"three contour ends meet at ({ends[i][0]:.4f}, {ends[i][1]:.4f})")
+        partner[i], partner[j] = j, i
+    if (partner < 0).any():
+        i = int(np.argmax(partner < 0))
+        raise ValueError(f"open contour: an entity end at ({ends[i][0]:.4f}, "
+                         f"{ends[i][1]:.4f}) meets no other")
+    used = np.zeros(len(segments), bool)
+    loops = []
+    for first in range(len(segments)):
+        if used[first]:
+            continue
+        verts, k, forward = [], first, True
+        while not used[k]:
+            used[k] = True
+            a, b, bu = segments[k]
+            verts.append((*a, bu) if forward else (*b, -bu))
+            out_end = 2 * k + 1 if forward else 2 * k  # the end this segment leaves by
+            nxt = partner[out_end]
+            k, forward = nxt // 2, nxt % 2 == 0
+        loops.append(BulgeLoop(np.asarray(verts, dtype=float)))
+    return loops
 
 
 def read_dxf_loops(path: Path) -> tuple[list[BulgeLoop], object]:
-    """Read the CUT layer back as exact line-and-arc loops.
+    """Read the CUT layer back as exact line-and-arc loops (either entity style).
 
     Returns:
-        (loops, auditor): one :class:`~springcad.export.biarc.BulgeLoop` per contour;
-        the ezdxf auditor of the file.
+        (loops, auditor): one :class:`~springcad.export.biarc.BulgeLoop` per contour
+        (CIRCLE entities as two half-circle bulges); the ezdxf auditor of the file.
 
     Raises:
-        ValueError: the CUT layer holds anything but closed LWPOLYLINEs (a SPLINE,
-            loose lines or arcs, an open polyline).
+        ValueError: the CUT layer holds anything but LINE, ARC, CIRCLE and closed
+            LWPOLYLINEs, or its lines and arcs do not chain into closed contours.
     """
     import ezdxf
 
     doc = ezdxf.readfile(path)
     auditor = doc.audit()
-    loops = []
+    loops, loose = [], []
     for e in doc.modelspace().query(f'*[layer=="{CUT_LAYER}"]'):
         kind = e.dxftype()
-        if kind != "LWPOLYLINE":
-            raise ValueError(f"{path}: {kind} on layer {CUT_LAYER}; CAM needs closed "
-                             "line-and-arc polylines only")
-        if not e.closed:
-            raise ValueError(f"{path}: open polyline on layer {CUT_LAYER}")
-        loops.append(BulgeLoop(np.asarray(list(e.get_points("xyb")), dtype=float)))
+        if kind == "LWPOLYLINE":
+            if not e.closed:
+                raise ValueError(f"{path}: open polyline on layer {CUT_LAYER}")
+            loops.append(BulgeLoop(np.asarray(list(e.get_points("xyb")), dtype=float)))
+        elif kind == "CIRCLE":
+            (cx, cy), r = (e.dxf.center.x, e.dxf.center.y), e.dxf.radius
+            loops.append(BulgeLoop(np.array([(cx + r, cy, 1.0), (cx - r, cy, 1.0)])))
+        elif kind in ("LINE", "ARC"):
+            loose += _entity_segments(e)
+        else:
+            raise ValueError(f"{path}: {kind} on layer {CUT_LAYER}; CAM needs lines, arcs "
+                             "and circles only")
+    try:
+        loops += chain_segments(loose)
+    except ValueError as err:
+        raise ValueError(f"{path}: {err}") from None
     return loops, auditor
 
 

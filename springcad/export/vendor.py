@@ -34,8 +34,9 @@ def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[
         lines += ["", "DO NOT MANUFACTURE: these drawings are for quoting and review only.",
                   "Reasons:"] + [f"  - {r}" for r in release.reasons]
     lines += ["", "Units: mm. Each part folder holds the STEP solid, the drawing (PDF) and, for",
-              "cut parts, the DXF (layer CUT: one closed line-and-arc polyline per contour, true",
-              "size; the DXF governs the contour, the drawing the tolerances and finishes).",
+              "cut parts, the DXF (layer CUT: LINE, ARC and CIRCLE entities only, every hole one",
+              "CIRCLE, contours closed end to end, true size; layer INFO: text, not to cut; the",
+              "DXF governs the contour, the drawing the tolerances and finishes).",
               "A part number names one geometry; the same number in another job is the same part.",
               "", "PARTS TO MAKE"]
     for r in bom_rows:

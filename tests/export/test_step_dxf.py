@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 from springcad.export.bundle import PERIMETER_RTOL
-from springcad.export.dxf import (BIARC_TOL_MM, CHORD_TOL_MM, CUT_LAYER, INFO_LAYER,
-                                  loops_area_mm2, loops_length_mm, read_dxf_loops, write_dxf)
+from springcad.export.dxf import (BIARC_TOL_MM, CHORD_TOL_MM, CUT_LAYER, ENTITY_STYLES,
+                                  INFO_LAYER, chain_segments, loops_area_mm2, loops_length_mm,
+                                  read_dxf_loops, write_dxf)
 from springcad.export.step import read_step, write_assembly_step, write_part_step, write_part_stl
 from springcad.geometry.base import face_area_mm2, solid_volume_mm3
 
@@ -63,28 +64,48 @@ def top_face(part):
     return max(part.solid.faces(), key=lambda f: f.center().Z)
 
 
+@pytest.mark.parametrize("entities", ENTITY_STYLES)
 @pytest.mark.parametrize("name", CUT_PARTS)
-def test_dxf_round_trip(stack_4xs1, tmp_path, name):
-    """Read back with ezdxf: one closed line-and-arc polyline per contour, no spline; area
-    and perimeter equal the solid's cut face within the chordal tolerance."""
+def test_dxf_round_trip(stack_4xs1, tmp_path, name, entities):
+    """Read back with ezdxf: LINE/ARC/CIRCLE (default) or one closed polyline per contour,
+    no spline; the contours chain into the profile's loops; area and perimeter equal the
+    solid's cut face within the chordal tolerance."""
     import ezdxf
 
     part = stack_4xs1.part_named(name)
     prof = part.info.cut_profile
-    rep = write_dxf(prof, tmp_path / "p.dxf", part.part_number, part.info.thickness_mm)
+    rep = write_dxf(prof, tmp_path / "p.dxf", part.part_number, part.info.thickness_mm,
+                    entities=entities)
     assert rep.max_deviation_mm <= BIARC_TOL_MM
     doc = ezdxf.readfile(rep.path)
     assert not doc.audit().has_errors
     assert doc.header["$INSUNITS"] == 4 and doc.header["$MEASUREMENT"] == 1
     assert len(doc.modelspace().query("SPLINE")) == 0
     cut = doc.modelspace().query(f'*[layer=="{CUT_LAYER}"]')
-    assert {e.dxftype() for e in cut} == {"LWPOLYLINE"} and all(e.closed for e in cut)
-    assert len(cut) == len(prof.loops)
+    if entities == "polyline":
+        assert {e.dxftype() for e in cut} == {"LWPOLYLINE"} and all(e.closed for e in cut)
+        assert len(cut) == len(prof.loops)
+    else:
+        assert {e.dxftype() for e in cut} <= {"LINE", "ARC", "CIRCLE"}
+        assert len(cut) == rep.n_entities
     loops, _ = read_dxf_loops(rep.path)
+    assert len(loops) == len(prof.loops)
     face = top_face(part)
     area, perimeter = face_area_mm2(face), sum(e.length for e in face.edges())
     assert abs(loops_area_mm2(loops) - area) <= CHORD_TOL_MM * perimeter
     assert loops_length_mm(loops) == pytest.approx(perimeter, rel=PERIMETER_RTOL)
+
+
+def test_chaining_refuses_open_and_branched_contours():
+    """Loose lines and arcs chain into closed loops only when every end meets one other."""
+    sq = [((0, 0), (1, 0), 0.0), ((1, 0), (1, 1), 0.0), ((0, 1), (1, 1), 0.0),  # reversed
+          ((0, 1), (0, 0), 0.0)]
+    (loop,) = chain_segments(sq)
+    assert abs(loop.area_mm2()) == pytest.approx(1.0)
+    with pytest.raises(ValueError, match="open contour"):
+        chain_segments(sq[:3])
+    with pytest.raises(ValueError, match="three contour ends"):
+        chain_segments(sq + [((0, 0), (2, 2), 0.0)])
 
 
 def _densified(p, step_mm: float) -> np.ndarray:
@@ -135,7 +156,7 @@ def test_dxf_within_a_micrometre_of_the_design(stack_4xs1, tmp_path, name):
     import ezdxf
 
     part = stack_4xs1.part_named(name)
-    rep = write_dxf(part.info.cut_profile, tmp_path / "p.dxf", "X", 1.0)
+    rep = write_dxf(part.info.cut_profile, tmp_path / "p.dxf", "X", 1.0, entities="polyline")
     doc = ezdxf.readfile(rep.path)
 
     def flattened(polyline) -> np.ndarray:
@@ -165,20 +186,23 @@ def test_dxf_within_a_micrometre_of_the_design(stack_4xs1, tmp_path, name):
           f"dxf->design {1e3 * d_back.max():.3f} um, writer {1e3 * rep.max_deviation_mm:.3f} um")
 
 
-def test_info_layer_keeps_the_cut_extents(stack_4xs1, tmp_path):
-    """The annotation never widens the extents a CAM system computes over all layers."""
+def test_header_extents_are_the_drawing_extents(stack_4xs1, tmp_path):
+    """$EXTMIN/$EXTMAX are what ezdxf measures over every entity (not the +-1e20
+    placeholders), the INFO text lies below the cut contours and names the part."""
     import ezdxf
     from ezdxf import bbox
 
     for name in ("S1-RING", "S1-CAM-L4.5-H6-R", "RIM-WASHER"):
         part = stack_4xs1.part_named(name)
         rep = write_dxf(part.info.cut_profile, tmp_path / "p.dxf", part.part_number, 4.5)
-        msp = ezdxf.readfile(rep.path).modelspace()
+        doc = ezdxf.readfile(rep.path)
+        msp = doc.modelspace()
         info = msp.query(f'TEXT[layer=="{INFO_LAYER}"]')
         assert part.part_number in [t.dxf.text for t in info]
         cut = bbox.extents(msp.query(f'*[layer=="{CUT_LAYER}"]'))
         everything = bbox.extents(msp)
-        assert np.allclose(everything.extmin, cut.extmin, atol=1e-9), name
-        assert np.allclose(everything.extmax, cut.extmax, atol=1e-9), name
+        assert np.allclose(tuple(doc.header["$EXTMIN"])[:2], tuple(everything.extmin)[:2], atol=1e-9), name
+        assert np.allclose(tuple(doc.header["$EXTMAX"])[:2], tuple(everything.extmax)[:2], atol=1e-9), name
+        assert all(t.dxf.insert.y + t.dxf.height < cut.extmin.y for t in info), name
         r = part.info.cut_profile.outer.sample(0.05)
         assert cut.extmax.x == pytest.approx(r[:, 0].max(), abs=1e-3)
