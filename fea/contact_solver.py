@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from springcad.design.contact_stress import line_contact
 from springcad.errors import SolverError
 
 #: cam contour sampling step for the closest-point projection (mm)
@@ -220,38 +221,19 @@ class CamCurve:
 # ============================================================ Hertz line contact
 def hertz_line_contact(line_load_N_per_mm: float, curvature_sum_per_mm: float,
                        youngs_modulus_MPa: float, poisson_ratio: float) -> dict:
-    """Hertz contact of two parallel elastic cylinders of the same material (plane strain).
-
-    p0 = sqrt(P E* / (pi R)), b = sqrt(4 P R / (pi E*)), with 1/R the sum of the
-    curvatures (convex positive) and 1/E* = 2 (1 - nu^2) / E. The subsurface
-    stresses on the load axis (Johnson, Contact Mechanics, eq. 4.49):
-    sigma_x = -(p0/b) ((b^2 + 2 z^2) / sqrt(b^2 + z^2) - 2 z), sigma_z = -p0 b /
-    sqrt(b^2 + z^2), sigma_y = nu (sigma_x + sigma_z), no shear; the von Mises
-    maximum over depth is reported (0.56 p0 at z = 0.70 b for nu = 0.3).
-
-    Returns:
-        dict with p0_MPa, half_width_mm, von_mises_max_MPa, depth_mm, radius_mm.
-    """
+    """Hertz contact of two parallel elastic cylinders of the same material (plane strain):
+    :func:`springcad.design.contact_stress.line_contact` as a dict (p0_MPa, half_width_mm,
+    von_mises_max_MPa, depth_mm, radius_mm, max_shear_MPa); zero stresses without load or
+    for a conformal (non-Hertzian) pair, curvature sum <= 0."""
     if line_load_N_per_mm <= 0 or curvature_sum_per_mm <= 0:
         return {"p0_MPa": 0.0, "half_width_mm": 0.0, "von_mises_max_MPa": 0.0,
                 "depth_mm": 0.0, "radius_mm": math.inf if curvature_sum_per_mm <= 0 else
-                1 / curvature_sum_per_mm}
-    R = 1.0 / curvature_sum_per_mm
-    E_star = youngs_modulus_MPa / (2 * (1 - poisson_ratio ** 2))
-    P = line_load_N_per_mm
-    p0 = math.sqrt(P * E_star / (math.pi * R))
-    b = math.sqrt(4 * P * R / (math.pi * E_star))
-    z = np.linspace(0.0, 3.0, 3001) * b
-    root = np.sqrt(b * b + z * z)
-    sx = -(p0 / b) * ((b * b + 2 * z * z) / root - 2 * z)
-    sz = -p0 * b / root
-    sy = poisson_ratio * (sx + sz)
-    vm = np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2))
-    i = int(np.argmax(vm))
-    return {"p0_MPa": p0, "half_width_mm": b, "von_mises_max_MPa": float(vm[i]),
-            "depth_mm": float(z[i]), "radius_mm": R}
-
-
+                1 / curvature_sum_per_mm, "max_shear_MPa": 0.0}
+    c = line_contact(line_load_N_per_mm, curvature_sum_per_mm, youngs_modulus_MPa,
+                     poisson_ratio)
+    return {"p0_MPa": c.p0_MPa, "half_width_mm": c.half_width_mm,
+            "von_mises_max_MPa": c.von_mises_max_MPa, "depth_mm": c.depth_mm,
+            "radius_mm": c.radius_mm, "max_shear_MPa": c.max_shear_MPa}
 
 
 # ============================================================ the sector
