@@ -36,6 +36,9 @@ INCREMENT_TOL_MM = 1e-7
 RESIDUAL_TOL = 1e-7
 #: the nonlinear tangent is re-factorised when the state moved this far from it (mm)
 REFACTOR_MM = 0.2
+#: beyond this distance from the nominal cam the normal of a dilated cam is the direction
+#: from the nearest point (mm); nearer, the interpolated vertex normal
+OFFSET_NORMAL_MM = 1e-4
 #: contact points per quadratic boundary edge (nodes included)
 POINTS_PER_EDGE = 8
 #: candidates nearer than this to the cam enter each iteration's complementarity problem (mm)
@@ -155,20 +158,39 @@ class CamCurve:
         curv = 2 * cross / np.maximum(den, 1e-300) * (1.0 if ccw else -1.0)
         self.curvature = np.concatenate([np.full(k, curv[0]), curv, np.full(k, curv[-1])])
         self.junction_mm = junction_mm
+        self.offset_mm = 0.0
+
+    def dilated(self, offset_mm: float) -> "CamCurve":
+        """This cam grown by ``offset_mm`` normal to its surface (negative: shrunk): the
+        contact sees the Minkowski offset (gap = distance - offset, the normal from the
+        nearest point, so a sharp corner grows round), the polyline stays the nominal one.
+        A ring and a cam whose profiles deviate by e_ring and e_cam touch as the nominal
+        ring against the cam dilated by e_ring + e_cam."""
+        import copy
+
+        out = copy.copy(self)
+        out.offset_mm = float(offset_mm)
+        return out
 
     def index(self, kind: str, k: int = 0) -> int:
         return next(j for j, (kd, kk, _) in enumerate(self.features) if kd == kind and kk == k)
 
     def project(self, q: np.ndarray):
         """Signed distance (positive outside the cam), outward normal, foot point, segment, t."""
-        _, signed, foot, seg, t = self.all.project(q)
+        dist, signed, foot, seg, t = self.all.project(q)
         # the contour is an open chain (pockets -2..2): beyond the tooth tips nothing is
         # inside the cam, whatever side of a chain end a far point projects to
         signed = np.where(np.hypot(q[:, 0], q[:, 1]) > self.outer_radius_mm, np.abs(signed),
                           signed)
         w = (t / self.all.len[seg])[:, None]
         n = (1 - w) * self.Nv[seg] + w * self.Nv[seg + 1]
-        return signed, n / np.linalg.norm(n, axis=1)[:, None], foot, seg, t
+        n = n / np.linalg.norm(n, axis=1)[:, None]
+        if self.offset_mm:  # the offset surface's normal: from the nearest point (round corners)
+            far = dist > OFFSET_NORMAL_MM
+            radial = (q - foot) * (np.sign(signed) / np.maximum(dist, 1e-300))[:, None]
+            n = np.where(far[:, None], radial, n)
+            signed = signed - self.offset_mm
+        return signed, n, foot, seg, t
 
     def groups(self, driving: str) -> dict:
         """Segments of every surface other than the driving flank, by name (for gaps)."""
@@ -200,7 +222,9 @@ class CamCurve:
         s = float(self.s[seg] + t)
         length = self.lengths[j]
         drive = self.index(driving)
-        out = {"feature": f"{kind}:{k}", "cam_curvature_per_mm": float(self.curvature[seg])}
+        kappa = float(self.curvature[seg])  # the offset surface: 1/(R + offset)
+        out = {"feature": f"{kind}:{k}",
+               "cam_curvature_per_mm": kappa / (1.0 + kappa * self.offset_mm)}
         if j == drive:  # distance from the driving flank's start (its cusp on the pocket arc)
             from_cusp = length - s if driving == "flank_ccw" else s
             out.update(flank_position_mm=from_cusp, flank_length_mm=length,
@@ -347,12 +371,16 @@ class SectorContact:
         if np.any(self.pos[2 * self.nodes] < 0):
             raise SolverError("a contact candidate node is held: the cam would touch the support")
 
-    def boundary(self, u: np.ndarray | None, per_facet: int = 6) -> _Segments:
-        """The (deformed) flexure boundary (ball, neck, edges) as short straight segments."""
+    def boundary(self, u: np.ndarray | None, per_facet: int = 6,
+                 part: str | None = None) -> _Segments:
+        """The (deformed) flexure boundary (ball, neck, edges, or only ``part``, e.g.
+        "ball") as short straight segments."""
         s = np.linspace(0.0, 1.0, per_facet + 1)
         N = np.array([(1 - s) * (1 - 2 * s), s * (2 * s - 1), 4 * s * (1 - s)])
         x = self.X if u is None else self.X + u.reshape(-1, 2).T
-        nodes = self.facet_nodes(np.concatenate(list(self.facets.values())))
+        facets = [fc for lab, fc in self.facets.items()
+                  if part is None or lab.split(":")[0] == part]
+        nodes = self.facet_nodes(np.concatenate(facets))
         P = np.einsum("ak,dam->mkd", N, x[:, nodes])
         return _Segments(P[:, :-1].reshape(-1, 2), P[:, 1:].reshape(-1, 2))
 
