@@ -47,6 +47,7 @@ import numpy as np
 
 from fea.contact_result import ContactOptions, ContactStep, ContactSweep, direction_flags
 from fea.contact_solver import CamCurve, SectorContact, State, hertz_line_contact, rot
+from fea.contact_tolerance import RING_TO_RING, ContactMaterial, EndState, assess
 from springcad.errors import SolverError
 
 #: the small-angle stiffness is the secant T / (theta - theta_onset) this far past the onset
@@ -156,13 +157,16 @@ def _contacts(sc: SectorContact, st: State, driving: str, sign: int, ball, mater
     return out
 
 
-def _surface_gaps(sc: SectorContact, groups: dict, st: State) -> dict:
-    """Smallest gap (mm) from the deformed flexure to each cam surface (negative: inside the
-    cam) and to the neighbouring flexure (the deformed sector turned by one pitch)."""
-    bnd = sc.boundary(st.u)
+def _surface_gaps(sc: SectorContact, groups: dict, st: State, part: str | None = None) -> dict:
+    """Smallest gap (mm) from the deformed flexure (or its ``part``: "ball", "neck", "edge")
+    to each nominal cam surface (negative: inside the cam) and to the neighbouring flexure
+    (the deformed sector turned by one pitch). Against a dilated cam
+    (:meth:`CamCurve.dilated`) the gaps are still to the nominal surfaces: the offset
+    moves the flexure, the caller subtracts the surfaces' own deviations."""
+    bnd = sc.boundary(st.u, part=part)
     pts = np.vstack([bnd.A, bnd.B[-1:]])
     q = pts @ rot(st.theta)  # cam frame
-    g_all = sc.cam.project(q)[0]
+    g_all = sc.cam.project(q)[0] + sc.cam.offset_mm
     out = {}
     to_ring = rot(st.theta)
     for name, segs in groups.items():
@@ -237,6 +241,58 @@ def _moved(sc: SectorContact, st: State, point) -> np.ndarray:
     """Where the material point nearest to ``point`` went (mm)."""
     i = int(np.argmin(np.hypot(sc.X[0] - point[0], sc.X[1] - point[1])))
     return sc.X[:, i] + st.u.reshape(-1, 2)[i] + (np.asarray(point) - sc.X[:, i])
+
+
+# ============================================================ +-theta_max with tolerances
+def _end_state(sc: SectorContact, st: State, driving: str, sign: int, ball, material,
+               groups: dict) -> EndState:
+    """Ball contact and every clearance (by ring part) of a converged end state."""
+    contacts = [c for c in _contacts(sc, st, driving, sign, ball, material) if "hertz" in c]
+    c = max(contacts, key=lambda c: c["hertz"]["von_mises_max_MPa"], default=None)
+    parts = sorted({lab.split(":")[0] for lab in sc.facets})
+    clear = {}
+    for part in parts:
+        for name, gap in _surface_gaps(sc, groups, st, part).items():
+            if name in RING_TO_RING or (name == "driving_flank" and part == "ball"):
+                continue
+            clear[f"{name}/{part}"] = gap
+    clear.update({k: v for k, v in _surface_gaps(sc, groups, st).items() if k in RING_TO_RING})
+    return EndState(offset_mm=sc.cam.offset_mm, converged=True,
+                    force_N=c["force_N"] if c else 0.0,
+                    flank_curvature_per_mm=c["cam_curvature_per_mm"] if c else 0.0,
+                    hertz=c["hertz"] if c else None, clearances_mm=clear)
+
+
+def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
+            theta_max: float, steps: int, ball, seed: int):
+    """The contact rules at +-theta_max (:mod:`fea.contact_tolerance`): the nominal end
+    states, and the path to each end again against the cam dilated by -+T (T = t_spring
+    + t_shaft, the largest deviation of ball and flank together)."""
+    m = design.manufacturing
+    T = float(m.t_spring_mm + m.t_shaft_mm)
+    ends = {}
+    for sign, key in ((1, "+"), (-1, "-")):
+        driving = "flank_ccw" if sign > 0 else "flank_cw"
+        groups = curve.groups(driving)
+        if key not in final:
+            ends[key] = (sign * theta_max, [EndState(0.0, False, reason="the sweep stopped "
+                                                     "before theta_max")])
+            continue
+        states = [_end_state(sc, final[key], driving, sign, ball, material, groups)]
+        for offset in ((-T, T) if T > 0 else ()):
+            sc.cam = curve.dilated(offset)
+            try:
+                st = _Path(sc, sign, theta_max / steps).to(sign * theta_max)
+                states.append(_end_state(sc, st, driving, sign, ball, material, groups))
+            except SolverError as err:
+                states.append(EndState(offset, False, reason=f"no converged contact ({err})"))
+            finally:
+                sc.cam = curve
+        ends[key] = (sign * theta_max, states)
+    props = ContactMaterial(material.youngs_modulus_MPa, material.poisson_ratio,
+                            material.yield_strength_MPa, design.material.safety_factor)
+    return assess(design.name, ends, ball[1], float(design.thickness_mm), props,
+                  float(m.t_spring_mm), float(m.t_shaft_mm), m.tolerance_distribution, seed)
 
 
 # ============================================================ the sweep
@@ -362,6 +418,7 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
     rest_clearance = float(curve.project(np.vstack([rest.A, rest.B[-1:]]))[0].min())
     n = options.steps
     steps, onset, small, pictures, flags, stuck, jumps = {}, {}, {}, {}, [], {}, {}
+    final = {}  # direction -> converged state at +-theta_max
     for sign, key in ((1, "+"), (-1, "-")):
         driving = "flank_ccw" if sign > 0 else "flank_cw"
         groups = curve.groups(driving)
@@ -392,6 +449,8 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
                                 driving, sign, ball, groups, material, exclusion, stress_scale,
                                 keep=th == targets[-1])
             out.append(step)
+            if th == targets[-1]:
+                final[key] = st
             if pic is not None:
                 pictures[key] = pic
         if math.isfinite(th_on) and th_on + a in torque:  # T(theta_onset) = 0 exactly
@@ -413,6 +472,11 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
              else "linear elasticity with the contact on current positions: the flexure's "
              "geometric nonlinearity (foreshortening) is not modelled"]
     t2 = time.perf_counter()
+    at_max = None
+    if options.tolerances:
+        progress("contact at +-theta_max with the profile tolerances", None)
+        at_max = _at_max(sc, curve, design, material, final, theta_max, n, ball, options.seed)
+    t3 = time.perf_counter()
     return ContactSweep(
         name=design.name, max_deflection_rad=theta_max, n_flexures=design.n_flexures,
         level=fm.level, dofs=int(sc.system.n_dofs), candidates=len(sc.pX),
@@ -421,8 +485,8 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
         peak_linear_this_mesh_MPa=peak_linear, peak_verified_MPa=peak_verified,
         rest_clearance_mm=rest_clearance, onset_rad=onset, small_angle_Nmm_per_rad=small,
         steps=steps, flags=flags, options=options, stopped=stuck, jumps_rad=jumps,
-        timings_s={"setup": t1 - t0, "sweep": t2 - t1, "total": t2 - t0},
-        notes=notes, pictures=pictures)
+        timings_s={"setup": t1 - t0, "sweep": t2 - t1, "tolerances": t3 - t2, "total": t3 - t0},
+        notes=notes, pictures=pictures, at_max=at_max)
 
 
 def _onset(sc: SectorContact, sign: int, theta_max: float) -> float:

@@ -81,6 +81,10 @@ class ContactOptions:
     tangent_tolerance: float = 0.05
     small_angle_tolerance: float = 0.005
     gap_tolerance: float = 0.05
+    tolerances: bool = True
+    """Also judge the ends with the profile tolerances (:mod:`fea.contact_tolerance`)."""
+    seed: int = 1
+    """Monte Carlo seed of the clearances."""
 
     def __post_init__(self):
         if self.steps < 8:
@@ -161,6 +165,9 @@ class ContactSweep:
     notes: list = field(default_factory=list)
     pictures: dict = field(default_factory=dict, repr=False)
     """Deformed geometry at +-theta_max for the PNG (not serialised)."""
+    at_max: object | None = None
+    """The contact rules at +-theta_max with the profile tolerances
+    (:class:`~fea.contact_tolerance.ContactAtMax`), or None."""
 
     @property
     def ok(self) -> bool:
@@ -204,6 +211,7 @@ class ContactSweep:
             "stopped": dict(self.stopped),
             "jumps_deg": {k: [math.degrees(a) for a in v] for k, v in self.jumps_rad.items()},
             "flags": list(self.flags), "ok": self.ok, "notes": list(self.notes),
+            "at_max_deflection": None if self.at_max is None else self.at_max.to_dict(),
             "timings_s": dict(self.timings_s)}
 
 

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from springcad.design.contact_stress import line_contact
 from springcad.errors import SolverError
 
 #: cam contour sampling step for the closest-point projection (mm)
@@ -35,6 +36,9 @@ INCREMENT_TOL_MM = 1e-7
 RESIDUAL_TOL = 1e-7
 #: the nonlinear tangent is re-factorised when the state moved this far from it (mm)
 REFACTOR_MM = 0.2
+#: beyond this distance from the nominal cam the normal of a dilated cam is the direction
+#: from the nearest point (mm); nearer, the interpolated vertex normal
+OFFSET_NORMAL_MM = 1e-4
 #: contact points per quadratic boundary edge (nodes included)
 POINTS_PER_EDGE = 8
 #: candidates nearer than this to the cam enter each iteration's complementarity problem (mm)
@@ -154,20 +158,39 @@ class CamCurve:
         curv = 2 * cross / np.maximum(den, 1e-300) * (1.0 if ccw else -1.0)
         self.curvature = np.concatenate([np.full(k, curv[0]), curv, np.full(k, curv[-1])])
         self.junction_mm = junction_mm
+        self.offset_mm = 0.0
+
+    def dilated(self, offset_mm: float) -> "CamCurve":
+        """This cam grown by ``offset_mm`` normal to its surface (negative: shrunk): the
+        contact sees the Minkowski offset (gap = distance - offset, the normal from the
+        nearest point, so a sharp corner grows round), the polyline stays the nominal one.
+        A ring and a cam whose profiles deviate by e_ring and e_cam touch as the nominal
+        ring against the cam dilated by e_ring + e_cam."""
+        import copy
+
+        out = copy.copy(self)
+        out.offset_mm = float(offset_mm)
+        return out
 
     def index(self, kind: str, k: int = 0) -> int:
         return next(j for j, (kd, kk, _) in enumerate(self.features) if kd == kind and kk == k)
 
     def project(self, q: np.ndarray):
         """Signed distance (positive outside the cam), outward normal, foot point, segment, t."""
-        _, signed, foot, seg, t = self.all.project(q)
+        dist, signed, foot, seg, t = self.all.project(q)
         # the contour is an open chain (pockets -2..2): beyond the tooth tips nothing is
         # inside the cam, whatever side of a chain end a far point projects to
         signed = np.where(np.hypot(q[:, 0], q[:, 1]) > self.outer_radius_mm, np.abs(signed),
                           signed)
         w = (t / self.all.len[seg])[:, None]
         n = (1 - w) * self.Nv[seg] + w * self.Nv[seg + 1]
-        return signed, n / np.linalg.norm(n, axis=1)[:, None], foot, seg, t
+        n = n / np.linalg.norm(n, axis=1)[:, None]
+        if self.offset_mm:  # the offset surface's normal: from the nearest point (round corners)
+            far = dist > OFFSET_NORMAL_MM
+            radial = (q - foot) * (np.sign(signed) / np.maximum(dist, 1e-300))[:, None]
+            n = np.where(far[:, None], radial, n)
+            signed = signed - self.offset_mm
+        return signed, n, foot, seg, t
 
     def groups(self, driving: str) -> dict:
         """Segments of every surface other than the driving flank, by name (for gaps)."""
@@ -199,7 +222,9 @@ class CamCurve:
         s = float(self.s[seg] + t)
         length = self.lengths[j]
         drive = self.index(driving)
-        out = {"feature": f"{kind}:{k}", "cam_curvature_per_mm": float(self.curvature[seg])}
+        kappa = float(self.curvature[seg])  # the offset surface: 1/(R + offset)
+        out = {"feature": f"{kind}:{k}",
+               "cam_curvature_per_mm": kappa / (1.0 + kappa * self.offset_mm)}
         if j == drive:  # distance from the driving flank's start (its cusp on the pocket arc)
             from_cusp = length - s if driving == "flank_ccw" else s
             out.update(flank_position_mm=from_cusp, flank_length_mm=length,
@@ -220,38 +245,19 @@ class CamCurve:
 # ============================================================ Hertz line contact
 def hertz_line_contact(line_load_N_per_mm: float, curvature_sum_per_mm: float,
                        youngs_modulus_MPa: float, poisson_ratio: float) -> dict:
-    """Hertz contact of two parallel elastic cylinders of the same material (plane strain).
-
-    p0 = sqrt(P E* / (pi R)), b = sqrt(4 P R / (pi E*)), with 1/R the sum of the
-    curvatures (convex positive) and 1/E* = 2 (1 - nu^2) / E. The subsurface
-    stresses on the load axis (Johnson, Contact Mechanics, eq. 4.49):
-    sigma_x = -(p0/b) ((b^2 + 2 z^2) / sqrt(b^2 + z^2) - 2 z), sigma_z = -p0 b /
-    sqrt(b^2 + z^2), sigma_y = nu (sigma_x + sigma_z), no shear; the von Mises
-    maximum over depth is reported (0.56 p0 at z = 0.70 b for nu = 0.3).
-
-    Returns:
-        dict with p0_MPa, half_width_mm, von_mises_max_MPa, depth_mm, radius_mm.
-    """
+    """Hertz contact of two parallel elastic cylinders of the same material (plane strain):
+    :func:`springcad.design.contact_stress.line_contact` as a dict (p0_MPa, half_width_mm,
+    von_mises_max_MPa, depth_mm, radius_mm, max_shear_MPa); zero stresses without load or
+    for a conformal (non-Hertzian) pair, curvature sum <= 0."""
     if line_load_N_per_mm <= 0 or curvature_sum_per_mm <= 0:
         return {"p0_MPa": 0.0, "half_width_mm": 0.0, "von_mises_max_MPa": 0.0,
                 "depth_mm": 0.0, "radius_mm": math.inf if curvature_sum_per_mm <= 0 else
-                1 / curvature_sum_per_mm}
-    R = 1.0 / curvature_sum_per_mm
-    E_star = youngs_modulus_MPa / (2 * (1 - poisson_ratio ** 2))
-    P = line_load_N_per_mm
-    p0 = math.sqrt(P * E_star / (math.pi * R))
-    b = math.sqrt(4 * P * R / (math.pi * E_star))
-    z = np.linspace(0.0, 3.0, 3001) * b
-    root = np.sqrt(b * b + z * z)
-    sx = -(p0 / b) * ((b * b + 2 * z * z) / root - 2 * z)
-    sz = -p0 * b / root
-    sy = poisson_ratio * (sx + sz)
-    vm = np.sqrt(0.5 * ((sx - sy) ** 2 + (sy - sz) ** 2 + (sz - sx) ** 2))
-    i = int(np.argmax(vm))
-    return {"p0_MPa": p0, "half_width_mm": b, "von_mises_max_MPa": float(vm[i]),
-            "depth_mm": float(z[i]), "radius_mm": R}
-
-
+                1 / curvature_sum_per_mm, "max_shear_MPa": 0.0}
+    c = line_contact(line_load_N_per_mm, curvature_sum_per_mm, youngs_modulus_MPa,
+                     poisson_ratio)
+    return {"p0_MPa": c.p0_MPa, "half_width_mm": c.half_width_mm,
+            "von_mises_max_MPa": c.von_mises_max_MPa, "depth_mm": c.depth_mm,
+            "radius_mm": c.radius_mm, "max_shear_MPa": c.max_shear_MPa}
 
 
 # ============================================================ the sector
@@ -365,12 +371,16 @@ class SectorContact:
         if np.any(self.pos[2 * self.nodes] < 0):
             raise SolverError("a contact candidate node is held: the cam would touch the support")
 
-    def boundary(self, u: np.ndarray | None, per_facet: int = 6) -> _Segments:
-        """The (deformed) flexure boundary (ball, neck, edges) as short straight segments."""
+    def boundary(self, u: np.ndarray | None, per_facet: int = 6,
+                 part: str | None = None) -> _Segments:
+        """The (deformed) flexure boundary (ball, neck, edges, or only ``part``, e.g.
+        "ball") as short straight segments."""
         s = np.linspace(0.0, 1.0, per_facet + 1)
         N = np.array([(1 - s) * (1 - 2 * s), s * (2 * s - 1), 4 * s * (1 - s)])
         x = self.X if u is None else self.X + u.reshape(-1, 2).T
-        nodes = self.facet_nodes(np.concatenate(list(self.facets.values())))
+        facets = [fc for lab, fc in self.facets.items()
+                  if part is None or lab.split(":")[0] == part]
+        nodes = self.facet_nodes(np.concatenate(facets))
         P = np.einsum("ak,dam->mkd", N, x[:, nodes])
         return _Segments(P[:, :-1].reshape(-1, 2), P[:, 1:].reshape(-1, 2))
 

@@ -121,6 +121,31 @@ class SpringVerification:
                 "or lower the deflection")
         return out
 
+    def contact_failures(self) -> list[str]:
+        """Why the contact at +-theta_max (ball stress, clearances with the profile
+        tolerances) stops a release (:mod:`fea.contact_tolerance`); empty without a sweep."""
+        at_max = getattr(self.contact, "at_max", None)
+        return at_max.failures() if at_max is not None else []
+
+    def contact_summary(self) -> str | None:
+        """One line: the ball's contact von Mises and the smallest worst-case clearance."""
+        at_max = getattr(self.contact, "at_max", None)
+        if at_max is None:
+            return None
+        ends = [e for e in at_max.ends.values() if e.clearances]
+        worst = min((c for e in ends for c in e.clearances), key=lambda c: c.worst_case_mm,
+                    default=None)
+        vm = at_max.contact_von_mises_MPa
+        text = (f"contact {self.name} at +-theta_max: tip ball von Mises {vm:.0f} MPa (yield "
+                f"margin {self.yield_strength_MPa / vm:.3f}, required "
+                f"{self.required_safety_factor:.3g})")
+        if worst is not None:
+            text += (f"; smallest worst-case clearance {1000 * worst.worst_case_mm:.1f} um "
+                     f"({worst.name.replace('/', ' to ').replace('_', ' ')}, nominal "
+                     f"{1000 * worst.nominal_mm:.1f} um, tolerances t_spring + t_shaft "
+                     f"{1000 * (at_max.t_spring_mm + at_max.t_shaft_mm):.0f} um)")
+        return text
+
     def to_dict(self) -> dict:
         run, d = self.run, self.design
         st = run.study
@@ -143,8 +168,12 @@ class SpringVerification:
             "peak_stress_kind": "nodal (element stresses at their quadratic nodes, averaged); "
                                 "excludes the held-face zone and the cam contact patch",
             "peak_ip_von_mises_MPa": pr.peak_ip_von_mises_MPa,
-            "peak_location_mm": list(pr.peak_location_mm),
-            "peak_region": pr.peak_region,
+            # where: the finest 2D level (the converged field); the 3D check meshes are
+            # extrusions of coarser levels, their own location is in check_3d
+            "peak_location_mm": list(finest.peak_location_mm),
+            "peak_region": finest.peak_region,
+            "peak_location_note": f"{st.model} finest level (level {finest.level}); the 3D "
+                                  "check's own locations are in check_3d",
             "peak_by_region_MPa": dict(finest.peak_by_region_MPa),
             "peak_by_region_note": f"{st.model} finest level, not extrapolated",
             "max_deflection_rad": d.max_deflection_rad,
@@ -306,6 +335,18 @@ class JobVerification:
                            f"of that limit (margin {shares[n]['yield_margin']:.3f})")
         return out
 
+    def release_failures(self) -> list[str]:
+        """What stops a release without failing the verification: the contact rules at
+        +-theta_max of every spring (judged at its own limit, the stack's load at most), or
+        that they could not be assessed."""
+        out = []
+        for n, v in self.springs.items():
+            if v.contact is None and self.options.contact:
+                out.append(f"spring {n}: the cam contact at +-theta_max was not assessed (the "
+                           "contact sweep failed, see the notes)")
+            out += v.contact_failures()
+        return out
+
     def raise_for_failures(self) -> None:
         """Raise :class:`VerificationFailed` listing every failure (for ``springcad build``)."""
         if not self.ok:
@@ -340,6 +381,7 @@ class JobVerification:
                             "load": self.options.case.load},
                 "springs": {n: v.to_dict() for n, v in self.springs.items()},
                 "stack": self.stack.to_dict(), "ok": self.ok, "failures": self.failures(),
+                "release_failures": self.release_failures(),
                 "notes": self.notes(), "timings_s": dict(self.timings_s)}
 
     def summary(self) -> str:
@@ -370,4 +412,6 @@ class JobVerification:
         lines += [f"note: {n}" for n in self.notes()]
         lines += [f"contact {n}: {f['message']}" for n, v in self.springs.items()
                   if v.contact is not None for f in v.contact.flags]
+        lines += [t for t in (v.contact_summary() for v in self.springs.values()) if t]
+        lines += [f"NOT FOR MANUFACTURE: {r}" for r in self.release_failures()]
         return "\n".join(lines)

@@ -90,6 +90,10 @@ class OutputPathError(SpringcadError):
     """An output path cannot be used: it is a file, lies under a file or is not writable."""
 
 
+class NoSpaceError(OutputPathError):
+    """The disk holding the output has not enough free space (nothing is left behind)."""
+
+
 class CheckFailed(SpringcadError):
     """A verification or check ran and failed (exit status 1; the outputs say why)."""
 

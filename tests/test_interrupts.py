@@ -116,6 +116,28 @@ def test_interrupted_overwrite_keeps_the_old_output(tmp_path, point, sig):
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
 
 
+@pytest.mark.slow
+def test_a_killed_builds_folder_is_removed_by_the_next_run(tmp_path, capsys):
+    """SIGKILL cannot be caught: the hidden folder stays, named with the dead run's pid,
+    and the next run into the same place removes it and says so."""
+    import re
+
+    from springcad.cli import main
+
+    out = tmp_path / "out"
+    status, err = run_until(build_argv(out, "exports"), POINTS["exports"], signal.SIGKILL,
+                            tmp_path)
+    assert status == -signal.SIGKILL, err
+    (stale,) = tmp_path.iterdir()
+    m = re.match(r"^\.out\.springcad-tmp-(\d+)-", stale.name)
+    assert m and stale.is_dir(), stale.name
+    with pytest.raises(ProcessLookupError):
+        os.kill(int(m.group(1)), 0)
+    assert main(["design", str(template("paper_S1")), "--out", str(out)]) == 0
+    assert [p.name for p in tmp_path.iterdir()] == ["out"]
+    assert f"removed '{stale}'" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "SIGINT"])
 def test_gmsh_leaves_python_signal_handlers_in_place(sig):
     """gmsh.initialize installs C handlers that ended the process on SIGTERM at once (an

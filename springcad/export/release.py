@@ -3,6 +3,8 @@
 A build is *released* only when all of these hold:
 
 * the FEA verification ran (no ``--no-verify``) and passed;
+* at +-theta_max the tip ball's Hertz contact von Mises meets the yield margin and every
+  clearance stays open with the profile tolerances (``fea.contact_tolerance``);
 * the design carries no warning (spring warnings such as an undersized tip
   ball or a stress derating, stack warnings such as cam interfaces that can
   interfere in the Monte Carlo tolerance stack);
@@ -111,6 +113,9 @@ def release_status(job_design, verification=None, verify_skipped: bool = False,
             reasons += [f"FEA verification failed: {f}" for f in verification.failures()] or [
                 "FEA verification failed"]
         notes += list(verification.notes()) + contact_notes(verification)
+        # the contact at full deflection (ball stress, clearances with the tolerances)
+        reasons += [f"contact at full deflection: {r}"
+                    for r in getattr(verification, "release_failures", list)()]
     reasons += [f"design warning: {w}" for w in job_design.release_warnings()]
     reasons += [_check_reason(c) for c in checks if not c.passed]
     return ReleaseStatus(tuple(dict.fromkeys(reasons)), tuple(dict.fromkeys(notes)))

@@ -11,6 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
+from springcad.report.outdir import require_free_space
+
 #: scikit-fem local node order equals VTK's for quadratic triangles and tetrahedra
 _VTK_QUADRATIC = {6: 22, 10: 24}  # nodes per cell -> VTK_QUADRATIC_TRIANGLE / _TETRA
 
@@ -57,8 +59,30 @@ def result_grid(result):
     return grid
 
 
+def vtu_bytes_estimate(grid) -> int:
+    """An upper estimate of the ``.vtu`` size of ``grid`` (bytes): every point and cell
+    array at 8 bytes a value, base64-encoded (4/3), plus the XML around them; the
+    writer's compression only makes the file smaller."""
+    values = grid.n_points * 3 + grid.n_cells * 3  # points; offsets, types, ...
+    values += int(grid.cells.size)  # connectivity
+    for name in grid.point_data.keys():
+        values += int(np.asarray(grid.point_data[name]).size)
+    for name in grid.cell_data.keys():
+        values += int(np.asarray(grid.cell_data[name]).size)
+    return int(8 * values * 4 / 3) + 64 * 1024
+
+
 def write_vtu(result, path: Path | str) -> Path:
-    """Write the result's mesh and fields as ``.vtu`` (binary XML)."""
+    """Write the result's mesh and fields as ``.vtu`` (binary XML).
+
+    The free space is checked first: VTK's writer crashes the process (segmentation
+    fault) on a full disk instead of reporting it.
+
+    Raises:
+        NoSpaceError: the disk cannot hold the file (the message names the space needed).
+    """
     path = Path(path)
-    result_grid(result).save(str(path))
+    grid = result_grid(result)
+    require_free_space(path.parent, vtu_bytes_estimate(grid), f"the FEA field '{path.name}'")
+    grid.save(str(path))
     return path
