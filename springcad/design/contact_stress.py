@@ -249,3 +249,21 @@ class ContactMargin:
     @property
     def allowable_MPa(self) -> float:
         return self.yield_strength_MPa / self.required_safety_factor
+
+
+def tip_radius_for_contact_mm(force_N, flank_radius_mm, thickness_mm, E_MPa, nu, allowable_MPa):
+    """:func:`min_tip_radius_for_contact_mm` on arrays (numpy broadcasting), for the design
+    search and the synthesis screen (mm; ``inf`` where no ball is enough, 0 without load).
+
+    ``flank_radius_mm`` > 0 convex (the cam flank at the contact; r_c x theta at full
+    deflection for the involute flank of :mod:`springcad.design.cam`), ``inf`` flat.
+    """
+    force = np.asarray(force_N, dtype=float)
+    P = force / np.asarray(thickness_mm, dtype=float)
+    E = contact_modulus_MPa(1.0, nu) * np.asarray(E_MPa, dtype=float)
+    c_vm = von_mises_peak(round(float(nu), 6))[0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k_allowed = math.pi * (np.asarray(allowable_MPa, dtype=float) / c_vm) ** 2 / (P * E)
+        k_ball = k_allowed - 1.0 / np.asarray(flank_radius_mm, dtype=float)
+        r = np.where(k_ball > 0, 1.0 / k_ball, np.inf)
+    return np.where(force > 0, r, 0.0)

@@ -17,6 +17,7 @@ import numpy as np
 
 from springcad.config import SpringSpec
 from springcad.design import flexure as fx
+from springcad.design.contact_stress import tip_radius_for_contact_mm
 from springcad.errors import DesignError
 from springcad.units import NMM_PER_NM
 
@@ -55,22 +56,58 @@ class Layout:
     load: float
 
 
-def tip_ball(spec: SpringSpec, sigma, n, rc):
-    """(tip load N, required ball radius mm, ball radius mm) at beam stress ``sigma`` (MPa)."""
+@dataclass(frozen=True)
+class ContactLimit:
+    """What the tip ball's Hertz contact on the cam flank may reach at full deflection:
+    Young's modulus (MPa), Poisson's ratio (-) and the allowed von Mises stress, yield /
+    required safety factor (MPa)."""
+
+    youngs_modulus_MPa: float
+    poisson_ratio: float
+    allowable_MPa: float
+
+    @classmethod
+    def of(cls, material) -> "ContactLimit":
+        """The limit of a :class:`~springcad.config.MaterialSpec` (yield / safety factor)."""
+        m = material.material
+        return cls(m.youngs_modulus_MPa, m.poisson_ratio,
+                   m.yield_strength_MPa / material.safety_factor)
+
+
+def tip_ball(spec: SpringSpec, sigma, n, rc, contact: ContactLimit | None = None):
+    """(tip load N, required ball radius mm, ball radius mm) at beam stress ``sigma`` (MPa).
+
+    The ball carries the peak tip load in bending at the neck (eq. 5) and, with
+    ``contact``, in Hertz contact on the cam flank at full deflection (the involute
+    flank's radius there is r_c theta_max, convex): the larger of the two radii is
+    required (``inf`` when no ball is enough for the contact).
+    """
     load = fx.tip_load_N(spec.stiffness_Nmm_per_rad, spec.max_deflection_rad, n, rc)
     rb_req = fx.tip_ball_required_radius_mm(load, spec.thickness_mm, sigma)
+    if contact is not None:
+        rb_req = max(rb_req, float(tip_radius_for_contact_mm(
+            load, rc * spec.max_deflection_rad, spec.thickness_mm, contact.youngs_modulus_MPa,
+            contact.poisson_ratio, contact.allowable_MPa)))
     rb = spec.tip_radius_mm if spec.tip_radius_mm is not None else max(spec.min_tip_radius_mm, rb_req)
     return load, rb_req, rb
 
 
-def layout_at(spec: SpringSpec, sigma, E, n, rc, max_root_radius_mm: float = math.inf) -> Layout:
+def layout_at(spec: SpringSpec, sigma, E, n, rc, max_root_radius_mm: float = math.inf,
+              contact: ContactLimit | None = None) -> Layout:
     """Tip ball, root radius (rim rule unless given) and straight limit for (N, r_c).
 
     ``max_root_radius_mm``: the largest root radius the rim allows (its holes, web and
     fillets need R_o - R_r; :func:`springcad.config.consistency.min_rim_mm`); the rim
-    rule's root radius is lowered to it when it would leave a thinner rim.
+    rule's root radius is lowered to it when it would leave a thinner rim. ``contact``:
+    the ball is sized for Hertz contact too (:func:`tip_ball`).
+
+    Raises:
+        DesignError: the rim rule has no root, or no ball carries the contact.
     """
-    load, rb_req, rb = tip_ball(spec, sigma, n, rc)
+    load, rb_req, rb = tip_ball(spec, sigma, n, rc, contact)
+    if not math.isfinite(rb):
+        raise DesignError(f"spring '{spec.name}': no tip ball carries the {load:.3g} N contact "
+                          f"load at r_c = {rc:.3g} mm")
     z = spec.thickness_mm
     if spec.root_radius_mm is not None:
         rr = spec.root_radius_mm
@@ -95,7 +132,8 @@ MAX_CANDIDATES = 12
 
 
 def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
-                      max_root_radius_mm: float = math.inf) -> list[Layout]:
+                      max_root_radius_mm: float = math.inf,
+                      contact: ContactLimit | None = None) -> list[Layout]:
     """Every distinct flexure count N that fits, each at its best contact radius, best first.
 
     The free parameters are searched by exact enumeration (eqs. 6-7): for each N the
@@ -103,7 +141,8 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
     (or the fixed ``contact_radius_mm``), the tip ball sized for the peak load (or the
     fixed ``tip_radius_mm``), the root radius by the rim rule (or the fixed
     ``root_radius_mm``), at most ``max_root_radius_mm`` so the rim keeps room for its
-    holes (:func:`layout_at`). Layouts are ranked by their straight limit (the deflection
+    holes (:func:`layout_at`), the ball sized for its Hertz contact as well as bending
+    with ``contact``. Layouts are ranked by their straight limit (the deflection
     reachable without serpentine), so the first is the reference method's choice and
     the later ones are what a designer tries when a later rule (cam tooth, fillets,
     rim holes, serpentine reach) rejects it. Deterministic.
@@ -144,10 +183,11 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
     best: dict[int, Layout] = {}
     for rc in radii:
         for n in ns:
-            if n > fx.max_flexures(tip_ball(spec, sigma, n, rc)[2], rc):
+            rb = tip_ball(spec, sigma, n, rc, contact)[2]
+            if not math.isfinite(rb) or n > fx.max_flexures(rb, rc):
                 continue  # the balls do not fit (as fits() below), no rim rule to solve
             try:
-                lay = layout_at(spec, sigma, E, n, rc, max_root_radius_mm)
+                lay = layout_at(spec, sigma, E, n, rc, max_root_radius_mm, contact)
             except DesignError:
                 continue
             if fits(spec, lay) and (n not in best or lay.theta_s > best[n].theta_s):

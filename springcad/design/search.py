@@ -27,7 +27,8 @@ from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, Spri
 from springcad.config.consistency import min_rim_mm
 from springcad.design import flexure as fx
 from springcad.design.feasibility import describe, nearest_changes
-from springcad.design.layout import MAX_CANDIDATES, Layout, candidate_layouts, rim_root_radius
+from springcad.design.layout import (MAX_CANDIDATES, ContactLimit, Layout, candidate_layouts,
+                                     rim_root_radius)
 from springcad.design.spring import SpringDesign, with_width
 from springcad.errors import DesignError
 from springcad.units import J_PER_NMM, NMM_PER_NM
@@ -73,7 +74,8 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
 
     rr_max = min(max_root_radius_mm,
                  spec.outer_radius_mm - min_rim_mm(spec.outer_radius_mm, manufacturing, hardware))
-    layouts = candidate_layouts(spec, sigma, E, max_root_radius_mm=rr_max)
+    layouts = candidate_layouts(spec, sigma, E, max_root_radius_mm=rr_max,
+                                contact=ContactLimit.of(material))
     if rank >= len(layouts):
         raise _NoMoreLayouts(rank)
     lay = layouts[rank]
