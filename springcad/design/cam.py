@@ -27,6 +27,12 @@ from springcad.design.curves import Arc, Feature, Line, Loop, Profile, Spline, n
 from springcad.errors import DesignError
 
 OVERTRAVELS = (1.25, 1.2, 1.15, 1.1, 1.05, 1.0)
+#: longer flanks tried when the tooth tip would pass the ball closer than the tolerances allow
+LONG_OVERTRAVELS = tuple(round(1.25 + 0.05 * k, 2) for k in range(1, 36))  # 1.3 ... 3.0
+#: the tooth-tip clearance needed at full deflection over the profile tolerance stack
+#: (t_spring + t_shaft): the rigid estimate below reads 7 % under the contact FEA's
+#: (27.0 vs 29.1 um on the default), the rest is margin
+TIP_CLEARANCE_FACTOR = 1.25
 
 
 @dataclass(frozen=True)
@@ -37,6 +43,8 @@ class CamInfo:
     tooth_tip_width_mm: float
     clearance_at_rest_mm: float
     warnings: tuple[str, ...] = ()
+    tip_clearance_mm: float = float("nan")
+    """Estimated driving tooth tip to ball gap at full deflection (:func:`tip_clearance_mm`)."""
 
 
 def _R(a):
@@ -47,6 +55,28 @@ def _R(a):
 def flank_point(psi: float, contact_radius_mm: float, offset_mm: float) -> np.ndarray:
     """Flank point p(psi) for cam rotation psi (mm)."""
     return _R(psi) @ np.array([contact_radius_mm * psi - offset_mm, contact_radius_mm])
+
+
+#: the start of the warning a too-close tooth tip gives (the design search reads it)
+TIP_CLEARANCE_SHORT = "driving tooth tip passes close to the ball"
+
+
+def tip_clearance_mm(contact_radius_mm: float, tip_radius_mm: float, gap_mm: float,
+                     deflection_rad: float, overtravel: float) -> float:
+    """Gap between the driving tooth's tip corner and the ball at full deflection (mm).
+
+    In the cam frame the ball centre rides the involute c(psi); driven, it lies
+    ``gap_mm`` off it towards the flank (the gap closed), at psi* + theta. The tooth tip
+    corner is the flank's end, psi* + f theta. Rigid parts: the contact FEA at +-theta_max
+    (``fea.contact``) is the check; this is the design's estimate of it. The flank length
+    between them is r_c (f^2 - 1) theta^2 / 2, so the gap grows as theta^4: small
+    deflections need long flanks.
+    """
+    rc, rb, g = contact_radius_mm, tip_radius_mm, gap_mm
+    psi0 = (rb + g) / rc
+    corner = flank_point(psi0 + overtravel * deflection_rad, rc, rb + g)
+    ball = flank_point(psi0 + deflection_rad, rc, g)
+    return float(np.hypot(*(corner - ball))) - rb
 
 
 def _unit(rc, rho, pitch, psi_end):
@@ -126,7 +156,10 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
 
     Tries overtravel factors from 1.25 down to 1.0 and keeps the first whose
     tooth tip is at least ``min_web_mm`` wide and which keeps the gap to the
-    resting flexure ring everywhere.
+    resting flexure ring everywhere, among those whose tooth tip stays
+    :data:`TIP_CLEARANCE_FACTOR` x the profile tolerance stack from the ball at full
+    deflection (:func:`tip_clearance_mm`); when none of them does, the shortest longer
+    flank (up to 3 x) that does.
 
     Raises:
         DesignError: no tooth covering the full deflection fits, or the bore
@@ -139,8 +172,17 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
     theta = d.max_deflection_rad
     min_web = d.manufacturing.min_web_mm
     ring_pts = _ring_points_near_ball0(d) if d.ring is not None else None
+    mfg = d.manufacturing
+    need = TIP_CLEARANCE_FACTOR * (mfg.t_spring_mm + mfg.t_shaft_mm)
+    clearing = [f for f in OVERTRAVELS + LONG_OVERTRAVELS
+                if tip_clearance_mm(rc, rb, g, theta, f) >= need]
+    # the reference 1.25 and below where they clear; else the shortest flanks that clear;
+    # else (a layout the user fixed, or one the search will pass over) the reference
+    # flanks, with a warning that stops the release
+    overtravels = ([f for f in clearing if f <= OVERTRAVELS[0]] or clearing[:6]) + [
+        f for f in OVERTRAVELS if f not in clearing]
     tried = []
-    for f in OVERTRAVELS:
+    for f in overtravels:
         psi_end = rho / rc + f * theta
         unit, unit_features, tip = _unit(rc, rho, pitch, psi_end)
         tip_w = tip.length
@@ -158,7 +200,7 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
         raise DesignError(
             f"spring '{d.name}': no cam tooth covers the full deflection {theta:.3g} rad: "
             + "; ".join(f"overtravel {f:g}: tooth tip {w:.3f} mm wide (min_web_mm {min_web:g}), "
-                        f"clearance {c:.4f} mm (w_gap_mm {g:g})" for f, w, c in tried)
+                        f"clearance {c:.4f} mm (w_gap_mm {g:g})" for f, w, c in tried[:4])
             + "; use fewer flexures, a larger contact radius or a smaller tip radius")
     root = rc - rho
     bore_r = 0.5 * d.hardware.shaft_diameter_mm
@@ -170,6 +212,13 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
     warnings = ()
     if f < OVERTRAVELS[0]:
         warnings = (f"cam flank overtravel reduced to {f:g} x max deflection to fit the tooth",)
-    info = CamInfo(tip.radius, root, f, tip_w, clearance, warnings)
+    tip_gap = tip_clearance_mm(rc, rb, g, theta, f)
+    if f not in clearing:
+        warnings += (f"{TIP_CLEARANCE_SHORT}: {tip_gap * 1e3:.0f} um at full deflection "
+                     f"(estimate), below {TIP_CLEARANCE_FACTOR:g} x the profile tolerances "
+                     f"t_spring_mm + t_shaft_mm = {need * 1e3:.0f} um: the toleranced parts can "
+                     "touch there; fewer flexures or a larger contact radius give a longer "
+                     "flank, or tighten the tolerances",)
+    info = CamInfo(tip.radius, root, f, tip_w, clearance, warnings, tip_gap)
     corner = d.manufacturing.min_inside_radius_mm
     return Profile(loop, (d_bore(bore_r, corner_radius_mm=corner),), ("teeth", "bore")), info

@@ -26,6 +26,7 @@ from dataclasses import replace as _replace
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.config.consistency import min_rim_mm
 from springcad.design import flexure as fx
+from springcad.design.cam import TIP_CLEARANCE_SHORT
 from springcad.design.feasibility import describe, nearest_changes
 from springcad.design.layout import (MAX_CANDIDATES, ContactLimit, Layout, candidate_layouts,
                                      rim_root_radius)
@@ -295,6 +296,7 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
             with ``explain``, the thickness or deflection that would fit).
     """
     rejected: list[tuple[Layout | None, DesignError, list]] = []
+    fallback = None
     for rank in range(candidates):
         try:
             d, history, err = _design_with_margin(spec, material, manufacturing, hardware, rank,
@@ -302,11 +304,19 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
         except _NoMoreLayouts:
             break
         if d is not None:
-            return _replace(d, design_choice=_choice_text(d, rejected),
-                            max_root_radius_mm=max_root_radius_mm)
+            d = _replace(d, design_choice=_choice_text(d, rejected),
+                         max_root_radius_mm=max_root_radius_mm)
+            short = _soft_shortfalls(d)
+            if not short:
+                return d
+            fallback = fallback or d
+            rejected.append((None, DesignError("; ".join(short)), []))
+            continue
         rejected.append((None, err, history))
         if rank == 0 and not history and _spec_level(err):
             break  # no layout can help: the energy bound or the torque cap
+    if fallback is not None:  # every layout tried has a soft shortfall: the best one, warned
+        return fallback
     if not rejected:
         raise DesignError(f"spring '{spec.name}': no candidate layout")
     _, first, history = rejected[0]
@@ -318,6 +328,12 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
         raise _refusal(spec, material, manufacturing, hardware, max_root_radius_mm,
                        text) from first
     raise DesignError(text) from first
+
+
+def _soft_shortfalls(d: SpringDesign) -> list[str]:
+    """Rules a design may break and still be drawn (a warning stops its release), which the
+    search tries other layouts to avoid: the tooth tip too close to the ball."""
+    return [w for w in d.warnings if w.startswith(TIP_CLEARANCE_SHORT)]
 
 
 def _spec_level(err: DesignError) -> bool:

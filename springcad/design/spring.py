@@ -79,6 +79,8 @@ class SpringDesign:
     cam_tip_radius_mm: float = 0.0
     cam_root_radius_mm: float = 0.0
     cam_overtravel: float = 0.0
+    cam_tip_clearance_mm: float = float("nan")
+    """Estimated gap from the driving tooth tip to the ball at full deflection (mm)."""
     warnings: tuple[str, ...] = field(default_factory=tuple)
     width_scale: float = 1.0
     """Factor on every flexure width (1.0 = the beam-theory widths; set by the FEA
@@ -306,6 +308,7 @@ class SpringDesign:
             "cam_tip_radius_mm": self.cam_tip_radius_mm,
             "cam_root_radius_mm": self.cam_root_radius_mm,
             "cam_overtravel": self.cam_overtravel,
+            "cam_tip_clearance_at_max_deflection_mm": self.cam_tip_clearance_mm,
             "profile_area_mm2": self.profile_area_mm2,
             "mass_kg": self.mass_kg,
             "energy_J": self.energy_J,
@@ -373,6 +376,7 @@ def _predictions_and_profiles(d: SpringDesign) -> SpringDesign:
     cam, info = cam_profile(d)
     return _replace(d, cam=cam, cam_tip_radius_mm=info.tip_radius_mm,
                     cam_root_radius_mm=info.root_radius_mm, cam_overtravel=info.overtravel,
+                    cam_tip_clearance_mm=info.tip_clearance_mm,
                     warnings=tuple(dict.fromkeys(d.warnings + info.warnings)))
 
 
