@@ -571,7 +571,9 @@ def run_spec(cfg_path: Path, out_root: Path, code: Path, design_only: bool, time
         if try_fix:
             for j, g in enumerate(groups[:MAX_ALTERNATIVES]):
                 tag = f"_fix{j + 1}"
-                fix_path = cfg_path.with_name(cfg_path.stem + tag + ".toml")
+                fix_dir = out_root.parent / "fixes"     # beside out/, not among the inputs
+                fix_dir.mkdir(exist_ok=True)
+                fix_path = fix_dir / (cfg_path.stem + tag + ".toml")
                 fix_path.write_text(to_toml(apply_fixes(cfg, g, tag)))
                 change = ", ".join(f"{sp + '.' if sp else ''}{k}={v}" for _, sp, k, v in g)
                 sub = run_spec(fix_path, out_root, code, design_only, timeout_s,
