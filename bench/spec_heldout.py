@@ -470,7 +470,11 @@ def parse_fixes(text: str, cfg: dict) -> tuple[list[list[tuple]], str]:
     target = [n for n in dict.fromkeys(named) if n in cfg["springs"]]
     groups: list[list[tuple]] = []
     loose_numbers = False
-    for clause in re.split(r";|(?<=\D)\.\s|\n", text):
+    clauses = re.split(r";|(?<=\D)\.\s|\n", text)
+    # an explicit "feasible with ..." list, when it names keys, is the suggestion
+    explicit = [c for c in clauses if re.search(r"feasible with", c, re.I)
+                and _KEY_RE.search(c)]
+    for clause in explicit or clauses:
         if not _SUGGEST.search(clause):
             continue
         last_end = None
@@ -498,6 +502,11 @@ def parse_fixes(text: str, cfg: dict) -> tuple[list[list[tuple]], str]:
             last_end = m.end()
         if not groups and _NUM.search(clause):
             loose_numbers = True
+    unique: list[list[tuple]] = []
+    for g in groups:
+        if g not in unique:
+            unique.append(g)
+    groups = unique
     note = ""
     if not any(g for g in groups if any(not isinstance(v, str) for *_, v in g)):
         note = "names numbers, but no config key with a new value I could parse" \
@@ -534,7 +543,7 @@ class Result:
     load: float = 0.0       # 1-minute load average when the spec started
 
 
-MAX_ALTERNATIVES = 2
+MAX_ALTERNATIVES = 3
 
 
 def run_spec(cfg_path: Path, out_root: Path, code: Path, design_only: bool, timeout_s: float,
@@ -562,7 +571,9 @@ def run_spec(cfg_path: Path, out_root: Path, code: Path, design_only: bool, time
         if try_fix:
             for j, g in enumerate(groups[:MAX_ALTERNATIVES]):
                 tag = f"_fix{j + 1}"
-                fix_path = cfg_path.with_name(cfg_path.stem + tag + ".toml")
+                fix_dir = out_root.parent / "fixes"     # beside out/, not among the inputs
+                fix_dir.mkdir(exist_ok=True)
+                fix_path = fix_dir / (cfg_path.stem + tag + ".toml")
                 fix_path.write_text(to_toml(apply_fixes(cfg, g, tag)))
                 change = ", ".join(f"{sp + '.' if sp else ''}{k}={v}" for _, sp, k, v in g)
                 sub = run_spec(fix_path, out_root, code, design_only, timeout_s,
