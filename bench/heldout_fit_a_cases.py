@@ -165,6 +165,11 @@ def _cases():
     add(Case("stribeck_1rate_linear", "LuGre with Stribeck (Fs = 2 Fc) at ONE constant speed far above vs, no holds: plain Coulomb",
              lambda r: _lugre(r, tri(r, 0.6, 0.0, 8), stribeck=2.0, visc=0.0, vs=0.02),
              [("hysteresis", "time_lag")]))
+    add(Case("fric_anglelag_1rate_noholds", "Coulomb 2 % + deflection channel 15 ms late (torque leads, same sign as friction), one speed, no holds: confounded",
+             lambda r: dict(base(r, tri(r, 0.6, 0.0, 8)), friction=("jenkins", 0, 3e-4), angle_delay=0.015) | _fric(r, 0.015, 0.025),
+             [("hysteresis", "time_lag")]))
+    add(Case("anglelag_stair", "deflection channel 10-20 ms late (negative lag), linear staircase with holds",
+             lambda r: dict(base(r, stair(r, 0.8, 1.0)), angle_delay=r.uniform(0.01, 0.02)), ["time_lag"]))
     add(Case("dahl_levels_deg", "Dahl friction 2 % on random levels, file in degrees",
              lambda r: dict(base(r, random_levels(r, 0.3, 14, 0.5, (0.4, 1.5))), friction=("dahl", 0, 8e-4)) | _fric(r, 0.018, 0.025),
              ["hysteresis"], angle_unit="deg", columns=("time_s", "torque_Nm", "angle"),
