@@ -32,9 +32,9 @@ def library_residual(spec, seed_rng):
     sp["angle_noise"] = 0.0
     rec = simulate(sp, seed_rng)
     sigma = spec.get("noise_frac", 0.003) * rec["peak_torque_Nm"]
-    t = rec["t_s"][::STEP]
+    t_full, th_full = rec["t_s"], rec["deflection_rad"]
+    t = t_full[::STEP]
     T = rec["torque_Nm"][::STEP]
-    th = rec["deflection_rad"][::STEP]
     A = rec["amp_rad"]
     gaps = [0.0]
     if "backlash" in spec or "hertz" in spec:
@@ -45,14 +45,17 @@ def library_residual(spec, seed_rng):
         zeros = sorted(set(np.linspace(-0.02, 0.02, 9)) | {spec["angle_offset"]})
     fric = [None]
     if spec.get("friction") is not None and spec["friction"][0] != "viscous":
-        fric = [(np.interp(t, rec["t_s"], jenkins(rec["deflection_rad"], 1.0, 1.0 / p)), delayed)
+        fric = [(jenkins(th_full, 1.0, 1.0 / p), delayed)
                 for p in (1e-5, 1e-4, 3e-4, 1e-3, 3e-3) for delayed in (0, 1)]
 
+    def late(x, d):  # x(t - d) at the kept samples, interpolated at the full rate
+        return np.interp(t - d, t_full, x)
+
     def resid(d, b, z, J):
-        phi = deadband(np.interp(t - d, t, th) - z, b) / A
+        phi = deadband(late(th_full, d) - z, b) / A
         cols = [phi, phi ** 3, phi * (phi < 0), np.ones_like(t), t / t[-1]]
         if J is not None:  # a torque lag delays the friction too, an angle lag does not
-            cols.append(J[0] if J[1] == 0 else np.interp(t - d, t, J[0]))
+            cols.append(late(J[0], d * J[1]))
         B = np.column_stack(cols)
         x = np.linalg.lstsq(B, T, rcond=None)[0]
         return float(np.sqrt(np.mean((T - B @ x) ** 2)))
