@@ -159,8 +159,8 @@ def _cases():
     add(Case("lugre_viscous_2rates_holds", "LuGre bristle friction without Stribeck (Coulomb 2 %) + viscous 2 % at top speed, 2 rates with holds",
              lambda r: _lugre(r, multi_rate(0.3, [0.3, 1.0], 3, "linear", 0.5), stribeck=1.0, visc=0.02),
              ["hysteresis", "time_lag"]))
-    add(Case("tanh_tri_noholds", "regularised Coulomb 2 % tanh(v/v0), v0 = 2 % of the speed, one speed, no reversal holds but 0.5 s rest at the end where it vanishes (Coulomb does not) and sharp turns a lag does not have",
-             lambda r: _tanh(r, tri(r, 0.6, 0.0, 8), 0.6 * 0.02), [("hysteresis", "time_lag")],
+    add(Case("tanh_tri_noholds", "regularised Coulomb 2.5 % tanh(v/v0), v0 = 2 % of the speed, one speed, no reversal holds but 0.5 s rest at the end where it vanishes (Coulomb does not) and sharp turns a lag does not have",
+             lambda r: _tanh(r, tri(r, 0.6, 0.0, 8), 0.6 * 0.02, 0.025) | dict(noise_frac=0.002), [("hysteresis", "time_lag")],
              {"hysteresis", "time_lag"}, unexplained=True, k_check=False, in_library=False))
     add(Case("stribeck_1rate_linear", "LuGre with Stribeck (Fs = 2 Fc) at ONE constant speed far above vs, no holds: plain Coulomb",
              lambda r: _lugre(r, tri(r, 0.6, 0.0, 8), stribeck=2.0, visc=0.0, vs=0.02),
@@ -190,10 +190,11 @@ def _cases():
     add(Case("relax_stair", "viscoelastic (standard linear solid) relaxation: 10 % of K relaxes with tau 0.6 s during 2 s holds",
              lambda r: dict(base(r, stair(r, 0.6, 2.0)), sls=(0.10, 0.6)), [], {"hysteresis", "time_lag"}, **OOL))
     add(Case("stribeck_cos_stair", "LuGre Stribeck friction Fs 3.5 %, Fc 1.5 %, vs 0.1 rad/s: breakaway hump at each cosine-ramp start",
-             lambda r: _lugre(r, stair(r, 0.6, 1.0, "cosine"), stribeck=3.5 / 1.5, visc=0.0, vs=0.1, fc=0.015),
+             lambda r: _lugre(r, stair(r, 0.6, 1.0, "cosine"), stribeck=3.5 / 1.5, visc=0.0, vs=0.1, fc=0.015)
+             | dict(noise_frac=0.002),
              ["hysteresis"], {"time_lag"}, **OOL))
     add(Case("hertz_soft_backlash_stair", "gap 20 mrad then a soft Hertzian contact (yields 30 mrad at peak): T^(2/3) take-up that a wider dead band + cubic follows to ~0.3 sigma",
-             lambda r: dict(base(r, stair(r)), hertz=(0.02, 0.03)), ["backlash"], {"stiffening"},
+             lambda r: dict(base(r, stair(r), noise=0.004), hertz=(0.02, 0.03)), ["backlash"], {"stiffening"},
              k_check=False, in_library=False))
     add(Case("settle_strong_levels", "thermal torque zero settling by 4 % of peak with tau = 12 % of the record (not linear)",
              lambda r: dict(base(r, random_levels(r, 0.3, 16, 0.5, (0.5, 1.5))), settle=(0.04, 0.12)),
