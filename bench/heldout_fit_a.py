@@ -34,6 +34,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import zlib
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -41,6 +42,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from heldout_fit_a_cases import CASES  # noqa: E402
+from heldout_fit_a_audit import UNEXPLAINED_LIB_SIG, library_residual  # noqa: E402
 from heldout_fit_a_sim import simulate  # noqa: E402
 
 DEG_PER_RAD = 180.0 / np.pi
@@ -49,10 +51,11 @@ FIT_TIMEOUT_S = 300
 NRMSE_RTOL = 1e-6  # "not above the baseline" up to round-off (a refit of the same linear model)
 
 
-def write_record(case, idx, seed, folder):
+def write_record(case, idx, seed, folder, audit=False):
     """Simulate case number idx and write its CSV; returns (path, truth dict)."""
-    rng = np.random.default_rng([seed, idx])
+    rng = np.random.default_rng([seed, zlib.crc32(case.name.encode())])  # stable when cases are added
     spec = case.build(rng)
+    lib = library_residual(spec, np.random.default_rng(0)) if audit else None
     rec = simulate(spec, rng)
     torque = rec["torque_Nm"] * (1000.0 if case.torque_unit == "Nmm" else 1.0)
     defl = rec["deflection_rad"] * (DEG_PER_RAD if case.angle_unit == "deg" else 1.0)
@@ -63,7 +66,7 @@ def write_record(case, idx, seed, folder):
     K = spec["K"]
     k_alts = [K] if not case.asym else [K, spec["K_neg"], 0.5 * (K + spec["K_neg"])]
     truth = dict(K=K, k_alts=k_alts, fs=spec["fs"], n=rec["t_s"].size,
-                 ool=rec["ool_rms_over_noise"], target=K * float(rng.uniform(0.93, 1.07)))
+                 ool=rec["ool_rms_over_noise"], lib=lib, target=K * float(rng.uniform(0.93, 1.07)))
     return path, truth
 
 
@@ -152,6 +155,22 @@ def expected_text(case):
     return txt + f" U={'T' if case.unexplained else 'F'}" + (" K" if case.k_check else "")
 
 
+def audit(cases, seed, folder):
+    """Print lib/sig (see heldout_fit_a_audit) per case and whether it agrees with the label."""
+    n_bad = 0
+    for i, c in cases:
+        if c.refuse:
+            continue
+        _, truth = write_record(c, i, seed, folder, audit=True)
+        says = truth["lib"] >= UNEXPLAINED_LIB_SIG
+        agree = says == c.unexplained
+        n_bad += not agree
+        print(f"{c.name:30s} ool/sig {truth['ool']:6.2f}  lib/sig {truth['lib']:6.2f}  label U={'T' if c.unexplained else 'F'}"
+              f"  {'agrees' if agree else 'DISAGREES'}", flush=True)
+    print(f"audit (seed {seed}): {n_bad} label(s) disagree with lib/sig >= {UNEXPLAINED_LIB_SIG}")
+    return 0
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--seed", type=int, default=4242)
@@ -162,6 +181,8 @@ def main(argv=None):
     ap.add_argument("--only", nargs="+", default=None, metavar="NAME")
     ap.add_argument("--list", action="store_true", help="list the cases and their labels, fit nothing")
     ap.add_argument("--json", default=None, help="also write the per-record results here")
+    ap.add_argument("--audit", action="store_true",
+                    help="only the label audit: best library-like fit to each noiseless record, no springcad")
     a = ap.parse_args(argv)
     cases = [(i, c) for i, c in enumerate(CASES) if a.only is None or c.name in a.only]
     if a.only:
@@ -179,6 +200,8 @@ def main(argv=None):
     else:
         tmp = tempfile.TemporaryDirectory(prefix="heldout_fit_a_")
         folder = Path(tmp.name)
+    if a.audit:
+        return audit(cases, a.seed, folder)
     print(f"held-out fit A: seed {a.seed}, code {a.code}, {len(cases)} records in {folder}", flush=True)
     t_start = time.time()
     recs = [(i, c, *write_record(c, i, a.seed, folder)) for i, c in cases]

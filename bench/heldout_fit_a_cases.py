@@ -159,12 +159,17 @@ def _cases():
     add(Case("lugre_viscous_2rates_holds", "LuGre bristle friction without Stribeck (Coulomb 2 %) + viscous 2 % at top speed, 2 rates with holds",
              lambda r: _lugre(r, multi_rate(0.3, [0.3, 1.0], 3, "linear", 0.5), stribeck=1.0, visc=0.02),
              ["hysteresis", "time_lag"]))
-    add(Case("tanh_tri_noholds", "regularised Coulomb 2 % tanh(v/v0), v0 = 2 % of the speed, one speed, no reversal holds but 0.5 s rest at the end where it vanishes (Coulomb does not) and sharp turns a lag does not have",
-             lambda r: _tanh(r, tri(r, 0.6, 0.0, 8), 0.6 * 0.02), [("hysteresis", "time_lag")],
+    add(Case("tanh_tri_noholds", "regularised Coulomb 2.5 % tanh(v/v0), v0 = 2 % of the speed, one speed, no reversal holds but 0.5 s rest at the end where it vanishes (Coulomb does not) and sharp turns a lag does not have",
+             lambda r: _tanh(r, tri(r, 0.6, 0.0, 8), 0.6 * 0.02, 0.025) | dict(noise_frac=0.002), [("hysteresis", "time_lag")],
              {"hysteresis", "time_lag"}, unexplained=True, k_check=False, in_library=False))
     add(Case("stribeck_1rate_linear", "LuGre with Stribeck (Fs = 2 Fc) at ONE constant speed far above vs, no holds: plain Coulomb",
              lambda r: _lugre(r, tri(r, 0.6, 0.0, 8), stribeck=2.0, visc=0.0, vs=0.02),
              [("hysteresis", "time_lag")]))
+    add(Case("fric_anglelag_1rate_noholds", "Coulomb 2 % + deflection channel 15 ms late (torque leads, same sign as friction), one speed, no holds: confounded",
+             lambda r: dict(base(r, tri(r, 0.6, 0.0, 8)), friction=("jenkins", 0, 3e-4), angle_delay=0.015) | _fric(r, 0.015, 0.025),
+             [("hysteresis", "time_lag")]))
+    add(Case("anglelag_stair", "deflection channel 10-20 ms late (negative lag), linear staircase with holds",
+             lambda r: dict(base(r, stair(r, 0.8, 1.0)), angle_delay=r.uniform(0.01, 0.02)), ["time_lag"]))
     add(Case("dahl_levels_deg", "Dahl friction 2 % on random levels, file in degrees",
              lambda r: dict(base(r, random_levels(r, 0.3, 14, 0.5, (0.4, 1.5))), friction=("dahl", 0, 8e-4)) | _fric(r, 0.018, 0.025),
              ["hysteresis"], angle_unit="deg", columns=("time_s", "torque_Nm", "angle"),
@@ -185,10 +190,12 @@ def _cases():
     add(Case("relax_stair", "viscoelastic (standard linear solid) relaxation: 10 % of K relaxes with tau 0.6 s during 2 s holds",
              lambda r: dict(base(r, stair(r, 0.6, 2.0)), sls=(0.10, 0.6)), [], {"hysteresis", "time_lag"}, **OOL))
     add(Case("stribeck_cos_stair", "LuGre Stribeck friction Fs 3.5 %, Fc 1.5 %, vs 0.1 rad/s: breakaway hump at each cosine-ramp start",
-             lambda r: _lugre(r, stair(r, 0.6, 1.0, "cosine"), stribeck=3.5 / 1.5, visc=0.0, vs=0.1, fc=0.015),
+             lambda r: _lugre(r, stair(r, 0.6, 1.0, "cosine"), stribeck=3.5 / 1.5, visc=0.0, vs=0.1, fc=0.015)
+             | dict(noise_frac=0.002),
              ["hysteresis"], {"time_lag"}, **OOL))
-    add(Case("hertz_soft_backlash_stair", "gap 20 mrad then a soft Hertzian contact (yields 30 mrad at peak): T^(2/3) softening",
-             lambda r: dict(base(r, stair(r)), hertz=(0.02, 0.03)), ["backlash"], {"stiffening"}, **OOL))
+    add(Case("hertz_soft_backlash_stair", "gap 20 mrad then a soft Hertzian contact (yields 30 mrad at peak): T^(2/3) take-up that a wider dead band + cubic follows to ~0.3 sigma",
+             lambda r: dict(base(r, stair(r), noise=0.004), hertz=(0.02, 0.03)), ["backlash"], {"stiffening"},
+             k_check=False, in_library=False))
     add(Case("settle_strong_levels", "thermal torque zero settling by 4 % of peak with tau = 12 % of the record (not linear)",
              lambda r: dict(base(r, random_levels(r, 0.3, 16, 0.5, (0.5, 1.5))), settle=(0.04, 0.12)),
              [("drift", "torque_offset", "angle_offset")], {"drift", "torque_offset", "angle_offset"}, **OOL))
