@@ -98,7 +98,8 @@ def score(case: Case, res: dict) -> dict:
     crashed = "Traceback" in text or res["rc"] in (3, -9) or res["rc"] < 0
     if lab.refusal:
         ok = res["rc"] in (1, 2) and not crashed and res["fit"] is None and bool(text.strip())
-        first = next((ln for ln in text.splitlines() if ln.strip()), "")
+        lines = [ln for ln in text.splitlines() if ln.strip()]
+        first = next((ln for ln in lines if "error" in ln), lines[0] if lines else "")
         return {"run": ok, "set": None, "flag": None, "K": None, "nrmse": None, "named": f"exit {res['rc']}",
                 "seen_flag": "-", "k_err": "-", "nrmse_txt": "-", "msg": first[:110]}
     if res["rc"] != 0 or res["fit"] is None or crashed:
