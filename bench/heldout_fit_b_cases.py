@@ -1,140 +1,29 @@
-"""The records of held-out generator B and their truth labels, decided from physics.
+"""The records of held-out generator B, each with its truth label (rules in ``heldout_fit_b_truth``).
 
-Labelling rules (fixed before any fit was run):
-
-* ``required``: the library effects planted whose law the library's name describes; ``anyof``:
-  groups of which at least one must be named (a pair the record cannot separate, e.g. Coulomb
-  friction and a pure delay on one ramp rate; a torque offset and an angle offset on a linear
-  spring); ``optional``: names that are physically defensible but not required (a torque
-  offset beside a drift that starts from zero at t = 0, an offset beside 1/f noise whose
-  realisation has a mean and a trend). Anything else named is a miss.
-* ``may_confound``: groups the fit may report as confounded; a confounded group outside them
-  (a pair this record was built to separate, e.g. friction and a lag on a sine sweep over 30x
-  in frequency) is a miss.
-* ``unexplained``: for structure outside the library, its torque component is reduced by least
-  squares on what a library refit can absorb (stiffness, an offset and the library shape the
-  structure resembles: a delay/damping term, a Coulomb friction with presliding, a cubic); the
-  RMS left over the white torque noise SD is the structure ratio. Ratio >= 0.5: ``true``;
-  < 0.15: ``false``; between: not scored. Library-only records and pure (coloured) noise:
-  ``false``.
-* K: the series stiffness 1/sum(1/K_i) of the springs after their gaps (the linear term
-  under a cubic; K+ and K- for an asymmetric spring). Scored when every effect is in the
-  library, and beside out-of-library structure whose least-squares projection on the
-  deflection would bias K by less than 0.3 % (hum, angle ripple, stick-slip, 1/f noise); not
-  scored for a stiffness step, clipping, creep, a first-order filter at speed, a skewed clock.
-* unit mistakes: a refusal (exit 1 or 2) with a message and no traceback.
+Library effects alone, in pairs and threes (some only identifiable together), structure outside
+the library alone and beside library effects, borderline sizes (2-5x the noise), clean linear
+records and unit mistakes; sine sweeps, chirps, sines at several amplitudes, triangles,
+staircases and mixed protocols, stacks of 2-4 springs each with its own play, 200 Hz-5 kHz.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Callable
-
 import numpy as np
 
-from heldout_fit_b_sim import (
-    Bench,
-    Protocol,
-    Record,
-    Specimen,
-    Stack,
-    elastoplastic_basis,
-    friction_torque,
-    orthogonal_rms,
-    simulate,
+from heldout_fit_b_sim import Bench, Protocol, Specimen, Stack, elastoplastic_basis
+from heldout_fit_b_truth import (
+    AO, A, B, D, H, L, O, S, TO, Label, best_structure, bouc_wen_structure, delay_structure, derivative,
+    friction_like_bases, filter_structure, noise_sd, structure, sweep,
 )
 
-H, L, D, TO, AO, S, A, O = ("hysteresis", "time_lag", "drift", "torque_offset", "angle_offset", "stiffening",
-                            "asymmetric_stiffness", "outliers")
-B = "backlash"
-
-
-@dataclass
-class Label:
-    """Truth of one record (see the module docstring)."""
-
-    required: set = field(default_factory=set)
-    anyof: list = field(default_factory=list)
-    optional: set = field(default_factory=set)
-    may_confound: list = field(default_factory=list)
-    unexplained: bool | None = False
-    k_true: float | tuple | None = None
-    k_scored: bool = True
-    in_library: bool = True
-    refusal: bool = False
-    structure_ratio: float = 0.0
-    k_bias_pct: float = 0.0
-    physics: str = ""
-
-
-@dataclass
-class Case:
-    """A built record: CSV columns, CLI options and its label."""
-
-    name: str
-    columns: dict
-    cli: list
-    label: Label
-    n_samples: int
-
-
-# ------------------------------------------------------------------ helpers
-
-
-def _noise(peak_Nm: float, pct: float) -> float:
-    return peak_Nm * pct / 100
-
-
-def _sweep(amps, freqs, cycles=3, rest=0.5) -> Protocol:
-    p = Protocol(rest)
-    for a in amps:
-        for f in freqs:
-            p.sine(a, f, cycles)
-            p.hold(0.3)
-    p.hold(rest)
-    return p
-
-
-def _derivative(x: np.ndarray, fs: float) -> np.ndarray:
-    return np.gradient(x) * fs
-
-
-def _structure(rec: Record, comp: np.ndarray, bases: list, k_Nm_per_rad: float) -> tuple[float, float]:
-    """(structure ratio, K bias %) of an out-of-library torque component."""
-    th = rec.theta_torque_rad
-    allb = [th, np.ones_like(th)] + bases
-    ratio = orthogonal_rms(comp, allb) / rec.torque_noise_sd_Nm
-    coef, *_ = np.linalg.lstsq(np.column_stack(allb), comp, rcond=None)
-    return ratio, 100 * coef[0] / k_Nm_per_rad
-
-
-def _friction_like_bases(rec: Record, fs: float, deltas=(5e-4, 2e-3, 8e-3)) -> list[list[np.ndarray]]:
-    """Alternative single library-shaped friction bases (Coulomb with one presliding angle each)."""
-    return [[elastoplastic_basis(rec.theta_torque_rad, d)] for d in deltas]
-
-
-def _best_structure(rec, comp, basis_sets, k) -> tuple[float, float]:
-    best = None
-    for bs in basis_sets:
-        r = _structure(rec, comp, bs, k)
-        if best is None or r[0] < best[0]:
-            best = r
-    return best
-
-
-# ------------------------------------------------------------------ the records
-
-
-def build_cases(seed: int) -> list[tuple[str, Callable]]:
-    """Every case as (name, builder(rng) -> (protocol, specimen, bench, label, fmt, structure_fn))."""
-    return [(name, fn) for name, fn in CASES]
+# ------------------------------------------------------------------ library effects
 
 
 def _lin_sweep(rng):
     k = rng.uniform(100, 300)
-    p = _sweep([0.25], [0.1, 0.4, 1.2], cycles=3)
+    p = sweep([0.25], [0.1, 0.4, 1.2], cycles=3)
     peak = k * 0.25
-    b = Bench(sample_rate_hz=1000, torque_noise_Nm=_noise(peak, 0.3), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=1000, torque_noise_Nm=noise_sd(peak, 0.3), angle_noise_rad=1e-4)
     return p, Specimen(Stack([k])), b, Label(k_true=k, physics="linear spring, sine sweep 0.1-1.2 Hz"), \
         {"target": 1.03 * k}, None
 
@@ -143,7 +32,7 @@ def _lin_chirp_deg(rng):
     k = rng.uniform(800, 1500)
     p = Protocol().chirp(0.35, 0.05, 2.0, 40.0, taper_s=3.0)
     p.hold(0.5)
-    b = Bench(sample_rate_hz=500, torque_noise_Nm=_noise(k * 0.35, 0.2), angle_noise_rad=5e-5)
+    b = Bench(sample_rate_hz=500, torque_noise_Nm=noise_sd(k * 0.35, 0.2), angle_noise_rad=5e-5)
     return p, Specimen(Stack([k])), b, Label(k_true=k, physics="linear spring, chirp 0.05-2 Hz, angles in degrees"), \
         {"angle": "deg"}, None
 
@@ -155,7 +44,7 @@ def _lin_stack3_nmm(rng):
     for a in (0.2, 0.5, 0.8):
         p.sine(a, 0.25, 2)
         p.hold(0.5)
-    b = Bench(sample_rate_hz=2000, torque_noise_Nm=_noise(st.k_series * 0.8, 0.15), angle_noise_rad=2e-4)
+    b = Bench(sample_rate_hz=2000, torque_noise_Nm=noise_sd(st.k_series * 0.8, 0.15), angle_noise_rad=2e-4)
     return p, Specimen(st), b, Label(k_true=st.k_series, physics="3 springs in series, no play, sines at 3 amplitudes, "
                                                                   "torque in N·mm"), {"torque": "Nmm"}, None
 
@@ -164,7 +53,7 @@ def _lin_quant_200hz(rng):
     k = rng.uniform(12, 25)
     p = Protocol().triangles(1.0, 0.5, 4)
     p.hold(0.5)
-    b = Bench(sample_rate_hz=200, torque_noise_Nm=_noise(k, 0.4), angle_noise_rad=1e-4, encoder_counts_per_rev=2**16,
+    b = Bench(sample_rate_hz=200, torque_noise_Nm=noise_sd(k, 0.4), angle_noise_rad=1e-4, encoder_counts_per_rev=2**16,
               torque_lsb_Nm=0.002)
     return p, Specimen(Stack([k])), b, Label(k_true=k, physics="soft linear spring, triangles +-1 rad, 200 Hz, "
                                                                "quantised encoder and ADC"), {}, None
@@ -176,7 +65,7 @@ def _bl_stack2_tri(rng):
     p.triangles(0.3, 0.4, 3, hold_s=0.5)
     p.triangles(0.5, 0.4, 3, hold_s=0.5)
     p.hold(0.5)
-    b = Bench(sample_rate_hz=1000, torque_noise_Nm=_noise(st.k_series * 0.5, 0.3), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=1000, torque_noise_Nm=noise_sd(st.k_series * 0.5, 0.3), angle_noise_rad=1e-4)
     return p, Specimen(st), b, Label(required={B}, k_true=st.k_series,
                                      physics="2 springs in series each with its own play (6 and 11 mrad), triangles"), \
         {"target": 0.97 * st.k_series}, None
@@ -189,7 +78,7 @@ def _bl_stack4_multisine(rng):
     for a in (0.4, 0.8, 1.2):
         p.sine(a, 0.2, 2)
         p.hold(0.5)
-    b = Bench(sample_rate_hz=500, torque_noise_Nm=_noise(st.k_series * 1.2, 0.3), angle_noise_rad=2e-4)
+    b = Bench(sample_rate_hz=500, torque_noise_Nm=noise_sd(st.k_series * 1.2, 0.3), angle_noise_rad=2e-4)
     return p, Specimen(st), b, Label(required={B}, k_true=st.k_series,
                                      physics=f"4 springs in series, plays summing to {sum(gaps):.3f} rad, sines 0.4-1.2 rad"), \
         {}, None
@@ -199,15 +88,11 @@ def _hyst_ep_sines(rng):
     k = rng.uniform(150, 400)
     peak = k * 0.35
     fr = {"law": "elastoplastic", "force_Nm": 0.02 * peak, "presliding_rad": 0.004}
-    p = _sweep([0.15, 0.25, 0.35], [0.1, 0.5], cycles=2)
-    b = Bench(sample_rate_hz=1000, torque_noise_Nm=_noise(peak, 0.3), angle_noise_rad=1e-4)
+    p = sweep([0.15, 0.25, 0.35], [0.1, 0.5], cycles=2)
+    b = Bench(sample_rate_hz=1000, torque_noise_Nm=noise_sd(peak, 0.3), angle_noise_rad=1e-4)
     return p, Specimen(Stack([k]), friction=fr), b, Label(required={H}, k_true=k,
                                                           physics="Coulomb friction 2 % of peak with 4 mrad presliding, "
                                                                   "sines at 3 amplitudes x 2 rates"), {}, None
-
-
-def _bw_struct(rec, fs, k):
-    return _best_structure(rec, rec.parts["friction"], _friction_like_bases(rec, fs, (5e-4, 1e-3, 2e-3, 4e-3, 8e-3)), k)
 
 
 def _hyst_bw_chirp(rng):
@@ -216,15 +101,15 @@ def _hyst_bw_chirp(rng):
     fr = {"law": "bouc_wen", "force_Nm": 0.015 * peak, "presliding_rad": 0.002, "n": 1.5, "beta": 0.5}
     p = Protocol().chirp(0.3, 0.05, 1.0, 45.0)
     p.hold(0.5)
-    b = Bench(sample_rate_hz=1000, torque_noise_Nm=_noise(peak, 0.3), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=1000, torque_noise_Nm=noise_sd(peak, 0.3), angle_noise_rad=1e-4)
     lab = Label(required={H}, k_true=k, physics="Bouc-Wen friction (n=1.5, 2 mrad) 1.5 % of peak, chirp 0.05-1 Hz")
-    return p, Specimen(Stack([k]), friction=fr), b, lab, {}, lambda rec: _bw_struct(rec, 1000, k)
+    return p, Specimen(Stack([k]), friction=fr), b, lab, {}, lambda rec: bouc_wen_structure(rec, 1000, k)
 
 
 def _lag_sweep(rng):
     k = rng.uniform(300, 800)
-    p = _sweep([0.15, 0.3], [0.1, 0.3, 1.0], cycles=3)
-    b = Bench(sample_rate_hz=1000, delay_s=0.015, torque_noise_Nm=_noise(k * 0.3, 0.3), angle_noise_rad=1e-4)
+    p = sweep([0.15, 0.3], [0.1, 0.3, 1.0], cycles=3)
+    b = Bench(sample_rate_hz=1000, delay_s=0.015, torque_noise_Nm=noise_sd(k * 0.3, 0.3), angle_noise_rad=1e-4)
     return p, Specimen(Stack([k])), b, Label(required={L}, k_true=k, physics="torque channel 15 ms late (clock offset), "
                                                                              "sine sweep"), {}, None
 
@@ -235,7 +120,7 @@ def _drift_staircase(rng):
     p.hold(0.5)
     peak = k * 0.3
     b = Bench(sample_rate_hz=500, torque_drift_Nm_per_s=0.03 * peak / p.duration_s(),
-              torque_noise_Nm=_noise(peak, 0.25), angle_noise_rad=1e-4)
+              torque_noise_Nm=noise_sd(peak, 0.25), angle_noise_rad=1e-4)
     return p, Specimen(Stack([k])), b, Label(required={D}, optional={TO, AO}, k_true=k,
                                              physics="torque zero drifts linearly by 3 % of peak from 0 at t=0, staircase"), \
         {}, None
@@ -247,7 +132,7 @@ def _bl_torque_offset(rng):
     p.triangles(0.25, 0.3, 2, hold_s=0.3)
     p.triangles(0.4, 0.3, 2, hold_s=0.3)
     peak = st.k_series * 0.4
-    b = Bench(sample_rate_hz=1000, torque_offset_Nm=0.015 * peak, torque_noise_Nm=_noise(peak, 0.25), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=1000, torque_offset_Nm=0.015 * peak, torque_noise_Nm=noise_sd(peak, 0.25), angle_noise_rad=1e-4)
     return p, Specimen(st), b, Label(required={B, TO}, k_true=st.k_series,
                                      physics="2-spring stack with plays + torque zero error 1.5 % of peak "
                                              "(the dead band shows the offset is in torque)"), {}, None
@@ -256,8 +141,8 @@ def _bl_torque_offset(rng):
 def _bl_angle_offset_stack3(rng):
     st = Stack([rng.uniform(300, 600) for _ in range(3)], gap_rad=[0.008, 0.006, 0.007],
                gap_centre_rad=[0.003, 0.002, 0.002])
-    p = _sweep([0.3, 0.6], [0.15, 0.4], cycles=2)
-    b = Bench(sample_rate_hz=1000, torque_noise_Nm=_noise(st.k_series * 0.6, 0.25), angle_noise_rad=1e-4)
+    p = sweep([0.3, 0.6], [0.15, 0.4], cycles=2)
+    b = Bench(sample_rate_hz=1000, torque_noise_Nm=noise_sd(st.k_series * 0.6, 0.25), angle_noise_rad=1e-4)
     return p, Specimen(st), b, Label(required={B, AO}, k_true=st.k_series,
                                      physics="3-spring stack, plays not centred (dead band centre 7 mrad off zero)"), {}, None
 
@@ -269,15 +154,15 @@ def _stiff_tri(rng):
     p.triangles(0.3, 0.3, 2)
     p.triangles(0.6, 0.3, 2)
     p.hold(0.5)
-    b = Bench(sample_rate_hz=500, torque_noise_Nm=_noise(k * 0.6, 0.3), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=500, torque_noise_Nm=noise_sd(k * 0.6, 0.3), angle_noise_rad=1e-4)
     return p, Specimen(Stack([k]), k3_Nm_per_rad3=k3), b, Label(required={S}, k_true=k,
                                                                 physics="cubic hardening, +8 % at 0.6 rad, triangles"), {}, None
 
 
 def _asym_sine(rng):
     k = rng.uniform(300, 700)
-    p = _sweep([0.2, 0.35], [0.2, 0.6], cycles=3)
-    b = Bench(sample_rate_hz=1000, torque_noise_Nm=_noise(k * 0.35, 0.3), angle_noise_rad=1e-4)
+    p = sweep([0.2, 0.35], [0.2, 0.6], cycles=3)
+    b = Bench(sample_rate_hz=1000, torque_noise_Nm=noise_sd(k * 0.35, 0.3), angle_noise_rad=1e-4)
     return p, Specimen(Stack([k]), neg_ratio=0.9), b, Label(required={A}, k_true=(k, 0.9 * k),
                                                             physics="K for negative deflection 10 % lower, sines"), {}, None
 
@@ -286,7 +171,7 @@ def _outliers_levels(rng):
     k = rng.uniform(50, 150)
     p = Protocol().levels(rng, 14, 0.4, 0.4, hold_s=(0.5, 2.0))
     p.hold(0.5)
-    sd = _noise(k * 0.4, 0.3)
+    sd = noise_sd(k * 0.4, 0.3)
     b = Bench(sample_rate_hz=500, torque_noise_Nm=sd, angle_noise_rad=1e-4, spikes=12, spike_Nm=20 * sd)
     return p, Specimen(Stack([k])), b, Label(required={O}, k_true=k, physics="12 isolated torque spikes of 20-40 sigma, "
                                                                              "random levels"), {}, None
@@ -299,7 +184,7 @@ def _bl_hyst_2rates(rng):
     p = Protocol().staircase([0.15, 0.3], rate_rad_per_s=0.1, hold_s=1.0)
     p.staircase([0.15, 0.3], rate_rad_per_s=0.4, hold_s=1.0)
     p.hold(0.5)
-    b = Bench(sample_rate_hz=500, torque_noise_Nm=_noise(peak, 0.3), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=500, torque_noise_Nm=noise_sd(peak, 0.3), angle_noise_rad=1e-4)
     return p, Specimen(st, friction=fr), b, Label(required={B, H}, k_true=st.k_series,
                                                   physics="2-spring stack with plays + Coulomb friction, staircase at 2 "
                                                           "rates with holds"), {}, None
@@ -311,7 +196,7 @@ def _hyst_lag_1rate(rng):
     fr = {"law": "elastoplastic", "force_Nm": 0.015 * peak, "presliding_rad": 0.004}
     p = Protocol().triangles(0.3, 0.3, 6)
     p.hold(0.5)
-    b = Bench(sample_rate_hz=500, delay_s=0.02, torque_noise_Nm=_noise(peak, 0.25), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=500, delay_s=0.02, torque_noise_Nm=noise_sd(peak, 0.25), angle_noise_rad=1e-4)
     return p, Specimen(Stack([k]), friction=fr), b, Label(anyof=[{H, L}], may_confound=[{H, L}], k_true=k,
                                                           physics="Coulomb friction + 20 ms delay on ONE ramp rate "
                                                                   "(confounded pair)"), {}, None
@@ -321,8 +206,8 @@ def _hyst_lag_sweep(rng):
     k = rng.uniform(200, 400)
     peak = k * 0.3
     fr = {"law": "elastoplastic", "force_Nm": 0.015 * peak, "presliding_rad": 0.003}
-    p = _sweep([0.3], [0.05, 0.3, 1.5], cycles=3)
-    b = Bench(sample_rate_hz=1000, delay_s=0.01, torque_noise_Nm=_noise(peak, 0.25), angle_noise_rad=1e-4)
+    p = sweep([0.3], [0.05, 0.3, 1.5], cycles=3)
+    b = Bench(sample_rate_hz=1000, delay_s=0.01, torque_noise_Nm=noise_sd(peak, 0.25), angle_noise_rad=1e-4)
     return p, Specimen(Stack([k]), friction=fr), b, Label(required={H, L}, k_true=k,
                                                           physics="Coulomb friction + 10 ms delay, sine sweep over 30x "
                                                                   "in frequency (separable)"), {"target": 1.05 * k}, None
@@ -335,7 +220,7 @@ def _bl_stiff_drift(rng):
     p.hold(0.5)
     peak = k * 0.6
     b = Bench(sample_rate_hz=500, torque_drift_Nm_per_s=0.03 * peak / p.duration_s(),
-              torque_noise_Nm=_noise(peak, 0.25), angle_noise_rad=1e-4)
+              torque_noise_Nm=noise_sd(peak, 0.25), angle_noise_rad=1e-4)
     return p, Specimen(st, k3_Nm_per_rad3=0.1 * k / 0.6**2), b, Label(
         required={B, S, D}, optional={TO}, k_true=k,
         physics="stack with plays + cubic hardening 10 % + torque drift 3 %, staircase"), {}, None
@@ -350,11 +235,11 @@ def _asym_bw_outliers_mixed(rng):
     p.hold(0.3)
     p.chirp(0.3, 0.1, 0.8, 20.0)
     p.hold(0.5)
-    sd = _noise(peak, 0.3)
+    sd = noise_sd(peak, 0.3)
     b = Bench(sample_rate_hz=1000, torque_noise_Nm=sd, angle_noise_rad=1e-4, spikes=8, spike_Nm=25 * sd)
     lab = Label(required={A, H, O}, k_true=(k, 0.92 * k),
                 physics="asymmetric K (-8 %) + Bouc-Wen friction (n=2) 2 % + 8 spikes, triangles+sines+chirp")
-    return p, Specimen(Stack([k]), neg_ratio=0.92, friction=fr), b, lab, {}, lambda rec: _bw_struct(rec, 1000, k)
+    return p, Specimen(Stack([k]), neg_ratio=0.92, friction=fr), b, lab, {}, lambda rec: bouc_wen_structure(rec, 1000, k)
 
 
 def _lag_stiff_offset_chirp(rng):
@@ -362,7 +247,7 @@ def _lag_stiff_offset_chirp(rng):
     p = Protocol().chirp(0.5, 0.05, 1.0, 50.0)
     p.hold(0.5)
     peak = k * 0.5
-    b = Bench(sample_rate_hz=1000, delay_s=0.008, torque_offset_Nm=0.02 * peak, torque_noise_Nm=_noise(peak, 0.3),
+    b = Bench(sample_rate_hz=1000, delay_s=0.008, torque_offset_Nm=0.02 * peak, torque_noise_Nm=noise_sd(peak, 0.3),
               angle_noise_rad=1e-4)
     return p, Specimen(Stack([k]), k3_Nm_per_rad3=0.1 * k / 0.25), b, Label(
         required={L, S}, anyof=[{TO, AO}], may_confound=[{TO, AO}], k_true=k,
@@ -374,34 +259,34 @@ def _lag_stiff_offset_chirp(rng):
 
 def _hum50(rng):
     k = rng.uniform(100, 300)
-    p = _sweep([0.3], [0.1, 0.4, 1.0], cycles=3)
-    sd = _noise(k * 0.3, 0.25)
+    p = sweep([0.3], [0.1, 0.4, 1.0], cycles=3)
+    sd = noise_sd(k * 0.3, 0.25)
     b = Bench(sample_rate_hz=1000, hum=[(3 * sd, 50.0), (0.8 * sd, 150.0)], torque_noise_Nm=sd, angle_noise_rad=1e-4)
     lab = Label(in_library=False, unexplained=True, k_true=k, physics="linear spring + 50 Hz mains hum (3 sigma, "
                                                                       "with 150 Hz), sine sweep")
-    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: _structure(rec, rec.parts["hum"], [], k)
+    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: structure(rec, rec.parts["hum"], [], k)
 
 
 def _hum60_backlash_200hz(rng):
     st = Stack([rng.uniform(600, 1000), rng.uniform(800, 1200)], gap_rad=[0.008, 0.01], gap_centre_rad=[0, 0])
     p = Protocol().triangles(0.3, 0.25, 4, hold_s=0.5)
     p.hold(0.5)
-    sd = _noise(st.k_series * 0.3, 0.3)
+    sd = noise_sd(st.k_series * 0.3, 0.3)
     b = Bench(sample_rate_hz=200, hum=[(3 * sd, 60.0)], torque_noise_Nm=sd, angle_noise_rad=1e-4)
     lab = Label(required={B}, in_library=False, unexplained=True, k_true=st.k_series,
                 physics="stack with plays + 60 Hz hum (3 sigma) sampled at 200 Hz, triangles")
-    return p, Specimen(st), b, lab, {}, lambda rec: _structure(rec, rec.parts["hum"], [], st.k_series)
+    return p, Specimen(st), b, lab, {}, lambda rec: structure(rec, rec.parts["hum"], [], st.k_series)
 
 
 def _ripple_angle(rng):
     k = rng.uniform(300, 600)
     p = Protocol().triangles(0.4, 0.2, 3)
     p.hold(0.5)
-    sd = _noise(k * 0.4, 0.25)
+    sd = noise_sd(k * 0.4, 0.25)
     b = Bench(sample_rate_hz=500, ripple_Nm=4 * sd, ripple_period_rad=0.031, torque_noise_Nm=sd, angle_noise_rad=1e-4)
     lab = Label(in_library=False, unexplained=True, k_true=k,
                 physics="torque ripple periodic in angle (31 mrad pitch, 4 sigma), triangles")
-    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: _structure(rec, rec.parts["ripple"],
+    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: structure(rec, rec.parts["ripple"],
                                                                        [rec.theta_torque_rad**3], k)
 
 
@@ -409,12 +294,12 @@ def _ripple_hyst(rng):
     k = rng.uniform(200, 500)
     peak = k * 0.35
     fr = {"law": "elastoplastic", "force_Nm": 0.02 * peak, "presliding_rad": 0.003}
-    p = _sweep([0.2, 0.35], [0.1, 0.3], cycles=2)
-    sd = _noise(peak, 0.25)
+    p = sweep([0.2, 0.35], [0.1, 0.3], cycles=2)
+    sd = noise_sd(peak, 0.25)
     b = Bench(sample_rate_hz=1000, ripple_Nm=3 * sd, ripple_period_rad=0.045, torque_noise_Nm=sd, angle_noise_rad=1e-4)
     lab = Label(required={H}, in_library=False, unexplained=True, k_true=k,
                 physics="Coulomb friction + torque ripple periodic in angle (45 mrad, 3 sigma), sines")
-    return p, Specimen(Stack([k]), friction=fr), b, lab, {}, lambda rec: _structure(
+    return p, Specimen(Stack([k]), friction=fr), b, lab, {}, lambda rec: structure(
         rec, rec.parts["ripple"], [rec.theta_torque_rad**3, elastoplastic_basis(rec.theta_torque_rad, 0.003)], k)
 
 
@@ -426,11 +311,11 @@ def _stickslip(rng):
     p = Protocol().triangles(0.3, 0.15, 2)
     p.triangles(0.3, 0.45, 3)
     p.hold(0.5)
-    b = Bench(sample_rate_hz=500, torque_noise_Nm=_noise(peak, 0.25), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=500, torque_noise_Nm=noise_sd(peak, 0.25), angle_noise_rad=1e-4)
     lab = Label(required={H}, in_library=False, unexplained=True, k_true=k,
                 physics="stick-slip: friction builds 1.8->3 % of peak over 12 mrad then drops (sawtooth in angle)")
-    return p, Specimen(Stack([k]), friction=fr), b, lab, {}, lambda rec: _best_structure(
-        rec, rec.parts["friction"], _friction_like_bases(rec, 500, (2e-3, 8e-3, 2e-2, 5e-2)), k)
+    return p, Specimen(Stack([k]), friction=fr), b, lab, {}, lambda rec: best_structure(
+        rec, rec.parts["friction"], friction_like_bases(rec, 500, (2e-3, 8e-3, 2e-2, 5e-2)), k)
 
 
 def _kstep(rng):
@@ -439,7 +324,7 @@ def _kstep(rng):
     p.staircase([0.1, 0.2, 0.3], ramp_s=1.5, hold_s=1.0)
     p.hold(0.5)
     ts = 0.55 * p.duration_s()
-    b = Bench(sample_rate_hz=500, torque_noise_Nm=_noise(k * 0.3, 0.25), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=500, torque_noise_Nm=noise_sd(k * 0.3, 0.25), angle_noise_rad=1e-4)
     sp = Specimen(Stack([k]), step_at_s=ts, step_ratio=0.95)
     lab = Label(in_library=False, unexplained=True, k_true=k, k_scored=False,
                 physics="stiffness drops 5 % at 55 % of the record (a crack/slip), staircase repeated")
@@ -447,23 +332,9 @@ def _kstep(rng):
     def struct(rec):
         x = rec.theta_torque_rad
         comp = -0.05 * k * x * (rec.t_s >= ts)
-        return _structure(rec, comp, [x**3], k)
+        return structure(rec, comp, [x**3], k)
 
     return p, sp, b, lab, {}, struct
-
-
-def _delay_structure(rec: Record, comp: np.ndarray, signal: np.ndarray, taus, k: float) -> tuple[float, float]:
-    """Structure left when ``comp`` is mimicked by an exact delay of ``signal`` (best tau of ``taus``, s)."""
-    t = rec.t_s
-    sets = [[np.interp(t - tau, t, signal) - signal] for tau in taus]
-    return _best_structure(rec, comp, sets, k)
-
-
-def _lpf_struct(rec, k, tau):
-    comp = rec.parts["sensed_minus_clean"]
-    clean = rec.parts["elastic"] + rec.parts["viscoelastic"] + rec.parts["friction"]
-    return _delay_structure(rec, comp, clean, tau * np.linspace(0.5, 1.5, 41), k)
-
 
 def _lpf20_fast(rng):
     k = rng.uniform(300, 700)
@@ -471,29 +342,29 @@ def _lpf20_fast(rng):
     p.hold(0.3)
     p.sine(0.3, 2.0, 8)
     p.hold(0.5)
-    b = Bench(sample_rate_hz=2000, filter_tau_s=0.02, torque_noise_Nm=_noise(k * 0.4, 0.25), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=2000, filter_tau_s=0.02, torque_noise_Nm=noise_sd(k * 0.4, 0.25), angle_noise_rad=1e-4)
     lab = Label(required={L}, in_library=False, unexplained=True, k_true=k, k_scored=False,
                 physics="torque sensor first-order filter 20 ms, fast triangles (2 rad/s) and 2 Hz sines")
-    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: _lpf_struct(rec, k, 0.02)
+    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: filter_structure(rec, k, 0.02)
 
 
 def _lpf5_slow(rng):
     k = rng.uniform(300, 700)
-    p = _sweep([0.3], [0.05, 0.1, 0.2], cycles=2)
-    b = Bench(sample_rate_hz=500, filter_tau_s=0.005, torque_noise_Nm=_noise(k * 0.3, 0.2), angle_noise_rad=1e-4)
+    p = sweep([0.3], [0.05, 0.1, 0.2], cycles=2)
+    b = Bench(sample_rate_hz=500, filter_tau_s=0.005, torque_noise_Nm=noise_sd(k * 0.3, 0.2), angle_noise_rad=1e-4)
     lab = Label(required={L}, k_true=k,
                 physics="torque sensor first-order filter 5 ms on slow sines (omega*tau < 0.007: a pure delay)")
-    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: _lpf_struct(rec, k, 0.005)
+    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: filter_structure(rec, k, 0.005)
 
 
 def _clip(rng):
     k = rng.uniform(100, 300)
-    p = _sweep([0.2, 0.35], [0.2, 0.5], cycles=3)
+    p = sweep([0.2, 0.35], [0.2, 0.5], cycles=3)
     peak = k * 0.35
-    b = Bench(sample_rate_hz=1000, clip_Nm=0.85 * peak, torque_noise_Nm=_noise(peak, 0.25), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=1000, clip_Nm=0.85 * peak, torque_noise_Nm=noise_sd(peak, 0.25), angle_noise_rad=1e-4)
     lab = Label(in_library=False, unexplained=True, k_true=k, k_scored=False,
                 physics="torque sensor clips at 85 % of peak torque, sines at 2 amplitudes")
-    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: _structure(rec, rec.parts["clip"],
+    return p, Specimen(Stack([k])), b, lab, {}, lambda rec: structure(rec, rec.parts["clip"],
                                                                        [rec.theta_torque_rad**3], k)
 
 
@@ -501,23 +372,23 @@ def _creep(rng):
     k = rng.uniform(150, 300)
     p = Protocol().staircase([0.1, 0.2, 0.3], ramp_s=1.0, hold_s=3.0)
     p.hold(0.5)
-    b = Bench(sample_rate_hz=500, torque_noise_Nm=_noise(k * 0.3, 0.25), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=500, torque_noise_Nm=noise_sd(k * 0.3, 0.25), angle_noise_rad=1e-4)
     sp = Specimen(Stack([k]), ve_stiffness_Nm_per_rad=0.08 * k, ve_tau_s=1.2)
     lab = Label(optional={H, L}, in_library=False, unexplained=True, k_true=k, k_scored=False,
                 physics="viscoelastic relaxation: 8 % extra stiffness relaxing with tau 1.2 s during 3 s holds")
 
     def struct(rec):
-        v = _derivative(rec.theta_torque_rad, 500)
-        return _best_structure(rec, rec.parts["viscoelastic"],
-                               [[v] + b_ for b_ in _friction_like_bases(rec, 500)], k)
+        v = derivative(rec.theta_torque_rad, 500)
+        return best_structure(rec, rec.parts["viscoelastic"],
+                               [[v] + b_ for b_ in friction_like_bases(rec, 500)], k)
 
     return p, sp, b, lab, {}, struct
 
 
 def _pink(rng):
     k = rng.uniform(200, 500)
-    p = _sweep([0.3], [0.1, 0.3, 0.9], cycles=3)
-    sd = _noise(k * 0.3, 0.25)
+    p = sweep([0.3], [0.1, 0.3, 0.9], cycles=3)
+    sd = noise_sd(k * 0.3, 0.25)
     b = Bench(sample_rate_hz=1000, pink_Nm=0.7 * sd, torque_noise_Nm=sd, angle_noise_rad=1e-4)
     lab = Label(optional={D, TO, AO}, k_true=k, physics="linear spring, white + 1/f torque noise (0.7 sigma), sine sweep")
     return p, Specimen(Stack([k])), b, lab, {}, None
@@ -525,21 +396,21 @@ def _pink(rng):
 
 def _skew(rng):
     k = rng.uniform(300, 600)
-    p = _sweep([0.3], [0.2, 0.5, 1.0], cycles=4)
-    p2 = _sweep([0.3], [0.2, 0.5, 1.0], cycles=4)
+    p = sweep([0.3], [0.2, 0.5, 1.0], cycles=4)
+    p2 = sweep([0.3], [0.2, 0.5, 1.0], cycles=4)
     for s in p2.segments:  # repeat the sweep
         d = p.t_s
         p.segments.append(type(s)(s.kind, s.t0_s + d, s.t1_s + d, s.a_rad, s.b_rad, s.f_hz, s.f2_hz, s.shape, s.taper_s))
     p.t_s = p.segments[-1].t1_s
     skew = 0.03 / p.duration_s()
-    b = Bench(sample_rate_hz=1000, delay_s=0.002, skew=skew, torque_noise_Nm=_noise(k * 0.3, 0.25), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=1000, delay_s=0.002, skew=skew, torque_noise_Nm=noise_sd(k * 0.3, 0.25), angle_noise_rad=1e-4)
     lab = Label(required={L}, in_library=False, unexplained=True, k_true=k,
                 physics="clock skew: torque delay grows 2 -> 32 ms over the record, sine sweep run twice")
 
     def struct(rec):
         lag = 0.002 + skew * rec.t_s
         comp = k * (p.theta(rec.t_s - lag) - p.theta(rec.t_s - lag.mean()))
-        return _structure(rec, comp, [_derivative(k * rec.theta_torque_rad, 1000)], k)
+        return structure(rec, comp, [derivative(k * rec.theta_torque_rad, 1000)], k)
 
     return p, Specimen(Stack([k])), b, lab, {}, struct
 
@@ -551,26 +422,26 @@ def _fading(rng):
     p.staircase([0.15, 0.3], rate_rad_per_s=0.4, hold_s=1.5, shape="linear")
     p.hold(0.5)
     fr = {"law": "fading", "force_Nm": 0.03 * peak, "v0_rad_per_s": 0.08}
-    b = Bench(sample_rate_hz=500, torque_noise_Nm=_noise(peak, 0.25), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=500, torque_noise_Nm=noise_sd(peak, 0.25), angle_noise_rad=1e-4)
     lab = Label(anyof=[{H, L}], may_confound=[{H, L}], in_library=False, unexplained=True, k_true=k,
                 physics="velocity-fading friction 3 % * tanh(v/0.08 rad/s) (zero at rest), ramps at 0.05 and 0.4 rad/s")
 
     def struct(rec):
-        v = _derivative(rec.theta_torque_rad, 500)
-        return _best_structure(rec, rec.parts["friction"], [[v] + b_ for b_ in _friction_like_bases(rec, 500)], k)
+        v = derivative(rec.theta_torque_rad, 500)
+        return best_structure(rec, rec.parts["friction"], [[v] + b_ for b_ in friction_like_bases(rec, 500)], k)
 
     return p, Specimen(Stack([k]), friction=fr), b, lab, {}, struct
 
 
 def _viscous(rng):
     k = rng.uniform(300, 600)
-    p = _sweep([0.25], [0.1, 0.4, 1.2], cycles=3)
+    p = sweep([0.25], [0.1, 0.4, 1.2], cycles=3)
     fr = {"law": "viscous", "c_Nms_per_rad": 0.012 * k}
-    b = Bench(sample_rate_hz=1000, torque_noise_Nm=_noise(k * 0.25, 0.25), angle_noise_rad=1e-4)
+    b = Bench(sample_rate_hz=1000, torque_noise_Nm=noise_sd(k * 0.25, 0.25), angle_noise_rad=1e-4)
     lab = Label(required={L}, k_true=k, physics="viscous damping c = 0.012 K (torque leads angle by 12 ms: a "
                                                 "negative channel delay except at the velocity steps where each "
                                                 "sine starts and stops), sine sweep")
-    return p, Specimen(Stack([k]), friction=fr), b, lab, {}, lambda rec: _delay_structure(
+    return p, Specimen(Stack([k]), friction=fr), b, lab, {}, lambda rec: delay_structure(
         rec, rec.parts["friction"], rec.parts["elastic"], -0.012 * np.linspace(0.5, 1.5, 41), k)
 
 
@@ -580,7 +451,7 @@ def _viscous(rng):
 def _bl_small(rng):
     k = rng.uniform(300, 600)
     peak = k * 0.3
-    sd = _noise(peak, 0.3)
+    sd = noise_sd(peak, 0.3)
     gap = 2 * 3 * sd / k  # K * b / 2 = 3 sigma
     p = Protocol().triangles(0.3, 0.3, 4, hold_s=0.3)
     p.hold(0.5)
@@ -592,9 +463,9 @@ def _bl_small(rng):
 def _hyst_small(rng):
     k = rng.uniform(200, 400)
     peak = k * 0.3
-    sd = _noise(peak, 0.3)
+    sd = noise_sd(peak, 0.3)
     fr = {"law": "elastoplastic", "force_Nm": 2.5 * sd, "presliding_rad": 0.003}
-    p = _sweep([0.3], [0.1, 0.3], cycles=4)
+    p = sweep([0.3], [0.1, 0.3], cycles=4)
     b = Bench(sample_rate_hz=1000, torque_noise_Nm=sd, angle_noise_rad=1e-4)
     return p, Specimen(Stack([k]), friction=fr), b, Label(required={H}, k_true=k,
                                                           physics="Coulomb friction of 2.5 sigma, sines"), {}, None
@@ -603,19 +474,19 @@ def _hyst_small(rng):
 def _ripple_small_bl(rng):
     k = rng.uniform(400, 800)
     peak = k * 0.35
-    sd = _noise(peak, 0.3)
-    p = _sweep([0.2, 0.35], [0.15, 0.4], cycles=3)
+    sd = noise_sd(peak, 0.3)
+    p = sweep([0.2, 0.35], [0.15, 0.4], cycles=3)
     b = Bench(sample_rate_hz=1000, ripple_Nm=2.5 * sd, ripple_period_rad=0.025, torque_noise_Nm=sd, angle_noise_rad=1e-4)
     st = Stack([k], gap_rad=[0.012], gap_centre_rad=[0])
     lab = Label(required={B}, in_library=False, unexplained=True, k_true=k,
                 physics="play 12 mrad + ripple periodic in angle of 2.5 sigma (25 mrad pitch), sines")
-    return p, Specimen(st), b, lab, {}, lambda rec: _structure(rec, rec.parts["ripple"], [rec.theta_torque_rad**3], k)
+    return p, Specimen(st), b, lab, {}, lambda rec: structure(rec, rec.parts["ripple"], [rec.theta_torque_rad**3], k)
 
 
 def _drift_small(rng):
     k = rng.uniform(100, 300)
     peak = k * 0.3
-    sd = _noise(peak, 0.3)
+    sd = noise_sd(peak, 0.3)
     p = Protocol().triangles(0.3, 0.2, 5, hold_s=0.5)
     p.hold(0.5)
     b = Bench(sample_rate_hz=500, torque_drift_Nm_per_s=4 * sd / p.duration_s(), torque_noise_Nm=sd, angle_noise_rad=1e-4)
@@ -630,11 +501,11 @@ def _mixed_5khz(rng):
     p.hold(0.3)
     p.chirp(0.25, 0.2, 1.5, 10.0, taper_s=1.5)
     p.hold(0.5)
-    sd = _noise(st.k_series * 0.3, 0.3)
+    sd = noise_sd(st.k_series * 0.3, 0.3)
     b = Bench(sample_rate_hz=5000, delay_s=0.006, hum=[(2.5 * sd, 50.0)], torque_noise_Nm=sd, angle_noise_rad=5e-5)
     lab = Label(required={B, L}, in_library=False, unexplained=True, k_true=st.k_series,
                 physics="stack with plays + 6 ms delay + 50 Hz hum 2.5 sigma, staircase+sine+chirp at 5 kHz")
-    return p, Specimen(st), b, lab, {"angle": "deg", "torque": "Nmm"}, lambda rec: _structure(rec, rec.parts["hum"], [],
+    return p, Specimen(st), b, lab, {"angle": "deg", "torque": "Nmm"}, lambda rec: structure(rec, rec.parts["hum"], [],
                                                                                               st.k_series)
 
 
@@ -644,8 +515,8 @@ def _mixed_5khz(rng):
 def _unit(kind):
     def build(rng):
         k = rng.uniform(100, 300)
-        p = _sweep([0.3], [0.2, 0.5], cycles=3)
-        b = Bench(sample_rate_hz=500, torque_noise_Nm=_noise(k * 0.3, 0.3), angle_noise_rad=1e-4)
+        p = sweep([0.3], [0.2, 0.5], cycles=3)
+        b = Bench(sample_rate_hz=500, torque_noise_Nm=noise_sd(k * 0.3, 0.3), angle_noise_rad=1e-4)
         lab = Label(refusal=True, k_true=k, physics={
             "deg_as_rad": "angles written in degrees under deflection_rad, --target-stiffness given",
             "nmm_as_nm": "torque written in N·mm under torque_Nm, --target-stiffness given",
@@ -705,43 +576,3 @@ CASES = [
 ]
 
 
-def make_case(name: str, builder: Callable, seed: int, index: int) -> tuple[Case, Record]:
-    """Simulate one case (its own generator from (seed, index)) and finish its label."""
-    rng = np.random.default_rng([seed, index])
-    p, sp, bench, lab, fmt, struct = builder(rng)
-    rec = simulate(p, sp, bench, rng)
-    if struct is not None:
-        ratio, bias = struct(rec)
-        lab.structure_ratio, lab.k_bias_pct = ratio, bias
-        if not lab.in_library:
-            lab.unexplained = True if ratio >= 0.5 else (False if ratio < 0.15 else None)
-            if lab.k_scored and abs(bias) >= 0.3:
-                lab.k_scored = False
-        elif ratio >= 0.15:  # a law the library name describes, but whose shape differs above noise
-            lab.unexplained = True if ratio >= 0.5 else None
-            lab.in_library = False
-            lab.k_scored = abs(bias) < 0.3
-    cols, cli = _format(rec, fmt)
-    return Case(name, cols, cli, lab, len(rec.t_s)), rec
-
-
-def _format(rec: Record, fmt: dict) -> tuple[dict, list]:
-    """CSV columns and CLI unit options for a record."""
-    ang, tq = rec.deflection_rad, rec.torque_Nm
-    cli: list = []
-    acol, tcol = "deflection_rad", "torque_Nm"
-    if fmt.get("angle") == "deg":
-        ang = np.degrees(ang)
-        if not fmt.get("header_as_si"):
-            acol = "deflection_deg"
-            cli += ["--deflection-col", acol, "--angle-unit", "deg"]
-    if fmt.get("torque") == "Nmm":
-        tq = tq * 1000
-        if not fmt.get("header_as_si"):
-            tcol = "torque_Nmm"
-            cli += ["--torque-col", tcol, "--torque-unit", "Nmm"]
-    if fmt.get("claim_angle_deg"):
-        cli += ["--angle-unit", "deg"]
-    if "target" in fmt:
-        cli += ["--target-stiffness", f"{fmt['target']:.6g}"]
-    return {"time_s": rec.t_s, tcol: tq, acol: ang}, cli
