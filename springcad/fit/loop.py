@@ -53,7 +53,7 @@ from springcad.fit.evidence import EffectEvidence, audit
 from springcad.fit.identify import (Confounded, contribution, find_confounded,
                                     recommend_protocol)
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
-from springcad.fit.localise import localise
+from springcad.fit.localise import localise, structure_onset
 from springcad.fit.models import nrmse_pct
 from springcad.fit.nuisance import nuisance_views
 from springcad.fit.residual import residual_structure
@@ -131,6 +131,10 @@ class LoopResult:
         confounded: groups the record cannot separate.
         intervals: every reported quantity with its confidence interval.
         localisation: where the unexplained structure lives (or ``None``).
+        region: when the model was fitted outside a band of deflection that holds
+            structure the library cannot describe: the band, why, and the first
+            pass's model (``None`` when fitted on every sample).
+        keep: the samples fitted (``None``: all); NRMSEs are over these.
     """
 
     baseline: State
@@ -149,6 +153,8 @@ class LoopResult:
     confounded: tuple[Confounded, ...] = ()
     intervals: dict = field(default_factory=dict)
     localisation: dict | None = None
+    region: dict | None = None
+    keep: np.ndarray | None = None
 
     def __repr__(self) -> str:
         # the states hold per-sample arrays: show the chain of steps only
@@ -167,11 +173,13 @@ class LoopResult:
         return tuple(e for e in self.final.effects if e not in grouped)
 
     def nrmse_pct(self, state: State, sig: Signals) -> float:
-        return _nrmse(state, sig, self.half_range_Nm)
+        return _nrmse(state, sig, self.half_range_Nm, self.keep)
 
 
-def _nrmse(state: State, sig: Signals, half_range: float) -> float:
-    idx = state.inliers(np.arange(sig.n))
+def _nrmse(state: State, sig: Signals, half_range: float,
+           keep: np.ndarray | None = None) -> float:
+    """NRMSE (%) over the non-glitch samples (of the fitted region ``keep``, if given)."""
+    idx = state.inliers(np.arange(sig.n) if keep is None else np.flatnonzero(keep))
     return nrmse_pct(state.model.residual(state.x, sig, idx), half_range)
 
 
@@ -187,15 +195,69 @@ def run_loop(sig: Signals, settings: LoopSettings = LoopSettings()) -> LoopResul
         and the structure left over with its localisation.
     """
     with single_threaded_blas():
-        return _run_loop(sig, settings)
+        first = _run_loop(sig, settings)
+        return _outside_structure(sig, settings, first) or first
+
+
+#: a localised structure must carry this share of the final residual's structure for the
+#: model to be fitted again without its band of deflection
+REGION_SHARE = 0.5
+#: and the band left out may hold at most this share of the samples
+REGION_MAX_SAMPLES = 0.4
+
+
+def _outside_structure(sig: Signals, settings: LoopSettings,
+                       first: LoopResult) -> LoopResult | None:
+    """The loop again on the samples outside a band of deflection that holds structure
+    the library cannot describe (a hard stop, a clipping sensor), or ``None``.
+
+    Fitted on every sample, such a structure pulls the stiffness and hides the
+    library effects beside it (a crossover under a hard stop). When the final
+    residual's structure sits mostly at large deflection (see
+    :mod:`springcad.fit.localise`), the band beyond the localised cut is left
+    out of the fit: its onset on each side is where a hinge fitted to the
+    residual engages (:func:`springcad.fit.localise.structure_onset`), and the
+    loop runs again outside it. What is left is still judged on every sample,
+    so the structure stays flagged and localised.
+    """
+    loc = first.localisation
+    if not first.unexplained or first.no_spring or not loc or not loc["findings"]:
+        return None
+    top = loc["findings"][0]
+    if top["kind"] != "large_deflection" or top["share"] < REGION_SHARE:
+        return None
+    theta = sig.theta_smooth
+    idx = first.final.inliers(np.arange(sig.n))
+    r = first.final.model.residual(first.final.x, sig, idx)
+    lo, hi = structure_onset(r, idx, sig, first.noise_Nm,
+                             first.structure["noise_correlation_samples"])
+    keep = (theta > lo) & (theta < hi)
+    if keep.mean() < 1.0 - REGION_MAX_SAMPLES or keep.all():
+        return None
+    out = _run_loop(sig, settings, keep)
+    if out.no_spring:
+        return None
+    sides = [f"deflection beyond {hi:.4g} rad" if np.isfinite(hi) else None,
+             f"deflection below {lo:.4g} rad" if np.isfinite(lo) else None]
+    region = {"left_out": " and ".join(x for x in sides if x),
+              "low_rad": None if not np.isfinite(lo) else float(lo),
+              "high_rad": None if not np.isfinite(hi) else float(hi),
+              "samples_left_out": int((~keep).sum()),
+              "fraction_left_out": float((~keep).mean()),
+              "reason": (f"fitted on every sample, the residual held structure the effect "
+                         f"library cannot describe, {top['text'][len('a shape in deflection '):]} "
+                         f"({100 * top['share']:.0f} % of it): the model is fitted where that "
+                         "structure is not, and the structure is judged on every sample"),
+              "first_pass_model": first.final.label}
+    return dataclasses.replace(out, region=region)
 
 
 def _spring(sig: Signals, lp: Search) -> tuple[State, dict]:
     """Linear least squares ``τ = K·θ`` and whether K stands above the noise."""
-    theta, torque = sig.theta, sig.torque
+    theta, torque = sig.theta[lp.all], sig.torque[lp.all]
     k = float(theta @ torque / (theta @ theta))
     r = torque - k * theta
-    unc = sandwich(theta[:, None], r, sig.runs, sig.scales.sample_rate_hz)
+    unc = sandwich(theta[:, None], r, sig.runs[lp.all], sig.scales.sample_rate_hz)
     se = float(unc.se[0])
     z = k / se if se > 0 else math.inf
     above = bool(k > 0 and z >= lp.s.spring_z)
@@ -210,8 +272,8 @@ def _spring(sig: Signals, lp: Search) -> tuple[State, dict]:
     return State(model, model.fit(sig, lp.all, state.x, lp.f_scale(state), max_nfev=200)), info
 
 
-def _run_loop(sig: Signals, settings: LoopSettings) -> LoopResult:
-    lp = Search(sig, settings)
+def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = None) -> LoopResult:
+    lp = Search(sig, settings, keep)
     baseline, spring = _spring(sig, lp)
     if not spring["above_noise"]:
         return _finish(lp, baseline, baseline, (), (), (), spring, {}, (), ())
@@ -268,16 +330,18 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
             evidence: dict, rejected: tuple, pairs) -> LoopResult:
     """Intervals, confounded groups with advice, and the structure left over."""
     sig, settings = lp.sig, lp.s
-    idx = state.inliers(np.arange(sig.n))
+    fitted = state.inliers(lp.all)
     if spring.get("above_noise", True):
-        state, dilution = _undilute(state, sig, idx)
+        state, dilution = _undilute(state, sig, fitted)
         spring = {**spring, "regression_dilution_correction": dilution}
+    # what is left is judged on every sample, also those of a region left out of the fit
+    idx = state.inliers(np.arange(sig.n))
     r = state.model.residual(state.x, sig, idx)
     structure, unexplained, noise = residual_structure(
         r, idx, sig, bins=settings.structure_bins, min_rms=settings.structure_min_rms,
         p_level=settings.structure_p, excess_ratio=settings.excess_ratio)
     tau = structure["noise_correlation_samples"]
-    unc = uncertainty(state.model, state.x, sig, idx)
+    unc = uncertainty(state.model, state.x, sig, fitted)
     intervals = report_intervals(state.model, state.x, unc)
     if not spring.get("above_noise", True):
         intervals["stiffness_Nm_per_rad"] = {
@@ -297,7 +361,7 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
         loc = localise(r, idx, sig, noise, tau, shape, p_level=settings.structure_p)
     return LoopResult(baseline, steps, state, rounds, structure, unexplained, noise,
                       lp.half_range, settings, log, spring, evidence, rejected, confounded,
-                      intervals, loc)
+                      intervals, loc, keep=lp.keep)
 
 
 def _undilute(state: State, sig: Signals, idx: np.ndarray) -> tuple[State, float]:
@@ -417,7 +481,8 @@ def _forward(state: State, lp: Search, steps: list[Step], rounds: list,
                     "the held-out gain and detector are measured there; on the record as "
                     "measured that structure dominates the error")
         steps.append(Step("add", effect.name, evidence, before, after,
-                          _nrmse(before, sig, lp.half_range), _nrmse(after, sig, lp.half_range)))
+                          _nrmse(before, sig, lp.half_range, lp.keep),
+                          _nrmse(after, sig, lp.half_range, lp.keep)))
         added += 1
         state = after
         f_scale = lp.f_scale(state)
@@ -443,14 +508,15 @@ def _drop(state: State, name: str, lp: Search, f_scale: float, steps: list[Step]
                 model = model.without(e.name)
     x = lp.refit(model, model.transfer(state.model, state.x), mask, f_scale)
     after = State(model, x, mask, series)
-    steps.append(Step("reject", name, evidence, state, after, _nrmse(state, sig, lp.half_range),
-                      _nrmse(after, sig, lp.half_range)))
+    steps.append(Step("reject", name, evidence, state, after,
+                      _nrmse(state, sig, lp.half_range, lp.keep),
+                      _nrmse(after, sig, lp.half_range, lp.keep)))
     return after
 
 
 def _refresh_mask(state: State, lp: Search, f_scale: float) -> State:
     """Re-detect glitches on the new residual and refit if they changed."""
-    r = state.model.residual(state.x, lp.sig, lp.all)
+    r = state.model.residual(state.x, lp.sig, np.arange(lp.sig.n))
     mask = find_glitches(r, lp.s.glitch_threshold, guard=lp.sig.near_turn)
     if np.array_equal(mask, state.mask):
         return state
@@ -512,7 +578,8 @@ def _backward(state: State, score_now: float, f_scale: float, lp: Search,
                     "reason": "a later effect explains what this one did; the held-out "
                               "criterion is better without it"}
         steps.append(Step("remove", e.name, evidence, state, after,
-                          _nrmse(state, sig, lp.half_range), _nrmse(after, sig, lp.half_range)))
+                          _nrmse(state, sig, lp.half_range, lp.keep),
+                          _nrmse(after, sig, lp.half_range, lp.keep)))
         state = after
         score_now = score
     return state, score_now
