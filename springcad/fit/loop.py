@@ -52,6 +52,8 @@ from springcad.fit.effects import LIBRARY, Effect, get_effect
 from springcad.fit.evidence import EffectEvidence, audit
 from springcad.fit.identify import (Confounded, contribution, find_confounded,
                                     recommend_protocol)
+from springcad.fit.joint import joint_sets
+from springcad.fit.laws import choose_laws
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
 from springcad.fit.localise import localise, structure_onset
 from springcad.fit.models import nrmse_pct
@@ -135,6 +137,8 @@ class LoopResult:
             structure the library cannot describe: the band, why, and the first
             pass's model (``None`` when fitted on every sample).
         keep: the samples fitted (``None``: all); NRMSEs are over these.
+        laws: per named family with several laws, the law kept and how the
+            others scored (see :mod:`springcad.fit.laws`).
     """
 
     baseline: State
@@ -155,6 +159,7 @@ class LoopResult:
     localisation: dict | None = None
     region: dict | None = None
     keep: np.ndarray | None = None
+    laws: dict = field(default_factory=dict)
 
     def __repr__(self) -> str:
         # the states hold per-sample arrays: show the chain of steps only
@@ -283,6 +288,7 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
     rejected: list[dict] = []
     state, score, f_scale = _forward(baseline, lp, search, rounds, None, excluded)
     state, score = _backward(state, score, f_scale, lp, search)
+    state, laws = choose_laws(state, lp, f_scale)
     evidence: dict[str, EffectEvidence] = {}
     for attempt in range(settings.max_audits + 1):
         aud = audit(state.model, state.x, sig, state.inliers(lp.cv), f_scale,
@@ -305,6 +311,26 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
         if attempt < settings.max_audits:
             state, score, f_scale = _forward(state, lp, search, rounds, None, excluded)
             state, score = _backward(state, score, f_scale, lp, search)
+            state, laws = choose_laws(state, lp, f_scale)
+    if rejected:
+        # effects rejected one at a time may be the record's together (see fit.joint)
+        score_now = lp.cv_score(state.model, state.x, state.mask, f_scale)[0]
+        found = joint_sets(state, [r["effect"] for r in rejected], lp, f_scale, score_now)
+        if found is not None:
+            before, (state, names, gain) = state, found
+            excluded -= set(names)
+            state, laws = choose_laws(state, lp, f_scale)
+            evidence = audit(state.model, state.x, sig, state.inliers(lp.cv), f_scale,
+                             settings.agreement_p, settings.support_z).effects
+            rejected = [r for r in rejected if r["effect"] not in names]
+            for name in names:
+                search.append(Step("add", name, {
+                    "meaning": get_effect(name).meaning, "heldout_gain": gain,
+                    "added_with": list(names), "reason": (
+                        "rejected one at a time, supported together: added as a set, every "
+                        "effect of the model passes the evidence audit")}, before, state,
+                    _nrmse(before, sig, lp.half_range, lp.keep),
+                    _nrmse(state, sig, lp.half_range, lp.keep)))
     evidence = {k: v for k, v in evidence.items() if k in state.model.names}
     pairs = find_confounded(state, lp, f_scale, frozenset(excluded))
     steps = search
@@ -322,8 +348,10 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
                                                 -s.evidence.get("heldout_loss_when_removed", 0.0)),
                  "reason": s.evidence.get("reason")}
                 for s in search)
-    return _finish(lp, baseline, state, tuple(steps), tuple(rounds), log, spring, evidence,
-                   tuple(rejected), pairs)
+    laws = {k: v for k, v in laws.items() if k in state.model.names}
+    return dataclasses.replace(
+        _finish(lp, baseline, state, tuple(steps), tuple(rounds), log, spring, evidence,
+                tuple(rejected), pairs), laws=laws)
 
 
 def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, spring: dict,
@@ -334,6 +362,9 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
     if spring.get("above_noise", True):
         state, dilution = _undilute(state, sig, fitted)
         spring = {**spring, "regression_dilution_correction": dilution}
+        # the baseline's stiffness was regressed on the same noisy deflection: corrected
+        # alike, a final model with no effect is the baseline itself
+        baseline = _undilute(baseline, sig, baseline.inliers(lp.all))[0]
     # what is left is judged on every sample, also those of a region left out of the fit
     idx = state.inliers(np.arange(sig.n))
     r = state.model.residual(state.x, sig, idx)
@@ -517,7 +548,8 @@ def _drop(state: State, name: str, lp: Search, f_scale: float, steps: list[Step]
 def _refresh_mask(state: State, lp: Search, f_scale: float) -> State:
     """Re-detect glitches on the new residual and refit if they changed."""
     r = state.model.residual(state.x, lp.sig, np.arange(lp.sig.n))
-    mask = find_glitches(r, lp.s.glitch_threshold, guard=lp.sig.near_turn)
+    mask = find_glitches(r, lp.s.glitch_threshold, guard=lp.sig.near_turn,
+                         model=lp.sig.torque - r)
     if np.array_equal(mask, state.mask):
         return state
     x = lp.refit(state.model, state.x, mask, f_scale)

@@ -297,8 +297,10 @@ class Search:
             if (allowed is not None and effect.name not in allowed) or effect.name in excluded:
                 continue
             if effect.stage == "mask":
-                full_r = state.model.residual(state.x, sig, np.arange(sig.n))
-                mask = find_glitches(full_r, self.s.glitch_threshold, guard=sig.near_turn)
+                every = np.arange(sig.n)
+                full_r = state.model.residual(state.x, sig, every)
+                mask = find_glitches(full_r, self.s.glitch_threshold, guard=sig.near_turn,
+                                     model=sig.torque - full_r)
                 n_glitch = int(mask.sum())
                 if n_glitch == 0:
                     cands.append(Candidate(effect.name, 0.0, False))

@@ -45,3 +45,35 @@ def test_a_stick_slip_sawtooth_is_flagged_on_every_seed(seed):
     test = res.loop.structure["tests"]["periodic_in_time"]
     assert res.loop.unexplained and test["significant"]
     assert test["structure_rms_over_noise"] > 0.27
+
+
+def test_rejected_effects_are_tried_together_and_the_set_the_record_needs_is_found():
+    # friction + 30 ms lag + backlash on two ramp rates, from the linear fit, with the four
+    # effects the audit might have rejected one at a time: added together, the triple is
+    # supported, passes the audit, and has the true sizes
+    import numpy as np
+
+    from springcad.fit.data import make_record
+    from springcad.fit.joint import joint_sets
+    from springcad.fit.loop import _spring
+    from springcad.fit.search import LoopSettings, Search
+    from springcad.fit.segment import segment
+    from springcad.fit.signals import make_signals
+
+    rec = RECORDS["c1_three_two_rates_stack"]
+    t, tau, th = rec.build(np.random.default_rng(31))
+    record = make_record(t, tau, th)
+    sig = make_signals(record, segment(record))
+    lp = Search(sig, LoopSettings())
+    base, _ = _spring(sig, lp)
+    f_scale = lp.f_scale(base)
+    lp.update_noise(base)
+    score = lp.cv_score(base.model, base.x, None, f_scale)[0]
+    state, names, gain = joint_sets(base, ["backlash", "hysteresis", "time_lag", "stiffening"],
+                                    lp, f_scale, score)
+    assert set(names) == {"backlash", "hysteresis", "time_lag"} and gain > 0
+    p = state.params()
+    assert p["stiffness_Nm_per_rad"] == pytest.approx(rec.K, rel=0.02)
+    assert p["lag_s"] == pytest.approx(0.03, rel=0.1)
+    assert p["backlash_rad"] == pytest.approx(0.04, rel=0.1)
+    assert p["friction_torque_Nm"] == pytest.approx(0.08, rel=0.15)
