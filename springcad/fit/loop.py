@@ -55,7 +55,8 @@ from springcad.fit.identify import (Confounded, contribution, find_confounded,
 from springcad.fit.joint import joint_sets
 from springcad.fit.laws import choose_laws
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
-from springcad.fit.localise import localise, structure_onset
+from springcad.fit.localise import localise
+from springcad.fit.region import outside_structure
 from springcad.fit.models import nrmse_pct
 from springcad.fit.nuisance import nuisance_views
 from springcad.fit.residual import residual_structure
@@ -201,60 +202,7 @@ def run_loop(sig: Signals, settings: LoopSettings = LoopSettings()) -> LoopResul
     """
     with single_threaded_blas():
         first = _run_loop(sig, settings)
-        return _outside_structure(sig, settings, first) or first
-
-
-#: a localised structure must carry this share of the final residual's structure for the
-#: model to be fitted again without its band of deflection
-REGION_SHARE = 0.5
-#: and the band left out may hold at most this share of the samples
-REGION_MAX_SAMPLES = 0.4
-
-
-def _outside_structure(sig: Signals, settings: LoopSettings,
-                       first: LoopResult) -> LoopResult | None:
-    """The loop again on the samples outside a band of deflection that holds structure
-    the library cannot describe (a hard stop, a clipping sensor), or ``None``.
-
-    Fitted on every sample, such a structure pulls the stiffness and hides the
-    library effects beside it (a crossover under a hard stop). When the final
-    residual's structure sits mostly at large deflection (see
-    :mod:`springcad.fit.localise`), the band beyond the localised cut is left
-    out of the fit: its onset on each side is where a hinge fitted to the
-    residual engages (:func:`springcad.fit.localise.structure_onset`), and the
-    loop runs again outside it. What is left is still judged on every sample,
-    so the structure stays flagged and localised.
-    """
-    loc = first.localisation
-    if not first.unexplained or first.no_spring or not loc or not loc["findings"]:
-        return None
-    top = loc["findings"][0]
-    if top["kind"] != "large_deflection" or top["share"] < REGION_SHARE:
-        return None
-    theta = sig.theta_smooth
-    idx = first.final.inliers(np.arange(sig.n))
-    r = first.final.model.residual(first.final.x, sig, idx)
-    lo, hi = structure_onset(r, idx, sig, first.noise_Nm,
-                             first.structure["noise_correlation_samples"])
-    keep = (theta > lo) & (theta < hi)
-    if keep.mean() < 1.0 - REGION_MAX_SAMPLES or keep.all():
-        return None
-    out = _run_loop(sig, settings, keep)
-    if out.no_spring:
-        return None
-    sides = [f"deflection beyond {hi:.4g} rad" if np.isfinite(hi) else None,
-             f"deflection below {lo:.4g} rad" if np.isfinite(lo) else None]
-    region = {"left_out": " and ".join(x for x in sides if x),
-              "low_rad": None if not np.isfinite(lo) else float(lo),
-              "high_rad": None if not np.isfinite(hi) else float(hi),
-              "samples_left_out": int((~keep).sum()),
-              "fraction_left_out": float((~keep).mean()),
-              "reason": (f"fitted on every sample, the residual held structure the effect "
-                         f"library cannot describe, {top['text'][len('a shape in deflection '):]} "
-                         f"({100 * top['share']:.0f} % of it): the model is fitted where that "
-                         "structure is not, and the structure is judged on every sample"),
-              "first_pass_model": first.final.label}
-    return dataclasses.replace(out, region=region)
+        return outside_structure(sig, settings, first, _run_loop) or first
 
 
 def _spring(sig: Signals, lp: Search) -> tuple[State, dict]:
