@@ -283,6 +283,7 @@ def audit(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, f_sc
     slow, profile, var_noise = nuisance_parts(full.residual(x_full, sig, idx), idx, sig)
     views = views_without(sig, slow, profile)
     patches = time_check(full, slow, idx, var_noise)
+    patches.update(steady_check(full, x_full, sig, idx, f_scale, support_z, rate, max_nfev))
     for split, parts in split_parts(sig, idx).items():
         tested = [e for e in model.effects if split in e.splits and e.name in full.names]
         if not tested:
@@ -367,9 +368,70 @@ def time_check(model: TorqueModel, slow: np.ndarray | None, idx: np.ndarray,
         "jumps or wanders)")}
 
 
+#: a lag is judged away from the turns only where it is known there to this many times
+#: its standard error on the whole record (beyond, the steady motion cannot tell it from
+#: friction: the pair is the identifiability check's to name)
+STEADY_SE_RATIO = 4.0
+
+
+def steady_check(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,
+                 f_scale: float, support_z: float, rate: float,
+                 max_nfev: int = 40) -> dict[str, str]:
+    """A time lag beside friction that lives at the turns only.
+
+    Friction whose law is not the library's (a Dahl or LuGre turn, a
+    regularised Coulomb law) differs from the library's presliding shape for a
+    few milliseconds after each turn, and a lag of a fraction of a sample
+    period takes up that difference. A channel delay or a damper acts through
+    the whole motion: refitted (everything free) on the samples away from the
+    turns (:func:`springcad.fit.identify.turn_window_s`), it must still stand
+    ``support_z`` standard errors from zero. The check applies where the steady
+    motion can tell a lag from friction (holds, speeds that vary: its standard
+    error there within ``STEADY_SE_RATIO`` of the whole record's).
+
+    Returns:
+        ``{"time_lag": reason}`` when it fails, else ``{}``.
+    """
+    from springcad.fit.identify import turn_window_s
+
+    if "time_lag" not in model.names or "hysteresis" not in model.names:
+        return {}
+    steady = sig.since_turn_s[idx] >= turn_window_s(model, x, sig)
+    if steady.sum() < 20 * model.size or steady.all():
+        return {}
+    sub = idx[steady]
+    j = model.slice_of("time_lag").start
+    full_se = float(uncertainty(model, x, sig, idx, sample_rate_hz=rate).se[j])
+    xs = model.fit(sig, sub, x, f_scale, max_nfev=max_nfev)
+    se = float(uncertainty(model, xs, sig, sub, sample_rate_hz=rate).se[j])
+    if not (0.0 < se <= STEADY_SE_RATIO * full_se) or abs(xs[j]) >= support_z * se:
+        return {}
+    return {"time_lag": (
+        f"away from the turns the lag is {xs[j]:.3g} ± {se:.2g} s (whole record "
+        f"{x[j]:.3g} s): it describes the shape of the friction's turn, which is not the "
+        "library's presliding law, not a delay or a damper acting through the motion")}
+
+
 #: leftover structure where a shape effect acts must be this many times (in mean square)
 #: that elsewhere for the shape to count as not the record's
 SHAPE_CONCENTRATION = 4.0
+#: ... and at least this share (RMS) of what the effect's own term describes there: a
+#: crossover whose take-up is softer than the library's (a Hertzian contact, a filtered
+#: torque) leaves a tenth of its size, a crossover fitted to a torque-sensor dead band
+#: leaves more than it describes
+SHAPE_DESCRIBED = 0.5
+
+
+def _term_ms(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, name: str,
+             inside: np.ndarray) -> float:
+    """Mean square (N·m²) of effect ``name``'s own term, over the deflection bins
+    ``inside`` of its profile common to both directions."""
+    m0 = model.without(name)
+    term = model.predict(x, sig, idx) - m0.predict(m0.transfer(model, x), sig, idx)
+    prof = common_profile(term, idx, sig, var_noise=1.0)
+    if prof is None:
+        return 0.0
+    return float(np.mean(prof[1][inside] ** 2))
 
 
 def shape_check(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,
@@ -412,7 +474,8 @@ def shape_check(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray
                      - var_noise / float(np.mean(n_eff[outside])), 0.0)
         sigma2 = var_noise  # per-sample noise variance times its correlation
         if (stats.chi2.sf(chi2, int(inside.sum())) < p_level and ms_in > min_rms ** 2 * sigma2
-                and ms_in > SHAPE_CONCENTRATION * ms_out):
+                and ms_in > SHAPE_CONCENTRATION * ms_out
+                and ms_in > SHAPE_DESCRIBED ** 2 * _term_ms(model, x, sig, idx, name, inside)):
             where = (f"|deflection| below {hi:.3g} rad" if lo == 0 else
                      f"|deflection| beyond {lo:.3g} rad")
             out[name] = (f"the residual still holds structure of RMS {math.sqrt(ms_in):.3g} N·m "

@@ -52,8 +52,11 @@ from springcad.fit.effects import LIBRARY, Effect, get_effect
 from springcad.fit.evidence import EffectEvidence, audit
 from springcad.fit.identify import (Confounded, contribution, find_confounded,
                                     recommend_protocol)
+from springcad.fit.joint import joint_sets
+from springcad.fit.laws import choose_laws
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
 from springcad.fit.localise import localise
+from springcad.fit.region import outside_structure
 from springcad.fit.models import nrmse_pct
 from springcad.fit.nuisance import nuisance_views
 from springcad.fit.residual import residual_structure
@@ -131,6 +134,12 @@ class LoopResult:
         confounded: groups the record cannot separate.
         intervals: every reported quantity with its confidence interval.
         localisation: where the unexplained structure lives (or ``None``).
+        region: when the model was fitted outside a band of deflection that holds
+            structure the library cannot describe: the band, why, and the first
+            pass's model (``None`` when fitted on every sample).
+        keep: the samples fitted (``None``: all); NRMSEs are over these.
+        laws: per named family with several laws, the law kept and how the
+            others scored (see :mod:`springcad.fit.laws`).
     """
 
     baseline: State
@@ -149,6 +158,9 @@ class LoopResult:
     confounded: tuple[Confounded, ...] = ()
     intervals: dict = field(default_factory=dict)
     localisation: dict | None = None
+    region: dict | None = None
+    keep: np.ndarray | None = None
+    laws: dict = field(default_factory=dict)
 
     def __repr__(self) -> str:
         # the states hold per-sample arrays: show the chain of steps only
@@ -167,11 +179,13 @@ class LoopResult:
         return tuple(e for e in self.final.effects if e not in grouped)
 
     def nrmse_pct(self, state: State, sig: Signals) -> float:
-        return _nrmse(state, sig, self.half_range_Nm)
+        return _nrmse(state, sig, self.half_range_Nm, self.keep)
 
 
-def _nrmse(state: State, sig: Signals, half_range: float) -> float:
-    idx = state.inliers(np.arange(sig.n))
+def _nrmse(state: State, sig: Signals, half_range: float,
+           keep: np.ndarray | None = None) -> float:
+    """NRMSE (%) over the non-glitch samples (of the fitted region ``keep``, if given)."""
+    idx = state.inliers(np.arange(sig.n) if keep is None else np.flatnonzero(keep))
     return nrmse_pct(state.model.residual(state.x, sig, idx), half_range)
 
 
@@ -187,15 +201,16 @@ def run_loop(sig: Signals, settings: LoopSettings = LoopSettings()) -> LoopResul
         and the structure left over with its localisation.
     """
     with single_threaded_blas():
-        return _run_loop(sig, settings)
+        first = _run_loop(sig, settings)
+        return outside_structure(sig, settings, first, _run_loop) or first
 
 
 def _spring(sig: Signals, lp: Search) -> tuple[State, dict]:
     """Linear least squares ``τ = K·θ`` and whether K stands above the noise."""
-    theta, torque = sig.theta, sig.torque
+    theta, torque = sig.theta[lp.all], sig.torque[lp.all]
     k = float(theta @ torque / (theta @ theta))
     r = torque - k * theta
-    unc = sandwich(theta[:, None], r, sig.runs, sig.scales.sample_rate_hz)
+    unc = sandwich(theta[:, None], r, sig.runs[lp.all], sig.scales.sample_rate_hz)
     se = float(unc.se[0])
     z = k / se if se > 0 else math.inf
     above = bool(k > 0 and z >= lp.s.spring_z)
@@ -210,8 +225,8 @@ def _spring(sig: Signals, lp: Search) -> tuple[State, dict]:
     return State(model, model.fit(sig, lp.all, state.x, lp.f_scale(state), max_nfev=200)), info
 
 
-def _run_loop(sig: Signals, settings: LoopSettings) -> LoopResult:
-    lp = Search(sig, settings)
+def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = None) -> LoopResult:
+    lp = Search(sig, settings, keep)
     baseline, spring = _spring(sig, lp)
     if not spring["above_noise"]:
         return _finish(lp, baseline, baseline, (), (), (), spring, {}, (), ())
@@ -221,6 +236,7 @@ def _run_loop(sig: Signals, settings: LoopSettings) -> LoopResult:
     rejected: list[dict] = []
     state, score, f_scale = _forward(baseline, lp, search, rounds, None, excluded)
     state, score = _backward(state, score, f_scale, lp, search)
+    state, laws = choose_laws(state, lp, f_scale)
     evidence: dict[str, EffectEvidence] = {}
     for attempt in range(settings.max_audits + 1):
         aud = audit(state.model, state.x, sig, state.inliers(lp.cv), f_scale,
@@ -243,6 +259,26 @@ def _run_loop(sig: Signals, settings: LoopSettings) -> LoopResult:
         if attempt < settings.max_audits:
             state, score, f_scale = _forward(state, lp, search, rounds, None, excluded)
             state, score = _backward(state, score, f_scale, lp, search)
+            state, laws = choose_laws(state, lp, f_scale)
+    if rejected:
+        # effects rejected one at a time may be the record's together (see fit.joint)
+        score_now = lp.cv_score(state.model, state.x, state.mask, f_scale)[0]
+        found = joint_sets(state, [r["effect"] for r in rejected], lp, f_scale, score_now)
+        if found is not None:
+            before, (state, names, gain) = state, found
+            excluded -= set(names)
+            state, laws = choose_laws(state, lp, f_scale)
+            evidence = audit(state.model, state.x, sig, state.inliers(lp.cv), f_scale,
+                             settings.agreement_p, settings.support_z).effects
+            rejected = [r for r in rejected if r["effect"] not in names]
+            for name in names:
+                search.append(Step("add", name, {
+                    "meaning": get_effect(name).meaning, "heldout_gain": gain,
+                    "added_with": list(names), "reason": (
+                        "rejected one at a time, supported together: added as a set, every "
+                        "effect of the model passes the evidence audit")}, before, state,
+                    _nrmse(before, sig, lp.half_range, lp.keep),
+                    _nrmse(state, sig, lp.half_range, lp.keep)))
     evidence = {k: v for k, v in evidence.items() if k in state.model.names}
     pairs = find_confounded(state, lp, f_scale, frozenset(excluded))
     steps = search
@@ -260,24 +296,31 @@ def _run_loop(sig: Signals, settings: LoopSettings) -> LoopResult:
                                                 -s.evidence.get("heldout_loss_when_removed", 0.0)),
                  "reason": s.evidence.get("reason")}
                 for s in search)
-    return _finish(lp, baseline, state, tuple(steps), tuple(rounds), log, spring, evidence,
-                   tuple(rejected), pairs)
+    laws = {k: v for k, v in laws.items() if k in state.model.names}
+    return dataclasses.replace(
+        _finish(lp, baseline, state, tuple(steps), tuple(rounds), log, spring, evidence,
+                tuple(rejected), pairs), laws=laws)
 
 
 def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, spring: dict,
             evidence: dict, rejected: tuple, pairs) -> LoopResult:
     """Intervals, confounded groups with advice, and the structure left over."""
     sig, settings = lp.sig, lp.s
-    idx = state.inliers(np.arange(sig.n))
+    fitted = state.inliers(lp.all)
     if spring.get("above_noise", True):
-        state, dilution = _undilute(state, sig, idx)
+        state, dilution = _undilute(state, sig, fitted)
         spring = {**spring, "regression_dilution_correction": dilution}
+        # the baseline's stiffness was regressed on the same noisy deflection: corrected
+        # alike, a final model with no effect is the baseline itself
+        baseline = _undilute(baseline, sig, baseline.inliers(lp.all))[0]
+    # what is left is judged on every sample, also those of a region left out of the fit
+    idx = state.inliers(np.arange(sig.n))
     r = state.model.residual(state.x, sig, idx)
     structure, unexplained, noise = residual_structure(
         r, idx, sig, bins=settings.structure_bins, min_rms=settings.structure_min_rms,
         p_level=settings.structure_p, excess_ratio=settings.excess_ratio)
     tau = structure["noise_correlation_samples"]
-    unc = uncertainty(state.model, state.x, sig, idx)
+    unc = uncertainty(state.model, state.x, sig, fitted)
     intervals = report_intervals(state.model, state.x, unc)
     if not spring.get("above_noise", True):
         intervals["stiffness_Nm_per_rad"] = {
@@ -297,7 +340,7 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
         loc = localise(r, idx, sig, noise, tau, shape, p_level=settings.structure_p)
     return LoopResult(baseline, steps, state, rounds, structure, unexplained, noise,
                       lp.half_range, settings, log, spring, evidence, rejected, confounded,
-                      intervals, loc)
+                      intervals, loc, keep=lp.keep)
 
 
 def _undilute(state: State, sig: Signals, idx: np.ndarray) -> tuple[State, float]:
@@ -417,7 +460,8 @@ def _forward(state: State, lp: Search, steps: list[Step], rounds: list,
                     "the held-out gain and detector are measured there; on the record as "
                     "measured that structure dominates the error")
         steps.append(Step("add", effect.name, evidence, before, after,
-                          _nrmse(before, sig, lp.half_range), _nrmse(after, sig, lp.half_range)))
+                          _nrmse(before, sig, lp.half_range, lp.keep),
+                          _nrmse(after, sig, lp.half_range, lp.keep)))
         added += 1
         state = after
         f_scale = lp.f_scale(state)
@@ -443,15 +487,17 @@ def _drop(state: State, name: str, lp: Search, f_scale: float, steps: list[Step]
                 model = model.without(e.name)
     x = lp.refit(model, model.transfer(state.model, state.x), mask, f_scale)
     after = State(model, x, mask, series)
-    steps.append(Step("reject", name, evidence, state, after, _nrmse(state, sig, lp.half_range),
-                      _nrmse(after, sig, lp.half_range)))
+    steps.append(Step("reject", name, evidence, state, after,
+                      _nrmse(state, sig, lp.half_range, lp.keep),
+                      _nrmse(after, sig, lp.half_range, lp.keep)))
     return after
 
 
 def _refresh_mask(state: State, lp: Search, f_scale: float) -> State:
     """Re-detect glitches on the new residual and refit if they changed."""
-    r = state.model.residual(state.x, lp.sig, lp.all)
-    mask = find_glitches(r, lp.s.glitch_threshold, guard=lp.sig.near_turn)
+    r = state.model.residual(state.x, lp.sig, np.arange(lp.sig.n))
+    mask = find_glitches(r, lp.s.glitch_threshold, guard=lp.sig.near_turn,
+                         model=lp.sig.torque - r)
     if np.array_equal(mask, state.mask):
         return state
     x = lp.refit(state.model, state.x, mask, f_scale)
@@ -512,7 +558,8 @@ def _backward(state: State, score_now: float, f_scale: float, lp: Search,
                     "reason": "a later effect explains what this one did; the held-out "
                               "criterion is better without it"}
         steps.append(Step("remove", e.name, evidence, state, after,
-                          _nrmse(state, sig, lp.half_range), _nrmse(after, sig, lp.half_range)))
+                          _nrmse(state, sig, lp.half_range, lp.keep),
+                          _nrmse(after, sig, lp.half_range, lp.keep)))
         state = after
         score_now = score
     return state, score_now

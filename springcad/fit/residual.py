@@ -133,14 +133,43 @@ def periodogram(x: np.ndarray, sample_rate_hz: float, min_cycles: float = 20.0) 
     lo = int(math.ceil(min_cycles))
     if power.size <= lo + 10:
         return {"frequency_hz": freq, "amplitude": np.zeros_like(freq), "level": np.zeros_like(freq),
-                "peak_hz": 0.0, "peak_amplitude": 0.0, "p_value": 1.0}
+                "peak_hz": 0.0, "peak_amplitude": 0.0, "p_value": 1.0, "line_ms": 0.0}
     level = ndimage.median_filter(power, size=101, mode="nearest") / math.log(2.0)
     ratio = power[lo:] / np.maximum(level[lo:], 1e-300)
     k = int(np.argmax(ratio))
     p = min(1.0, float(ratio.size) * math.exp(-float(ratio[k])))
     amp = 2.0 * np.sqrt(power) / n
     return {"frequency_hz": freq, "amplitude": amp, "level": 2.0 * np.sqrt(level) / n,
-            "peak_hz": float(freq[lo + k]), "peak_amplitude": float(amp[lo + k]), "p_value": p}
+            "peak_hz": float(freq[lo + k]), "peak_amplitude": float(amp[lo + k]), "p_value": p,
+            "line_ms": _line_ms(power[lo:], level[lo:], ratio, n)}
+
+
+#: family-wise false-alarm rate of a spectral bin counted in the periodic structure
+LINE_ALARM = 1e-3
+#: a bin beside a counted one joins it (the skirt of a line that is not one bin wide)
+#: when its power is this many times the local level (4.5 % of noise bins do)
+SKIRT_RATIO = 3.0
+#: bins either side of a counted bin searched for its skirt
+SKIRT_BINS = 3
+
+
+def _line_ms(power: np.ndarray, level: np.ndarray, ratio: np.ndarray, n: int) -> float:
+    """Mean square (per sample) of the periodic structure a spectrum holds.
+
+    A periodic structure that is not one steady sine spreads over several bins:
+    a ripple whose phase restarts with every run is a line as wide as the
+    inverse run length, and a sawtooth has harmonics. Its size is the power
+    above the local noise level of every bin that stands out on its own
+    (false-alarm rate ``LINE_ALARM`` over all bins) and of the bins beside them
+    that stand out less (``SKIRT_RATIO``), not the one largest bin, which sees a
+    fraction of it that depends on where the line falls between bins.
+    """
+    strong = ratio > math.log(ratio.size / LINE_ALARM)
+    if not strong.any():
+        return 0.0
+    near = ndimage.binary_dilation(strong, iterations=SKIRT_BINS)
+    keep = strong | (near & (ratio > SKIRT_RATIO))
+    return float(np.sum(2.0 * np.maximum(power[keep] - level[keep], 0.0))) / float(n) ** 2
 
 
 def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int = 40,
@@ -226,7 +255,10 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     unexplained |= verdict("by_run", chi2, dof, excess, {"runs": int(feats["n"].size)})
 
     spec = periodogram(r, sig.scales.sample_rate_hz / max(float(np.median(np.diff(idx))), 1.0))
-    excess = 0.5 * max(spec["peak_amplitude"] ** 2 - 2.0 * sigma ** 2 / max(r.size, 1), 0.0)
+    # the whole line (its skirt and harmonics), not the largest bin: a structure at the
+    # threshold must not pass or fail with where its line falls between bins
+    excess = max(0.5 * spec["peak_amplitude"] ** 2 - sigma ** 2 / max(r.size, 1),
+                 spec["line_ms"])
     p = spec["p_value"]
     struct_rms = math.sqrt(excess)
     significant = p < p_level and struct_rms > min_rms * sigma

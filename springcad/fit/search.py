@@ -152,12 +152,15 @@ class Search:
     """Working state of one residual-loop run: the cross-validation folds, the noise
     correlation, and the fitting and scoring of candidate models."""
 
-    def __init__(self, sig: Signals, settings: LoopSettings):
+    def __init__(self, sig: Signals, settings: LoopSettings, keep: np.ndarray | None = None):
         self.sig = sig
         self.s = settings
         n = sig.n
-        self.all = np.arange(n)
-        stride = max(1, math.ceil(n / settings.max_cv_samples))
+        #: samples fitted and scored: all, or those outside a region of structure the
+        #: library cannot describe (``keep``, see ``springcad.fit.loop``)
+        self.all = np.arange(n) if keep is None else np.flatnonzero(keep)
+        self.keep = keep
+        stride = max(1, math.ceil(self.all.size / settings.max_cv_samples))
         self.cv = self.all[::stride]
         self.folds = (self.cv[sig.fold[self.cv] == 0], self.cv[sig.fold[self.cv] == 1])
         self.n_cv = self.cv.size
@@ -211,7 +214,7 @@ class Search:
 
     def refit(self, model: TorqueModel, x0: np.ndarray, mask: np.ndarray | None,
               f_scale: float) -> np.ndarray:
-        idx = self.all if mask is None else self.all[~mask]
+        idx = self.all if mask is None else self.all[~mask[self.all]]
         return model.fit(self.sig, idx, x0, f_scale, max_nfev=200)
 
     # --- detectors -----------------------------------------------------------
@@ -294,8 +297,10 @@ class Search:
             if (allowed is not None and effect.name not in allowed) or effect.name in excluded:
                 continue
             if effect.stage == "mask":
-                full_r = state.model.residual(state.x, sig, self.all)
-                mask = find_glitches(full_r, self.s.glitch_threshold, guard=sig.near_turn)
+                every = np.arange(sig.n)
+                full_r = state.model.residual(state.x, sig, every)
+                mask = find_glitches(full_r, self.s.glitch_threshold, guard=sig.near_turn,
+                                     model=sig.torque - full_r)
                 n_glitch = int(mask.sum())
                 if n_glitch == 0:
                     cands.append(Candidate(effect.name, 0.0, False))

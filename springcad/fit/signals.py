@@ -74,6 +74,12 @@ class Signals:
         return self.run if self.run is not None else np.zeros(self.n, dtype=int)
 
     @functools.cached_property
+    def rate_trace(self) -> np.ndarray:
+        """Deflection rate (rad/s) of :attr:`theta_trace`: the speed a damper or a
+        velocity-regularised friction sees."""
+        return np.gradient(self.theta_trace, self.t)
+
+    @functools.cached_property
     def theta_trace(self) -> np.ndarray:
         """Deflection smoothed for time shifts (rad): a local cubic over ``TRACE_RUN_FRACTION``
         of each run's duration (between ``TRACE_WINDOW_S`` bounds), fitted across the
@@ -280,7 +286,8 @@ def _corner(theta: np.ndarray, near: int, leaving: bool, half: int) -> int:
 
 
 def find_glitches(x: np.ndarray, threshold: float = 6.0, width: int = 9,
-                  guard: np.ndarray | None = None) -> np.ndarray:
+                  guard: np.ndarray | None = None,
+                  model: np.ndarray | None = None) -> np.ndarray:
     """Isolated spikes: samples far from the median of their neighbours.
 
     A sample is a glitch when it differs from the running median over ``width``
@@ -296,6 +303,10 @@ def find_glitches(x: np.ndarray, threshold: float = 6.0, width: int = 9,
             model's reasons (at a reversal of the motion, whose instant the model
             reads on a smoothed deflection): there a glitch must also stand out
             from both its neighbours by the threshold, as a one-sample spike does.
+        model: the model torque behind residual ``x`` (N·m): at a guarded sample
+            a glitch must also exceed the model's own step to its neighbours (a
+            friction that flips at the turn, placed one sample early or late,
+            leaves a one-sample error as large as its step).
 
     Returns:
         Boolean mask, True at glitches.
@@ -311,6 +322,10 @@ def find_glitches(x: np.ndarray, threshold: float = 6.0, width: int = 9,
         nxt = np.concatenate([x[1:], [x[-1]]])
         sign = np.sign(dev)
         spike = np.minimum((x - prev) * sign, (x - nxt) * sign) > threshold * sigma
+        if model is not None:
+            step = np.maximum(np.abs(np.diff(model, prepend=model[0])),
+                              np.abs(np.diff(model, append=model[-1])))
+            spike &= np.abs(dev) > threshold * sigma + step
         out &= ~guard | spike
     return out
 

@@ -38,9 +38,9 @@ def test_library_effects_beside_a_large_structure_are_still_named(extra, effects
     assert set(res.identified) == set(sim.injected), (res.identified, res.rejected)
     assert res.confounded == () and res.unexplained
     if extra is hard_stop:
-        # found beside the stop, and the step says so
-        step = next(s for s in res.steps if s.effect == "hysteresis")
-        assert "structure it cannot describe" in step.evidence["beside_structure"]
+        # found outside the stop (which begins at 0.3 rad), and the result says so
+        assert res.region is not None and 0.2 < res.region["high_rad"] < 0.3, res.region
+        assert "large deflection" in res.region["reason"]
 
 
 def test_a_hard_stop_alone_gets_no_friction():

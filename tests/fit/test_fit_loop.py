@@ -185,13 +185,15 @@ def test_noise_model_of_white_and_camera_rate_noise():
     assert corr.sigma == pytest.approx(np.std(held), rel=0.1)
 
 
-def test_viscous_damping_reads_as_a_leading_torque_channel():
-    # rate-proportional torque c·dθ/dt is, on this bench, a torque channel leading by c/K
+def test_viscous_damping_is_named_in_the_lag_family_with_its_own_law():
+    # rate-proportional torque c·dθ/dt is, on this bench, a torque channel leading by c/K;
+    # of the lag family's laws the damper's fits best, and reports c itself
     sim = simulate_fast(seed=53)
     rec = sim.record
     rate = np.gradient(FAST.deflection(rec.time_s), rec.time_s)
     res, _ = _loop_record(_with_extra_torque(sim, lambda t, th: 0.6 * rate))
     assert res.final.effects == ("time_lag",)
+    assert res.laws["time_lag"]["law"] == "viscous"
     params = res.final.params()
-    assert params["lag_s"] == pytest.approx(-0.6 / K, rel=0.05)
-    assert params["equivalent_viscous_damping_Nms_per_rad"] == pytest.approx(0.6, rel=0.05)
+    assert params["viscous_damping_Nms_per_rad"] == pytest.approx(0.6, rel=0.05)
+    assert params["equivalent_lag_s"] == pytest.approx(-0.6 / K, rel=0.05)

@@ -1,0 +1,95 @@
+"""Which law of an effect family describes the record best.
+
+An effect family (friction, a late torque channel) is searched for with the
+library's law (:data:`springcad.fit.effects.LIBRARY`). Once the loop has named
+it, its other laws (:data:`springcad.fit.effects.OTHER_LAWS`: viscous damping
+and a first-order filter for the lag family, velocity-regularised Coulomb
+friction for the friction family) are fitted in its place, with the rest of
+the model free, and scored with the same held-out criterion. The law with the
+lowest criterion is kept when it beats the one in the model by more than
+``LAW_MARGIN``; the record tells the laws apart when the best beats every
+other by the loop's gain threshold.
+
+A friction that fades at rest read with the library's presliding law (which
+holds its torque through a hold) leaves structure in every hold and turn, and
+a lag fitted beside it takes up part of it; a damper read as a delay leaves a
+stiffness that changes with the frequency. With the right law the family's
+size has its physical meaning (a friction torque in N·m, a damping in
+N·m·s/rad, a filter time constant in s).
+
+Units: N·m, rad, s.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from springcad.fit.effects import OTHER_LAWS, Effect, get_effect
+from springcad.fit.search import Search, State
+from springcad.fit.torque_model import TorqueModel
+
+#: a law replaces the one in the model when it lowers the held-out criterion by this much
+#: (log-likelihood units; the laws have equally many parameters or one fewer)
+LAW_MARGIN = 6.0
+
+
+def _swap(model: TorqueModel, law: Effect) -> TorqueModel:
+    return TorqueModel(tuple(law if e.name == law.name else e for e in model.effects),
+                       model.scales)
+
+
+def _start(search: Search, state: State, model: TorqueModel, law: Effect,
+           idx: np.ndarray) -> np.ndarray:
+    """The best of the law's starts (others at their fitted values, K re-solved)."""
+    rest = state.model.without(law.name)
+    x_rest = rest.transfer(state.model, state.x)
+    best, best_sse = None, np.inf
+    for s in law.starts(model.scales):
+        x = model.solve_stiffness(model.transfer(rest, x_rest, {law.name: s}), search.sig, idx)
+        r = model.residual(x, search.sig, idx)
+        sse = float(r @ r)
+        if sse < best_sse:
+            best, best_sse = x, sse
+    return best
+
+
+def choose_laws(state: State, search: Search, f_scale: float) -> tuple[State, dict]:
+    """Fit each named family's other laws in its place; keep the best (see module docstring).
+
+    Returns:
+        The state (with the chosen laws, refitted) and, per family, ``law`` (the
+        one kept), ``criterion_vs_kept`` (held-out criterion of each law minus
+        the kept one's: positive is worse) and ``told_apart``.
+    """
+    info = {}
+    for effect in list(state.model.effects):
+        name = effect.name
+        if name not in OTHER_LAWS:
+            continue
+        laws = (get_effect(name),) + OTHER_LAWS[name]
+        idx = state.inliers(search.cv)
+        scores, fits = {}, {}
+        for law in laws:
+            if law.law == effect.law:
+                model, x0 = state.model, state.x
+            else:
+                model = _swap(state.model, law)
+                x0 = _start(search, state, model, law, idx)
+            score, _ = search.cv_score(model, x0, state.mask, f_scale)
+            x_fit = search.last_fit
+            problem = law.physical_problem(x_fit[model.slice_of(name)], float(x_fit[0]),
+                                           model.scales)
+            if problem is None or law.law == effect.law:
+                scores[law.law], fits[law.law] = score, (model, x_fit, law)
+        now = scores[effect.law]
+        best = min(scores, key=scores.get)
+        if best != effect.law and scores[best] < now - LAW_MARGIN:
+            model, x_fit, law = fits[best]
+            x = search.refit(model, x_fit, state.mask, f_scale)
+            state = State(model, x, state.mask, state.series)
+        kept = next(e for e in state.model.effects if e.name == name).law
+        others = sorted(v - scores[kept] for k, v in scores.items() if k != kept)
+        info[name] = {"law": kept,
+                      "criterion_vs_kept": {k: v - scores[kept] for k, v in scores.items()},
+                      "told_apart": bool(others and others[0] > search.s.gain_threshold)}
+    return state, info
