@@ -234,7 +234,8 @@ def _worst(q, kind: str, ts: float, tc: float) -> float:
     gap's surfaces is one of that pair ("ball": the ring side, "flank": the cam side,
     "ring": a ring-to-ring gap, "": neither), ts and tc the ring's and cam's tolerances."""
     T = ts + tc
-    E = np.linspace(-T, T, 401) if T > 0 else np.zeros(1)
+    # a fine grid plus the kinks of min(ts, E + tc) and min(tc, E + ts)
+    E = (np.union1d(np.linspace(-T, T, 2001), [ts - tc, tc - ts]) if T > 0 else np.zeros(1))
     if kind == "ball":  # e_ball is at most ts and at most E + tc (e_flank >= -tc)
         own = np.minimum(ts, E + tc) + tc
     elif kind == "flank":
@@ -274,7 +275,8 @@ def _clearance(name, states, t_spring, t_shaft, draws, rng, distribution) -> Cle
     other = lambda tol: _deviations(rng, tol, n, distribution)  # noqa: E731
     ring = (draws["ball"] if kind == "ball" else other(t_spring))
     cam = (draws["flank"] if kind == "flank" else other(t_spring if kind == "ring" else t_shaft))
-    e_contact = np.clip(draws["ball"] + draws["flank"], E.min(), E.max())
+    T = t_spring + t_shaft  # the worst case's range of E (extrapolated past a failed offset)
+    e_contact = np.clip(draws["ball"] + draws["flank"], -T, T)
     mc = q(e_contact) - ring - cam
     stack = 2 * t_spring if kind == "ring" else t_spring + t_shaft
     return Clearance(name=name, nominal_mm=float(q(0.0)), stack_mm=stack,
