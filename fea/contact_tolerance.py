@@ -33,7 +33,8 @@ Clearances
     t_spring ring to ring) when t_spring = t_shaft. Monte Carlo: every deviation
     drawn (the job's tolerance distribution, seeded, 20000 parts); reported are
     the fraction of parts whose gap closes and the 0.1 % quantile.
-    A gap is accepted when its worst case stays open.
+    A gap is accepted when its worst case stays open and its nominal value exceeds
+    the plain stack.
 
 :func:`assess` turns the per-offset reports into a :class:`ContactAtMax`; its
 ``failures()`` feed the release gate. Units: mm, N, MPa, rad.
@@ -105,12 +106,13 @@ class Clearance:
     mc_closed_fraction: float
     mc_quantile_mm: float
     largest_tolerance_fraction: float
-    """Largest common scale of t_spring and t_shaft at which the worst case stays open (1
-    when the job's tolerances already do, 0 when the nominal gap itself is closed)."""
+    """Largest common scale of t_spring and t_shaft at which the gap passes (1 when the
+    job's tolerances already do, 0 when the nominal gap itself is closed)."""
 
     @property
     def ok(self) -> bool:
-        return self.worst_case_mm > 0
+        """The worst case stays open and the nominal gap exceeds the plain stack."""
+        return self.worst_case_mm > 0 and self.nominal_mm > self.stack_mm
 
     def to_dict(self) -> dict:
         return {"nominal_mm": self.nominal_mm, "stack_mm": self.stack_mm,
@@ -260,16 +262,22 @@ def _clearance(name, states, t_spring, t_shaft, draws, rng, distribution) -> Cle
     g = np.array([s.clearances_mm[name] for s in states])
     q = _quadratic(E, g)
     kind = _kind(name)
+    stack = 2 * t_spring if kind == "ring" else t_spring + t_shaft
+    nominal = float(q(0.0))
     worst = _worst(q, kind, t_spring, t_shaft)
-    if worst > 0:
+
+    def passes(f):
+        return _worst(q, kind, f * t_spring, f * t_shaft) > 0 and nominal > f * stack
+
+    if passes(1.0):
         frac = 1.0
-    elif _worst(q, kind, 0.0, 0.0) <= 0:
+    elif nominal <= 0:
         frac = 0.0
     else:
         lo, hi = 0.0, 1.0
         for _ in range(40):
             mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if _worst(q, kind, mid * t_spring, mid * t_shaft) > 0 else (lo, mid)
+            lo, hi = (mid, hi) if passes(mid) else (lo, mid)
         frac = lo
     n = len(draws["ball"])
     other = lambda tol: _deviations(rng, tol, n, distribution)  # noqa: E731
@@ -278,8 +286,7 @@ def _clearance(name, states, t_spring, t_shaft, draws, rng, distribution) -> Cle
     T = t_spring + t_shaft  # the worst case's range of E (extrapolated past a failed offset)
     e_contact = np.clip(draws["ball"] + draws["flank"], -T, T)
     mc = q(e_contact) - ring - cam
-    stack = 2 * t_spring if kind == "ring" else t_spring + t_shaft
-    return Clearance(name=name, nominal_mm=float(q(0.0)), stack_mm=stack,
+    return Clearance(name=name, nominal_mm=nominal, stack_mm=stack,
                      by_offset_mm={float(e): float(v) for e, v in zip(E, g)},
                      worst_case_mm=worst, mc_closed_fraction=float(np.mean(mc <= 0)),
                      mc_quantile_mm=float(np.quantile(mc, MC_QUANTILE)),
