@@ -48,6 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from springcad.design.contact_stress import ContactMargin, min_tip_radius_for_contact_mm
+from springcad.design.tolerance import deviations
 
 #: ring-to-ring gaps (the others are ring to cam)
 RING_TO_RING = ("neighbour_flexure",)
@@ -78,14 +79,6 @@ class EndState:
     hertz: dict | None = None
     clearances_mm: dict = field(default_factory=dict)
     reason: str = ""
-
-
-def _deviations(rng, tol: float, size: int, distribution: str) -> np.ndarray:
-    if tol <= 0:
-        return np.zeros(size)
-    if distribution == "normal":  # the tolerance read as 3 sigma
-        return rng.normal(0.0, tol / 3.0, size)
-    return rng.uniform(-tol, tol, size)
 
 
 def _quadratic(E: np.ndarray, g: np.ndarray):
@@ -280,7 +273,7 @@ def _clearance(name, states, t_spring, t_shaft, draws, rng, distribution) -> Cle
             lo, hi = (mid, hi) if passes(mid) else (lo, mid)
         frac = lo
     n = len(draws["ball"])
-    other = lambda tol: _deviations(rng, tol, n, distribution)  # noqa: E731
+    other = lambda tol: deviations(rng, tol, n, distribution)  # noqa: E731
     ring = (draws["ball"] if kind == "ball" else other(t_spring))
     cam = (draws["flank"] if kind == "flank" else other(t_spring if kind == "ring" else t_shaft))
     T = t_spring + t_shaft  # the worst case's range of E (extrapolated past a failed offset)
@@ -361,8 +354,8 @@ def assess(name: str, ends: dict, r_tip_mm: float, thickness_mm: float,
                                 material.safety_factor) if nominal.hertz else None)
         if margin is None:
             notes.append("no ball contact at theta_max")
-        draws = {"ball": _deviations(rng, t_spring_mm, MC_SAMPLES, distribution),
-                 "flank": _deviations(rng, t_shaft_mm, MC_SAMPLES, distribution)}
+        draws = {"ball": deviations(rng, t_spring_mm, MC_SAMPLES, distribution),
+                 "flank": deviations(rng, t_shaft_mm, MC_SAMPLES, distribution)}
         clearances = [_clearance(gap, used, t_spring_mm, t_shaft_mm, draws, rng, distribution)
                       for gap in nominal.clearances_mm]
         checks[key] = EndCheck(key, angle, contact, margin, clearances, notes)
