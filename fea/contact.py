@@ -263,8 +263,31 @@ def _end_state(sc: SectorContact, st: State, driving: str, sign: int, ball, mate
                     hertz=c["hertz"] if c else None, clearances_mm=clear)
 
 
+#: the cam dilation grows from 0 in steps of at most this at rest (mm): a cam that
+#: interferes by tens of um pinches the ball between both flanks, which Newton's method
+#: does not reach from the undeformed ring in one step
+OFFSET_STEP_MM = 0.005
+
+
+def _offset_path(sc: SectorContact, curve: CamCurve, offset_mm: float, sign: int,
+                 theta_max: float, steps: int) -> State:
+    """The converged state at sign * theta_max against the cam dilated by ``offset_mm``:
+    the dilation applied at rest in small steps, then the cam turned to the contact onset
+    and on in ``steps`` steps, like the nominal sweep. Leaves ``sc.cam`` dilated."""
+    st = sc.solve(0.0, sc.rest())
+    m = max(1, math.ceil(abs(offset_mm) / OFFSET_STEP_MM)) if offset_mm > 0 else 1
+    for k in range(1, m + 1):
+        sc.cam = curve.dilated(offset_mm * k / m)
+        st = sc.solve(0.0, st)
+    path = _Path(sc, sign, theta_max / steps, start=st)
+    on = _onset(sc, sign, theta_max)
+    if math.isfinite(on) and on != 0.0:
+        path.to(on)
+    return path.to(sign * theta_max)
+
+
 def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
-            theta_max: float, steps: int, ball, seed: int):
+            theta_max: float, steps: int, ball, seed: int, rest_clearance_mm: float):
     """The contact rules at +-theta_max (:mod:`fea.contact_tolerance`): the nominal end
     states, and the path to each end again against the cam dilated by -+T (T = t_spring
     + t_shaft, the largest deviation of ball and flank together)."""
@@ -280,12 +303,18 @@ def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
             continue
         states = [_end_state(sc, final[key], driving, sign, ball, material, groups)]
         for offset in ((-T, T) if T > 0 else ()):
-            sc.cam = curve.dilated(offset)
             try:
-                st = _Path(sc, sign, theta_max / steps).to(sign * theta_max)
+                st = _offset_path(sc, curve, offset, sign, theta_max, steps)
                 states.append(_end_state(sc, st, driving, sign, ball, material, groups))
             except SolverError as err:
-                states.append(EndState(offset, False, reason=f"no converged contact ({err})"))
+                why = f"no converged contact ({err})"
+                if offset > rest_clearance_mm:
+                    why = (f"the cam grown by {1000 * offset:.0f} um overlaps the ball at rest "
+                           f"by {1000 * (offset - rest_clearance_mm):.0f} um (designed clearance "
+                           f"{1000 * rest_clearance_mm:.0f} um < t_spring + t_shaft): the ball "
+                           f"is pinched between both flanks and no contact state converges "
+                           f"({err})")
+                states.append(EndState(offset, False, reason=why))
             finally:
                 sc.cam = curve
         ends[key] = (sign * theta_max, states)
@@ -330,9 +359,11 @@ class _Path:
     fails down to 1/16 of a step is retried from the last state without predictor and
     with more iterations; if that fails too the path is stuck (:class:`_Stuck`)."""
 
-    def __init__(self, sc: SectorContact, sign: int, max_step_rad: float):
+    def __init__(self, sc: SectorContact, sign: int, max_step_rad: float,
+                 start: State | None = None):
         self.sc, self.sign, self.max_step = sc, sign, max_step_rad
-        self.state = sc.solve(0.0, sc.rest())  # not the rest state when the cam interferes
+        # not the rest state when the cam interferes
+        self.state = start if start is not None else sc.solve(0.0, sc.rest())
         self.rate = None  # du / dtheta of the last increment
         self.jumps: list[float] = []
 
@@ -475,7 +506,8 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
     at_max = None
     if options.tolerances:
         progress("contact at +-theta_max with the profile tolerances", None)
-        at_max = _at_max(sc, curve, design, material, final, theta_max, n, ball, options.seed)
+        at_max = _at_max(sc, curve, design, material, final, theta_max, n, ball, options.seed,
+                         rest_clearance)
     t3 = time.perf_counter()
     return ContactSweep(
         name=design.name, max_deflection_rad=theta_max, n_flexures=design.n_flexures,

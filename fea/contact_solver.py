@@ -448,6 +448,17 @@ class SectorContact:
 
     def solve(self, theta: float, start: State, predictor: np.ndarray | None = None,
               max_iter: int = 40) -> State:
+        """Contact equilibrium at cam angle ``theta`` (rad), Newton from ``start`` (see
+        :meth:`_solve`). A failed solve drops the tangent it factorised on the way: it
+        belongs to a diverged iterate and must not seed the next solve."""
+        try:
+            return self._solve(theta, start, predictor, max_iter)
+        except SolverError:
+            self._lu, self._u_lu = None, None
+            raise
+
+    def _solve(self, theta: float, start: State, predictor: np.ndarray | None = None,
+               max_iter: int = 40) -> State:
         """Contact equilibrium at cam angle ``theta`` (rad), Newton from ``start``.
 
         Each iteration linearises the elasticity and the gaps of the candidates nearer

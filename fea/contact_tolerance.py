@@ -33,7 +33,8 @@ Clearances
     t_spring ring to ring) when t_spring = t_shaft. Monte Carlo: every deviation
     drawn (the job's tolerance distribution, seeded, 20000 parts); reported are
     the fraction of parts whose gap closes and the 0.1 % quantile.
-    A gap is accepted when its worst case stays open.
+    A gap is accepted when its worst case stays open and its nominal value exceeds
+    the plain stack.
 
 :func:`assess` turns the per-offset reports into a :class:`ContactAtMax`; its
 ``failures()`` feed the release gate. Units: mm, N, MPa, rad.
@@ -47,6 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from springcad.design.contact_stress import ContactMargin, min_tip_radius_for_contact_mm
+from springcad.design.tolerance import deviations
 
 #: ring-to-ring gaps (the others are ring to cam)
 RING_TO_RING = ("neighbour_flexure",)
@@ -79,14 +81,6 @@ class EndState:
     reason: str = ""
 
 
-def _deviations(rng, tol: float, size: int, distribution: str) -> np.ndarray:
-    if tol <= 0:
-        return np.zeros(size)
-    if distribution == "normal":  # the tolerance read as 3 sigma
-        return rng.normal(0.0, tol / 3.0, size)
-    return rng.uniform(-tol, tol, size)
-
-
 def _quadratic(E: np.ndarray, g: np.ndarray):
     """g(E) through the (1 to 3) offsets (constant, linear or quadratic)."""
     coef = np.polyfit(E, g, len(E) - 1) if len(E) > 1 else np.array([g[0]])
@@ -105,12 +99,13 @@ class Clearance:
     mc_closed_fraction: float
     mc_quantile_mm: float
     largest_tolerance_fraction: float
-    """Largest common scale of t_spring and t_shaft at which the worst case stays open (1
-    when the job's tolerances already do, 0 when the nominal gap itself is closed)."""
+    """Largest common scale of t_spring and t_shaft at which the gap passes (1 when the
+    job's tolerances already do, 0 when the nominal gap itself is closed)."""
 
     @property
     def ok(self) -> bool:
-        return self.worst_case_mm > 0
+        """The worst case stays open and the nominal gap exceeds the plain stack."""
+        return self.worst_case_mm > 0 and self.nominal_mm > self.stack_mm
 
     def to_dict(self) -> dict:
         return {"nominal_mm": self.nominal_mm, "stack_mm": self.stack_mm,
@@ -234,7 +229,8 @@ def _worst(q, kind: str, ts: float, tc: float) -> float:
     gap's surfaces is one of that pair ("ball": the ring side, "flank": the cam side,
     "ring": a ring-to-ring gap, "": neither), ts and tc the ring's and cam's tolerances."""
     T = ts + tc
-    E = np.linspace(-T, T, 401) if T > 0 else np.zeros(1)
+    # a fine grid plus the kinks of min(ts, E + tc) and min(tc, E + ts)
+    E = (np.union1d(np.linspace(-T, T, 2001), [ts - tc, tc - ts]) if T > 0 else np.zeros(1))
     if kind == "ball":  # e_ball is at most ts and at most E + tc (e_flank >= -tc)
         own = np.minimum(ts, E + tc) + tc
     elif kind == "flank":
@@ -259,25 +255,31 @@ def _clearance(name, states, t_spring, t_shaft, draws, rng, distribution) -> Cle
     g = np.array([s.clearances_mm[name] for s in states])
     q = _quadratic(E, g)
     kind = _kind(name)
+    stack = 2 * t_spring if kind == "ring" else t_spring + t_shaft
+    nominal = float(q(0.0))
     worst = _worst(q, kind, t_spring, t_shaft)
-    if worst > 0:
+
+    def passes(f):
+        return _worst(q, kind, f * t_spring, f * t_shaft) > 0 and nominal > f * stack
+
+    if passes(1.0):
         frac = 1.0
-    elif _worst(q, kind, 0.0, 0.0) <= 0:
+    elif nominal <= 0:
         frac = 0.0
     else:
         lo, hi = 0.0, 1.0
         for _ in range(40):
             mid = 0.5 * (lo + hi)
-            lo, hi = (mid, hi) if _worst(q, kind, mid * t_spring, mid * t_shaft) > 0 else (lo, mid)
+            lo, hi = (mid, hi) if passes(mid) else (lo, mid)
         frac = lo
     n = len(draws["ball"])
-    other = lambda tol: _deviations(rng, tol, n, distribution)  # noqa: E731
+    other = lambda tol: deviations(rng, tol, n, distribution)  # noqa: E731
     ring = (draws["ball"] if kind == "ball" else other(t_spring))
     cam = (draws["flank"] if kind == "flank" else other(t_spring if kind == "ring" else t_shaft))
-    e_contact = np.clip(draws["ball"] + draws["flank"], E.min(), E.max())
+    T = t_spring + t_shaft  # the worst case's range of E (extrapolated past a failed offset)
+    e_contact = np.clip(draws["ball"] + draws["flank"], -T, T)
     mc = q(e_contact) - ring - cam
-    stack = 2 * t_spring if kind == "ring" else t_spring + t_shaft
-    return Clearance(name=name, nominal_mm=float(q(0.0)), stack_mm=stack,
+    return Clearance(name=name, nominal_mm=nominal, stack_mm=stack,
                      by_offset_mm={float(e): float(v) for e, v in zip(E, g)},
                      worst_case_mm=worst, mc_closed_fraction=float(np.mean(mc <= 0)),
                      mc_quantile_mm=float(np.quantile(mc, MC_QUANTILE)),
@@ -352,8 +354,8 @@ def assess(name: str, ends: dict, r_tip_mm: float, thickness_mm: float,
                                 material.safety_factor) if nominal.hertz else None)
         if margin is None:
             notes.append("no ball contact at theta_max")
-        draws = {"ball": _deviations(rng, t_spring_mm, MC_SAMPLES, distribution),
-                 "flank": _deviations(rng, t_shaft_mm, MC_SAMPLES, distribution)}
+        draws = {"ball": deviations(rng, t_spring_mm, MC_SAMPLES, distribution),
+                 "flank": deviations(rng, t_shaft_mm, MC_SAMPLES, distribution)}
         clearances = [_clearance(gap, used, t_spring_mm, t_shaft_mm, draws, rng, distribution)
                       for gap in nominal.clearances_mm]
         checks[key] = EndCheck(key, angle, contact, margin, clearances, notes)

@@ -413,5 +413,9 @@ class JobVerification:
         lines += [f"contact {n}: {f['message']}" for n, v in self.springs.items()
                   if v.contact is not None for f in v.contact.flags]
         lines += [t for t in (v.contact_summary() for v in self.springs.values()) if t]
-        lines += [f"NOT FOR MANUFACTURE: {r}" for r in self.release_failures()]
+        stops = self.release_failures()
+        if stops:
+            lines.append(f"contact at full deflection: {len(stops)} finding"
+                         f"{'s' if len(stops) != 1 else ''} stop a release (the release gate "
+                         "lists them; fea.json release_failures)")
         return "\n".join(lines)

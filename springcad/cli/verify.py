@@ -93,5 +93,7 @@ def run(args) -> int:
     with atomic_output_dir(out, overwrite=args.overwrite, inputs=[args.config]) as tmp:
         write_outputs(result, tmp, render=not args.no_render, progress=progress)
     print(result.summary())
+    for finding in result.release_failures():  # not a verification failure: build's gate
+        print(f"  contact: {finding}")
     print(f"\nwrote {out / 'fea.json'}")
     return 0 if result.ok else 1

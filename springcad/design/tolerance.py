@@ -89,7 +89,9 @@ class StackBacklash:
         }
 
 
-def _deviations(rng, tol, size, distribution):
+def deviations(rng, tol, size, distribution):
+    """``size`` profile deviations within +-``tol`` (mm): "uniform" in +-tol, or "normal"
+    with tol = 3 sigma."""
     if distribution == "normal":  # tolerance read as 3 sigma
         return rng.normal(0.0, tol / 3.0, size=size)
     return rng.uniform(-tol, tol, size=size)
@@ -119,12 +121,12 @@ def stack_backlash(interfaces: list[Interface], samples: int = 20000, seed: int 
     half = math.sqrt(var)
     rng = np.random.default_rng(seed)
     cams = sorted({i.camshaft for i in interfaces})
-    e_cam = {c: _deviations(rng, max(i.t_shaft_mm for i in interfaces if i.camshaft == c),
+    e_cam = {c: deviations(rng, max(i.t_shaft_mm for i in interfaces if i.camshaft == c),
                             samples, distribution) for c in cams}
     total = np.zeros(samples)
     interfering = np.zeros(samples, dtype=bool)
     for i in interfaces:
-        e_spring = _deviations(rng, i.t_spring_mm, samples, distribution)
+        e_spring = deviations(rng, i.t_spring_mm, samples, distribution)
         d = 2.0 * (i.w_gap_mm + e_spring + e_cam[i.camshaft])
         interfering |= d < 0
         total += backlash_rad(d, i.contact_radius_mm)

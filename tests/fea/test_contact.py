@@ -96,6 +96,24 @@ def test_flat_pad_reproduces_the_linear_fea(which, request, material):
     assert results[True] == pytest.approx(results[False], rel=5e-4)
 
 
+def test_dilated_cam_moves_the_onset_by_the_offset(straight, material):
+    """A flat pad w away from the ball, grown by E (the ball and cam profiles E larger
+    together): contact starts at (w - E) / r_c; shrunk, at (w + |E|) / r_c."""
+    from fea.contact import _onset
+    from fea.contact_solver import CamCurve, SectorContact
+    from springcad.design.curves import Line
+
+    rc, rb = straight.contact_radius_mm, straight.tip_radius_mm
+    w = 0.03
+    pad = Line((rb + w, rc + 0.12), (rb + w, rc - 0.12))
+    curve = CamCurve([("flank_ccw", 0, pad)], True, 0.0)
+    sc = SectorContact(_sector(straight, material), material, curve, rc + 1.0)
+    for E in (0.0, 0.012, -0.012):
+        sc.cam = curve.dilated(E)
+        assert _onset(sc, 1, straight.max_deflection_rad) == pytest.approx((w - E) / rc,
+                                                                           rel=0.01)
+
+
 def test_options_are_validated():
     from fea.contact_result import ContactOptions
     from springcad.errors import SolverError
@@ -162,6 +180,53 @@ def test_sweep_serialises(straight_sweep):
     assert {"pocket", "back_flank", "driving_tooth_tip", "neighbour_flexure"} <= set(
         step["gaps_mm"])
     assert doc["ok"] is True and doc["flags"] == []
+
+
+def test_at_max_reads_the_sweeps_ends(straight):
+    """The contact rules at +-theta_max: the nominal clearances by ring part are the sweep's
+    own gaps at theta_max (their minimum over the parts), the ball stress is the closed
+    form from the reported force and flank radius, and a cam grown by the tolerances brings
+    the back flank nearer (the ball sits farther along the driving flank). Tolerances of
+    10 um each, within the designed 25 um clearance."""
+    from fea.contact import contact_sweep
+    from springcad.design.contact_stress import tip_contact_von_mises_MPa
+
+    m = dataclasses.replace(straight.manufacturing, t_spring_mm=0.01, t_shaft_mm=0.01)
+    straight = dataclasses.replace(straight, manufacturing=m)
+    sweep = contact_sweep(straight)
+    at = sweep.at_max
+    T = m.t_spring_mm + m.t_shaft_mm
+    assert at.offsets_mm == pytest.approx((-T, 0.0, T))
+    for key in "+-":
+        end, step = at.ends[key], sweep.steps[key][-1]
+        for cam_surface, gap in step.gaps_mm.items():
+            parts = [c.nominal_mm for c in end.clearances
+                     if c.name.split("/")[0] == cam_surface]
+            if cam_surface == "driving_flank":
+                continue  # the contact itself; its other parts are separate clearances
+            if cam_surface == "neighbour_flexure":
+                parts = [c.nominal_mm for c in end.clearances if c.name == cam_surface]
+            assert min(parts) == pytest.approx(gap, abs=1e-9), cam_surface
+        c = end.contact
+        mat = straight.material.material
+        assert c["von_mises_MPa"] == pytest.approx(tip_contact_von_mises_MPa(
+            c["force_N"], straight.tip_radius_mm, c["flank_radius_mm"], straight.thickness_mm,
+            mat.youngs_modulus_MPa, mat.poisson_ratio), rel=2e-3)
+        back = next(g for g in end.clearances if g.name == "back_flank/ball")
+        assert back.by_offset_mm[T] < back.nominal_mm < back.by_offset_mm[-T]
+    doc = json.loads(json.dumps(sweep.to_dict()))["at_max_deflection"]
+    assert doc["ok"] == at.ok and doc["failures"] == at.failures()
+
+
+def test_a_cam_grown_past_the_clearance_is_named(straight, straight_sweep):
+    """Tolerances of 30 um each against a 25 um designed clearance: the cam grown by 60 um
+    pinches the ball at rest; that offset is named, the others still judge the gaps."""
+    at = straight_sweep.at_max
+    assert 0.06 not in at.offsets_mm and 0.0 in at.offsets_mm
+    for end in at.ends.values():
+        assert any("pinched between both flanks" in n and "overlaps the ball at rest by 35 um"
+                   in n for n in end.notes), end.notes
+        assert end.clearances
 
 
 def test_contact_png(straight_sweep, tmp_path):
