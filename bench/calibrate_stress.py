@@ -36,7 +36,12 @@ def calibration_designs(flare_free: bool = True) -> dict:
     from springcad.design.spring import with_root
 
     out = {}
-    cases = [(name, name, {}) for name in ("paper_S1.toml", "paper_S2.toml", "default.toml")]
+    # the default's layout as calibrated (2026-11-23), pinned: the design search now sizes
+    # its ball for contact and picks another layout, and a calibration case is a geometry
+    default = {"n_flexures": 29, "contact_radius_mm": 5.581245263275046,
+               "tip_radius_mm": 0.30170661466728743}
+    cases = [(name, name, {}) for name in ("paper_S1.toml", "paper_S2.toml")] + [
+        ("default.toml", "default.toml", default)]
     for label, template, over in [*cases, *EXTRA]:
         data = tomllib.loads((ROOT / "templates" / template).read_text())
         data = copy.deepcopy(data)

@@ -252,7 +252,8 @@ class ContactMargin:
 
 
 def tip_radius_for_contact_mm(force_N, flank_radius_mm, thickness_mm, E_MPa, nu, allowable_MPa):
-    """:func:`min_tip_radius_for_contact_mm` on arrays (numpy broadcasting), for the design
+    """:func:`min_tip_radius_for_contact_mm` on arrays (numpy broadcasting; ``nu`` may be an
+    array too), for the design
     search and the synthesis screen (mm; ``inf`` where no ball is enough, 0 without load).
 
     ``flank_radius_mm`` > 0 convex (the cam flank at the contact; r_c x theta at full
@@ -260,8 +261,10 @@ def tip_radius_for_contact_mm(force_N, flank_radius_mm, thickness_mm, E_MPa, nu,
     """
     force = np.asarray(force_N, dtype=float)
     P = force / np.asarray(thickness_mm, dtype=float)
-    E = contact_modulus_MPa(1.0, nu) * np.asarray(E_MPa, dtype=float)
-    c_vm = von_mises_peak(round(float(nu), 6))[0]
+    nu = np.asarray(nu, dtype=float)
+    uniq, where = np.unique(np.round(nu, 6), return_inverse=True)
+    c_vm = np.array([von_mises_peak(float(v))[0] for v in uniq])[where].reshape(nu.shape)
+    E = np.asarray(E_MPa, dtype=float) / (2.0 * (1.0 - nu ** 2))  # same material both sides
     with np.errstate(divide="ignore", invalid="ignore"):
         k_allowed = math.pi * (np.asarray(allowable_MPa, dtype=float) / c_vm) ** 2 / (P * E)
         k_ball = k_allowed - 1.0 / np.asarray(flank_radius_mm, dtype=float)

@@ -27,6 +27,7 @@ from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, Spri
 from springcad.config.consistency import min_rim_mm
 from springcad.design import flexure as fx
 from springcad.design.cam import TIP_CLEARANCE_SHORT
+from springcad.design.planar import find_defect
 from springcad.design.feasibility import describe, nearest_changes
 from springcad.design.layout import (MAX_CANDIDATES, ContactLimit, Layout, candidate_layouts,
                                      rim_root_radius)
@@ -303,6 +304,9 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
                                                   max_root_radius_mm)
         except _NoMoreLayouts:
             break
+        if d is not None and (defect := profile_defect(d)):
+            rejected.append((None, DesignError(f"spring '{spec.name}': {defect}"), []))
+            continue
         if d is not None:
             d = _replace(d, design_choice=_choice_text(d, rejected),
                          max_root_radius_mm=max_root_radius_mm)
@@ -320,14 +324,36 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
     if not rejected:
         raise DesignError(f"spring '{spec.name}': no candidate layout")
     _, first, history = rejected[0]
-    tried = "" if len(rejected) == 1 else (
-        f" ({len(rejected)} layouts tried; the next: "
-        + "; ".join(_short(e) for _, e, _ in rejected[1:3]) + ")")
-    text = (_stress_text(spec, material, history, first) if history else str(first)) + tried
+    tried = "" if len(rejected) == 1 else f" ({len(rejected)} layouts tried; the first:)"
+    text = _stress_text(spec, material, history, first) if history else str(first)
     if explain:
         raise _refusal(spec, material, manufacturing, hardware, max_root_radius_mm,
-                       text) from first
-    raise DesignError(text) from first
+                       text, tried) from first
+    raise DesignError(text + tried.replace(" the first:", "")) from first
+
+
+#: sample step of the design-time contour check: the solids' own check
+#: (:func:`springcad.geometry.profile.check_loops`) uses the same, so a design that passes
+#: here is not refused there (mm)
+CONTOUR_STEP_MM = 0.02
+
+
+def profile_defect(d: SpringDesign) -> str:
+    """Why the ring's or the cam's contours would not make a valid face, or "".
+
+    The solids' check, run on the design's exact profiles in ~0.1-0.4 s, so a layout
+    whose cam or ring crosses itself is passed over by the search, not refused after
+    the FEA.
+    """
+    for part, profile in (("ring", d.ring), ("camshaft", d.cam)):
+        if profile is None:
+            continue
+        defect = find_defect(profile, CONTOUR_STEP_MM)
+        if defect is not None:
+            x, y = defect.point_mm
+            return (f"the {part} contour {'crosses' if defect.kind == 'cross' else defect.kind} "
+                    f"at ({x:.3f}, {y:.3f}) mm (loops {defect.loops})")
+    return ""
 
 
 def _soft_shortfalls(d: SpringDesign) -> list[str]:
@@ -396,8 +422,11 @@ def _stress_text(spec, material, history, err) -> str:
 PROBE_CANDIDATES = 4
 
 
-def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text) -> DesignError:
-    """The refusal with the nearest values of the user's own keys that design (numbers)."""
+def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
+             tried: str = "") -> DesignError:
+    """The refusal: the nearest values of the user's own keys that design (numbers) first,
+    then why (the binding rule of the reference layout), so a console line cut at its
+    length limit keeps the change."""
     def designs(s) -> bool:
         try:
             d = design_spring(s, material, manufacturing, hardware, explain=False,
@@ -406,4 +435,6 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text) 
             return False
         return d.yield_margin >= material.safety_factor * (1.0 - 1e-3)
 
-    return DesignError(f"{text}; {describe(spec.name, nearest_changes(spec, designs))}")
+    changes = describe(spec.name, nearest_changes(spec, designs))
+    return DesignError(f"spring '{spec.name}' cannot be made as specified; {changes}. "
+                       f"Why{tried}: {_short(text)}")

@@ -138,6 +138,14 @@ class CandidateSpace:
                 np.array(self.fatigue_limited or (False,) * k, dtype=bool),
                 np.array(self.endurance_limit_MPa or (float("nan"),) * k, dtype=float))
 
+    def contact_limits(self, material_index) -> tuple[np.ndarray, np.ndarray]:
+        """(Poisson's ratio, allowed tip-ball contact von Mises MPa) of each row's material:
+        yield / the required yield margin, as the design sizes its balls."""
+        idx = np.asarray(material_index, dtype=int)
+        nu = np.array([m.poisson_ratio for m in self.materials], dtype=float)
+        allowed = np.array([m.yield_strength_MPa / self.yield_margin for m in self.materials])
+        return nu[idx], allowed[idx]
+
     # ------------------------------------------------------------- families
     @property
     def families(self) -> tuple[Family, ...]:

@@ -130,7 +130,7 @@ def _screen_groups(space, cols):
                        tip_radius_mm=space.tip_radius_mm,
                        manufacturing=space.manufacturing, hardware=space.hardware,
                        straight_only=space.flexure == "straight", allowed_peak_MPa=allowed[mat],
-                       fatigue_limited=fatigue_limited[mat])
+                       fatigue_limited=fatigue_limited[mat], contact=space.contact_limits(mat))
     m = len(n_a)
     a = {k: v[inverse[:m]] for k, v in res.items()}
     b = {k: np.full(m, np.nan if v.dtype.kind == "f" else 0, dtype=v.dtype)

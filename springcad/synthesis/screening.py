@@ -46,6 +46,8 @@ from springcad.design import flexure as fx
 from springcad.design.cam import OVERTRAVELS
 from springcad.design.layout import RIM_GAP_RATIO
 from springcad.design.ring import hole_diameter_mm
+from springcad.config.consistency import MIN_RIM_FRACTION, min_rim_mm
+from springcad.design.contact_stress import tip_radius_for_contact_mm
 from springcad.design.search import STRESS_PASSES
 from springcad.synthesis.peak import predict_peaks
 from springcad.synthesis.shapes import U, serpentine_centrelines, serpentine_reach
@@ -104,7 +106,8 @@ def _rim_root(ro, n, rc, w0_of_length, iterations=48):
 def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
                  min_tip_radius_mm: float, manufacturing, hardware,
                  straight_only: bool = False, allowed_peak_MPa=None,
-                 fatigue_limited=None, tip_radius_mm: float | None = None) -> dict[str, np.ndarray]:
+                 fatigue_limited=None, tip_radius_mm: float | None = None,
+                 contact=None) -> dict[str, np.ndarray]:
     """Closed-form design of disks with given r_c, with the design's stress passes.
 
     Args:
@@ -116,6 +119,9 @@ def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
             predicted peak in ``peak_stress_MPa``).
         fatigue_limited: per disk, whether the allowed peak comes from the fatigue margin
             (the failure is then ``fatigue_margin``, else ``yield_margin``).
+        contact: (Poisson's ratio, allowed contact von Mises MPa), scalars or per disk: the balls are
+            sized for their Hertz contact at full deflection as well as bending, as the
+            design's :func:`springcad.design.layout.tip_ball`; None: bending only.
 
     Returns:
         The columns of :func:`_screen` for the last pass, with ``derating`` (beam stress
@@ -125,14 +131,18 @@ def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     n_fixed = np.asarray(n_fixed, dtype=np.int64)
     m = len(n_fixed)
     args = dict(min_tip_radius_mm=min_tip_radius_mm, manufacturing=manufacturing,
-                hardware=hardware, straight_only=straight_only, tip_radius_mm=tip_radius_mm)
+                hardware=hardware, straight_only=straight_only, tip_radius_mm=tip_radius_mm,
+                contact=None if contact is None else
+                tuple(np.broadcast_to(np.asarray(c, dtype=float), (m,)) for c in contact))
     full = [np.broadcast_to(np.asarray(v, dtype=float), (m,))
             for v in (K, theta, ro, z, rc, sigma, E, density_kg_per_mm3)]
 
     def screen(rows, n_rows, sigma_rows, layout_only=False):
         sub = [v[rows] for v in full]
         sub[5] = sigma_rows
-        return _screen(*sub, n_rows, **args, layout_only=layout_only)
+        rows_args = args if contact is None else {
+            **args, "contact": tuple(c[rows] for c in args["contact"])}
+        return _screen(*sub, n_rows, **rows_args, layout_only=layout_only)
 
     everything = np.arange(m)
     n_run = n_fixed.clip(0)
@@ -184,7 +194,7 @@ def _merge(out: dict, rows, cols: dict) -> None:
 def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
             min_tip_radius_mm: float, manufacturing, hardware,
             straight_only: bool = False, layout_only: bool = False,
-            tip_radius_mm: float | None = None) -> dict[str, np.ndarray]:
+            tip_radius_mm: float | None = None, contact=None) -> dict[str, np.ndarray]:
     """Closed-form design of disks with given r_c (arrays of equal length).
 
     Args:
@@ -221,13 +231,20 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     mfg, rw = manufacturing, manufacturing.min_inside_radius_mm
     clearance = max(mfg.min_slot_width_mm, 2 * rw)
 
-    def ball(load, z_, sigma_):
-        """Tip-ball radius (mm) of disks with these tip loads (N)."""
+    def ball(load, z_, sigma_, rows=slice(None)):
+        """Tip-ball radius (mm) of disks with these tip loads (N): bending and, with
+        ``contact``, Hertz contact on the flank r_c theta at full deflection."""
         if tip_radius_mm is not None:
             return np.full(np.shape(load), float(tip_radius_mm))
-        return np.maximum(min_tip_radius_mm, fx.tip_ball_required_radius_mm(load, z_, sigma_))
+        r = fx.tip_ball_required_radius_mm(load, z_, sigma_)
+        if contact is not None:
+            r = np.maximum(r, tip_radius_for_contact_mm(load, rc[rows] * theta[rows], z_,
+                                                        E[rows], contact[0][rows],
+                                                        contact[1][rows]))
+        return np.maximum(min_tip_radius_mm, r)
 
     capped = tip_radius_mm is None
+    rim_min = np.maximum(min_rim_mm(0.0, manufacturing, hardware), MIN_RIM_FRACTION * ro)
 
     def fail(mask, c, v, lim):
         mask = mask & (code == OK)
@@ -249,11 +266,13 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     while np.any(active):
         i = np.flatnonzero(active)
         load = fx.tip_load_N(K[i], theta[i], n[i], rc[i])
-        rb_i = ball(load, z[i], sigma[i])
+        rb_i = ball(load, z[i], sigma[i], i)
         c_i = 6 * load / (z[i] * sigma[i])
-        rr_i = _rim_root(ro[i], n[i], rc[i], lambda L, c=c_i: np.sqrt(c * np.maximum(L, 0.0)))
-        rim_bad = np.isnan(rr_i)
-        fits = n[i] <= _nmax(rb_i, rc[i])
+        rr_i = np.minimum(_rim_root(ro[i], n[i], rc[i],
+                                    lambda L, c=c_i: np.sqrt(c * np.maximum(L, 0.0))),
+                          ro[i] - rim_min[i])  # the rim keeps room for its holes (layout_at)
+        rim_bad = np.isnan(rr_i) | (rr_i <= rc[i])
+        fits = np.isfinite(rb_i) & (n[i] <= _nmax(np.where(np.isfinite(rb_i), rb_i, 1.0), rc[i]))
         sel = np.zeros(m, dtype=bool)
         sel[i[rim_bad]] = True
         fail(sel, RIM_RULE, n.astype(float), ro)
@@ -265,7 +284,8 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         sel[i[retry & fixed]] = True
         fail(sel & capped & (peak > cap), TORQUE_CAP, peak, cap)
         fail(sel, FLEXURE_FIT, n.astype(float),
-             _nmax(ball(fx.tip_load_N(K, theta, n, rc), z, sigma), rc).astype(float))
+             _nmax(np.minimum(ball(fx.tip_load_N(K, theta, n, rc), z, sigma), 1e9),
+                   rc).astype(float))
         free = i[retry & ~fixed]
         n[free] -= 1
         sel[:] = False
@@ -286,7 +306,8 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     if np.any(straight):
         i = np.flatnonzero(straight)
         coef = 8.0 * K[i] / (n[i] * rc[i] ** 2 * E[i] * z[i])
-        rr_s = _rim_root(ro[i], n[i], rc[i], lambda Ls, c=coef: np.cbrt(c * Ls ** 3))
+        rr_s = np.minimum(_rim_root(ro[i], n[i], rc[i], lambda Ls, c=coef: np.cbrt(c * Ls ** 3)),
+                          ro[i] - rim_min[i])
         sel = np.zeros(m, dtype=bool)
         sel[i[np.isnan(rr_s)]] = True
         fail(sel, RIM_RULE, n.astype(float), ro)

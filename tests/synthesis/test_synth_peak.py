@@ -99,7 +99,8 @@ def _screen(cases):
     return screen_disks(*cases[:, :5].T, cases[:, 7], np.full(m, 2e5),
                         JOB.material.material.density_kg_per_mm3, cases[:, 5].astype(int),
                         min_tip_radius_mm=0.3, manufacturing=JOB.manufacturing,
-                        hardware=JOB.hardware, allowed_peak_MPa=YIELD_MPA / cases[:, 6])
+                        hardware=JOB.hardware, allowed_peak_MPa=YIELD_MPA / cases[:, 6],
+                        contact=(JOB.material.material.poisson_ratio, YIELD_MPA / cases[:, 6]))
 
 
 def _compare(cases, res):

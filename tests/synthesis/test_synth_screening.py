@@ -42,7 +42,9 @@ def _screen(cases, n_fixed=None, tip_radius_mm=None):
                         MAT.material.density_kg_per_mm3,
                         np.zeros(m, dtype=int) if n_fixed is None else n_fixed,
                         min_tip_radius_mm=0.3, manufacturing=JOB.manufacturing,
-                        hardware=JOB.hardware, tip_radius_mm=tip_radius_mm)
+                        hardware=JOB.hardware, tip_radius_mm=tip_radius_mm,
+                        contact=(MAT.material.poisson_ratio,
+                                 MAT.material.yield_strength_MPa / MAT.safety_factor))
 
 
 def _full(case, n=None, tip_radius_mm=None):
@@ -55,7 +57,10 @@ def _full(case, n=None, tip_radius_mm=None):
 # cases picked from a seeded sample so that every branch appears: straight, serpentine,
 # energy bound, torque cap, serpentine budget
 CASES = np.vstack([_cases(0, 60)[[10, 16, 18, 19, 22, 1, 4, 5, 7]],
-                   [[150e3, math.radians(14), 33.5, 4.5, 6.0]]])
+                   [[150e3, math.radians(14), 33.5, 4.5, 6.0],
+                    # a serpentine the contact-sized ball still allows (the seeded sample's
+                    # serpentines at r_c 5.5-6 mm now need balls that do not fit)
+                    [120e3, math.radians(16), 33.5, 4.5, 6.5]]])
 
 
 def test_screening_matches_full_design():
