@@ -106,7 +106,8 @@ class SpringVerification:
                        f"{self.stiffness_fea_Nmm_per_rad / NMM_PER_NM:.2f} N*m/rad misses the "
                        f"target {self.stiffness_target_Nmm_per_rad / NMM_PER_NM:.2f} by "
                        f"{100 * self.error_vs_target:+.2f} % "
-                       f"(tolerance {100 * self.tolerance:.2g} %)")
+                       f"(tolerance {100 * self.tolerance:.2g} %)"
+                       + "".join(f"; {n}" for n in self.notes if "correction stopped" in n))
         return out
 
     def stress_failures(self) -> list[str]:

@@ -83,6 +83,7 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
     previous = None  # run whose 3D factors are carried between 3D checks
     k = 0
     stress_passes = 0
+    redesigned_for_k = False
     while True:
         progress(f"spring {design.name}: iteration {k} (width scale {design.width_scale:.5f})",
                  None)
@@ -138,8 +139,21 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
 
             design = with_width_scale(design, new_scale)
         except DesignError as exc:
-            notes.append(f"correction stopped: {exc}")
-            break
+            # the wider flexures break a rule: a layout with room for them, from the search
+            if redesigned_for_k:
+                notes.append(f"correction stopped: {exc}")
+                break
+            redesigned_for_k = True
+            try:
+                from springcad.design import search as spring_design
+
+                ratio = (target / K) * design.stiffness_beam_Nmm_per_rad / target
+                design = spring_design.redesign_for_stiffness(design, ratio)
+            except DesignError as exc2:
+                notes.append(f"correction stopped: {exc}; no layout carries the beam stiffness "
+                             f"{ratio:.4f} x the target either ({exc2})")
+                break
+            previous = None
         k += 1
     if run.study.peak_stress.behaviour == "diverging" and not math.isfinite(
             run.study.peak_stress.error):

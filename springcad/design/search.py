@@ -405,6 +405,33 @@ def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign
     return d
 
 
+def redesign_for_stiffness(design: SpringDesign, k_ratio: float) -> SpringDesign:
+    """The spring redesigned for a beam stiffness ``k_ratio`` x its target, target unchanged.
+
+    The FEA stiffness correction when the widths cannot simply be scaled (the wider
+    flexures would break the neighbour clearance or the edge radius): the design search
+    runs for K_target x ``k_ratio`` (the FEA measured K_target / ``k_ratio`` for the
+    beam's K_target), so it chooses a layout with room for those widths under every
+    rule; the spec (and so the target) is then the user's again. Rim holes stay on the
+    design's hole circle.
+
+    Raises:
+        DesignError: no layout carries that stiffness in the envelope.
+    """
+    from springcad.design.ring import with_hole_circle
+
+    spec = design.spec
+    biased = _replace(spec, stiffness_Nmm_per_rad=spec.stiffness_Nmm_per_rad * k_ratio)
+    d = design_spring(biased, design.material, design.manufacturing, design.hardware,
+                      explain=False, max_root_radius_mm=design.max_root_radius_mm)
+    d = _replace(d, spec=spec, warnings=d.warnings, design_choice=(
+        f"{d.design_choice}; redesigned by the FEA stiffness correction for a beam stiffness "
+        f"{k_ratio:.4f} x the target (the widths alone could not be scaled)"))
+    if design.hole_centres_mm:
+        d = with_hole_circle(d, math.hypot(*design.hole_centres_mm[0]))
+    return d
+
+
 def _stress_text(spec, material, history, err) -> str:
     """Why no beam stress keeps the yield margin (the last stress pass, numbers)."""
     derating, peak, region = history[-1]
