@@ -81,4 +81,4 @@ def test_default_designs_with_a_clear_tooth_tip_and_contact_sized_ball(deg):
     vm = tip_contact_von_mises_MPa(force, d.tip_radius_mm, d.contact_radius_mm *
                                    d.max_deflection_rad, d.thickness_mm,
                                    mat.youngs_modulus_MPa, mat.poisson_ratio)
-    assert mat.yield_strength_MPa / vm >= job.material.safety_factor
+    assert mat.yield_strength_MPa / vm >= job.material.safety_factor * (1 - 1e-6)  # sized to it
