@@ -61,7 +61,7 @@ from springcad.fit.models import nrmse_pct
 from springcad.fit.nuisance import nuisance_views
 from springcad.fit.residual import residual_structure
 from springcad.fit.search import (BESIDE_STRUCTURE, Candidate, LoopSettings, Search,  # noqa: F401
-                                  State, line_fit)
+                                  State, line_fit, turn_guard)
 from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel, single_threaded_blas
 
@@ -496,7 +496,8 @@ def _drop(state: State, name: str, lp: Search, f_scale: float, steps: list[Step]
 def _refresh_mask(state: State, lp: Search, f_scale: float) -> State:
     """Re-detect glitches on the new residual and refit if they changed."""
     r = state.model.residual(state.x, lp.sig, np.arange(lp.sig.n))
-    mask = find_glitches(r, lp.s.glitch_threshold, guard=lp.sig.near_turn,
+    mask = find_glitches(r, lp.s.glitch_threshold,
+                         guard=turn_guard(state.model, state.x, lp.sig),
                          model=lp.sig.torque - r)
     if np.array_equal(mask, state.mask):
         return state

@@ -254,11 +254,17 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     excess = (float(np.sum(energy)) - dof * var_noise) / max(float(np.sum(feats["n"])), 1.0)
     unexplained |= verdict("by_run", chi2, dof, excess, {"runs": int(feats["n"].size)})
 
-    spec = periodogram(r, sig.scales.sample_rate_hz / max(float(np.median(np.diff(idx))), 1.0))
+    rate_hz = sig.scales.sample_rate_hz / max(float(np.median(np.diff(idx))), 1.0)
+    spec = periodogram(r, rate_hz)
     # the whole line (its skirt and harmonics), not the largest bin: a structure at the
-    # threshold must not pass or fail with where its line falls between bins
+    # threshold must not pass or fail with where its line falls between bins; measured
+    # with the residual's means by deflection and direction taken out (the bins of the
+    # test above), or on a periodic motion (a sine) every shape in deflection would
+    # count again as harmonics of the drive
+    cnt = np.bincount(key_theta)
+    flat = r - (np.bincount(key_theta, weights=r) / np.maximum(cnt, 1))[key_theta]
     excess = max(0.5 * spec["peak_amplitude"] ** 2 - sigma ** 2 / max(r.size, 1),
-                 spec["line_ms"])
+                 periodogram(flat, rate_hz)["line_ms"])
     p = spec["p_value"]
     struct_rms = math.sqrt(excess)
     significant = p < p_level and struct_rms > min_rms * sigma

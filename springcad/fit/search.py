@@ -299,7 +299,8 @@ class Search:
             if effect.stage == "mask":
                 every = np.arange(sig.n)
                 full_r = state.model.residual(state.x, sig, every)
-                mask = find_glitches(full_r, self.s.glitch_threshold, guard=sig.near_turn,
+                mask = find_glitches(full_r, self.s.glitch_threshold,
+                                     guard=turn_guard(state.model, state.x, sig),
                                      model=sig.torque - full_r)
                 n_glitch = int(mask.sum())
                 if n_glitch == 0:
@@ -394,6 +395,23 @@ class Search:
         other = copy.copy(self)
         other.sig = sig
         return other
+
+
+def turn_guard(model: TorqueModel, x: np.ndarray, sig: Signals) -> np.ndarray:
+    """Samples where the residual may swing at a turn (``Signals.near_turn``), also as
+    late as the model makes the torque channel: with a 30 ms lag the torque turns 30 ms
+    after the deflection, and so do the residual's swings there."""
+    guard = sig.near_turn
+    shift = sum(e.time_shift_s(x[model.slice_of(e.name)]) for e in model.effects)
+    k = int(round(shift * sig.scales.sample_rate_hz))
+    if k == 0 or abs(k) >= sig.n:
+        return guard
+    late = np.zeros_like(guard)
+    if k > 0:
+        late[k:] = guard[:-k]
+    else:
+        late[:k] = guard[-k:]
+    return guard | late
 
 
 def line_fit(x: np.ndarray, y: np.ndarray, with_slope: bool) -> tuple[float, float]:
