@@ -56,7 +56,7 @@ FLOATING_FROM_SPRINGS = 3
 #: (material, default density kg/m^3) of the rim spacers and of the plastic parts; the
 #: densities used are hardware.rim_spacer_density_kg_per_m3 / plastic_density_kg_per_m3
 ALUMINIUM = ("aluminium 6061-T6", 2700.0)
-PLASTIC = ("acetal copolymer POM-C, unfilled natural sheet", 1420.0)
+PLASTIC = ("acetal copolymer POM-C, unfilled, natural", 1420.0)
 FASTENER_STEEL = ("steel", 7850.0)
 
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from springcad.data import data_path
-from springcad.design.processes import process_chain_text, process_text
+from springcad.design.processes import process_chain_text, process_text, processes
 from springcad.export.release import UNASSESSED, ReleaseStatus
 from springcad.export.sheet import (FRAME_MM, LABEL_FONT, NOTE_FONT, THICK, Sheet, fmt,
                                     scale_text)
@@ -66,6 +66,14 @@ def load_title_block(path: Path | None = None) -> dict:
         return tomllib.load(fh)
 
 
+def _finisher(info, fit: str) -> str:
+    """The process that finishes a fit: the first of the part's processes (main, then
+    secondary) that holds it."""
+    keys = [k for k in (info.process, *info.secondary_processes)
+            if k in processes() and processes()[k].can_finish(fit)]
+    return process_text(keys[0]) if keys else "(no listed process holds it)"
+
+
 def fields(part, info: DrawingInfo, scale: float, template: dict) -> dict:
     """The values the template's ``{field}`` placeholders take."""
     from springcad.geometry.sheet_cut import iso_fits
@@ -82,13 +90,24 @@ def fields(part, info: DrawingInfo, scale: float, template: dict) -> dict:
                           else "- (no DXF)"), "units": "mm",
             "revision": info.revision, "date": info.date, "scale": scale_text(scale),
             "job": info.job, "process": process_chain_text(p.process, p.secondary_processes),
-            "fits": ", ".join(f"{fit} ({feature})" for feature, fit in fits.items()),
-            "finish": " and ".join(process_text(k) for k in p.secondary_processes
-                                   if k != "turned") or process_text(p.process),
+            "fits": ", ".join(f"{fit} ({feature}) {_finisher(p, fit)}"
+                              for feature, fit in fits.items()),
             "drawn_by": info.drawn_by, "sheet": "1/1", "standard": p.standard or "-",
             "general_tolerance": template.get("block", {}).get("general_tolerance",
                                                                 "ISO 2768-mK"),
             "flatness": fmt(flat) if flat is not None else "", "projection": ""}
+
+
+def process_position_mm(key: str) -> float:
+    """Radius of the true-position zone of holes cut by this process (mm; 0 if unknown)."""
+    p = processes().get(key)
+    return p.position_tolerance_mm if p else 0.0
+
+
+def _has_hole_table(part) -> bool:
+    from springcad.export.views import hole_rows
+
+    return bool(hole_rows(part.slabs[-1].region, ""))
 
 
 def note_lines(part, values: dict, template: dict) -> list[str]:
@@ -112,6 +131,10 @@ def note_lines(part, values: dict, template: dict) -> list[str]:
         lines.append(f"Wire Ø{fmt(m.wire_diameter_mm)} mm or finer: the smallest inside "
                      f"radius R{fmt(m.min_inside_radius_mm)} is the wire radius + the "
                      f"{fmt(m.spark_gap_mm)} mm spark gap.")
+    pos = process_position_mm(p.process)
+    if pos > 0 and _has_hole_table(part):
+        lines.append(f"Hole positions (hole table): true position Ø{fmt(2 * pos)} relative to "
+                     "datum A, the outer diameter, and datum B, hole #1 (its angle).")
     if values["flatness"]:
         lines += notes.get("flatness", [])
     elif p.cut_profile is not None and p.thickness_mm <= THIN_SHEET_MM:
