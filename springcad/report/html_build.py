@@ -213,7 +213,7 @@ def _drawings_html(out: Path) -> str:
 #: BOM columns the report shows: (heading, CSV column(s)); the CSV keeps every column
 BOM_VIEW = (("item", ("item",)), ("part number", ("part_number",)), ("name", ("name",)),
             ("part", ("title",)), ("qty", ("quantity",)), ("make / buy", ("make_or_buy",)),
-            ("process", ("process",)), ("material", ("material", "heat_treatment")),
+            ("process", ("process",)), ("material", ("material",)),
             ("standard", ("standard",)), ("t / L (mm)", ("thickness_or_length_mm",)),
             ("mass each / total (g)", ("mass_each_g", "mass_total_g")))
 #: numeric BOM columns (right-aligned)
@@ -241,8 +241,6 @@ def _bom_html(out: Path) -> str:
         cells = []
         for h, cols in BOM_VIEW:
             text = " / ".join(r.get(c, "") for c in cols if r.get(c, ""))
-            if h == "material" and r.get("heat_treatment"):
-                text = f"{r.get('material', '')}, {r['heat_treatment']}"
             cls = " class='n'" if h in _BOM_NUMERIC else ""
             cells.append(f"<td{cls}>{html.escape(text)}</td>")
         cells.append(f"<td>{_bom_files(r.get('files', ''))}</td>")
