@@ -355,13 +355,15 @@ class _Layout:
         try:
             fit = rim_spacer_fit(root, self.r_outer, r_hc, pin, pin_max, self.gap, edge)
         except DesignError:
-            if r_hc - 0.5 * springs[j].hole_diameter_mm - root >= edge - 1e-9:
-                raise
-            # the rim itself is too narrow for its holes: the spring's plausibility check
-            # names that; lay the spacer out as the rim
-            return pl.RimSpacerPlan(inner_radius_mm=root, outer_radius_mm=self.r_outer,
-                                    hole_centres_mm=centres,
-                                    hole_diameter_mm=springs[j].hole_diameter_mm, joint=j,
+            # no process meets every rule: lay the spacer out for wire EDM as well as the
+            # rim allows (inner edge no closer than the roots); the build's wire-EDM rules
+            # then refuse it with the webs measured (or the spring's own rim check does),
+            # and the design search can still weigh the stack
+            hole = process("wire_edm").clearance_hole(
+                pin_max, process("wire_edm").position_tolerance_mm)
+            r_in = max(root, min(root + ROOT_CLEARANCE_MM, r_hc - 0.5 * hole - edge))
+            return pl.RimSpacerPlan(inner_radius_mm=r_in, outer_radius_mm=self.r_outer,
+                                    hole_centres_mm=centres, hole_diameter_mm=hole, joint=j,
                                     process="wire_edm")
         return pl.RimSpacerPlan(inner_radius_mm=fit.inner_radius_mm, outer_radius_mm=self.r_outer,
                                 hole_centres_mm=centres, hole_diameter_mm=fit.hole_diameter_mm,
