@@ -14,11 +14,26 @@ import math
 from dataclasses import dataclass
 
 from springcad.design import plans as pl
+from springcad.design.catalogue import rim_dowel_length
 from springcad.design.connections import SHAFT, camshaft_indices
+from springcad.design.processes import process
+from springcad.design.tolerance import DJoint, d_half_chord_mm
+from springcad.errors import DesignError
 from springcad.units import KG_PER_MM3_PER_KG_PER_M3
 
 #: radial clearance between the rim spacer / washer and the flexure roots (mm)
 ROOT_CLEARANCE_MM = 0.3
+#: rim spacer processes, cheapest first: the first whose webs fit is used
+RIM_SPACER_PROCESSES = ("laser", "wire_edm")
+#: upper deviation of an ISO 8734 m6 dowel up to 3 mm (mm): the largest pin a spacer's
+#: clearance hole must pass
+M6_UPPER_MM = 0.008
+#: radial margin between the flexure roots and the spacer's inner edge after the spacer
+#: has shifted by its play on the pins (mm)
+ROOT_MARGIN_MM = 0.02
+#: profile tolerance of the turned torque shafts (mm): their D flats are toleranced
+#: one-sided by it (springcad.geometry.adapters.TorqueShaft)
+TORQUE_SHAFT_TOLERANCE_MM = 0.02
 #: radial clearance of the plastic bushing over the rims (mm)
 BUSHING_CLEARANCE_MM = 0.05
 #: centre spacer overhang beyond the cam teeth (mm)
@@ -41,7 +56,7 @@ FLOATING_FROM_SPRINGS = 3
 #: (material, default density kg/m^3) of the rim spacers and of the plastic parts; the
 #: densities used are hardware.rim_spacer_density_kg_per_m3 / plastic_density_kg_per_m3
 ALUMINIUM = ("aluminium 6061-T6", 2700.0)
-PLASTIC = ("acetal (POM)", 1420.0)
+PLASTIC = ("acetal copolymer POM-C, unfilled, natural", 1420.0)
 FASTENER_STEEL = ("steel", 7850.0)
 
 
@@ -89,6 +104,75 @@ class Component:
                 "density_kg_per_m3": self.density_kg_per_m3, "z_mm": self.z_mm,
                 "length_mm": self.length_mm, "dims": self.plan.to_dict(), "role": self.role,
                 "in_mass": self.in_mass, "mass_kg": self.mass_kg}
+
+
+@dataclass(frozen=True)
+class RimSpacerFit:
+    """How a rim spacer fits its rim: process, hole, inner edge and the webs left (mm).
+
+    Attributes:
+        process: process key (``springcad/data/processes.toml``).
+        hole_diameter_mm: nominal clearance hole for the pins (toleranced +- the
+            process's hole tolerance).
+        inner_radius_mm: the inner edge.
+        inner_web_mm, outer_web_mm: material between the largest hole and the inner and
+            outer edges.
+        min_web_mm: the process's limit for this sheet.
+        root_clearance_mm: inner edge to the flexure roots, before the spacer's play.
+        rejected: why each cheaper process was not used.
+    """
+
+    process: str
+    hole_diameter_mm: float
+    inner_radius_mm: float
+    inner_web_mm: float
+    outer_web_mm: float
+    min_web_mm: float
+    root_clearance_mm: float
+    rejected: tuple[str, ...] = ()
+
+
+def rim_spacer_fit(root_radius_mm: float, outer_radius_mm: float, hole_circle_radius_mm: float,
+                   pin_diameter_mm: float, pin_max_mm: float, thickness_mm: float,
+                   wire_min_web_mm: float) -> RimSpacerFit:
+    """Process, clearance hole and inner edge of a rim spacer, webs within the process rules.
+
+    For each process (cheapest first): the hole clears the largest pin at its smallest
+    size and worst position, the pin located by the wire-cut rim holes
+    (:meth:`~springcad.design.processes.Process.clearance_hole`); the web from the largest hole to either edge is at least the process minimum
+    (``max(process min, factor x sheet thickness)``; wire EDM: ``wire_min_web_mm``,
+    the job's hole-edge rule); the inner edge sits :data:`ROOT_CLEARANCE_MM` outside the
+    flexure roots, or less where the web needs it, but never so close that the spacer,
+    shifted by its play on the pins, comes within :data:`ROOT_MARGIN_MM` of the roots.
+
+    Raises:
+        DesignError: no process fits; the message gives each process's shortfall.
+    """
+    rejected = []
+    for key in RIM_SPACER_PROCESSES:
+        proc = process(key)
+        hole = proc.clearance_hole(pin_max_mm, process("wire_edm").position_tolerance_mm)
+        r_hole = 0.5 * (hole + proc.hole_tolerance_mm)  # largest hole (mm)
+        web = proc.min_web(thickness_mm) if key != "wire_edm" else wire_min_web_mm
+        play = r_hole - 0.5 * pin_diameter_mm  # radial shift of the spacer on the pins
+        outer_web = outer_radius_mm - hole_circle_radius_mm - r_hole
+        r_in = min(root_radius_mm + ROOT_CLEARANCE_MM, hole_circle_radius_mm - r_hole - web)
+        lowest = root_radius_mm + play + ROOT_MARGIN_MM
+        if outer_web < web - 1e-9:
+            rejected.append(f"{proc.text}: {outer_web:.3f} mm between a Ø{hole:g} "
+                            f"+-{proc.hole_tolerance_mm:g} hole and the outer edge, less than "
+                            f"the {web:g} mm web it needs")
+        elif r_in < lowest - 1e-9:
+            rejected.append(f"{proc.text}: a {web:g} mm web inside a Ø{hole:g} "
+                            f"+-{proc.hole_tolerance_mm:g} hole puts the inner edge "
+                            f"{r_in - root_radius_mm:+.3f} mm from the flexure roots; it "
+                            f"needs {play + ROOT_MARGIN_MM:.3f} mm (play on the pins "
+                            f"{play:.3f} + margin {ROOT_MARGIN_MM:g})")
+        else:
+            return RimSpacerFit(key, hole, r_in, hole_circle_radius_mm - r_hole - r_in,
+                                outer_web, web, r_in - root_radius_mm, tuple(rejected))
+    raise DesignError("rim spacer: no process can make it. " + "; ".join(rejected)
+                      + ". Widen the rim (outer radius) or use smaller rim fasteners.")
 
 
 @dataclass(frozen=True)
@@ -234,9 +318,7 @@ class _Layout:
             plan = pl.RimWasherPlan(inner_radius_mm=r_in, outer_radius_mm=self.r_outer, joint=j)
             return [_annular(f"rim_washer_{j + 1}", plan, self.plastic, zj, gap)]
         centres = springs[j].hole_centres_mm
-        spacer = pl.RimSpacerPlan(inner_radius_mm=r_in, outer_radius_mm=self.r_outer,
-                                  hole_centres_mm=centres,
-                                  hole_diameter_mm=springs[j].hole_diameter_mm, joint=j)
+        spacer = self.rim_spacer(j, centres)
         r_cs = max(springs[j].cam_tip_radius_mm, springs[j + 1].cam_tip_radius_mm) \
             + CENTRE_SPACER_OVERHANG_MM
         centre = pl.CentreSpacerPlan(
@@ -246,13 +328,46 @@ class _Layout:
                _annular(f"centre_spacer_{j + 1}", centre, self.plastic, zj, gap)]
         if centres:
             d = hw.fastener_diameter_mm
-            length = springs[j].thickness_mm + gap + springs[j + 1].thickness_mm
+            grip = springs[j].thickness_mm + gap + springs[j + 1].thickness_mm
+            length, z = grip, self.z0[j]
+            if hw.fastener == "dowel":  # a catalogue length, centred in the two rims
+                length = rim_dowel_length(d, springs[j].thickness_mm, gap,
+                                          springs[j + 1].thickness_mm)
+                z += 0.5 * (grip - length)
             plan = pl.FastenerPlan(type=hw.fastener, diameter_mm=d, length_mm=length,
                                    hole_centres_mm=centres, joint=j)
             out.append(Component(f"{hw.fastener}s_{j + 1}", plan, FASTENER_STEEL[0], len(centres),
-                                 math.pi * d ** 2 / 4 * length, FASTENER_STEEL[1], self.z0[j],
-                                 length))
+                                 math.pi * d ** 2 / 4 * length, FASTENER_STEEL[1], z, length))
         return out
+
+    def rim_spacer(self, j: int, centres) -> pl.RimSpacerPlan:
+        """The rim spacer of joint j: process, holes and inner edge from
+        :func:`rim_spacer_fit` (a plain ring when the rims have no holes)."""
+        springs, hw = self.springs, self.hw
+        root = max(springs[j].root_radius_mm, springs[j + 1].root_radius_mm)
+        if not centres:
+            return pl.RimSpacerPlan(inner_radius_mm=root + ROOT_CLEARANCE_MM,
+                                    outer_radius_mm=self.r_outer, joint=j)
+        pin = hw.fastener_diameter_mm
+        pin_max = pin + (M6_UPPER_MM if hw.fastener == "dowel" else 0.0)
+        r_hc = min(math.hypot(*c) for c in centres)
+        edge = springs[j].manufacturing.min_hole_edge_mm
+        try:
+            fit = rim_spacer_fit(root, self.r_outer, r_hc, pin, pin_max, self.gap, edge)
+        except DesignError:
+            # no process meets every rule: lay the spacer out for wire EDM as well as the
+            # rim allows (inner edge no closer than the roots); the build's wire-EDM rules
+            # then refuse it with the webs measured (or the spring's own rim check does),
+            # and the design search can still weigh the stack
+            hole = process("wire_edm").clearance_hole(
+                pin_max, process("wire_edm").position_tolerance_mm)
+            r_in = max(root, min(root + ROOT_CLEARANCE_MM, r_hc - 0.5 * hole - edge))
+            return pl.RimSpacerPlan(inner_radius_mm=r_in, outer_radius_mm=self.r_outer,
+                                    hole_centres_mm=centres, hole_diameter_mm=hole, joint=j,
+                                    process="wire_edm")
+        return pl.RimSpacerPlan(inner_radius_mm=fit.inner_radius_mm, outer_radius_mm=self.r_outer,
+                                hole_centres_mm=centres, hole_diameter_mm=fit.hole_diameter_mm,
+                                joint=j, process=fit.process)
 
     @property
     def aluminium(self) -> tuple[str, float]:
@@ -285,12 +400,35 @@ class _Layout:
             if conn == SHAFT:
                 continue
             s = self.springs[i]
-            plan = pl.RimFlangePlan(inner_radius_mm=s.root_radius_mm + ROOT_CLEARANCE_MM,
+            r_in = s.root_radius_mm + ROOT_CLEARANCE_MM
+            if s.hole_centres_mm:  # keep the wire-EDM hole-edge web inside the rim holes
+                r_hc = min(math.hypot(*c) for c in s.hole_centres_mm)
+                web_edge = r_hc - 0.5 * s.hole_diameter_mm - s.manufacturing.min_hole_edge_mm
+                # never inside the roots (a rim too narrow for its holes is the spring's
+                # own plausibility error)
+                r_in = max(s.root_radius_mm, min(r_in, web_edge))
+            plan = pl.RimFlangePlan(inner_radius_mm=r_in,
                                     outer_radius_mm=self.r_outer, hole_centres_mm=s.hole_centres_mm,
                                     hole_diameter_mm=s.hole_diameter_mm, spring_index=i)
             out.append(_annular(f"{end}_rim_flange", plan, self.steel, z, FLANGE_THICKNESS_MM,
                                 end, in_mass=False))
         return out
+
+
+def d_joints(layout: StackLayout, t_camshaft_mm: float) -> tuple[DJoint, ...]:
+    """The D joints of a stack: each torque shaft on its end camshaft (a D shaft in the
+    camshaft's D bore, or a D socket over its D hub), flats toleranced one-sided by the
+    camshaft's ``t_camshaft_mm`` and :data:`TORQUE_SHAFT_TOLERANCE_MM` (mm)."""
+    out = []
+    for c in layout.components:
+        plan = c.plan
+        if isinstance(plan, pl.DShaftPlan):  # the shaft is inside, the camshaft's bore outside
+            h = d_half_chord_mm(0.5 * plan.diameter_mm, plan.flat_ratio, plan.corner_radius_mm)
+            out.append(DJoint(h, t_camshaft_mm, TORQUE_SHAFT_TOLERANCE_MM, c.name))
+        elif isinstance(plan, pl.HubSocketPlan):  # the camshaft's hub inside the socket
+            h = d_half_chord_mm(plan.hub_radius_mm, plan.flat_ratio, plan.corner_radius_mm)
+            out.append(DJoint(h, TORQUE_SHAFT_TOLERANCE_MM, t_camshaft_mm, c.name))
+    return tuple(out)
 
 
 def stack_layout(springs, joints, input_connection: str, output_connection: str) -> StackLayout:

@@ -135,11 +135,14 @@ class AnnulusPlan(PartPlan):
 
 @dataclass(frozen=True, kw_only=True)
 class RimSpacerPlan(AnnulusPlan):
-    """Aluminium ring between two bolted rims; ``joint`` is the joint it sits in."""
+    """Aluminium ring between two bolted rims; ``joint`` is the joint it sits in;
+    ``process``: the manufacturing process its webs were sized for
+    (:func:`springcad.design.hardware.rim_spacer_fit`)."""
 
     KIND = "rim_spacer"
     PLACE_FIELDS = ("joint",)
     joint: int
+    process: str = "laser"
 
 
 @dataclass(frozen=True, kw_only=True)

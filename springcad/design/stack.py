@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass
 
 from springcad.design.connections import camshaft_indices, connection_sequence
-from springcad.design.hardware import Component, StackLayout, stack_layout
+from springcad.design.hardware import Component, StackLayout, d_joints, stack_layout
 from springcad.design.spring import SpringDesign
 from springcad.design.tolerance import Interface, StackBacklash, stack_backlash
 from springcad.units import J_PER_NMM, MM3_PER_CM3, NMM_PER_NM
@@ -171,6 +171,7 @@ def design_stack(springs: list[SpringDesign], input_connection: str, mc_samples:
     interfaces = [Interface(s.contact_radius_mm, s.manufacturing.w_gap_mm,
                             s.manufacturing.t_spring_mm, s.manufacturing.t_shaft_mm, cam)
                   for s, cam in zip(springs, camshaft_indices(joints))]
-    backlash = stack_backlash(interfaces, mc_samples, seed, mfg.tolerance_distribution)
     layout = stack_layout(springs, joints, input_connection, output)
+    backlash = stack_backlash(interfaces, mc_samples, seed, mfg.tolerance_distribution,
+                              d_joints(layout, mfg.t_shaft_mm))
     return StackDesign(tuple(springs), input_connection, output, joints, backlash, layout)

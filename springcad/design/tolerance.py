@@ -6,13 +6,21 @@ d = 2 (w_gap + e_spring + e_shaft) with |e_spring| <= t_spring and
 of n springs has n cam interfaces; springs joined shaft-to-shaft share one
 camshaft, so that camshaft's error enters both of their interfaces (the
 RSS and the Monte Carlo keep that correlation; the worst case adds anyway).
+
+D joints (a torque shaft's D in a camshaft's D bore, or a D socket over a D hub) add
+their rotational play in series (:class:`DJoint`): the flats are toleranced
+one-sided (bore flat +t_bore/0 away from the axis, shaft flat 0/-t_shaft towards it),
+so the flat clearance is c = e_bore + e_shaft in [0, t_bore + t_shaft], and the shaft
+turns until an end of its flat (half-chord h from the flat's middle) meets the bore's
+flat: theta = atan(c / h) each way, a play of 2 atan(c / h) (first order in c / h; the
+radial clearance of the round part is left out, it lets the shaft shift, not turn).
 Units: mm and rad.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -46,6 +54,42 @@ class Interface:
 
 
 @dataclass(frozen=True)
+class DJoint:
+    """One D joint's flats (mm).
+
+    Attributes:
+        half_chord_mm: half the length of the inner (shaft or hub) part's flat, between its
+            corner fillets.
+        t_bore_mm: one-sided tolerance of the bore's (socket's) flat, away from the axis.
+        t_shaft_mm: one-sided tolerance of the shaft's (hub's) flat, towards the axis.
+        name: what it joins, for reports.
+    """
+
+    half_chord_mm: float
+    t_bore_mm: float
+    t_shaft_mm: float
+    name: str = ""
+
+    def play_rad(self, clearance_mm):
+        """Total free rotation 2 atan(c / h) for a flat clearance ``c`` (mm); rad."""
+        return 2.0 * np.arctan(np.asarray(clearance_mm) / self.half_chord_mm)
+
+    @property
+    def range_rad(self) -> tuple[float, float, float]:
+        """(min, mid-tolerance, max) play (rad)."""
+        t = self.t_bore_mm + self.t_shaft_mm
+        return tuple(float(self.play_rad(c)) for c in (0.0, 0.5 * t, t))
+
+
+def d_half_chord_mm(radius_mm: float, flat_ratio: float, corner_radius_mm: float = 0.0) -> float:
+    """Half-length of a D's flat between its corner fillets (mm): the flat at
+    ``flat_ratio * r`` from the axis, fillets of ``corner_radius_mm`` tangent to flat and
+    circle (the geometry of :func:`springcad.design.cam.d_bore`)."""
+    a, rf = flat_ratio * radius_mm, corner_radius_mm
+    return math.sqrt((radius_mm - rf) ** 2 - (a - rf) ** 2)
+
+
+@dataclass(frozen=True)
 class StackBacklash:
     """Backlash of a whole stack (rad)."""
 
@@ -66,6 +110,13 @@ class StackBacklash:
     per_interface: tuple[tuple[float, float, float], ...]
     """(min, nominal, max) per interface (rad)."""
     mc_histogram: tuple[tuple[float, ...], tuple[int, ...]] = ((), ())
+    per_d_joint: tuple[tuple[float, float, float], ...] = ()
+    """(min, mid-tolerance, max) play of each D joint (rad)."""
+    d_joint_names: tuple[str, ...] = ()
+    with_d_joints: dict = field(default_factory=dict)
+    """The stack's backlash from input to output: the cam interfaces and the D joints in
+    series (keys nominal, worst_min, worst_max, rss_min, rss_max, mc_mean, mc_p01,
+    mc_p99; rad). The fields above are the cam interfaces alone (the paper's eqs. 1-3)."""
 
     @property
     def interference_possible(self) -> bool:
@@ -86,6 +137,9 @@ class StackBacklash:
             "interference_possible": self.interference_possible,
             "mc_histogram": {"edges_rad": list(self.mc_histogram[0]),
                              "counts": list(self.mc_histogram[1])},
+            "d_joints": [{"name": n, "min": a, "mid": b, "max": c}
+                         for n, (a, b, c) in zip(self.d_joint_names, self.per_d_joint)],
+            "with_d_joints": dict(self.with_d_joints),
         }
 
 
@@ -97,17 +151,32 @@ def deviations(rng, tol, size, distribution):
     return rng.uniform(-tol, tol, size=size)
 
 
+def _one_sided(rng, tol, size, distribution):
+    """A one-sided deviation in [0, tol]: uniform, or normal about the middle (3 sigma =
+    half the band, clipped to it)."""
+    if distribution == "normal":
+        return np.clip(rng.normal(0.5 * tol, tol / 6.0, size=size), 0.0, tol)
+    return rng.uniform(0.0, tol, size=size)
+
+
 def stack_backlash(interfaces: list[Interface], samples: int = 20000, seed: int = 1,
-                   distribution: str = "uniform") -> StackBacklash:
+                   distribution: str = "uniform", d_joints: tuple = ()) -> StackBacklash:
     """Nominal, worst case, RSS and seeded Monte Carlo backlash of a stack.
+
+    The cam-interface results keep the paper's eqs. 1-3 (what its Table II compares);
+    ``with_d_joints`` adds the D joints in series. The nominal of a D joint is its play
+    at mid-tolerance (its nominal clearance is 0, but a one-sided tolerance band is never
+    made at its edge on purpose).
 
     Args:
         interfaces: one per spring, in stack order.
+        d_joints: the stack's :class:`DJoint` (torque shafts on the end camshafts).
         samples: Monte Carlo stacks.
         seed: random seed (the result is reproducible).
         distribution: "uniform" (deviation uniform in +-t) or "normal" (t = 3 sigma).
     """
     ranges = [i.range_rad for i in interfaces]
+    d_ranges = [j.range_rad for j in d_joints]
     nominal = sum(r[1] for r in ranges)
     worst_min = sum(r[0] for r in ranges)
     worst_max = sum(r[2] for r in ranges)
@@ -119,6 +188,12 @@ def stack_backlash(interfaces: list[Interface], samples: int = 20000, seed: int 
         t = max(i.t_shaft_mm for i in interfaces if i.camshaft == cam)
         var += (t * sum(g for g, i in zip(sens, interfaces) if i.camshaft == cam)) ** 2
     half = math.sqrt(var)
+    var_d = 0.0
+    for j in d_joints:  # dplay/dc = 2 / h at mid-tolerance (first order); band half-widths
+        g = 2.0 / j.half_chord_mm / (1.0 + (0.5 * (j.t_bore_mm + j.t_shaft_mm)
+                                            / j.half_chord_mm) ** 2)
+        var_d += (g * 0.5 * j.t_bore_mm) ** 2 + (g * 0.5 * j.t_shaft_mm) ** 2
+    half_total = math.sqrt(var + var_d)
     rng = np.random.default_rng(seed)
     cams = sorted({i.camshaft for i in interfaces})
     e_cam = {c: deviations(rng, max(i.t_shaft_mm for i in interfaces if i.camshaft == c),
@@ -131,6 +206,17 @@ def stack_backlash(interfaces: list[Interface], samples: int = 20000, seed: int 
         interfering |= d < 0
         total += backlash_rad(d, i.contact_radius_mm)
     counts, edges = np.histogram(total, bins=40)
+    with_d = total.copy()
+    for j in d_joints:
+        c = (_one_sided(rng, j.t_bore_mm, samples, distribution)
+             + _one_sided(rng, j.t_shaft_mm, samples, distribution))
+        with_d += j.play_rad(c)
+    d_nom = sum(r[1] for r in d_ranges)
+    totals = {"nominal": nominal + d_nom, "worst_min": worst_min + sum(r[0] for r in d_ranges),
+              "worst_max": worst_max + sum(r[2] for r in d_ranges),
+              "rss_min": nominal + d_nom - half_total, "rss_max": nominal + d_nom + half_total,
+              "mc_mean": float(with_d.mean()), "mc_p01": float(np.percentile(with_d, 1)),
+              "mc_p99": float(np.percentile(with_d, 99))}
     return StackBacklash(
         nominal=nominal, worst_min=worst_min, worst_max=worst_max,
         rss_min=nominal - half, rss_max=nominal + half,
@@ -138,4 +224,6 @@ def stack_backlash(interfaces: list[Interface], samples: int = 20000, seed: int 
         mc_p01=float(np.percentile(total, 1)), mc_p99=float(np.percentile(total, 99)),
         mc_interference_fraction=float(interfering.mean()), mc_samples=samples, mc_seed=seed,
         distribution=distribution, per_interface=tuple(ranges),
-        mc_histogram=(tuple(map(float, edges)), tuple(map(int, counts))))
+        mc_histogram=(tuple(map(float, edges)), tuple(map(int, counts))),
+        per_d_joint=tuple(d_ranges), d_joint_names=tuple(j.name for j in d_joints),
+        with_d_joints=totals)

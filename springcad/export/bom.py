@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
+from springcad.design.processes import process_chain_text
 from springcad.export.sheet import fmt
 from springcad.units import G_PER_KG, KG_PER_MM3_PER_KG_PER_M3
 
@@ -35,7 +36,8 @@ def bom_rows(assembly, files_by_part: dict | None = None) -> list[dict]:
         rows.append({
             "item": item, "part_number": pn, "name": info.name, "title": info.title, "kind": info.kind,
             "quantity": qty[pn], "make_or_buy": "buy" if info.process == "purchased" else "make",
-            "process": info.process, "material": info.material,
+            "process": process_chain_text(info.process, info.secondary_processes),
+            "material": info.material,
             "heat_treatment": info.heat_treatment, "standard": info.standard,
             "thickness_or_length_mm": fmt(info.thickness_mm),
             "mass_each_g": f"{mass:.3f}", "mass_total_g": f"{mass * qty[pn]:.3f}",

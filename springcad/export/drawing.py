@@ -18,13 +18,14 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from springcad.data import data_path
+from springcad.design.processes import process_chain_text, process_text, processes
 from springcad.export.release import UNASSESSED, ReleaseStatus
 from springcad.export.sheet import (FRAME_MM, LABEL_FONT, NOTE_FONT, THICK, Sheet, fmt,
                                     scale_text)
 
 TITLE_BLOCK_NAME = "drawing_title_block.toml"
-PROCESS_TEXT = {"wire_edm": "wire EDM", "laser": "laser / waterjet / EDM", "turned": "turned",
-                "purchased": "catalogue part"}
+#: sheet parts this thin or thinner get the template's ``thin_sheet`` notes (mm)
+THIN_SHEET_MM = 1.0
 #: the right column (title block, notes, hole table, details): x from here to the frame
 RIGHT_X0 = 230.0
 #: highest y of any view (below the header line)
@@ -65,22 +66,48 @@ def load_title_block(path: Path | None = None) -> dict:
         return tomllib.load(fh)
 
 
+def _finisher(info, fit: str) -> str:
+    """The process that finishes a fit: the first of the part's processes (main, then
+    secondary) that holds it."""
+    keys = [k for k in (info.process, *info.secondary_processes)
+            if k in processes() and processes()[k].can_finish(fit)]
+    return process_text(keys[0]) if keys else "(no listed process holds it)"
+
+
 def fields(part, info: DrawingInfo, scale: float, template: dict) -> dict:
     """The values the template's ``{field}`` placeholders take."""
+    from springcad.geometry.sheet_cut import iso_fits
+
     p = part.info
     flat = template.get("flatness_mm", {}).get(p.kind)
+    fits = iso_fits(p)
     return {"title": p.title, "part_number": p.part_number, "name": p.name,
             "material": p.material, "heat_treatment": p.heat_treatment or "none",
             "hardness": p.hardness or "as supplied",
             "heat_treatment_sequence": p.heat_treatment_sequence or "before cutting",
             "thickness": f"{fmt(p.thickness_mm)} mm", "quantity": str(info.quantity),
-            "tolerance": f"±{fmt(part.tolerance_mm)} mm", "units": "mm",
+            "tolerance": (f"±{fmt(part.tolerance_mm)} mm" if p.cut_profile is not None
+                          else "- (no DXF)"), "units": "mm",
             "revision": info.revision, "date": info.date, "scale": scale_text(scale),
-            "job": info.job, "process": PROCESS_TEXT.get(p.process, p.process),
+            "job": info.job, "process": process_chain_text(p.process, p.secondary_processes),
+            "fits": ", ".join(f"{fit} ({feature}) {_finisher(p, fit)}"
+                              for feature, fit in fits.items()),
             "drawn_by": info.drawn_by, "sheet": "1/1", "standard": p.standard or "-",
             "general_tolerance": template.get("block", {}).get("general_tolerance",
                                                                 "ISO 2768-mK"),
             "flatness": fmt(flat) if flat is not None else "", "projection": ""}
+
+
+def process_position_mm(key: str) -> float:
+    """Radius of the true-position zone of holes cut by this process (mm; 0 if unknown)."""
+    p = processes().get(key)
+    return p.position_tolerance_mm if p else 0.0
+
+
+def _has_hole_table(part) -> bool:
+    from springcad.export.views import hole_rows
+
+    return bool(hole_rows(part.slabs[-1].region, ""))
 
 
 def note_lines(part, values: dict, template: dict) -> list[str]:
@@ -92,11 +119,26 @@ def note_lines(part, values: dict, template: dict) -> list[str]:
         lines += notes.get("heat_treated", {}).get(p.process, [])
     else:
         lines += notes.get("not_heat_treated", [])
+    if values["fits"]:
+        lines += notes.get("fits_heat_treated" if p.heat_treatment else "fits_not_heat_treated",
+                           [])
     if p.cut_profile is not None:
         lines += notes.get("cut", [])
     lines += notes.get("process", {}).get(p.process, [])
+    spring = getattr(part, "spring", None)
+    if p.process == "wire_edm" and spring is not None:
+        m = spring.manufacturing
+        lines.append(f"Wire Ø{fmt(m.wire_diameter_mm)} mm or finer: the smallest inside "
+                     f"radius R{fmt(m.min_inside_radius_mm)} is the wire radius + the "
+                     f"{fmt(m.spark_gap_mm)} mm spark gap.")
+    pos = process_position_mm(p.process)
+    if pos > 0 and _has_hole_table(part):
+        lines.append(f"Hole positions (hole table): true position Ø{fmt(2 * pos)} relative to "
+                     "datum A, the outer diameter, and datum B, hole #1 (its angle).")
     if values["flatness"]:
         lines += notes.get("flatness", [])
+    elif p.cut_profile is not None and p.thickness_mm <= THIN_SHEET_MM:
+        lines += notes.get("thin_sheet", [])
     return [n.format(**values) for n in lines] + list(p.notes)
 
 

@@ -125,18 +125,24 @@ def dim_d_loop(sheet: Sheet, view: View, loop: Loop, feature: str, fit: str, tol
                   Dimension("radius", r, label, f"{feature} corners"))
 
 
+def hole_id(k: int) -> str:
+    """Label of the k-th hole (1-based): ``#k``, which cannot be read as a fit (an
+    "H7" hole label beside "Ø1.5 H7" could)."""
+    return f"#{k}"
+
+
 def hole_rows(profile: Profile, fit: str) -> list[tuple[str, ...]]:
     """The hole table: header and one row per off-axis hole (angle from +Y, CCW; X, Y mm)."""
     rows = []
     for group in hole_groups(profile):
         for c in group:
-            rows.append((f"H{len(rows) + 1}", f"{angle_from_y_deg(c.center):.3f}°",
+            rows.append((hole_id(len(rows) + 1), f"{angle_from_y_deg(c.center):.3f}°",
                          fmt(c.center[0]), fmt(c.center[1]), f"Ø{fmt(2 * c.radius)} {fit}".strip()))
     return [("HOLE", "ANGLE FROM +Y (CCW)", "X", "Y", "SIZE")] + rows if rows else []
 
 
 def dim_holes(sheet: Sheet, view: View, profile: Profile, fit: str, purpose: str) -> None:
-    """Hole callout, position circle and H1..Hn labels of off-axis holes (see :func:`hole_rows`)."""
+    """Hole callout, position circle and #1..#n labels of off-axis holes (see :func:`hole_rows`)."""
     k = 0
     for group in hole_groups(profile):
         c0 = group[0]
@@ -159,7 +165,7 @@ def dim_holes(sheet: Sheet, view: View, profile: Profile, fit: str, purpose: str
                       Dimension("diameter", 2 * pcd, lab, "hole circle"))
         for c, a in zip(group, angles):
             k += 1
-            name = f"H{k}"
+            name = hole_id(k)
             u = np.asarray(c.center) / pcd
             p = view(c.center)
             t = np.array([-u[1], u[0]])

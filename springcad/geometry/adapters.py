@@ -7,6 +7,7 @@ at the top (+z); output instances are the same parts turned over. Units: mm.
 from __future__ import annotations
 
 from springcad.design.curves import Profile
+from springcad.design.hardware import TORQUE_SHAFT_TOLERANCE_MM
 from springcad.design.plans import DShaftPlan, HubSocketPlan, TorqueShaftPlan
 from springcad.errors import GeometryError
 from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, circle_loop, d_loop
@@ -19,13 +20,15 @@ class AlignmentShaft(AnnularPart):
     KIND, TITLE, PROCESS, COLOUR = "alignment_shaft", "Alignment shaft", "turned", "cam"
     CODE = "ALIGNMENT-SHAFT"
     FITS = {"outer": "g6"}
-    NOTES = ("Ground to g6; the camshaft bores and centre spacers run on it.",)
+    SECONDARY = ("ground",)
+    NOTES = ("Ground to g6 after hardening; the camshaft bores and centre spacers run on it; "
+             "chamfer 0.2 x 45° both ends.",)
 
 
 class RimFlange(AnnularPart):
     """Input/output adapter bolted to a stack-end rim (torque through the rim)."""
 
-    KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_flange", "Rim flange", "laser", "steel", True
+    KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_flange", "Rim flange", "wire_edm", "steel", True
     CODE = "RIM-FLANGE"
     NOTES = ("Holes match the flexure-ring rim holes; mounting to the system is "
              "left to the user.",)
@@ -61,8 +64,10 @@ class TorqueShaft(SpringcadPart):
                                          plan.corner_radius_mm))),)
             key = {"shaft diameter": self.diameter, "length": length_mm,
                    "engaged length": plan.engaged_length_mm}
-            note = "D flat matches the camshaft bore (slip fit)."
+            note = ("D flat matches the camshaft bore (slip fit): ground after hardening, "
+                    "like the g6 diameter; chamfer 0.2 x 45° at the inner end (lead into the bore).")
             fits = {"outer": "g6"}
+            secondary = ("ground",)
         elif isinstance(plan, HubSocketPlan):
             self.outer_radius = plan.outer_radius_mm
             self.socket_depth = plan.socket_depth_mm
@@ -73,8 +78,12 @@ class TorqueShaft(SpringcadPart):
             key = {"outer diameter": 2 * self.outer_radius, "length": length_mm,
                    "socket depth": self.socket_depth,
                    "socket diameter": 2 * plan.hub_radius_mm}
-            note = "D socket matches the camshaft hub (slip fit)."
+            note = (f"D socket (blind, {self.socket_depth:.4g} deep, corners "
+                    f"R{plan.corner_radius_mm:g}): sinker EDM after hardening with a D "
+                    "electrode (cannot be turned, ground or wire cut); H7 on the round part, "
+                    "flat toleranced as drawn; 0.2 x 45° chamfer at the mouth.")
             fits = {"bore": "H7"}
+            secondary = ("sinker_edm", "ground")
         else:
             raise GeometryError(f"{name}: no torque shaft of style "
                                 f"{type(plan).__name__}; use a D shaft or a hub socket")
@@ -83,9 +92,10 @@ class TorqueShaft(SpringcadPart):
                         density_kg_per_m3=material[1], process="turned",
                         thickness_mm=length_mm, dimensions=key, hardness=hardness,
                         heat_treatment_sequence=heat_treatment_sequence, fits=fits,
-                        notes=(note, "Coupling to the drive is left to the user."))
+                        notes=(note, "Coupling to the drive is left to the user."),
+                        secondary_processes=secondary)
         super().__init__(info, slabs, COLOURS["steel"])
 
     @property
     def tolerance_mm(self) -> float:
-        return 0.02
+        return TORQUE_SHAFT_TOLERANCE_MM

@@ -102,6 +102,9 @@ class PartInfo:
             (e.g. ``"g6"``, ``"H7"``) and ``"hole_purpose"`` (``"(dowel pins)"``).
         part_number: ``CODE-HASH`` of the part's identity (module docstring); set by
             :class:`SpringcadPart`, never by hand.
+        secondary_processes: processes that finish features after the main one (keys of
+            ``springcad/data/processes.toml``: ``("ground",)`` for the fits of a turned
+            and hardened shaft, ``("sinker_edm", "ground")`` for a blind socket).
     """
 
     name: str
@@ -121,6 +124,7 @@ class PartInfo:
     heat_treatment_sequence: str = ""
     fits: dict = field(default_factory=dict)
     part_number: str = ""
+    secondary_processes: tuple[str, ...] = ()
 
 
 def _num(x: float) -> str:
@@ -152,6 +156,8 @@ def identity_text(info: PartInfo, slabs, tolerance_mm: float) -> str:
              f"heat treatment {info.heat_treatment}", f"hardness {info.hardness}",
              f"heat treatment sequence {info.heat_treatment_sequence}",
              f"fits {sorted(info.fits.items())}", f"process {info.process}",
+             *([f"secondary processes {' '.join(info.secondary_processes)}"]
+               if info.secondary_processes else []),
              f"standard {info.standard}", f"tolerance {_num(tolerance_mm)}"]
     for sl in slabs:
         lines.append(f"slab {_num(sl.z0_mm)} {_num(sl.z1_mm)}")

@@ -6,9 +6,11 @@ Two kinds of check:
   parts overlapping or touching where they should not, a cam-to-tip gap other
   than designed, a connection sequence against the paper's alternation rule).
   A build with one of these always fails.
-* ``rule``: a wire-EDM manufacturability rule from ``[manufacturing]``
-  (:mod:`springcad.geometry.edm`). A violation fails the build unless the user
-  explicitly accepts violations.
+* ``rule``: a manufacturability rule of the part's process: wire EDM from
+  ``[manufacturing]`` (:mod:`springcad.geometry.edm`), laser-cut and milled sheet
+  from ``springcad/data/processes.toml`` (:mod:`springcad.geometry.sheet_cut`), and
+  for every made part the fits its process can finish. A violation fails the build
+  unless the user explicitly accepts violations.
 
 Units: mm, mm^3.
 """
@@ -119,10 +121,43 @@ class ChecksFailed(GeometryError):
 
 
 # --------------------------------------------------------------------------- part checks
-def part_checks(part) -> list[Check]:
-    """Validity, volume against its 2D description, and the EDM rules of its process."""
+def _rule_checks(prefix: str, pn: str, results) -> list[Check]:
+    """One rule check per result (and one for its notes, if any)."""
+    out = []
+    for res in results:
+        if res.rule == "fits":
+            msg = ("every fit is one the process finishes" if res.passed else
+                   "; ".join(v["feature"] for v in res.violations))
+            out.append(Check(f"{prefix}.fits", pn, res.passed, "rule", None, None, "", msg,
+                             list(res.violations)))
+            continue
+        if res.value_mm is None:
+            msg = (f"nothing below {res.searched_to_mm:g} mm" if res.searched_to_mm
+                   else "no feature of this kind")
+        else:
+            msg = f"smallest {res.value_mm:.4f} mm, limit {res.limit_mm:g} mm"
+        if res.violations:
+            msg += f"; {len(res.violations)} violation(s)"
+        out.append(Check(f"{prefix}.{res.rule}", pn, res.passed, "rule", res.value_mm,
+                         res.limit_mm, "mm", msg, list(res.violations)))
+        if res.notes:
+            out.append(Check(f"{prefix}.{res.rule}.notes", pn, True, "rule", None, None, "",
+                             f"{len(res.notes)} joins are not tangent but leave less than "
+                             "a tenth of the profile tolerance uncut", list(res.notes)))
+    return out
+
+
+def part_checks(part, manufacturing=None) -> list[Check]:
+    """Validity, volume against its 2D description, and the rules of its process.
+
+    Every made part: its ISO fits are ones its process finishes (``<process>.fits``).
+    Wire-EDM profiles: the ``[manufacturing]`` rules (:mod:`springcad.geometry.edm`), from
+    the part's own spring or else ``manufacturing``. Laser-cut and milled sheet profiles:
+    the process's web, hole-edge and hole-size rules (:mod:`springcad.geometry.sheet_cut`).
+    """
     from springcad.geometry.base import solid_volume_mm3
     from springcad.geometry.edm import edm_rules
+    from springcad.geometry.sheet_cut import fit_rule, sheet_rules
 
     pn = part.part_number
     out = [Check("solid_valid", pn, bool(part.solid.is_valid), unit="",
@@ -134,23 +169,22 @@ def part_checks(part) -> list[Check]:
                          message=f"solid {v:.3f} mm^3 vs profile area x length {ref:.3f} mm^3 "
                                  f"({100 * (v / ref - 1):+.4f} %)"))
     info = part.info
-    if info.process == "wire_edm" and info.cut_profile is not None:
-        mfg = part.spring.manufacturing
-        for res in edm_rules(info.cut_profile, mfg, part.tolerance_mm, part.describe):
-            if res.value_mm is None:
-                msg = (f"nothing below {res.searched_to_mm:g} mm" if res.searched_to_mm
-                       else "no feature of this kind")
-            else:
-                msg = f"smallest {res.value_mm:.4f} mm, limit {res.limit_mm:g} mm"
-            if res.violations:
-                msg += f"; {len(res.violations)} violation(s)"
-            out.append(Check(f"edm.{res.rule}", pn, res.passed, "rule", res.value_mm,
-                             res.limit_mm, "mm", msg, list(res.violations)))
-            if res.notes:
-                out.append(Check(f"edm.{res.rule}.notes", pn, True, "rule", None, None, "",
-                                 f"{len(res.notes)} joins are not tangent but leave less than "
-                                 "a tenth of the profile tolerance uncut", list(res.notes)))
-    return out
+    if info.process == "purchased":
+        return out
+    results = [fit_rule(info)]
+    if info.cut_profile is not None:
+        if info.process == "wire_edm":
+            spring = getattr(part, "spring", None)
+            mfg = spring.manufacturing if spring is not None else manufacturing
+            if mfg is None:
+                raise GeometryError(f"{pn}: a wire-EDM part needs the job's [manufacturing] "
+                                    "rules to be checked")
+            results += edm_rules(info.cut_profile, mfg, part.tolerance_mm, part.describe)
+        else:
+            results += sheet_rules(info.cut_profile, info.process, info.thickness_mm,
+                                   part.describe)
+    prefix = "edm" if info.process == "wire_edm" else info.process
+    return out + _rule_checks(prefix, pn, results)
 
 
 # ----------------------------------------------------------------------- assembly checks
@@ -285,7 +319,7 @@ def run_checks(assembly, progress: Progress = no_progress) -> CheckReport:
     steps = len(assembly.parts) + 2
     for k, part in enumerate(assembly.parts.values()):
         progress(f"checking {part.part_number}", k / steps)
-        checks += part_checks(part)
+        checks += part_checks(part, assembly.design.stack.springs[0].manufacturing)
     progress("checking interference", (steps - 2) / steps)
     checks += interference_checks(assembly)
     progress("measuring cam-to-tip clearance", (steps - 1) / steps)

@@ -174,7 +174,8 @@ class Camshaft(SpringcadPart):
             process="wire_edm", thickness_mm=toothed_length_mm + hub_length_mm,
             cut_profile=teeth, dimensions=dims, notes=tuple(notes), hardness=mat.hardness,
             heat_treatment_sequence=mat.heat_treatment_sequence,
-            fits={"bore": "H7", **({"outer": "g6"} if drive == "hub_flat" else {})})
+            fits={"bore": "H7", **({"outer": "g6"} if drive == "hub_flat" else {})},
+            secondary_processes=("turned", "ground") if hub_length_mm else ())
         super().__init__(info, tuple(slabs), COLOURS["cam"])
 
     @classmethod

@@ -13,6 +13,7 @@ from typing import Callable
 
 from springcad.design import plans as pl
 from springcad.design.hardware import Component
+from springcad.design.processes import process
 from springcad.design.ring import hole_fits
 from springcad.errors import GeometryError
 from springcad.geometry.adapters import AlignmentShaft, RimFlange, TorqueShaft
@@ -154,6 +155,9 @@ def _annular_family(cls, prefix: str, heat: str = "", **spec):
     def build(ctx: BuildContext, comp: Component) -> None:
         material = (comp.material, comp.density_kg_per_m3)
         fits = ctx.hole_fits if comp.plan.hole_centres_mm else {}
+        if cls is RimSpacer and fits:  # clearance holes for the rim pins, toleranced by process
+            tol = process(comp.plan.process).hole_tolerance_mm
+            fits = {"holes": f"±{tol:g}", "hole_purpose": "clearance for the rim pins"}
         part = ctx.shaped(comp, lambda pn: cls.from_plan(pn, comp.plan, comp.length_mm,
                                                          material, heat, fits=fits, **spec),
                           prefix)

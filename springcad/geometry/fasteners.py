@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 
+from springcad.design.catalogue import dowel_designation
 from springcad.design.curves import Line, Loop, Profile
 from springcad.errors import GeometryError
 from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, circle_loop
@@ -18,7 +19,8 @@ STEEL = ("steel, hardened (catalogue part)", 7850.0)
 
 
 class DowelPin(AnnularPart):
-    """Hardened dowel pin, ISO 8734 m6, through both joined rims (flush)."""
+    """Hardened dowel pin, ISO 8734 m6, through both joined rims (a catalogue length,
+    flush or recessed: :func:`springcad.design.catalogue.rim_dowel_length`)."""
 
     KIND, TITLE, PROCESS, COLOUR = "fastener", "Dowel pin", "purchased", "fastener"
     CODE = "DOWEL"
@@ -26,7 +28,7 @@ class DowelPin(AnnularPart):
 
     def __init__(self, name: str, diameter_mm: float, length_mm: float):
         super().__init__(name, 0.0, 0.5 * diameter_mm, length_mm, STEEL,
-                         standard=f"ISO 8734 - {diameter_mm:g} m6 x {length_mm:g}")
+                         standard=dowel_designation(diameter_mm, length_mm))
         self.diameter = diameter_mm
 
 

@@ -10,7 +10,9 @@ from __future__ import annotations
 import math
 
 from springcad.design.plans import AnnulusPlan
-from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, annulus, circle_loop
+from springcad.design.processes import process as process_of
+from springcad.geometry.base import (COLOURS, GENERAL_TOLERANCE_MM, PartInfo, Slab, SpringcadPart,
+                                     annulus, circle_loop)
 
 
 class AnnularPart(SpringcadPart):
@@ -28,6 +30,7 @@ class AnnularPart(SpringcadPart):
         hole_diameter_mm: their diameter (mm).
         heat_treatment: as written on the drawing.
         standard: catalogue designation of a purchased part.
+        process: manufacturing process key (default the class's ``PROCESS``).
     """
 
     KIND = "annulus"
@@ -41,16 +44,20 @@ class AnnularPart(SpringcadPart):
     SHEET = False
     #: ISO fits of the outer diameter and bore (e.g. ``{"outer": "g6"}``)
     FITS: dict = {}
+    #: processes that finish the fits after the main one (e.g. ``("ground",)``)
+    SECONDARY: tuple[str, ...] = ()
 
     def __init__(self, name: str, inner_radius_mm: float, outer_radius_mm: float,
                  length_mm: float, material: tuple[str, float], hole_centres=(),
                  hole_diameter_mm: float = 0.0, heat_treatment: str = "", standard: str = "",
-                 hardness: str = "", heat_treatment_sequence: str = "", fits: dict | None = None):
+                 hardness: str = "", heat_treatment_sequence: str = "", fits: dict | None = None,
+                 process: str | None = None):
         self.inner_radius = inner_radius_mm
         self.outer_radius = outer_radius_mm
         self.length = length_mm
         self.hole_centres = tuple(hole_centres)
         self.hole_diameter = hole_diameter_mm
+        self.process = process or self.PROCESS
         holes = tuple(circle_loop(0.5 * hole_diameter_mm, c) for c in self.hole_centres)
         region = annulus(inner_radius_mm, outer_radius_mm, holes)
         dims = {"outer diameter": 2 * outer_radius_mm}
@@ -62,13 +69,20 @@ class AnnularPart(SpringcadPart):
             dims["hole diameter"] = hole_diameter_mm
         info = PartInfo(name=name, code=self.CODE, title=self.TITLE, kind=self.KIND,
                         material=material[0], heat_treatment=heat_treatment,
-                        density_kg_per_m3=material[1], process=self.PROCESS,
+                        density_kg_per_m3=material[1], process=self.process,
                         thickness_mm=length_mm, cut_profile=region if self.SHEET else None,
                         dimensions=dims, notes=self.NOTES, standard=standard,
                         hardness=hardness, heat_treatment_sequence=heat_treatment_sequence,
                         fits={k: v for k, v in {**self.FITS, **(fits or {})}.items()
-                              if k != "bore" or inner_radius_mm > 0})
+                              if k != "bore" or inner_radius_mm > 0},
+                        secondary_processes=self.SECONDARY)
         super().__init__(info, (Slab(0.0, length_mm, region),), COLOURS[self.COLOUR])
+
+    @property
+    def tolerance_mm(self) -> float:
+        """Contour tolerance (mm): the general one, or the process's hole tolerance if
+        that is coarser (a laser-cut or milled sheet part)."""
+        return max(GENERAL_TOLERANCE_MM, process_of(self.process).hole_tolerance_mm)
 
     @classmethod
     def from_plan(cls, name: str, plan: AnnulusPlan, length_mm: float,
@@ -76,9 +90,11 @@ class AnnularPart(SpringcadPart):
         """The part of a stack plan: its radii and holes, ``length_mm`` long (mm).
 
         ``spec``: ``hardness``, ``heat_treatment_sequence``, ``fits`` (see :class:`PartInfo`).
+        The plan's ``process``, if it has one, overrides the class's.
         """
         return cls(name, plan.inner_radius_mm, plan.outer_radius_mm, length_mm, material,
-                   plan.hole_centres_mm, plan.hole_diameter_mm, heat_treatment, **spec)
+                   plan.hole_centres_mm, plan.hole_diameter_mm, heat_treatment,
+                   process=getattr(plan, "process", None), **spec)
 
 
 class RimSpacer(AnnularPart):
@@ -86,16 +102,18 @@ class RimSpacer(AnnularPart):
 
     KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_spacer", "Rim spacer", "laser", "aluminium", True
     CODE = "RIM-SPACER"
-    NOTES = ("Cut from flat sheet; deburr both faces.",
-             "Holes match the flexure-ring rim holes.")
+    NOTES = ("Cut from flat sheet (several sheets may be cut as one clamped stack); deburr "
+             "both faces.",
+             "Holes clear the rim dowels (slip, never pressed): their position matters, "
+             "their size only as toleranced.")
 
 
 class RimWasher(AnnularPart):
     """Plastic ring between the rims of two springs that share a camshaft."""
 
-    KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_washer", "Rim washer", "laser", "plastic", True
+    KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_washer", "Rim washer", "milled", "plastic", True
     CODE = "RIM-WASHER"
-    NOTES = ("Cut from flat sheet; low-friction grade.",)
+    NOTES = ()
 
 
 class CentreSpacer(AnnularPart):
@@ -104,9 +122,9 @@ class CentreSpacer(AnnularPart):
     It keeps either camshaft from loading both springs (paper Fig. 2a).
     """
 
-    KIND, TITLE, PROCESS, COLOUR, SHEET = "centre_spacer", "Centre spacer", "laser", "plastic", True
+    KIND, TITLE, PROCESS, COLOUR, SHEET = "centre_spacer", "Centre spacer", "milled", "plastic", True
     CODE = "CENTRE-SPACER"
-    NOTES = ("Low-friction grade: the parts beside it slide on both faces.",)
+    NOTES = ("The parts beside it slide on both faces: faces as supplied, no scratches.",)
     #: the bore (floating stacks) runs on the g6 alignment shaft of the same nominal size
     FITS = {"bore": "H11"}
 
@@ -116,7 +134,7 @@ class Bushing(AnnularPart):
 
     KIND, TITLE, PROCESS, COLOUR = "bushing", "Outer bushing", "turned", "plastic"
     CODE = "BUSHING"
-    NOTES = ("Running clearance over the rims; bore concentric to the housing seat.",)
+    NOTES = ("Running clearance over the rims: bore and outer diameter turned in one setting.",)
     #: the bore clears the rims by 0.1 mm on the diameter: less than the general tolerance
     #: (ISO 2768-m: ±0.3 mm at this size), so it gets a fit whose lower deviation is zero
     FITS = {"bore": "H9"}

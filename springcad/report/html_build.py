@@ -134,17 +134,26 @@ def _spec_rows(design: dict, fea: dict | None) -> str:
     ]
     st = design.get("stack", {})
     b = st.get("backlash_rad", {})
+    tot = b.get("with_d_joints", {})
     fst = (fea or {}).get("stack", {})
     stack_rows = [
         ("sequence", " + ".join(st.get("sequence", []))),
         ("K target (N·m/rad)", _n(st.get("target_stiffness_Nm_per_rad"))),
         ("K beam theory (N·m/rad)", _n(st.get("stiffness_Nm_per_rad"))),
         ("K FEA (N·m/rad)", _n(fst.get("stiffness_fea_Nm_per_rad"))),
-        ("deflection limit, eq. 10 (rad)", _n(st.get("max_deflection_rad"))),
+        ("deflection limit of the stack (rad; paper eq. 10: the first spring to reach its "
+         "own limit)", _n(st.get("max_deflection_rad"))),
         ("limiting spring", html.escape(str(st.get("limiting_spring", "–")))),
-        ("backlash nominal (rad)", _n(b.get("nominal"))),
-        ("backlash worst case (rad)", f"{_n(b.get('worst_min'))} … {_n(b.get('worst_max'))}"),
-        ("backlash RSS (rad)", f"{_n(b.get('rss_min'))} … {_n(b.get('rss_max'))}"),
+        ("cam backlash nominal (rad; paper eqs. 1-3)", _n(b.get("nominal"))),
+        ("cam backlash worst case (rad; below 0: the tolerances allow a preloaded, "
+         "interfering cam)", f"{_n(b.get('worst_min'))} … {_n(b.get('worst_max'))}"),
+        ("cam backlash RSS (rad)", f"{_n(b.get('rss_min'))} … {_n(b.get('rss_max'))}"),
+        ("D-fit play of the torque shafts (rad, mid-tolerance, all D joints)",
+         _n(sum(j.get("mid", 0.0) for j in b.get("d_joints", []))) if b.get("d_joints")
+         else "–"),
+        ("stack backlash input to output, cams + D fits (rad): nominal; worst case",
+         f"{_n(tot.get('nominal'))}; {_n(tot.get('worst_min'))} … {_n(tot.get('worst_max'))}"
+         if tot else "–"),
         ("mass (kg)", _n(st.get("mass_kg"))),
         ("energy density (J/cm³)", _n(st.get("energy_density_J_per_cm3"))),
         ("specific energy (J/kg)", _n(st.get("specific_energy_J_per_kg"))),
@@ -201,16 +210,44 @@ def _drawings_html(out: Path) -> str:
                                   else "<p>no drawings in this build</p>")
 
 
+#: BOM columns the report shows: (heading, CSV column(s)); the CSV keeps every column
+BOM_VIEW = (("item", ("item",)), ("part number", ("part_number",)), ("name", ("name",)),
+            ("part", ("title",)), ("qty", ("quantity",)), ("make / buy", ("make_or_buy",)),
+            ("process", ("process",)), ("material", ("material",)),
+            ("standard", ("standard",)), ("t / L (mm)", ("thickness_or_length_mm",)),
+            ("mass each / total (g)", ("mass_each_g", "mass_total_g")))
+#: numeric BOM columns (right-aligned)
+_BOM_NUMERIC = {"item", "qty", "t / L (mm)", "mass each / total (g)"}
+
+
+def _bom_files(files: str) -> str:
+    """The part's files as links named by their kind (STEP, DXF, PDF...), PDF first."""
+    order = {".pdf": 0, ".dxf": 1, ".step": 2, ".stl": 3, ".svg": 4}
+    paths = sorted(files.split(), key=lambda f: order.get(Path(f).suffix, 9))
+    return " ".join(f"<a href='{html.escape(f)}'>{html.escape(Path(f).suffix[1:].upper())}</a>"
+                    for f in paths)
+
+
 def _bom_html(out: Path) -> str:
+    """The BOM as a person reads it: the columns needed to order and make, files as links
+    (the full table is ``bom.csv``)."""
     path = out / "bom.csv"
     if not path.is_file():
         return "<h2>Bill of materials</h2><p>no bom.csv in this build</p>"
-    rows = list(csv.reader(io.StringIO(path.read_text(encoding="utf-8"))))
-    head = "".join(f"<th>{html.escape(c)}</th>" for c in rows[0]) if rows else ""
-    body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in r) + "</tr>"
-                   for r in rows[1:])
-    return (f"<h2>Bill of materials</h2><div style='overflow-x:auto;font-size:.85em'>"
-            f"<table><tr>{head}</tr>{body}</table></div>")
+    rows = list(csv.DictReader(io.StringIO(path.read_text(encoding="utf-8"))))
+    head = "".join(f"<th>{html.escape(h)}</th>" for h, _ in BOM_VIEW) + "<th>files</th>"
+    body = []
+    for r in rows:
+        cells = []
+        for h, cols in BOM_VIEW:
+            text = " / ".join(r.get(c, "") for c in cols if r.get(c, ""))
+            cls = " class='n'" if h in _BOM_NUMERIC else ""
+            cells.append(f"<td{cls}>{html.escape(text)}</td>")
+        cells.append(f"<td>{_bom_files(r.get('files', ''))}</td>")
+        body.append("<tr>" + "".join(cells) + "</tr>")
+    return ("<h2>Bill of materials</h2><p><a href='bom.csv'>bom.csv</a> holds every column "
+            "(kind, instances); parts to make are in <a href='vendor.zip'>vendor.zip</a>.</p>"
+            f"<div class='scroll'><table class='bom'><tr>{head}</tr>{''.join(body)}</table></div>")
 
 
 def render_build_report(out_dir: Path | str) -> str:

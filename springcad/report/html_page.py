@@ -27,6 +27,9 @@ th{background:#f2f2f2;text-align:left}td.n{text-align:right;font-variant-numeric
 figure{margin:0}img{max-width:100%;height:auto}figcaption{font-size:.9em;color:#555}
 .thumb{border:1px solid #ccc;background:#fff;width:260px;height:185px;object-fit:contain}
 code{background:#f4f4f4;padding:0 .2em}
+.scroll{overflow-x:auto}.bom td{vertical-align:top}.bom a{margin-right:.4em}
+@media (max-width:700px){body{margin:1em auto;font-size:.95em}.thumb{width:100%;height:auto}
+td,th{padding:.2em .35em}}
 """
 
 _BULLET = re.compile(r"^\s*[-*]\s+")
@@ -45,6 +48,7 @@ def img_tag(path: Path, alt: str, cls: str = "", width: int | None = None) -> st
 def page(title: str, body: str) -> str:
     """A complete HTML document with the common style."""
     return ("<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
+            "<meta name='viewport' content='width=device-width, initial-scale=1'>"
             f"<title>{html.escape(title)}</title><style>{CSS}</style></head><body>\n"
             f"{body}\n</body></html>\n")
 

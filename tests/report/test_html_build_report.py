@@ -56,13 +56,19 @@ def test_report_is_written_listed_and_self_contained(built):
         assert html.escape(reason) in text
     # no network: every image is inline data, the only links are the drawing PDFs
     assert_self_contained(text)
-    pdfs = re.findall(r"href='([^']+)'", text)
-    assert pdfs and all(p.endswith(".pdf") and (built / p).is_file() for p in pdfs)
+    links = re.findall(r"href='([^']+)'", text)
+    pdfs = [p for p in links if p.endswith(".pdf")]
+    assert pdfs and all((built / p).is_file() for p in links)  # every link is a built file
+    assert "name='viewport'" in text
     design = json.loads((built / "design.json").read_text())
     k = design["springs"]["S1"]["stiffness_Nm_per_rad"]
     assert f"{k:.4g}" in text
-    bom_first_col = (built / "bom.csv").read_text().splitlines()[1].split(",")[0]
-    assert f"<td>{bom_first_col}</td>" in text
+    import csv
+
+    rows = list(csv.DictReader((built / "bom.csv").open()))
+    for r in rows:  # the readable BOM: part number, title, quantity and the files as links
+        assert f"<td>{r['part_number']}</td>" in text and f"<td>{r['title']}</td>" in text
+        assert all(f"href='{f}'" in text for f in r["files"].split())
     assert render_build_report(built) == text  # rendered from the files alone
 
 

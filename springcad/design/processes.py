@@ -1,0 +1,91 @@
+"""Manufacturing processes: what each can make and hold (``springcad/data/processes.toml``).
+
+Pure data and formulas, no geometry kernel: the design step sizes parts with them
+(e.g. the rim spacer's inner edge and hole size), the geometry step checks the cut
+profiles against them (:mod:`springcad.geometry.sheet`), the drawings and the BOM
+print the same process text. Units: mm.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import tomllib
+from dataclasses import dataclass
+
+from springcad.data import data_path
+from springcad.errors import ConfigError
+
+PROCESS_FILE = "processes.toml"
+
+
+@dataclass(frozen=True)
+class Process:
+    """One process's capabilities (see the data file's header for every field)."""
+
+    key: str
+    text: str
+    materials: tuple[str, ...]
+    min_web_mm: float
+    min_web_per_thickness: float
+    min_hole_per_thickness: float
+    hole_tolerance_mm: float
+    position_tolerance_mm: float
+    fits: tuple[str, ...]
+
+    def min_web(self, thickness_mm: float) -> float:
+        """Smallest web between a hole and another contour, or two facing contours (mm)."""
+        return max(self.min_web_mm, self.min_web_per_thickness * thickness_mm)
+
+    def clearance_hole(self, pin_max_mm: float, mate_position_mm: float) -> float:
+        """Nominal diameter (rounded up to 0.01 mm) of a hole that clears a pin of largest
+        diameter ``pin_max_mm`` located by holes of another part whose true position is
+        within ``mate_position_mm`` (radius): at its smallest size and worst position
+        the hole still clears the pin at its worst position (mm)."""
+        need = (pin_max_mm + 2.0 * (mate_position_mm + self.position_tolerance_mm)
+                + self.hole_tolerance_mm)
+        return math.ceil(round(need * 100.0, 6)) / 100.0
+
+    def can_finish(self, fit: str) -> bool:
+        """The process holds this ISO fit on a hole or bore without a second operation."""
+        return not fit or fit in self.fits
+
+
+@functools.cache
+def processes() -> dict[str, Process]:
+    """Every process of the data file, by key."""
+    with open(data_path(PROCESS_FILE), "rb") as fh:
+        data = tomllib.load(fh)
+    return {k: Process(key=k, text=v["text"], materials=tuple(v["materials"]),
+                       min_web_mm=float(v["min_web_mm"]),
+                       min_web_per_thickness=float(v["min_web_per_thickness"]),
+                       min_hole_per_thickness=float(v["min_hole_per_thickness"]),
+                       hole_tolerance_mm=float(v["hole_tolerance_mm"]),
+                       position_tolerance_mm=float(v["position_tolerance_mm"]),
+                       fits=tuple(v["fits"]))
+            for k, v in data.items()}
+
+
+def process(key: str) -> Process:
+    """The process named ``key``.
+
+    Raises:
+        ConfigError: no such process in the data file.
+    """
+    try:
+        return processes()[key]
+    except KeyError:
+        raise ConfigError(f"manufacturing process '{key}': not in {PROCESS_FILE} "
+                          f"(known: {', '.join(sorted(processes()))})") from None
+
+
+def process_text(key: str) -> str:
+    """What the drawing, BOM and README call the process (the key if unknown)."""
+    p = processes().get(key)
+    return p.text if p else key
+
+
+def process_chain_text(key: str, secondary: tuple[str, ...] = ()) -> str:
+    """The main process and those that finish features after it, as the drawing's title
+    block and the BOM print them (``"turned, sinker EDM, ground"``)."""
+    return ", ".join(process_text(k) for k in (key, *secondary))

@@ -1,0 +1,98 @@
+"""Process rules of every made part: sheet webs, fits by process, the rim spacer's layout."""
+
+import math
+
+import pytest
+from cad_fixtures import assembly
+
+from springcad.design.curves import Profile
+from springcad.design.hardware import rim_spacer_fit
+from springcad.design.processes import process, processes
+from springcad.errors import DesignError
+from springcad.geometry.base import PartInfo, annulus, circle_loop
+from springcad.geometry.sheet_cut import fit_rule, sheet_rules
+
+
+def test_rim_spacer_fit_by_hand():
+    """Root 31, outer 33.5, holes on R32.25 for Ø1.5 m6 pins (1.508 max), 0.5 mm sheet.
+
+    Laser: hole 1.508 + 2 (0.01 + 0.05) + 0.05 = 1.678 -> Ø1.68; outer web
+    33.5 - 32.25 - (1.68 + 0.05)/2 = 0.385 < 0.5 (= max(0.4, 1 x 0.5)): rejected.
+    Wire EDM: hole 1.508 + 2 (0.01 + 0.01) + 0.005 = 1.553 -> Ø1.56; largest radius 0.7825;
+    outer web 0.4675 >= 0.4; inner edge min(31 + 0.3, 32.25 - 0.7825 - 0.4) = 31.0675, above
+    root + play (0.7825 - 0.75) + margin 0.02 = 31.0525.
+    """
+    fit = rim_spacer_fit(31.0, 33.5, 32.25, 1.5, 1.508, 0.5, 0.4)
+    assert fit.process == "wire_edm"
+    assert fit.hole_diameter_mm == pytest.approx(1.56)
+    assert fit.outer_web_mm == pytest.approx(0.4675)
+    assert fit.inner_radius_mm == pytest.approx(31.0675)
+    assert fit.inner_web_mm == pytest.approx(0.4)
+    assert len(fit.rejected) == 1 and "0.385 mm" in fit.rejected[0]
+    # a wide rim: laser, inner edge 0.3 mm outside the roots
+    wide = rim_spacer_fit(31.0, 36.0, 33.5, 1.5, 1.508, 0.5, 0.4)
+    assert wide.process == "laser" and wide.hole_diameter_mm == pytest.approx(1.68)
+    assert wide.inner_radius_mm == pytest.approx(31.3) and wide.root_clearance_mm == pytest.approx(0.3)
+
+
+def test_rim_spacer_refused_with_the_reason():
+    with pytest.raises(DesignError, match="no process can make it.*laser cut.*wire EDM"):
+        rim_spacer_fit(31.0, 33.0, 32.0, 1.5, 1.508, 0.5, 0.4)
+
+
+def _laser_ring(inner_mm, hole_circle_mm, hole_d_mm, outer_mm=33.5) -> Profile:
+    holes = tuple(circle_loop(0.5 * hole_d_mm, (hole_circle_mm * math.cos(a),
+                                                  hole_circle_mm * math.sin(a)))
+                  for a in (0.3, 2.4, 4.5))
+    return annulus(inner_mm, outer_mm, holes)
+
+
+def test_sheet_rules_catch_the_old_rim_spacer():
+    """The 4xS1 rim spacer as first drawn (issue 26): Ø1.5 holes on R32.243, inner edge
+    R31.287: 0.207 mm to the inner edge, below the 0.5 mm a laser needs in 0.5 mm sheet."""
+    prof = _laser_ring(31.2868, 32.2434, 1.5)
+    webs, edge, size = sheet_rules(prof, "laser", 0.5)
+    assert edge.rule == "hole_edge" and not edge.passed
+    assert edge.value_mm == pytest.approx(32.2434 - 0.75 - 31.2868, abs=2e-3)
+    assert edge.limit_mm == pytest.approx(0.5)
+    assert size.passed  # 1.5 mm >= 1 x thickness
+    good = _laser_ring(30.0, 32.0, 1.0, outer_mm=34.0)
+    assert all(r.passed for r in sheet_rules(good, "laser", 0.5))
+    assert not sheet_rules(_laser_ring(30.0, 32.0, 0.4, 34.0), "laser", 0.5)[2].passed
+
+
+def _info(process_key, fits, secondary=()):
+    return PartInfo(name="X", title="X", kind="rim_spacer", material="m", heat_treatment="",
+                    density_kg_per_m3=1.0, process=process_key, thickness_mm=0.5, fits=fits,
+                    secondary_processes=secondary)
+
+
+def test_fits_only_where_the_process_holds_them():
+    assert not fit_rule(_info("laser", {"holes": "H7"})).passed  # issue 26: H7 laser holes
+    assert fit_rule(_info("laser", {"holes": "±0.05"})).passed  # a tolerance, not a fit
+    assert fit_rule(_info("wire_edm", {"holes": "H7"})).passed
+    assert not fit_rule(_info("turned", {"outer": "g6"})).passed  # hardened g6: grind it
+    assert fit_rule(_info("turned", {"outer": "g6"}, ("ground",))).passed
+    assert fit_rule(_info("turned", {"bore": "H7"}, ("sinker_edm",))).passed
+
+
+@pytest.mark.parametrize("stack", ["4xS1", "default", "2xS2 rim"])
+def test_every_made_part_has_a_known_process_and_passes_its_rules(stack):
+    from springcad.geometry.checks import part_checks
+
+    a = assembly(stack)
+    mfg = a.design.stack.springs[0].manufacturing
+    for pn, part in a.parts.items():
+        info = part.info
+        assert info.process in processes(), pn
+        assert all(k in processes() for k in info.secondary_processes), pn
+        checks = part_checks(part, mfg)
+        failed = [f"{c.name}: {c.message}" for c in checks if not c.passed]
+        assert not failed, (pn, failed)
+        if info.process != "purchased":
+            assert any(c.name.endswith(".fits") for c in checks), pn
+        if info.kind == "rim_spacer" and info.cut_profile is not None:
+            webs = [c for c in checks if c.name.endswith("hole_edge")]
+            limit = max(mfg.min_hole_edge_mm, process(info.process).min_web(info.thickness_mm)
+                        if info.process != "wire_edm" else 0.0)
+            assert webs and webs[0].value >= limit - 1e-3, (pn, webs)
