@@ -25,7 +25,7 @@ script sits in), and scored:
 A record is "all right" when every score that applies is right. ``--audit`` runs no fit: it
 prints, per record, how well a library-like least-squares model of its own describes the
 noiseless record (``heldout_fit_a_audit.py``), as a check of the ``unexplained`` labels.
-Measured 2026-11-26 on /work/main (eb65231): seed 4242 40/50 all right, seed 7 42/50,
+Measured 2026-11-26 on /work/main (793ff4a): seed 4242 40/50 all right, seed 7 42/50,
 about 4.5 min each with --jobs 2 on the shared 2-core machine.
 """
 
