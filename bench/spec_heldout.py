@@ -44,7 +44,8 @@ Usage::
     python bench/spec_heldout.py --code /work/main ...          # another checkout's package
 
 Measured (2026-11-26, --seed 2511 --n 30 --jobs 1, load average 8-19 on 2 cores; the
-configs: 17 single/uniform stacks + 6 mixed, 21 feasible, 6 borderline, 3 infeasible):
+configs: 13 single springs, 14 stacks of identical disks, 3 mixed stacks; 21 feasible,
+6 borderline, 3 infeasible by the rule):
 main 32b663e: 0 RELEASED, 7 NOT FOR MANUFACTURE, 2 late failures, 21 refused at design
 (11 naming a number, 10 of them only fastener_count = 0). main c1e97b3 (design search and
 "feasible with" suggestions): 23 of 30 designed; built 0 RELEASED, 10 NOT FOR MANUFACTURE,
@@ -327,7 +328,7 @@ def _one_spec(rng, idx: int, target: str) -> dict:
                     sp.update(contact_radius_mm=rc, n_flexures=nf)
                 cfg["hardware"]["fastener_count"] = min(cfg["hardware"]["fastener_count"], nf)
         got = assess(cfg)
-        if got["label"] == target:
+        if got["label"] == target and 10 <= got["k_stack"] <= 2000:
             robot = ROBOTS[int(rng.integers(len(ROBOTS)))]
             name = f"g{idx:02d}_{robot}_{n}x"
             cfg["job"] = {"name": name, "description":
