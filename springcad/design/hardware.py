@@ -132,6 +132,21 @@ class RimSpacerFit:
     rejected: tuple[str, ...] = ()
 
 
+def rim_spacer_rim_mm(hardware, manufacturing) -> float:
+    """Thinnest spring rim (R_o - R_r, mm) on which a wire-EDM rim spacer fits its pin holes
+    with the rules of :func:`rim_spacer_fit`, the holes on the circle midway in the rim: the
+    largest clearance hole, the hole-edge web on both sides, the spacer's play on its pins
+    and :data:`ROOT_MARGIN_MM` inside (the design search keeps this rim, so the spacer is
+    not refused by the build's web rules)."""
+    pin = hardware.fastener_diameter_mm
+    pin_max = pin + (M6_UPPER_MM if hardware.fastener == "dowel" else 0.0)
+    wire = process("wire_edm")
+    hole = wire.clearance_hole(pin_max, wire.position_tolerance_mm)
+    r_hole = 0.5 * (hole + wire.hole_tolerance_mm)
+    play = r_hole - 0.5 * pin
+    return 2.0 * (r_hole + manufacturing.min_hole_edge_mm + play + ROOT_MARGIN_MM)
+
+
 def rim_spacer_fit(root_radius_mm: float, outer_radius_mm: float, hole_circle_radius_mm: float,
                    pin_diameter_mm: float, pin_max_mm: float, thickness_mm: float,
                    wire_min_web_mm: float) -> RimSpacerFit:

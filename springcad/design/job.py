@@ -8,7 +8,8 @@ from dataclasses import dataclass, replace
 from springcad.version import __version__
 from springcad.config import Job
 from springcad.config.consistency import min_rim_mm
-from springcad.design.connections import camshaft_indices, connection_sequence
+from springcad.design.connections import RIM, camshaft_indices, connection_sequence
+from springcad.design.hardware import rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware
 from springcad.design.search import design_spring
 from springcad.design.spring import SpringDesign
@@ -162,14 +163,18 @@ def _cam_key(d: SpringDesign) -> tuple:
 
 
 def shared_rim_limit_mm(job: Job) -> float:
-    """Largest root radius any spring of a multi-spring stack may have (mm): the rim holes
-    lie on one circle (:func:`common_hole_circle`) that must fit the rim of the spring
-    with the smallest outer radius, with its holes' edge distances."""
-    names = set(job.stack.sequence)
-    if len(names) < 2 or job.hardware.fastener_count == 0:
+    """Largest root radius any spring of a stack with rim-to-rim joints may have (mm): the
+    rim holes lie on one circle (:func:`common_hole_circle`) that must fit the rim of the
+    spring with the smallest outer radius, with its holes' edge distances, and the rim
+    spacer between the rims needs its clearance holes and webs there
+    (:func:`springcad.design.hardware.rim_spacer_rim_mm`)."""
+    seq = job.stack.sequence
+    joints, _ = connection_sequence(len(seq), job.stack.input)
+    if RIM not in joints or job.hardware.fastener_count == 0:
         return math.inf
-    ro = min(job.springs[n].outer_radius_mm for n in names)
-    return ro - min_rim_mm(ro, job.manufacturing, job.hardware)
+    ro = min(job.springs[n].outer_radius_mm for n in set(seq))
+    return ro - max(min_rim_mm(ro, job.manufacturing, job.hardware),
+                    rim_spacer_rim_mm(job.hardware, job.manufacturing))
 
 
 def _share_camshafts(job: Job, springs: dict[str, SpringDesign],

@@ -351,8 +351,16 @@ def profile_defect(d: SpringDesign) -> str:
         defect = find_defect(profile, CONTOUR_STEP_MM)
         if defect is not None:
             x, y = defect.point_mm
-            return (f"the {part} contour {'crosses' if defect.kind == 'cross' else defect.kind} "
-                    f"at ({x:.3f}, {y:.3f}) mm (loops {defect.loops})")
+            where = f"at ({x:.3f}, {y:.3f}) mm, r = {math.hypot(x, y):.3f} mm"
+            if max(defect.loops) >= 2 or (part == "camshaft" and max(defect.loops) >= 1):
+                what = ("a rim hole cuts the ring's contour" if part == "ring" else
+                        "the camshaft's bore cuts its teeth")
+                fix = ("smaller fasteners (hardware.fastener_diameter_mm) or a wider rim"
+                       if part == "ring" else "a smaller hardware.shaft_diameter_mm")
+                return f"{what} {where}; {fix}"
+            verb = "crosses" if defect.kind == "cross" else f"{defect.kind}es"
+            return (f"the {part}'s contour {verb} itself {where} (flexures or teeth too wide or "
+                    "too curved for their pitch)")
     return ""
 
 
