@@ -216,7 +216,9 @@ def with_hole_circle(d, radius_mm: float):
         return d
     r_hole = 0.5 * d.hole_diameter_mm
     edge = d.manufacturing.min_hole_edge_mm
-    if radius_mm - r_hole - d.root_radius_mm < edge or d.outer_radius_mm - radius_mm - r_hole < edge:
+    tol = 1e-9  # the design search puts the holes exactly at the edge distance (mm)
+    if (radius_mm - r_hole - d.root_radius_mm < edge - tol
+            or d.outer_radius_mm - radius_mm - r_hole < edge - tol):
         raise DesignError(
             f"spring '{d.name}': rim holes on the stack's common circle R{radius_mm:.3f} mm do not "
             f"fit its rim ({d.root_radius_mm:.3f} to {d.outer_radius_mm:.3f} mm) with "
