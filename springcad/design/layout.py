@@ -204,7 +204,8 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
         raise DesignError(
             f"spring '{spec.name}': no layout fits: for contact radii {radii[0]:.3g} to "
             f"{radii[-1]:.3g} mm and N = {ns[0]}{'' if len(ns) == 1 else f' to {ns[-1]}'} the tip "
-            f"balls or the flexure roots do not fit in R_o = {ro:.3g} mm; use a larger outer "
+            f"balls (sized for the peak torque {peak / NMM_PER_NM:.3g} N*m in bending and in "
+            f"contact) or the flexure roots do not fit in R_o = {ro:.3g} mm; use a larger outer "
             "radius, a thicker disk or a lower stiffness, or fewer n_flexures")
     if spec.contact_radius_mm is not None:  # r_c fixed: the most flexures first (eq. 6)
         ranked = sorted(best.values(), key=lambda lay: -lay.n)
