@@ -14,6 +14,7 @@ import math
 from dataclasses import dataclass
 
 from springcad.design import plans as pl
+from springcad.design.cam import d_bore
 from springcad.design.catalogue import rim_dowel_length
 from springcad.design.connections import SHAFT, camshaft_indices
 from springcad.design.processes import process
@@ -310,14 +311,16 @@ class _Layout:
             plan = pl.DShaftPlan(diameter_mm=cam.bore_diameter_mm, flat_ratio=FLAT_RATIO,
                                  engaged_length_mm=inside, stickout_mm=out_mm,
                                  corner_radius_mm=corner)
-            volume = math.pi * r ** 2 * (inside + out_mm)
+            # the D section, as the part is made (design.json and the BOM agree)
+            volume = abs(d_bore(r, FLAT_RATIO, corner).signed_area()) * (inside + out_mm)
         else:
             inside = hub - SOCKET_FACE_CLEARANCE_MM
             r_out = cam.hub_radius_mm + SOCKET_WALL_MM
             plan = pl.HubSocketPlan(outer_radius_mm=r_out, socket_depth_mm=inside,
                                     hub_radius_mm=cam.hub_radius_mm, flat_ratio=FLAT_RATIO,
                                     stickout_mm=out_mm, corner_radius_mm=corner)
-            volume = math.pi * r_out ** 2 * (inside + out_mm) - math.pi * cam.hub_radius_mm ** 2 * inside
+            socket = abs(d_bore(cam.hub_radius_mm, FLAT_RATIO, corner).signed_area())
+            volume = math.pi * r_out ** 2 * (inside + out_mm) - socket * inside
         z = cam_start - out_mm if role == "input" else cam_end - inside
         return Component(f"{role}_torque_shaft", plan, self.steel[0], 1, volume, self.steel[1], z,
                          inside + out_mm, role, in_mass=False)
@@ -374,9 +377,16 @@ class _Layout:
             # rim allows (inner edge no closer than the roots); the build's wire-EDM rules
             # then refuse it with the webs measured (or the spring's own rim check does),
             # and the design search can still weigh the stack
-            hole = process("wire_edm").clearance_hole(
-                pin_max, process("wire_edm").position_tolerance_mm)
-            r_in = max(root, min(root + ROOT_CLEARANCE_MM, r_hc - 0.5 * hole - edge))
+            # The hole shrinks to what the rim leaves (less clearance for the position
+            # errors: a soft 0.5 mm spacer yields to a pin, a hardened ring does not) but
+            # always slips over the largest pin.
+            edm = process("wire_edm")
+            tol = edm.hole_tolerance_mm
+            smallest = math.ceil(round((pin_max + tol + 0.01) * 100.0, 6)) / 100.0
+            room = math.floor(round((2.0 * (r_hc - root - edge) - tol) * 100.0, 6)) / 100.0
+            hole = max(smallest, min(edm.clearance_hole(pin_max, edm.position_tolerance_mm),
+                                     room))
+            r_in = max(root, min(root + ROOT_CLEARANCE_MM, r_hc - 0.5 * (hole + tol) - edge))
             return pl.RimSpacerPlan(inner_radius_mm=r_in, outer_radius_mm=self.r_outer,
                                     hole_centres_mm=centres, hole_diameter_mm=hole, joint=j,
                                     process="wire_edm")

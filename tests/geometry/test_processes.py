@@ -96,3 +96,16 @@ def test_every_made_part_has_a_known_process_and_passes_its_rules(stack):
             limit = max(mfg.min_hole_edge_mm, process(info.process).min_web(info.thickness_mm)
                         if info.process != "wire_edm" else 0.0)
             assert webs and webs[0].value >= limit - 1e-3, (pn, webs)
+
+
+@pytest.mark.parametrize("stack", ["4xS1", "default"])
+def test_layout_masses_are_the_part_shapes(stack):
+    """design.json's component volumes (the D torque shafts included) equal the solids'."""
+    from springcad.geometry.base import solid_volume_mm3
+
+    a = assembly(stack)
+    for inst in a.instances:
+        comp = inst.component
+        if comp.kind in ("torque_shaft", "rim_spacer", "centre_spacer", "rim_washer"):
+            assert comp.volume_mm3 == pytest.approx(solid_volume_mm3(inst.part.solid),
+                                                    rel=1e-6), inst.name
