@@ -222,15 +222,19 @@ def _share_camshafts(job: Job, springs: dict[str, SpringDesign],
     return out
 
 
-def design_job(job: Job) -> JobDesign:
+def design_job(job: Job, explain: bool = True) -> JobDesign:
     """Design every spring named in the job and the stack.
+
+    Args:
+        explain: a refused spring names the changes that would design (seconds to a
+            minute; False for searches that only need a yes or no, e.g. synthesis).
 
     Raises:
         DesignError: a spring or a hardware part cannot be made as specified.
     """
     rr_max = shared_rim_limit_mm(job)
     springs = {name: design_spring(spec, job.material, job.manufacturing, job.hardware,
-                                   max_root_radius_mm=rr_max)
+                                   explain=explain, max_root_radius_mm=rr_max)
                for name, spec in job.springs.items()}
     springs = _share_camshafts(job, springs, rr_max)
     springs = common_hole_circle(springs)

@@ -86,25 +86,18 @@ def toml_text(doc: dict, header: str = "") -> str:
 def design_candidate(req, cand: dict):
     """Full design (:class:`~springcad.design.job.JobDesign`) of a candidate row.
 
-    :func:`springcad.design.job.design_job`'s steps with ``design_spring(...,
-    explain=False)``: a yes or no is all the synthesis needs.
+    :func:`springcad.design.job.design_job` itself (the rim and spacer room of a stack,
+    shared camshafts, hardware checks), with ``explain=False``: a yes or no is all the
+    synthesis needs.
 
     Raises:
         DesignError: the exact design fails a check the screening does not make.
     """
     from springcad.config import job_from_dict
-    from springcad.design.job import JobDesign, common_hole_circle
-    from springcad.design.search import design_spring
-    from springcad.design.stack import design_stack
+    from springcad.design.job import design_job
 
     job = job_from_dict(job_document(req, cand), name="synthesized")
-    springs = {name: design_spring(spec, job.material, job.manufacturing, job.hardware,
-                                   explain=False)
-               for name, spec in job.springs.items()}
-    springs = common_hole_circle(springs)
-    stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
-                         job.analysis.monte_carlo_samples, job.analysis.seed)
-    return JobDesign(job, springs, stack)
+    return design_job(job, explain=False)
 
 
 #: failure classes of a finalist, by a phrase of the design's message (first match wins)
