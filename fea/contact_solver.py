@@ -205,8 +205,13 @@ class CamCurve:
         pocket = seg_f == j_pocket
         dist_to_cusp = s_seg if ccw else self.lengths[j_pocket] - s_seg
         lo, hi = min(tip_drive, tip_back), max(tip_drive, tip_back)
+        # the pocket's driving half continues the driving flank (one cut, tangent at the
+        # cusp): a gap there is to the contact pair's own surface (fea.contact_tolerance)
+        half = 0.5 * self.lengths[j_pocket]
         masks = {"driving_flank": seg_f == j_drive,
-                 "pocket": pocket & (dist_to_cusp > self.junction_mm),
+                 "driving_pocket": pocket & (dist_to_cusp > self.junction_mm)
+                 & (dist_to_cusp <= half),
+                 "pocket": pocket & (dist_to_cusp > max(self.junction_mm, half)),
                  "back_flank": seg_f == j_back,
                  "driving_tooth_tip": seg_f == tip_drive,
                  "back_tooth_tip": seg_f == tip_back,

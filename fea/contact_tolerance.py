@@ -25,6 +25,13 @@ Clearances
     * of the two surfaces of the gap itself, which take it directly: at most
       t_spring + t_shaft for a ring-cam gap, 2 t_spring ring to ring.
 
+    The driving half of the pocket continues the driving flank (one wire pass, tangent
+    at the cusp), so locally it deviates as the flank does: a gap between the ball and
+    that half ("driving_pocket/ball") is between the contact pair's own surfaces and
+    takes E itself (q(E) - E); it closes only when the ball would bear on the pocket
+    below the flank's start at that deviation (bottoming), and its nominal value is not
+    held against a stack.
+
     Worst case: the smallest gap over every deviation the zones allow: E over
     [-T, T] and the gap's own surfaces at their limits, where a surface of the
     contact pair (the ball, the driving flank) keeps the deviation it has in E
@@ -52,6 +59,8 @@ from springcad.design.tolerance import deviations
 
 #: ring-to-ring gaps (the others are ring to cam)
 RING_TO_RING = ("neighbour_flexure",)
+#: cam surfaces cut with the driving flank (they take the flank's deviation)
+PAIR_CAM = ("driving_flank", "driving_pocket")
 #: Monte Carlo parts
 MC_SAMPLES = 20000
 #: the quantile reported of the Monte Carlo gaps
@@ -237,6 +246,8 @@ def _worst(q, kind: str, ts: float, tc: float) -> float:
         own = np.minimum(tc, E + ts) + ts
     elif kind == "ring":
         own = np.full_like(E, 2 * ts)
+    elif kind == "pair":  # both surfaces are the contact pair: their deviations sum to E
+        own = E
     else:
         own = np.full_like(E, ts + tc)
     return float(np.min(q(E) - own))
@@ -246,7 +257,9 @@ def _kind(name: str) -> str:
     if name in RING_TO_RING:
         return "ring"
     cam, _, part = name.partition("/")
-    return "ball" if part == "ball" else "flank" if cam == "driving_flank" else ""
+    if cam == "driving_pocket" and part == "ball":
+        return "pair"
+    return "ball" if part == "ball" else "flank" if cam in PAIR_CAM else ""
 
 
 def _clearance(name, states, t_spring, t_shaft, draws, rng, distribution) -> Clearance:
@@ -255,7 +268,8 @@ def _clearance(name, states, t_spring, t_shaft, draws, rng, distribution) -> Cle
     g = np.array([s.clearances_mm[name] for s in states])
     q = _quadratic(E, g)
     kind = _kind(name)
-    stack = 2 * t_spring if kind == "ring" else t_spring + t_shaft
+    # the plain stack a nominal gap must exceed (none between the contact pair's surfaces)
+    stack = 2 * t_spring if kind == "ring" else 0.0 if kind == "pair" else t_spring + t_shaft
     nominal = float(q(0.0))
     worst = _worst(q, kind, t_spring, t_shaft)
 
@@ -274,8 +288,9 @@ def _clearance(name, states, t_spring, t_shaft, draws, rng, distribution) -> Cle
         frac = lo
     n = len(draws["ball"])
     other = lambda tol: deviations(rng, tol, n, distribution)  # noqa: E731
-    ring = (draws["ball"] if kind == "ball" else other(t_spring))
-    cam = (draws["flank"] if kind == "flank" else other(t_spring if kind == "ring" else t_shaft))
+    ring = (draws["ball"] if kind in ("ball", "pair") else other(t_spring))
+    cam = (draws["flank"] if kind in ("flank", "pair") else
+           other(t_spring if kind == "ring" else t_shaft))
     T = t_spring + t_shaft  # the worst case's range of E (extrapolated past a failed offset)
     e_contact = np.clip(draws["ball"] + draws["flank"], -T, T)
     mc = q(e_contact) - ring - cam

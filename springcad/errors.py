@@ -66,6 +66,12 @@ class DesignError(SpringcadError, ValueError):
     """The spec asks for a spring no geometry in the envelope can deliver."""
 
 
+class SpecInfeasible(DesignError):
+    """No choice of the free parameters can help: the spec itself breaks a bound that holds
+    for every layout (the energy a disk can store, the tip balls' torque cap, no flexure
+    count fitting at any contact radius). The design search stops trying layouts on it."""
+
+
 class GeometryError(SpringcadError):
     """The CAD kernel could not make or validate a part."""
 

@@ -214,6 +214,45 @@ def test_a_refusal_names_changes_in_numbers_and_each_change_designs():
         ok = job_from_dict({"material": mat, "springs": {"A": {**base, key: float(value)}}})
         s = design_spring(ok.springs["A"], ok.material, ok.manufacturing, ok.hardware)
         assert s.yield_margin >= 1.6 * (1 - 1e-3)
+    # another material: both keys named, the pair designs with the margin
+    materials = re.findall(r'material\.name = "([\w-]+)" with material\.design_stress_MPa = '
+                           r"([\d.]+)", str(exc.value))
+    assert materials, str(exc.value)
+    for name, sigma in materials:
+        ok = job_from_dict({"material": {**mat, "name": name, "design_stress_MPa": float(sigma)},
+                            "springs": {"A": base}})
+        s = design_spring(ok.springs["A"], ok.material, ok.manufacturing, ok.hardware)
+        assert s.yield_margin >= 1.6 * (1 - 1e-3)
+
+
+@pytest.mark.slow
+def test_a_refusal_over_the_energy_bound_names_disks_in_series_that_design():
+    """A spring asked to store more than its disk can hold at the design stress: no layout
+    helps; the refusal names m disks in series (m x K over theta/m each), and that spring
+    designs; no suggested value lies outside the schema's range of its key."""
+    import re
+
+    from springcad.config.schema import keys
+
+    base = {"stiffness_Nm_per_rad": 150, "max_deflection_deg": 28, "outer_radius_mm": 36,
+            "thickness_mm": 5.0}  # the default template's disk at twice its deflection
+    mat = {"design_stress_MPa": 780, "safety_factor": 1.2}
+    j = job_from_dict({"material": mat, "springs": {"A": base}})
+    with pytest.raises(DesignError, match=r"disks in series") as exc:
+        design_spring(j.springs["A"], j.material, j.manufacturing, j.hardware)
+    text = str(exc.value)
+    (m, k, deg), = re.findall(r"(\d) disks in series in its place \(each springs\.A\."
+                              r"stiffness_Nm_per_rad = ([\d.]+), max_deflection_deg = "
+                              r"([\d.]+)", text)
+    assert float(k) == pytest.approx(150 * int(m), rel=1e-3)
+    assert float(deg) == pytest.approx(base["max_deflection_deg"] / int(m), rel=1e-3)
+    one = job_from_dict({"material": mat, "springs": {"A": {
+        **base, "stiffness_Nm_per_rad": float(k), "max_deflection_deg": float(deg)}}})
+    s = design_spring(one.springs["A"], one.material, one.manufacturing, one.hardware)
+    assert s.yield_margin >= one.material.safety_factor * (1 - 1e-3)
+    bounds = keys("springs.<name>")
+    for key, value, _ in re.findall(r"springs\.A\.(\w+) = ([\d.]+) \(now ([\d.]+)\)", text):
+        assert bounds[key].lo <= float(value) <= bounds[key].hi
 
 
 def test_pruned_clearance_is_the_brute_force_minimum():

@@ -7,22 +7,37 @@ user's value; the boundary is rounded outward to a value a person would write
 (0.1 mm, 0.5 mm, 0.1 deg, 1 %) and that rounded value is checked once more with the
 full design search, so what is printed is a value that designs.
 
-The probe is any function ``designs(spec) -> bool``; :func:`springcad.design.search`
-passes the design search itself with a small candidate budget. Units: mm, deg, N*m/rad.
+Every probe stays inside the config schema's range of its key (a suggestion a user
+cannot write is no suggestion). Beyond the single keys, two changes of several keys
+are probed the same way: another built-in material with a higher energy density
+sigma^2/E (its design stress scaled with the yield strength, both keys named), and the
+spring split into m = 2..4 disks in series (each m x the stiffness over 1/m of the
+deflection, the same torque and energy as the one it replaces).
+
+The probe is any function ``designs(spec) -> bool`` (``designs_with(material)`` for the
+material); :func:`springcad.design.search` passes the design search itself with a small
+candidate budget. Units: mm, deg, N*m/rad, MPa.
 """
 
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 from dataclasses import replace as _replace
 from typing import Callable
 
-from springcad.config import SpringSpec
+from springcad.config import MaterialSpec, SpringSpec
+from springcad.config.schema import keys as schema_keys
+from springcad.materials import material_table
 from springcad.units import NMM_PER_NM
 
 #: bisection steps per key (the boundary to ~1/32 of the searched span before rounding)
 STEPS = 5
+#: disks in series probed for one that cannot be made (each m x K over theta / m)
+SERIES_COUNTS = (2, 3, 4)
+#: the design stress of a suggested material is rounded down to this step (MPa)
+STRESS_STEP_MPA = 10.0
 
 
 @dataclass(frozen=True)
@@ -59,48 +74,108 @@ def _rounded(value: float, step: float, up: bool) -> float:
 
 
 def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
-                    keys: tuple[str, ...] | None = None) -> list[tuple[str, float, float]]:
+                    keys: tuple[str, ...] | None = None,
+                    deadline: float | None = None) -> list[tuple[str, float, float]]:
     """The nearest value of each user key at which the spec designs, other keys unchanged.
+
+    Each key's far end (inside the schema's range) is probed first; only the keys whose
+    far end designs are then bisected towards the user's value, until ``deadline``
+    (``time.monotonic()`` seconds) passes: a key cut short keeps the nearest value its
+    bisection had proven, unrounded.
 
     Args:
         spec: the refused spring spec.
         designs: the probe (True when a spec designs).
         keys: config keys to probe (default thickness, outer radius, deflection, stiffness).
+        deadline: when to stop refining (None: never).
 
     Returns:
         (key, user value, suggested value) for every key whose change designs, in the
         order probed; the suggestion was itself checked by ``designs``.
     """
-    out = []
+    open_keys = []
     for kr in _keys():
         if keys is not None and kr.key not in keys:
             continue
         v0 = kr.get(spec)
-        far = v0 * kr.far_factor
-        if not designs(kr.set(spec, far)):
-            continue
+        bound = schema_keys("springs.<name>")[kr.key]
+        far = min(max(v0 * kr.far_factor, bound.lo), bound.hi)
+        if far != v0 and designs(kr.set(spec, far)):
+            open_keys.append((kr, v0, far, bound))
+    out = []
+    for kr, v0, far, bound in open_keys:
         lo, hi = v0, far  # lo fails, hi designs
         for _ in range(STEPS):
+            if deadline is not None and time.monotonic() > deadline:
+                break
             mid = 0.5 * (lo + hi)
             if designs(kr.set(spec, mid)):
                 hi = mid
             else:
                 lo = mid
-        up = kr.far_factor > 1
-        value = _rounded(hi, kr.step, up)
-        if not designs(kr.set(spec, value)):
-            value = hi  # the bisection's own feasible end
-        out.append((kr.key, v0, value))
+        else:
+            value = min(max(_rounded(hi, kr.step, kr.far_factor > 1), bound.lo), bound.hi)
+            if designs(kr.set(spec, value)):
+                hi = value
+        out.append((kr.key, v0, hi))
     return out
 
 
-def describe(spring_name: str, changes: list[tuple[str, float, float]]) -> str:
-    """One clause naming the changes, e.g. "springs.A.thickness_mm = 6.3 (now 5)"."""
-    if not changes:
+def in_series(spec: SpringSpec, m: int) -> SpringSpec:
+    """``spec`` as one of ``m`` equal disks in series replacing it: m x the stiffness over
+    1/m of the deflection (same peak torque, 1/m of the energy each)."""
+    return _replace(spec, stiffness_Nmm_per_rad=spec.stiffness_Nmm_per_rad * m,
+                    max_deflection_rad=spec.max_deflection_rad / m)
+
+
+def series_change(spec: SpringSpec, designs: Callable[[SpringSpec], bool]) -> int | None:
+    """The fewest disks in series (of :data:`SERIES_COUNTS`) whose each designs, or None."""
+    return next((m for m in SERIES_COUNTS if designs(in_series(spec, m))), None)
+
+
+def as_material(material: MaterialSpec, name: str) -> MaterialSpec:
+    """``material`` with the built-in ``name`` instead, its design stress scaled with the
+    yield strength and rounded down to :data:`STRESS_STEP_MPA` (MPa), the margin kept."""
+    other = material_table()[name]
+    sigma = material.design_stress_MPa * other.yield_strength_MPa / \
+        material.material.yield_strength_MPa
+    sigma = math.floor(sigma / STRESS_STEP_MPA) * STRESS_STEP_MPA
+    return MaterialSpec(other, float(sigma), material.safety_factor)
+
+
+def material_changes(material: MaterialSpec,
+                     designs_with: Callable[[MaterialSpec], bool]) -> list[MaterialSpec]:
+    """Built-in materials storing more energy per volume (sigma^2 / E at the scaled
+    design stress) than ``material`` with which the spring designs, best first."""
+    def density(m: MaterialSpec) -> float:
+        return m.design_stress_MPa ** 2 / m.material.youngs_modulus_MPa
+
+    others = sorted((as_material(material, n) for n in material_table()
+                     if n != material.material.name), key=density, reverse=True)
+    return [m for m in others if density(m) > density(material) and designs_with(m)]
+
+
+def describe(spring_name: str, changes: list[tuple[str, float, float]],
+             materials: list[MaterialSpec] = (), series: int | None = None,
+             spec: SpringSpec | None = None) -> str:
+    """One clause naming the changes, e.g. "springs.A.thickness_mm = 6.3 (now 5)".
+
+    ``materials`` (:func:`material_changes`) and ``series`` (:func:`series_change`, with
+    the refused ``spec``) add their clauses when given.
+    """
+    clauses = [f"springs.{spring_name}.{k} = {v:g} (now {v0:.4g})" for k, v0, v in changes]
+    clauses += [f'material.name = "{m.material.name}" with material.design_stress_MPa = '
+                f"{m.design_stress_MPa:g}" for m in materials[:2]]
+    if series is not None and spec is not None:
+        one = in_series(spec, series)
+        clauses.append(
+            f"{series} disks in series in its place (each springs.{spring_name}."
+            f"stiffness_Nm_per_rad = {one.stiffness_Nmm_per_rad / NMM_PER_NM:.4g}, "
+            f"max_deflection_deg = {math.degrees(one.max_deflection_rad):.4g}, and "
+            f"'{spring_name}' {series} times in stack.sequence where it is once)")
+    if not clauses:
         return ("no change of thickness_mm (to 2.5x), outer_radius_mm (to 1.8x), "
-                "max_deflection_deg (to 0.3x) or stiffness_Nm_per_rad (to 0.3x) alone "
-                "designs: put springs in series, choose a stronger material, or change "
-                "several keys")
-    return "feasible with " + " or ".join(
-        f"springs.{spring_name}.{k} = {v:g} (now {v0:.4g})" for k, v0, v in changes) + \
-        " (each alone, other keys unchanged)"
+                "max_deflection_deg (to 0.3x) or stiffness_Nm_per_rad (to 0.3x) alone, "
+                f"no stronger built-in material and no {SERIES_COUNTS[-1]} disks in series "
+                "design: change several keys")
+    return "feasible with " + " or ".join(clauses) + " (each alone, other keys unchanged)"

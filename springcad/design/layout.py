@@ -18,7 +18,7 @@ import numpy as np
 from springcad.config import SpringSpec
 from springcad.design import flexure as fx
 from springcad.design.contact_stress import tip_radius_for_contact_mm
-from springcad.errors import DesignError
+from springcad.errors import DesignError, SpecInfeasible
 from springcad.units import NMM_PER_NM
 
 #: gap between flexure roots over rim thickness (reference rim rule, eq. 8)
@@ -156,7 +156,7 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
     ro = spec.outer_radius_mm
 
     def cap_error(rc):
-        return DesignError(
+        return SpecInfeasible(
             f"spring '{spec.name}': peak torque {peak / NMM_PER_NM:.3g} N*m exceeds the torque cap "
             f"{cap(rc, z, sigma) / NMM_PER_NM:.3g} N*m of tip balls sized for the peak load at "
             f"contact radius {rc:.3g} mm (cap = pi r_c^2 z sigma / (6 sqrt 3)); raise "
@@ -195,13 +195,13 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
     if not best:
         if spec.contact_radius_mm is not None and spec.n_flexures is not None:
             lay = layout_at(spec, sigma, E, spec.n_flexures, spec.contact_radius_mm)
-            raise DesignError(
+            raise SpecInfeasible(
                 f"spring '{spec.name}': n_flexures = {spec.n_flexures} do not fit: tip balls of "
                 f"radius {lay.rb:.3g} mm and equal cam teeth leave room for at most "
                 f"{fx.max_flexures(lay.rb, lay.rc)} flexures at contact radius {lay.rc:.3g} mm")
         if spec.tip_radius_mm is None and peak > cap(radii[-1], z, sigma):
             raise cap_error(radii[-1])
-        raise DesignError(
+        raise SpecInfeasible(
             f"spring '{spec.name}': no layout fits: for contact radii {radii[0]:.3g} to "
             f"{radii[-1]:.3g} mm and N = {ns[0]}{'' if len(ns) == 1 else f' to {ns[-1]}'} the tip "
             f"balls (sized for the peak torque {peak / NMM_PER_NM:.3g} N*m in bending and in "

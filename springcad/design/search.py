@@ -21,6 +21,7 @@ Units: mm, N, MPa, N*mm, rad.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import replace as _replace
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
@@ -28,11 +29,12 @@ from springcad.config.consistency import min_rim_mm
 from springcad.design import flexure as fx
 from springcad.design.cam import TIP_CLEARANCE_SHORT
 from springcad.design.planar import find_defect
-from springcad.design.feasibility import describe, nearest_changes
+from springcad.design.feasibility import (describe, material_changes, nearest_changes,
+                                          series_change)
 from springcad.design.layout import (MAX_CANDIDATES, ContactLimit, Layout, candidate_layouts,
                                      rim_root_radius)
 from springcad.design.spring import SpringDesign, with_width
-from springcad.errors import DesignError
+from springcad.errors import DesignError, SpecInfeasible
 from springcad.units import J_PER_NMM, NMM_PER_NM
 
 
@@ -68,7 +70,7 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
     bound_J = fx.energy_bound_J_per_mm3(sigma, E) * annulus
     need_J = 0.5 * K * theta_d ** 2 * J_PER_NMM
     if need_J > bound_J:
-        raise DesignError(
+        raise SpecInfeasible(
             f"spring '{spec.name}': storing {need_J:.3g} J at {theta_d:.3g} rad needs more than the "
             f"whole disk can hold at the design stress (sigma^2/(6E) x disk volume = {bound_J:.3g} J); "
             "no flexure geometry in this envelope can reach that deflection: lower the stiffness or "
@@ -317,7 +319,7 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
             rejected.append((None, DesignError("; ".join(short)), []))
             continue
         rejected.append((None, err, history))
-        if rank == 0 and not history and _spec_level(err):
+        if rank == 0 and not history and isinstance(err, SpecInfeasible):
             break  # no layout can help: the energy bound or the torque cap
     if fallback is not None:  # every layout tried has a soft shortfall: the best one, warned
         return fallback
@@ -368,13 +370,6 @@ def _soft_shortfalls(d: SpringDesign) -> list[str]:
     """Rules a design may break and still be drawn (a warning stops its release), which the
     search tries other layouts to avoid: the tooth tip too close to the ball."""
     return [w for w in d.warnings if w.startswith(TIP_CLEARANCE_SHORT)]
-
-
-def _spec_level(err: DesignError) -> bool:
-    """Whether an error is about the spec itself (no layout can change it)."""
-    text = str(err)
-    return any(k in text for k in ("whole disk can hold", "torque cap", "no layout fits",
-                                   "do not fit: tip balls"))
 
 
 def _choice_text(d: SpringDesign, rejected) -> str:
@@ -452,6 +447,10 @@ def _stress_text(spec, material, history, err) -> str:
             f"and at that stress {_short(err)}")
 
 
+#: seconds the refusal spends on the user's keys (their far ends are always probed; the
+#: bisection towards the nearest value stops when this has passed; every printed value
+#: is still one the design search accepted)
+REFUSAL_BUDGET_S = 30.0
 #: candidate layouts each feasibility probe tries (a subset of the full search's, in the
 #: same order, so a probe that designs implies the full search designs)
 PROBE_CANDIDATES = 4
@@ -462,14 +461,17 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     """The refusal: the nearest values of the user's own keys that design (numbers) first,
     then why (the binding rule of the reference layout), so a console line cut at its
     length limit keeps the change."""
-    def designs(s) -> bool:
+    def designs(s, mat=material) -> bool:
         try:
-            d = design_spring(s, material, manufacturing, hardware, explain=False,
+            d = design_spring(s, mat, manufacturing, hardware, explain=False,
                               max_root_radius_mm=max_root_radius_mm, candidates=PROBE_CANDIDATES)
         except DesignError:
             return False
-        return d.yield_margin >= material.safety_factor * (1.0 - 1e-3)
+        return d.yield_margin >= mat.safety_factor * (1.0 - 1e-3)
 
-    changes = describe(spec.name, nearest_changes(spec, designs))
+    series = series_change(spec, designs)
+    materials = material_changes(material, lambda m: designs(spec, m))
+    nearest = nearest_changes(spec, designs, deadline=time.monotonic() + REFUSAL_BUDGET_S)
+    changes = describe(spec.name, nearest, materials, series, spec)
     return DesignError(f"spring '{spec.name}' cannot be made as specified; {changes}. "
                        f"Why{tried}: {_short(text)}")

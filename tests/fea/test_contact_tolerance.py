@@ -41,6 +41,8 @@ def _brute_worst(g0, a, kind, ts, tc, n=41):
             best = min(best, g - ef - ts)
         elif kind == "ring":
             best = min(best, g - 2 * ts)
+        elif kind == "pair":  # the pocket's driving half deviates with the flank
+            best = min(best, g - eb - ef)
         else:
             best = min(best, g - ts - tc)
     return best
@@ -49,7 +51,8 @@ def _brute_worst(g0, a, kind, ts, tc, n=41):
 @pytest.mark.parametrize("name,kind", [("driving_tooth_tip/ball", "ball"),
                                        ("driving_flank/neck", "flank"),
                                        ("driving_tooth_tip/neck", ""),
-                                       ("neighbour_flexure", "ring")])
+                                       ("neighbour_flexure", "ring"),
+                                       ("driving_pocket/ball", "pair")])
 @pytest.mark.parametrize("slope", [-1.2, -0.3, 0.0, 0.6, 1.5])
 def test_worst_case_is_the_minimum_over_the_tolerance_zones(name, kind, slope):
     ts, tc, g0 = 0.05, 0.02, 0.06
@@ -133,3 +136,27 @@ def test_dilated_cam_is_the_minkowski_offset():
         assert np.allclose(g, g0 - E, atol=1e-12)
         assert np.allclose(n[2], [math.sqrt(0.5), -math.sqrt(0.5)], atol=1e-6)  # radial
     assert cam.offset_mm == 0.0  # the original is untouched
+
+
+def test_the_pockets_driving_half_is_the_contact_pairs_own_surface():
+    """The driving half of the pocket is cut with the driving flank and deviates with it:
+    a ball 6 um from it whose gap follows the contact offset one to one (it rides the same
+    smooth surface) is open at every deviation, though 6 um is under the 40 um stack; a
+    gap shrinking twice as fast as the offset (the ball bottoming below the flank's
+    start) closes, and says so."""
+    ts = tc = 0.02
+    T = ts + tc
+    ok = assess("S", {"+": (0.1, _states({"driving_pocket/ball": (0.006, 1.0)}, T))}, 0.3,
+                5.0, MAT, ts, tc)
+    (c,) = ok.ends["+"].clearances
+    assert c.ok and c.worst_case_mm == pytest.approx(0.006, abs=1e-9)
+    assert c.mc_closed_fraction == 0.0 and not ok.failures()
+    # the same gap against an independent surface (the back half) is closed in the worst case
+    back = assess("S", {"+": (0.1, _states({"pocket/ball": (0.006, 1.0)}, T))}, 0.3, 5.0,
+                  MAT, ts, tc)
+    assert not back.ends["+"].clearances[0].ok
+    bottoming = assess("S", {"+": (0.1, _states({"driving_pocket/ball": (0.006, 2.0)}, T))},
+                       0.3, 5.0, MAT, ts, tc)
+    (b,) = bottoming.ends["+"].clearances
+    assert b.worst_case_mm == pytest.approx(0.006 - T, abs=2e-5) and not b.ok
+    assert bottoming.failures()
