@@ -59,8 +59,33 @@ def _iteration_record(k, design, run: ModelRun, target, action) -> dict:
             "action": action}
 
 
+def _contact(design, material, run, progress, notes):
+    """The cam contact sweep, or None with a note when it fails (never fatal)."""
+    from fea.contact import contact_sweep
+
+    progress(f"spring {design.name}: cam contact sweep", None)
+    try:
+        return contact_sweep(design, material, run, progress=progress)
+    except SpringcadError as exc:  # a check on top of the verification: never fatal
+        notes.append(f"cam contact sweep failed: {exc}")
+        return None
+
+
+def _ball_needed_mm(contact) -> float | None:
+    """The smallest tip ball the contact FEA names when the balls' Hertz stress at
+    +-theta_max breaks the margin (mm), else None."""
+    at_max = getattr(contact, "at_max", None)
+    if at_max is None:
+        return None
+    need = [end.contact.get("min_tip_radius_mm", math.nan) for end in at_max.ends.values()
+            if end.margin is not None and not end.margin.ok]
+    need = [r for r in need if math.isfinite(r)]
+    return max(need) if need else None
+
+
 def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_noop,
-                  material: Material | None = None) -> SpringVerification:
+                  material: Material | None = None, _contact_pass: int = 0,
+                  _original=None) -> SpringVerification:
     """Verify one designed spring and correct its widths until K meets the target.
 
     Args:
@@ -77,7 +102,8 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
     material = material or solver_material(design.material)
     target = design.target_stiffness_Nmm_per_rad
     with_3d = options.model == "2d3d"
-    original = design
+    original = _original or design
+    contact_pass = _contact_pass
     iterations: list[dict] = []
     notes: list[str] = []
     previous = None  # run whose 3D factors are carried between 3D checks
@@ -162,19 +188,33 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
     if options.model == "2d3d" and run.check3d:
         notes.append("2D plane-stress Richardson extrapolation x 3D factor from extruded "
                      "quadratic tets on the same in-plane meshes")
+    contact = None
+    if options.contact:
+        contact = _contact(design, material, run, progress, notes)
+        r_min = _ball_needed_mm(contact)
+        if (r_min is not None and options.correct and design.spec.tip_radius_mm is None
+                and contact_pass == 0):
+            # the balls are over-stressed at +-theta_max: the design again with the ball the
+            # contact FEA names (3 % over it), then K and the margins corrected again
+            iterations.append(_iteration_record(
+                k, design, run, target, f"redesign for the tip-ball contact (balls of at "
+                f"least {r_min:.3f} mm)"))
+            try:
+                from springcad.design import search as spring_design
+
+                redesigned = spring_design.redesign_for_contact(design, r_min * 1.03)
+            except DesignError as exc:
+                notes.append(f"contact correction stopped: {exc}")
+            else:
+                again = verify_spring(redesigned, options, progress, material,
+                                      _contact_pass=1, _original=original)
+                again.iterations[:0] = iterations
+                again.notes[:0] = notes
+                return again
     support = None
     if options.support_study:
         progress(f"spring {design.name}: support study on the full ring with its holes", None)
         support = support_study(design, material, options.size)
-    contact = None
-    if options.contact:
-        from fea.contact import contact_sweep
-
-        progress(f"spring {design.name}: cam contact sweep", None)
-        try:
-            contact = contact_sweep(design, material, run, progress=progress)
-        except SpringcadError as exc:  # a check on top of the verification: never fatal
-            notes.append(f"cam contact sweep failed: {exc}")
     total = time.perf_counter() - t_start
     timings = {"mesh": run.mesh_time_s,
                "assemble": sum(r.timings_s["assemble"] for r in run.all_results()),

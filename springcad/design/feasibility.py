@@ -34,6 +34,8 @@ from springcad.units import NMM_PER_NM
 
 #: bisection steps per key (the boundary to ~1/32 of the searched span before rounding)
 STEPS = 5
+#: steps every key gets whatever the deadline (the boundary to 1/4 of the span)
+MIN_STEPS = 2
 #: disks in series probed for one that cannot be made (each m x K over theta / m)
 SERIES_COUNTS = (2, 3, 4)
 #: the design stress of a suggested material is rounded down to this step (MPa)
@@ -79,9 +81,10 @@ def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
     """The nearest value of each user key at which the spec designs, other keys unchanged.
 
     Each key's far end (inside the schema's range) is probed first; only the keys whose
-    far end designs are then bisected towards the user's value, until ``deadline``
-    (``time.monotonic()`` seconds) passes: a key cut short keeps the nearest value its
-    bisection had proven, unrounded.
+    far end designs are then bisected towards the user's value, all keys a step at a time,
+    at least :data:`MIN_STEPS` steps and then until ``deadline`` (``time.monotonic()``
+    seconds) passes: a key cut short keeps the nearest value its bisection had proven,
+    unrounded.
 
     Args:
         spec: the refused spring spec.
@@ -102,23 +105,19 @@ def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
         far = min(max(v0 * kr.far_factor, bound.lo), bound.hi)
         if far != v0 and designs(kr.set(spec, far)):
             open_keys.append((kr, v0, far, bound))
-    out = []
-    for kr, v0, far, bound in open_keys:
-        lo, hi = v0, far  # lo fails, hi designs
-        for _ in range(STEPS):
-            if deadline is not None and time.monotonic() > deadline:
-                break
-            mid = 0.5 * (lo + hi)
-            if designs(kr.set(spec, mid)):
-                hi = mid
-            else:
-                lo = mid
-        else:
-            value = min(max(_rounded(hi, kr.step, kr.far_factor > 1), bound.lo), bound.hi)
+    spans = [[v0, far] for _, v0, far, _ in open_keys]  # [fails, designs]
+    for step in range(STEPS):  # every key one step at a time, so a deadline leaves all refined
+        if step >= MIN_STEPS and deadline is not None and time.monotonic() > deadline:
+            break
+        for (kr, _, _, _), span in zip(open_keys, spans):
+            mid = 0.5 * (span[0] + span[1])
+            span[designs(kr.set(spec, mid))] = mid
+    else:
+        for (kr, _, _, bound), span in zip(open_keys, spans):
+            value = min(max(_rounded(span[1], kr.step, kr.far_factor > 1), bound.lo), bound.hi)
             if designs(kr.set(spec, value)):
-                hi = value
-        out.append((kr.key, v0, hi))
-    return out
+                span[1] = value
+    return [(kr.key, v0, span[1]) for (kr, v0, _, _), span in zip(open_keys, spans)]
 
 
 def in_series(spec: SpringSpec, m: int) -> SpringSpec:

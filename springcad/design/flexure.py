@@ -89,6 +89,12 @@ def torque_cap_Nmm(contact_radius_mm: float, thickness_mm: float, stress_MPa: fl
     return math.pi * contact_radius_mm ** 2 * thickness_mm * stress_MPa / (6.0 * math.sqrt(3.0))
 
 
+def min_contact_radius_mm(peak_torque_Nmm: float, thickness_mm: float, stress_MPa: float) -> float | np.ndarray:
+    """Smallest r_c whose :func:`torque_cap_Nmm` carries ``peak_torque_Nmm`` (mm; arrays too)."""
+    return np.sqrt(6.0 * math.sqrt(3.0) * np.asarray(peak_torque_Nmm)
+                   / (math.pi * np.asarray(thickness_mm) * np.asarray(stress_MPa)))
+
+
 def energy_bound_J_per_mm3(stress_MPa: float, youngs_modulus_MPa: float) -> float:
     """Bending energy per unit volume at uniform outer-fibre stress: sigma^2/(6E) (J/mm^3)."""
     return stress_MPa ** 2 / (6.0 * youngs_modulus_MPa) * 1e-3

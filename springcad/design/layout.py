@@ -169,7 +169,7 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
             raise cap_error(rc)
         radii = [rc]
     else:
-        rc_min = max(ro / 30, math.sqrt(6 * math.sqrt(3) * peak / (math.pi * z * sigma)) * 1.001
+        rc_min = max(ro / 30, fx.min_contact_radius_mm(peak, z, sigma) * 1.001
                      if spec.tip_radius_mm is None else ro / 30)
         if rc_min >= 0.6 * ro:
             raise cap_error(0.6 * ro)

@@ -65,19 +65,28 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
     z, K, theta_d = spec.thickness_mm, spec.stiffness_Nmm_per_rad, spec.max_deflection_rad
     warnings: list[str] = []
 
-    # energy bound: no geometry can store more than sigma^2/(6E) per unit flexure volume
-    annulus = math.pi * (spec.outer_radius_mm ** 2) * z
-    bound_J = fx.energy_bound_J_per_mm3(sigma, E) * annulus
+    # energy bound: the flexures are bending beams between the contact circle and the root
+    # circle, and no beam stores more than sigma^2/(6E) per unit volume at outer-fibre
+    # stress sigma, so the annulus r_c..R_r bounds the energy of every layout: r_c no
+    # smaller than the tip balls' torque cap allows (load-sized balls) or the user's, R_r
+    # no larger than the rim (and the stack's hole circle) allows
+    rr_max = min(max_root_radius_mm,
+                 spec.outer_radius_mm - min_rim_mm(spec.outer_radius_mm, manufacturing, hardware))
+    rc_min = (spec.contact_radius_mm if spec.contact_radius_mm is not None else
+              fx.min_contact_radius_mm(K * theta_d, z, sigma) if spec.tip_radius_mm is None
+              else 0.0)
+    volume_mm3 = math.pi * max(rr_max ** 2 - rc_min ** 2, 0.0) * z
+    bound_J = fx.energy_bound_J_per_mm3(sigma, E) * volume_mm3
     need_J = 0.5 * K * theta_d ** 2 * J_PER_NMM
     if need_J > bound_J:
         raise SpecInfeasible(
-            f"spring '{spec.name}': storing {need_J:.3g} J at {theta_d:.3g} rad needs more than the "
-            f"whole disk can hold at the design stress (sigma^2/(6E) x disk volume = {bound_J:.3g} J); "
-            "no flexure geometry in this envelope can reach that deflection: lower the stiffness or "
-            "deflection, enlarge the disk, or put springs in series")
+            f"spring '{spec.name}': storing {need_J:.3g} J at {theta_d:.3g} rad needs more than "
+            f"the flexures can hold at the design stress {sigma:.0f} MPa in the annulus between "
+            f"r_c = {rc_min:.3g} mm (the tip balls' torque cap) and R_r = {rr_max:.3g} mm (the "
+            f"rim): sigma^2/(6E) x pi (R_r^2 - r_c^2) z = {bound_J:.3g} J; no flexure geometry in "
+            "this envelope reaches that deflection: lower the stiffness or deflection, enlarge "
+            "or thicken the disk, or put springs in series")
 
-    rr_max = min(max_root_radius_mm,
-                 spec.outer_radius_mm - min_rim_mm(spec.outer_radius_mm, manufacturing, hardware))
     layouts = candidate_layouts(spec, sigma, E, max_root_radius_mm=rr_max,
                                 contact=ContactLimit.of(material))
     if rank >= len(layouts):
@@ -430,6 +439,32 @@ def redesign_for_stiffness(design: SpringDesign, k_ratio: float) -> SpringDesign
     d = _replace(d, spec=spec, warnings=d.warnings, design_choice=(
         f"{d.design_choice}; redesigned by the FEA stiffness correction for a beam stiffness "
         f"{k_ratio:.4f} x the target (the widths alone could not be scaled)"))
+    if design.hole_centres_mm:
+        d = with_hole_circle(d, math.hypot(*design.hole_centres_mm[0]))
+    return d
+
+
+def redesign_for_contact(design: SpringDesign, min_tip_radius_mm: float) -> SpringDesign:
+    """The spring redesigned with tip balls of at least ``min_tip_radius_mm`` (mm).
+
+    The FEA contact correction: the contact sweep found the balls' Hertz stress at
+    +-theta_max above the allowable and named the smallest ball that carries the same
+    force on the same flank; the search runs again with that floor (a larger ball may
+    change N and r_c), the spec otherwise the user's. Rim holes stay on the design's
+    hole circle.
+
+    Raises:
+        DesignError: no layout with balls that large meets the spec.
+    """
+    from springcad.design.ring import with_hole_circle
+
+    spec = design.spec
+    floor = _replace(spec, min_tip_radius_mm=max(spec.min_tip_radius_mm, min_tip_radius_mm))
+    d = design_spring(floor, design.material, design.manufacturing, design.hardware,
+                      explain=False, max_root_radius_mm=design.max_root_radius_mm)
+    d = _replace(d, spec=spec, design_choice=(
+        f"{d.design_choice}; redesigned by the FEA contact correction for tip balls of at "
+        f"least {min_tip_radius_mm:.3f} mm"))
     if design.hole_centres_mm:
         d = with_hole_circle(d, math.hypot(*design.hole_centres_mm[0]))
     return d

@@ -59,8 +59,8 @@ def describe(binding: str, value: float, limit: float, disk: str = "") -> str:
     """One sentence with the numbers of a failed check."""
     who = f"disk {disk}: " if disk else ""
     if binding == "energy_bound":
-        return (f"{who}stores {value:.3g} J but the whole disk holds at most {limit:.3g} J at the "
-                "design stress")
+        return (f"{who}stores {value:.3g} J but flexures between the smallest contact radius "
+                f"and the rim hold at most {limit:.3g} J at the design stress")
     if binding == "torque_cap":
         return (f"{who}peak torque {value / 1e3:.3g} N*m > tip-ball torque cap {limit / 1e3:.3g} "
                 "N*m at this r_c and thickness")

@@ -4,7 +4,7 @@
 by step for disks whose contact radius is given (the synthesis enumerates r_c),
 without building the exact profiles:
 
-1. energy bound sigma^2/(6E) x disk volume (the design's first check);
+1. energy bound sigma^2/(6E) x the annulus r_c..R_r,max (the design's first check);
 2. torque cap of load-sized tip balls (eq. 6), then N = the largest count whose
    balls and teeth fit around r_c, tried downward as the design does (or the
    given N), each with the rim rule for R_r solved by vectorised bisection (eq. 8);
@@ -252,9 +252,11 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         value[mask] = np.broadcast_to(v, (m,))[mask]
         limit[mask] = np.broadcast_to(lim, (m,))[mask]
 
-    # 1. energy bound (J)
+    # 1. energy bound (J): the annulus between the row's contact radius and the largest
+    # root radius the rim allows, as the design's with that contact radius
     need = 0.5 * K * theta ** 2 * 1e-3
-    bound = fx.energy_bound_J_per_mm3(sigma, E) * np.pi * ro ** 2 * z
+    bound = fx.energy_bound_J_per_mm3(sigma, E) * np.pi * np.maximum(
+        (ro - rim_min) ** 2 - rc ** 2, 0.0) * z
     fail(need > bound, ENERGY, need, bound)
     # 2. torque cap and flexure count
     peak = K * theta

@@ -1,0 +1,101 @@
+"""The refusal's nearest changes (springcad.design.feasibility) against probes whose feasible
+set is known exactly, and the contact correction's redesign (balls at least the FEA's)."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import replace
+
+import pytest
+
+from springcad.config.load import job_from_dict
+from springcad.config.schema import keys
+from springcad.design.feasibility import (as_material, describe, in_series, material_changes,
+                                          nearest_changes, series_change)
+from springcad.design.search import design_spring, redesign_for_contact
+
+BASE = {"stiffness_Nm_per_rad": 150, "max_deflection_deg": 14, "outer_radius_mm": 36,
+        "thickness_mm": 5.0}
+
+
+def _spec(**over):
+    return job_from_dict({"springs": {"A": {**BASE, **over}}}).springs["A"]
+
+
+def test_nearest_value_is_the_boundary_rounded_outward_and_checked():
+    """Feasible exactly when z >= 6.23 mm: the suggestion is within 1/32 of the searched span
+    (5 -> 12.5 mm) above the boundary, rounded up to 0.1 mm, it designs, and keys whose far
+    end does not design are not named."""
+    calls = []
+
+    def designs(s):
+        calls.append(s)
+        return s.thickness_mm >= 6.23
+
+    (key, now, value), = nearest_changes(_spec(), designs)
+    assert (key, now) == ("thickness_mm", 5.0)
+    assert 6.23 <= value <= 6.23 + 7.5 / 32 + 0.1 and value == pytest.approx(round(value, 1))
+    assert designs(replace(_spec(), thickness_mm=value))
+
+
+def test_far_end_stays_inside_the_schema_range():
+    """R_o = 200 mm: 1.8 x would be 360 mm, past the schema's 250; the probe stops at 250 and
+    the suggestion is inside the range."""
+    hi = keys("springs.<name>")["outer_radius_mm"].hi
+    seen = []
+
+    def designs(s):
+        seen.append(s.outer_radius_mm)
+        return s.outer_radius_mm >= 231.0
+
+    (key, _, value), = nearest_changes(_spec(outer_radius_mm=200.0), designs,
+                                       keys=("outer_radius_mm",))
+    assert max(seen) == hi and 231.0 <= value <= hi and value == pytest.approx(231.0, abs=0.5)
+
+
+def test_a_past_deadline_still_gives_every_key_two_steps_and_a_value_that_designs():
+    def designs(s):
+        return s.thickness_mm >= 6.23 or s.max_deflection_rad <= math.radians(11.1)
+
+    changes = dict((k, v) for k, _, v in nearest_changes(_spec(), designs,
+                                                         deadline=time.monotonic() - 1))
+    assert set(changes) == {"thickness_mm", "max_deflection_deg"}
+    # two steps of the span 5 -> 12.5 mm: within 1/4 of it, on the feasible side
+    assert 6.23 <= changes["thickness_mm"] <= 6.23 + 7.5 / 4
+    assert 11.1 - 9.8 / 4 <= changes["max_deflection_deg"] <= 11.1
+
+
+def test_series_and_materials_are_named_only_when_they_design():
+    spec = _spec()
+    assert in_series(spec, 3).stiffness_Nmm_per_rad == pytest.approx(3 * spec.stiffness_Nmm_per_rad)
+    assert in_series(spec, 3).max_deflection_rad == pytest.approx(spec.max_deflection_rad / 3)
+    assert series_change(spec, lambda s: s.max_deflection_rad < spec.max_deflection_rad / 2.5) == 3
+    assert series_change(spec, lambda s: False) is None
+    mat = job_from_dict({"springs": {"A": BASE}}).material
+    maraging = as_material(mat, "maraging_300")
+    assert maraging.design_stress_MPa % 10 == 0 and maraging.safety_factor == mat.safety_factor
+    assert maraging.design_stress_MPa == pytest.approx(
+        mat.design_stress_MPa * maraging.material.yield_strength_MPa
+        / mat.material.yield_strength_MPa, abs=10)
+    found = material_changes(mat, lambda m: m.material.name == "maraging_300")
+    assert [m.material.name for m in found] == ["maraging_300"]
+    # a weaker material is never probed
+    probed = []
+    material_changes(mat, lambda m: probed.append(m.material.name) or False)
+    assert "pom" not in probed and "6061_t6" not in probed
+    text = describe("A", [], found, 2, spec)
+    assert 'material.name = "maraging_300" with material.design_stress_MPa' in text
+    assert "2 disks in series" in text
+
+
+def test_contact_correction_redesigns_with_balls_at_least_the_floor():
+    job = job_from_dict({"material": {"design_stress_MPa": 780, "safety_factor": 1.2},
+                         "springs": {"A": BASE}})
+    d = design_spring(job.springs["A"], job.material, job.manufacturing, job.hardware,
+                      explain=False)
+    floor = d.tip_radius_mm * 1.15
+    r = redesign_for_contact(d, floor)
+    assert r.tip_radius_mm >= floor - 1e-12
+    assert r.spec == d.spec  # the user's spec, not the floor
+    assert "contact correction" in r.design_choice
