@@ -145,7 +145,8 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
     with ``contact``. Layouts are ranked by their straight limit (the deflection
     reachable without serpentine), so the first is the reference method's choice and
     the later ones are what a designer tries when a later rule (cam tooth, fillets,
-    rim holes, serpentine reach) rejects it. Deterministic.
+    rim holes, serpentine reach) rejects it. A fixed ``tip_radius_mm`` with r_c free: the
+    layouts whose load that ball carries come first. Deterministic.
 
     Raises:
         DesignError: no (N, r_c) fits at all (names the binding limit and what to change).
@@ -209,8 +210,10 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
             "radius, a thicker disk or a lower stiffness, or fewer n_flexures")
     if spec.contact_radius_mm is not None:  # r_c fixed: the most flexures first (eq. 6)
         ranked = sorted(best.values(), key=lambda lay: -lay.n)
-    else:  # r_c free: the longest straight reach first (eq. 7)
-        ranked = sorted(best.values(), key=lambda lay: (-lay.theta_s, lay.n))
+    else:  # r_c free: the longest straight reach first (eq. 7); a fixed tip ball: the
+        # layouts it is large enough for (bending and contact) before those it is not
+        ranked = sorted(best.values(), key=lambda lay: (lay.rb < lay.rb_req * (1 - 1e-9),
+                                                        -lay.theta_s, lay.n))
     return _spread(ranked, limit)
 
 
