@@ -160,3 +160,33 @@ def test_the_pockets_driving_half_is_the_contact_pairs_own_surface():
     (b,) = bottoming.ends["+"].clearances
     assert b.worst_case_mm == pytest.approx(0.006 - T, abs=2e-5) and not b.ok
     assert bottoming.failures()
+
+
+def test_verify_asks_the_redesign_for_the_ball_the_contact_fea_names():
+    """An over-stressed ball at either end: the verification's contact correction asks for
+    the larger of the two smallest balls the ends name (the closed form of the Hertz
+    sizing); a ball within the margin asks for nothing."""
+    from types import SimpleNamespace
+
+    from fea.verify import _ball_needed_mm
+    from springcad.design.contact_stress import tip_radius_for_contact_mm
+
+    def at_max(force_plus, force_minus):
+        ends = {}
+        for key, force in (("+", force_plus), ("-", force_minus)):
+            st = _states({}, 0.04, force=force, kappa=0.8)
+            vm = tip_contact_von_mises_MPa(force, 0.3, 1 / 0.8, 5.0, MAT.youngs_modulus_MPa,
+                                           MAT.poisson_ratio)
+            for s in st:  # the Hertz stress of that force on a 0.3 mm ball
+                s.hertz = {**s.hertz, "von_mises_max_MPa": vm}
+            ends[key] = (0.2, st)
+        return assess("S", ends, 0.3, 5.0, MAT, 0.02, 0.02)
+
+    high = at_max(400.0, 300.0)
+    need = _ball_needed_mm(SimpleNamespace(at_max=high))
+    allow = MAT.yield_strength_MPa / MAT.safety_factor
+    expect = max(float(tip_radius_for_contact_mm(f, 1 / 0.8, 5.0, MAT.youngs_modulus_MPa,
+                                                 MAT.poisson_ratio, allow)) for f in (400, 300))
+    assert need == pytest.approx(expect, rel=1e-6) and need > 0.3
+    assert _ball_needed_mm(SimpleNamespace(at_max=at_max(20.0, 20.0))) is None
+    assert _ball_needed_mm(SimpleNamespace(at_max=None)) is None
