@@ -129,3 +129,22 @@ def test_room_check_agrees_with_the_solids():
     assert solid and solid <= design
     screws = {p for p in design if not p[0].endswith("_nut")}
     assert screws <= solid
+
+
+@pytest.mark.slow
+def test_solids_of_two_springs_with_different_n_have_no_fastener_overlap():
+    """Before the shared pattern the pins of this A (N = 24) + B (N = 20) stack sat at
+    A's angles 97.5 + 90 k deg and B's holes at 99 + 90 k deg: every pin was in B by the
+    chord between the two centres, 2 x 28.501 x sin(0.75 deg) = 0.746 mm (measured)."""
+    from springcad.geometry.interference import InterferenceChecker
+    from springcad.geometry.stack import build_stack
+
+    d = design_job(_job("dowel", ["A", "B"], "shaft"), explain=False)
+    asm = build_stack(d)
+    checker = InterferenceChecker(asm)
+    pins = [i for i in asm.instances if i.component.kind == "fastener"]
+    assert len(pins) == 4
+    for f in pins:
+        for o in asm.instances:
+            if o is not f:
+                assert checker.pair(f, o).relation != "overlap", (f.name, o.name)
