@@ -130,7 +130,8 @@ def fastener_clashes(layout, springs) -> list[Clash]:
             if p.owner == q.owner:
                 continue
             shared = _shared_z(p.z0_mm, p.z1_mm, q.z0_mm, q.z1_mm)
-            if shared > TOL_MM and math.dist(p.centre, q.centre) < p.radius_mm + q.radius_mm - TOL_MM:
+            reach = p.radius_mm + q.radius_mm - TOL_MM
+            if shared > TOL_MM and math.dist(p.centre, q.centre) < reach:
                 out.append(Clash(p, f"{q.owner} {q.what}", shared))
     return out
 

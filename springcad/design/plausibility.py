@@ -2,7 +2,8 @@
 
 :func:`check_hardware` raises :class:`DesignError` for parts that cannot exist
 (rim holes crossing an edge or each other, a camshaft bore that eats the cam, a
-component with no volume, a rim fastener reaching a part it does not join); :func:`design_warnings` lists legal but suspicious
+component with no volume, a rim fastener reaching a part it does not join:
+:mod:`springcad.design.fastener_room`); :func:`design_warnings` lists legal but suspicious
 results (flexures thinner than the wire, a stiffness the envelope cannot give,
 fasteners cut to the number of flexure gaps). Config-only checks are in
 :mod:`springcad.config.consistency`. Units: mm, N*mm/rad, kg.
