@@ -362,10 +362,11 @@ class JobVerification:
         rebuilt from them (what ``springcad build`` should export after verification)."""
         from dataclasses import replace as dc_replace
 
+        from springcad.design.ring import common_hole_pattern
         from springcad.design.stack import design_stack
 
-        springs = {n: self.springs[n].design if n in self.springs else d
-                   for n, d in job_design.springs.items()}
+        springs = common_hole_pattern({n: self.springs[n].design if n in self.springs else d
+                                       for n, d in job_design.springs.items()})
         job = job_design.job
         stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
                              job.analysis.monte_carlo_samples, job.analysis.seed)

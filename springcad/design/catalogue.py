@@ -1,6 +1,8 @@
 """Purchased parts from standard catalogues (data files in ``springcad/data``).
 
 * ISO 8734 hardened dowel pins, m6: ``iso8734_dowels.csv`` (diameter, nominal length).
+* ISO 4762 socket-head screws and ISO 4032 nuts: bd_warehouse's tables (:func:`bolt_set`),
+  the ones the solids are built from.
 
 A rim dowel is the longest catalogue pin that stays inside the two rims it joins
 (flush or recessed: nothing beside the rims may be touched by a pin end), centred in
@@ -12,6 +14,10 @@ from __future__ import annotations
 
 import csv
 import functools
+import importlib.util
+import math
+from dataclasses import dataclass
+from pathlib import Path
 
 from springcad.data import data_path
 from springcad.errors import DesignError
@@ -58,3 +64,86 @@ def rim_dowel_length(diameter_mm: float, first_mm: float, gap_mm: float,
             return length
     raise DesignError(f"dowel Ø{diameter_mm:g}: no ISO 8734 length ({', '.join(f'{v:g}' for v in lengths)}) "
                       f"fits the {room:g} mm of two rims and engages each by {need:g} mm")
+
+
+# ------------------------------------------------------------- screws and nuts
+#: the ISO standards of the rim screws and nuts (bd_warehouse's names)
+SCREW_STANDARD, NUT_STANDARD = "iso4762", "iso4032"
+
+
+@dataclass(frozen=True)
+class BoltSet:
+    """Sizes of a rim screw and its nut (mm), from bd_warehouse's catalogue tables, the
+    ones the solids are built from (:mod:`springcad.geometry.fasteners`).
+
+    Attributes:
+        size: thread size, e.g. ``"M2.5-0.45"``.
+        head_diameter_mm, head_height_mm: ISO 4762 socket head dk and k.
+        nut_across_corners_mm, nut_height_mm: ISO 4032 hex nut e (= s / cos 30 deg) and m.
+        lengths_mm: the ISO 4762 nominal lengths of this size.
+    """
+
+    size: str
+    head_diameter_mm: float
+    head_height_mm: float
+    nut_across_corners_mm: float
+    nut_height_mm: float
+    lengths_mm: tuple[float, ...]
+
+    def screw_length_mm(self, grip_mm: float) -> float:
+        """Shortest nominal length that passes the grip and the nut (mm), as the solids
+        choose it (:class:`springcad.geometry.fasteners.RimScrew`).
+
+        Raises:
+            DesignError: no length is long enough.
+        """
+        need = grip_mm + self.nut_height_mm
+        for v in self.lengths_mm:
+            if v >= need - 1e-9:
+                return v
+        raise DesignError(f"rim screws: no {self.size} ISO 4762 screw is long enough for a "
+                          f"{grip_mm:g} mm grip and a nut; use dowels")
+
+
+def _bd_warehouse_table(name: str) -> list[dict]:
+    """Rows of one of bd_warehouse's catalogue CSV files, read without importing it (the
+    design layer stays free of the CAD kernel)."""
+    spec = importlib.util.find_spec("bd_warehouse")
+    if spec is None or not spec.submodule_search_locations:
+        raise DesignError("rim screws need the bd_warehouse package (its ISO 4762 / ISO 4032 "
+                          "tables); install it or use hardware.fastener = \"dowel\"")
+    path = Path(spec.submodule_search_locations[0]) / "data" / name
+    with path.open(encoding="utf-8", newline="") as fh:
+        return [{k.strip(): (v or "").strip() for k, v in row.items()}
+                for row in csv.DictReader(fh)]
+
+
+@functools.cache
+def bolt_set(diameter_mm: float) -> BoltSet:
+    """ISO 4762 screw and ISO 4032 nut of thread diameter ``diameter_mm`` (mm).
+
+    Raises:
+        DesignError: not a catalogue size of both.
+    """
+    def row(table, key):
+        for r in table:
+            if r["Size"].startswith(f"M{diameter_mm:g}-") and r.get(key):
+                return r
+        return None
+
+    screws = _bd_warehouse_table("socket_head_cap_parameters.csv")
+    nuts = _bd_warehouse_table("hex_nut_parameters.csv")
+    s, n = row(screws, f"{SCREW_STANDARD}:dk"), row(nuts, f"{NUT_STANDARD}:s")
+    if s is None or n is None:
+        raise DesignError(f"rim screws: hardware.fastener_diameter_mm = {diameter_mm:g} is not "
+                          f"an ISO 4762 screw with an ISO 4032 nut; pick a metric size (M1.6, "
+                          "M2, M2.5, M3, ...) or use fastener = \"dowel\"")
+    lengths = next(r for r in _bd_warehouse_table("nominal_screw_lengths.csv")
+                   if r["Screw_Type"] == SCREW_STANDARD)["Nominal_Sizes"]
+    lo, hi = float(s[f"{SCREW_STANDARD}:short"]), float(s[f"{SCREW_STANDARD}:long"])
+    return BoltSet(size=s["Size"], head_diameter_mm=float(s[f"{SCREW_STANDARD}:dk"]),
+                   head_height_mm=float(s[f"{SCREW_STANDARD}:k"]),
+                   nut_across_corners_mm=float(n[f"{NUT_STANDARD}:s"]) / math.cos(math.pi / 6),
+                   nut_height_mm=float(n[f"{NUT_STANDARD}:m"]),
+                   lengths_mm=tuple(v for v in (float(x) for x in lengths.split(","))
+                                    if lo <= v <= hi))

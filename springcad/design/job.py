@@ -11,6 +11,7 @@ from springcad.config.consistency import min_rim_mm
 from springcad.design.connections import RIM, camshaft_indices, connection_sequence
 from springcad.design.hardware import rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware
+from springcad.design.ring import common_hole_pattern
 from springcad.design.search import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
@@ -127,20 +128,9 @@ class JobDesign:
 
 
 def common_hole_circle(springs: dict[str, SpringDesign]) -> dict[str, SpringDesign]:
-    """Put the rim holes of every spring on one circle, so any two rims can be pinned.
-
-    The circle is the middle of the thinnest rim: half way between the largest
-    root radius and the smallest outer radius (mm).
-    """
-    from springcad.design.ring import with_hole_circle
-
-    with_holes = [s for s in springs.values() if s.hole_centres_mm]
-    if len(with_holes) < 2:
-        return springs
-    radius = 0.5 * (max(s.root_radius_mm for s in with_holes)
-                    + min(s.outer_radius_mm for s in with_holes))
-    return {name: with_hole_circle(s, radius) if s.hole_centres_mm else s
-            for name, s in springs.items()}
+    """Put the rim holes of every spring on one circle at the same angles, so any two rims
+    can be pinned (:func:`springcad.design.ring.common_hole_pattern`)."""
+    return common_hole_pattern(springs)
 
 
 def camshaft_groups(job: Job) -> list[tuple[str, ...]]:

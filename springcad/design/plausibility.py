@@ -2,7 +2,8 @@
 
 :func:`check_hardware` raises :class:`DesignError` for parts that cannot exist
 (rim holes crossing an edge or each other, a camshaft bore that eats the cam, a
-component with no volume); :func:`design_warnings` lists legal but suspicious
+component with no volume, a rim fastener reaching a part it does not join:
+:mod:`springcad.design.fastener_room`); :func:`design_warnings` lists legal but suspicious
 results (flexures thinner than the wire, a stiffness the envelope cannot give,
 fasteners cut to the number of flexure gaps). Config-only checks are in
 :mod:`springcad.config.consistency`. Units: mm, N*mm/rad, kg.
@@ -15,6 +16,7 @@ import math
 import numpy as np
 
 from springcad.config.consistency import MIN_RIM_FRACTION
+from springcad.design.fastener_room import check_fastener_room
 from springcad.errors import DesignError
 from springcad.units import NMM_PER_NM
 
@@ -86,6 +88,7 @@ def check_hardware(job_design) -> None:
                 f"stack part {c.name} ({c.kind}) has no material left (volume "
                 f"{c.volume_mm3:.3g} mm^3): its holes or bore are larger than the part; check "
                 "the hardware sizes against the spring radii")
+    check_fastener_room(job_design.stack.layout, job_design.stack.springs)
 
 
 def design_warnings(job_design) -> list[str]:

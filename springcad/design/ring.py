@@ -201,11 +201,77 @@ def hole_centres_mm(n_flexures: int, count: int, radius_mm: float) -> tuple:
     return tuple(out)
 
 
-def with_hole_circle(d, radius_mm: float):
-    """The design with its rim holes moved onto a circle of ``radius_mm`` (mm).
+def shared_hole_angles_rad(n_flexures, count: int) -> tuple[float, ...]:
+    """Angles (rad) of ``count`` rim holes that every spring of a stack can carry.
+
+    Springs joined rim to rim are pinned through the same holes, so their holes must lie
+    at the same angles, not only on the same circle. With one flexure count N the angles
+    are those of :func:`hole_centres_mm` (midway between flexures). With several, hole j
+    is put within a quarter of the even pitch 2 pi / count of its even place
+    (pi / 2 + 2 pi j / count) where its distance to the nearest flexure axis of any of
+    the springs, as a fraction of that spring's half pitch pi / N (1 = midway), is
+    largest: the holes keep off the flexure roots, where the root moment enters the rim.
+
+    Args:
+        n_flexures: the flexure counts N of the springs.
+        count: holes per spring.
+    """
+    ns = sorted(set(int(n) for n in n_flexures))
+    if len(ns) == 1:
+        return tuple(math.atan2(y, x) for x, y in hole_centres_mm(ns[0], count, 1.0))
+    step = 2.0 * math.pi / count
+    offset = np.linspace(-0.25 * step, 0.25 * step, ANGLE_SAMPLES)
+    out = []
+    for j in range(count):
+        a = step * j + offset  # from the first flexure axis, at pi / 2
+        score = np.full(len(a), np.inf)
+        for n in ns:
+            half = math.pi / n
+            off = np.mod(a, 2.0 * half)
+            score = np.minimum(score, np.minimum(off, 2.0 * half - off) / half)
+        # the best score, the nearest to the even place among equals
+        best = np.flatnonzero(score >= score.max() - 1e-12)
+        out.append(math.pi / 2 + float(a[best[np.argmin(np.abs(offset[best]))]]))
+    return tuple(out)
+
+
+#: angle samples over half an even hole pitch in :func:`shared_hole_angles_rad`
+ANGLE_SAMPLES = 4001
+
+
+def common_hole_pattern(springs: dict) -> dict:
+    """Every spring's rim holes on one circle at the same angles, so any two rims can be
+    pinned through them (spring name -> design; springs without holes unchanged).
+
+    The circle is the middle of the thinnest rim: half way between the largest root
+    radius and the smallest outer radius (mm); the angles are
+    :func:`shared_hole_angles_rad` of the springs' flexure counts. Applying it twice
+    changes nothing.
+    """
+    with_holes = [s for s in springs.values() if s.hole_centres_mm]
+    if len(with_holes) < 2:
+        return springs
+    radius = 0.5 * (max(s.root_radius_mm for s in with_holes)
+                    + min(s.outer_radius_mm for s in with_holes))
+    angles = shared_hole_angles_rad([s.n_flexures for s in with_holes],
+                                    min(len(s.hole_centres_mm) for s in with_holes))
+    want = tuple((radius * math.cos(a), radius * math.sin(a)) for a in angles)
+
+    def placed(s) -> bool:  # already there (to 1 nm): keep the design as it is
+        return (len(s.hole_centres_mm) == len(want)
+                and all(math.dist(p, q) < 1e-6 for p, q in zip(s.hole_centres_mm, want)))
+
+    return {name: with_hole_circle(s, radius, angles) if s.hole_centres_mm and not placed(s)
+            else s for name, s in springs.items()}
+
+
+def with_hole_circle(d, radius_mm: float, angles_rad=None):
+    """The design with its rim holes moved onto a circle of ``radius_mm`` (mm), at
+    ``angles_rad`` (rad; default: midway between its own flexures, :func:`hole_centres_mm`).
 
     Springs joined rim to rim are pinned through the same holes, so every spring
-    of a stack puts them on one circle (see :func:`springcad.design.job.design_job`).
+    of a stack puts them on one circle at the same angles
+    (:func:`springcad.design.job.common_hole_circle`).
 
     Raises:
         DesignError: the holes would not fit in this spring's rim.
@@ -224,7 +290,10 @@ def with_hole_circle(d, radius_mm: float):
             f"fit its rim ({d.root_radius_mm:.3f} to {d.outer_radius_mm:.3f} mm) with "
             f"min_hole_edge_mm = {edge:g}; give the springs of a stack the same outer radius and "
             "similar rims, or smaller fasteners")
-    holes = hole_centres_mm(d.n_flexures, len(d.hole_centres_mm), radius_mm)
+    if angles_rad is None:
+        holes = hole_centres_mm(d.n_flexures, len(d.hole_centres_mm), radius_mm)
+    else:
+        holes = tuple((radius_mm * math.cos(a), radius_mm * math.sin(a)) for a in angles_rad)
     ring = d.ring.with_loops("hole", _hole_loops(holes, r_hole))
     return dataclasses.replace(d, ring=ring, hole_centres_mm=holes)
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from springcad.design.connections import camshaft_indices, connection_sequence
 from springcad.design.hardware import Component, StackLayout, d_joints, stack_layout
+from springcad.design.ring import common_hole_pattern
 from springcad.design.spring import SpringDesign
 from springcad.design.tolerance import Interface, StackBacklash, stack_backlash
 from springcad.units import J_PER_NMM, MM3_PER_CM3, NMM_PER_NM
@@ -166,6 +167,9 @@ class StackDesign:
 def design_stack(springs: list[SpringDesign], input_connection: str, mc_samples: int = 20000,
                  seed: int = 1) -> StackDesign:
     """Assemble designed springs (input to output) into a :class:`StackDesign`."""
+    # rims joined rim to rim are pinned through the same holes: one circle, one set of angles
+    holed = common_hole_pattern({s.name: s for s in springs})
+    springs = [holed[s.name] for s in springs]
     joints, output = connection_sequence(len(springs), input_connection)
     mfg = springs[0].manufacturing
     interfaces = [Interface(s.contact_radius_mm, s.manufacturing.w_gap_mm,
