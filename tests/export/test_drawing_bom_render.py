@@ -43,7 +43,7 @@ def test_ring_drawing_has_its_dimensions(ring_s1, tmp_path):
     t = fmt(r.spring.manufacturing.t_spring_mm)
     expected = [f"Ø{fmt(2 * r.outer_radius)}", f"R{fmt(r.contact_radius)} ball centres",
                 f"R{fmt(r.tip_radius)}", f"PCD Ø{fmt(bc)}",
-                f"{len(r.hole_centres)}× Ø{fmt(r.hole_diameter)} H7 THRU",
+                f"{len(r.hole_centres)}× Ø{fmt(r.hole_diameter)} E7 THRU",
                 f"{fmt(r.thickness)} ±{t}", f"±{t} mm", "ISO 2768-mK", "48-52 HRC",
                 "Heat treatment before EDM", "Ra 0.8 um", "Flatness of each face 0.02 mm",
                 f"2× R{fmt(r.neck_fillet_radius)}", f"2× R{fmt(r.root_fillet_radius)}",
