@@ -47,7 +47,7 @@ def test_ring_drawing_has_its_dimensions(ring_s1, tmp_path):
                 f"{fmt(r.thickness)} ±{t}", f"±{t} mm", "ISO 2768-mK", "48-52 HRC",
                 "Heat treatment before EDM", "Ra 0.8 um", "Flatness of each face 0.02 mm",
                 f"2× R{fmt(r.neck_fillet_radius)}", f"2× R{fmt(r.root_fillet_radius)}",
-                "DETAIL A", "HOLE TABLE"] + title_values(r)
+                "DETAIL C", "HOLE TABLE"] + title_values(r)
     svg, pdf = drawing_texts(r, tmp_path)
     assert_all_in(expected, svg)
     assert_all_in(expected, pdf)
