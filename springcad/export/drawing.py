@@ -187,12 +187,13 @@ def title_block(sheet: Sheet, template: dict, values: dict,
         x = x0
         for cell in row["cells"]:
             sheet.rect(x, y - h, cell["width_mm"], h)
-            sheet.text(x + 1, y - 1.8, cell["label"], size=LABEL_FONT, ha="left", color="0.35")
+            sheet.text(x + 1, y - 1.8, cell["label"], size=LABEL_FONT, ha="left", color="0.35",
+                       role="title block")
             if cell["value"] == "{projection}":
                 _projection_symbol(sheet, x + 0.5 * cell["width_mm"] - 6.0, y - h, h - 2.5)
             else:
                 value = cell["value"].format(**values)
-                sheet.text(x + 1, y - h + 2.6, value, ha="left",
+                sheet.text(x + 1, y - h + 2.6, value, ha="left", role="title block",
                            size=_fitting_font(sheet, value, cell["width_mm"] - 2.0))
             x += cell["width_mm"]
         y -= h
@@ -217,7 +218,7 @@ def chars_per_line(sheet: Sheet, width_mm: float, size: float = NOTES_FONT) -> i
 def _wrap(items: list[str], width: int, bullet) -> list[str]:
     out = []
     for i, item in enumerate(items, 1):
-        parts = textwrap.wrap(item, width) or [""]
+        parts = textwrap.wrap(item, width, break_on_hyphens=False) or [""]
         out += [f"{bullet(i)}{parts[0]}"] + [f"    {p}" for p in parts[1:]]
     return out
 

@@ -45,6 +45,8 @@ TEXT_GAP_MM = 0.6
 ARROW_MM = 2.2
 #: dimension text sits this far from its dimension line (mm)
 DIM_TEXT_GAP_MM = 1.0
+#: gap between a theoretically exact (boxed) value and its frame (mm)
+TED_PAD_MM = 1.0
 #: height of a tolerance frame row and side of a datum square (mm)
 FRAME_ROW_MM = 6.0
 #: geometric characteristic symbols drawn by Sheet.gdt_symbol
@@ -138,6 +140,7 @@ class Sheet:
 
     Attributes:
         texts: every text written, in order.
+        sizes: (font size in pt, role) of every text, in the same order.
         boxes: the sheet-mm box (x0, y0, x1, y1) of every text.
         dims: the dimension list (:class:`Dimension`).
         conflicts: labels that found no free place (drawn at their first
@@ -158,6 +161,7 @@ class Sheet:
         self.ax.set_aspect("equal")
         self.ax.axis("off")
         self.texts: list[str] = []
+        self.sizes: list[tuple[float, str]] = []
         self.boxes: list[tuple] = []
         self.dims: list[Dimension] = []
         self.conflicts: list[str] = []
@@ -213,10 +217,12 @@ class Sheet:
         (a, b), (c, d) = self.ax.transData.inverted().transform([[bb.x0, bb.y0], [bb.x1, bb.y1]])
         return t, (float(a), float(b), float(c), float(d))
 
-    def text(self, x, y, s, size=DIM_FONT, ha="center", va="center", **kw):
-        """Write text at a fixed place (title block, notes); returns its box."""
+    def text(self, x, y, s, size=DIM_FONT, ha="center", va="center", role: str = "", **kw):
+        """Write text at a fixed place (title block, notes); returns its box. ``role``
+        names the texts exempt from the least text size (the title block's cells)."""
         _, box = self._make_text(x, y, s, size, ha, va, **kw)
         self.texts.append(s)
+        self.sizes.append((size, role))
         self.boxes.append(box)
         return box
 
@@ -233,6 +239,7 @@ class Sheet:
             t, box = self._make_text(x, y, s, size, ha, va, **kw)
             if self.is_free(box):
                 self.texts.append(s)
+                self.sizes.append((size, ""))
                 self.boxes.append(box)
                 return box
             t.remove()
@@ -285,6 +292,9 @@ class Sheet:
         fw, fh = self.frames_size(frames)
         w_all = max(w + (1.2 if boxed else 0.0), fw)
         fallback = None
+        if boxed or frames:  # bigger labels: look further for a free place
+            reach = (*reach, 55.0)
+            turn = (*turn, 80, -80, 100, -100, 120, -120, 150, -150, 180)
         for r in reach:
             for dt in turn:
                 a = base + math.radians(dt)
@@ -297,14 +307,16 @@ class Sheet:
                 fallback = fallback or (knee, end, box, fbox)
                 own = np.array([[*target, *knee], [*knee, *end]])
                 clear_of_own = not segments_hit_box(own, _grow(box, 0.4)).any()
+                if boxed:  # the frame around the value sits on the shoulder line
+                    clear_of_own = not segments_hit_box(own[:1], _grow(box, TED_PAD_MM)).any()
                 frames_ok = fbox is None or (
                     self.is_free(fbox) and not segments_hit_box(own[:1], _grow(fbox, 0.4)).any())
-                if (self.is_free(box) and self.path_is_free([target, knee, end]) and clear_of_own
-                        and frames_ok):
+                if (self.is_free(_grow(box, TED_PAD_MM) if boxed else box)
+                        and self.path_is_free([target, knee, end]) and clear_of_own and frames_ok):
                     return self._draw_callout(target, knee, end, box, label, dim, frames, fbox,
                                               boxed)
         self.conflicts.append(label)
-        return self._draw_callout(target, *fallback, label, dim, frames, fallback[3], boxed)
+        return self._draw_callout(target, *fallback[:3], label, dim, frames, fallback[3], boxed)
 
     def _draw_callout(self, target, knee, end, box, label, dim, frames=(), fbox=None,
                       boxed=False):
@@ -312,7 +324,8 @@ class Sheet:
         self.polyline([knee, end])
         self.text(box[0], box[1], label, ha="left", va="bottom")
         if boxed:
-            self.rect(box[0] - 0.6, box[1] - 0.4, box[2] - box[0] + 1.2, box[3] - box[1] + 0.8)
+            x0, y0, x1, y1 = _grow(box, TED_PAD_MM)
+            self.rect(x0, y0, x1 - x0, y1 - y0)
         if frames:
             self.draw_frames(fbox[0], fbox[3], frames)
         if dim is not None:
@@ -331,7 +344,10 @@ class Sheet:
 
     def draw_frames(self, x: float, y_top: float, rows) -> None:
         """Tolerance frames, top left at (x, y_top): a symbol cell, then one cell per text
-        (two rows: a composite frame, its lower row the pattern's own tolerance)."""
+        (two rows: a composite frame, its lower row the pattern's own tolerance). Their
+        outline is kept free like a text box."""
+        w, h = self.frames_size(rows)
+        self.boxes.append((x, y_top - h, x + w, y_top))
         y = y_top
         for row in rows:
             cx = x
