@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
+from springcad.design.curves import Arc, Circle, Line, Loop, Spline
 
 #: spline points per biarc piece at which the deviation is measured
 SAMPLES_PER_PIECE = 48
@@ -200,32 +200,3 @@ def loop_bulges(loop: Loop, tol_mm: float) -> BulgeLoop:
         else:
             raise TypeError(f"unknown segment {type(seg).__name__}")
     return BulgeLoop(np.asarray(verts, dtype=float), worst, count)
-
-
-def arc_loop(loop: Loop, tol_mm: float) -> Loop:
-    """The loop with every spline replaced by its biarcs within ``tol_mm`` (lines, arcs
-    and circles kept as they are): the curves the DXF carries, as a :class:`Loop`."""
-    if not any(isinstance(s, Spline) for s in loop.segments):
-        return loop
-    segs = []
-    for seg in loop.segments:
-        if not isinstance(seg, Spline):
-            segs.append(seg)
-            continue
-        verts, _, _ = spline_biarcs(seg, tol_mm)
-        ends = [(x, y) for x, y, _ in verts[1:]] + [tuple(seg.end)]
-        for (x, y, bulge), b in zip(verts, ends):
-            a = (float(x), float(y))
-            if bulge == 0.0:
-                segs.append(Line(a, (float(b[0]), float(b[1]))))
-                continue
-            centre, r, sweep = arc_centre(a, b, bulge)
-            start = math.atan2(a[1] - centre[1], a[0] - centre[0])
-            segs.append(Arc((float(centre[0]), float(centre[1])), float(r), start, start + sweep))
-    return Loop(tuple(segs))
-
-
-def arc_profile(profile: Profile, tol_mm: float) -> Profile:
-    """:func:`arc_loop` of every loop of a profile."""
-    return Profile(arc_loop(profile.outer, tol_mm),
-                   tuple(arc_loop(h, tol_mm) for h in profile.holes), profile.names)

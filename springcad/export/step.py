@@ -1,10 +1,6 @@
 """STEP and STL export of parts and of the stack assembly, and STEP read-back.
 
-A part's STEP holds one solid whose product is named by its part number. Its spline
-flanks are written as the DXF's biarcs (within 0.5 um, :mod:`springcad.export.biarc`):
-extruded circles are faces whose volume and mass every CAD integrates right, where
-OCC's own integral over the 56 extruded B-spline flanks of a ring varied by 5 % with
-its tolerance (issue 26). The
+A part's STEP holds one solid whose product is named by its part number. The
 assembly STEP holds each distinct part once (product = part number, with its
 colour) and places it once per instance (occurrence = instance name, e.g.
 ``spring_2_S1``), so a CAD user sees both the bill of materials and the
@@ -17,7 +13,6 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from springcad.export.biarc import arc_profile
 from springcad.units import M_PER_MM
 
 #: STL chordal tolerance (mm) and angular tolerance (rad): fine enough to show 0.025 mm gaps
@@ -47,28 +42,12 @@ def set_step_date(path: Path, date: str = "") -> Path:
     return path
 
 
-def export_solid(part):
-    """The solid a part's STEP carries: the part's own, or, for a prism part with spline
-    edges, the same slabs with every spline as the DXF's biarcs (the DXF's tolerance;
-    the build's STEP read-back checks the solid)."""
-    from springcad.design.curves import Spline
-    from springcad.export.dxf import BIARC_TOL_MM
-    from springcad.geometry.base import Slab, prism_solid
-
-    splines = any(isinstance(seg, Spline) for s in part.slabs
-                  for lp in (s.region.outer, *s.region.holes) for seg in lp.segments)
-    if not (part.exact_prism and splines):
-        return part.solid
-    slabs = [Slab(s.z0_mm, s.z1_mm, arc_profile(s.region, BIARC_TOL_MM)) for s in part.slabs]
-    return prism_solid(slabs, part.name, checked=False)
-
-
 def write_part_step(part, path: Path, date: str = "") -> Path:
     """Write one part as STEP (mm), product named by its part number, dated ``date``
     (YYYY-MM-DD; :data:`STEP_EPOCH_DATE` if empty) instead of the clock time."""
     import build123d as bd
 
-    solid = export_solid(part)
+    solid = part.solid
     solid.label = part.part_number
     solid.color = bd.Color(*part.colour)
     bd.export_step(solid, str(path), unit=bd.Unit.MM)
@@ -133,7 +112,7 @@ def write_assembly_step(assembly, path: Path, date: str = "") -> Path:
     name(top, assembly.design.job.name)
     part_labels = {}
     for pn, part in assembly.parts.items():
-        label = shapes.AddShape(export_solid(part).wrapped, False)
+        label = shapes.AddShape(part.solid.wrapped, False)
         name(label, pn)
         colours.SetColor(label, Color(*part.colour).wrapped, XCAFDoc_ColorType.XCAFDoc_ColorGen)
         part_labels[pn] = label

@@ -255,16 +255,15 @@ def d_loop(radius_mm: float, flat_ratio: float, corner_radius_mm: float) -> Loop
     return d_bore(radius_mm, flat_ratio, corner_radius_mm)
 
 
-def prism_solid(slabs, part: str, checked: bool = True) -> Solid:
-    """Fuse the extrusion of every slab into one solid (``checked=False``: no loop or
-    validity checks, for a copy of a checked part whose solid is checked elsewhere).
+def prism_solid(slabs, part: str) -> Solid:
+    """Fuse the extrusion of every slab into one solid.
 
     Raises:
         GeometryError: a slab cannot be made or the result is not one valid solid.
     """
     from springcad.geometry.profile import extrude_profile
 
-    pieces = [extrude_profile(s.region, s.length_mm, part, s.z0_mm, checked) for s in slabs]
+    pieces = [extrude_profile(s.region, s.length_mm, part, s.z0_mm) for s in slabs]
     solid = pieces[0]
     if len(pieces) > 1:
         try:
@@ -276,7 +275,7 @@ def prism_solid(slabs, part: str, checked: bool = True) -> Solid:
             raise GeometryError(f"{part}: its sections do not join into one solid "
                                 f"({len(solids)} pieces); check the axial layout")
         solid = solids[0]
-    if checked and not solid.is_valid:
+    if not solid.is_valid:
         raise GeometryError(f"{part}: the solid is not valid")
     return solid
 

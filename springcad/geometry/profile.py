@@ -14,12 +14,6 @@ from springcad.design.planar import find_defect
 from springcad.errors import GeometryError
 
 
-#: loops of lines and arcs with more segments than this are wired in their own order with
-#: shared vertices (:func:`_chained_wire`), not sorted by the kernel (O(n^2): 17 s for the
-#: 4500 arcs of a ring's DXF contour against 0.3 s)
-IN_ORDER_EDGES = 200
-
-
 def segment_edge(seg):
     """One build123d ``Edge`` for a profile segment."""
     import build123d as bd
@@ -50,46 +44,17 @@ def segment_edge(seg):
     raise TypeError(f"unknown segment {type(seg).__name__}")
 
 
-def _chained_wire(loop: Loop):
-    """A wire of a loop of lines and arcs built edge by edge, each edge ending on the next
-    one's start vertex (the loop's own order; its points join within round-off)."""
-    import build123d as bd
-    from OCP.BRep import BRep_Builder
-    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeVertex
-    from OCP.Geom import Geom_Circle
-    from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
-    from OCP.TopoDS import TopoDS_Wire
-
-    segs = loop.segments
-    verts = [BRepBuilderAPI_MakeVertex(gp_Pnt(*s.start, 0.0)).Vertex() for s in segs]
-    builder, wire = BRep_Builder(), TopoDS_Wire()
-    builder.MakeWire(wire)
-    for i, s in enumerate(segs):
-        v0, v1 = verts[i], verts[(i + 1) % len(segs)]
-        if isinstance(s, Line):
-            edge = BRepBuilderAPI_MakeEdge(v0, v1).Edge()
-        else:  # a clockwise arc runs along a circle about -z
-            axis = gp_Ax2(gp_Pnt(*s.center, 0.0), gp_Dir(0.0, 0.0, 1.0 if s.sweep > 0 else -1.0))
-            edge = BRepBuilderAPI_MakeEdge(Geom_Circle(axis, s.radius), v0, v1).Edge()
-        builder.Add(wire, edge)
-    return bd.Wire(wire)
-
-
 def loop_wire(loop: Loop):
     """A closed build123d ``Wire`` for a loop (endpoints snapped by the kernel)."""
     import build123d as bd
 
-    if len(loop.segments) > IN_ORDER_EDGES and all(isinstance(seg, Line | Arc)
-                                                    for seg in loop.segments):
-        wire = _chained_wire(loop)
-    else:
-        edges = [segment_edge(s) for s in loop.segments]
-        try:
-            wire = bd.Wire(edges)
-        except ValueError:
-            wire = None
-        if wire is None or not wire.is_closed:
-            wire = bd.Wire.combine(edges, tol=1e-5)[0]
+    edges = [segment_edge(s) for s in loop.segments]
+    try:
+        wire = bd.Wire(edges)
+    except ValueError:
+        wire = None
+    if wire is None or not wire.is_closed:
+        wire = bd.Wire.combine(edges, tol=1e-5)[0]
     if not wire.is_closed:
         raise GeometryError("profile loop does not close in the CAD kernel")
     return wire
@@ -145,7 +110,7 @@ def check_loops(profile: Profile, part: str = "part", step_mm: float = 0.02) -> 
                         f"{_loop_name(lb)}; holes must not nest")
 
 
-def profile_face(profile: Profile, part: str = "part", checked: bool = True):
+def profile_face(profile: Profile, part: str = "part"):
     """Planar face (z = 0) with holes for a profile.
 
     The loops are checked first (:func:`check_loops`), so crossing contours are
@@ -157,8 +122,7 @@ def profile_face(profile: Profile, part: str = "part", checked: bool = True):
     """
     import build123d as bd
 
-    if checked:
-        check_loops(profile, part)
+    check_loops(profile, part)
     try:
         outer = loop_wire(profile.outer)
         inner = [loop_wire(h) for h in profile.holes]
@@ -167,21 +131,19 @@ def profile_face(profile: Profile, part: str = "part", checked: bool = True):
         raise GeometryError(f"{part}: {err}") from err
     except Exception as err:  # kernel failure
         raise GeometryError(f"{part}: the CAD kernel could not make the profile face ({err})") from err
-    if checked and not face.is_valid:
+    if not face.is_valid:
         raise GeometryError(f"{part}: the profile face is not valid (self-intersecting contour?)")
     return face
 
 
-def extrude_profile(profile: Profile, thickness_mm: float, part: str = "part", z_mm: float = 0.0,
-                    checked: bool = True):
-    """Prism of a profile from z to z + thickness (mm); ``checked=False`` skips the loop and
-    validity checks (for a copy of a checked profile whose solid is checked elsewhere)."""
+def extrude_profile(profile: Profile, thickness_mm: float, part: str = "part", z_mm: float = 0.0):
+    """Prism of a profile from z to z + thickness (mm)."""
     import build123d as bd
 
-    face = profile_face(profile, part, checked)
+    face = profile_face(profile, part)
     solid = bd.Solid.extrude(face, (0, 0, thickness_mm))
     if z_mm:
         solid = solid.moved(bd.Location((0, 0, z_mm)))
-    if checked and not solid.is_valid:
+    if not solid.is_valid:
         raise GeometryError(f"{part}: extruded solid is not valid")
     return solid
