@@ -92,8 +92,39 @@ def test_default_stack_reports_its_d_joints():
 
     d = design_job(load_job(Path(__file__).resolve().parents[1] / "templates" / "default.toml"))
     b = d.stack.backlash
-    assert len(b.per_d_joint) == 2  # input and output torque shafts
+    # input and output torque shafts, and the dowelled rim-to-rim joint of the two rings
+    assert b.d_joint_kinds == ("D fit", "D fit", "rim pins")
     cams = sum(r[1] for r in b.per_interface)
     assert b.nominal == pytest.approx(cams)
     assert b.with_d_joints["nominal"] == pytest.approx(cams + sum(r[1] for r in b.per_d_joint))
-    assert all(mid > 0.01 for _, mid, _ in b.per_d_joint)  # not negligible against the cams
+    assert all(mid > 0.01 for _, mid, _ in b.per_d_joint[:2])  # not negligible against the cams
+    # the rim pins: the hand numbers of test_rim_pin_play_by_hand on this pin circle
+    r = math.hypot(*d.stack.springs[0].hole_centres_mm[0])
+    assert b.per_d_joint[2][1] == pytest.approx(0.028 / r, rel=1e-12)
+
+
+def test_rim_pin_play_by_hand():
+    """Ø1.5 m6 dowels (+0.002/+0.008) in E7 holes (+0.014/+0.024, ISO 286-2) on a Ø69.53
+    pin circle: clearance 0.006-0.022 mm per hole; two holes per pin, so the rims turn
+    by (c_a + c_b) / r: mid 0.028 / 34.765 = 8.054e-4 rad, max 0.044 / 34.765 =
+    1.2657e-3 rad, min 0 (pattern errors may take the least clearance up)."""
+    from springcad.design.catalogue import rim_pin_fit
+    from springcad.design.tolerance import RimPinJoint
+
+    fit = rim_pin_fit(1.5, 0.006)
+    assert (fit.clearance_min_mm, fit.clearance_max_mm) == pytest.approx((0.006, 0.022))
+    j = RimPinJoint(34.765, fit.clearance_min_mm, fit.clearance_max_mm)
+    lo, mid, hi = j.range_rad
+    assert lo == 0.0
+    assert mid == pytest.approx(0.028 / 34.765, rel=1e-12)
+    assert hi == pytest.approx(0.044 / 34.765, rel=1e-12)
+    # in series with a cam interface: nominal and worst case add; Monte Carlo mean of
+    # uniform clearances is the mid play
+    iface = Interface(10.0, 0.02, 0.01, 0.01, 0)
+    b0 = stack_backlash([iface], samples=200000, seed=3)
+    b = stack_backlash([iface], samples=200000, seed=3, d_joints=(j,))
+    t = b.with_d_joints
+    assert t["nominal"] == pytest.approx(b0.nominal + 0.028 / 34.765)
+    assert t["worst_max"] == pytest.approx(b0.worst_max + 0.044 / 34.765)
+    assert t["mc_mean"] - b0.mc_mean == pytest.approx(0.028 / 34.765, abs=2e-6)
+    assert b.to_dict()["d_joints"][0]["kind"] == "rim pins"

@@ -3,6 +3,13 @@
 * ISO 8734 hardened dowel pins, m6: ``iso8734_dowels.csv`` (diameter, nominal length).
 * ISO 4762 socket-head screws and ISO 4032 nuts: bd_warehouse's tables (:func:`bolt_set`),
   the ones the solids are built from.
+* ISO 286-2 limit deviations of the dowels (m6) and of their slip-fit holes (E7).
+
+Rim dowels locate neighbouring rims and carry the torque between them. They are a slip
+fit in every rim they pass (E7 holes, never pressed): the smallest clearance E7/m6
+exceeds the mismatch of two rims' hole patterns (:func:`rim_pin_fit`), so no set of
+pins can jam however many there are, and every pin is bonded at assembly with a
+retaining compound (it cures after the stack is closed).
 
 A rim dowel is the longest catalogue pin that stays inside the two rims it joins
 (flush or recessed: nothing beside the rims may be touched by a pin end), centred in
@@ -23,8 +30,14 @@ from springcad.data import data_path
 from springcad.errors import DesignError
 
 DOWEL_FILE = "iso8734_dowels.csv"
-#: a pressed dowel engages each part it locates by at least this x its diameter
+#: a dowel engages each part it locates by at least this x its diameter
 MIN_ENGAGEMENT_PER_DIAMETER = 1.0
+#: ISO 286-2 limit deviations (um) by nominal size range (upper bound of the range, mm):
+#: shaft m6 (lower, upper) and hole E7 (lower, upper)
+_M6_UM = ((3.0, 2, 8), (6.0, 4, 12), (10.0, 6, 15), (18.0, 7, 18))
+_E7_UM = ((3.0, 14, 24), (6.0, 20, 32), (10.0, 25, 40), (18.0, 32, 50))
+#: the ISO fit of a rim dowel's hole in every rim it passes (slip fit over an m6 pin)
+RIM_PIN_HOLE_FIT = "E7"
 
 
 @functools.cache
@@ -36,6 +49,57 @@ def dowel_lengths() -> dict[float, tuple[float, ...]]:
     for r in rows:
         out.setdefault(float(r["diameter_mm"]), []).append(float(r["length_mm"]))
     return {d: tuple(sorted(ls)) for d, ls in out.items()}
+
+
+def _deviation_mm(table, diameter_mm: float, what: str) -> tuple[float, float]:
+    for upper_mm, lo_um, hi_um in table:
+        if diameter_mm <= upper_mm + 1e-9:
+            return lo_um / 1000.0, hi_um / 1000.0
+    raise DesignError(f"{what} Ø{diameter_mm:g}: above the {table[-1][0]:g} mm of springcad's "
+                      "ISO 286 table")
+
+
+def m6_deviation_mm(diameter_mm: float) -> tuple[float, float]:
+    """(lower, upper) deviation of an m6 pin (mm, ISO 286-2)."""
+    return _deviation_mm(_M6_UM, diameter_mm, "m6 pin")
+
+
+def e7_deviation_mm(diameter_mm: float) -> tuple[float, float]:
+    """(lower, upper) deviation of an E7 hole (mm, ISO 286-2)."""
+    return _deviation_mm(_E7_UM, diameter_mm, "E7 hole")
+
+
+@dataclass(frozen=True)
+class RimPinFit:
+    """How a rim dowel sits in the E7 holes of the rims it joins (mm).
+
+    Attributes:
+        clearance_min_mm, clearance_max_mm: diametral clearance of one pin in one hole.
+        mismatch_mm: largest offset of one pin's two holes when two rims' patterns are
+            laid over each other: each hole within a pattern zone of diameter
+            ``pattern_zone_mm`` around its place in its own rim's pattern.
+        pattern_zone_mm: the hole-to-hole position zone (diameter) within a rim.
+    """
+
+    clearance_min_mm: float
+    clearance_max_mm: float
+    mismatch_mm: float
+    pattern_zone_mm: float
+
+    @property
+    def cannot_jam(self) -> bool:
+        """Every pin finds room in both holes for any pattern within tolerance: the two
+        holes' half clearances together cover the offset of their centres."""
+        return self.clearance_min_mm >= self.mismatch_mm - 1e-12
+
+
+def rim_pin_fit(diameter_mm: float, pattern_zone_mm: float) -> RimPinFit:
+    """The slip fit of an m6 rim dowel in E7 holes of two rims whose hole patterns each
+    hold a position zone Ø``pattern_zone_mm`` hole to hole (mm)."""
+    p_lo, p_hi = m6_deviation_mm(diameter_mm)
+    h_lo, h_hi = e7_deviation_mm(diameter_mm)
+    return RimPinFit(clearance_min_mm=h_lo - p_hi, clearance_max_mm=h_hi - p_lo,
+                     mismatch_mm=pattern_zone_mm, pattern_zone_mm=pattern_zone_mm)
 
 
 def dowel_designation(diameter_mm: float, length_mm: float) -> str:

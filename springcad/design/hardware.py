@@ -15,10 +15,10 @@ from dataclasses import dataclass
 
 from springcad.design import plans as pl
 from springcad.design.cam import d_bore
-from springcad.design.catalogue import rim_dowel_length
+from springcad.design.catalogue import m6_deviation_mm, rim_dowel_length, rim_pin_fit
 from springcad.design.connections import SHAFT, camshaft_indices
 from springcad.design.processes import process
-from springcad.design.tolerance import DJoint, d_half_chord_mm
+from springcad.design.tolerance import DJoint, RimPinJoint, d_half_chord_mm
 from springcad.errors import DesignError
 from springcad.units import KG_PER_MM3_PER_KG_PER_M3
 
@@ -26,9 +26,6 @@ from springcad.units import KG_PER_MM3_PER_KG_PER_M3
 ROOT_CLEARANCE_MM = 0.3
 #: rim spacer processes, cheapest first: the first whose webs fit is used
 RIM_SPACER_PROCESSES = ("laser", "wire_edm")
-#: upper deviation of an ISO 8734 m6 dowel up to 3 mm (mm): the largest pin a spacer's
-#: clearance hole must pass
-M6_UPPER_MM = 0.008
 #: radial margin between the flexure roots and the spacer's inner edge after the spacer
 #: has shifted by its play on the pins (mm)
 ROOT_MARGIN_MM = 0.02
@@ -107,6 +104,12 @@ class Component:
                 "in_mass": self.in_mass, "mass_kg": self.mass_kg}
 
 
+def max_pin_mm(fastener: str, diameter_mm: float) -> float:
+    """Largest rim pin a clearance hole must pass (mm): an m6 dowel at its upper
+    deviation, a bolt at its nominal size."""
+    return diameter_mm + (m6_deviation_mm(diameter_mm)[1] if fastener == "dowel" else 0.0)
+
+
 @dataclass(frozen=True)
 class RimSpacerFit:
     """How a rim spacer fits its rim: process, hole, inner edge and the webs left (mm).
@@ -140,7 +143,7 @@ def rim_spacer_rim_mm(hardware, manufacturing) -> float:
     and :data:`ROOT_MARGIN_MM` inside (the design search keeps this rim, so the spacer is
     not refused by the build's web rules)."""
     pin = hardware.fastener_diameter_mm
-    pin_max = pin + (M6_UPPER_MM if hardware.fastener == "dowel" else 0.0)
+    pin_max = max_pin_mm(hardware.fastener, pin)
     wire = process("wire_edm")
     hole = wire.clearance_hole(pin_max, wire.position_tolerance_mm)
     r_hole = 0.5 * (hole + wire.hole_tolerance_mm)
@@ -367,7 +370,7 @@ class _Layout:
             return pl.RimSpacerPlan(inner_radius_mm=root + ROOT_CLEARANCE_MM,
                                     outer_radius_mm=self.r_outer, joint=j)
         pin = hw.fastener_diameter_mm
-        pin_max = pin + (M6_UPPER_MM if hw.fastener == "dowel" else 0.0)
+        pin_max = max_pin_mm(hw.fastener, pin)
         r_hc = min(math.hypot(*c) for c in centres)
         edge = springs[j].manufacturing.min_hole_edge_mm
         try:
@@ -440,10 +443,13 @@ class _Layout:
         return out
 
 
-def d_joints(layout: StackLayout, t_camshaft_mm: float) -> tuple[DJoint, ...]:
-    """The D joints of a stack: each torque shaft on its end camshaft (a D shaft in the
-    camshaft's D bore, or a D socket over its D hub), flats toleranced one-sided by the
-    camshaft's ``t_camshaft_mm`` and :data:`TORQUE_SHAFT_TOLERANCE_MM` (mm)."""
+def d_joints(layout: StackLayout, t_camshaft_mm: float) -> tuple:
+    """The joints of a stack that add rotational play in series with the cam interfaces:
+    each torque shaft on its end camshaft (:class:`~springcad.design.tolerance.DJoint`: a
+    D shaft in the camshaft's D bore, or a D socket over its D hub), flats toleranced
+    one-sided by the camshaft's ``t_camshaft_mm`` and :data:`TORQUE_SHAFT_TOLERANCE_MM`
+    (mm); and each dowelled rim-to-rim joint
+    (:class:`~springcad.design.tolerance.RimPinJoint`: m6 pins in E7 holes)."""
     out = []
     for c in layout.components:
         plan = c.plan
@@ -453,6 +459,15 @@ def d_joints(layout: StackLayout, t_camshaft_mm: float) -> tuple[DJoint, ...]:
         elif isinstance(plan, pl.HubSocketPlan):  # the camshaft's hub inside the socket
             h = d_half_chord_mm(plan.hub_radius_mm, plan.flat_ratio, plan.corner_radius_mm)
             out.append(DJoint(h, TORQUE_SHAFT_TOLERANCE_MM, t_camshaft_mm, c.name))
+        elif isinstance(plan, pl.FastenerPlan) and plan.type == "dowel" and plan.hole_centres_mm:
+            fit = rim_pin_fit(plan.diameter_mm, process("wire_edm").pattern_zone)
+            if not fit.cannot_jam:
+                raise DesignError(
+                    f"{c.name}: the E7/m6 slip fit leaves {fit.clearance_min_mm:g} mm, less than "
+                    f"the {fit.mismatch_mm:g} mm two rims' hole patterns may be apart: the "
+                    "pins could jam (processes.toml wire_edm pattern_zone_mm)")
+            out.append(RimPinJoint(plan.hole_circle_radius_mm, fit.clearance_min_mm,
+                                   fit.clearance_max_mm, c.name))
     return tuple(out)
 
 

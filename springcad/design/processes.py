@@ -32,6 +32,13 @@ class Process:
     hole_tolerance_mm: float
     position_tolerance_mm: float
     fits: tuple[str, ...]
+    pattern_zone_mm: float = 0.0
+
+    @property
+    def pattern_zone(self) -> float:
+        """Diameter of the position zone of one pattern's holes to each other (mm): the
+        data file's ``pattern_zone_mm``, else the position zone (2 x its radius)."""
+        return self.pattern_zone_mm or 2.0 * self.position_tolerance_mm
 
     def min_web(self, thickness_mm: float) -> float:
         """Smallest web between a hole and another contour, or two facing contours (mm)."""
@@ -62,7 +69,8 @@ def processes() -> dict[str, Process]:
                        min_hole_per_thickness=float(v["min_hole_per_thickness"]),
                        hole_tolerance_mm=float(v["hole_tolerance_mm"]),
                        position_tolerance_mm=float(v["position_tolerance_mm"]),
-                       fits=tuple(v["fits"]))
+                       fits=tuple(v["fits"]),
+                       pattern_zone_mm=float(v.get("pattern_zone_mm", 0.0)))
             for k, v in data.items()}
 
 

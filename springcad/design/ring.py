@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from springcad.design import flexure as fx
+from springcad.design.catalogue import RIM_PIN_HOLE_FIT
 from springcad.design.curves import Arc, Circle, Feature, Loop, Profile, Spline, named
 from springcad.errors import DesignError
 
@@ -184,10 +185,12 @@ def hole_diameter_mm(hardware) -> float:
 
 def hole_fits(hardware) -> dict:
     """How the rim holes are called out (every part they pass gets the same callout): a
-    dowel hole is H7 at the pin's nominal size (the m6 pin presses in); a bolt hole is a
-    plain clearance hole (:func:`hole_diameter_mm`)."""
+    dowel hole is a slip fit (E7) over the m6 pin, never pressed
+    (:mod:`springcad.design.catalogue`); a bolt hole is a plain clearance hole
+    (:func:`hole_diameter_mm`)."""
     if hardware.fastener == "dowel":
-        return {"holes": "H7", "hole_purpose": f"for Ø{hardware.fastener_diameter_mm:g} m6 dowels"}
+        return {"holes": RIM_PIN_HOLE_FIT,
+                "hole_purpose": f"slip fit for Ø{hardware.fastener_diameter_mm:g} m6 dowels"}
     return {"holes": "", "hole_purpose": f"clearance M{hardware.fastener_diameter_mm:g}"}
 
 

@@ -14,6 +14,12 @@ so the flat clearance is c = e_bore + e_shaft in [0, t_bore + t_shaft], and the 
 turns until an end of its flat (half-chord h from the flat's middle) meets the bore's
 flat: theta = atan(c / h) each way, a play of 2 atan(c / h) (first order in c / h; the
 radial clearance of the round part is left out, it lets the shaft shift, not turn).
+
+Rim pin joints (two rims, or a rim and a rim flange, joined by slip-fit dowels,
+:class:`RimPinJoint`) add theirs in series too: a pin with diametral clearances c_a and c_b
+in its two holes lets the rims turn by (c_a + c_b) / r_pins from one side to the other
+(the pin with the least clearance bears first; hole-pattern errors only make the play
+smaller, so the worst-case maximum and the nominal leave them out and the minimum is 0).
 Units: mm and rad.
 """
 
@@ -69,6 +75,7 @@ class DJoint:
     t_bore_mm: float
     t_shaft_mm: float
     name: str = ""
+    KIND = "D fit"
 
     def play_rad(self, clearance_mm):
         """Total free rotation 2 atan(c / h) for a flat clearance ``c`` (mm); rad."""
@@ -79,6 +86,59 @@ class DJoint:
         """(min, mid-tolerance, max) play (rad)."""
         t = self.t_bore_mm + self.t_shaft_mm
         return tuple(float(self.play_rad(c)) for c in (0.0, 0.5 * t, t))
+
+    def rss_var(self) -> float:
+        """Variance term of the RSS: dplay/dc = 2 / h at mid-tolerance (first order) times
+        each flat's band half-width (rad^2)."""
+        g = 2.0 / self.half_chord_mm / (1.0 + (0.5 * (self.t_bore_mm + self.t_shaft_mm)
+                                               / self.half_chord_mm) ** 2)
+        return (g * 0.5 * self.t_bore_mm) ** 2 + (g * 0.5 * self.t_shaft_mm) ** 2
+
+    def sample_rad(self, rng, samples: int, distribution: str) -> np.ndarray:
+        """Monte Carlo plays (rad): one-sided deviations of both flats."""
+        return self.play_rad(_one_sided(rng, self.t_bore_mm, samples, distribution)
+                             + _one_sided(rng, self.t_shaft_mm, samples, distribution))
+
+
+@dataclass(frozen=True)
+class RimPinJoint:
+    """Two rims (or a rim and a rim flange) joined by slip-fit dowels (mm).
+
+    Attributes:
+        radius_mm: radius of the pin circle.
+        clearance_min_mm, clearance_max_mm: diametral clearance of a pin in one hole
+            (:func:`springcad.design.catalogue.rim_pin_fit`).
+        name: what it joins, for reports.
+    """
+
+    radius_mm: float
+    clearance_min_mm: float
+    clearance_max_mm: float
+    name: str = ""
+    KIND = "rim pins"
+
+    def play_rad(self, clearance_a_mm, clearance_b_mm):
+        """Free rotation (c_a + c_b) / r of the two rims (rad)."""
+        return (np.asarray(clearance_a_mm) + np.asarray(clearance_b_mm)) / self.radius_mm
+
+    @property
+    def range_rad(self) -> tuple[float, float, float]:
+        """(0, mid-band, max) play (rad): the minimum is 0 (pattern errors may take the
+        least clearance up)."""
+        mid = 0.5 * (self.clearance_min_mm + self.clearance_max_mm)
+        return 0.0, float(self.play_rad(mid, mid)), float(self.play_rad(self.clearance_max_mm,
+                                                                          self.clearance_max_mm))
+
+    def rss_var(self) -> float:
+        """Variance term of the RSS: each hole's band half-width / r (rad^2)."""
+        half = 0.5 * (self.clearance_max_mm - self.clearance_min_mm) / self.radius_mm
+        return 2.0 * half ** 2
+
+    def sample_rad(self, rng, samples: int, distribution: str) -> np.ndarray:
+        """Monte Carlo plays (rad): each hole's clearance within its band."""
+        band = self.clearance_max_mm - self.clearance_min_mm
+        return self.play_rad(self.clearance_min_mm + _one_sided(rng, band, samples, distribution),
+                             self.clearance_min_mm + _one_sided(rng, band, samples, distribution))
 
 
 def d_half_chord_mm(radius_mm: float, flat_ratio: float, corner_radius_mm: float = 0.0) -> float:
@@ -111,11 +171,12 @@ class StackBacklash:
     """(min, nominal, max) per interface (rad)."""
     mc_histogram: tuple[tuple[float, ...], tuple[int, ...]] = ((), ())
     per_d_joint: tuple[tuple[float, float, float], ...] = ()
-    """(min, mid-tolerance, max) play of each D joint (rad)."""
+    """(min, mid-tolerance, max) play of each D joint and rim pin joint (rad)."""
     d_joint_names: tuple[str, ...] = ()
+    d_joint_kinds: tuple[str, ...] = ()
     with_d_joints: dict = field(default_factory=dict)
-    """The stack's backlash from input to output: the cam interfaces and the D joints in
-    series (keys nominal, worst_min, worst_max, rss_min, rss_max, mc_mean, mc_p01,
+    """The stack's backlash from input to output: the cam interfaces, the D joints and the
+    rim pin joints in series (keys nominal, worst_min, worst_max, rss_min, rss_max, mc_mean, mc_p01,
     mc_p99; rad). The fields above are the cam interfaces alone (the paper's eqs. 1-3)."""
 
     @property
@@ -137,8 +198,9 @@ class StackBacklash:
             "interference_possible": self.interference_possible,
             "mc_histogram": {"edges_rad": list(self.mc_histogram[0]),
                              "counts": list(self.mc_histogram[1])},
-            "d_joints": [{"name": n, "min": a, "mid": b, "max": c}
-                         for n, (a, b, c) in zip(self.d_joint_names, self.per_d_joint)],
+            "d_joints": [{"name": n, "kind": k, "min": a, "mid": b, "max": c}
+                         for n, k, (a, b, c) in zip(self.d_joint_names, self.d_joint_kinds,
+                                                    self.per_d_joint)],
             "with_d_joints": dict(self.with_d_joints),
         }
 
@@ -170,7 +232,8 @@ def stack_backlash(interfaces: list[Interface], samples: int = 20000, seed: int 
 
     Args:
         interfaces: one per spring, in stack order.
-        d_joints: the stack's :class:`DJoint` (torque shafts on the end camshafts).
+        d_joints: the stack's :class:`DJoint` (torque shafts on the end camshafts) and
+            :class:`RimPinJoint` (dowelled rim joints), in any order.
         samples: Monte Carlo stacks.
         seed: random seed (the result is reproducible).
         distribution: "uniform" (deviation uniform in +-t) or "normal" (t = 3 sigma).
@@ -188,11 +251,7 @@ def stack_backlash(interfaces: list[Interface], samples: int = 20000, seed: int 
         t = max(i.t_shaft_mm for i in interfaces if i.camshaft == cam)
         var += (t * sum(g for g, i in zip(sens, interfaces) if i.camshaft == cam)) ** 2
     half = math.sqrt(var)
-    var_d = 0.0
-    for j in d_joints:  # dplay/dc = 2 / h at mid-tolerance (first order); band half-widths
-        g = 2.0 / j.half_chord_mm / (1.0 + (0.5 * (j.t_bore_mm + j.t_shaft_mm)
-                                            / j.half_chord_mm) ** 2)
-        var_d += (g * 0.5 * j.t_bore_mm) ** 2 + (g * 0.5 * j.t_shaft_mm) ** 2
+    var_d = sum(j.rss_var() for j in d_joints)
     half_total = math.sqrt(var + var_d)
     rng = np.random.default_rng(seed)
     cams = sorted({i.camshaft for i in interfaces})
@@ -208,9 +267,7 @@ def stack_backlash(interfaces: list[Interface], samples: int = 20000, seed: int 
     counts, edges = np.histogram(total, bins=40)
     with_d = total.copy()
     for j in d_joints:
-        c = (_one_sided(rng, j.t_bore_mm, samples, distribution)
-             + _one_sided(rng, j.t_shaft_mm, samples, distribution))
-        with_d += j.play_rad(c)
+        with_d += j.sample_rad(rng, samples, distribution)
     d_nom = sum(r[1] for r in d_ranges)
     totals = {"nominal": nominal + d_nom, "worst_min": worst_min + sum(r[0] for r in d_ranges),
               "worst_max": worst_max + sum(r[2] for r in d_ranges),
@@ -226,4 +283,5 @@ def stack_backlash(interfaces: list[Interface], samples: int = 20000, seed: int 
         distribution=distribution, per_interface=tuple(ranges),
         mc_histogram=(tuple(map(float, edges)), tuple(map(int, counts))),
         per_d_joint=tuple(d_ranges), d_joint_names=tuple(j.name for j in d_joints),
+        d_joint_kinds=tuple(j.KIND for j in d_joints),
         with_d_joints=totals)

@@ -18,10 +18,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from springcad.data import data_path
+from springcad.design.catalogue import RIM_PIN_HOLE_FIT
 from springcad.design.processes import process_chain_text, process_text, processes
 from springcad.export.release import UNASSESSED, ReleaseStatus
-from springcad.export.sheet import (FRAME_MM, LABEL_FONT, NOTE_FONT, THICK, Sheet, fmt,
-                                    scale_text)
+from springcad.export.sheet import (A3, FRAME_MM, LABEL_FONT, NOTE_FONT, TEXT_FONT, THICK, Sheet,
+                                    fmt, scale_text)
 
 TITLE_BLOCK_NAME = "drawing_title_block.toml"
 #: sheet parts this thin or thinner get the template's ``thin_sheet`` notes (mm)
@@ -30,10 +31,19 @@ THIN_SHEET_MM = 1.0
 RIGHT_X0 = 230.0
 #: highest y of any view (below the header line)
 VIEWS_TOP = 262.0
-#: notes: font size (pt), line pitch (mm), characters per line
-NOTES_FONT = 6.0
-NOTE_LINE_MM = 3.2
-NOTE_WRAP = 128
+#: one drawing page: ISO A3 landscape (mm)
+PAGE = A3
+#: least height (mm) of the right column's room for details and view B on sheet 1
+MIN_VIEW_ZONE_MM = 100.0
+#: notes: font size (pt) and line pitch (mm); lines are wrapped to the column's width
+NOTES_FONT = TEXT_FONT
+NOTE_LINE_MM = 4.6
+#: hole table row height (mm)
+TABLE_ROW_MM = 5.6
+#: release reasons written out on the drawing (the rest: report.html, build.json)
+RELEASE_LINES = 2
+#: smallest font (pt) a title-block value is shrunk to when it does not fit its cell
+MIN_VALUE_FONT = 7.0
 
 
 def default_title_block() -> Path:
@@ -95,13 +105,9 @@ def fields(part, info: DrawingInfo, scale: float, template: dict) -> dict:
             "drawn_by": info.drawn_by, "sheet": "1/1", "standard": p.standard or "-",
             "general_tolerance": template.get("block", {}).get("general_tolerance",
                                                                 "ISO 2768-mK"),
-            "flatness": fmt(flat) if flat is not None else "", "projection": ""}
-
-
-def process_position_mm(key: str) -> float:
-    """Radius of the true-position zone of holes cut by this process (mm; 0 if unknown)."""
-    p = processes().get(key)
-    return p.position_tolerance_mm if p else 0.0
+            "flatness": fmt(flat) if flat is not None else "", "projection": "",
+            "profile": (fmt(2 * part.tolerance_mm)
+                        if p.cut_profile is not None else "")}
 
 
 def _has_hole_table(part) -> bool:
@@ -124,17 +130,25 @@ def note_lines(part, values: dict, template: dict) -> list[str]:
                            [])
     if p.cut_profile is not None:
         lines += notes.get("cut", [])
-    lines += notes.get("process", {}).get(p.process, [])
+    lines += (notes.get("process_by_kind", {}).get(p.kind, {}).get(p.process)
+              or notes.get("process", {}).get(p.process, []))
     spring = getattr(part, "spring", None)
     if p.process == "wire_edm" and spring is not None:
         m = spring.manufacturing
         lines.append(f"Wire Ø{fmt(m.wire_diameter_mm)} mm or finer: the smallest inside "
                      f"radius R{fmt(m.min_inside_radius_mm)} is the wire radius + the "
                      f"{fmt(m.spark_gap_mm)} mm spark gap.")
-    pos = process_position_mm(p.process)
-    if pos > 0 and _has_hole_table(part):
-        lines.append(f"Hole positions (hole table): true position Ø{fmt(2 * pos)} relative to "
-                     "datum A, the outer diameter, and datum B, hole #1 (its angle).")
+    from springcad.export.views import hole_frames
+
+    frames = hole_frames(part) if _has_hole_table(part) else ()
+    if frames:
+        lines.append(f"Hole positions (hole table, boxed: theoretically exact): position "
+                     f"{frames[0][1]} to datum A, the outer diameter, and datum B, hole #1"
+                     + (f"; {frames[1][1]} hole to hole (cut all holes in one setup)."
+                        if len(frames) > 1 else "."))
+    if p.fits.get("holes") == RIM_PIN_HOLE_FIT:
+        lines.append(f"Holes {RIM_PIN_HOLE_FIT}: a slip fit over the m6 dowels, never pressed "
+                     "(the dowels are bonded at assembly).")
     if values["flatness"]:
         lines += notes.get("flatness", [])
     elif p.cut_profile is not None and p.thickness_mm <= THIN_SHEET_MM:
@@ -157,58 +171,89 @@ def _projection_symbol(sheet: Sheet, x: float, y: float, h: float) -> None:
     sheet.polyline([(x0 - 1.0, cy), (c[0] + 0.5 * d + 1.0, cy)], style="-.")
 
 
-def title_block(sheet: Sheet, template: dict, values: dict) -> tuple[float, float]:
-    """Draw the title block at the bottom right; returns (left x, top y) in sheet mm."""
+def title_block(sheet: Sheet, template: dict, values: dict,
+                y_page: float = 0.0) -> tuple[float, float]:
+    """Draw the title block at the bottom right of the sheet page starting at ``y_page``;
+    returns (left x, top y) in sheet mm."""
     block = template["block"]
     w, h = block["width_mm"], block["row_height_mm"]
     x0 = sheet.width - FRAME_MM - w
-    top = FRAME_MM + h * len(template["rows"]) + 6.0
-    sheet.rect(x0, FRAME_MM, w, top - FRAME_MM, lw=THICK)
+    bottom = y_page + FRAME_MM
+    top = bottom + h * len(template["rows"]) + 6.0
+    sheet.rect(x0, bottom, w, top - bottom, lw=THICK)
     sheet.text(x0 + 2, top - 3, block.get("company", ""), size=NOTE_FONT, ha="left")
     y = top - 6.0
     for row in template["rows"]:
         x = x0
         for cell in row["cells"]:
             sheet.rect(x, y - h, cell["width_mm"], h)
-            sheet.text(x + 1, y - 1.8, cell["label"], size=LABEL_FONT, ha="left", color="0.35")
+            sheet.text(x + 1, y - 1.8, cell["label"], size=LABEL_FONT, ha="left", color="0.35",
+                       role="title block")
             if cell["value"] == "{projection}":
                 _projection_symbol(sheet, x + 0.5 * cell["width_mm"] - 6.0, y - h, h - 2.5)
             else:
-                sheet.text(x + 1, y - h + 2.6, cell["value"].format(**values), size=NOTE_FONT,
-                           ha="left")
+                value = cell["value"].format(**values)
+                sheet.text(x + 1, y - h + 2.6, value, ha="left", role="title block",
+                           size=_fitting_font(sheet, value, cell["width_mm"] - 2.0))
             x += cell["width_mm"]
         y -= h
     return x0, top
 
 
+def _fitting_font(sheet: Sheet, text: str, width_mm: float) -> float:
+    """NOTE_FONT, or the largest smaller size (down to MIN_VALUE_FONT) at which ``text``
+    fits ``width_mm`` (pt)."""
+    w, _ = sheet.text_size(text, size=NOTE_FONT)
+    return max(MIN_VALUE_FONT, min(NOTE_FONT, NOTE_FONT * width_mm / w)) if w > 0 else NOTE_FONT
+
+
+def chars_per_line(sheet: Sheet, width_mm: float, size: float = NOTES_FONT) -> int:
+    """How many characters of running text fit ``width_mm`` at ``size`` (measured on a
+    sample line of the notes' own letters)."""
+    sample = "Cut faces Ra 0.8 um: main cut and at least two skim cuts; holes E7, Ø1.5 m6 dowels."
+    w, _ = sheet.text_size(sample, size=size)
+    return max(20, int(len(sample) * width_mm / w))
+
+
 def _wrap(items: list[str], width: int, bullet) -> list[str]:
     out = []
     for i, item in enumerate(items, 1):
-        parts = textwrap.wrap(item, width) or [""]
+        parts = textwrap.wrap(item, width, break_on_hyphens=False) or [""]
         out += [f"{bullet(i)}{parts[0]}"] + [f"    {p}" for p in parts[1:]]
     return out
 
 
 def release_box(sheet: Sheet, x0: float, y0: float, width: float,
                 status: ReleaseStatus) -> float:
-    """The release status above the title block: RELEASED, or NOT FOR MANUFACTURE and every
-    reason. Returns the top of the box (sheet mm)."""
-    lines = _wrap(list(status.reasons), 150, lambda i: "- ")
-    h = 9.0 + 3.0 * len(lines)
+    """The release status above the title block: RELEASED, or NOT FOR MANUFACTURE, how many
+    reasons and the first of them (at the notes' size, cut after :data:`RELEASE_LINES`
+    lines; every reason is in report.html and build.json). Returns the top of the box
+    (sheet mm)."""
+    reasons = list(status.reasons)
+    lines: list[str] = []
+    if reasons:
+        head = (f"{len(reasons)} reason{'s' if len(reasons) > 1 else ''} (all in report.html "
+                "and build.json), the first:")
+        lines = [head] + _wrap(reasons[:1], chars_per_line(sheet, width - 4.0) - 2,
+                               lambda i: "- ")
+        if len(lines) > RELEASE_LINES + 1:
+            lines = lines[:RELEASE_LINES + 1]
+            lines[-1] = lines[-1].rstrip()[:-2] + " ..."
+    h = 9.0 + NOTE_LINE_MM * len(lines)
     sheet.rect(x0, y0, width, h, lw=THICK)
     colour = "black" if status.released else "#c00000"
     sheet.text(x0 + 2, y0 + h - 4.2, status.stamp, size=11, ha="left", weight="bold",
                color=colour)
-    y = y0 + h - 10.0
+    y = y0 + h - 9.0 - NOTE_LINE_MM + 0.8
     for line in lines:
-        sheet.text(x0 + 2, y, line, size=LABEL_FONT, ha="left", va="bottom")
-        y -= 3.0
+        sheet.text(x0 + 2, y, line, size=NOTES_FONT, ha="left", va="bottom")
+        y -= NOTE_LINE_MM
     return y0 + h
 
 
-def notes_block(sheet: Sheet, x0: float, y0: float, lines: list[str]) -> float:
-    """Numbered notes, bottom at ``y0``; returns the top (sheet mm)."""
-    wrapped = _wrap(lines, NOTE_WRAP, lambda i: f"{i}. ")
+def notes_block(sheet: Sheet, x0: float, y0: float, lines: list[str], width: float) -> float:
+    """Numbered notes ``width`` mm wide, bottom at ``y0``; returns the top (sheet mm)."""
+    wrapped = _wrap(lines, chars_per_line(sheet, width) - 4, lambda i: f"{i}. ")
     y = y0 + 2.0
     for line in reversed(wrapped):
         sheet.text(x0, y, line, size=NOTES_FONT, ha="left", va="bottom")
@@ -217,9 +262,10 @@ def notes_block(sheet: Sheet, x0: float, y0: float, lines: list[str]) -> float:
     return y + 5.0
 
 
-def header(sheet: Sheet, part, info: DrawingInfo) -> None:
-    """Title line and the job's name of the part at the top; the stamp at the top right."""
-    y = sheet.height - FRAME_MM - 8.0
+def header(sheet: Sheet, part, info: DrawingInfo, y_page: float = 0.0) -> None:
+    """Title line and the job's name of the part at the top of the sheet page starting at
+    ``y_page``; the stamp at the top right."""
+    y = y_page + PAGE[1] - FRAME_MM - 8.0
     sheet.text(FRAME_MM + 6, y, f"{part.info.title}   {part.part_number}   REV {info.revision}",
                size=11, ha="left", weight="bold")
     sheet.text(FRAME_MM + 6, y - 7.0, f"called {part.info.name} in job {info.job}; quantity "
@@ -229,8 +275,26 @@ def header(sheet: Sheet, part, info: DrawingInfo) -> None:
                    weight="bold", color="#c00000")
 
 
+def _hole_table(sheet: Sheet, x: float, bottom: float, rows) -> float:
+    """The hole table with its heading, bottom at ``bottom``; returns its top (sheet mm)."""
+    top = bottom + 3.0 + len(rows) * TABLE_ROW_MM
+    sheet.text(x, top + 2.5, "HOLE TABLE (angles from +Y, CCW, seen from +Z)", size=NOTE_FONT,
+               ha="left", va="bottom", weight="bold")
+    sheet.table(x, top, rows, [16.0, 48.0, 30.0, 30.0, 40.0], row_h=TABLE_ROW_MM)
+    return top + 9.0
+
+
+def _column_height(sheet: Sheet, notes: list[str], rows, width: float) -> float:
+    """Height (mm) the notes and the hole table take in the right column."""
+    lines = len(_wrap(notes, chars_per_line(sheet, width) - 4, lambda i: f"{i}. "))
+    return lines * NOTE_LINE_MM + 7.0 + (len(rows) * TABLE_ROW_MM + 9.0 if rows else 0.0)
+
+
 def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
-    """Lay out the drawing of one part on an A3 sheet.
+    """Lay out the drawing of one part on one A3 sheet, or on two when the notes and the hole
+    table at a readable size would leave the views' right column less than
+    :data:`MIN_VIEW_ZONE_MM` (sheet 1: views, release and title block; sheet 2: hole table,
+    notes and title block; one figure, sheet 2 above sheet 1, the PDF a page each).
 
     Returns:
         the :class:`~springcad.export.sheet.Sheet`; ``texts`` holds every text,
@@ -239,23 +303,36 @@ def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
     from springcad.export.views import choose_scale_of, hole_rows, part_views
 
     template = template or load_title_block()
-    sheet = Sheet()
-    sheet.rect(FRAME_MM, FRAME_MM, sheet.width - 2 * FRAME_MM, sheet.height - 2 * FRAME_MM,
-               lw=THICK)
-    header(sheet, part, info)
     values = fields(part, info, choose_scale_of(part), template)
-    x0, top = title_block(sheet, template, values)
-    width = template["block"]["width_mm"]
-    top = release_box(sheet, x0, top, width, info.release)
-    top = notes_block(sheet, x0 + 1.0, top, note_lines(part, values, template))
+    notes = note_lines(part, values, template)
     rows = hole_rows(part.slabs[-1].region, part.info.fits.get("holes", ""))
-    if rows:
-        sheet.text(x0 + 1.0, top + len(rows) * 4.2 + 2.5, "HOLE TABLE (angles from +Y, "
-                   "counter-clockwise, seen from +Z)", size=NOTE_FONT, ha="left", va="bottom",
-                   weight="bold")
-        sheet.table(x0 + 1.0, top + len(rows) * 4.2, rows, [14.0, 34.0, 22.0, 22.0, 28.0])
-        top += len(rows) * 4.2 + 8.0
-    zone = (max(RIGHT_X0, x0), top + 10.0, sheet.width - FRAME_MM - 2.0, VIEWS_TOP)
+    width = template["block"]["width_mm"]
+    probe = Sheet()
+    x0, top = title_block(probe, template, values)
+    top = release_box(probe, x0, top, width, info.release)
+    two = VIEWS_TOP - (top + _column_height(probe, notes, rows, width - 2.0)) < MIN_VIEW_ZONE_MM
+    probe.fig.clear()
+    sheet = Sheet((PAGE[0], PAGE[1] * (2 if two else 1)))
+    for k in range(2 if two else 1):
+        y_page = k * PAGE[1]
+        sheet.rect(FRAME_MM, y_page + FRAME_MM, sheet.width - 2 * FRAME_MM,
+                   PAGE[1] - 2 * FRAME_MM, lw=THICK)
+        header(sheet, part, info, y_page)
+        x0, top = title_block(sheet, template, {**values, "sheet": f"{k + 1}/2" if two
+                                                else "1/1"}, y_page)
+        if k == 0:
+            top = release_box(sheet, x0, top, width, info.release)
+        if k == 1 or not two:
+            top = notes_block(sheet, x0 + 1.0, top, notes, width - 2.0)
+            if rows:
+                top = _hole_table(sheet, x0 + 1.0, top, rows)
+        if two and k == 0:
+            sheet.text(x0 + 1.0, top + 2.0, ("HOLE TABLE AND " if rows else "") + "NOTES: SHEET 2",
+                       size=NOTE_FONT,
+                       ha="left", va="bottom", weight="bold")
+            top += 8.0
+        if k == 0:
+            zone = (max(RIGHT_X0, x0), top + 10.0, sheet.width - FRAME_MM - 2.0, VIEWS_TOP)
     part_views(sheet, part, zone)
     return sheet
 

@@ -71,10 +71,11 @@ class DxfReport:
 
 
 def info_lines(part_number: str, thickness_mm: float, entities: str) -> list[str]:
-    """The INFO text: part number, thickness and units, what the CUT layer holds."""
+    """The INFO text: part number, thickness and units, what the CUT layer holds, how
+    close it is to the design (not a part tolerance: those are on the drawing)."""
     what = "LINE ARC CIRCLE" if entities == "lines-arcs" else "LWPOLYLINE"
     return [part_number, f"t {thickness_mm:g} mm", "units mm", f"CUT: {what}",
-            f"tol {CHORD_TOL_MM:g} mm"]
+            f"within {CHORD_TOL_MM:g} mm of design", "tolerances: see drawing"]
 
 
 def _info_text(msp, lines: list[str], bbox) -> None:

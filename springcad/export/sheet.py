@@ -30,13 +30,27 @@ FRAME_MM = 10.0
 #: standard drawing scales (ISO 5455), largest first
 SCALES = (50.0, 20.0, 10.0, 5.0, 2.0, 1.0, 0.5, 0.2, 0.1)
 THICK, THIN = 0.7, 0.25  # line widths (pt)
-DIM_FONT, NOTE_FONT, LABEL_FONT = 8.0, 7.0, 5.0  # font sizes (pt)
+#: font sizes (pt): every dimension, note, table and title-block value is written at
+#: TEXT_FONT, whose capital height (DejaVu Sans: 0.729 em) is at least MIN_CAP_MM, the
+#: ISO 3098-0 / ISO 129-1 least for an A3 sheet; only the title block's field labels
+#: (LABEL_FONT) are smaller
+TEXT_FONT = 10.0
+DIM_FONT, NOTE_FONT, LABEL_FONT = TEXT_FONT, TEXT_FONT, 6.5
+#: capital height of DejaVu Sans per point of font size (mm / pt)
+CAP_MM_PER_PT = 0.729 * 25.4 / 72.0
+MIN_CAP_MM = 2.5
 #: free space kept around every text box (mm)
 TEXT_GAP_MM = 0.6
 #: arrow head length (mm)
 ARROW_MM = 2.2
 #: dimension text sits this far from its dimension line (mm)
 DIM_TEXT_GAP_MM = 1.0
+#: gap between a theoretically exact (boxed) value and its frame (mm)
+TED_PAD_MM = 1.0
+#: height of a tolerance frame row and side of a datum square (mm)
+FRAME_ROW_MM = 6.0
+#: geometric characteristic symbols drawn by Sheet.gdt_symbol
+GDT_SYMBOLS = ("position", "profile", "coaxiality", "flatness")
 
 
 def fmt(value: float) -> str:
@@ -126,6 +140,7 @@ class Sheet:
 
     Attributes:
         texts: every text written, in order.
+        sizes: (font size in pt, role) of every text, in the same order.
         boxes: the sheet-mm box (x0, y0, x1, y1) of every text.
         dims: the dimension list (:class:`Dimension`).
         conflicts: labels that found no free place (drawn at their first
@@ -146,6 +161,7 @@ class Sheet:
         self.ax.set_aspect("equal")
         self.ax.axis("off")
         self.texts: list[str] = []
+        self.sizes: list[tuple[float, str]] = []
         self.boxes: list[tuple] = []
         self.dims: list[Dimension] = []
         self.conflicts: list[str] = []
@@ -201,10 +217,12 @@ class Sheet:
         (a, b), (c, d) = self.ax.transData.inverted().transform([[bb.x0, bb.y0], [bb.x1, bb.y1]])
         return t, (float(a), float(b), float(c), float(d))
 
-    def text(self, x, y, s, size=DIM_FONT, ha="center", va="center", **kw):
-        """Write text at a fixed place (title block, notes); returns its box."""
+    def text(self, x, y, s, size=DIM_FONT, ha="center", va="center", role: str = "", **kw):
+        """Write text at a fixed place (title block, notes); returns its box. ``role``
+        names the texts exempt from the least text size (the title block's cells)."""
         _, box = self._make_text(x, y, s, size, ha, va, **kw)
         self.texts.append(s)
+        self.sizes.append((size, role))
         self.boxes.append(box)
         return box
 
@@ -221,6 +239,7 @@ class Sheet:
             t, box = self._make_text(x, y, s, size, ha, va, **kw)
             if self.is_free(box):
                 self.texts.append(s)
+                self.sizes.append((size, ""))
                 self.boxes.append(box)
                 return box
             t.remove()
@@ -257,40 +276,144 @@ class Sheet:
 
     # ---------------------------------------------------------------- dimensions
     def callout(self, target, label, direction, dim: Dimension | None = None,
-                reach=(8.0, 13.0, 19.0, 26.0, 34.0, 44.0), turn=(0, 20, -20, 40, -40, 60, -60)):
+                reach=(8.0, 13.0, 19.0, 26.0, 34.0, 44.0), turn=(0, 20, -20, 40, -40, 60, -60),
+                frames=(), boxed: bool = False):
         """Leader from a point of the part to a label: arrow, knee, shoulder under the text.
 
         Candidate knees lie ``reach`` mm from the target along ``direction`` (sheet,
         unit vector) turned by ``turn`` degrees; the first whose text box is free and
         whose leader crosses no text is taken. The text runs away from the part.
+        ``frames``: tolerance frame rows (:meth:`frames_size`) under the shoulder;
+        ``boxed``: the label framed as a theoretically exact dimension (ISO 1101).
         """
         target = np.asarray(target, float)
         base = math.atan2(direction[1], direction[0])
         w, h = self.text_size(label)
+        fw, fh = self.frames_size(frames)
+        w_all = max(w + (1.2 if boxed else 0.0), fw)
         fallback = None
+        if boxed or frames:  # bigger labels: look further for a free place
+            reach = (*reach, 55.0)
+            turn = (*turn, 80, -80, 100, -100, 120, -120, 150, -150, 180)
         for r in reach:
             for dt in turn:
                 a = base + math.radians(dt)
                 knee = target + r * np.array([math.cos(a), math.sin(a)])
                 right = math.cos(a) >= -1e-9
-                end = knee + np.array([w + 2.0 if right else -(w + 2.0), 0.0])
-                box = ((knee[0] + 1.0, knee[1] + 0.6, knee[0] + 1.0 + w, knee[1] + 0.6 + h)
-                       if right else (knee[0] - 1.0 - w, knee[1] + 0.6, knee[0] - 1.0, knee[1] + 0.6 + h))
-                fallback = fallback or (knee, end, box)
+                end = knee + np.array([w_all + 2.0 if right else -(w_all + 2.0), 0.0])
+                x_left = knee[0] + 1.0 if right else knee[0] - 1.0 - w_all
+                box = (x_left, knee[1] + 0.6, x_left + w, knee[1] + 0.6 + h)
+                fbox = (x_left, knee[1] - 0.8 - fh, x_left + fw, knee[1] - 0.8) if frames else None
+                fallback = fallback or (knee, end, box, fbox)
                 own = np.array([[*target, *knee], [*knee, *end]])
                 clear_of_own = not segments_hit_box(own, _grow(box, 0.4)).any()
-                if self.is_free(box) and self.path_is_free([target, knee, end]) and clear_of_own:
-                    return self._draw_callout(target, knee, end, box, label, dim)
+                if boxed:  # the frame around the value sits on the shoulder line
+                    clear_of_own = not segments_hit_box(own[:1], _grow(box, TED_PAD_MM)).any()
+                frames_ok = fbox is None or (
+                    self.is_free(fbox) and not segments_hit_box(own[:1], _grow(fbox, 0.4)).any())
+                if (self.is_free(_grow(box, TED_PAD_MM) if boxed else box)
+                        and self.path_is_free([target, knee, end]) and clear_of_own and frames_ok):
+                    return self._draw_callout(target, knee, end, box, label, dim, frames, fbox,
+                                              boxed)
         self.conflicts.append(label)
-        return self._draw_callout(target, *fallback, label, dim)
+        return self._draw_callout(target, *fallback[:3], label, dim, frames, fallback[3], boxed)
 
-    def _draw_callout(self, target, knee, end, box, label, dim):
+    def _draw_callout(self, target, knee, end, box, label, dim, frames=(), fbox=None,
+                      boxed=False):
         self.arrow(knee, target)
         self.polyline([knee, end])
         self.text(box[0], box[1], label, ha="left", va="bottom")
+        if boxed:
+            x0, y0, x1, y1 = _grow(box, TED_PAD_MM)
+            self.rect(x0, y0, x1 - x0, y1 - y0)
+        if frames:
+            self.draw_frames(fbox[0], fbox[3], frames)
         if dim is not None:
             self.dims.append(dim)
         return box
+
+    # ---------------------------------------------------------------- GD&T (ISO 1101)
+    def frames_size(self, rows) -> tuple[float, float]:
+        """Width and height (mm) of tolerance frame rows: each row a symbol key of
+        :data:`GDT_SYMBOLS` and its cells' texts (tolerance, datums)."""
+        if not rows:
+            return 0.0, 0.0
+        width = max(FRAME_ROW_MM + sum(self.text_size(c)[0] + 2.0 for c in row[1:])
+                    for row in rows)
+        return width, FRAME_ROW_MM * len(rows)
+
+    def draw_frames(self, x: float, y_top: float, rows) -> None:
+        """Tolerance frames, top left at (x, y_top): a symbol cell, then one cell per text
+        (two rows: a composite frame, its lower row the pattern's own tolerance). Their
+        outline is kept free like a text box."""
+        w, h = self.frames_size(rows)
+        self.boxes.append((x, y_top - h, x + w, y_top))
+        y = y_top
+        for row in rows:
+            cx = x
+            self.rect(cx, y - FRAME_ROW_MM, FRAME_ROW_MM, FRAME_ROW_MM)
+            self.gdt_symbol(row[0], (cx + 0.5 * FRAME_ROW_MM, y - 0.5 * FRAME_ROW_MM),
+                            0.36 * FRAME_ROW_MM)
+            cx += FRAME_ROW_MM
+            for cell in row[1:]:
+                w = self.text_size(cell)[0] + 2.0
+                self.rect(cx, y - FRAME_ROW_MM, w, FRAME_ROW_MM)
+                self.text(cx + 1.0, y - 0.5 * FRAME_ROW_MM, cell, ha="left")
+                cx += w
+            y -= FRAME_ROW_MM
+
+    def gdt_symbol(self, key: str, c, r: float) -> None:
+        """Draw a geometric characteristic symbol of radius ``r`` about ``c`` (lines, so it
+        needs no font glyph): position, profile (of a surface), coaxiality, flatness."""
+        c = np.asarray(c, float)
+        a = np.linspace(0.0, 2.0 * math.pi, 49)
+        ring = np.column_stack([np.cos(a), np.sin(a)])
+        if key == "position":
+            self.polyline(c + 0.75 * r * ring)
+            self.polyline([c - (r, 0), c + (r, 0)])
+            self.polyline([c - (0, r), c + (0, r)])
+        elif key == "profile":
+            half = np.column_stack([np.cos(a[:25]), np.sin(a[:25])])
+            self.polyline(c + r * half - (0, 0.4 * r), closed=True)
+        elif key == "coaxiality":
+            self.polyline(c + r * ring)
+            self.polyline(c + 0.5 * r * ring)
+        elif key == "flatness":
+            self.polyline(c + r * np.array([[-1.0, -0.4], [0.5, -0.4], [1.0, 0.4], [-0.5, 0.4]]),
+                          closed=True)
+        else:
+            raise ValueError(f"GD&T symbol '{key}': not one of {GDT_SYMBOLS}")
+
+    def datum_feature(self, target, direction, letter: str,
+                      reach=(6.0, 9.0, 13.0, 18.0), turn=(0, 25, -25, 50, -50, 80, -80)) -> None:
+        """Datum feature symbol (ISO 5459): a filled triangle on the feature at ``target``,
+        a leader along ``direction`` (turned as needed) to a square with the letter."""
+        target = np.asarray(target, float)
+        base = math.atan2(direction[1], direction[0])
+        side = FRAME_ROW_MM
+        first = None
+        for r in reach:
+            for dt in turn:
+                a = base + math.radians(dt)
+                u = np.array([math.cos(a), math.sin(a)])
+                centre = target + (r + 0.5 * side) * u
+                box = (centre[0] - 0.5 * side, centre[1] - 0.5 * side,
+                       centre[0] + 0.5 * side, centre[1] + 0.5 * side)
+                first = first or (u, centre, box)
+                if self.is_free(box) and self.path_is_free([target, target + r * u]):
+                    return self._draw_datum(target, u, centre, box, letter)
+        self.conflicts.append(f"datum {letter}")
+        self._draw_datum(target, *first, letter)
+
+    def _draw_datum(self, target, u, centre, box, letter) -> None:
+        w = np.array([-u[1], u[0]])
+        tri = np.array([target + 0.9 * w, target - 0.9 * w, target + 1.4 * u])
+        self.ax.fill(tri[:, 0], tri[:, 1], color="black", lw=0)
+        self._add_segments(np.vstack([tri, tri[:1]]))
+        edge = centre - 0.5 * FRAME_ROW_MM * u / max(abs(u[0]), abs(u[1]))
+        self.polyline([target + 1.4 * u, edge])
+        self.rect(box[0], box[1], box[2] - box[0], box[3] - box[1])
+        self.text(centre[0], centre[1], letter)
 
     def dim_linear(self, p1, p2, side: float, label: str, dim: Dimension | None = None,
                    offsets=(7.0, 12.0, 17.0, 23.0, 30.0)):
@@ -360,7 +483,7 @@ class Sheet:
         return box
 
     def table(self, x: float, y_top: float, rows: list[tuple[str, ...]], widths: list[float],
-              row_h: float = 4.2, size: float = LABEL_FONT + 1) -> float:
+              row_h: float = 5.6, size: float = TEXT_FONT) -> float:
         """A ruled table, top left at (x, y_top); returns its bottom (sheet mm)."""
         y = y_top
         for r, row in enumerate(rows):
@@ -378,16 +501,28 @@ class Sheet:
         """Write the sheet (SVG, PDF or PNG by suffix) without the clock time: no creation
         date in the PDF or SVG meta data and fixed SVG ids, so a drawing is a function of
         its content (the date in the title block included) and two builds give the same
-        bytes."""
+        bytes. A sheet of several A3 pages stacked upwards (page 1 at the bottom) is one
+        PDF page per A3 page, page 1 first; SVG and PNG show the whole figure."""
         import matplotlib
+        from matplotlib.backends.backend_pdf import PdfPages
 
         no_clock = {".pdf": {"CreationDate": None}, ".svg": {"Date": None}}
+        pages = max(1, round(self.height / A3[1]))
         with matplotlib.rc_context({"svg.fonttype": "none", "pdf.fonttype": 42,
                                     "pdf.compression": 6, "svg.hashsalt": "springcad"}):
             for p in paths:
                 suffix = str(p)[-4:].lower()
-                self.fig.savefig(p, dpi=150 if suffix == ".png" else 72,
-                                 metadata=no_clock.get(suffix))
+                if suffix != ".pdf" or pages == 1:
+                    self.fig.savefig(p, dpi=150 if suffix == ".png" else 72,
+                                     metadata=no_clock.get(suffix))
+                    continue
+                with PdfPages(p, metadata=no_clock[".pdf"]) as pdf:
+                    self.fig.set_size_inches(self.width / 25.4, A3[1] / 25.4)
+                    for k in range(pages):
+                        self.ax.set_ylim(k * A3[1], (k + 1) * A3[1])
+                        pdf.savefig(self.fig, dpi=72)
+                    self.fig.set_size_inches(self.width / 25.4, self.height / 25.4)
+                    self.ax.set_ylim(0, self.height)
 
 
 def _unit(axis: int) -> np.ndarray:

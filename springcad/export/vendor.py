@@ -58,6 +58,11 @@ def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[
         lines += ["", "PARTS TO BUY (not made by the shop; for reference)"]
         lines += [f"  {r['quantity']} x {r['standard'] or r['title']}  ({r['part_number']})"
                   for r in buy]
+        if any(r["standard"].startswith("ISO 8734") for r in buy):
+            lines += ["", "ASSEMBLY: the rim dowels slide into the rims' E7 holes (a slip fit over",
+                      "the m6 pins, never pressed, so no set of pins can jam); bond each pin with",
+                      "an anaerobic retaining compound for slip fits (e.g. Loctite 641) applied",
+                      "as the rims are stacked; it cures after the stack is closed."]
     return "\n".join(lines) + "\n"
 
 

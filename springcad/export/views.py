@@ -19,6 +19,8 @@ import math
 import numpy as np
 
 from springcad.design.curves import Arc, Circle, Line, Loop, Profile
+from springcad.design.processes import processes
+from springcad.geometry.disk import HUB_COAXIALITY_MM
 from springcad.export.sheet import (LABEL_FONT, NOTE_FONT, SCALES, THICK, THIN, Dimension,
                                     Sheet, View, fit_scale, fmt, scale_text)
 
@@ -74,14 +76,50 @@ def is_d_loop(loop: Loop) -> bool:
     return any(f.kind == "flat" for f in loop.features)
 
 
+# ------------------------------------------------------------------ tolerancing (ISO 1101)
+def is_cut(part) -> bool:
+    """A part cut from a DXF: its contour dimensions are theoretically exact (boxed) and
+    toleranced by one profile frame (the DXF's contour tolerance)."""
+    return part.info.cut_profile is not None
+
+
+def profile_frames(part) -> tuple:
+    """The profile frame of a cut part: every point of a cut contour within +-tolerance
+    of the DXF, a zone 2 x tolerance wide."""
+    return (("profile", fmt(2 * part.tolerance_mm)),) if is_cut(part) else ()
+
+
+def hole_frames(part) -> tuple:
+    """Position frames of a part's hole pattern (datum A the outer diameter, B hole #1)
+    from its process; holes with an ISO fit (the rim dowels' slip fit) get a second row,
+    the holes to each other (ISO 5458 CZ), when the process holds that (one setup)
+    tighter than to the datums: two rims' patterns then cannot jam their pins."""
+    proc = processes().get(part.info.process)
+    if proc is None or proc.position_tolerance_mm <= 0:
+        return ()
+    zone = 2 * proc.position_tolerance_mm
+    upper = ("position", f"Ø{fmt(zone)}", "A", "B")
+    if proc.pattern_zone < zone - 1e-12 and part.info.fits.get("holes", "")[:1].isalpha():
+        return (upper, ("position", f"Ø{fmt(proc.pattern_zone)} CZ"))
+    return (upper,)
+
+
+def hub_frames(part, prefix: str) -> tuple:
+    """The coaxiality frame of a camshaft's turned hub (view B) to its bore, datum A."""
+    if prefix and part.info.kind == "camshaft":
+        return (("coaxiality", f"Ø{fmt(HUB_COAXIALITY_MM)}", "A"),)
+    return ()
+
+
 # ------------------------------------------------------------------ loop dimensions
 def dim_circle(sheet: Sheet, view: View, radius: float, label: str, feature: str,
-               angle_deg: float) -> None:
-    """Diameter callout to a circle on the axis, leader from outside or inside."""
+               angle_deg: float, frames=(), boxed: bool = False) -> None:
+    """Diameter callout to a circle on the axis, leader from outside or inside; tolerance
+    frames under it, the value boxed when theoretically exact."""
     c = view((0.0, 0.0))
     u = _out(angle_deg)
     sheet.callout(c + radius * view.scale * u, label, u,
-                  Dimension("diameter", 2 * radius, label, feature))
+                  Dimension("diameter", 2 * radius, label, feature), frames=frames, boxed=boxed)
 
 
 def flat_deviations(tol: float, outer: bool) -> str:
@@ -92,7 +130,7 @@ def flat_deviations(tol: float, outer: bool) -> str:
 
 
 def dim_d_loop(sheet: Sheet, view: View, loop: Loop, feature: str, fit: str, tol: float,
-               outer: bool, clear_mm: float = 0.0) -> None:
+               outer: bool, clear_mm: float = 0.0, boxed: bool = False) -> None:
     """A D loop: diameter of its arc, distance of its flat from the axis, corner radii.
 
     The flat's dimension line goes beside the D, or beyond ``clear_mm`` (model mm from the
@@ -122,7 +160,7 @@ def dim_d_loop(sheet: Sheet, view: View, loop: Loop, feature: str, fit: str, tol
     mid = corners[-1].mid
     direction = np.asarray(mid) - np.asarray(corners[-1].center)
     sheet.callout(view(mid), label, direction / np.linalg.norm(direction),
-                  Dimension("radius", r, label, f"{feature} corners"))
+                  Dimension("radius", r, label, f"{feature} corners"), boxed=boxed)
 
 
 def hole_id(k: int) -> str:
@@ -141,8 +179,11 @@ def hole_rows(profile: Profile, fit: str) -> list[tuple[str, ...]]:
     return [("HOLE", "ANGLE FROM +Y (CCW)", "X", "Y", "SIZE")] + rows if rows else []
 
 
-def dim_holes(sheet: Sheet, view: View, profile: Profile, fit: str, purpose: str) -> None:
-    """Hole callout, position circle and #1..#n labels of off-axis holes (see :func:`hole_rows`)."""
+def dim_holes(sheet: Sheet, view: View, profile: Profile, fit: str, purpose: str,
+              frames=()) -> None:
+    """Hole callout (with the pattern's position ``frames``), position circle (its
+    diameter theoretically exact when positions are framed), #1..#n labels of off-axis
+    holes (see :func:`hole_rows`) and datum B on hole #1 when framed."""
     k = 0
     for group in hole_groups(profile):
         c0 = group[0]
@@ -155,14 +196,18 @@ def dim_holes(sheet: Sheet, view: View, profile: Profile, fit: str, purpose: str
             label += " EQ SP"
         sheet.callout(view(c0.center) + c0.radius * view.scale * _out(60),
                       label + (f" {purpose}" if purpose else ""), _out(60),
-                      Dimension("diameter", 2 * c0.radius, label, "holes"))
+                      Dimension("diameter", 2 * c0.radius, label, "holes"), frames=frames)
         centre = view((0.0, 0.0))
         sheet.circle(centre, pcd * view.scale)
         a_pcd = math.radians(angles[0] + 90.0 + 0.5 * (steps[0] if len(steps) else 30.0))
         pt = centre + pcd * view.scale * np.array([math.cos(a_pcd), math.sin(a_pcd)])
         lab = f"PCD Ø{fmt(2 * pcd)}"
         sheet.callout(pt, lab, (pt - centre) / np.linalg.norm(pt - centre),
-                      Dimension("diameter", 2 * pcd, lab, "hole circle"))
+                      Dimension("diameter", 2 * pcd, lab, "hole circle"), boxed=bool(frames))
+        if frames and k == 0:  # datum B: hole #1
+            u1 = np.asarray(c0.center) / pcd
+            t1 = np.array([u1[1], -u1[0]])
+            sheet.datum_feature(view(c0.center) + c0.radius * view.scale * t1, t1, "B")
         for c, a in zip(group, angles):
             k += 1
             name = hole_id(k)
@@ -179,11 +224,16 @@ def dim_profile(sheet: Sheet, view: View, profile: Profile, part, skip_outer: bo
                 skip_bore: bool = False, prefix: str = "") -> None:
     """Dimensions of every circle and D loop of a profile (other loops are the caller's).
 
-    Fits come from ``part.info.fits`` ("outer", "bore", "holes", "hole_purpose").
+    Fits come from ``part.info.fits`` ("outer", "bore", "holes", "hole_purpose"). On a cut
+    part a contour dimension without a fit is boxed (theoretically exact) and the outer
+    contour carries the profile frame; with a hole pattern the outer diameter is datum A,
+    without one a camshaft's bore is (its hub's coaxiality frame in view B refers to it).
     """
     fits = part.info.fits
     x0, y0, x1, y1 = bbox(profile)
     clear = max(abs(x0), abs(y0), x1, y1)
+    frames = hole_frames(part) if hole_groups(profile) else ()
+    cut = is_cut(part) and not prefix
     for k, loop in enumerate(profile.loops):
         outer = k == 0
         if (outer and skip_outer) or (not outer and skip_bore):
@@ -192,14 +242,26 @@ def dim_profile(sheet: Sheet, view: View, profile: Profile, part, skip_outer: bo
         fit = fits.get("outer" if outer else "bore", "")
         if loop.is_circle and _on_axis(loop.segments[0].center):
             r = loop.segments[0].radius
+            extra = (profile_frames(part) if outer and cut else ()) + (
+                hub_frames(part, prefix) if outer else ())
             dim_circle(sheet, view, r, f"Ø{fmt(2 * r)} {fit}".strip(), feature,
-                       35 if outer else 215)
+                       35 if outer else 215, frames=extra, boxed=cut and not fit)
+            if outer and frames:
+                sheet.datum_feature(view((0.0, 0.0)) + r * view.scale * _out(200), _out(200),
+                                    "A")
         elif is_d_loop(loop):
-            dim_d_loop(sheet, view, loop, feature, fit, part.tolerance_mm, outer, clear)
-    dim_holes(sheet, view, profile, fits.get("holes", ""), fits.get("hole_purpose", ""))
+            dim_d_loop(sheet, view, loop, feature, fit, part.tolerance_mm, outer, clear,
+                       boxed=cut)
+        if (not outer and not prefix and not frames and part.info.kind == "camshaft"
+                and fit):
+            p = max((seg for seg in loop.segments if isinstance(seg, Arc | Circle)),
+                    key=lambda seg: seg.radius)
+            r = p.radius
+            sheet.datum_feature(view((0.0, 0.0)) + r * view.scale * _out(135), _out(135), "A")
+    dim_holes(sheet, view, profile, fits.get("holes", ""), fits.get("hole_purpose", ""),
+              frames)
 
 
-# ------------------------------------------------------------------ side view
 def _bore_extent(region: Profile) -> tuple[float, float] | None:
     """x extent (mm) of the hole loop around the axis (a bore or socket), or None."""
     for loop in region.holes:
@@ -360,7 +422,8 @@ def _detail_in(sheet, profile, window, box, letter, caption) -> View:
 
 
 def ring_views(sheet: Sheet, part, zone) -> float:
-    """Flexure ring: main view, thickness below, detail A (tip) and B (root) at the right."""
+    """Flexure ring: main view, thickness below, details C (tip) and D (root) at the right
+    (the letters A and B are the datums)."""
     prof = part.info.cut_profile
     flex = prof.loop("flexures")
     v, _ = main_and_side(sheet, part, prof)
@@ -368,40 +431,41 @@ def ring_views(sheet: Sheet, part, zone) -> float:
     rim = max(flex.named("rim"), key=lambda a: min((math.dist(a.mid, h) for h in holes),
                                                      default=-a.mid[1]))
     label = f"R{fmt(rim.radius)}"
-    sheet.callout(v(rim.mid), label, _unit(rim.mid), Dimension("radius", rim.radius, label, "rim"))
+    sheet.callout(v(rim.mid), label, _unit(rim.mid), Dimension("radius", rim.radius, label, "rim"),
+                  boxed=True)
     dim_profile(sheet, v, prof, part)
-    # detail A: the tip of flexure 0 (ball centre on +Y at the contact radius)
+    # detail C: the tip of flexure 0 (ball centre on +Y at the contact radius)
     rc, rb = part.contact_radius, part.tip_radius
     half = max(4.0 * rb, 0.6 * 2 * math.pi * rc / part.n_flexures)
     box_a, box_b = _halves(zone)
     win = (-half, rc - 1.2 * half, half, rc + 0.8 * half)
-    da = _detail_in(sheet, prof, win, box_a, "A", "flexure 0 tip")
+    da = _detail_in(sheet, prof, win, box_a, "C", "flexure 0 tip")
     ball, = flex.named("ball", 0)
     label = f"R{fmt(ball.radius)}"
     sheet.callout(da(ball.mid), label, _unit(np.asarray(ball.mid) - ball.center),
-                  Dimension("radius", ball.radius, label, "tip ball"))
+                  Dimension("radius", ball.radius, label, "tip ball"), boxed=True)
     necks = flex.named("neck", 0)
     label = f"{len(necks)}× R{fmt(necks[0].radius)}"
     sheet.callout(da(necks[-1].mid), label, (-1.0, 0.3),
-                  Dimension("radius", necks[0].radius, label, "neck fillets"))
+                  Dimension("radius", necks[0].radius, label, "neck fillets"), boxed=True)
     a = np.linspace(math.pi / 2 - 0.9 * half / rc, math.pi / 2 + 0.9 * half / rc, 60)
     arc_pts = np.column_stack([rc * np.cos(a), rc * np.sin(a)])
     sheet.polyline(da(arc_pts), style="-.")
     label = f"R{fmt(rc)} ball centres"
     sheet.callout(da(arc_pts[8]), label, (0.4, -1.0),
-                  Dimension("radius", rc, label, "ball centres"))
-    mark_detail(sheet, v, (0.0, rc), max(3.0, 1.5 * half * v.scale), "A")
-    # detail B: the root of flexure 0
+                  Dimension("radius", rc, label, "ball centres"), boxed=True)
+    mark_detail(sheet, v, (0.0, rc), max(3.0, 1.5 * half * v.scale), "C")
+    # detail D: the root of flexure 0
     roots = flex.named("root", 0)
     rr = roots[0].radius
     mid = 0.5 * (np.asarray(roots[0].mid) + np.asarray(roots[-1].mid))
     span = max(abs(roots[0].mid[0] - roots[-1].mid[0]), 4 * rr) * 0.75
     win = (mid[0] - span, mid[1] - 1.3 * span, mid[0] + span, mid[1] + 0.5 * span)
-    db = _detail_in(sheet, prof, win, box_b, "B", "flexure 0 root")
+    db = _detail_in(sheet, prof, win, box_b, "D", "flexure 0 root")
     label = f"{len(roots)}× R{fmt(rr)}"
     sheet.callout(db(roots[0].mid), label, _unit(np.asarray(roots[0].mid) - roots[0].center),
-                  Dimension("radius", rr, label, "root fillets"))
-    mark_detail(sheet, v, tuple(mid), max(3.0, 1.2 * span * v.scale), "B")
+                  Dimension("radius", rr, label, "root fillets"), boxed=True)
+    mark_detail(sheet, v, tuple(mid), max(3.0, 1.2 * span * v.scale), "D")
     return v.scale
 
 
@@ -449,7 +513,8 @@ def cam_views(sheet: Sheet, part, zone) -> float:
     tip = teeth.named("tip")[0]
     label = f"Ø{fmt(2 * tip.radius)} tooth tips"
     sheet.callout(v(tip.mid), label, _unit(tip.mid),
-                  Dimension("diameter", 2 * tip.radius, label, "tooth tips"))
+                  Dimension("diameter", 2 * tip.radius, label, "tooth tips"),
+                  frames=profile_frames(part), boxed=True)
     dim_profile(sheet, v, top, part, skip_outer=True)
     box_c, box_b = _halves(zone)
     pocket, = teeth.named("pocket", 0)
@@ -459,13 +524,13 @@ def cam_views(sheet: Sheet, part, zone) -> float:
     dc = _detail_in(sheet, top, win, box_c, "C", "pocket 0")
     label = f"R{fmt(pocket.radius)}"
     sheet.callout(dc(pocket.mid), label, _unit(np.asarray(pocket.mid) - pocket.center),
-                  Dimension("radius", pocket.radius, label, "pockets"))
+                  Dimension("radius", pocket.radius, label, "pockets"), boxed=True)
     a = np.linspace(math.pi / 2 - 0.8 * half / rc, math.pi / 2 + 0.8 * half / rc, 60)
     arc_pts = np.column_stack([rc * np.cos(a), rc * np.sin(a)])
     sheet.polyline(dc(arc_pts), style="-.")
     label = f"R{fmt(rc)} pocket centres"
     sheet.callout(dc(arc_pts[6]), label, (0.4, -1.0),
-                  Dimension("radius", rc, label, "pocket centres"))
+                  Dimension("radius", rc, label, "pocket centres"), boxed=True)
     mark_detail(sheet, v, (0.0, rc), max(3.0, 1.3 * half * v.scale), "C")
     if len(part.slabs) > 1 and _new_loops(part.slabs[0].region, top):
         _view_b(sheet, part, part.slabs[0].region, box_b, v.scale, skip_bore=True)

@@ -17,6 +17,12 @@ from springcad.errors import GeometryError
 from springcad.units import fmt_mm
 from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, circle_loop, d_loop
 
+#: a turned camshaft hub: its diameter toleranced minus only by this (mm; turning holds
+#: +-0.02), so at its largest it keeps the wire clearance inside the tooth root
+HUB_TOLERANCE_MM = 0.04
+#: coaxiality of a turned hub to the camshaft's bore, datum A (diameter of the zone, mm)
+HUB_COAXIALITY_MM = 0.01
+
 
 def _sector(x: float, y: float, n: int) -> int:
     """Index of the flexure / tooth sector containing (x, y); sector 0 on +y."""
@@ -70,7 +76,7 @@ class FlexureRing(SpringcadPart):
             dimensions=dims, hardness=mat.hardness,
             heat_treatment_sequence=mat.heat_treatment_sequence,
             fits=hole_fits(spring.hardware) if self.hole_centres else {},
-            notes=(f"{self.n_flexures} flexures equally spaced, flexure 0 on +Y (details A, B "
+            notes=(f"{self.n_flexures} flexures equally spaced, flexure 0 on +Y (details C, D "
                    "show flexure 0; every flexure is the same).",
                    f"Tip balls R{fmt_mm(self.tip_radius)} on R{fmt_mm(self.contact_radius)}: "
                    "critical to "
@@ -161,11 +167,13 @@ class Camshaft(SpringcadPart):
                  "Bore: running fit on the alignment shaft (H7/g6).",
                  "Do not round or chamfer the cut edges of the teeth; remove burrs only."]
         if hub_length_mm:
-            notes.append("Hub: turned before the teeth are cut, concentric to the bore within "
-                         "0.01 mm; " + ("its D flat drives the torque shaft (view B)."
-                                        if drive == "hub_flat" else "torque through the D bore."))
+            notes.append("Hub: turned before the teeth are cut, coaxial to the bore (datum A) "
+                         f"within Ø{fmt_mm(HUB_COAXIALITY_MM)} (frame in view B); "
+                         + ("its D flat drives the torque shaft (view B)."
+                            if drive == "hub_flat" else "torque through the D bore."))
             notes.append(f"The hub is {self.root_radius - self.hub_radius:.2f} mm inside the "
-                         "tooth root: the wire cutting the teeth passes it.")
+                         "tooth root at its largest size (toleranced minus only): the wire "
+                         "cutting the teeth passes it.")
         info = PartInfo(
             name=tag, code="CAM",
             title=("End camshaft" if hub_length_mm else "Camshaft") + f", {self.n_teeth} teeth",
@@ -174,8 +182,11 @@ class Camshaft(SpringcadPart):
             process="wire_edm", thickness_mm=toothed_length_mm + hub_length_mm,
             cut_profile=teeth, dimensions=dims, notes=tuple(notes), hardness=mat.hardness,
             heat_treatment_sequence=mat.heat_treatment_sequence,
-            fits={"bore": "H7", **({"outer": "g6"} if drive == "hub_flat" else {})},
-            secondary_processes=("turned", "ground") if hub_length_mm else ())
+            fits={"bore": "H7", **({"outer": "g6"} if drive == "hub_flat" else
+                                   {"outer": f"0/-{fmt_mm(HUB_TOLERANCE_MM)}"} if hub_length_mm
+                                   else {})},
+            secondary_processes=(("turned", "ground") if drive == "hub_flat" else ("turned",))
+            if hub_length_mm else ())
         super().__init__(info, tuple(slabs), COLOURS["cam"])
 
     @classmethod

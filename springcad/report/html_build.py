@@ -32,6 +32,13 @@ def _read_json(path: Path) -> dict | None:
         return None
 
 
+def _joint_play(backlash: dict, kind: str) -> str:
+    """Sum of the mid-tolerance plays of the stack's joints of one kind ("D fit" when the
+    design.json predates joint kinds)."""
+    joints = [j for j in backlash.get("d_joints", []) if j.get("kind", "D fit") == kind]
+    return _n(sum(j.get("mid", 0.0) for j in joints)) if joints else "–"
+
+
 def _n(v, digits: int = 4) -> str:
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
         return "–"
@@ -149,9 +156,10 @@ def _spec_rows(design: dict, fea: dict | None) -> str:
          "interfering cam)", f"{_n(b.get('worst_min'))} … {_n(b.get('worst_max'))}"),
         ("cam backlash RSS (rad)", f"{_n(b.get('rss_min'))} … {_n(b.get('rss_max'))}"),
         ("D-fit play of the torque shafts (rad, mid-tolerance, all D joints)",
-         _n(sum(j.get("mid", 0.0) for j in b.get("d_joints", []))) if b.get("d_joints")
-         else "–"),
-        ("stack backlash input to output, cams + D fits (rad): nominal; worst case",
+         _joint_play(b, "D fit")),
+        ("rim pin play (rad, mid-tolerance, all dowelled rim joints: E7/m6 slip fits)",
+         _joint_play(b, "rim pins")),
+        ("stack backlash input to output, cams + D fits + rim pins (rad): nominal; worst case",
          f"{_n(tot.get('nominal'))}; {_n(tot.get('worst_min'))} … {_n(tot.get('worst_max'))}"
          if tot else "–"),
         ("mass (kg)", _n(st.get("mass_kg"))),

@@ -29,7 +29,7 @@ figure{margin:0}img{max-width:100%;height:auto}figcaption{font-size:.9em;color:#
 code{background:#f4f4f4;padding:0 .2em}
 .scroll{overflow-x:auto}.bom td{vertical-align:top}.bom a{margin-right:.4em}
 @media (max-width:700px){body{margin:1em auto;font-size:.95em}.thumb{width:100%;height:auto}
-td,th{padding:.2em .35em}}
+td,th{padding:.2em .35em}.bom td,.bom th{white-space:nowrap}}
 """
 
 _BULLET = re.compile(r"^\s*[-*]\s+")

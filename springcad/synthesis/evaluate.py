@@ -22,15 +22,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.config import MaterialSpec
+from springcad.design.catalogue import MIN_ENGAGEMENT_PER_DIAMETER
 from springcad.design.hardware import BUSHING_CLEARANCE_MM, stack_layout
 from springcad.design.stack import camshaft_indices, connection_sequence
 from springcad.design.tolerance import backlash_rad, gap_range_mm
+from springcad.errors import DesignError
 from springcad.synthesis.screening import REASONS, screen_disks
 
 #: stack-level constraints after the disk ones
 HOLES, AXIAL, RADIAL, STIFFNESS = "rim_holes", "axial_length", "envelope_radius", "stiffness"
+#: the rim joints' hardware cannot be laid out (no catalogue dowel fits the two rims)
+DOWELS = "rim_dowels"
 #: constraints where a smaller value is the violation (value/limit < 1 fails)
-_SMALLER_BAD = {"root_gap", "cam_tooth", "cam_bore", "serpentine_shape", HOLES}
+_SMALLER_BAD = {"root_gap", "cam_tooth", "cam_bore", "serpentine_shape", HOLES, DOWELS}
 #: what a failed check at the lowered beam stress means in the report
 _REGIONS = ("flexure flank", "root fillet", "tip-neck fillet")
 
@@ -84,6 +88,9 @@ def describe(binding: str, value: float, limit: float, disk: str = "") -> str:
     if binding == HOLES:
         return (f"rim holes on the stack's common circle leave {value:.3g} mm to a rim edge "
                 f"< min_hole_edge_mm {limit:.3g} mm (thin rim or rims of different depth)")
+    if binding == DOWELS:
+        return (f"a {value:.3g} mm rim is too thin for the rim dowels: no catalogue pin length "
+                f"fits two rims and engages each by {limit:.3g} mm")
     if binding == STIFFNESS:
         return (f"the built flexures give {100 * value:+.2f} % stiffness, beyond the "
                 f"+-{100 * limit:.3g} % tolerance (the tip web does not scale with the widths)")
@@ -222,6 +229,19 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
         binding[sel] = name
         value[sel] = np.broadcast_to(val, (m,))[sel]
         limit[sel] = np.broadcast_to(lim, (m,))[sel]
+    # mass where every disk is designable (infeasible on envelope/yield still get one: the
+    # report quotes the lightest near miss); a stack whose rim joints cannot be laid out
+    # (no catalogue dowel fits its rims) fails on that
+    disk_ok = (a["code"] == 0) & (~mixed | (b["code"] == 0))
+    mass = np.full(m, np.nan)
+    for i in np.flatnonzero(disk_ok):
+        try:
+            mass[i] = _stack_mass_kg(space, cols, a, b, i)
+        except DesignError:
+            if binding[i] == "":
+                binding[i] = DOWELS
+                value[i] = min(cols["z_a"][i], cols["z_b"][i] if mixed[i] else np.inf)
+                limit[i] = MIN_ENGAGEMENT_PER_DIAMETER * hw.fastener_diameter_mm
     feasible = binding == ""
     with np.errstate(divide="ignore", invalid="ignore"):
         smaller_bad = np.isin(binding, list(_SMALLER_BAD))
@@ -230,12 +250,6 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
     violation[binding == "rim_rule"] = np.nan
     violation[feasible] = 0.0
 
-    # mass where every disk is designable (infeasible on envelope/yield still get one: the
-    # report quotes the lightest near miss)
-    disk_ok = (a["code"] == 0) & (~mixed | (b["code"] == 0))
-    mass = np.full(m, np.nan)
-    for i in np.flatnonzero(disk_ok):
-        mass[i] = _stack_mass_kg(space, cols, a, b, i)
     K, th = cols["stiffness_Nmm_per_rad"], cols["deflection_rad"]
     energy = 0.5 * K * th ** 2 * 1e-3
     volume_cm3 = np.pi * r_env ** 2 * height / 1e3

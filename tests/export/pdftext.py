@@ -40,36 +40,51 @@ class Word:
     y1: float
 
 
-def pdf_words(path: Path) -> tuple[list[Word], tuple[float, float]]:
-    """Every word with its box, and the page size (mm), from ``pdftotext -bbox``."""
+def pdf_pages(path: Path) -> int:
+    """Number of pages (``pdfinfo``)."""
+    out = subprocess.run([_poppler("pdfinfo"), str(path)], capture_output=True, text=True,
+                         check=True).stdout
+    return int(re.search(r"^Pages:\s+(\d+)", out, re.M).group(1))
+
+
+def pdf_words(path: Path, page: int = 1) -> tuple[list[Word], tuple[float, float]]:
+    """Every word of a page with its box, and the page size (mm), from ``pdftotext -bbox``."""
     import html
 
-    out = subprocess.run([_poppler("pdftotext"), "-bbox", str(path), "-"], capture_output=True,
-                         text=True, check=True).stdout
+    out = subprocess.run([_poppler("pdftotext"), "-bbox", "-f", str(page), "-l", str(page),
+                          str(path), "-"], capture_output=True, text=True, check=True).stdout
     w, h = (float(v) * MM_PER_PT for v in _PAGE.search(out).groups())
     words = [Word(html.unescape(m.group(5)), *(float(v) * MM_PER_PT for v in m.groups()[:4]))
              for m in _WORD.finditer(out)]
     return words, (w, h)
 
 
-def pdf_png(path: Path, out_prefix: Path, dpi: int) -> Path:
-    """Render page 1 with ``pdftoppm`` and return the PNG path."""
-    subprocess.run([_poppler("pdftoppm"), "-png", "-r", str(dpi), "-f", "1", "-l", "1",
-                    "-singlefile", str(path), str(out_prefix)], check=True)
+def pdf_png(path: Path, out_prefix: Path, dpi: int, page: int = 1) -> Path:
+    """Render a page with ``pdftoppm`` and return the PNG path."""
+    subprocess.run([_poppler("pdftoppm"), "-png", "-r", str(dpi), "-f", str(page), "-l",
+                    str(page), "-singlefile", str(path), str(out_prefix)], check=True)
     return Path(f"{out_prefix}.png")
 
 
 def pdf_without_text(src: Path, dst: Path) -> Path:
-    """A copy of a matplotlib PDF with every text object (BT ... ET) removed from the page.
+    """A copy of a matplotlib PDF with every text object (BT ... ET) removed from its pages.
 
-    The page content stream is rewritten in place: the new (shorter) Flate stream is
+    Each page content stream is rewritten in place: the new (shorter) Flate stream is
     padded after ``endstream`` and its length object padded with spaces, so every byte
     offset of the cross-reference table stays valid.
     """
+    data = Path(src).read_bytes()
+    for m in re.finditer(rb"/Contents (\d+) 0 R", data):
+        data = _strip_text(data, int(m.group(1)))
+    Path(dst).write_bytes(data)
+    return Path(dst)
+
+
+def _strip_text(data: bytes, contents: int) -> bytes:
+    """``data`` with the text objects of one page content stream (object ``contents``)
+    removed, every byte offset kept."""
     import zlib
 
-    data = Path(src).read_bytes()
-    contents = int(re.search(rb"/Contents (\d+) 0 R", data).group(1))
     head = re.search(rb"\n%d 0 obj\n<< /Length (\d+) 0 R /Filter /FlateDecode >>\nstream\n"
                      % contents, data)
     len_obj = int(head.group(1))
@@ -86,6 +101,4 @@ def pdf_without_text(src: Path, dst: Path) -> Path:
            + data[tail_at + 10:])
     num = str(len(new)).encode().rjust(len(len_m.group(1)))
     a, b = len_m.span(1)
-    out = out[:a] + num + out[b:]
-    Path(dst).write_bytes(out)
-    return Path(dst)
+    return out[:a] + num + out[b:]

@@ -58,3 +58,45 @@ def test_every_purchased_item_is_in_its_catalogue(stack):
                     and min(hi, i.z_range_mm[1]) - max(lo, i.z_range_mm[0]) > 1e-6]
             assert len(ends) == 2, inst.name
             assert min(e[0] for e in ends) <= lo + 1e-9 and hi <= max(e[1] for e in ends) + 1e-9
+
+
+def _pins_fit(hole_mm, pin_mm, zone_mm, rng, n_pins=7, trials=4000):
+    """Monte Carlo of two rims' hole patterns, each hole anywhere in a Ø``zone_mm``
+    pattern zone, holes at their smallest size and pins at their largest: the share of
+    stacks in which some pin has no place that is inside both of its holes (a pin fits
+    two holes when it fits their lens; for circles of radius R - r about centres
+    ``a``, ``b`` that is |a - b| <= (R_a - r) + (R_b - r))."""
+    import numpy as np
+
+    jams = 0
+    for _ in range(trials):
+        ang = rng.uniform(0, 2 * np.pi, (2, n_pins))
+        rad = 0.5 * zone_mm * np.sqrt(rng.uniform(0, 1, (2, n_pins)))
+        off = np.stack([rad * np.cos(ang), rad * np.sin(ang)], axis=-1)  # (rim, pin, xy)
+        gap = np.linalg.norm(off[0] - off[1], axis=-1)
+        jams += bool((gap > (hole_mm - pin_mm)).any())
+    return jams / trials
+
+
+def test_rim_pins_slip_and_cannot_jam():
+    """Seven m6 dowels through two rims: with E7 holes (the springcad scheme) no pattern
+    within its Ø0.006 zone jams a pin; with the H7 holes of the issue (press / transition
+    fit) many do."""
+    import numpy as np
+
+    from springcad.design.catalogue import e7_deviation_mm, m6_deviation_mm, rim_pin_fit
+    from springcad.design.processes import process
+
+    zone = process("wire_edm").pattern_zone
+    assert zone == pytest.approx(0.006)
+    fit = rim_pin_fit(1.5, zone)
+    assert fit.cannot_jam and fit.clearance_min_mm == pytest.approx(0.006)
+    rng = np.random.default_rng(5)
+    pin = 1.5 + m6_deviation_mm(1.5)[1]
+    e7 = 1.5 + e7_deviation_mm(1.5)[0]
+    assert _pins_fit(e7, pin, zone, rng) == 0.0
+    assert _pins_fit(1.5, pin, zone, rng) == 1.0  # H7 at its smallest: every pin jams
+    assert _pins_fit(1.5 + 0.010, pin, zone, rng) > 0.1  # H7 at its largest: often
+    # every ISO 286 size range springcad tabulates keeps the rule
+    for d in (1.0, 2.5, 4.0, 8.0, 12.0):
+        assert rim_pin_fit(d, zone).cannot_jam, d

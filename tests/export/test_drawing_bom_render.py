@@ -43,11 +43,11 @@ def test_ring_drawing_has_its_dimensions(ring_s1, tmp_path):
     t = fmt(r.spring.manufacturing.t_spring_mm)
     expected = [f"Ø{fmt(2 * r.outer_radius)}", f"R{fmt(r.contact_radius)} ball centres",
                 f"R{fmt(r.tip_radius)}", f"PCD Ø{fmt(bc)}",
-                f"{len(r.hole_centres)}× Ø{fmt(r.hole_diameter)} H7 THRU",
+                f"{len(r.hole_centres)}× Ø{fmt(r.hole_diameter)} E7 THRU",
                 f"{fmt(r.thickness)} ±{t}", f"±{t} mm", "ISO 2768-mK", "48-52 HRC",
                 "Heat treatment before EDM", "Ra 0.8 um", "Flatness of each face 0.02 mm",
                 f"2× R{fmt(r.neck_fillet_radius)}", f"2× R{fmt(r.root_fillet_radius)}",
-                "DETAIL A", "HOLE TABLE"] + title_values(r)
+                "DETAIL C", "HOLE TABLE"] + title_values(r)
     svg, pdf = drawing_texts(r, tmp_path)
     assert_all_in(expected, svg)
     assert_all_in(expected, pdf)
@@ -74,7 +74,7 @@ def test_cam_and_spacer_drawings(stack_4xs1, tmp_path):
     # holes toleranced by the process, no H7, no free-state flatness on a 0.5 mm sheet
     expected = [f"Ø{fmt(2 * spacer.outer_radius)}", f"Ø{fmt(2 * spacer.inner_radius)}",
                 f"{len(spacer.hole_centres)}× Ø{fmt(spacer.hole_diameter)} ±0.005 THRU",
-                fmt(spacer.length), "Ra 0.8 um", "No free-state flatness requirement",
+                fmt(spacer.length), "Ra 3.2 um: main cut only", "No free-state flatness requirement",
                 "wire EDM"]
     assert_all_in(expected + title_values(spacer), svg + pdf)
     assert spacer.info.process == "wire_edm"
