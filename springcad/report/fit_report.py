@@ -164,7 +164,10 @@ def _verdict_blocks(data: dict) -> list[tuple]:
         out.append(("p", "**Confounded**: " + g["statement"] + "."))
     if final["unexplained"]:
         where = final["unexplained_where"]
-        out.append(("p", "**Unexplained structure remains** in the residual: "
+        only_laws = bool(where and where["findings"]) and all(f["kind"] == "law_outside_library"
+                                        for f in where["findings"])
+        out.append(("p", ("**Physics outside the library**: " if only_laws else
+                          "**Unexplained structure remains** in the residual: ")
                          + (where["summary"] if where else "see below") + "."))
     else:
         out.append(("p", "The final residual is consistent with noise."))
