@@ -115,11 +115,8 @@ class Signals:
         # pieces (start, end, hold, window), joined into blocks fitted as one
         blocks: list[list[tuple[int, int, bool, int]]] = []
         for k, (a, b) in enumerate(zip(bounds[:-1], bounds[1:])):
-            w_run = min(max(w_min, int(TRACE_RUN_FRACTION * (b - a))), w_max)
+            w = min(max(w_min, int(TRACE_RUN_FRACTION * (b - a))), w_max) | 1
             for c, d, hold in self._pieces(a, b, 2 * w_min):
-                # a ramp between holds inside a run (a staircase's step) is shorter than
-                # the run: the cubic's window stays within a share of the piece itself
-                w = min(w_run, max(w_min, int(TRACE_PIECE_FRACTION * (d - c)))) | 1
                 prev = blocks[-1][-1] if blocks else None
                 joined = (prev is not None and not hold and not prev[2]
                           and not _sharp_turn(self.theta, c, min(w, prev[3])))
@@ -134,8 +131,11 @@ class Signals:
                 continue
             fits: dict[int, np.ndarray] = {}
             longest = (d0 - c0) if (d0 - c0) % 2 else d0 - c0 - 1
+            # a ramp between holds inside a run (a staircase's step) is shorter than the
+            # run: the cubic's window stays within a share of what is fitted
+            cap = max(w_min, int(TRACE_PIECE_FRACTION * (d0 - c0))) | 1
             for c, d, _, w in block:
-                wp = min(w, longest)
+                wp = min(w, longest, cap)
                 if wp < 5:
                     continue
                 if wp not in fits:
@@ -201,7 +201,7 @@ class Signals:
         edges = np.flatnonzero(np.diff(np.concatenate([[0], still.astype(int), [0]])))
         out, start = [], 0
         for s0, s1 in zip(edges[::2], edges[1::2]):
-            if s1 - s0 < min_hold // 2 or s0 < start:
+            if s1 - s0 < min_hold or s0 < start:
                 continue
             # the motion arrives where it last stood farther than the band from the hold's
             # angle, and leaves where it first does again (as at the ends of a run)
@@ -213,7 +213,7 @@ class Signals:
                  if before.size else start)
             d = (_corner(self.theta[a:b], int(after[0]), True, min_hold, reach)
                  if after.size else b - a)
-            if not start <= c < d <= b - a or not self._flat(a + s0, a + s1, min_hold // 2):
+            if not start <= c < d <= b - a or not self._flat(a + s0, a + s1, min_hold):
                 continue
             if c > start:
                 out.append((a + start, a + c, False))
@@ -249,14 +249,25 @@ class Signals:
         together by 1 to 2 standard errors (``bench/fit_coverage.py``). The noise
         left on the turn angle is one value per run, which the clustered intervals
         see. Before the first turn: the smoothed deflection from the rest angle.
+
+        The turn's angle is the trace's farthest point against the run's motion:
+        a turn found a few samples before a ramp arrives at a hold (the motion stops,
+        then comes back) would otherwise put the turn short of the hold's angle, and
+        the friction would flip only once the motion came back past it (a 1.7 mrad
+        shortfall read as a 9 mrad presliding angle on a staircase with holds).
         """
         runs = self.runs
         start = np.flatnonzero(np.diff(runs, prepend=runs[0] - 1) != 0)
-        first = start[np.searchsorted(start, np.arange(self.n), side="right") - 1]
+        k = np.searchsorted(start, np.arange(self.n), side="right") - 1
+        first = start[k]
         trace = self.theta_trace
+        end = np.concatenate([start[1:], [self.n]]) - 1
+        moving = np.sign(trace[end] - trace[start])
+        back = np.maximum.reduceat(-moving[k] * trace, start)
+        turn = np.where(moving != 0, -moving * back, trace[start])
         after = first > 0
         out = np.abs(self.theta_smooth - self.reversal)
-        out[after] = np.abs(trace[after] - trace[first[after]])
+        out[after] = np.abs(trace[after] - turn[k[after]])
         return out
 
     @functools.cached_property
