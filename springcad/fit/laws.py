@@ -65,8 +65,7 @@ def beyond_library(laws: dict, threshold: float) -> list[dict]:
                     "library_law": library_law, "criterion_gain": float(margin), "share": 1.0,
                     "text": (f"the {family} follows a {law.replace('_', ' ')} law, not the "
                              f"library's {library_law.replace('_', ' ')} (held-out criterion "
-                             f"{margin:.0f} better): physics outside the library, fitted with "
-                             "that law"),
+                             f"{margin:.0f} better), and is fitted with it"),
                     "causes": BEYOND_LIBRARY[law]})
     return out
 
