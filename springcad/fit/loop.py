@@ -297,6 +297,10 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
                  "reason": s.evidence.get("reason")}
                 for s in search)
     laws = {k: v for k, v in laws.items() if k in state.model.names}
+    if not state.effects:
+        # every effect rejected or removed: the final model is the baseline itself (a refit
+        # from another start lands a round-off away, above the baseline's error)
+        state = baseline
     return _finish(lp, baseline, state, tuple(steps), tuple(rounds), log, spring, evidence,
                    tuple(rejected), pairs, laws)
 
