@@ -186,7 +186,10 @@ def _print_summary(result, out: Path, files: list[str]) -> None:
                 print(f"    to separate them: {g['advice']['command']}")
     if final["unexplained"]:
         where = final["unexplained_where"]
-        print("  unexplained: structure remains in the residual"
+        only_laws = bool(where and where["findings"]) and all(
+            f["kind"] == "law_outside_library" for f in where["findings"])
+        print("  unexplained: " + ("physics outside the library"
+                                   if only_laws else "structure remains in the residual")
               + (f": {where['summary']}" if where else "") + "; see the report")
     en = d["energy_loss"]
     if en["pct"] is not None:

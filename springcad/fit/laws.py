@@ -10,6 +10,15 @@ lowest criterion is kept when it beats the one in the model by more than
 ``LAW_MARGIN``; the record tells the laws apart when the best beats every
 other by the loop's gain threshold.
 
+A law outside what the library's effects mean (:data:`BEYOND_LIBRARY`: a
+first-order filter rounds the turns a delay keeps sharp; a friction that lets go
+at rest is not the presliding friction that holds through a hold) which beats
+the library's law by the gain threshold is physics the library was not written
+with: the record is flagged ``unexplained`` with a finding that names the law
+that describes it (:func:`beyond_library`), so the report says both what fits and
+that it is not the library's physics. A viscous damper is within the time lag's
+meaning (``K·θ(t + c/K) ≈ K·θ + c·dθ/dt``) and is not flagged.
+
 A friction that fades at rest read with the library's presliding law (which
 holds its torque through a hold) leaves structure in every hold and turn, and
 a lag fitted beside it takes up part of it; a damper read as a delay leaves a
@@ -25,12 +34,40 @@ from __future__ import annotations
 import numpy as np
 
 from springcad.fit.effects import OTHER_LAWS, Effect, get_effect
-from springcad.fit.search import Search, State
+from springcad.fit.search import LAW_MARGIN, Search, State
 from springcad.fit.torque_model import TorqueModel
 
-#: a law replaces the one in the model when it lowers the held-out criterion by this much
-#: (log-likelihood units; the laws have equally many parameters or one fewer)
-LAW_MARGIN = 6.0
+
+
+#: laws that describe their family beyond what the library effect's meaning covers, with
+#: the kinds of cause that leave them
+BEYOND_LIBRARY = {
+    "first_order_filter": ("a low-pass filter in the torque channel (sensor, amplifier or "
+                           "acquisition anti-alias filter), which rounds turns and attenuates "
+                           "fast motion where a pure delay only shifts it"),
+    "regularised_coulomb": ("friction that fades with speed and lets go at rest (lubricated or "
+                            "rolling contact, a velocity-regularised law), where the library's "
+                            "presliding friction holds its torque through holds and turns"),
+}
+
+
+def beyond_library(laws: dict, threshold: float) -> list[dict]:
+    """Localisation findings for families whose kept law is in :data:`BEYOND_LIBRARY` and
+    beats the library's own law by more than ``threshold`` (held-out criterion units)."""
+    out = []
+    for family, info in laws.items():
+        law = info["law"]
+        library_law = get_effect(family).law
+        margin = info["criterion_vs_kept"].get(library_law)
+        if law not in BEYOND_LIBRARY or margin is None or margin <= threshold:
+            continue
+        out.append({"kind": "law_outside_library", "family": family, "law": law,
+                    "library_law": library_law, "criterion_gain": float(margin), "share": 1.0,
+                    "text": (f"the {family} follows a {law.replace('_', ' ')} law, not the "
+                             f"library's {library_law.replace('_', ' ')} (held-out criterion "
+                             f"{margin:.0f} better), and is fitted with it"),
+                    "causes": BEYOND_LIBRARY[law]})
+    return out
 
 
 def _swap(model: TorqueModel, law: Effect) -> TorqueModel:

@@ -53,7 +53,7 @@ from springcad.fit.evidence import EffectEvidence, audit
 from springcad.fit.identify import (Confounded, contribution, find_confounded,
                                     recommend_protocol)
 from springcad.fit.joint import joint_sets
-from springcad.fit.laws import choose_laws
+from springcad.fit.laws import beyond_library, choose_laws
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
 from springcad.fit.localise import localise
 from springcad.fit.region import outside_structure
@@ -297,14 +297,18 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
                  "reason": s.evidence.get("reason")}
                 for s in search)
     laws = {k: v for k, v in laws.items() if k in state.model.names}
-    return dataclasses.replace(
-        _finish(lp, baseline, state, tuple(steps), tuple(rounds), log, spring, evidence,
-                tuple(rejected), pairs), laws=laws)
+    if not state.effects:
+        # every effect rejected or removed: the final model is the baseline itself (a refit
+        # from another start lands a round-off away, above the baseline's error)
+        state = baseline
+    return _finish(lp, baseline, state, tuple(steps), tuple(rounds), log, spring, evidence,
+                   tuple(rejected), pairs, laws)
 
 
 def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, spring: dict,
-            evidence: dict, rejected: tuple, pairs) -> LoopResult:
-    """Intervals, confounded groups with advice, and the structure left over."""
+            evidence: dict, rejected: tuple, pairs, laws: dict | None = None) -> LoopResult:
+    """Intervals, confounded groups with advice, and the structure left over (and a law
+    outside the library's, see :func:`springcad.fit.laws.beyond_library`)."""
     sig, settings = lp.sig, lp.s
     fitted = state.inliers(lp.all)
     if spring.get("above_noise", True):
@@ -320,6 +324,10 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
         r, idx, sig, bins=settings.structure_bins, min_rms=settings.structure_min_rms,
         p_level=settings.structure_p, excess_ratio=settings.excess_ratio)
     tau = structure["noise_correlation_samples"]
+    outside = beyond_library(laws or {}, settings.gain_threshold)
+    if outside:
+        structure = {**structure, "laws_outside_library": outside}
+        unexplained = True
     unc = uncertainty(state.model, state.x, sig, fitted)
     intervals = report_intervals(state.model, state.x, unc)
     if not spring.get("above_noise", True):
@@ -338,9 +346,14 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
         x0[0], x1[0] = 0.0, 1.0
         shape = state.model.predict(x1, sig, idx) - state.model.predict(x0, sig, idx)
         loc = localise(r, idx, sig, noise, tau, shape, p_level=settings.structure_p)
+        if outside:
+            # after the residual's own patterns (the first decides a fitted region)
+            own = loc["findings"]
+            loc = {**loc, "findings": own + outside,
+                   "summary": "; ".join(f["text"] for f in own + outside)}
     return LoopResult(baseline, steps, state, rounds, structure, unexplained, noise,
                       lp.half_range, settings, log, spring, evidence, rejected, confounded,
-                      intervals, loc, keep=lp.keep)
+                      intervals, loc, keep=lp.keep, laws=laws or {})
 
 
 def _undilute(state: State, sig: Signals, idx: np.ndarray) -> tuple[State, float]:

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from springcad.fit.effects import LIBRARY, Effect
+from springcad.fit.effects import LIBRARY, OTHER_LAWS, Effect
 from springcad.fit.inference import jacobian
 from springcad.fit.models import rmse
 from springcad.fit.nuisance import nuisance_views
@@ -26,6 +26,10 @@ from springcad.fit.residual import noise_model
 from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel
 
+
+#: a family's law replaces the library's when it lowers the held-out criterion by this much
+#: (log-likelihood units; the laws have equally many parameters or one fewer)
+LAW_MARGIN = 6.0
 
 #: candidate note of an effect judged beside structure it cannot describe
 BESIDE_STRUCTURE = "judged with the structure it cannot describe taken out"
@@ -234,7 +238,29 @@ class Search:
 
     # --- candidates ----------------------------------------------------------
     def try_torque_effect(self, state: State, effect: Effect, f_scale: float):
-        """Best start and the cross-validated score of ``state`` plus ``effect``."""
+        """Best start and the cross-validated score of ``state`` plus ``effect``.
+
+        Of its family's laws (``OTHER_LAWS``) the one proposed is the one with the
+        lowest held-out criterion, when it beats the library's by ``LAW_MARGIN`` and
+        its values are physically possible: a friction that fades at rest is not
+        first read as a presliding friction and a lag, which then keep each other in
+        the model. Whether the family enters at all is judged on the library's law,
+        or on another law's criterion plus the gain threshold: a law's extra freedom
+        does not carry in an effect the library's law would not add (a 0.5 ms filter
+        fitted to a friction's shape).
+        """
+        best = self._try_law(state, effect, f_scale)
+        score = best[2]
+        for law in OTHER_LAWS.get(effect.name, ()):
+            m2, x2, s2, heldout = self._try_law(state, law, f_scale)
+            if law.physical_problem(x2[m2.slice_of(law.name)], float(x2[0]), m2.scales):
+                continue
+            score = min(score, s2 + self.s.gain_threshold)
+            if s2 < best[2] - LAW_MARGIN:
+                best = (m2, x2, s2, heldout)
+        return best[0], best[1], score, best[3]
+
+    def _try_law(self, state: State, effect: Effect, f_scale: float):
         m2 = state.model.with_effect(effect)
         idx = state.inliers(self.cv)
         best_x, best_sse = None, np.inf
@@ -401,7 +427,7 @@ def turn_guard(model: TorqueModel, x: np.ndarray, sig: Signals) -> np.ndarray:
     """Samples where the residual may swing at a turn (``Signals.near_turn``), also as
     late as the model makes the torque channel: with a 30 ms lag the torque turns 30 ms
     after the deflection, and so do the residual's swings there."""
-    guard = sig.near_turn
+    guard = sig.near_turn | _term_steps(model, x, sig)
     shift = sum(e.time_shift_s(x[model.slice_of(e.name)]) for e in model.effects)
     k = int(round(shift * sig.scales.sample_rate_hz))
     if k == 0 or abs(k) >= sig.n:
@@ -412,6 +438,24 @@ def turn_guard(model: TorqueModel, x: np.ndarray, sig: Signals) -> np.ndarray:
     else:
         late[:k] = guard[-k:]
     return guard | late
+
+
+def _term_steps(model: TorqueModel, x: np.ndarray, sig: Signals, half: int = 4) -> np.ndarray:
+    """Samples within ``half`` of a step of the model's direction-following torque terms
+    (a friction that takes hold when a hold ends): a step of more than a quarter of the
+    term's size in one sample, placed a sample early or late on the deflection trace,
+    leaves a residual swing there for the model's reasons, as at a turn."""
+    names = {e.name for e in model.effects if e.stage == "torque" and e.direction_signed}
+    if not names:
+        return np.zeros(sig.n, dtype=bool)
+    term = model.torque_terms(x, sig, np.arange(sig.n), names)
+    size = float(np.max(np.abs(term)))
+    if size == 0.0:
+        return np.zeros(sig.n, dtype=bool)
+    step = np.abs(np.diff(term, prepend=term[0])) > 0.25 * size
+    from scipy.ndimage import maximum_filter1d
+
+    return maximum_filter1d(step.astype(np.uint8), 2 * half + 1) > 0
 
 
 def line_fit(x: np.ndarray, y: np.ndarray, with_slope: bool) -> tuple[float, float]:

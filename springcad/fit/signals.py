@@ -131,8 +131,11 @@ class Signals:
                 continue
             fits: dict[int, np.ndarray] = {}
             longest = (d0 - c0) if (d0 - c0) % 2 else d0 - c0 - 1
+            # a ramp between holds inside a run (a staircase's step) is shorter than the
+            # run: the cubic's window stays within a share of what is fitted
+            cap = max(w_min, int(TRACE_PIECE_FRACTION * (d0 - c0))) | 1
             for c, d, _, w in block:
-                wp = min(w, longest)
+                wp = min(w, longest, cap)
                 if wp < 5:
                     continue
                 if wp not in fits:
@@ -160,19 +163,70 @@ class Signals:
             return [(a, b, False)]
         ts = self.theta_smooth
         band = max(HOLD_BAND_NOISE * self.scales.theta_noise, 1e-3 * self.scales.theta_ref)
+        reach = self._smooth_reach
         cuts = []
         left = np.flatnonzero(np.abs(ts[a:b] - ts[a]) > band)
         if left.size and left[0] >= 3:
-            cuts.append(a + _corner(self.theta[a:b], int(left[0]), True, min_hold))
+            cuts.append(a + _corner(self.theta[a:b], int(left[0]), True, min_hold, reach))
         came = np.flatnonzero(np.abs(ts[a:b] - ts[b - 1]) > band)
         if came.size and b - a - 1 - came[-1] >= 3:
-            cuts.append(a + _corner(self.theta[a:b], int(came[-1]), False, min_hold))
+            cuts.append(a + _corner(self.theta[a:b], int(came[-1]), False, min_hold, reach))
         points = [a, *sorted(c for c in cuts if a + 2 < c < b - 2), b]
         out = []
         for k, (c, d) in enumerate(zip(points[:-1], points[1:])):
-            end = (k == 0 and c == a and d in cuts) or (d == b and c in cuts and k > 0)
-            out.append((c, d, bool(end and self._flat(c, d, min_hold))))
+            first = k == 0 and c == a and d in cuts
+            end = first or (d == b and c in cuts and k > 0)
+            # judged away from its corner, which may fall within the motion's first (or
+            # last) few slow samples of a ramp that starts (or stops) from rest
+            core = (c, d - reach) if first else (c + reach, d)
+            hold = bool(end and d - c >= min_hold and self._flat(*core, min_hold - reach))
+            out.extend([(c, d, True)] if hold else self._inner_holds(c, d, min_hold, band))
         return out
+
+    def _inner_holds(self, a: int, b: int, min_hold: int,
+                     band: float) -> list[tuple[int, int, bool]]:
+        """Moving piece ``[a, b)`` cut at the holds in it, each hold a piece of its own:
+        a staircase stops between its steps without turning, and a turn found at the
+        end of a ramp leaves the hold after it inside the next run. Corners by the
+        hinge fit as at the ends of a run. A cubic fitted across a stop rounds both
+        corners off (a 0.3 s window over a 0.15 s cosine step missed it by 20 mrad)."""
+        from scipy.ndimage import maximum_filter1d, minimum_filter1d
+
+        if b - a < 2 * min_hold:
+            return [(a, b, False)]
+        ts = self.theta_smooth[a:b]
+        reach = self._smooth_reach
+        spread = maximum_filter1d(ts, min_hold) - minimum_filter1d(ts, min_hold)
+        still = spread < band
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], still.astype(int), [0]])))
+        out, start = [], 0
+        for s0, s1 in zip(edges[::2], edges[1::2]):
+            if s1 - s0 < min_hold or s0 < start:
+                continue
+            # the motion arrives where it last stood farther than the band from the hold's
+            # angle, and leaves where it first does again (as at the ends of a run)
+            level = float(np.median(ts[s0:s1]))
+            far = np.abs(ts - level) > band
+            before = np.flatnonzero(far[start:s0]) + start
+            after = np.flatnonzero(far[s1:]) + s1
+            c = (_corner(self.theta[a:b], int(before[-1]), False, min_hold, reach)
+                 if before.size else start)
+            d = (_corner(self.theta[a:b], int(after[0]), True, min_hold, reach)
+                 if after.size else b - a)
+            if not start <= c < d <= b - a or not self._flat(a + s0, a + s1, min_hold):
+                continue
+            if c > start:
+                out.append((a + start, a + c, False))
+            out.append((a + c, a + d, True))
+            start = d
+        if start < b - a:
+            out.append((a + start, b, False))
+        return out
+
+    @property
+    def _smooth_reach(self) -> int:
+        """Half the window of the smoothed deflection, in samples, and two more."""
+        return int(round(0.5 * SMOOTH_WINDOW_S * self.scales.sample_rate_hz)) + 2
 
     def _flat(self, c: int, d: int, min_hold: int) -> bool:
         """Whether samples ``[c, d)`` hold still: long enough, halves equal within noise."""
@@ -195,14 +249,25 @@ class Signals:
         together by 1 to 2 standard errors (``bench/fit_coverage.py``). The noise
         left on the turn angle is one value per run, which the clustered intervals
         see. Before the first turn: the smoothed deflection from the rest angle.
+
+        The turn's angle is the trace's farthest point against the run's motion:
+        a turn found a few samples before a ramp arrives at a hold (the motion stops,
+        then comes back) would otherwise put the turn short of the hold's angle, and
+        the friction would flip only once the motion came back past it (a 1.7 mrad
+        shortfall read as a 9 mrad presliding angle on a staircase with holds).
         """
         runs = self.runs
         start = np.flatnonzero(np.diff(runs, prepend=runs[0] - 1) != 0)
-        first = start[np.searchsorted(start, np.arange(self.n), side="right") - 1]
+        k = np.searchsorted(start, np.arange(self.n), side="right") - 1
+        first = start[k]
         trace = self.theta_trace
+        end = np.concatenate([start[1:], [self.n]]) - 1
+        moving = np.sign(trace[end] - trace[start])
+        back = np.maximum.reduceat(-moving[k] * trace, start)
+        turn = np.where(moving != 0, -moving * back, trace[start])
         after = first > 0
         out = np.abs(self.theta_smooth - self.reversal)
-        out[after] = np.abs(trace[after] - trace[first[after]])
+        out[after] = np.abs(trace[after] - turn[k[after]])
         return out
 
     @functools.cached_property
@@ -250,8 +315,11 @@ class Signals:
 
 #: window of :attr:`Signals.theta_trace`: this fraction of each run's duration...
 TRACE_RUN_FRACTION = 0.15
-#: ...within these bounds (s)
+#: ...within these bounds (s), and at most this fraction of the moving piece it smooths
 TRACE_WINDOW_S = (0.06, 0.3)
+TRACE_PIECE_FRACTION = 0.5
+#: window of the smoothed deflection (``springcad.fit.segment.smooth``'s default), s
+SMOOTH_WINDOW_S = 0.02
 #: the motion has left a turn's angle where the smoothed deflection is this many
 #: deflection noise levels away from it (see ``Signals._pieces``)
 HOLD_BAND_NOISE = 5.0
@@ -261,23 +329,28 @@ TURN_GUARD_S = 0.025
 TURN_GUARD_BAND = 0.01
 
 
-def _corner(theta: np.ndarray, near: int, leaving: bool, half: int) -> int:
-    """Index of the corner between a hold and motion at or before ``near`` (leaving a
-    hold) or at or after it (arriving at one): the break of the hinge (constant on
-    the hold side, a straight line on the other) fitting ``theta`` best within
-    ``half`` samples; the first sample on the far side of the break."""
+def _corner(theta: np.ndarray, near: int, leaving: bool, half: int, reach: int = 0) -> int:
+    """Index of the corner between a hold and motion at or before ``near + reach``
+    (leaving a hold) or at or after ``near - reach`` (arriving at one): the break of
+    the hinge (constant on the hold side, a quadratic on the other) fitting
+    ``theta`` best within ``half`` samples; the first sample on the far side of the
+    break. ``near`` found on the smoothed deflection (a centred moving average) is
+    up to half its window early when leaving and late when arriving: ``reach``
+    (samples) lets the break fall that far beyond it."""
     if leaving:
-        lo, hi = max(near - 2 * half, 0), min(near + half // 2, theta.size)
-        candidates = range(lo + 2, min(near + 1, hi - 2))
+        lo, hi = max(near - 2 * half, 0), min(near + reach + half // 2, theta.size)
+        candidates = range(lo + 2, min(near + reach + 1, hi - 2))
     else:
-        lo, hi = max(near - half // 2, 0), min(near + 2 * half, theta.size)
-        candidates = range(max(near, lo + 2), hi - 2)
+        lo, hi = max(near - reach - half // 2, 0), min(near + 2 * half, theta.size)
+        candidates = range(max(near - reach, lo + 2), hi - 2)
     y = theta[lo:hi]
     i = np.arange(lo, hi, dtype=float)
     best, where = np.inf, near
     for j in candidates:
         x = np.maximum(i - j, 0.0) if leaving else np.minimum(i - j, 0.0)
-        a = np.column_stack([np.ones_like(x), x])
+        # a motion may start (or stop) at a finite speed (a linear ramp) or from rest
+        # with a finite acceleration (a cosine ramp): a line and a parabola from the break
+        a = np.column_stack([np.ones_like(x), x, x * x])
         coef, *_ = np.linalg.lstsq(a, y, rcond=None)
         sse = float(np.sum((y - a @ coef) ** 2))
         if sse < best:

@@ -164,7 +164,10 @@ def _verdict_blocks(data: dict) -> list[tuple]:
         out.append(("p", "**Confounded**: " + g["statement"] + "."))
     if final["unexplained"]:
         where = final["unexplained_where"]
-        out.append(("p", "**Unexplained structure remains** in the residual: "
+        only_laws = bool(where and where["findings"]) and all(
+            f["kind"] == "law_outside_library" for f in where["findings"])
+        out.append(("p", ("**Physics outside the library**: " if only_laws else
+                          "**Unexplained structure remains** in the residual: ")
                          + (where["summary"] if where else "see below") + "."))
     else:
         out.append(("p", "The final residual is consistent with noise."))
@@ -282,8 +285,9 @@ def _unexplained_blocks(data: dict, images: dict[str, str]) -> list[tuple]:
     if where:
         b.append(("p", "Where it lives (each pattern with its share of the structure, and the "
                        "kinds of cause that leave such a signature; none is claimed):"))
-        b.append(("ul", [f"{f['text']} ({_f(100 * f['share'], 2)} % of the structure). "
-                         f"Such a signature comes from {f['causes']}." for f in where["findings"]]
+        b.append(("ul", [f"{f['text']}" + ("" if f["kind"] == "law_outside_library" else
+                                            f" ({_f(100 * f['share'], 2)} % of the structure)")
+                         + f". Such a signature comes from {f['causes']}." for f in where["findings"]]
                   or [where["summary"]]))
         if "unexplained" in images:
             b.append(("img", images["unexplained"], "where the unexplained structure lives"))

@@ -77,3 +77,17 @@ def test_rejected_effects_are_tried_together_and_the_set_the_record_needs_is_fou
     assert p["lag_s"] == pytest.approx(0.03, rel=0.1)
     assert p["backlash_rad"] == pytest.approx(0.04, rel=0.1)
     assert p["friction_torque_Nm"] == pytest.approx(0.08, rel=0.15)
+
+
+def test_a_friction_that_lets_go_at_rest_is_fitted_with_its_law_and_flagged_outside_the_library():
+    # F·tanh(v/v0) on one ramp rate: the friction family is named with the regularised
+    # Coulomb law (its torque in N·m), and the record is flagged as holding physics the
+    # library's presliding friction does not describe, with a finding that names the law
+    rec = RECORDS["c2_tanh_one_rate"]
+    loop = fit_one(rec, seed=12).loop
+    assert loop.laws["hysteresis"]["law"] == "regularised_coulomb"
+    assert loop.laws["hysteresis"]["criterion_vs_kept"]["presliding"] > loop.settings.gain_threshold
+    assert loop.final.params()["friction_torque_Nm"] == pytest.approx(0.25, rel=0.1)
+    assert loop.unexplained
+    found = [f for f in loop.localisation["findings"] if f["kind"] == "law_outside_library"]
+    assert [f["family"] for f in found] == ["hysteresis"]

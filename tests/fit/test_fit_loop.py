@@ -194,6 +194,8 @@ def test_viscous_damping_is_named_in_the_lag_family_with_its_own_law():
     res, _ = _loop_record(_with_extra_torque(sim, lambda t, th: 0.6 * rate))
     assert res.final.effects == ("time_lag",)
     assert res.laws["time_lag"]["law"] == "viscous"
+    # a damper is within the time lag's meaning: no physics outside the library
+    assert not res.unexplained
     params = res.final.params()
     assert params["viscous_damping_Nms_per_rad"] == pytest.approx(0.6, rel=0.05)
     assert params["equivalent_lag_s"] == pytest.approx(-0.6 / K, rel=0.05)
