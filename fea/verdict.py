@@ -17,13 +17,13 @@ from dataclasses import dataclass, field
 
 from fea.problem import LoadCase
 from fea.study import ModelRun, VerifyOptions
-from springcad.errors import SpringcadError
+from springcad.errors import CheckFailed
 from springcad.units import NMM_PER_NM
 
 SCHEMA = "springcad.fea/1"
 
 
-class VerificationFailed(SpringcadError):
+class VerificationFailed(CheckFailed):
     """A verified spring or stack misses its stiffness target or its stress limit."""
 
 

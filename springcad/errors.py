@@ -95,7 +95,13 @@ class NoSpaceError(OutputPathError):
 
 
 class CheckFailed(SpringcadError):
-    """A verification or check ran and failed (exit status 1; the outputs say why)."""
+    """A verification or check ran and failed (exit status 1; the outputs say why).
+
+    The family of every failed verdict: :class:`fea.verdict.VerificationFailed` (a spring
+    or the stack misses its stiffness target or stress limit) and
+    :class:`springcad.geometry.checks.ChecksFailed` (a part fails a geometry or
+    manufacturability check) are ``CheckFailed``, so callers catch one class.
+    """
 
 
 class StageError(SpringcadError):

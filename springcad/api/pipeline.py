@@ -20,7 +20,7 @@ import time
 from pathlib import Path
 
 from springcad.api.results import Design, Verification, _g, _grid_html, _table_html
-from springcad.errors import CheckFailed, ConfigError
+from springcad.errors import ConfigError
 from springcad.stages import stage
 
 #: schema of ``build.json``
@@ -123,13 +123,9 @@ class Build:
         return [f"{c.subject}: {c.name}: {c.message}" for c in bad]
 
     def raise_for_failures(self) -> None:
-        """Raises :class:`~springcad.errors.CheckFailed` when a check failed."""
-        from springcad.geometry.checks import ChecksFailed
-
-        try:
-            self.checks.raise_if_failed(self.accept_violations)
-        except ChecksFailed as err:
-            raise CheckFailed(str(err)) from err
+        """Raises :class:`~springcad.geometry.checks.ChecksFailed` (a
+        :class:`~springcad.errors.CheckFailed`) when a check failed."""
+        self.checks.raise_if_failed(self.accept_violations)
 
     def to_dict(self) -> dict:
         """The ``build.json`` document (needs :func:`export_build` for files and release)."""
@@ -320,7 +316,7 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
     """
     from springcad.export.bundle import export_parts, export_stack, roundtrip_checks
     from springcad.export.release import release_status
-    from springcad.geometry.checks import CheckReport, ChecksFailed
+    from springcad.geometry.checks import CheckReport
     from springcad.report.html_build import write_build_report
     from springcad.report.jsonio import write_json
     from springcad.report.outdir import atomic_output_dir
@@ -359,10 +355,7 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
                                          progress=track, release=built.release,
                                          date=info["date"])
             built.roundtrip = roundtrip_checks(built.assembly, tmp, files, progress=track)
-        try:
-            CheckReport(built.roundtrip).raise_if_failed()
-        except ChecksFailed as err:
-            raise CheckFailed(str(err)) from err
+        CheckReport(built.roundtrip).raise_if_failed()
         from springcad.export.bundle import WrittenFile
 
         files.append(WrittenFile("design.json", "design", "", (tmp / "design.json").stat().st_size))

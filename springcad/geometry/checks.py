@@ -20,7 +20,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 
 from springcad.design.connections import connection_sequence
-from springcad.errors import GeometryError
+from springcad.errors import CheckFailed, GeometryError
 from springcad.progress import Progress, no_progress
 
 #: measured cam-to-tip clearance must equal the designed gap within this (mm): the
@@ -102,8 +102,8 @@ class CheckReport:
             raise ChecksFailed(self, accept_violations)
 
 
-class ChecksFailed(GeometryError):
-    """A build failed its checks; ``report`` holds every check."""
+class ChecksFailed(CheckFailed):
+    """A build failed its checks; ``report`` holds every check (a :class:`CheckFailed`)."""
 
     def __init__(self, report: CheckReport, accept_violations: bool):
         self.report = report
