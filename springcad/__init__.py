@@ -26,17 +26,21 @@ from springcad.api import (
     Spring,
     Stack,
     Verification,
+    bench_protocol,
     build,
     design_job,
+    explore,
     export_build,
     fit_record,
     load,
     simulate,
+    synthesize,
+    validate_paper,
     verify,
 )
 from springcad.errors import SpringcadError
 from springcad.version import __version__
 
 __all__ = ["Build", "Design", "Fit", "Spring", "SpringcadError", "Stack", "Verification",
-           "__version__", "build", "design_job", "export_build", "fit_record", "load", "simulate",
-           "verify"]
+           "__version__", "bench_protocol", "build", "design_job", "explore", "export_build",
+           "fit_record", "load", "simulate", "synthesize", "validate_paper", "verify"]

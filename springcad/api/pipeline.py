@@ -19,35 +19,17 @@ import html
 import time
 from pathlib import Path
 
+from springcad.api import calls
 from springcad.api.results import Design, Verification, _g, _grid_html, _table_html
 from springcad.errors import ConfigError
+from springcad.options import api_door
+from springcad.progress import Tracker
 from springcad.stages import stage
 
 #: schema of ``build.json``
 SCHEMA = "springcad.build/1"
 
 __all__ = ["Build", "build", "export_build", "load_title_block"]
-
-
-class _Tracker:
-    """Remembers the last progress message: it names the part a failing stage worked on."""
-
-    def __init__(self, progress=None):
-        self.progress = progress
-        self.last = ""
-
-    def __call__(self, message: str, fraction: float | None = None) -> None:
-        self.last = message
-        if self.progress is not None:
-            self.progress(message, fraction)
-
-    def subject(self, name: str):
-        def subject() -> str:
-            if name == "solids":
-                return (f"the part after {self.last.split()[-1]}" if self.last.startswith("built ")
-                        else "the first part")
-            return f"the step after '{self.last}'" if self.last else ""
-        return subject
 
 
 class Build:
@@ -202,13 +184,10 @@ class Build:
 def _design_of(design) -> tuple[Design, Verification | None]:
     if isinstance(design, Verification):
         return design.design, design
-    if isinstance(design, Design):
-        return design, None
-    from springcad.api.calls import design_job
-
-    return design_job(design), None
+    return calls._design_of(design), None
 
 
+@api_door
 def build(design, accept_violations: bool = False, progress=None) -> Build:
     """Make the solids of every part and run the geometry and wire-EDM checks.
 
@@ -230,7 +209,7 @@ def build(design, accept_violations: bool = False, progress=None) -> Build:
     from springcad.geometry.stack import build_stack
 
     d, ver = _design_of(design)
-    track = _Tracker(progress)
+    track = Tracker(progress)
     timings = {}
     t0 = time.perf_counter()
     with stage("solids", track.subject("solids")):
@@ -244,6 +223,7 @@ def build(design, accept_violations: bool = False, progress=None) -> Build:
     return Build(d, ver, assembly, report, accept_violations, timings)
 
 
+@api_door
 def load_title_block(source=None) -> dict:
     """The drawing title block: a TOML path, a dict, or None for the default template.
 
@@ -292,6 +272,7 @@ def _drawn_by() -> str:
     return f"springcad {__version__}"
 
 
+@api_door
 def export_build(built: Build, out, overwrite: bool = False, render: bool = True, revision: str = "A",
            title_block=None, progress=None, timings_s: dict | None = None) -> Build:
     """Write a build folder: design, FEA results, CAD, drawings, BOM, build.json, report.html.
@@ -329,7 +310,7 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
     built.raise_for_failures()
     template = load_title_block(title_block)
     out = Path(out)
-    track = _Tracker(progress)
+    track = Tracker(progress)
     t0 = time.perf_counter()
     d, ver = built.design, built.verification
     built.options = {"revision": revision, "render": render}

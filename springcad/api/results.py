@@ -286,6 +286,11 @@ class Verification:
     def failures(self) -> list[str]:
         return self.raw.failures()
 
+    def raise_for_failures(self) -> None:
+        """Raises :class:`fea.verdict.VerificationFailed` (a
+        :class:`~springcad.errors.CheckFailed`) listing every failure, if any."""
+        self.raw.raise_for_failures()
+
     def spring_table(self) -> list[dict]:
         """Per spring: FEA and beam stiffness (N*m/rad), errors (%), peak stress (MPa), margins."""
         out = []
@@ -331,11 +336,22 @@ class Verification:
 
 
 class Fit:
-    """A fitted bench record (wraps :class:`springcad.fit.analysis.FitResult`)."""
+    """A fitted bench record (wraps :class:`springcad.fit.analysis.FitResult`).
 
-    def __init__(self, raw):
+    Attributes:
+        raw: the internal result.
+        design_warnings: plausibility warnings of the design the fit was compared with.
+    """
+
+    def __init__(self, raw, design_warnings: tuple[str, ...] = ()):
         self.raw = raw
+        self.design_warnings = tuple(design_warnings)
         self._dict = None
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """The design's plausibility warnings, then the record's (units, magnitudes)."""
+        return self.design_warnings + tuple(self.raw.record.warnings)
 
     def to_dict(self) -> dict:
         """The ``fit.json`` document."""

@@ -17,7 +17,10 @@ import sys
 import time
 from pathlib import Path
 
-from springcad.cli.common import default_out, stage, warn
+import springcad.api as sc
+from springcad.cli.common import default_out, warn
+from springcad.cli.progress import console
+from springcad.report.outdir import check_output_dir
 
 #: the stages, in order: the FEA verification (and correction) comes before any solid is
 #: made, so the parts checked and exported are the corrected ones
@@ -50,16 +53,8 @@ def _revision(text: str) -> str:
     return text
 
 
-class _Console:
-    """Progress on stderr; remembers the spring being verified (it names a failure)."""
-
-    def __init__(self):
-        self.spring = ""
-
-    def __call__(self, message: str, fraction: float | None = None) -> None:
-        if message.startswith("verifying spring "):
-            self.spring = message.split()[2]
-        print(f"  {message}", file=sys.stderr, flush=True)
+#: progress on stderr, indented under the stage it belongs to
+say = console(indent="  ")
 
 
 def _announce(name: str) -> float:
@@ -73,18 +68,14 @@ def _done(name: str, t0: float, timings: dict) -> None:
 
 
 def run(args) -> int:
-    import springcad.api as sc
-    from springcad.report.outdir import check_output_dir
-
     out = args.out or default_out(args.config)
     job = sc.load(args.config)  # everything that can be checked, before any work
     template = sc.load_title_block(args.title_block)
     check_output_dir(out, args.overwrite, inputs=[args.config, args.title_block])
-    say, timings = _Console(), {}
+    timings = {}
 
     t0 = _announce("design")
-    with stage("design", lambda: f"job {job.name}"):
-        design = sc.design_job(job)
+    design = sc.design_job(job)
     warn("build", design.warnings)
     _done("design", t0, timings)
 
@@ -93,12 +84,10 @@ def run(args) -> int:
     if args.no_verify:
         say("skipped (--no-verify): the parts are beam-theory designs, not FEA-verified")
     else:
-        with stage("verify", lambda: f"spring {say.spring}" if say.spring else ""):
-            verification = sc.verify(design, model="2d3d", keep_fields=not args.no_render,
-                                     contact=True, progress=say)
+        verification = sc.verify(design, keep_fields=not args.no_render, progress=say)
         say(verification.raw.summary().replace("\n", "\n  "))
         if not verification.ok:
-            verification.raw.raise_for_failures()
+            verification.raise_for_failures()
     _done("verify", t0, timings)
 
     # solids and checks are one API call (sc.build); its own timings split them

@@ -21,6 +21,7 @@ from dataclasses import asdict, dataclass, field
 
 from springcad.design.connections import connection_sequence
 from springcad.errors import CheckFailed, GeometryError
+from springcad.options import spell
 from springcad.progress import Progress, no_progress
 
 #: measured cam-to-tip clearance must equal the designed gap within this (mm): the
@@ -116,7 +117,8 @@ class ChecksFailed(CheckFailed):
             if c.kind == "rule" and len(c.details) > 3:
                 lines.append(f"    ... {len(c.details) - 3} more")
         if report.violations and not report.errors and not accept_violations:
-            lines.append("change the design or pass --accept-violations to build anyway")
+            lines.append(f"change the design or pass {spell('accept_violations', True)} to build "
+                         "anyway")
         super().__init__("\n".join(lines))
 
 

@@ -12,6 +12,7 @@ import time
 from collections import Counter
 from dataclasses import dataclass, field
 
+from springcad.options import SYNTHESIS
 from springcad.synthesis import ranking
 from springcad.synthesis.finalists import (build_checks, full_design_summary, job_document,
                                            toml_text, verify_candidate)
@@ -126,8 +127,10 @@ def verification_entry(req, cand: dict, fea_model: str) -> dict:
     return entry
 
 
-def synthesize(req, space, store, client, *, finalists: int = 8, max_finalists: int = 40,
-               verify_top: int = 2, verify: bool = True, fea_model: str = "2d3d",
+def synthesize(req, space, store, client, *, finalists: int = SYNTHESIS.finalists,
+               max_finalists: int = SYNTHESIS.max_finalists,
+               verify_top: int = SYNTHESIS.verify_top, verify: bool = True,
+               fea_model: str = SYNTHESIS.fea_model,
                progress=_quiet, say=_quiet) -> SynthesisResult:
     """Run the whole synthesis for requirements ``req``.
 

@@ -34,6 +34,7 @@ import numpy as np
 from springcad.design.stack import series_stiffness as series
 from springcad.data import data_path
 from springcad.errors import ConfigError
+from springcad.options import spell
 from springcad.progress import Progress, no_progress
 from springcad.units import MM3_PER_CM3, NMM_PER_NM
 
@@ -63,7 +64,7 @@ def load_tables(data_dir: Path) -> tuple[dict, dict]:
     def read(name):
         path = Path(data_dir) / name
         if not path.exists():
-            raise ConfigError("--data", str(data_dir), f"has no {name} (the paper's measured tables)")
+            raise ConfigError(spell("data_dir"), str(data_dir), f"has no {name} (the paper's measured tables)")
         rows = list(csv.DictReader(path.open()))
         for r in rows:
             for k, v in r.items():
@@ -353,7 +354,7 @@ def validate_paper(data_dir: Path | None = None, templates_dir: Path | None = No
     for cfg, tpl in CONFIGURATIONS:
         path = templates_dir / f"{tpl}.toml"
         if not path.exists():
-            raise ConfigError("--templates", str(templates_dir), f"has no {tpl}.toml")
+            raise ConfigError(spell("templates_dir"), str(templates_dir), f"has no {tpl}.toml")
         designs[cfg] = design_job(load_job(path))
     fea = fea_spring_effects(designs, progress) if use_fea else {}
     source = "fea" if use_fea else "beam"
