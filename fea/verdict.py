@@ -359,17 +359,10 @@ class JobVerification:
 
     def corrected_job_design(self, job_design):
         """The job design with every spring replaced by its corrected design and the stack
-        rebuilt from them (what ``springcad build`` should export after verification)."""
-        from dataclasses import replace as dc_replace
-
-        from springcad.design.stack import design_stack
-
-        springs = {n: self.springs[n].design if n in self.springs else d
-                   for n, d in job_design.springs.items()}
-        job = job_design.job
-        stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
-                             job.analysis.monte_carlo_samples, job.analysis.seed)
-        return dc_replace(job_design, springs=springs, stack=stack)
+        rebuilt from them (what ``springcad build`` exports after verification): the one
+        way, :meth:`~springcad.design.job.JobDesign.with_springs`, so the rim holes stay on
+        the job's common circle."""
+        return job_design.with_springs(self.corrected_designs())
 
     def to_dict(self) -> dict:
         from springcad.version import __version__

@@ -88,6 +88,22 @@ class BenchDefaults:
 
 BENCH = BenchDefaults()
 
+# ----------------------------------------------------------------------------- export
+#: drawing revision of a build (``sc.export_build``, ``springcad build --revision``)
+REVISION = "A"
+
+
+def check_revision(revision) -> None:
+    """The drawing revision rule: 1 to 8 ASCII letters or digits.
+
+    Raises:
+        ConfigError: naming ``revision``.
+    """
+    if not (isinstance(revision, str) and 1 <= len(revision) <= 8 and revision.isascii()
+            and revision.isalnum()):
+        raise ConfigError("revision", revision, "is 1 to 8 ASCII letters or digits")
+
+
 # ----------------------------------------------------------------------------- synthesis
 @dataclass(frozen=True)
 class SynthesisDefaults:

@@ -22,7 +22,7 @@ from pathlib import Path
 from springcad.api import calls
 from springcad.api.results import Design, Verification, _g, _grid_html, _table_html
 from springcad.errors import ConfigError
-from springcad.options import api_door
+from springcad.options import REVISION, api_door, check_revision
 from springcad.progress import Tracker
 from springcad.stages import stage
 
@@ -205,21 +205,10 @@ def build(design, accept_violations: bool = False, progress=None) -> Build:
     Raises:
         StageError: the CAD kernel failed on a part (names the part and what to change).
     """
-    from springcad.geometry.checks import run_checks
-    from springcad.geometry.stack import build_stack
+    from springcad.geometry.checks import build_and_check
 
     d, ver = _design_of(design)
-    track = Tracker(progress)
-    timings = {}
-    t0 = time.perf_counter()
-    with stage("solids", track.subject("solids")):
-        assembly = build_stack(d.raw, progress=track)
-    timings["solids"] = round(time.perf_counter() - t0, 3)
-    t0 = time.perf_counter()
-    track.last = ""
-    with stage("checks", track.subject("checks")):
-        report = run_checks(assembly, progress=track)
-    timings["checks"] = round(time.perf_counter() - t0, 3)
+    assembly, report, timings = build_and_check(d.raw, progress)
     return Build(d, ver, assembly, report, accept_violations, timings)
 
 
@@ -273,7 +262,8 @@ def _drawn_by() -> str:
 
 
 @api_door
-def export_build(built: Build, out, overwrite: bool = False, render: bool = True, revision: str = "A",
+def export_build(built: Build, out, overwrite: bool = False, render: bool = True,
+                 revision: str = REVISION,
            title_block=None, progress=None, timings_s: dict | None = None) -> Build:
     """Write a build folder: design, FEA results, CAD, drawings, BOM, build.json, report.html.
 
@@ -304,9 +294,7 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
 
     if not isinstance(built, Build):
         raise ConfigError("export_build", type(built).__name__, "takes the Build that sc.build returned")
-    if not (isinstance(revision, str) and 1 <= len(revision) <= 8 and revision.isascii()
-            and revision.isalnum()):
-        raise ConfigError("revision", revision, "is 1 to 8 ASCII letters or digits")
+    check_revision(revision)
     built.raise_for_failures()
     template = load_title_block(title_block)
     out = Path(out)

@@ -13,6 +13,7 @@ is one message naming the stage, the part and what to change (exit status 2).
 
 from __future__ import annotations
 
+import argparse
 import sys
 import time
 from pathlib import Path
@@ -20,6 +21,8 @@ from pathlib import Path
 import springcad.api as sc
 from springcad.cli.common import default_out, warn
 from springcad.cli.progress import console
+from springcad.errors import ConfigError
+from springcad.options import REVISION, check_revision
 from springcad.report.outdir import check_output_dir
 
 #: the stages, in order: the FEA verification (and correction) comes before any solid is
@@ -36,7 +39,8 @@ def register(sub):
     p.add_argument("--accept-violations", action="store_true",
                    help="build even when a wire-EDM manufacturability rule is broken "
                         "(the violations are recorded in build.json)")
-    p.add_argument("--revision", default="A", type=_revision, help="drawing revision (default A)")
+    p.add_argument("--revision", default=REVISION, type=_revision,
+                   help="drawing revision (default %(default)s)")
     p.add_argument("--title-block", type=Path, default=None,
                    help="title block template (default templates/drawing_title_block.toml)")
     p.add_argument("--no-render", action="store_true", help="skip the PNG renders")
@@ -46,10 +50,11 @@ def register(sub):
 
 
 def _revision(text: str) -> str:
-    import argparse
-
-    if not (1 <= len(text) <= 8 and text.isascii() and text.isalnum()):
-        raise argparse.ArgumentTypeError(f"{text!r}: 1 to 8 ASCII letters or digits")
+    """The drawing revision (argparse ``type``): :func:`springcad.options.check_revision`."""
+    try:
+        check_revision(text)
+    except ConfigError:
+        raise argparse.ArgumentTypeError(f"{text!r}: 1 to 8 ASCII letters or digits") from None
     return text
 
 

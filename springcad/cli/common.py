@@ -1,11 +1,9 @@
-"""Helpers shared by the CLI subcommands: default outputs, warnings, stage boundaries."""
+"""Helpers shared by the CLI subcommands: default outputs, warnings, bounded numbers."""
 
 from __future__ import annotations
 
 import sys
 from pathlib import Path
-
-from springcad.stages import ADVICE, PROGRAMMING_ERRORS, stage  # noqa: F401 - re-exported
 
 
 def default_out(config: Path) -> Path:

@@ -19,6 +19,8 @@ from __future__ import annotations
 import math
 
 from springcad.errors import SpringcadError
+from springcad.options import VERIFY
+from springcad.progress import no_progress
 
 
 def job_document(req, cand: dict) -> dict:
@@ -202,30 +204,30 @@ def verify_candidate(req, cand: dict, model: str = "2d3d", levels: int = 3, prog
         ``.failures()``, ``.summary()``) and the job design with the FEA-corrected springs
         (what ``springcad build`` makes its solids from).
     """
-    from fea.verify import VerifyOptions, verify_job
+    from fea.study import verify_options
+    from fea.verify import verify_job
 
     jd = design_candidate(req, cand)
-    opts = VerifyOptions(model=model, levels=levels, keep_fields=False,
-                         tolerance=min(VerifyOptions.tolerance, req.stiffness_tolerance))
-    v = verify_job(jd, opts, progress or (lambda msg, frac=None: None))
-    return v, jd.with_springs(v.corrected_designs())
+    opts = verify_options(model=model, levels=levels, keep_fields=False,
+                          tolerance_pct=min(VERIFY.tolerance_pct, 100.0 * req.stiffness_tolerance))
+    v = verify_job(jd, opts, progress or no_progress)
+    return v, v.corrected_job_design(jd)
 
 
 def build_checks(job_design, progress=None) -> dict:
-    """``springcad build``'s solids and checks steps on a job design, without writing files.
+    """``springcad build``'s solids and checks (:func:`~springcad.geometry.checks.build_and_check`,
+    as ``sc.build`` runs them) on a job design, without writing files.
 
     Returns:
         ``{"ok", "summary", "failures"}``: ``ok`` as build decides it (no geometry error and
         no manufacturability violation); one line per failed check.
 
     Raises:
-        GeometryError: a part cannot be made (as ``build`` would stop).
+        GeometryError, StageError: a part cannot be made (as ``build`` would stop).
     """
-    from springcad.geometry.checks import run_checks
-    from springcad.geometry.stack import build_stack
+    from springcad.geometry.checks import build_and_check
 
-    quiet = progress or (lambda msg, frac=None: None)
-    report = run_checks(build_stack(job_design, quiet), quiet)
+    _, report, _ = build_and_check(job_design, progress)
     return {"ok": report.passed(), "summary": report.summary(),
             "failures": [f"{c.subject}: {c.name}: {c.message}"
                          for c in report.errors + report.violations]}

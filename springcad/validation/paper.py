@@ -217,8 +217,8 @@ def fea_spring_effects(designs: dict, progress: Progress = no_progress) -> dict:
     ``width_fn`` = beam K times the FEA's relative change of K with an edge
     offset, from solves at -0.025, 0 and +0.025 mm (quadratic in log K).
     """
-    from fea.problem import LoadCase
-    from fea.verify import VerifyOptions, verify_spring
+    from fea.study import verify_options
+    from fea.verify import verify_spring
     from springcad.design.spring import with_width
 
     out = {}
@@ -230,17 +230,17 @@ def fea_spring_effects(designs: dict, progress: Progress = no_progress) -> dict:
         done = k / len(seen)
         progress(f"FEA of {name}: designed geometry", done)
         # stiffness only: no cam contact sweep
-        nominal = verify_spring(s, VerifyOptions(correct=False, keep_fields=False,
-                                                 contact=False))
-        quick = VerifyOptions(model="2d", correct=False, keep_fields=False, contact=False)
+        nominal = verify_spring(s, verify_options(correct=False, keep_fields=False,
+                                                  contact=False))
+        quick = verify_options(model="2d", correct=False, keep_fields=False, contact=False)
         ks = []
         for off in FEA_OFFSETS_MM:
             progress(f"FEA of {name}: width offset {off:+.3f} mm", done)
             geom = with_width(s, 1.0, off) if off else s
             ks.append(verify_spring(geom, quick).stiffness_fea_Nmm_per_rad)
         progress(f"FEA of {name}: rigid-cam load", done)
-        cam = verify_spring(s, VerifyOptions(model="2d", correct=False, keep_fields=False,
-                                             case=LoadCase(load="rigid_cam"), contact=False))
+        cam = verify_spring(s, verify_options(model="2d", correct=False, keep_fields=False,
+                                              load="rigid_cam", contact=False))
         coef = np.polyfit(FEA_OFFSETS_MM, np.log(np.array(ks) / ks[1]), 2)
         k_beam = s.stiffness_beam_Nmm_per_rad / NMM_PER_NM
         out[name] = {
