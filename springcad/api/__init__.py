@@ -24,8 +24,9 @@ Example:
 
 from springcad.api.calls import bench_protocol, design_job, fit_record, load, simulate, verify
 from springcad.api.pipeline import Build, build, export_build, load_title_block
-from springcad.api.results import Design, Fit, Spring, Stack, Verification, profile_svg
+from springcad.api.results import Design, Fit, Spring, Stack, Verification
 from springcad.api.studies import explore, synthesize, validate_paper
+from springcad.report.notebook import profile_svg
 
 __all__ = ["Build", "Design", "Fit", "Spring", "Stack", "Verification", "bench_protocol", "build",
            "design_job", "explore", "export_build", "fit_record", "load", "load_title_block",

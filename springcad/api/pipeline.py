@@ -15,15 +15,15 @@ Units: lengths mm, stiffness N*m/rad, angles rad, masses kg.
 from __future__ import annotations
 
 import datetime
-import html
 import time
 from pathlib import Path
 
 from springcad.api import calls
-from springcad.api.results import Design, Verification, _g, _grid_html, _table_html
+from springcad.api.results import Design, Verification
 from springcad.errors import ConfigError
 from springcad.options import REVISION, api_door, check_revision
 from springcad.progress import Tracker
+from springcad.report import notebook
 from springcad.stages import stage
 
 #: schema of ``build.json``
@@ -157,28 +157,7 @@ class Build:
                 f"({'FEA' if self.verification is not None else 'beam'}); {state})")
 
     def _repr_html_(self) -> str:
-        rows = [("stack stiffness (N·m/rad)", _g(self.stiffness_Nm_per_rad)),
-                ("from", "FEA" if self.verification is not None else "beam theory (not verified)"),
-                ("deflection limit (rad)", _g(self.max_deflection_rad)),
-                ("spring mass (kg)", _g(self.mass_kg)),
-                ("checks", self.checks.summary()),
-                ("release", self.release.stamp if self.release is not None else "not exported"),
-                ("folder", str(self.out_dir) if self.out_dir is not None else "–")]
-        parts = [(p["part_number"], p["quantity"], p["title"], p["process"]) for p in self.parts()]
-        fails = "".join(f"<li>{html.escape(f)}</li>" for f in self.failures())
-        reasons = "".join(f"<li>{html.escape(r)}</li>" for r in
-                          (self.release.reasons if self.release is not None else ()))
-        render = self.out_dir / "assembly.png" if self.out_dir is not None else None
-        if render is not None and render.is_file():
-            from springcad.report.html_page import img_tag
-
-            picture = img_tag(render, "assembly render", width=480)
-        else:
-            picture = ""
-        return (f"<div><h4>build {html.escape(self.design.job.name)}</h4>{picture}"
-                + _table_html(rows) + (f"<p>failed checks:</p><ul>{fails}</ul>" if fails else "")
-                + (f"<p>not for manufacture because:</p><ul>{reasons}</ul>" if reasons else "")
-                + _grid_html(("part", "qty", "title", "process"), parts) + "</div>")
+        return notebook.build_html(self)
 
 
 def _design_of(design) -> tuple[Design, Verification | None]:
