@@ -386,9 +386,9 @@ class JobVerification:
             fat = v.fatigue
             fat_txt = ("-" if fat is None else f"{fat.margin:.2f}" if fat.margin >= 1
                        else f"{fat.life_cycles:.2g} cyc")
-            rows.append((n, f"{v.stiffness_fea_Nmm_per_rad / 1e3:.2f}",
-                         f"{v.design.stiffness_beam_Nmm_per_rad / 1e3:.2f}",
-                         f"{v.stiffness_target_Nmm_per_rad / 1e3:.2f}",
+            rows.append((n, f"{v.stiffness_fea_Nmm_per_rad / NMM_PER_NM:.2f}",
+                         f"{v.design.stiffness_beam_Nmm_per_rad / NMM_PER_NM:.2f}",
+                         f"{v.stiffness_target_Nmm_per_rad / NMM_PER_NM:.2f}",
                          f"{100 * v.error_vs_target:+.2f}", f"{100 * v.run.stiffness_error:.3f}",
                          f"{v.peak_von_mises_MPa:.0f}", f"{v.design.predicted_peak_stress_MPa:.0f}",
                          r.peak_region, f"{v.yield_margin:.3f}", f"{v.required_safety_factor:.2f}",
@@ -396,9 +396,11 @@ class JobVerification:
         widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
         lines = ["  ".join(c.rjust(w) for c, w in zip(r, widths)) for r in rows]
         st = self.stack
-        lines.append(f"stack {' + '.join(st.sequence)}: K_fea {st.stiffness_Nmm_per_rad / 1e3:.2f} "
-                     f"N*m/rad (target {st.target_Nmm_per_rad / 1e3:.2f}), limit "
-                     f"{st.max_deflection_rad:.3f} rad at {st.torque_at_limit_Nmm / 1e3:.2f} N*m")
+        lines.append(f"stack {' + '.join(st.sequence)}: K_fea "
+                     f"{st.stiffness_Nmm_per_rad / NMM_PER_NM:.2f} N*m/rad (target "
+                     f"{st.target_Nmm_per_rad / NMM_PER_NM:.2f}), limit "
+                     f"{st.max_deflection_rad:.3f} rad at "
+                     f"{st.torque_at_limit_Nmm / NMM_PER_NM:.2f} N*m")
         lines.append("sigma: FEA peak von Mises at the max deflection; design: the design's "
                      "prediction for the same geometry; fatigue: endurance margin at +-theta_max "
                      "(R = -1, wire-EDM surface), or the finite life")

@@ -46,8 +46,15 @@ def stable(doc, drop=()):
 
 
 def as_json(doc):
-    """The document as the CLI's JSON file holds it (tuples as lists, floats round-tripped)."""
-    return json.loads(json.dumps(doc, default=str))
+    """The document as the CLI's JSON file holds it: written by the same writer, read back."""
+    import tempfile
+    from pathlib import Path
+
+    from springcad.report.jsonio import write_json
+
+    with tempfile.TemporaryDirectory() as tmp:
+        write_json(Path(tmp) / "doc.json", doc)
+        return json.loads((Path(tmp) / "doc.json").read_text())
 
 
 # ----------------------------------------------------------------------------- one bench reader

@@ -14,6 +14,7 @@ Units: lengths mm, stiffness N*m/rad, angles rad, masses kg.
 
 from __future__ import annotations
 
+import copy
 import datetime
 import time
 from pathlib import Path
@@ -257,8 +258,9 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
         timings_s: times of earlier stages (s) to record in ``build.json``.
 
     Returns:
-        The same :class:`Build`, now with ``out_dir``, ``files``, ``release`` and
-        ``report_html``.
+        A new :class:`Build`, the given one with ``out_dir``, ``files``, ``release`` and
+        ``report_html`` (the given one is left as it was, like build123d's ``export_step``
+        leaves its shape).
 
     Raises:
         CheckFailed: the build's checks, or an export read-back, failed (nothing written).
@@ -275,6 +277,7 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
         raise ConfigError("export_build", type(built).__name__, "takes the Build that sc.build returned")
     check_revision(revision)
     built.raise_for_failures()
+    built = copy.copy(built)  # the exported build; the argument stays as it was
     template = load_title_block(title_block)
     out = Path(out)
     track = Tracker(progress)

@@ -107,8 +107,9 @@ def run(args) -> int:
         print(f"      {name} done in {timings[name]:.1f} s", file=sys.stderr, flush=True)
 
     t0 = _announce("exports")
-    sc.export_build(built, out, overwrite=args.overwrite, render=not args.no_render,
-              revision=args.revision, title_block=template, progress=say, timings_s=timings)
+    built = sc.export_build(built, out, overwrite=args.overwrite, render=not args.no_render,
+                            revision=args.revision, title_block=template, progress=say,
+                            timings_s=timings)
     _done("exports", t0, timings)
     _print_summary(built, out)
     print(f"report: {out / 'report.html'} (open it in a web browser)")

@@ -22,6 +22,7 @@ import springcad.api as sc
 from springcad.cli.common import default_out
 from springcad.cli.progress import ProgressBar
 from springcad.options import SYNTHESIS
+from springcad.units import G_PER_KG
 
 
 def add_dask_options(p) -> None:
@@ -94,10 +95,10 @@ def run(args) -> int:
         w = result.winner
         full = next(f for f in result.finalists if f["cid"] == int(w["cid"]))
         fea = result.verifications.get(int(w["cid"]), {})
-        built = (f" ({1000 * fea['mass_kg']:.1f} g with the FEA-corrected widths build makes)"
+        built = (f" ({G_PER_KG * fea['mass_kg']:.1f} g with the FEA-corrected widths build makes)"
                  if "mass_kg" in fea else "")
         print(f"winner: candidate {w['cid']} ({w['family']}, input {w['input']}), "
-              f"{1000 * full['mass_kg']:.1f} g{built}, {full['axial_length_mm']:.1f} mm long, "
+              f"{G_PER_KG * full['mass_kg']:.1f} g{built}, {full['axial_length_mm']:.1f} mm long, "
               f"R {full['envelope_radius_mm']:.2f} mm: {result.winner_status}")
         print(f"wrote {out / 'winner.toml'} (springcad build {out / 'winner.toml'})")
     else:

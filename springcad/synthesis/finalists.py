@@ -21,6 +21,7 @@ import math
 from springcad.errors import SpringcadError
 from springcad.options import VERIFY
 from springcad.progress import no_progress
+from springcad.units import MM3_PER_CM3, NMM_PER_NM
 
 
 def job_document(req, cand: dict) -> dict:
@@ -50,7 +51,7 @@ def job_document(req, cand: dict) -> dict:
     return {
         "job": {"name": f"{req.name}_winner" if req.name else "synthesized",
                 "description": (f"synthesized by springcad: {fam}, candidate {int(cand['cid'])}, "
-                                f"{req.stiffness_Nmm_per_rad / 1e3:g} N*m/rad over "
+                                f"{req.stiffness_Nmm_per_rad / NMM_PER_NM:g} N*m/rad over "
                                 f"+-{math.degrees(req.deflection_rad):.4g} deg")},
         "material": {"name": mat.name, "design_stress_MPa": round(req.design_stress_MPa(mat), 6),
                      "safety_factor": round(req.required_yield_margin(mat), 9)},
@@ -155,10 +156,10 @@ def full_design_summary(req, cand: dict) -> dict:
     return {**out, "ok": not fails, "error": error, "failure": failure_class(error) if fails else "",
             "mass_kg": st.mass_kg, "axial_length_mm": st.height_mm,
             "envelope_radius_mm": st.envelope_radius_mm,
-            "stiffness_Nm_per_rad": st.stiffness_Nmm_per_rad / 1e3,
+            "stiffness_Nm_per_rad": st.stiffness_Nmm_per_rad / NMM_PER_NM,
             "max_deflection_rad": st.max_deflection_rad,
             "backlash_nominal_rad": st.backlash.nominal,
-            "energy_density_J_per_cm3": st.energy_J / (st.envelope_volume_mm3 / 1e3),
+            "energy_density_J_per_cm3": st.energy_J / (st.envelope_volume_mm3 / MM3_PER_CM3),
             "specific_energy_J_per_kg": st.energy_J / st.mass_kg,
             "peak_stress_MPa": max(s.predicted_peak_stress_MPa for s in jd.springs.values()),
             "yield_margin": min(s.yield_margin for s in jd.springs.values()),

@@ -36,7 +36,7 @@ from springcad.data import data_path
 from springcad.errors import ConfigError
 from springcad.options import spell
 from springcad.progress import Progress, no_progress
-from springcad.units import MM3_PER_CM3, NMM_PER_NM
+from springcad.units import G_PER_KG, MM3_PER_CM3, NMM_PER_NM
 
 #: Table I configuration -> template name
 CONFIGURATIONS = (("S1", "paper_S1"), ("S2", "paper_S2"), ("2xS1", "paper_2xS1"),
@@ -284,7 +284,7 @@ def geometry_changes(designs: dict, use_fea: bool = False, progress=lambda messa
                         "nominal_beam_stress_MPa": g.peak_stress_MPa,
                         "predicted_peak_MPa": g.predicted_peak_stress_MPa,
                         "predicted_region": g.stress.region,
-                        "yield_margin_predicted": g.yield_margin, "mass_g": 1e3 * g.mass_kg}
+                        "yield_margin_predicted": g.yield_margin, "mass_g": G_PER_KG * g.mass_kg}
             if use_fea:
                 from fea.calibrate import solve_2d
 
