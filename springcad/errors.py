@@ -54,6 +54,17 @@ class ConfigError(SpringcadError, ValueError):
         super().__init__(msg)
 
 
+class OptionError(ConfigError):
+    """An option of a stage (a parameter of :mod:`springcad.api`, a flag of the CLI) has a
+    value that is not allowed. ``key`` is the public parameter name; the message names the
+    option as the caller spells it (``spelled_as``, see :func:`springcad.options.spell`)."""
+
+    def __init__(self, key: str, value, allowed: str, hint: str = "", spelled_as: str = ""):
+        self.key, self.value, self.allowed = key, value, allowed
+        msg = f"option {spelled_as or key} = {show(value)}: {allowed}"
+        SpringcadError.__init__(self, msg + (f" ({hint})" if hint else ""))
+
+
 class ConfigFileError(ConfigError):
     """The config file itself cannot be used (unreadable, not UTF-8, not TOML)."""
 

@@ -4,7 +4,8 @@ The API's signatures (:mod:`springcad.api`), the CLI's flags (:mod:`springcad.cl
 the core's option records (:class:`fea.study.VerifyOptions`, the bench reader in
 :mod:`springcad.fit.data`) take their defaults from here, and bad values are refused by
 :func:`check_choice` and :func:`check_number` with a :class:`~springcad.errors.ConfigError`
-naming the public parameter, so the doors cannot drift apart.
+(an :class:`~springcad.errors.OptionError`) naming the public parameter, so the doors
+cannot drift apart.
 
 A message names an option the way the caller spells it (:func:`spell`):
 ``angle_unit='deg'`` from Python, ``--angle-unit deg`` from the command line. The doors
@@ -20,7 +21,7 @@ import functools
 import math
 from dataclasses import dataclass
 
-from springcad.errors import ConfigError
+from springcad.errors import OptionError
 
 # ----------------------------------------------------------------------------- verify
 #: FEA models: plane stress x 3D factor, plane stress only, quadratic tets
@@ -97,11 +98,11 @@ def check_revision(revision) -> None:
     """The drawing revision rule: 1 to 8 ASCII letters or digits.
 
     Raises:
-        ConfigError: naming ``revision``.
+        OptionError: a ConfigError naming ``revision``.
     """
     if not (isinstance(revision, str) and 1 <= len(revision) <= 8 and revision.isascii()
             and revision.isalnum()):
-        raise ConfigError("revision", revision, "is 1 to 8 ASCII letters or digits")
+        raise refuse("revision", revision, "is 1 to 8 ASCII letters or digits")
 
 
 # ----------------------------------------------------------------------------- synthesis
@@ -177,14 +178,19 @@ def spell(name: str, value=None) -> str:
 
 
 # ----------------------------------------------------------------------------- checks
+def refuse(name: str, value, allowed: str, hint: str = "") -> OptionError:
+    """The error for option ``name`` (public parameter name) with a value not allowed."""
+    return OptionError(name, value, allowed, hint, spelled_as=spell(name))
+
+
 def check_choice(name: str, value, allowed: tuple) -> None:
     """Refuse a value that is not one of ``allowed``.
 
     Raises:
-        ConfigError: naming the parameter, the value and the choices.
+        OptionError: a ConfigError naming the parameter, the value and the choices.
     """
     if not isinstance(value, str) or value not in allowed:
-        raise ConfigError(name, value, "is one of " + ", ".join(repr(a) for a in allowed))
+        raise refuse(name, value, "is one of " + ", ".join(repr(a) for a in allowed))
 
 
 def check_number(name: str, value, low: float, high: float, *, integer: bool = False,
@@ -192,7 +198,7 @@ def check_number(name: str, value, low: float, high: float, *, integer: bool = F
     """Refuse a value that is not a finite number in the range (ends open or closed).
 
     Raises:
-        ConfigError: naming the parameter, the value and the range.
+        OptionError: a ConfigError naming the parameter, the value and the range.
     """
     kind = "an integer" if integer else "a number"
     ok = (isinstance(value, int) if integer else isinstance(value, (int, float)))
@@ -201,22 +207,21 @@ def check_number(name: str, value, low: float, high: float, *, integer: bool = F
     ok = ok and (value < high if high_open else value <= high)
     if not ok:
         bracket = ("(" if low_open else "[") + f"{low:g}, {high:g}" + (")" if high_open else "]")
-        raise ConfigError(name, value, f"is {kind} in {bracket}{unit}")
+        raise refuse(name, value, f"is {kind} in {bracket}{unit}")
 
 
 def check_verify(model: str, levels: int, mesher: str, tolerance_pct: float, load: str) -> None:
     """The verification's options, checked once for every door.
 
     Raises:
-        ConfigError: naming the parameter (``model``, ``levels``, ``mesher``,
-            ``tolerance_pct``, ``load``) and what is allowed.
+        OptionError: a ConfigError naming the parameter (``model``, ``levels``,
+            ``mesher``, ``tolerance_pct``, ``load``) and what is allowed.
     """
     check_choice("model", model, MODELS)
     check_number("levels", levels, *LEVELS_RANGE, integer=True)
     check_choice("mesher", mesher, MESHERS)
     if mesher == "pytetwild" and model != "3d":
-        raise ConfigError("mesher", mesher, "makes 3D meshes only",
-                          f"use {spell('model', '3d')} with it")
+        raise refuse("mesher", mesher, "makes 3D meshes only", f"use {spell('model', '3d')} with it")
     check_number("tolerance_pct", tolerance_pct, *TOLERANCE_PCT_RANGE, low_open=True,
                  high_open=True, unit=" %")
     check_choice("load", load, LOADS)

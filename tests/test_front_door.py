@@ -125,7 +125,7 @@ def test_verify_options_are_checked_once_with_the_public_names(tmp_path):
             sc.verify(d, **bad)
     from fea.study import VerifyOptions
 
-    with pytest.raises(ConfigError, match="tolerance_pct"):
+    with pytest.raises(ConfigError, match="tolerance"):
         VerifyOptions(tolerance=0.5)
     # one set of defaults: the API's are the core's and the CLI's
     import inspect

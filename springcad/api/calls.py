@@ -197,11 +197,12 @@ def simulate(spring, protocol=None, noise=None, seed: int = 0, backlash_rad: flo
     Returns:
         A :class:`springcad.fit.bench.SimulatedRecord` (``.record`` is what ``fit`` reads).
     """
+    from springcad.config import Job
     from springcad.fit.bench import BenchNoise, BenchSpring
     from springcad.fit.bench import simulate as _simulate
     from springcad.fit.protocols import Protocol
 
-    if isinstance(spring, (str, Path, dict)) or type(spring).__name__ == "Job":
+    if isinstance(spring, (str, Path, dict, Job)):
         spring = design_job(spring)
     if isinstance(spring, Verification):  # the FEA stiffness, the corrected design's backlash
         k = spring.stack_stiffness_Nm_per_rad

@@ -15,8 +15,7 @@ import hashlib
 import json
 from pathlib import Path
 
-from springcad.errors import ConfigError
-from springcad.options import SYNTHESIS, api_door, check_choice, check_number
+from springcad.options import SYNTHESIS, api_door, check_choice, check_number, refuse
 from springcad.progress import Tracker
 from springcad.stages import stage
 
@@ -220,13 +219,13 @@ def _grid_range(name: str, value) -> tuple[float, float, int]:
     """``(min, max, count)`` from a tuple or a ``"MIN:MAX:COUNT"`` string.
 
     Raises:
-        ConfigError: naming the parameter, unless 0 < MIN < MAX and COUNT >= 2.
+        OptionError: a ConfigError naming the parameter, unless 0 < MIN < MAX and COUNT >= 2.
     """
     try:
         lo, hi, n = value.split(":") if isinstance(value, str) else value
         lo, hi, n = float(lo), float(hi), int(n)
     except (TypeError, ValueError):
-        raise ConfigError(name, value, "is MIN:MAX:COUNT, e.g. 5:500:24") from None
+        raise refuse(name, value, "is MIN:MAX:COUNT, e.g. 5:500:24") from None
     if not (0 < lo < hi and n >= 2):
-        raise ConfigError(name, value, "needs 0 < MIN < MAX and COUNT >= 2")
+        raise refuse(name, value, "needs 0 < MIN < MAX and COUNT >= 2")
     return lo, hi, n
