@@ -24,10 +24,9 @@ from fea.mesh_size import DEFAULT_SIZE, MeshSize
 from fea.problem import LoadCase, Material, assemble, solver_material
 from fea.results import StaticResult, evaluate
 from fea.solve import solve
-from springcad.errors import SpringcadError
+from springcad.options import VERIFY, check_verify
 from springcad.units import NMM_PER_NM
 
-MODELS = ("2d3d", "2d", "3d")
 
 
 def _noop(message: str, fraction: float | None = None) -> None:
@@ -61,32 +60,43 @@ class VerifyOptions:
             sector (:func:`fea.contact.contact_sweep`, on the 2D mesh of level 0).
     """
 
-    model: str = "2d3d"
-    levels: int = 3
+    model: str = VERIFY.model
+    levels: int = VERIFY.levels
     size: MeshSize = DEFAULT_SIZE
-    case: LoadCase = LoadCase()
-    tolerance: float = 0.01
+    case: LoadCase = LoadCase(load=VERIFY.load)
+    tolerance: float = VERIFY.tolerance_pct / 100.0
     max_iterations: int = 4
     max_stress_passes: int = 3
-    correct: bool = True
+    correct: bool = VERIFY.correct
     keep_fields: bool = True
-    support_study: bool = False
-    mesher: str = "gmsh"
+    support_study: bool = VERIFY.support_study
+    mesher: str = VERIFY.mesher
     pytetwild_edge_fac: tuple = (0.04, 0.028, 0.02)
-    contact: bool = True
+    contact: bool = VERIFY.contact
 
     def __post_init__(self):
-        if self.mesher not in ("gmsh", "pytetwild"):
-            raise SpringcadError(f"mesher '{self.mesher}' is not one of gmsh, pytetwild")
-        if self.mesher == "pytetwild" and self.model != "3d":
-            raise SpringcadError("the pytetwild mesher makes 3D meshes only: use model '3d'")
-        if self.model not in MODELS:
-            raise SpringcadError(f"FEA model '{self.model}' is not one of {', '.join(MODELS)}")
-        if self.levels < 3:
-            raise SpringcadError(f"a convergence study needs at least 3 mesh levels, got "
-                                 f"{self.levels}")
-        if not 0 < self.tolerance < 0.5:
-            raise SpringcadError(f"stiffness tolerance {self.tolerance} must be in (0, 0.5)")
+        check_verify(self.model, self.levels, self.mesher, 100.0 * self.tolerance,
+                     self.case.load)
+
+
+def verify_options(model: str = VERIFY.model, levels: int = VERIFY.levels,
+                   mesher: str = VERIFY.mesher, tolerance_pct: float = VERIFY.tolerance_pct,
+                   correct: bool = VERIFY.correct, load: str = VERIFY.load,
+                   support_study: bool = VERIFY.support_study, contact: bool = VERIFY.contact,
+                   keep_fields: bool = True) -> VerifyOptions:
+    """The :class:`VerifyOptions` of the public options (:mod:`springcad.options`).
+
+    ``mesher="pytetwild"`` implies ``model="3d"`` (it makes 3D meshes only).
+
+    Raises:
+        ConfigError: naming the public parameter and what is allowed.
+    """
+    model = "3d" if mesher == "pytetwild" else model
+    check_verify(model, levels, mesher, tolerance_pct, load)
+    return VerifyOptions(model=model, levels=levels, mesher=mesher,
+                         tolerance=tolerance_pct / 100.0, correct=bool(correct),
+                         case=LoadCase(load=load), keep_fields=bool(keep_fields),
+                         support_study=bool(support_study), contact=bool(contact))
 
 
 # ================================================================== one model

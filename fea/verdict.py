@@ -17,13 +17,13 @@ from dataclasses import dataclass, field
 
 from fea.problem import LoadCase
 from fea.study import ModelRun, VerifyOptions
-from springcad.errors import SpringcadError
+from springcad.errors import CheckFailed
 from springcad.units import NMM_PER_NM
 
 SCHEMA = "springcad.fea/1"
 
 
-class VerificationFailed(SpringcadError):
+class VerificationFailed(CheckFailed):
     """A verified spring or stack misses its stiffness target or its stress limit."""
 
 
@@ -359,18 +359,10 @@ class JobVerification:
 
     def corrected_job_design(self, job_design):
         """The job design with every spring replaced by its corrected design and the stack
-        rebuilt from them (what ``springcad build`` should export after verification)."""
-        from dataclasses import replace as dc_replace
-
-        from springcad.design.ring import common_hole_pattern
-        from springcad.design.stack import design_stack
-
-        springs = common_hole_pattern({n: self.springs[n].design if n in self.springs else d
-                                       for n, d in job_design.springs.items()})
-        job = job_design.job
-        stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
-                             job.analysis.monte_carlo_samples, job.analysis.seed)
-        return dc_replace(job_design, springs=springs, stack=stack)
+        rebuilt from them (what ``springcad build`` exports after verification): the one
+        way, :meth:`~springcad.design.job.JobDesign.with_springs`, so the rim holes stay on
+        the job's common circle."""
+        return job_design.with_springs(self.corrected_designs())
 
     def to_dict(self) -> dict:
         from springcad.version import __version__
@@ -394,9 +386,9 @@ class JobVerification:
             fat = v.fatigue
             fat_txt = ("-" if fat is None else f"{fat.margin:.2f}" if fat.margin >= 1
                        else f"{fat.life_cycles:.2g} cyc")
-            rows.append((n, f"{v.stiffness_fea_Nmm_per_rad / 1e3:.2f}",
-                         f"{v.design.stiffness_beam_Nmm_per_rad / 1e3:.2f}",
-                         f"{v.stiffness_target_Nmm_per_rad / 1e3:.2f}",
+            rows.append((n, f"{v.stiffness_fea_Nmm_per_rad / NMM_PER_NM:.2f}",
+                         f"{v.design.stiffness_beam_Nmm_per_rad / NMM_PER_NM:.2f}",
+                         f"{v.stiffness_target_Nmm_per_rad / NMM_PER_NM:.2f}",
                          f"{100 * v.error_vs_target:+.2f}", f"{100 * v.run.stiffness_error:.3f}",
                          f"{v.peak_von_mises_MPa:.0f}", f"{v.design.predicted_peak_stress_MPa:.0f}",
                          r.peak_region, f"{v.yield_margin:.3f}", f"{v.required_safety_factor:.2f}",
@@ -404,9 +396,11 @@ class JobVerification:
         widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
         lines = ["  ".join(c.rjust(w) for c, w in zip(r, widths)) for r in rows]
         st = self.stack
-        lines.append(f"stack {' + '.join(st.sequence)}: K_fea {st.stiffness_Nmm_per_rad / 1e3:.2f} "
-                     f"N*m/rad (target {st.target_Nmm_per_rad / 1e3:.2f}), limit "
-                     f"{st.max_deflection_rad:.3f} rad at {st.torque_at_limit_Nmm / 1e3:.2f} N*m")
+        lines.append(f"stack {' + '.join(st.sequence)}: K_fea "
+                     f"{st.stiffness_Nmm_per_rad / NMM_PER_NM:.2f} N*m/rad (target "
+                     f"{st.target_Nmm_per_rad / NMM_PER_NM:.2f}), limit "
+                     f"{st.max_deflection_rad:.3f} rad at "
+                     f"{st.torque_at_limit_Nmm / NMM_PER_NM:.2f} N*m")
         lines.append("sigma: FEA peak von Mises at the max deflection; design: the design's "
                      "prediction for the same geometry; fatigue: endurance margin at +-theta_max "
                      "(R = -1, wire-EDM surface), or the finite life")

@@ -13,7 +13,7 @@ Public API (:mod:`springcad.api`; results in N*m/rad, rad, MPa, kg)::
     rec = sc.simulate(v, seed=1)                  # a simulated bench record
     f = sc.fit_record(rec, design=v.design)       # Fit: model, K, backlash, effects
     b = sc.build(v)                               # Build: solids and checks, in memory
-    sc.export_build(b, "out/S1")                        # CAD, drawings, BOM, out/S1/report.html
+    b = sc.export_build(b, "out/S1")                    # CAD, drawings, BOM, out/S1/report.html
 
 ``import springcad`` stays light: CAD, meshing and plotting libraries
 are imported by the modules that use them.
@@ -26,17 +26,21 @@ from springcad.api import (
     Spring,
     Stack,
     Verification,
+    bench_protocol,
     build,
     design_job,
+    explore,
     export_build,
     fit_record,
     load,
     simulate,
+    synthesize,
+    validate_paper,
     verify,
 )
 from springcad.errors import SpringcadError
 from springcad.version import __version__
 
 __all__ = ["Build", "Design", "Fit", "Spring", "SpringcadError", "Stack", "Verification",
-           "__version__", "build", "design_job", "export_build", "fit_record", "load", "simulate",
-           "verify"]
+           "__version__", "bench_protocol", "build", "design_job", "explore", "export_build",
+           "fit_record", "load", "simulate", "synthesize", "validate_paper", "verify"]

@@ -54,6 +54,17 @@ class ConfigError(SpringcadError, ValueError):
         super().__init__(msg)
 
 
+class OptionError(ConfigError):
+    """An option of a stage (a parameter of :mod:`springcad.api`, a flag of the CLI) has a
+    value that is not allowed. ``key`` is the public parameter name; the message names the
+    option as the caller spells it (``spelled_as``, see :func:`springcad.options.spell`)."""
+
+    def __init__(self, key: str, value, allowed: str, hint: str = "", spelled_as: str = ""):
+        self.key, self.value, self.allowed = key, value, allowed
+        msg = f"option {spelled_as or key} = {show(value)}: {allowed}"
+        SpringcadError.__init__(self, msg + (f" ({hint})" if hint else ""))
+
+
 class ConfigFileError(ConfigError):
     """The config file itself cannot be used (unreadable, not UTF-8, not TOML)."""
 
@@ -101,7 +112,13 @@ class NoSpaceError(OutputPathError):
 
 
 class CheckFailed(SpringcadError):
-    """A verification or check ran and failed (exit status 1; the outputs say why)."""
+    """A verification or check ran and failed (exit status 1; the outputs say why).
+
+    The family of every failed verdict: :class:`fea.verdict.VerificationFailed` (a spring
+    or the stack misses its stiffness target or stress limit) and
+    :class:`springcad.geometry.checks.ChecksFailed` (a part fails a geometry or
+    manufacturability check) are ``CheckFailed``, so callers catch one class.
+    """
 
 
 class StageError(SpringcadError):

@@ -1,7 +1,10 @@
-"""The public Python API: load, design, verify, build, export, simulate, fit; SI results.
+"""The public Python API: every stage a user can run, with every option; SI results.
 
-The functions are ``load``, ``design_job``, ``verify``, ``build``, ``export_build``,
-``simulate`` and ``fit_record`` (``springcad.design``, ``.export`` and ``.fit`` are
+The stages are ``load``, ``design_job``, ``verify``, ``build``, ``export_build``,
+``simulate`` (with ``bench_protocol``), ``fit_record``, ``validate_paper``,
+``synthesize`` and ``explore``; each ``springcad`` subcommand is one of them and a
+printout. The defaults are declared once, in :mod:`springcad.options` (``design_job``
+and ``fit_record``, not ``design`` and ``fit``: ``springcad.design``, ``.export`` and ``.fit`` are
 subpackages, whose import would rebind those names on the package).
 
 The functions are what a notebook or script calls (:mod:`springcad.api.calls`,
@@ -19,10 +22,12 @@ Example:
     >>> f = sc.fit_record(sc.simulate(v, seed=1), design=v.design)
 """
 
-from springcad.api.calls import design_job, fit_record, load, simulate, verify
+from springcad.api.calls import bench_protocol, design_job, fit_record, load, simulate, verify
 from springcad.api.pipeline import Build, build, export_build, load_title_block
-from springcad.api.results import Design, Fit, Spring, Stack, Verification, profile_svg
+from springcad.api.results import Design, Fit, Spring, Stack, Verification
+from springcad.api.studies import explore, synthesize, validate_paper
+from springcad.report.notebook import profile_svg
 
-__all__ = ["Build", "Design", "Fit", "Spring", "Stack", "Verification", "build", "design_job",
-           "export_build", "fit_record", "load", "load_title_block", "profile_svg", "simulate",
-           "verify"]
+__all__ = ["Build", "Design", "Fit", "Spring", "Stack", "Verification", "bench_protocol", "build",
+           "design_job", "explore", "export_build", "fit_record", "load", "load_title_block",
+           "profile_svg", "simulate", "synthesize", "validate_paper", "verify"]

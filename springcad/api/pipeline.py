@@ -14,40 +14,23 @@ Units: lengths mm, stiffness N*m/rad, angles rad, masses kg.
 
 from __future__ import annotations
 
+import copy
 import datetime
-import html
 import time
 from pathlib import Path
 
-from springcad.api.results import Design, Verification, _g, _grid_html, _table_html
-from springcad.errors import CheckFailed, ConfigError
+from springcad.api import calls
+from springcad.api.results import Design, Verification
+from springcad.errors import ConfigError
+from springcad.options import REVISION, api_door, check_revision
+from springcad.progress import Tracker
+from springcad.report import notebook
 from springcad.stages import stage
 
 #: schema of ``build.json``
 SCHEMA = "springcad.build/1"
 
 __all__ = ["Build", "build", "export_build", "load_title_block"]
-
-
-class _Tracker:
-    """Remembers the last progress message: it names the part a failing stage worked on."""
-
-    def __init__(self, progress=None):
-        self.progress = progress
-        self.last = ""
-
-    def __call__(self, message: str, fraction: float | None = None) -> None:
-        self.last = message
-        if self.progress is not None:
-            self.progress(message, fraction)
-
-    def subject(self, name: str):
-        def subject() -> str:
-            if name == "solids":
-                return (f"the part after {self.last.split()[-1]}" if self.last.startswith("built ")
-                        else "the first part")
-            return f"the step after '{self.last}'" if self.last else ""
-        return subject
 
 
 class Build:
@@ -123,13 +106,9 @@ class Build:
         return [f"{c.subject}: {c.name}: {c.message}" for c in bad]
 
     def raise_for_failures(self) -> None:
-        """Raises :class:`~springcad.errors.CheckFailed` when a check failed."""
-        from springcad.geometry.checks import ChecksFailed
-
-        try:
-            self.checks.raise_if_failed(self.accept_violations)
-        except ChecksFailed as err:
-            raise CheckFailed(str(err)) from err
+        """Raises :class:`~springcad.geometry.checks.ChecksFailed` (a
+        :class:`~springcad.errors.CheckFailed`) when a check failed."""
+        self.checks.raise_if_failed(self.accept_violations)
 
     def to_dict(self) -> dict:
         """The ``build.json`` document (needs :func:`export_build` for files and release)."""
@@ -179,40 +158,16 @@ class Build:
                 f"({'FEA' if self.verification is not None else 'beam'}); {state})")
 
     def _repr_html_(self) -> str:
-        rows = [("stack stiffness (N·m/rad)", _g(self.stiffness_Nm_per_rad)),
-                ("from", "FEA" if self.verification is not None else "beam theory (not verified)"),
-                ("deflection limit (rad)", _g(self.max_deflection_rad)),
-                ("spring mass (kg)", _g(self.mass_kg)),
-                ("checks", self.checks.summary()),
-                ("release", self.release.stamp if self.release is not None else "not exported"),
-                ("folder", str(self.out_dir) if self.out_dir is not None else "–")]
-        parts = [(p["part_number"], p["quantity"], p["title"], p["process"]) for p in self.parts()]
-        fails = "".join(f"<li>{html.escape(f)}</li>" for f in self.failures())
-        reasons = "".join(f"<li>{html.escape(r)}</li>" for r in
-                          (self.release.reasons if self.release is not None else ()))
-        render = self.out_dir / "assembly.png" if self.out_dir is not None else None
-        if render is not None and render.is_file():
-            from springcad.report.html_page import img_tag
-
-            picture = img_tag(render, "assembly render", width=480)
-        else:
-            picture = ""
-        return (f"<div><h4>build {html.escape(self.design.job.name)}</h4>{picture}"
-                + _table_html(rows) + (f"<p>failed checks:</p><ul>{fails}</ul>" if fails else "")
-                + (f"<p>not for manufacture because:</p><ul>{reasons}</ul>" if reasons else "")
-                + _grid_html(("part", "qty", "title", "process"), parts) + "</div>")
+        return notebook.build_html(self)
 
 
 def _design_of(design) -> tuple[Design, Verification | None]:
     if isinstance(design, Verification):
         return design.design, design
-    if isinstance(design, Design):
-        return design, None
-    from springcad.api.calls import design_job
-
-    return design_job(design), None
+    return calls._design_of(design), None
 
 
+@api_door
 def build(design, accept_violations: bool = False, progress=None) -> Build:
     """Make the solids of every part and run the geometry and wire-EDM checks.
 
@@ -230,24 +185,14 @@ def build(design, accept_violations: bool = False, progress=None) -> Build:
     Raises:
         StageError: the CAD kernel failed on a part (names the part and what to change).
     """
-    from springcad.geometry.checks import run_checks
-    from springcad.geometry.stack import build_stack
+    from springcad.geometry.checks import build_and_check
 
     d, ver = _design_of(design)
-    track = _Tracker(progress)
-    timings = {}
-    t0 = time.perf_counter()
-    with stage("solids", track.subject("solids")):
-        assembly = build_stack(d.raw, progress=track)
-    timings["solids"] = round(time.perf_counter() - t0, 3)
-    t0 = time.perf_counter()
-    track.last = ""
-    with stage("checks", track.subject("checks")):
-        report = run_checks(assembly, progress=track)
-    timings["checks"] = round(time.perf_counter() - t0, 3)
+    assembly, report, timings = build_and_check(d.raw, progress)
     return Build(d, ver, assembly, report, accept_violations, timings)
 
 
+@api_door
 def load_title_block(source=None) -> dict:
     """The drawing title block: a TOML path, a dict, or None for the default template.
 
@@ -296,7 +241,9 @@ def _drawn_by() -> str:
     return f"springcad {__version__}"
 
 
-def export_build(built: Build, out, overwrite: bool = False, render: bool = True, revision: str = "A",
+@api_door
+def export_build(built: Build, out, overwrite: bool = False, render: bool = True,
+                 revision: str = REVISION,
            title_block=None, progress=None, timings_s: dict | None = None) -> Build:
     """Write a build folder: design, FEA results, CAD, drawings, BOM, build.json, report.html.
 
@@ -311,8 +258,9 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
         timings_s: times of earlier stages (s) to record in ``build.json``.
 
     Returns:
-        The same :class:`Build`, now with ``out_dir``, ``files``, ``release`` and
-        ``report_html``.
+        A new :class:`Build`, the given one with ``out_dir``, ``files``, ``release`` and
+        ``report_html`` (the given one is left as it was, like build123d's ``export_step``
+        leaves its shape).
 
     Raises:
         CheckFailed: the build's checks, or an export read-back, failed (nothing written).
@@ -320,20 +268,19 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
     """
     from springcad.export.bundle import export_parts, export_stack, roundtrip_checks
     from springcad.export.release import release_status
-    from springcad.geometry.checks import CheckReport, ChecksFailed
+    from springcad.geometry.checks import CheckReport
     from springcad.report.html_build import write_build_report
     from springcad.report.jsonio import write_json
     from springcad.report.outdir import atomic_output_dir
 
     if not isinstance(built, Build):
         raise ConfigError("export_build", type(built).__name__, "takes the Build that sc.build returned")
-    if not (isinstance(revision, str) and 1 <= len(revision) <= 8 and revision.isascii()
-            and revision.isalnum()):
-        raise ConfigError("revision", revision, "is 1 to 8 ASCII letters or digits")
+    check_revision(revision)
     built.raise_for_failures()
+    built = copy.copy(built)  # the exported build; the argument stays as it was
     template = load_title_block(title_block)
     out = Path(out)
-    track = _Tracker(progress)
+    track = Tracker(progress)
     t0 = time.perf_counter()
     d, ver = built.design, built.verification
     built.options = {"revision": revision, "render": render}
@@ -359,10 +306,7 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
                                          progress=track, release=built.release,
                                          date=info["date"])
             built.roundtrip = roundtrip_checks(built.assembly, tmp, files, progress=track)
-        try:
-            CheckReport(built.roundtrip).raise_if_failed()
-        except ChecksFailed as err:
-            raise CheckFailed(str(err)) from err
+        CheckReport(built.roundtrip).raise_if_failed()
         from springcad.export.bundle import WrittenFile
 
         files.append(WrittenFile("design.json", "design", "", (tmp / "design.json").stat().st_size))

@@ -23,6 +23,7 @@ from pathlib import Path
 
 from springcad.errors import (EXIT_BAD_INPUT, EXIT_CHECK_FAILED, EXIT_INTERNAL, CheckFailed,
                               Interrupted, SpringcadError, StageError, one_line)
+from springcad.options import spelled
 
 #: subcommand modules, in the order ``--help`` lists them
 SUBCOMMANDS = ("design", "build", "verify", "simulate", "fit", "paper", "synthesize", "explore")
@@ -110,7 +111,8 @@ def main(argv: list[str] | None = None) -> int:
     command = args.command
     previous = signal.signal(signal.SIGTERM, _raise_interrupted) if _main_thread() else None
     try:
-        return int(args.func(args) or 0)
+        with spelled("flag"):  # messages name this door's flags, not the API's parameters
+            return int(args.func(args) or 0)
     except CheckFailed as err:
         print(f"springcad {command}: failed: {one_line(err, 2000)}", file=sys.stderr)
         return EXIT_CHECK_FAILED

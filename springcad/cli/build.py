@@ -13,12 +13,17 @@ is one message naming the stage, the part and what to change (exit status 2).
 
 from __future__ import annotations
 
+import argparse
 import sys
 import time
 from pathlib import Path
 
-from springcad.cli.common import default_out, stage, warn
-from springcad.errors import CheckFailed
+import springcad.api as sc
+from springcad.cli.common import default_out, warn
+from springcad.cli.progress import console
+from springcad.errors import ConfigError
+from springcad.options import REVISION, check_revision
+from springcad.report.outdir import check_output_dir
 
 #: the stages, in order: the FEA verification (and correction) comes before any solid is
 #: made, so the parts checked and exported are the corrected ones
@@ -34,7 +39,8 @@ def register(sub):
     p.add_argument("--accept-violations", action="store_true",
                    help="build even when a wire-EDM manufacturability rule is broken "
                         "(the violations are recorded in build.json)")
-    p.add_argument("--revision", default="A", type=_revision, help="drawing revision (default A)")
+    p.add_argument("--revision", default=REVISION, type=_revision,
+                   help="drawing revision (default %(default)s)")
     p.add_argument("--title-block", type=Path, default=None,
                    help="title block template (default templates/drawing_title_block.toml)")
     p.add_argument("--no-render", action="store_true", help="skip the PNG renders")
@@ -44,23 +50,16 @@ def register(sub):
 
 
 def _revision(text: str) -> str:
-    import argparse
-
-    if not (1 <= len(text) <= 8 and text.isascii() and text.isalnum()):
-        raise argparse.ArgumentTypeError(f"{text!r}: 1 to 8 ASCII letters or digits")
+    """The drawing revision (argparse ``type``): :func:`springcad.options.check_revision`."""
+    try:
+        check_revision(text)
+    except ConfigError:
+        raise argparse.ArgumentTypeError(f"{text!r}: 1 to 8 ASCII letters or digits") from None
     return text
 
 
-class _Console:
-    """Progress on stderr; remembers the spring being verified (it names a failure)."""
-
-    def __init__(self):
-        self.spring = ""
-
-    def __call__(self, message: str, fraction: float | None = None) -> None:
-        if message.startswith("verifying spring "):
-            self.spring = message.split()[2]
-        print(f"  {message}", file=sys.stderr, flush=True)
+#: progress on stderr, indented under the stage it belongs to
+say = console(indent="  ")
 
 
 def _announce(name: str) -> float:
@@ -74,18 +73,14 @@ def _done(name: str, t0: float, timings: dict) -> None:
 
 
 def run(args) -> int:
-    import springcad.api as sc
-    from springcad.report.outdir import check_output_dir
-
     out = args.out or default_out(args.config)
     job = sc.load(args.config)  # everything that can be checked, before any work
     template = sc.load_title_block(args.title_block)
     check_output_dir(out, args.overwrite, inputs=[args.config, args.title_block])
-    say, timings = _Console(), {}
+    timings = {}
 
     t0 = _announce("design")
-    with stage("design", lambda: f"job {job.name}"):
-        design = sc.design_job(job)
+    design = sc.design_job(job)
     warn("build", design.warnings)
     _done("design", t0, timings)
 
@@ -94,17 +89,10 @@ def run(args) -> int:
     if args.no_verify:
         say("skipped (--no-verify): the parts are beam-theory designs, not FEA-verified")
     else:
-        with stage("verify", lambda: f"spring {say.spring}" if say.spring else ""):
-            verification = sc.verify(design, model="2d3d", keep_fields=not args.no_render,
-                                     contact=True, progress=say)
+        verification = sc.verify(design, keep_fields=not args.no_render, progress=say)
         say(verification.raw.summary().replace("\n", "\n  "))
         if not verification.ok:
-            from fea.verdict import VerificationFailed
-
-            try:
-                verification.raw.raise_for_failures()
-            except VerificationFailed as err:
-                raise CheckFailed(str(err)) from err
+            verification.raise_for_failures()
     _done("verify", t0, timings)
 
     # solids and checks are one API call (sc.build); its own timings split them
@@ -119,8 +107,9 @@ def run(args) -> int:
         print(f"      {name} done in {timings[name]:.1f} s", file=sys.stderr, flush=True)
 
     t0 = _announce("exports")
-    sc.export_build(built, out, overwrite=args.overwrite, render=not args.no_render,
-              revision=args.revision, title_block=template, progress=say, timings_s=timings)
+    built = sc.export_build(built, out, overwrite=args.overwrite, render=not args.no_render,
+                            revision=args.revision, title_block=template, progress=say,
+                            timings_s=timings)
     _done("exports", t0, timings)
     _print_summary(built, out)
     print(f"report: {out / 'report.html'} (open it in a web browser)")

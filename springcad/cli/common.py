@@ -1,11 +1,9 @@
-"""Helpers shared by the CLI subcommands: default outputs, warnings, stage boundaries."""
+"""Helpers shared by the CLI subcommands: default outputs, warnings, bounded numbers."""
 
 from __future__ import annotations
 
 import sys
 from pathlib import Path
-
-from springcad.stages import ADVICE, PROGRAMMING_ERRORS, stage  # noqa: F401 - re-exported
 
 
 def default_out(config: Path) -> Path:
@@ -19,8 +17,9 @@ def warn(command: str, warnings) -> None:
         print(f"springcad {command}: warning: {w}", file=sys.stderr, flush=True)
 
 
-def bounded(lo: float, hi: float, unit: str = "", integer: bool = False, lo_open: bool = False):
-    """An argparse ``type`` accepting a finite number in [lo, hi] (or (lo, hi])."""
+def bounded(lo: float, hi: float, unit: str = "", integer: bool = False, lo_open: bool = False,
+            hi_open: bool = False):
+    """An argparse ``type`` accepting a finite number in [lo, hi] (either end may be open)."""
     import argparse
     import math
 
@@ -31,9 +30,11 @@ def bounded(lo: float, hi: float, unit: str = "", integer: bool = False, lo_open
             raise argparse.ArgumentTypeError(
                 f"{text!r} is not a {'whole number' if integer else 'number'}") from None
         low_ok = value > lo if lo_open else value >= lo
-        if not (math.isfinite(value) and low_ok and value <= hi):
+        high_ok = value < hi if hi_open else value <= hi
+        if not (math.isfinite(value) and low_ok and high_ok):
             bound = f"greater than {lo:g}" if lo_open else f"from {lo:g}"
-            raise argparse.ArgumentTypeError(f"{text}: must be {bound} to {hi:g}{unit}")
+            top = f"less than {hi:g}" if hi_open else f"{hi:g}"
+            raise argparse.ArgumentTypeError(f"{text}: must be {bound} to {top}{unit}")
         return value
 
     return parse

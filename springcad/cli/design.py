@@ -4,8 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from springcad.cli.common import default_out, stage, warn
+import springcad.api as sc
+from springcad.cli.common import default_out, warn
 from springcad.report.jsonio import write_json
+from springcad.report.outdir import atomic_output_dir, check_output_dir
 
 
 def register(sub):
@@ -18,18 +20,13 @@ def register(sub):
 
 
 def run(args) -> int:
-    from springcad.config import load_job
-    from springcad.design.job import design_job
-    from springcad.report.outdir import atomic_output_dir, check_output_dir
-
     out = args.out or default_out(args.config)
-    job = load_job(args.config)
+    job = sc.load(args.config)
     check_output_dir(out, args.overwrite, inputs=[args.config])
-    with stage("design", lambda: f"job {job.name}"):
-        design = design_job(job)
+    design = sc.design_job(job)
     warn("design", design.warnings)
     with atomic_output_dir(out, overwrite=args.overwrite, inputs=[args.config]) as tmp:
         write_json(tmp / "design.json", design.to_dict())
-    print(design.summary())
+    print(design.raw.summary())
     print(f"\nwrote {out / 'design.json'}")
     return 0

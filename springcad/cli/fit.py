@@ -8,8 +8,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from springcad.cli.common import bounded
-from springcad.errors import DataError
+import springcad.api as sc
+from springcad.cli.common import bounded, default_out, warn
+from springcad.options import ANGLE_UNITS, BENCH, TORQUE_UNITS
+from springcad.report.outdir import atomic_output_dir, check_output_dir
 from springcad.units import fmt_interval
 
 
@@ -26,17 +28,17 @@ def register(subparsers) -> None:
     p.add_argument("--config", type=Path, help="job config: compare with the designed stack")
     p.add_argument("--target-stiffness", type=bounded(0, 1e6, " N*m/rad", lo_open=True), metavar="K",
                    help="target stiffness (N·m/rad) for the stiffness error")
-    p.add_argument("--time-col", default="time_s", help="time column (s) [time_s]")
-    p.add_argument("--torque-col", default="torque_Nm", help="torque column [torque_Nm]")
-    p.add_argument("--deflection-col", default="deflection_rad",
-                   help="optical deflection column [deflection_rad]")
+    p.add_argument("--time-col", default=BENCH.time_col, help="time column (s) [%(default)s]")
+    p.add_argument("--torque-col", default=BENCH.torque_col, help="torque column [%(default)s]")
+    p.add_argument("--deflection-col", default=BENCH.deflection_col,
+                   help="optical deflection column [%(default)s]")
     p.add_argument("--encoder-cols", nargs="+", metavar="COL",
                    help="encoder angle column(s): INPUT [OUTPUT]; default: encoder_in_rad and "
                         "encoder_out_rad when present")
-    p.add_argument("--angle-unit", choices=("rad", "deg"), default="rad",
-                   help="unit of every angle column [rad]")
-    p.add_argument("--torque-unit", choices=("Nm", "Nmm"), default="Nm",
-                   help="unit of the torque column [Nm]")
+    p.add_argument("--angle-unit", choices=ANGLE_UNITS, default=BENCH.angle_unit,
+                   help="unit of every angle column [%(default)s]")
+    p.add_argument("--torque-unit", choices=TORQUE_UNITS, default=BENCH.torque_unit,
+                   help="unit of the torque column [%(default)s]")
     p.add_argument("--trust-units", action="store_true",
                    help="fit even when the data contradicts --angle-unit/--torque-unit (a "
                         "stiffness 1000 or 57.3 times off the target, angles below a degree read "
@@ -47,105 +49,22 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
-#: a bench record is a few MB (20 000 samples at 500 Hz); refuse absurd files before reading
-MAX_CSV_BYTES = 200_000_000
-#: physical bounds of a torsion-spring bench record (N*m, rad): outside them the units or the
-#: file are wrong, and the fit's numerics would be meaningless
-TORQUE_RANGE_NM = (1e-6, 1e6)
-DEFLECTION_RANGE_RAD = (1e-6, 1e4)
-#: correlation of torque with deflection below minus this reads as a flipped channel
-FLIPPED_CORRELATION = 0.3
-
-
-def read_record(path: Path, columns, angle_unit: str, torque_unit: str,
-                trust_units: bool = False):
-    """Read a bench CSV: file, UTF-8 and size checks here, parsing by :mod:`springcad.fit.data`.
-
-    Raises:
-        DataError: unreadable, too large, not UTF-8, or malformed (see ``parse_bench_csv``).
-    """
-    from springcad.fit.data import parse_bench_csv
-    from springcad.textio import decode_utf8
-
-    try:
-        if not path.is_file():
-            raise DataError(f"bench data file '{path}' does not exist or is not a file")
-        if path.stat().st_size > MAX_CSV_BYTES:
-            raise DataError(f"bench data file '{path}' is larger than "
-                            f"{MAX_CSV_BYTES // 1_000_000} MB; split the record")
-        raw = path.read_bytes()
-    except OSError as err:
-        raise DataError(f"bench data file '{path}' cannot be read: {err.strerror or err}") from None
-    text, problem = decode_utf8(raw)
-    if text is None:
-        raise DataError(f"bench data file '{path}' {problem}")
-    return parse_bench_csv(text, columns, angle_unit, torque_unit, source=str(path),
-                           trust_units=trust_units)
-
-
-def check_record(record) -> None:
-    """Refuse records no torsion spring produces: magnitudes out of range, torque falling
-    as the deflection rises (a flipped sign).
-
-    Raises:
-        DataError: naming the channel, the value and what to check.
-    """
-    import math
-
-    import numpy as np
-
-    src = record.source
-    for name, values, (lo, hi), unit in (
-            ("torque", record.torque_Nm, TORQUE_RANGE_NM, "N*m"),
-            ("deflection", record.deflection_rad, DEFLECTION_RANGE_RAD, "rad")):
-        peak = float(np.max(np.abs(values)))
-        if not lo <= peak <= hi:
-            raise DataError(f"{src}: the {name} peaks at {peak:.3g} {unit}; a torsion-spring bench "
-                            f"record lies between {lo:g} and {hi:g} {unit}: check the column's "
-                            "unit (--torque-unit, --angle-unit) and scale")
-    x = record.deflection_rad - record.deflection_rad.mean()
-    y = record.torque_Nm - record.torque_Nm.mean()
-    slope = float(x @ y) / float(x @ x)
-    # a record with no spring (torque noise only) has a slope of either sign: it is refused
-    # only when the torque clearly follows the deflection downwards, and otherwise the fit
-    # reports whether any stiffness stands above the noise
-    correlation = float(x @ y) / math.sqrt(float(x @ x) * float(y @ y))
-    if correlation < -FLIPPED_CORRELATION:
-        raise DataError(f"{src}: the torque falls as the deflection rises (least-squares slope "
-                        f"{slope:.3g} N*m/rad): the sign of the torque or the deflection column "
-                        "is flipped; negate one of them")
-
-
 def run(args) -> int:
     """Run ``springcad fit``; returns the exit status."""
-    from springcad.cli.common import default_out, stage, warn
-    from springcad.fit.analysis import fit_record
-    from springcad.fit.compare import design_from_config
-    from springcad.fit.data import ColumnMap
-    from springcad.report.fit_report import write_fit_outputs
-    from springcad.report.outdir import atomic_output_dir, check_output_dir
+    from springcad.report.fit_report import write_fit_outputs  # numpy, scipy: only when fitting
 
-    if args.encoder_cols is not None and len(args.encoder_cols) > 2:
-        raise DataError(f"--encoder-cols takes one or two columns, got {len(args.encoder_cols)}")
-    columns = ColumnMap(args.time_col, args.torque_col, args.deflection_col,
-                        tuple(args.encoder_cols) if args.encoder_cols else None)
     out = args.out or default_out(args.data)
     inputs = [args.data, args.config]
-    record = read_record(args.data, columns, args.angle_unit, args.torque_unit, args.trust_units)
-    check_record(record)
-    warn("fit", record.warnings)
-    design = None
-    if args.config:
-        with stage("design", lambda: f"config {args.config}"):
-            design = design_from_config(args.config)
-        warn("fit", design.get("warnings", []))
     check_output_dir(out, args.overwrite, inputs=inputs)  # before the fit
-    with stage("fit", lambda: f"record {args.data}"):
-        result = fit_record(record, args.target_stiffness, design, trust_units=args.trust_units)
-    warn("fit", result.record.warnings[len(record.warnings):])
+    fit = sc.fit_record(args.data, args.target_stiffness, args.config,
+                        time_col=args.time_col, torque_col=args.torque_col,
+                        deflection_col=args.deflection_col, encoder_cols=args.encoder_cols,
+                        angle_unit=args.angle_unit, torque_unit=args.torque_unit,
+                        trust_units=args.trust_units)
+    warn("fit", fit.warnings)
     with atomic_output_dir(out, overwrite=args.overwrite, inputs=inputs) as tmp:
-        written = write_fit_outputs(result, tmp, fmt=args.format, plots=not args.no_plots)
-    _print_summary(result, out, [p.name for p in written])
+        written = write_fit_outputs(fit.raw, tmp, fmt=args.format, plots=not args.no_plots)
+    _print_summary(fit.raw, out, [p.name for p in written])
     print(f"  report: {out / 'report.html'} (open it in a web browser)")
     return 0
 

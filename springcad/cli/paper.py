@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
+
+import springcad.api as sc
+from springcad.cli.progress import console
+from springcad.report.outdir import atomic_output_dir, check_output_dir
+from springcad.report.paper_report import write_paper_report
 
 
 def register(sub):
@@ -17,20 +21,10 @@ def register(sub):
 
 
 def run(args) -> int:
-    from springcad.cli.common import stage
-    from springcad.report.outdir import atomic_output_dir, check_output_dir
-    from springcad.report.paper_report import write_paper_report
-    from springcad.validation.paper import validate_paper
-
-    def progress(message, fraction=None):
-        state["last"] = message
-        print(f"  {message}", file=sys.stderr, flush=True)
-
-    state = {"last": ""}
     inputs = [args.data, args.templates]
     check_output_dir(args.out, args.overwrite, inputs=inputs)  # before ~30 s of FEA
-    with stage("verify" if not args.no_fea else "design", lambda: state["last"]):
-        v = validate_paper(args.data, args.templates, use_fea=not args.no_fea, progress=progress)
+    v = sc.validate_paper(args.data, args.templates, use_fea=not args.no_fea,
+                       progress=console(indent="  "))
     with atomic_output_dir(args.out, overwrite=args.overwrite, inputs=inputs) as tmp:
         write_paper_report(v, tmp)
     s = v.to_dict()["summary"]

@@ -1,9 +1,38 @@
-"""A progress bar on stderr for long sweeps: candidates done, rate, time left."""
+"""Progress on the console (stderr): the library's progress messages, and a bar for sweeps.
+
+:func:`console` renders the one progress protocol of the library
+(:class:`springcad.progress.Progress`: ``progress(message, fraction=None)``);
+:class:`ProgressBar` renders a candidate sweep's counter
+(:func:`springcad.synthesis.runner.run_sweep`).
+"""
 
 from __future__ import annotations
 
 import sys
 import time
+
+
+def console(quiet: bool = False, indent: str | None = None, stream=None):
+    """A :class:`~springcad.progress.Progress` that prints each message on stderr.
+
+    Args:
+        quiet: print nothing.
+        indent: print ``indent + message``; None prints ``[elapsed s pct%] message``.
+        stream: where to print (default stderr).
+    """
+    t0 = time.perf_counter()
+
+    def report(message: str, fraction: float | None = None) -> None:
+        if quiet:
+            return
+        if indent is not None:
+            line = f"{indent}{message}"
+        else:
+            pct = "" if fraction is None else f" {100 * fraction:3.0f}%"
+            line = f"[{time.perf_counter() - t0:6.1f} s{pct}] {message}"
+        print(line, file=stream or sys.stderr, flush=True)
+
+    return report
 
 
 def _clock(seconds: float) -> str:

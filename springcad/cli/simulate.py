@@ -15,8 +15,10 @@ import argparse
 import math
 from pathlib import Path
 
-from springcad.cli.common import bounded, stage, warn
+import springcad.api as sc
+from springcad.cli.common import bounded, warn
 from springcad.errors import DataError
+from springcad.report.outdir import atomic_output_file, check_output_file
 
 
 def _floats(text: str) -> tuple[float, ...]:
@@ -48,33 +50,33 @@ def register(sub):
     g.add_argument("--amplitudes-deg", type=_floats, default=None,
                    help="ramp targets or sine amplitudes, deg (default 4,8,...,24 for the "
                         "staircase, 20 for sines)")
-    g.add_argument("--ramp-s", type=bounded(1e-3, 1e4, " s"), default=1.6,
+    g.add_argument("--ramp-s", type=bounded(1e-3, 1e4, " s"), default=None,
                    help="duration of every ramp, s, when no --rates-deg-per-s [1.6]")
     g.add_argument("--rates-deg-per-s", type=_floats, default=None,
                    help="ramp speeds, deg/s: the staircase is run once per rate")
-    g.add_argument("--profile", choices=("cosine", "linear"), default="cosine",
+    g.add_argument("--profile", choices=("cosine", "linear"), default=None,
                    help="ramp shape [cosine]")
-    g.add_argument("--hold-s", type=bounded(0, 1e4, " s"), default=0.0,
+    g.add_argument("--hold-s", type=bounded(0, 1e4, " s"), default=None,
                    help="hold at each peak, s [0]")
-    g.add_argument("--frequencies-hz", type=_floats, default=(0.1, 0.3, 1.0),
+    g.add_argument("--frequencies-hz", type=_floats, default=None,
                    help="sine frequencies, Hz [0.1,0.3,1]")
-    g.add_argument("--cycles", type=bounded(1, 1000, integer=True), default=3,
+    g.add_argument("--cycles", type=bounded(1, 1000, integer=True), default=None,
                    help="sine cycles per frequency [3]")
-    g.add_argument("--sample-rate-hz", type=bounded(1, 1e5, " Hz"), default=500.0,
+    g.add_argument("--sample-rate-hz", type=bounded(1, 1e5, " Hz"), default=None,
                    help="sample rate, Hz [500]")
-    g.add_argument("--rest-s", type=bounded(0, 1e3, " s"), default=0.5,
+    g.add_argument("--rest-s", type=bounded(0, 1e3, " s"), default=None,
                    help="rest before and after, s [0.5]")
     e = p.add_argument_group("effects and noise")
-    e.add_argument("--friction-Nm", type=bounded(0, 1e4, " N*m"), default=0.0,
+    e.add_argument("--friction-Nm", type=bounded(0, 1e4, " N*m"), default=None,
                    help="Coulomb friction torque N*m")
-    e.add_argument("--presliding-rad", type=bounded(0, 0.5, " rad"), default=0.005,
+    e.add_argument("--presliding-rad", type=bounded(0, 0.5, " rad"), default=None,
                    help="angle over which friction reverses, rad [0.005]")
-    e.add_argument("--lag-s", type=bounded(0, 1, " s"), default=0.0, help="torque channel lag s")
-    e.add_argument("--drift-Nm-per-s", type=bounded(-100, 100, " N*m/s"), default=0.0,
+    e.add_argument("--lag-s", type=bounded(0, 1, " s"), default=None, help="torque channel lag s")
+    e.add_argument("--drift-Nm-per-s", type=bounded(-100, 100, " N*m/s"), default=None,
                    help="torque zero drift N*m/s")
-    e.add_argument("--torque-noise-Nm", type=bounded(0, 1e4, " N*m"), default=0.03,
+    e.add_argument("--torque-noise-Nm", type=bounded(0, 1e4, " N*m"), default=None,
                    help="torque noise SD [0.03]")
-    e.add_argument("--deflection-noise-rad", type=bounded(0, 1, " rad"), default=1e-3,
+    e.add_argument("--deflection-noise-rad", type=bounded(0, 1, " rad"), default=None,
                    help="deflection noise SD [0.001]")
     e.add_argument("--camera-fps", type=bounded(0, 1e5, " Hz", lo_open=True), default=None,
                    help="deflection noise drawn per camera frame at this rate (correlated)")
@@ -85,57 +87,40 @@ def register(sub):
 
 
 def protocol_from_args(args):
-    """The protocol the options describe (rad, s)."""
-    from springcad.fit.protocols import PAPER_AMPLITUDES_RAD, Protocol, SineSweep
-
+    """The protocol the options describe (rad, s); options not given take its defaults."""
     amps = (None if args.amplitudes_deg is None
             else tuple(math.radians(a) for a in args.amplitudes_deg))
-    try:
-        if args.protocol == "sine":
-            return SineSweep(amps or (math.radians(20.0),), tuple(args.frequencies_hz),
-                             args.cycles, args.sample_rate_hz, args.rest_s)
-        rates = (None if args.rates_deg_per_s is None
-                 else tuple(math.radians(r) for r in args.rates_deg_per_s))
-        return Protocol(amps or PAPER_AMPLITUDES_RAD, args.ramp_s, args.profile,
-                        args.sample_rate_hz, args.rest_s, rates, args.hold_s)
-    except ValueError as err:
-        raise DataError(f"protocol: {err}") from None
+    if args.protocol == "sine":
+        return sc.bench_protocol("sine", amplitudes_rad=amps, frequencies_hz=args.frequencies_hz,
+                                 cycles=args.cycles, sample_rate_hz=args.sample_rate_hz,
+                                 rest_s=args.rest_s)
+    rates = (None if args.rates_deg_per_s is None
+             else tuple(math.radians(r) for r in args.rates_deg_per_s))
+    return sc.bench_protocol("staircase", amplitudes_rad=amps, ramp_s=args.ramp_s,
+                             profile=args.profile, sample_rate_hz=args.sample_rate_hz,
+                             rest_s=args.rest_s, rates_rad_per_s=rates, hold_s=args.hold_s)
 
 
 def run(args) -> int:
-    from springcad.fit.bench import BenchNoise, BenchSpring, simulate
-    from springcad.fit.data import to_csv_text
-    from springcad.report.outdir import atomic_output_file, check_output_file
-
     inputs = [args.config] if args.config is not None else []
     if args.config is None and args.stiffness is None:
         raise DataError("give a job CONFIG or --stiffness (N*m/rad)")
     check_output_file(args.out, args.overwrite, inputs=inputs)
-    k, b = args.stiffness, args.backlash_rad
+    spring = args.stiffness if args.config is None else sc.design_job(args.config)
     if args.config is not None:
-        from springcad.config import load_job
-        from springcad.design.job import design_job
-
-        job = load_job(args.config)
-        with stage("design", lambda: f"job {job.name}"):
-            design = design_job(job)
-        warn("simulate", design.warnings)
-        stack = design.stack
-        k = k or stack.stiffness_Nmm_per_rad / 1000
-        b = stack.backlash.nominal if b is None else b
-    b = b or 0.0
+        warn("simulate", spring.warnings)
     protocol = protocol_from_args(args)
-    with stage("simulate"):
-        noise = BenchNoise(args.torque_noise_Nm, args.deflection_noise_rad,
-                           camera_fps=args.camera_fps)
-        spring = BenchSpring(k, backlash_rad=b, friction_torque_Nm=args.friction_Nm,
-                             presliding_rad=args.presliding_rad, lag_s=args.lag_s,
-                             drift_Nm_per_s=args.drift_Nm_per_s)
-        sim = simulate(spring, protocol=protocol, noise=noise, seed=args.seed)
-        text = to_csv_text(sim.record)
+    noise = {"torque_Nm": args.torque_noise_Nm, "deflection_rad": args.deflection_noise_rad,
+             "camera_fps": args.camera_fps}
+    effects = {"friction_torque_Nm": args.friction_Nm, "presliding_rad": args.presliding_rad,
+               "lag_s": args.lag_s, "drift_Nm_per_s": args.drift_Nm_per_s}
+    sim = sc.simulate(spring, protocol=protocol, seed=args.seed, backlash_rad=args.backlash_rad,
+                      stiffness_Nm_per_rad=args.stiffness,
+                      noise={k: v for k, v in noise.items() if v is not None},
+                      **{k: v for k, v in effects.items() if v is not None})
     with atomic_output_file(args.out, args.overwrite, inputs=inputs) as tmp:
-        tmp.write_text(text)
+        tmp.write_text(sim.record.to_csv())
     print(f"wrote {args.out}: {sim.record.n_samples} samples ({protocol.duration_s:.4g} s, "
-          f"{protocol.describe()['kind']}), K = {k:.4g} N*m/rad, backlash {b:.4g} rad, "
-          f"seed {args.seed}")
+          f"{protocol.describe()['kind']}), K = {sim.spring.stiffness_Nm_per_rad:.4g} N*m/rad, "
+          f"backlash {sim.spring.backlash_rad:.4g} rad, seed {args.seed}")
     return 0

@@ -18,7 +18,11 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+import springcad.api as sc
 from springcad.cli.common import default_out
+from springcad.cli.progress import ProgressBar
+from springcad.options import SYNTHESIS
+from springcad.units import G_PER_KG
 
 
 def add_dask_options(p) -> None:
@@ -28,10 +32,16 @@ def add_dask_options(p) -> None:
                         "local cluster with one worker process per core")
     p.add_argument("--workers", type=int, default=None,
                    help="local cluster workers (default: every core)")
-    p.add_argument("--batch-size", type=int, default=2000,
-                   help="candidates per Dask task and per Parquet part (default 2000)")
+    p.add_argument("--batch-size", type=int, default=SYNTHESIS.batch_size,
+                   help="candidates per Dask task and per Parquet part (default %(default)s)")
     p.add_argument("--restart", action="store_true",
                    help="discard the parts of an earlier run in DIR instead of resuming it")
+
+
+def dask_options(args) -> dict:
+    """The Dask options as keyword arguments of ``sc.synthesize`` and ``sc.explore``."""
+    return {"scheduler": args.scheduler, "workers": args.workers,
+            "batch_size": args.batch_size, "restart": args.restart}
 
 
 def register(sub):
@@ -42,62 +52,36 @@ def register(sub):
                    help="run folder (default outputs/<requirements name>/); an interrupted "
                         "run in it is resumed")
     add_dask_options(p)
-    p.add_argument("--finalists", type=int, default=8,
+    p.add_argument("--finalists", type=int, default=SYNTHESIS.finalists,
                    help="screened stacks given the full design per round, best first; while "
-                        "none passes, the next round goes further down (default 8)")
-    p.add_argument("--max-finalists", type=int, default=40,
-                   help="most screened stacks given the full design in all (default 40)")
-    p.add_argument("--verify-top", type=int, default=2,
+                        "none passes, the next round goes further down (default %(default)s)")
+    p.add_argument("--max-finalists", type=int, default=SYNTHESIS.max_finalists,
+                   help="most screened stacks given the full design in all (default %(default)s)")
+    p.add_argument("--verify-top", type=int, default=SYNTHESIS.verify_top,
                    help="full-design-feasible finalists given the FEA and checks of "
                         "`springcad build`, best first; the winner is the first that passes "
-                        "(default 2)")
+                        "(default %(default)s)")
     p.add_argument("--no-verify", action="store_true",
                    help="skip the FEA and build checks of the finalists")
-    p.add_argument("--fea-model", choices=("2d", "2d3d"), default="2d3d",
+    p.add_argument("--fea-model", choices=("2d", "2d3d"), default=SYNTHESIS.fea_model,
                    help="FEA model of the finalists (default 2d3d: build's; 2d: plane stress "
                         "only, faster)")
     p.set_defaults(func=run)
 
 
-def check_dask_options(args) -> None:
-    from springcad.errors import SpringcadError
-
-    if args.batch_size < 1:
-        raise SpringcadError(f"--batch-size {args.batch_size}: must be at least 1")
-    if args.workers is not None and args.workers < 1:
-        raise SpringcadError(f"--workers {args.workers}: must be at least 1")
+def say(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
 
 
 def run(args) -> int:
-    from springcad.cli.progress import ProgressBar
-    from springcad.errors import SpringcadError
-    from springcad.report.jsonio import write_json
-    from springcad.synthesis.candidates import CandidateSpace
-    from springcad.synthesis.pipeline import summary_table, synthesize
+    from springcad.synthesis.pipeline import summary_table
     from springcad.synthesis.ranking import format_family_report
-    from springcad.synthesis.requirements import load_requirements
-    from springcad.synthesis.runner import dask_client
-    from springcad.synthesis.store import ResultStore
 
-    check_dask_options(args)
-    if args.finalists < 1 or args.max_finalists < 1:
-        raise SpringcadError("--finalists and --max-finalists must be at least 1")
-    req = load_requirements(args.requirements)
-    space = CandidateSpace.from_requirements(req)
     out = args.out or default_out(args.requirements)
-    store = ResultStore(out, req.fingerprint(), space.total, args.batch_size,
-                        overwrite=args.restart, resume=not args.restart)
-
-    def say(msg):
-        print(msg, file=sys.stderr, flush=True)
-
-    say(f"{space.total} candidate stacks in {store.n_batches} batches "
-        f"({len(store.pending_batches())} to evaluate)")
-    with dask_client(args.scheduler, args.workers) as client:
-        result = synthesize(req, space, store, client, finalists=args.finalists,
-                            max_finalists=args.max_finalists, verify_top=args.verify_top, verify=not args.no_verify,
-                            fea_model=args.fea_model, progress=ProgressBar(), say=say)
-    write_json(out / "synthesis.json", result.to_dict())
+    result = sc.synthesize(args.requirements, out, **dask_options(args),
+                           finalists=args.finalists, max_finalists=args.max_finalists,
+                           verify_top=args.verify_top, verify=not args.no_verify,
+                           fea_model=args.fea_model, progress=ProgressBar(), say=say)
     print(summary_table(result))
     failed = [f for f in result.finalists if not f["ok"]]
     if failed:
@@ -105,17 +89,16 @@ def run(args) -> int:
         for f in failed:
             print(f"  candidate {f['cid']} ({f['failure']}): {f['error'][:300]}")
     print()
-    print(format_family_report(result.families, req.objective_column))
+    print(format_family_report(result.families, result.requirements.objective_column))
     print()
     if result.winner is not None:
-        (out / "winner.toml").write_text(result.winner_toml())
         w = result.winner
         full = next(f for f in result.finalists if f["cid"] == int(w["cid"]))
         fea = result.verifications.get(int(w["cid"]), {})
-        built = (f" ({1000 * fea['mass_kg']:.1f} g with the FEA-corrected widths build makes)"
+        built = (f" ({G_PER_KG * fea['mass_kg']:.1f} g with the FEA-corrected widths build makes)"
                  if "mass_kg" in fea else "")
         print(f"winner: candidate {w['cid']} ({w['family']}, input {w['input']}), "
-              f"{1000 * full['mass_kg']:.1f} g{built}, {full['axial_length_mm']:.1f} mm long, "
+              f"{G_PER_KG * full['mass_kg']:.1f} g{built}, {full['axial_length_mm']:.1f} mm long, "
               f"R {full['envelope_radius_mm']:.2f} mm: {result.winner_status}")
         print(f"wrote {out / 'winner.toml'} (springcad build {out / 'winner.toml'})")
     else:

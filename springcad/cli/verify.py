@@ -13,12 +13,14 @@ failure (one message naming the spring; nothing written).
 
 from __future__ import annotations
 
-import sys
-import time
 from pathlib import Path
 
-from springcad.cli.common import bounded, default_out, stage, warn
+import springcad.api as sc
+from springcad.cli.common import bounded, default_out, warn
+from springcad.cli.progress import console
+from springcad.options import LEVELS_RANGE, LOADS, MESHERS, MODELS, TOLERANCE_PCT_RANGE, VERIFY
 from springcad.report.fea_outputs import write_outputs
+from springcad.report.outdir import atomic_output_dir, check_output_dir
 
 
 def register(sub):
@@ -28,72 +30,47 @@ def register(sub):
     p.add_argument("--out", type=Path, default=None,
                    help="output folder (default outputs/<config name>/verify)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output folder")
-    p.add_argument("--model", choices=("2d3d", "2d", "3d"), default="2d3d",
+    p.add_argument("--model", choices=MODELS, default=VERIFY.model,
                    help="2d3d: plane-stress convergence study x 3D tet factor (default); "
                         "3d: convergence study on quadratic tets (slow); 2d: plane stress only")
-    p.add_argument("--levels", type=bounded(3, 5, integer=True), default=3, help="mesh levels in the study (3 to 5)")
-    p.add_argument("--mesher", choices=("gmsh", "pytetwild"), default="gmsh",
+    p.add_argument("--levels", type=bounded(*LEVELS_RANGE, integer=True), default=VERIFY.levels,
+                   help="mesh levels in the study ({} to {})".format(*LEVELS_RANGE))
+    p.add_argument("--mesher", choices=MESHERS, default=VERIFY.mesher,
                    help="gmsh: exact face, nested levels, extruded quadratic tets (default); "
                         "pytetwild: fTetWild on the CAD solid (implies --model 3d, ~1 min)")
-    p.add_argument("--tolerance-pct", type=bounded(0.01, 50, " %"), default=1.0,
-                   help="accepted stiffness error vs target in %% (default 1)")
-    p.add_argument("--no-correct", action="store_true",
+    p.add_argument("--tolerance-pct", type=bounded(*TOLERANCE_PCT_RANGE, " %", lo_open=True,
+                                                   hi_open=True),
+                   default=VERIFY.tolerance_pct,
+                   help="accepted stiffness error vs target in %% (default %(default)g)")
+    p.add_argument("--no-correct", dest="correct", action="store_false",
                    help="verify the design as it is, without the width correction")
-    p.add_argument("--load", choices=("traction", "rigid_cam"), default="traction",
+    p.add_argument("--load", choices=LOADS, default=VERIFY.load,
                    help="cam load model (default: smooth tangential traction patch)")
     p.add_argument("--support-study", action="store_true",
                    help="also compare the rim held at the outer face vs at the rim holes "
                         "(full ring, ~10 s per spring)")
-    p.add_argument("--no-contact", action="store_true",
+    p.add_argument("--no-contact", dest="contact", action="store_false",
                    help="skip the cam contact sweep (rigid cam turned to +-max deflection)")
     p.add_argument("--no-render", action="store_true", help="skip .vtu and PNG outputs")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
-    p.set_defaults(func=run)
-
-
-def _progress(quiet: bool, state: dict):
-    t0 = time.perf_counter()
-
-    def report(message: str, fraction: float | None = None) -> None:
-        if message.startswith("verifying spring "):
-            state["spring"] = message.split()[2]
-        if not quiet:
-            pct = "" if fraction is None else f" {100 * fraction:3.0f}%"
-            print(f"[{time.perf_counter() - t0:6.1f} s{pct}] {message}", file=sys.stderr,
-                  flush=True)
-
-    return report
+    p.set_defaults(func=run, correct=VERIFY.correct, contact=VERIFY.contact)
 
 
 def run(args) -> int:
-    from springcad.config import load_job
-    from springcad.report.outdir import atomic_output_dir, check_output_dir
-
     out = args.out or default_out(args.config) / "verify"
-    job = load_job(args.config)
+    job = sc.load(args.config)
     check_output_dir(out, args.overwrite, inputs=[args.config])  # fail before the work
-
-    from fea.problem import LoadCase
-    from fea.verify import VerifyOptions, verify_job
-    from springcad.design.job import design_job
-
-    state = {"spring": ""}
-    progress = _progress(args.quiet, state)
-    model = "3d" if args.mesher == "pytetwild" else args.model
-    options = VerifyOptions(model=model, levels=args.levels, mesher=args.mesher,
-                            tolerance=args.tolerance_pct / 100.0, correct=not args.no_correct,
-                            case=LoadCase(load=args.load), keep_fields=not args.no_render,
-                            support_study=args.support_study, contact=not args.no_contact)
-    progress("designing")
-    with stage("design", lambda: f"job {job.name}"):
-        design = design_job(job)
+    progress = console(args.quiet)
+    design = sc.design_job(job)
     warn("verify", design.warnings)
-    with stage("verify", lambda: f"spring {state['spring']}" if state["spring"] else ""):
-        result = verify_job(design, options, progress)
+    result = sc.verify(design, model=args.model, levels=args.levels, mesher=args.mesher,
+                       tolerance_pct=args.tolerance_pct, correct=args.correct, load=args.load,
+                       support_study=args.support_study, contact=args.contact,
+                       keep_fields=not args.no_render, progress=progress)
     with atomic_output_dir(out, overwrite=args.overwrite, inputs=[args.config]) as tmp:
-        write_outputs(result, tmp, render=not args.no_render, progress=progress)
-    print(result.summary())
-    for finding in result.release_failures():  # not a verification failure: build's gate
+        write_outputs(result.raw, tmp, render=not args.no_render, progress=progress)
+    print(result.raw.summary())
+    for finding in result.raw.release_failures():  # not a verification failure: build's gate
         print(f"  contact: {finding}")
     print(f"\nwrote {out / 'fea.json'}")
     return 0 if result.ok else 1

@@ -10,7 +10,7 @@ Quantities reported are physically valid or refused:
 * a torque that falls with deflection, or a stiffness a unit factor (180/π,
   1000) away from the target, is refused as a channel sign or unit mistake
   (the unit mistake is kept with a warning when the user vouches for the
-  units: ``trust_units``, ``--trust-units``);
+  units: ``trust_units``);
 * the energy loss comes from the hysteresis model only (the loop area of the
   friction term over the energy stored on loading), so lags, drifts and
   offsets cannot make it negative; with no hysteresis above noise it is zero,
@@ -37,17 +37,19 @@ from springcad.fit.models import PaperModelFit, fit_paper_models, rmse, stiffnes
 from springcad.fit.segment import CycleEnergy, Segmentation, cycle_energies, segment
 from springcad.fit.signals import Signals, make_signals
 from springcad.fit.torque_model import single_threaded_blas
+from springcad.options import spell
 
 SCHEMA = "springcad.fit/2"
 
 #: unit factors a stiffness can be off by when a unit is misread:
-#: (factor, the factor in words, what happened, the fix)
+#: (factor, the factor in words, what happened, the fix: pass or drop an option's value)
 UNIT_FACTORS = (
-    (180.0 / math.pi, "57.3 (180/pi)", "angles in rad were read as degrees", "drop --angle-unit deg"),
+    (180.0 / math.pi, "57.3 (180/pi)", "angles in rad were read as degrees",
+     ("drop", "angle_unit", "deg")),
     (math.pi / 180.0, "1/57.3 (pi/180)", "angles in degrees were read as rad",
-     "pass --angle-unit deg"),
-    (1000.0, "1000", "torque in N·mm was read as N·m", "pass --torque-unit Nmm"),
-    (1e-3, "1/1000", "torque in N·m was read as N·mm", "drop --torque-unit Nmm"))
+     ("pass", "angle_unit", "deg")),
+    (1000.0, "1000", "torque in N·mm was read as N·m", ("pass", "torque_unit", "Nmm")),
+    (1e-3, "1/1000", "torque in N·m was read as N·mm", ("drop", "torque_unit", "Nmm")))
 #: a stiffness within this factor of a unit factor times the target reads as a unit mistake
 #: (a real spring misses its target by tens of percent, not by 38 to 86 times)
 UNIT_FACTOR_TOLERANCE = 1.5
@@ -206,7 +208,7 @@ def fit_record(record: BenchRecord, target_stiffness_Nm_per_rad: float | None = 
         design: the job's design dict, for the comparison with the design.
         settings: residual-loop settings.
         trust_units: keep a stiffness a unit factor away from the target (the
-            user vouches for the units; ``--trust-units``): a warning in the
+            user vouches for the units): a warning in the
             record's warnings instead of the refusal.
 
     Returns:
@@ -261,12 +263,13 @@ def unit_factor_problem(k: float, target: float) -> str | None:
     """Why a fitted stiffness ``k`` (N·m/rad) a unit factor from ``target`` reads as a unit
     mistake, naming the factor and the option to fix; ``None`` when it does not."""
     ratio = k / target
-    for factor, words, why, fix in UNIT_FACTORS:
+    for factor, words, why, (verb, option, value) in UNIT_FACTORS:
         if abs(math.log(ratio / factor)) < math.log(UNIT_FACTOR_TOLERANCE):
             return (f"the fitted stiffness {k:.4g} N·m/rad is {ratio:.4g} × the target "
                     f"{target:.4g} N·m/rad, close to a unit factor of {words}: the data "
-                    f"contradicts the units it was read in; likely {why}: {fix} (if the "
-                    "target is what is wrong, correct --target-stiffness or the job's stiffness)")
+                    f"contradicts the units it was read in; likely {why}: {verb} "
+                    f"{spell(option, value)} (if the target is what is wrong, correct "
+                    f"{spell('target_stiffness_Nm_per_rad')} or the job's stiffness)")
     return None
 
 

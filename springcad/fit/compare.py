@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from springcad.errors import ConfigError, SpringcadError
 from springcad.fit.models import stiffness_error_pct
+from springcad.options import spell
 
 #: (name, low key, high key) of the backlash ranges in ``stack.backlash_rad``
 BACKLASH_RANGES = (
@@ -133,6 +134,7 @@ def design_from_config(path) -> dict:
         if err.name not in ("springcad.config", "springcad.design.job", "springcad.design"):
             raise
         raise SpringcadError(
-            f"--config needs the design core ({err.name}), which this installation does not "
-            "have; use --target-stiffness to compare with a target instead") from None
+            f"{spell('design')} needs the design core ({err.name}), which this installation "
+            f"does not have; use {spell('target_stiffness_Nm_per_rad')} to compare with a "
+            "target instead") from None
     return design_job(load_job(path)).to_dict()

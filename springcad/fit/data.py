@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import csv
 import io
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -18,6 +19,8 @@ import numpy as np
 
 from springcad import units
 from springcad.errors import DataError
+from springcad.options import ANGLE_UNITS, BENCH, TORQUE_UNITS, check_choice, spell
+from springcad.textio import decode_utf8
 
 #: Fewer samples than this cannot be segmented into cycles and cross-validated.
 MIN_SAMPLES = 200
@@ -28,8 +31,6 @@ AUTO_ENCODER_COLUMNS = {
     "deg": ("encoder_in_deg", "encoder_out_deg"),
 }
 
-ANGLE_UNITS = ("rad", "deg")
-TORQUE_UNITS = ("Nm", "Nmm")
 
 
 @dataclass(frozen=True)
@@ -47,9 +48,9 @@ class ColumnMap:
             present.
     """
 
-    time: str = "time_s"
-    torque: str = "torque_Nm"
-    deflection: str = "deflection_rad"
+    time: str = BENCH.time_col
+    torque: str = BENCH.torque_col
+    deflection: str = BENCH.deflection_col
     encoder: tuple[str, ...] | None = None
 
 
@@ -86,14 +87,30 @@ class BenchRecord:
         """Median sample rate (Hz)."""
         return float(1.0 / np.median(np.diff(self.time_s)))
 
+    def to_csv(self) -> str:
+        """The record as bench CSV text (see :func:`to_csv_text`)."""
+        return to_csv_text(self)
+
+
+#: a bench record is a few MB (20 000 samples at 500 Hz); refuse absurd files before reading
+MAX_CSV_BYTES = 200_000_000
+#: physical bounds of a torsion-spring bench record (N*m, rad): outside them the units or the
+#: file are wrong, and the fit's numerics would be meaningless
+TORQUE_RANGE_NM = (1e-6, 1e6)
+DEFLECTION_RANGE_RAD = (1e-6, 1e4)
+#: correlation of torque with deflection below minus this reads as a flipped channel
+FLIPPED_CORRELATION = 0.3
+
 
 def read_bench_csv(path: Path | str, columns: ColumnMap = ColumnMap(),
-                   angle_unit: str = "rad", torque_unit: str = "Nm",
+                   angle_unit: str = BENCH.angle_unit, torque_unit: str = BENCH.torque_unit,
                    trust_units: bool = False) -> BenchRecord:
-    """Read and validate a bench CSV.
+    """Read and validate a bench CSV: the one reader of every door.
 
-    Lines starting with ``#`` and blank lines are skipped; the first other line
-    is the header. Columns not named in ``columns`` are ignored.
+    The file may be at most :data:`MAX_CSV_BYTES`, UTF-8 (a leading byte-order mark is
+    dropped). Lines starting with ``#`` and blank lines are skipped; the first other line
+    is the header. Columns not named in ``columns`` are ignored. The record must look
+    like a torsion-spring bench record (:func:`check_record`).
 
     Args:
         path: CSV file (read only).
@@ -107,27 +124,66 @@ def read_bench_csv(path: Path | str, columns: ColumnMap = ColumnMap(),
         The record in s, N·m and rad.
 
     Raises:
-        DataError: missing file or columns, non-numeric or non-finite values,
-            time not strictly increasing, too few samples, constant channels,
-            units the data contradicts.
+        DataError: missing, unreadable, too large or not UTF-8 file; missing columns,
+            non-numeric or non-finite values, time not strictly increasing, too few
+            samples, constant channels, units the data contradicts, magnitudes out of
+            range or a flipped sign.
+        ConfigError: an angle or torque unit that is not one of the allowed.
     """
     path = Path(path)
-    if not path.is_file():
-        raise DataError(f"bench data file '{path}' does not exist or is not a file")
-    with open(path, newline="", encoding="utf-8-sig") as fh:
-        text = fh.read()
-    return parse_bench_csv(text, columns, angle_unit, torque_unit, source=str(path),
-                           trust_units=trust_units)
+    try:
+        if not path.is_file():
+            raise DataError(f"bench data file '{path}' does not exist or is not a file")
+        if path.stat().st_size > MAX_CSV_BYTES:
+            raise DataError(f"bench data file '{path}' is larger than "
+                            f"{MAX_CSV_BYTES // 1_000_000} MB; split the record")
+        raw = path.read_bytes()
+    except OSError as err:
+        raise DataError(f"bench data file '{path}' cannot be read: {err.strerror or err}") from None
+    text, problem = decode_utf8(raw)
+    if text is None:
+        raise DataError(f"bench data file '{path}' {problem}")
+    record = parse_bench_csv(text, columns, angle_unit, torque_unit, source=str(path),
+                             trust_units=trust_units)
+    check_record(record)
+    return record
+
+
+def check_record(record: BenchRecord) -> None:
+    """Refuse records no torsion spring produces: magnitudes out of range, torque falling
+    as the deflection rises (a flipped sign).
+
+    Raises:
+        DataError: naming the channel, the value and what to check.
+    """
+    src = record.source
+    for name, values, (lo, hi), unit in (
+            ("torque", record.torque_Nm, TORQUE_RANGE_NM, "N*m"),
+            ("deflection", record.deflection_rad, DEFLECTION_RANGE_RAD, "rad")):
+        peak = float(np.max(np.abs(values)))
+        if not lo <= peak <= hi:
+            raise DataError(f"{src}: the {name} peaks at {peak:.3g} {unit}; a torsion-spring bench "
+                            f"record lies between {lo:g} and {hi:g} {unit}: check the column's "
+                            f"unit ({spell('torque_unit')}, {spell('angle_unit')}) and scale")
+    x = record.deflection_rad - record.deflection_rad.mean()
+    y = record.torque_Nm - record.torque_Nm.mean()
+    slope = float(x @ y) / float(x @ x)
+    # a record with no spring (torque noise only) has a slope of either sign: it is refused
+    # only when the torque clearly follows the deflection downwards, and otherwise the fit
+    # reports whether any stiffness stands above the noise
+    correlation = float(x @ y) / math.sqrt(float(x @ x) * float(y @ y))
+    if correlation < -FLIPPED_CORRELATION:
+        raise DataError(f"{src}: the torque falls as the deflection rises (least-squares slope "
+                        f"{slope:.3g} N*m/rad): the sign of the torque or the deflection column "
+                        "is flipped; negate one of them")
 
 
 def parse_bench_csv(text: str, columns: ColumnMap = ColumnMap(), angle_unit: str = "rad",
                     torque_unit: str = "Nm", source: str = "<text>",
                     trust_units: bool = False) -> BenchRecord:
-    """Parse and validate bench CSV text (see :func:`read_bench_csv`)."""
-    if angle_unit not in ANGLE_UNITS:
-        raise DataError(f"angle unit {angle_unit!r} is not one of {ANGLE_UNITS}")
-    if torque_unit not in TORQUE_UNITS:
-        raise DataError(f"torque unit {torque_unit!r} is not one of {TORQUE_UNITS}")
+    """Parse and validate bench CSV text (see :func:`read_bench_csv`; no range checks)."""
+    check_choice("angle_unit", angle_unit, ANGLE_UNITS)
+    check_choice("torque_unit", torque_unit, TORQUE_UNITS)
     header, line_numbers, rows = _split_rows(text, source)
     encoder = columns.encoder
     if encoder is None:
@@ -136,10 +192,10 @@ def parse_bench_csv(text: str, columns: ColumnMap = ColumnMap(), angle_unit: str
     if len(encoder) > 2:
         raise DataError(f"at most two encoder columns (input, output) can be given, got {list(encoder)}")
     wanted = {"time": columns.time, "torque": columns.torque, "deflection": columns.deflection}
-    option = {"time": "--time-col", "torque": "--torque-col", "deflection": "--deflection-col"}
-    missing = [f"'{name}' ({role}; choose another with {option[role]})"
+    missing = [f"'{name}' ({role}; choose another with {spell(role + '_col')})"
                for role, name in wanted.items() if name not in header]
-    missing += [f"'{name}' (encoder; see --encoder-cols)" for name in encoder if name not in header]
+    missing += [f"'{name}' (encoder; see {spell('encoder_cols')})" for name in encoder
+                if name not in header]
     if missing:
         raise DataError(f"{source}: missing column(s) {', '.join(missing)}; "
                         f"the header has: {', '.join(header)}")
@@ -180,7 +236,7 @@ def make_record(time_s, torque_Nm, deflection_rad, encoder_deflection_rad=None, 
         names: column names for messages (keys ``time``, ``torque``, ``deflection``).
         angle_unit: unit the angles were given in, for unit warnings.
         torque_unit: unit the torque was given in, for unit warnings.
-        trust_units: the user vouches for the units (``--trust-units``): a unit
+        trust_units: the user vouches for the units (``trust_units``): a unit
             the magnitudes contradict is a warning, not a refusal.
 
     Raises:
@@ -294,21 +350,19 @@ IMPLIED_STIFFNESS_RANGE_NM_PER_RAD = (0.05, 1e5)
 #: read as N·mm, a spring softer than this (N·m/rad) is worth a question: the springs
 #: springcad designs and benches are tens to hundreds of N·m/rad (templates: 37.5 to 150)
 SOFT_IN_NMM_NM_PER_RAD = 1.0
-#: the option that keeps units the data contradicts
-TRUST_UNITS_OPTION = "--trust-units"
 
 
 def unit_contradiction(message: str, source: str, trust_units: bool) -> str:
     """A unit the data contradicts: raise it, or return it as a warning when the user
-    vouches for the units (``--trust-units``).
+    vouches for the units (``trust_units``).
 
     Raises:
         DataError: unless ``trust_units``.
     """
     if trust_units:
-        return f"{message} (kept: {TRUST_UNITS_OPTION})"
+        return f"{message} (kept: {spell('trust_units', True)})"
     raise DataError(f"{source}: {message}; if the units are right after all, pass "
-                    f"{TRUST_UNITS_OPTION}")
+                    f"{spell('trust_units', True)}")
 
 
 def _named_unit_contradictions(angle_columns: list[str], torque_column: str, angle_unit: str,
@@ -318,16 +372,16 @@ def _named_unit_contradictions(angle_columns: list[str], torque_column: str, ang
     for name in angle_columns:
         stated = "deg" if name.endswith("_deg") else "rad" if name.endswith("_rad") else None
         if stated is not None and stated != angle_unit:
-            out.append(f"column '{name}' is named in {stated} but --angle-unit {angle_unit} was "
-                       f"given, which would scale every angle by "
-                       f"{'pi/180' if angle_unit == 'deg' else '180/pi'}; pass --angle-unit "
-                       f"{stated} (or rename the column if its name is wrong)")
+            out.append(f"column '{name}' is named in {stated} but {spell('angle_unit', angle_unit)}"
+                       f" was given, which would scale every angle by "
+                       f"{'pi/180' if angle_unit == 'deg' else '180/pi'}; pass "
+                       f"{spell('angle_unit', stated)} (or rename the column if its name is wrong)")
     stated = ("Nmm" if torque_column.endswith("_Nmm") else
               "Nm" if torque_column.endswith("_Nm") else None)
     if stated is not None and stated != torque_unit:
-        out.append(f"column '{torque_column}' is named in {stated} but --torque-unit "
-                   f"{torque_unit} was given (a factor 1000); pass --torque-unit {stated} "
-                   "(or rename the column if its name is wrong)")
+        out.append(f"column '{torque_column}' is named in {stated} but "
+                   f"{spell('torque_unit', torque_unit)} was given (a factor 1000); pass "
+                   f"{spell('torque_unit', stated)} (or rename the column if its name is wrong)")
     return out
 
 
@@ -348,13 +402,15 @@ def _unit_warnings(arrays: dict, names: dict, angle_unit: str, source: str,
     torque_max = float(np.max(np.abs(arrays["torque"])))
     rate_hz = 1.0 / float(np.median(np.diff(arrays["time"])))
     if theta_max > MAX_DEFLECTION_RAD:
-        hint = ("if the column is in degrees, pass --angle-unit deg" if angle_unit == "rad"
+        hint = (f"if the column is in degrees, pass {spell('angle_unit', 'deg')}"
+                if angle_unit == "rad"
                 else "check the angle unit")
         raise DataError(f"{source}: deflection reaches {theta_max:.4g} rad ({theta_max / (2 * np.pi):.3g} "
                         f"turns), more than a full turn, which no flexure torsion spring deflects: "
                         f"{hint}")
     if theta_max > 2.0:
-        hint = ("pass --angle-unit deg if the column is in degrees" if angle_unit == "rad"
+        hint = (f"pass {spell('angle_unit', 'deg')} if the column is in degrees"
+                if angle_unit == "rad"
                 else "check the angle unit")
         out.append(f"deflection reaches {theta_max:.3g} rad ({units.rad_to_deg(theta_max):.0f} deg), "
                    f"more than any compact torsion spring deflects: {hint}")
@@ -365,13 +421,13 @@ def _unit_warnings(arrays: dict, names: dict, angle_unit: str, source: str,
         # the file's angles never reach one degree: what angles in rad look like, and 180/pi
         # times less than the ramps (several degrees) a torsion-spring bench runs
         out.append(unit_contradiction(
-            f"read with --angle-unit deg, the deflection never exceeds "
+            f"read with {spell('angle_unit', 'deg')}, the deflection never exceeds "
             f"{units.rad_to_deg(theta_max):.3g} deg, less than the degree or more a bench ramp "
             "reaches; values this small are angles in rad (a factor 57.3 = 180/pi): drop "
-            "--angle-unit deg", source, trust_units))
+            f"{spell('angle_unit', 'deg')}", source, trust_units))
     if torque_max > 2000.0:
         out.append(f"torque reaches {torque_max:.4g} N·m: if the column is in N·mm, "
-                   "pass --torque-unit Nmm")
+                   f"pass {spell('torque_unit', 'Nmm')}")
     elif torque_max < 1e-2:
         out.append(f"torque never exceeds {torque_max:.3g} N·m: is the column in N·m?")
     if rate_hz < 5.0:
@@ -386,14 +442,15 @@ def _unit_warnings(arrays: dict, names: dict, angle_unit: str, source: str,
     if torque_unit == "Nmm" and implied < low <= 1000.0 * implied <= high:
         # read as N*mm the spring is implausibly soft, read as N*m it is an ordinary one
         out.append(unit_contradiction(
-            f"read with --torque-unit Nmm, torque range over deflection range is "
+            f"read with {spell('torque_unit', 'Nmm')}, torque range over deflection range is "
             f"{implied:.3g} N·m/rad, softer than any torsion spring bench measures, and "
             f"{1000.0 * implied:.3g} N·m/rad read as N·m (a factor 1000): the torque column is "
-            "in N·m; drop --torque-unit Nmm", source, trust_units))
+            f"in N·m; drop {spell('torque_unit', 'Nmm')}", source, trust_units))
     elif torque_unit == "Nmm" and low <= implied < SOFT_IN_NMM_NM_PER_RAD <= 1000.0 * implied <= high:
-        out.append(f"read with --torque-unit Nmm, torque range over deflection range is "
-                   f"{implied:.3g} N·m/rad, a very soft spring, and {1000.0 * implied:.3g} "
-                   "N·m/rad read as N·m: is the column in N·m? If so, drop --torque-unit Nmm "
+        out.append(f"read with {spell('torque_unit', 'Nmm')}, torque range over deflection "
+                   f"range is {implied:.3g} N·m/rad, a very soft spring, and "
+                   f"{1000.0 * implied:.3g} N·m/rad read as N·m: is the column in N·m? If so, "
+                   f"drop {spell('torque_unit', 'Nmm')} "
                    "(with a target stiffness, the fit checks this against it)")
     elif implied < low or implied > high:
         out.append(f"torque range over deflection range is {implied:.3g} N·m/rad, far from any "

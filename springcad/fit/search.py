@@ -25,6 +25,7 @@ from springcad.fit.nuisance import nuisance_views
 from springcad.fit.residual import noise_model
 from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel
+from springcad.options import spell
 
 
 #: a family's law replaces the library's when it lowers the held-out criterion by this much
@@ -347,8 +348,8 @@ class Search:
                     # a compliance winds the encoder up with the torque: a falling
                     # difference is a sign convention, not a negative stiffness
                     note = ("encoder minus optical deflection falls with torque (series stiffness "
-                            "would be negative): check the encoder column order (--encoder-cols "
-                            "INPUT OUTPUT) and sign")
+                            "would be negative): check the encoder column order "
+                            f"({spell('encoder_cols')}: input, output) and sign")
                 cands.append(Candidate(effect.name, z, fitted, gain if fitted else None, r1, note))
                 if fitted and note is None:
                     keep = ~find_glitches(sig.torque, self.s.glitch_threshold)

@@ -17,11 +17,15 @@ Units: mm, mm^3.
 
 from __future__ import annotations
 
+import time
 from dataclasses import asdict, dataclass, field
 
 from springcad.design.connections import connection_sequence
-from springcad.errors import GeometryError
-from springcad.progress import Progress, no_progress
+from springcad.errors import CheckFailed, GeometryError
+from springcad.options import spell
+from springcad.geometry.stack import build_stack
+from springcad.progress import Progress, Tracker, no_progress
+from springcad.stages import stage
 
 #: measured cam-to-tip clearance must equal the designed gap within this (mm): the
 #: kernel's spline edges match the design curves to ~1 um
@@ -102,8 +106,8 @@ class CheckReport:
             raise ChecksFailed(self, accept_violations)
 
 
-class ChecksFailed(GeometryError):
-    """A build failed its checks; ``report`` holds every check."""
+class ChecksFailed(CheckFailed):
+    """A build failed its checks; ``report`` holds every check (a :class:`CheckFailed`)."""
 
     def __init__(self, report: CheckReport, accept_violations: bool):
         self.report = report
@@ -116,7 +120,8 @@ class ChecksFailed(GeometryError):
             if c.kind == "rule" and len(c.details) > 3:
                 lines.append(f"    ... {len(c.details) - 3} more")
         if report.violations and not report.errors and not accept_violations:
-            lines.append("change the design or pass --accept-violations to build anyway")
+            lines.append(f"change the design or pass {spell('accept_violations', True)} to build "
+                         "anyway")
         super().__init__("\n".join(lines))
 
 
@@ -326,3 +331,33 @@ def run_checks(assembly, progress: Progress = no_progress) -> CheckReport:
     checks += clearance_checks(assembly)
     checks += connection_checks(assembly)
     return CheckReport(checks)
+
+
+def build_and_check(job_design, progress: Progress | None = None):
+    """The build stage of every door: the solids of every part, then every check.
+
+    ``sc.build`` and the synthesis finalists both run it. A CAD-kernel failure becomes a
+    :class:`~springcad.errors.StageError` naming the stage ("solids" or "checks") and the
+    part being worked on.
+
+    Args:
+        job_design: a :class:`~springcad.design.job.JobDesign`.
+        progress: optional ``progress(message, fraction=None)``.
+
+    Returns:
+        ``(assembly, report, timings_s)``: the
+        :class:`~springcad.geometry.stack.StackAssembly` (mm), its :class:`CheckReport`
+        and the seconds each of the two steps took.
+    """
+    track = Tracker(progress)
+    timings = {}
+    t0 = time.perf_counter()
+    with stage("solids", track.subject("solids")):
+        assembly = build_stack(job_design, progress=track)
+    timings["solids"] = round(time.perf_counter() - t0, 3)
+    t0 = time.perf_counter()
+    track.last = ""
+    with stage("checks", track.subject("checks")):
+        report = run_checks(assembly, progress=track)
+    timings["checks"] = round(time.perf_counter() - t0, 3)
+    return assembly, report, timings

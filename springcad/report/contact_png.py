@@ -12,6 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
+from springcad.units import NMM_PER_NM
+
 _COLOURS = {"+": "tab:blue", "-": "tab:red"}
 
 
@@ -19,13 +21,14 @@ def _curve_axes(ax, sweep):
     deg = math.degrees
     for key, steps in sweep.steps.items():
         th = [deg(s.angle_rad) for s in steps]
-        ax.plot(th, [s.torque_Nmm / 1000 for s in steps], "o-", color=_COLOURS[key],
+        ax.plot(th, [s.torque_Nmm / NMM_PER_NM for s in steps], "o-", color=_COLOURS[key],
                 label=f"{key} contact FEA")
         on = sweep.onset_rad.get(key, math.nan)
         if math.isfinite(on):
             end = steps[-1].angle_rad
             ref = np.linspace(on, end, 50)
-            ax.plot(np.degrees(ref), sweep.stiffness_linear_Nmm_per_rad * (ref - on) / 1000, "--",
+            ax.plot(np.degrees(ref),
+                    sweep.stiffness_linear_Nmm_per_rad * (ref - on) / NMM_PER_NM, "--",
                     color="0.4", lw=1)
             ax.axvspan(0, deg(on), color="0.85", lw=0)
     ax.plot([], [], "--", color="0.4", lw=1, label="linear FEA K (theta - onset)")
@@ -39,20 +42,20 @@ def _curve_axes(ax, sweep):
 
 def _stiffness_axes(ax, sweep):
     deg = math.degrees
-    k_lin = sweep.stiffness_linear_Nmm_per_rad / 1000
+    k_lin = sweep.stiffness_linear_Nmm_per_rad / NMM_PER_NM
     tol = sweep.options.linearity_tolerance
     ax.axhspan(k_lin * (1 - tol), k_lin * (1 + tol), color="0.9", lw=0,
                label=f"linear FEA +-{100 * tol:g} %")
     ax.axhline(k_lin, color="0.3", lw=1)
     if sweep.stiffness_verified_Nmm_per_rad:
-        ax.axhline(sweep.stiffness_verified_Nmm_per_rad / 1000, color="0.3", lw=1, ls=":",
+        ax.axhline(sweep.stiffness_verified_Nmm_per_rad / NMM_PER_NM, color="0.3", lw=1, ls=":",
                    label="verified K (3D factor)")
     for key, steps in sweep.steps.items():
         c = _COLOURS[key]
         for attr, marker, what in (("secant_Nmm_per_rad", "o", "secant T/theta"),
                                    ("engaged_secant_Nmm_per_rad", "s", "T/(theta - onset)"),
                                    ("tangent_Nmm_per_rad", "^", "tangent")):
-            pts = [(deg(s.angle_rad), getattr(s, attr) / 1000) for s in steps
+            pts = [(deg(s.angle_rad), getattr(s, attr) / NMM_PER_NM) for s in steps
                    if getattr(s, attr) is not None]
             if pts:
                 x, y = zip(*pts)
@@ -60,11 +63,12 @@ def _stiffness_axes(ax, sweep):
                         ms=5, lw=1, label=f"{key} {what}")
         small = sweep.small_angle_Nmm_per_rad.get(key)
         if small is not None:
-            ax.plot([deg(sweep.onset_rad[key])], [small / 1000], "*", color=c, ms=12,
+            ax.plot([deg(sweep.onset_rad[key])], [small / NMM_PER_NM], "*", color=c, ms=12,
                     label=f"{key} small angle ({100 * sweep.small_angle_error(key):+.2f} %)")
-    lo = min(0.55 * k_lin, *(0.95 * s.tangent_Nmm_per_rad / 1000 for v in sweep.steps.values()
-                              for s in v if s.tangent_Nmm_per_rad is not None))
-    hi = max(1.2 * k_lin, *(s.tangent_Nmm_per_rad / 1000 for v in sweep.steps.values()
+    lo = min(0.55 * k_lin, *(0.95 * s.tangent_Nmm_per_rad / NMM_PER_NM
+                             for v in sweep.steps.values()
+                             for s in v if s.tangent_Nmm_per_rad is not None))
+    hi = max(1.2 * k_lin, *(s.tangent_Nmm_per_rad / NMM_PER_NM for v in sweep.steps.values()
                              for s in v if s.tangent_Nmm_per_rad is not None))
     ax.set_ylim(max(0.0, lo), min(hi, 2.0 * k_lin))
     ax.set_xlabel("cam angle (deg)")

@@ -28,6 +28,7 @@ from springcad.design.stack import camshaft_indices, connection_sequence
 from springcad.design.tolerance import backlash_rad, gap_range_mm
 from springcad.errors import DesignError
 from springcad.synthesis.screening import REASONS, screen_disks
+from springcad.units import MM3_PER_CM3, NMM_PER_NM
 
 #: stack-level constraints after the disk ones
 HOLES, AXIAL, RADIAL, STIFFNESS = "rim_holes", "axial_length", "envelope_radius", "stiffness"
@@ -66,8 +67,8 @@ def describe(binding: str, value: float, limit: float, disk: str = "") -> str:
         return (f"{who}stores {value:.3g} J but flexures between the smallest contact radius "
                 f"and the rim hold at most {limit:.3g} J at the design stress")
     if binding == "torque_cap":
-        return (f"{who}peak torque {value / 1e3:.3g} N*m > tip-ball torque cap {limit / 1e3:.3g} "
-                "N*m at this r_c and thickness")
+        return (f"{who}peak torque {value / NMM_PER_NM:.3g} N*m > tip-ball torque cap "
+                f"{limit / NMM_PER_NM:.3g} N*m at this r_c and thickness")
     if binding == "flexure_fit":
         return f"{who}{value:.0f} flexures requested, at most {limit:.0f} tip balls fit around r_c"
     if binding == "rim_rule":
@@ -252,7 +253,7 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
 
     K, th = cols["stiffness_Nmm_per_rad"], cols["deflection_rad"]
     energy = 0.5 * K * th ** 2 * 1e-3
-    volume_cm3 = np.pi * r_env ** 2 * height / 1e3
+    volume_cm3 = np.pi * r_env ** 2 * height / MM3_PER_CM3
     w_gap = mfg.w_gap_mm
     d_max = gap_range_mm(w_gap, mfg.t_spring_mm, mfg.t_shaft_mm)[2]
     n_cams = np.array([len(set(camshaft_indices(connection_sequence(int(k), space.inputs[j])[0])))
@@ -266,8 +267,8 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
         "n_disks": n, "n_a": n_a, "n_b": n_b,
         "material": np.array([space.materials[j].name for j in cols["material"]], dtype=object),
         "input": np.array([space.inputs[j] for j in cols["input"]], dtype=object),
-        "stiffness_Nm_per_rad": K / 1e3, "stiffness_built_error": k_error,
-        "deflection_rad": th, "peak_torque_Nm": K * th / 1e3,
+        "stiffness_Nm_per_rad": K / NMM_PER_NM, "stiffness_built_error": k_error,
+        "deflection_rad": th, "peak_torque_Nm": K * th / NMM_PER_NM,
         "outer_radius_mm": ro, "thickness_a_mm": cols["z_a"], "thickness_b_mm": cols["z_b"],
         "contact_radius_mm": cols["rc"], "split": cols["split"],
         "n_flexures_a": a["n"], "n_flexures_b": b["n"],

@@ -19,6 +19,9 @@ from __future__ import annotations
 import math
 
 from springcad.errors import SpringcadError
+from springcad.options import VERIFY
+from springcad.progress import no_progress
+from springcad.units import MM3_PER_CM3, NMM_PER_NM
 
 
 def job_document(req, cand: dict) -> dict:
@@ -48,7 +51,7 @@ def job_document(req, cand: dict) -> dict:
     return {
         "job": {"name": f"{req.name}_winner" if req.name else "synthesized",
                 "description": (f"synthesized by springcad: {fam}, candidate {int(cand['cid'])}, "
-                                f"{req.stiffness_Nmm_per_rad / 1e3:g} N*m/rad over "
+                                f"{req.stiffness_Nmm_per_rad / NMM_PER_NM:g} N*m/rad over "
                                 f"+-{math.degrees(req.deflection_rad):.4g} deg")},
         "material": {"name": mat.name, "design_stress_MPa": round(req.design_stress_MPa(mat), 6),
                      "safety_factor": round(req.required_yield_margin(mat), 9)},
@@ -153,10 +156,10 @@ def full_design_summary(req, cand: dict) -> dict:
     return {**out, "ok": not fails, "error": error, "failure": failure_class(error) if fails else "",
             "mass_kg": st.mass_kg, "axial_length_mm": st.height_mm,
             "envelope_radius_mm": st.envelope_radius_mm,
-            "stiffness_Nm_per_rad": st.stiffness_Nmm_per_rad / 1e3,
+            "stiffness_Nm_per_rad": st.stiffness_Nmm_per_rad / NMM_PER_NM,
             "max_deflection_rad": st.max_deflection_rad,
             "backlash_nominal_rad": st.backlash.nominal,
-            "energy_density_J_per_cm3": st.energy_J / (st.envelope_volume_mm3 / 1e3),
+            "energy_density_J_per_cm3": st.energy_J / (st.envelope_volume_mm3 / MM3_PER_CM3),
             "specific_energy_J_per_kg": st.energy_J / st.mass_kg,
             "peak_stress_MPa": max(s.predicted_peak_stress_MPa for s in jd.springs.values()),
             "yield_margin": min(s.yield_margin for s in jd.springs.values()),
@@ -202,30 +205,30 @@ def verify_candidate(req, cand: dict, model: str = "2d3d", levels: int = 3, prog
         ``.failures()``, ``.summary()``) and the job design with the FEA-corrected springs
         (what ``springcad build`` makes its solids from).
     """
-    from fea.verify import VerifyOptions, verify_job
+    from fea.study import verify_options
+    from fea.verify import verify_job
 
     jd = design_candidate(req, cand)
-    opts = VerifyOptions(model=model, levels=levels, keep_fields=False,
-                         tolerance=min(VerifyOptions.tolerance, req.stiffness_tolerance))
-    v = verify_job(jd, opts, progress or (lambda msg, frac=None: None))
-    return v, jd.with_springs(v.corrected_designs())
+    opts = verify_options(model=model, levels=levels, keep_fields=False,
+                          tolerance_pct=min(VERIFY.tolerance_pct, 100.0 * req.stiffness_tolerance))
+    v = verify_job(jd, opts, progress or no_progress)
+    return v, v.corrected_job_design(jd)
 
 
 def build_checks(job_design, progress=None) -> dict:
-    """``springcad build``'s solids and checks steps on a job design, without writing files.
+    """``springcad build``'s solids and checks (:func:`~springcad.geometry.checks.build_and_check`,
+    as ``sc.build`` runs them) on a job design, without writing files.
 
     Returns:
         ``{"ok", "summary", "failures"}``: ``ok`` as build decides it (no geometry error and
         no manufacturability violation); one line per failed check.
 
     Raises:
-        GeometryError: a part cannot be made (as ``build`` would stop).
+        GeometryError, StageError: a part cannot be made (as ``build`` would stop).
     """
-    from springcad.geometry.checks import run_checks
-    from springcad.geometry.stack import build_stack
+    from springcad.geometry.checks import build_and_check
 
-    quiet = progress or (lambda msg, frac=None: None)
-    report = run_checks(build_stack(job_design, quiet), quiet)
+    _, report, _ = build_and_check(job_design, progress)
     return {"ok": report.passed(), "summary": report.summary(),
             "failures": [f"{c.subject}: {c.name}: {c.message}"
                          for c in report.errors + report.violations]}

@@ -12,10 +12,12 @@ import time
 from collections import Counter
 from dataclasses import dataclass, field
 
+from springcad.options import SYNTHESIS
 from springcad.synthesis import ranking
 from springcad.synthesis.finalists import (build_checks, full_design_summary, job_document,
                                            toml_text, verify_candidate)
 from springcad.synthesis.runner import run_sweep
+from springcad.units import G_PER_KG, NMM_PER_NM
 
 SCHEMA = "springcad.synthesis/1"
 
@@ -67,7 +69,7 @@ class SynthesisResult:
             "schema": SCHEMA, "springcad_version": __version__,
             "requirements": {
                 "name": req.name, "source": req.source,
-                "stiffness_Nm_per_rad": req.stiffness_Nmm_per_rad / 1e3,
+                "stiffness_Nm_per_rad": req.stiffness_Nmm_per_rad / NMM_PER_NM,
                 "stiffness_tolerance_pct": 100 * req.stiffness_tolerance,
                 "deflection_rad": req.deflection_rad,
                 "deflection_deg": math.degrees(req.deflection_rad),
@@ -107,7 +109,7 @@ def verification_entry(req, cand: dict, fea_model: str) -> dict:
         return {"ok": False, "failures": [f"FEA: {type(err).__name__}: {err}"], "notes": [],
                 "summary": "", "springs": {}, "build_checks": None}
     entry = {"ok": v.ok, "failures": v.failures(), "notes": v.notes(), "summary": v.summary(),
-             "springs": {n: {"stiffness_fea_Nm_per_rad": sv.stiffness_fea_Nmm_per_rad / 1e3,
+             "springs": {n: {"stiffness_fea_Nm_per_rad": sv.stiffness_fea_Nmm_per_rad / NMM_PER_NM,
                              "peak_von_mises_MPa": sv.peak_von_mises_MPa,
                              "peak_region": sv.run.peak_result.peak_region,
                              "yield_margin": sv.yield_margin,
@@ -126,8 +128,10 @@ def verification_entry(req, cand: dict, fea_model: str) -> dict:
     return entry
 
 
-def synthesize(req, space, store, client, *, finalists: int = 8, max_finalists: int = 40,
-               verify_top: int = 2, verify: bool = True, fea_model: str = "2d3d",
+def synthesize(req, space, store, client, *, finalists: int = SYNTHESIS.finalists,
+               max_finalists: int = SYNTHESIS.max_finalists,
+               verify_top: int = SYNTHESIS.verify_top, verify: bool = True,
+               fea_model: str = SYNTHESIS.fea_model,
                progress=_quiet, say=_quiet) -> SynthesisResult:
     """Run the whole synthesis for requirements ``req``.
 
@@ -195,7 +199,7 @@ def synthesize(req, space, store, client, *, finalists: int = 8, max_finalists: 
         status = None
         for r, s in good[:verify_top]:
             say(f"FEA ({fea_model}) and build checks of candidate {int(r['cid'])} "
-                f"({r['family']}, {1000 * s['mass_kg']:.1f} g)")
+                f"({r['family']}, {G_PER_KG * s['mass_kg']:.1f} g)")
             entry = verification_entry(req, r, fea_model)
             result.verifications[int(r["cid"])] = entry
             say(entry["summary"] or "; ".join(entry["failures"]))
@@ -226,13 +230,13 @@ def summary_table(result: SynthesisResult, n: int = 10) -> str:
     for k, r in enumerate(result.top[:max(n, len(result.finalists))], 1):
         f = full.get(int(r["cid"]))
         fd = ("-" if f is None else
-              f"{1000 * f['mass_kg']:.1f} g, {f['peak_stress_MPa']:.0f} MPa" if f["ok"]
+              f"{G_PER_KG * f['mass_kg']:.1f} g, {f['peak_stress_MPa']:.0f} MPa" if f["ok"]
               else f"FAIL ({f['failure']})")
         z = f"{r['thickness_a_mm']:g}" + (f"/{r['thickness_b_mm']:g}" if r["n_b"] else "")
         n_fl = f"{r['n_flexures_a']}" + (f"/{r['n_flexures_b']}" if r["n_b"] else "")
         rows.append((str(k), str(r["cid"]), r["family"], r["input"], z,
                      f"{r['contact_radius_mm']:g}", f"{r['outer_radius_mm']:.2f}", n_fl,
-                     f"{1000 * r['mass_kg']:.1f}", f"{r['axial_length_mm']:.1f}",
+                     f"{G_PER_KG * r['mass_kg']:.1f}", f"{r['axial_length_mm']:.1f}",
                      f"{r['peak_stress_MPa']:.0f}", f"{r[col]:.4g}", fd))
     w = [max(len(x[i]) for x in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(c.rjust(k) for c, k in zip(x, w)) for x in rows)

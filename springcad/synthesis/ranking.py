@@ -10,6 +10,7 @@ from collections import Counter
 import numpy as np
 
 from springcad.synthesis.evaluate import detail
+from springcad.units import G_PER_KG
 
 #: columns shown for a candidate (what a person needs to recognise the stack)
 KEY_COLUMNS = ("cid", "family", "input", "material", "thickness_a_mm", "thickness_b_mm",
@@ -106,7 +107,7 @@ def format_family_report(report: list[dict], objective_column: str) -> str:
         if e["feasible"]:
             b = e["best"]
             lines.append(f"{head}; best {objective_column} {b[objective_column]:.4g} "
-                         f"(mass {1000 * b['mass_kg']:.1f} g, {b['axial_length_mm']:.1f} mm)")
+                         f"(mass {G_PER_KG * b['mass_kg']:.1f} g, {b['axial_length_mm']:.1f} mm)")
             continue
         lines.append(f"{head}; fails on:")
         for c in e["binding"][:3]:

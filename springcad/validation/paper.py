@@ -34,8 +34,9 @@ import numpy as np
 from springcad.design.stack import series_stiffness as series
 from springcad.data import data_path
 from springcad.errors import ConfigError
+from springcad.options import spell
 from springcad.progress import Progress, no_progress
-from springcad.units import MM3_PER_CM3, NMM_PER_NM
+from springcad.units import G_PER_KG, MM3_PER_CM3, NMM_PER_NM
 
 #: Table I configuration -> template name
 CONFIGURATIONS = (("S1", "paper_S1"), ("S2", "paper_S2"), ("2xS1", "paper_2xS1"),
@@ -63,7 +64,7 @@ def load_tables(data_dir: Path) -> tuple[dict, dict]:
     def read(name):
         path = Path(data_dir) / name
         if not path.exists():
-            raise ConfigError("--data", str(data_dir), f"has no {name} (the paper's measured tables)")
+            raise ConfigError(spell("data_dir"), str(data_dir), f"has no {name} (the paper's measured tables)")
         rows = list(csv.DictReader(path.open()))
         for r in rows:
             for k, v in r.items():
@@ -216,8 +217,8 @@ def fea_spring_effects(designs: dict, progress: Progress = no_progress) -> dict:
     ``width_fn`` = beam K times the FEA's relative change of K with an edge
     offset, from solves at -0.025, 0 and +0.025 mm (quadratic in log K).
     """
-    from fea.problem import LoadCase
-    from fea.verify import VerifyOptions, verify_spring
+    from fea.study import verify_options
+    from fea.verify import verify_spring
     from springcad.design.spring import with_width
 
     out = {}
@@ -229,17 +230,17 @@ def fea_spring_effects(designs: dict, progress: Progress = no_progress) -> dict:
         done = k / len(seen)
         progress(f"FEA of {name}: designed geometry", done)
         # stiffness only: no cam contact sweep
-        nominal = verify_spring(s, VerifyOptions(correct=False, keep_fields=False,
-                                                 contact=False))
-        quick = VerifyOptions(model="2d", correct=False, keep_fields=False, contact=False)
+        nominal = verify_spring(s, verify_options(correct=False, keep_fields=False,
+                                                  contact=False))
+        quick = verify_options(model="2d", correct=False, keep_fields=False, contact=False)
         ks = []
         for off in FEA_OFFSETS_MM:
             progress(f"FEA of {name}: width offset {off:+.3f} mm", done)
             geom = with_width(s, 1.0, off) if off else s
             ks.append(verify_spring(geom, quick).stiffness_fea_Nmm_per_rad)
         progress(f"FEA of {name}: rigid-cam load", done)
-        cam = verify_spring(s, VerifyOptions(model="2d", correct=False, keep_fields=False,
-                                             case=LoadCase(load="rigid_cam"), contact=False))
+        cam = verify_spring(s, verify_options(model="2d", correct=False, keep_fields=False,
+                                              load="rigid_cam", contact=False))
         coef = np.polyfit(FEA_OFFSETS_MM, np.log(np.array(ks) / ks[1]), 2)
         k_beam = s.stiffness_beam_Nmm_per_rad / NMM_PER_NM
         out[name] = {
@@ -283,7 +284,7 @@ def geometry_changes(designs: dict, use_fea: bool = False, progress=lambda messa
                         "nominal_beam_stress_MPa": g.peak_stress_MPa,
                         "predicted_peak_MPa": g.predicted_peak_stress_MPa,
                         "predicted_region": g.stress.region,
-                        "yield_margin_predicted": g.yield_margin, "mass_g": 1e3 * g.mass_kg}
+                        "yield_margin_predicted": g.yield_margin, "mass_g": G_PER_KG * g.mass_kg}
             if use_fea:
                 from fea.calibrate import solve_2d
 
@@ -353,7 +354,7 @@ def validate_paper(data_dir: Path | None = None, templates_dir: Path | None = No
     for cfg, tpl in CONFIGURATIONS:
         path = templates_dir / f"{tpl}.toml"
         if not path.exists():
-            raise ConfigError("--templates", str(templates_dir), f"has no {tpl}.toml")
+            raise ConfigError(spell("templates_dir"), str(templates_dir), f"has no {tpl}.toml")
         designs[cfg] = design_job(load_job(path))
     fea = fea_spring_effects(designs, progress) if use_fea else {}
     source = "fea" if use_fea else "beam"
