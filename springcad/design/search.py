@@ -25,6 +25,7 @@ from dataclasses import replace as _replace
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.config.consistency import min_rim_mm
+from springcad.design import duty
 from springcad.design import flexure as fx
 from springcad.design.cam import TIP_CLEARANCE_SHORT
 from springcad.design.planar import find_defect
@@ -230,7 +231,7 @@ def _design_with_margin(spec: SpringSpec, material: MaterialSpec,
     Raises:
         _NoMoreLayouts: ``rank`` is past the last candidate.
     """
-    required = material.safety_factor
+    required = duty.required_margin(material, spec.max_deflection_rad)  # yield and the duty
     derating, history = 1.0, []
     d = None
     for _ in range(STRESS_PASSES):
@@ -402,7 +403,7 @@ def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign
     from springcad.design.ring import with_hole_circle
 
     mat = design.material
-    biased = _replace(mat, safety_factor=mat.safety_factor * max(model_bias, 1.0))
+    biased = duty.biased(mat, max(model_bias, 1.0))
     d = design_spring(design.spec, biased, design.manufacturing, design.hardware, explain=False,
                       max_root_radius_mm=design.max_root_radius_mm)
     d = _replace(d, material=mat, warnings=tuple(dict.fromkeys(d.warnings + (
@@ -443,7 +444,7 @@ def redesign_for_stiffness(design: SpringDesign, k_ratio: float) -> SpringDesign
 def _stress_text(spec, material, history, err) -> str:
     """Why no beam stress keeps the yield margin (the last stress pass, numbers)."""
     derating, peak, region = history[-1]
-    required = material.safety_factor
+    required = duty.required_margin(material, spec.max_deflection_rad)
     sigma_need = material.design_stress_MPa * derating * (
         material.material.yield_strength_MPa / required / peak)
     return (f"spring '{spec.name}': the predicted peak {peak:.0f} MPa at the {region} leaves a "
@@ -468,7 +469,7 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
                               max_root_radius_mm=max_root_radius_mm, candidates=PROBE_CANDIDATES)
         except DesignError:
             return False
-        return d.yield_margin >= material.safety_factor * (1.0 - 1e-3)
+        return d.yield_margin >= duty.required_margin(material, s.max_deflection_rad) * (1.0 - 1e-3)
 
     changes = describe(spec.name, nearest_changes(spec, designs))
     return DesignError(f"spring '{spec.name}' cannot be made as specified; {changes}. "
