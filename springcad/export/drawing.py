@@ -18,8 +18,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from springcad.data import data_path
+from springcad.design.fatigue import surface_table
 from springcad.design.processes import process_chain_text, process_text, processes
 from springcad.export.release import UNASSESSED, ReleaseStatus
+from springcad.geometry.disk import FlexureRing
 from springcad.export.sheet import (FRAME_MM, LABEL_FONT, NOTE_FONT, THICK, Sheet, fmt,
                                     scale_text)
 
@@ -110,6 +112,12 @@ def _has_hole_table(part) -> bool:
     return bool(hole_rows(part.slabs[-1].region, ""))
 
 
+def surface_note(spring) -> str:
+    """The ring's surface note, from the surface condition its fatigue check assumes
+    (``manufacturing.surface``; ``springcad/data/surface.csv``)."""
+    return surface_table()[spring.material.duty.surface].drawing_note
+
+
 def note_lines(part, values: dict, template: dict) -> list[str]:
     """Every note of the drawing, from the template's note lists and the part's own notes."""
     notes = template.get("notes", {})
@@ -124,8 +132,12 @@ def note_lines(part, values: dict, template: dict) -> list[str]:
                            [])
     if p.cut_profile is not None:
         lines += notes.get("cut", [])
-    lines += notes.get("process", {}).get(p.process, [])
     spring = getattr(part, "spring", None)
+    if isinstance(part, FlexureRing):
+        # the flexures' cut faces: the note of the surface the fatigue check assumed
+        lines.append(surface_note(spring))
+    else:
+        lines += notes.get("process", {}).get(p.process, [])
     if p.process == "wire_edm" and spring is not None:
         m = spring.manufacturing
         lines.append(f"Wire Ø{fmt(m.wire_diameter_mm)} mm or finer: the smallest inside "
