@@ -463,14 +463,15 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     """The refusal: the nearest values of the user's own keys that design (numbers) first,
     then why (the binding rule of the reference layout), so a console line cut at its
     length limit keeps the change."""
-    def designs(s) -> bool:
+    def designs(s, m=material) -> bool:
         try:
-            d = design_spring(s, material, manufacturing, hardware, explain=False,
+            d = design_spring(s, m, manufacturing, hardware, explain=False,
                               max_root_radius_mm=max_root_radius_mm, candidates=PROBE_CANDIDATES)
         except DesignError:
             return False
-        return d.yield_margin >= duty.required_margin(material, s.max_deflection_rad) * (1.0 - 1e-3)
+        return d.yield_margin >= duty.required_margin(m, s.max_deflection_rad) * (1.0 - 1e-3)
 
     changes = describe(spec.name, nearest_changes(spec, designs))
+    changes += duty.alternatives(spec, material, designs)  # surface, material, one more disk
     return DesignError(f"spring '{spec.name}' cannot be made as specified; {changes}. "
                        f"Why{tried}: {_short(text)}")

@@ -205,7 +205,7 @@ def release_box(sheet: Sheet, x0: float, y0: float, width: float,
                 status: ReleaseStatus) -> float:
     """The release status above the title block: RELEASED, or NOT FOR MANUFACTURE and every
     reason. Returns the top of the box (sheet mm)."""
-    lines = _wrap(list(status.reasons), 150, lambda i: "- ")
+    lines = _wrap(list(status.reasons) + list(status.ratings), 150, lambda i: "- ")
     h = 9.0 + 3.0 * len(lines)
     sheet.rect(x0, y0, width, h, lw=THICK)
     colour = "black" if status.released else "#c00000"
