@@ -107,6 +107,19 @@ class SpringVerification:
         checks = [c for c in checks if c is not None]
         return min(checks, key=lambda c: c.safety_factor) if checks else None
 
+    @property
+    def contact_fatigue(self):
+        """Contact fatigue of the tip ball over the duty (:func:`springcad.design.duty.
+        contact_check`) from the largest Hertz pressure of the contact sweep at +-theta_max
+        (nominal geometry), or None (no sweep, no contact, no contact-fatigue data)."""
+        at_max = getattr(self.contact, "at_max", None)
+        if at_max is None:
+            return None
+        p0 = max((e.contact.get("p0_MPa", 0.0) for e in at_max.ends.values()), default=0.0)
+        d = self.design
+        return duty.contact_check(d.material.duty, d.material.material.name, p0,
+                                  d.max_deflection_rad)
+
     def duty_failures(self) -> list[str]:
         """Why the duty stops a release (empty when it is met or static/prototype)."""
         c = self.duty_check
@@ -226,6 +239,8 @@ class SpringVerification:
             "fatigue": self.fatigue.to_dict() if self.fatigue is not None else None,
             "duty": self.duty_check.to_dict() if self.duty_check is not None else None,
             "duty_points_MPa": self.duty_points_MPa(),
+            "contact_fatigue": (self.contact_fatigue.to_dict()
+                                if self.contact_fatigue is not None else None),
             "duty_failures": self.duty_failures(),
             "required_safety_factor": self.required_safety_factor,
             "stiffness_ok": self.stiffness_ok,
@@ -404,6 +419,12 @@ class JobVerification:
                 out.append(f"spring {n}: {c.rating_text()} (at the {c.where})")
         return out
 
+    def contact_fatigue_notes(self) -> list[str]:
+        """The tip balls' contact fatigue over the duty, one line per spring (a note: the
+        ball is sized for the static contact yield margin, not yet for pitting)."""
+        return [f"spring {n}: {v.contact_fatigue.text()}"
+                for n, v in self.springs.items() if v.contact_fatigue is not None]
+
     def raise_for_failures(self) -> None:
         """Raise :class:`VerificationFailed` listing every failure (for ``springcad build``)."""
         if not self.ok:
@@ -440,6 +461,7 @@ class JobVerification:
                 "stack": self.stack.to_dict(), "ok": self.ok, "failures": self.failures(),
                 "release_failures": self.release_failures(),
                 "duty_failures": self.duty_failures(), "duty_ratings": self.ratings(),
+                "contact_fatigue": self.contact_fatigue_notes(),
                 "notes": self.notes(), "timings_s": dict(self.timings_s)}
 
     def summary(self) -> str:
@@ -466,6 +488,7 @@ class JobVerification:
                      "prediction for the same geometry; duty: Miner sum D and fatigue safety "
                      "factor n of the duty at the critical point of the FEA field")
         lines += [f"duty: {r}" for r in self.ratings()]
+        lines += [f"contact fatigue: {r}" for r in self.contact_fatigue_notes()]
         lines += [f"FAIL: {f}" for f in self.failures()]
         lines += [f"note: {n}" for n in self.notes()]
         lines += [f"contact {n}: {f['message']}" for n, v in self.springs.items()

@@ -503,12 +503,13 @@ class ContactFatigueCheck:
         return self.safety_factor >= self.required_safety_factor * (1.0 - 1e-6)
 
     def text(self) -> str:
+        life = self.life_at_max_cycles
+        life_text = "< 1e4 cycles (beyond the chart)" if life < 1e4 else f"{life:.3g} cycles"
         return (f"tip ball Hertz pressure {self.p0_max_MPa:.0f} MPa at theta_max against the "
                 f"contact-fatigue strength {self.strength_MPa:.0f} MPa at 1e7 cycles "
                 f"({self.hardness_HRC_min:g} HRC): Miner sum {self.miner_sum:.3g}, safety "
                 f"factor {self.safety_factor:.2f} (required {self.required_safety_factor:g}), "
-                f"allowable {self.allowable_MPa:.0f} MPa; life at +-theta_max "
-                f"{self.life_at_max_cycles:.3g} cycles")
+                f"allowable {self.allowable_MPa:.0f} MPa; life at +-theta_max {life_text}")
 
     def to_dict(self) -> dict:
         d = dict(self.__dict__)

@@ -128,6 +128,8 @@ def release_status(job_design, verification=None, verify_skipped: bool = False,
         # the duty at the verified stress field (a static/prototype duty releases as such)
         reasons += list(getattr(verification, "duty_failures", list)())
         ratings += list(getattr(verification, "ratings", list)())
+        notes += [f"contact fatigue, {n}"
+                  for n in getattr(verification, "contact_fatigue_notes", list)()]
     reasons += [f"design warning: {w}" for w in job_design.release_warnings()]
     reasons += [_check_reason(c) for c in checks if not c.passed]
     return ReleaseStatus(tuple(dict.fromkeys(reasons)), tuple(dict.fromkeys(notes)),
