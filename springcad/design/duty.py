@@ -316,6 +316,8 @@ class DutyCheck:
             "size_factor": fatigue.SIZE_FACTOR,
             "endurance_limit_MPa": self.curve.endurance_limit_MPa,
             "cycles_at_endurance": self.curve.cycles_at_endurance,
+            "low_cycle_strength_MPa": self.curve.low_cycle_strength_MPa,
+            "has_endurance_limit": self.curve.has_endurance_limit,
             "sn_exponent": self.curve.exponent,
             "blocks": [b.to_dict() for b in self.blocks],
             "miner_sum": self.miner_sum,
