@@ -39,6 +39,8 @@ from importlib import resources
 
 from springcad.config.specs import DutyBlock, DutySpec, MaterialSpec
 from springcad.design import fatigue
+from springcad.design.feasibility import describe as feasibility_text
+from springcad.design.feasibility import nearest_changes
 
 #: named duties: (blocks as fractions of theta_max, basis, static/prototype)
 PRESETS: dict[str, tuple[tuple[DutyBlock, ...], str, bool]] = {
@@ -148,7 +150,11 @@ def describe(duty: DutySpec) -> str:
         text = (f"rainflow count of {duty.series_file or 'a time series'} "
                 f"x {duty.series_repeats:g}")
     else:
-        text = f"{len(duty.blocks)} block{'s' if len(duty.blocks) != 1 else ''} of the job"
+        parts = [f"{b.cycles:.3g} x " + (f"{b.mean:+.2f} " if b.mean else "")
+                 + (f"+-{b.amplitude:.2f} theta_max" if b.unit == "fraction"
+                    else f"+-{math.degrees(b.amplitude):.1f} deg") for b in duty.blocks[:4]]
+        more = f" and {len(duty.blocks) - 4} more" if len(duty.blocks) > 4 else ""
+        text = f"blocks {', '.join(parts)}{more}"
     return (f"{text}; surface {duty.surface}, reliability {duty.reliability:g}, required "
             f"fatigue safety factor {duty.safety_factor:g}")
 
@@ -443,10 +449,19 @@ def alternatives(spec, material: MaterialSpec, designs) -> str:
     allowed = allowed_peak_MPa(material, spec.max_deflection_rad)
     head = (f"; the duty ({describe(material.duty)}) allows a peak of {allowed:.0f} MPa at "
             f"theta_max")
-    if not found:
-        return head + ("; no surface finish, material or extra disk alone meets it: combine "
-                       "them, or relax the duty")
-    return head + "; it is also met with " + " or ".join(found)
+    if found:
+        return head + "; it is also met with " + " or ".join(found)
+    # nothing alone: the best surface together with the nearest thickness, radius, deflection
+    best = max(surfaces.values(), key=lambda x: x.factor)
+    better = replace(material, duty=replace(material.duty, surface=best.name))
+    changes = nearest_changes(spec, lambda s: designs(s, better), keys=(
+        "thickness_mm", "outer_radius_mm", "max_deflection_deg"))
+    if changes:
+        return (head + f'; no surface finish, material or extra disk alone meets it; with '
+                f'manufacturing.surface = "{best.name}" it is '
+                + feasibility_text(spec.name, changes))
+    return head + ("; no surface finish, material or extra disk alone meets it, nor the best "
+                   "surface with another thickness, outer radius or deflection: relax the duty")
 
 
 # ====================================================================== contact at the ball
