@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 from fea.problem import LoadCase
 from fea.study import ModelRun, VerifyOptions
-from springcad.design import duty, fatigue
+from springcad.design import contact_fatigue, duty, fatigue
 from springcad.errors import SpringcadError
 from springcad.units import NMM_PER_NM
 
@@ -109,15 +109,15 @@ class SpringVerification:
 
     @property
     def contact_fatigue(self):
-        """Contact fatigue of the tip ball over the duty (:func:`springcad.design.duty.
-        contact_check`) from the largest Hertz pressure of the contact sweep at +-theta_max
+        """Contact fatigue of the tip ball over the duty
+        (:func:`springcad.design.contact_fatigue.contact_check`) from the largest Hertz pressure of the contact sweep at +-theta_max
         (nominal geometry), or None (no sweep, no contact, no contact-fatigue data)."""
         at_max = getattr(self.contact, "at_max", None)
         if at_max is None:
             return None
         p0 = max((e.contact.get("p0_MPa", 0.0) for e in at_max.ends.values()), default=0.0)
         d = self.design
-        return duty.contact_check(d.material.duty, d.material.material.name, p0,
+        return contact_fatigue.contact_check(d.material.duty, d.material.material.name, p0,
                                   d.max_deflection_rad)
 
     def duty_failures(self) -> list[str]:

@@ -176,3 +176,24 @@ def test_surface_setting_is_checked():
         job_from_dict(data)
     data["manufacturing"]["surface"] = "polished"
     assert job_from_dict(data).material.duty.surface == "polished"
+
+
+def test_contact_fatigue_of_the_ball_against_agma_by_hand():
+    """robot_joint duty, p0 = 1505 MPa at theta_max on 420_ht (S_c = 1170 MPa, AGMA 2001-D04
+    Table 3 at 50 HRC). By hand: block 1, 1e7 cycles at 0.5 theta_max: p0 = 1505 sqrt(0.5) =
+    1064.2 MPa, p0/S_c = 0.9096 < Z_N(1e7) = 1.4488e7^-0.023 = 0.9998: the 2.466 N^-0.056
+    branch, N = (0.9096/2.466)^(-1/0.056) = 5.5e7, damage 0.18; block 2, 1e5 cycles at
+    theta_max: p0/S_c = 1.2863 > Z_N(1e4) = 1.1719: N = 1e4 (1.2863/1.1719)^(-1/0.023) = 176.6,
+    damage 566."""
+    from springcad.design import contact_fatigue
+
+    c = contact_fatigue.contact_check(DutySpec(), "420_ht", 1505.0, math.radians(14))
+    n1 = (1505 * math.sqrt(0.5) / 1170 / 2.466) ** (-1 / 0.056)
+    n2 = 1e4 * ((1505 / 1170) / (1.4488 * 1e4 ** -0.023)) ** (-1 / 0.023)
+    assert n1 == pytest.approx(5.5e7, rel=0.05) and n2 == pytest.approx(176.6, rel=0.01)
+    assert c.miner_sum == pytest.approx(1e7 / n1 + 1e5 / n2, rel=1e-9)
+    assert not c.met and c.strength_MPa == 1170
+    assert contact_fatigue.contact_check(DutySpec(), "ti6al4v", 1505.0, 0.2) is None
+    # the allowable meets the duty with its factor exactly
+    at = contact_fatigue.contact_check(DutySpec(), "420_ht", c.allowable_MPa, math.radians(14))
+    assert at.safety_factor == pytest.approx(1.2, rel=1e-6)
