@@ -69,11 +69,14 @@ def _toml_value(v) -> str:
         return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
     if isinstance(v, (list, tuple)):
         return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, dict):  # an inline table, e.g. a [[duty.blocks]] entry
+        return "{" + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + "}"
     raise TypeError(f"no TOML form for {v!r}")
 
 
 def toml_text(doc: dict, header: str = "") -> str:
-    """A job document (tables of scalars and lists; ``springs`` nested) as TOML text."""
+    """A job document (tables of scalars, lists and inline tables; ``springs`` nested) as
+    TOML text."""
     lines = [f"# {h}" if h else "#" for h in header.splitlines()] if header else []
     for section, table in doc.items():
         if section == "springs":
