@@ -127,8 +127,10 @@ def series_blocks(series, unit: str, repeats: float = 1.0) -> tuple[DutyBlock, .
 
 
 # ====================================================================== the duty
+@functools.lru_cache(maxsize=256)
 def blocks(duty: DutySpec, theta_max_rad: float) -> tuple[DutyBlock, ...]:
-    """The duty's blocks as fractions of ``theta_max_rad`` (rad)."""
+    """The duty's blocks as fractions of ``theta_max_rad`` (rad); cached (a time series is
+    counted once)."""
     if duty.preset is not None:
         raw = PRESETS[duty.preset][0]
     elif duty.series:
@@ -148,9 +150,10 @@ def describe(duty: DutySpec) -> str:
         text = (f"rainflow count of {duty.series_file or 'a time series'} "
                 f"x {duty.series_repeats:g}")
     else:
-        parts = [f"{b.cycles:.3g} x " + (f"{b.mean:+.2f} " if b.mean else "")
-                 + (f"+-{b.amplitude:.2f} theta_max" if b.unit == "fraction"
-                    else f"+-{math.degrees(b.amplitude):.1f} deg") for b in duty.blocks[:4]]
+        parts = [f"{b.cycles:.3g} x " + (
+            (f"{b.mean:+.2f} " if b.mean else "") + f"+-{b.amplitude:.2f} theta_max"
+            if b.unit == "fraction" else (f"{math.degrees(b.mean):+.1f} " if b.mean else "")
+            + f"+-{math.degrees(b.amplitude):.1f} deg") for b in duty.blocks[:4]]
         more = f" and {len(duty.blocks) - 4} more" if len(duty.blocks) > 4 else ""
         text = f"blocks {', '.join(parts)}{more}"
     return (f"{text}; surface {duty.surface}, reliability {duty.reliability:g}, required "
@@ -169,13 +172,6 @@ def source(duty: DutySpec) -> str:
 def is_static(duty: DutySpec) -> bool:
     """A static/prototype duty: released with 'rated for N cycles at ...'."""
     return duty.preset is not None and PRESETS[duty.preset][2]
-
-
-def block_text(b: DutyBlock, theta_max_rad: float) -> str:
-    """'1e+07 x +-7.0 deg about 0.0 deg (+-0.50 theta_max)'."""
-    a, m = math.degrees(b.amplitude * theta_max_rad), math.degrees(b.mean * theta_max_rad)
-    mean = f" about {m:+.1f} deg" if b.mean else ""
-    return f"{b.cycles:.3g} x +-{a:.1f} deg{mean} ({b.amplitude:.2f} theta_max)"
 
 
 # ====================================================================== evaluation
