@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 from fea.problem import LoadCase
 from fea.study import ModelRun, VerifyOptions
+from springcad.design import contact_fatigue, duty, fatigue
 from springcad.errors import CheckFailed
 from springcad.units import NMM_PER_NM
 
@@ -79,10 +80,61 @@ class SpringVerification:
 
     @property
     def fatigue(self):
-        """Fully reversed fatigue at +-theta_max from the FEA peak (or None without data)."""
-        from springcad.design import fatigue
+        """Fully reversed fatigue at +-theta_max from the FEA peak, with the duty's surface and
+        reliability (or None without data)."""
+        d = self.design.material.duty
+        return fatigue.check(self.design.material.material.name, self.peak_von_mises_MPa,
+                             d.surface, d.reliability)
 
-        return fatigue.check(self.design.material.material.name, self.peak_von_mises_MPa)
+    def duty_points_MPa(self) -> dict[str, float]:
+        """Von Mises at theta_max at the critical points of the verified field (MPa): the
+        converged peak at its region, the finest level's peak in every other region of the
+        cut faces (the sector's artificial cut faces are left out)."""
+        run = self.run
+        out = {r: v for r, v in run.study.finest.peak_by_region_MPa.items()
+               if "sector cut" not in r}
+        out[run.peak_result.peak_region] = self.peak_von_mises_MPa
+        return out
+
+    @property
+    def duty_check(self):
+        """The duty at the verified stress field's critical point (the lowest fatigue safety
+        factor over :meth:`duty_points_MPa`), or None without fatigue data."""
+        d = self.design
+        checks = [duty.check(d.material.duty, d.material.material.name, peak,
+                             d.max_deflection_rad, where=f"FEA {region}")
+                  for region, peak in self.duty_points_MPa().items() if peak > 0]
+        checks = [c for c in checks if c is not None]
+        return min(checks, key=lambda c: c.safety_factor) if checks else None
+
+    @property
+    def contact_fatigue(self):
+        """Contact fatigue of the tip ball over the duty
+        (:func:`springcad.design.contact_fatigue.contact_check`) from the largest Hertz pressure of the contact sweep at +-theta_max
+        (nominal geometry), or None (no sweep, no contact, no contact-fatigue data)."""
+        at_max = getattr(self.contact, "at_max", None)
+        if at_max is None:
+            return None
+        p0 = max((e.contact.get("p0_MPa", 0.0) for e in at_max.ends.values()), default=0.0)
+        d = self.design
+        return contact_fatigue.contact_check(d.material.duty, d.material.material.name, p0,
+                                  d.max_deflection_rad)
+
+    def duty_failures(self) -> list[str]:
+        """Why the duty stops a release (empty when it is met or static/prototype)."""
+        c = self.duty_check
+        if c is None:
+            return [f"spring {self.name}: duty not checked: no fatigue data for "
+                    f"{self.design.material.material.name} (springcad/data/fatigue.csv)"]
+        if c.met:
+            return []
+        life = ("no finite life" if math.isinf(c.life_at_max_cycles)
+                else f"{c.life_at_max_cycles:.3g} cycles")
+        return [f"spring {self.name}: duty ({duty.describe(c.duty)}) not met at the {c.where} "
+                f"({c.peak_MPa:.0f} MPa at theta_max): Miner sum {c.miner_sum:.3g}, fatigue "
+                f"safety factor {c.safety_factor:.2f} < {c.required_safety_factor:g}; rated "
+                f"life at +-{math.degrees(c.theta_max_rad):.1f} deg {life}, fatigue-rated "
+                f"deflection {math.degrees(c.rated_deflection_rad):.1f} deg"]
 
     @property
     def stiffness_ok(self) -> bool:
@@ -185,6 +237,11 @@ class SpringVerification:
             "yield_strength_MPa": self.yield_strength_MPa,
             "yield_margin": self.yield_margin,
             "fatigue": self.fatigue.to_dict() if self.fatigue is not None else None,
+            "duty": self.duty_check.to_dict() if self.duty_check is not None else None,
+            "duty_points_MPa": self.duty_points_MPa(),
+            "contact_fatigue": (self.contact_fatigue.to_dict()
+                                if self.contact_fatigue is not None else None),
+            "duty_failures": self.duty_failures(),
             "required_safety_factor": self.required_safety_factor,
             "stiffness_ok": self.stiffness_ok,
             "stress_ok": self.stress_ok,
@@ -348,6 +405,26 @@ class JobVerification:
             out += v.contact_failures()
         return out
 
+    def duty_failures(self) -> list[str]:
+        """What stops a release on the duty: every spring judged at its own theta_max (in a
+        stack that drives a spring short of its limit, conservative)."""
+        return [f for v in self.springs.values() for f in v.duty_failures()]
+
+    def ratings(self) -> list[str]:
+        """One line per spring: what its verified stress field is rated for."""
+        out = []
+        for n, v in self.springs.items():
+            c = v.duty_check
+            if c is not None:
+                out.append(f"spring {n}: {c.rating_text()} (at the {c.where})")
+        return out
+
+    def contact_fatigue_notes(self) -> list[str]:
+        """The tip balls' contact fatigue over the duty, one line per spring (a note: the
+        ball is sized for the static contact yield margin, not yet for pitting)."""
+        return [f"spring {n}: {v.contact_fatigue.text()}"
+                for n, v in self.springs.items() if v.contact_fatigue is not None]
+
     def raise_for_failures(self) -> None:
         """Raise :class:`VerificationFailed` listing every failure (for ``springcad build``)."""
         if not self.ok:
@@ -376,16 +453,17 @@ class JobVerification:
                 "springs": {n: v.to_dict() for n, v in self.springs.items()},
                 "stack": self.stack.to_dict(), "ok": self.ok, "failures": self.failures(),
                 "release_failures": self.release_failures(),
+                "duty_failures": self.duty_failures(), "duty_ratings": self.ratings(),
+                "contact_fatigue": self.contact_fatigue_notes(),
                 "notes": self.notes(), "timings_s": dict(self.timings_s)}
 
     def summary(self) -> str:
         rows = [("spring", "K_fea", "K_beam", "target", "err %", "disc %", "sigma MPa", "design",
-                 "where", "margin", "req", "fatigue", "iters", "ok alone")]
+                 "where", "margin", "req", "duty", "iters", "ok alone")]
         for n, v in self.springs.items():
             r = v.run.peak_result
-            fat = v.fatigue
-            fat_txt = ("-" if fat is None else f"{fat.margin:.2f}" if fat.margin >= 1
-                       else f"{fat.life_cycles:.2g} cyc")
+            dc = v.duty_check
+            fat_txt = "-" if dc is None else f"D {dc.miner_sum:.2g} n {dc.safety_factor:.2f}"
             rows.append((n, f"{v.stiffness_fea_Nmm_per_rad / NMM_PER_NM:.2f}",
                          f"{v.design.stiffness_beam_Nmm_per_rad / NMM_PER_NM:.2f}",
                          f"{v.stiffness_target_Nmm_per_rad / NMM_PER_NM:.2f}",
@@ -402,8 +480,10 @@ class JobVerification:
                      f"{st.max_deflection_rad:.3f} rad at "
                      f"{st.torque_at_limit_Nmm / NMM_PER_NM:.2f} N*m")
         lines.append("sigma: FEA peak von Mises at the max deflection; design: the design's "
-                     "prediction for the same geometry; fatigue: endurance margin at +-theta_max "
-                     "(R = -1, wire-EDM surface), or the finite life")
+                     "prediction for the same geometry; duty: Miner sum D and fatigue safety "
+                     "factor n of the duty at the critical point of the FEA field")
+        lines += [f"duty: {r}" for r in self.ratings()]
+        lines += [f"contact fatigue: {r}" for r in self.contact_fatigue_notes()]
         lines += [f"FAIL: {f}" for f in self.failures()]
         lines += [f"note: {n}" for n in self.notes()]
         lines += [f"contact {n}: {f['message']}" for n, v in self.springs.items()

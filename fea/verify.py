@@ -135,7 +135,7 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
             previous = run
         err = K / target - 1.0
         margin = material.yield_strength_MPa / run.peak_stress_MPa
-        required = design.material.safety_factor
+        required = design.required_yield_margin  # yield and a declared duty
         if (done and options.correct and margin < required
                 and stress_passes < options.max_stress_passes):
             # K is right but the real geometry is over-stressed: redesign at a lower beam

@@ -29,6 +29,10 @@ def set_key(data, section, name, value):
         table = data["springs"]["S1"]
         if name.startswith("max_deflection"):
             table.pop("max_deflection_deg", None)
+    elif section == "duty.blocks":
+        table = {"cycles": 10.0}
+        table["amplitude_deg" if name.endswith("_deg") else "amplitude_fraction"] = 0.1
+        data["duty"] = {"blocks": [table]}
     else:
         table = data.setdefault(section, {})
     table[name] = value
@@ -48,6 +52,10 @@ def test_readme_table_is_generated_from_the_schema():
 def test_spec_fields_are_the_schema_keys_with_its_defaults(cls, section):
     fields = {f.name: f.default for f in dataclasses.fields(cls)}
     declared = keys(section)
+    if section == "manufacturing":
+        # the surface of the cut faces is judged with the duty: it lives in DutySpec
+        from springcad.config.specs import DutySpec
+        assert DutySpec.surface == declared.pop("surface").default
     assert set(fields) == set(declared)
     for name, k in declared.items():
         if isinstance(k.default, str) and name.endswith("_kg_per_m3"):

@@ -11,13 +11,13 @@ from __future__ import annotations
 import difflib
 import math
 import tomllib
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 
 from springcad.config import consistency
 from springcad.config.schema import MAX_SPRINGS, REMOVED, REQUIRED, Key, _toml_type, keys
-from springcad.config.specs import (AnalysisSpec, HardwareSpec, Job, ManufacturingSpec,
-                                    MaterialSpec, SpringSpec, StackSpec)
+from springcad.config.specs import (AnalysisSpec, DutyBlock, DutySpec, HardwareSpec, Job,
+                                    ManufacturingSpec, MaterialSpec, SpringSpec, StackSpec)
 from springcad.errors import ConfigError, ConfigFileError
 from springcad.materials import DEFAULT_MATERIAL, Material, material_table
 from springcad.textio import decode_utf8
@@ -25,7 +25,11 @@ from springcad.units import MPA_PER_GPA, NMM_PER_NM
 
 #: a job config is a few hundred bytes; refuse anything absurdly large before parsing
 MAX_CONFIG_BYTES = 1_000_000
-TOP_LEVEL = ("job", "material", "springs", "stack", "manufacturing", "hardware", "analysis")
+TOP_LEVEL = ("job", "material", "springs", "stack", "manufacturing", "hardware", "analysis",
+             "duty")
+#: a duty time series file: at most this many bytes and samples
+MAX_SERIES_BYTES = 20_000_000
+MAX_SERIES_SAMPLES = 2_000_000
 SPRING_NAME = Key("<name>", "str", "-", 1, 32, REQUIRED, text="name")
 
 
@@ -191,6 +195,125 @@ def _stack(v: dict, springs: dict[str, SpringSpec]) -> StackSpec:
     return StackSpec(tuple(seq), inp)
 
 
+def _block(i: int, table, springs: dict[str, SpringSpec]) -> DutyBlock:
+    p = f"duty.blocks[{i}]"
+    v = check_section(table, "duty.blocks", p)
+    _required(v, "duty.blocks", p, "cycles")
+    frac, deg = "amplitude_fraction" in v, "amplitude_deg" in v
+    if frac == deg:
+        raise ConfigError(f"{p}.amplitude_fraction", v.get("amplitude_fraction"),
+                          "give exactly one of amplitude_fraction (of theta_max) or "
+                          "amplitude_deg")
+    mean_key = "mean_fraction" if frac else "mean_deg"
+    other = "mean_deg" if frac else "mean_fraction"
+    if other in v:
+        raise ConfigError(f"{p}.{other}", v[other], f"give the mean in the amplitude's unit "
+                          f"({mean_key}), not {other}")
+    label = v.get("label", "") or f"block {i + 1}"
+    if frac:
+        amp, mean = float(v["amplitude_fraction"]), float(v.get("mean_fraction", 0.0))
+        if abs(mean) + amp > 1.0 + 1e-9:
+            raise ConfigError(f"{p}.amplitude_fraction", amp,
+                              f"with mean_fraction {mean:g} reaches {abs(mean) + amp:g} theta_max; "
+                              "a block must stay within +-theta_max (|mean| + amplitude <= 1)")
+        return DutyBlock(float(v["cycles"]), amp, mean, "fraction", label)
+    amp, mean = math.radians(v["amplitude_deg"]), math.radians(v.get("mean_deg", 0.0))
+    for name, s in springs.items():
+        if abs(mean) + amp > s.max_deflection_rad * (1 + 1e-9):
+            raise ConfigError(f"{p}.amplitude_deg", v["amplitude_deg"],
+                              f"with mean_deg {v.get('mean_deg', 0.0):g} reaches "
+                              f"{math.degrees(abs(mean) + amp):.4g} deg, beyond spring {name}'s "
+                              f"max_deflection {math.degrees(s.max_deflection_rad):.4g} deg; "
+                              "a block must stay within +-theta_max of every spring")
+    return DutyBlock(float(v["cycles"]), amp, mean, "rad", label)
+
+
+def _series(path: Path, unit: str, springs: dict[str, SpringSpec]) -> tuple[float, ...]:
+    """The deflection samples of a duty file, in rad or fractions of theta_max."""
+    full = "duty.file"
+    try:
+        raw = path.read_bytes()[:MAX_SERIES_BYTES + 1]
+    except OSError as err:
+        raise ConfigError(full, str(path), f"cannot be read: {err.strerror or err}") from None
+    if len(raw) > MAX_SERIES_BYTES:
+        raise ConfigError(full, str(path), f"is larger than {MAX_SERIES_BYTES // 1_000_000} MB")
+    text, problem = decode_utf8(raw)
+    if text is None:
+        raise ConfigError(full, str(path), problem)
+    values = []
+    for n, line in enumerate(text.splitlines(), 1):
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        field = line.replace(";", ",").replace("\t", ",").split(",")[-1].split()[-1:]
+        try:
+            x = float(field[0]) if field else math.nan
+        except ValueError:
+            if not values:  # a header line
+                continue
+            raise ConfigError(full, str(path), f"line {n}: {line[:60]!r} has no number in its "
+                              "last column (one deflection per line, last column)") from None
+        if not math.isfinite(x):
+            raise ConfigError(full, str(path), f"line {n}: the deflection must be a finite "
+                              "number")
+        values.append(x)
+        if len(values) > MAX_SERIES_SAMPLES:
+            raise ConfigError(full, str(path), f"has more than {MAX_SERIES_SAMPLES} samples")
+    if len(values) < 2:
+        raise ConfigError(full, str(path), "needs at least two deflection samples (one a line, "
+                          "last column)")
+    scale = {"deg": math.pi / 180.0, "rad": 1.0, "fraction": 1.0}[unit]
+    series = tuple(x * scale for x in values)
+    peak = max(abs(x) for x in series)
+    limits = {"": 1.0} if unit == "fraction" else {
+        name: s.max_deflection_rad for name, s in springs.items()}
+    for name, lim in limits.items():
+        if peak > lim * (1 + 1e-9):
+            what = (f"{peak:g} theta_max" if unit == "fraction" else
+                    f"{math.degrees(peak):.4g} deg, beyond spring {name}'s max_deflection "
+                    f"{math.degrees(lim):.4g} deg")
+            raise ConfigError(full, str(path), f"reaches {what}; the series must stay within "
+                              "+-theta_max")
+    return series
+
+
+def _duty(table, springs: dict[str, SpringSpec], surface: str, base: Path) -> DutySpec:
+    """The [duty] table (absent: springcad's default duty)."""
+    if table is None:
+        return DutySpec(surface=surface)
+    table = dict(_table(table, "duty"))
+    blocks_t = table.pop("blocks", None)
+    v = check_section(table, "duty", "duty")
+    given = [k for k, present in (("preset", "preset" in v), ("blocks", blocks_t is not None),
+                                  ("file", "file" in v)) if present]
+    if len(given) > 1:
+        raise ConfigError(f"duty.{given[1]}", None, f"give one of preset, blocks or file, not "
+                          f"{' and '.join(given)}")
+    common = {k: v[k] for k in ("safety_factor", "reliability") if k in v}
+    if blocks_t is not None:
+        if not isinstance(blocks_t, list) or not blocks_t:
+            raise ConfigError("duty.blocks", blocks_t, "must be an array of tables "
+                              "([[duty.blocks]] with cycles and amplitude_fraction or "
+                              "amplitude_deg), at least one")
+        if len(blocks_t) > 1000:
+            raise ConfigError("duty.blocks", f"{len(blocks_t)} blocks", "at most 1000 blocks")
+        blocks = tuple(_block(i, b, springs) for i, b in enumerate(blocks_t))
+        return DutySpec(preset=None, blocks=blocks, surface=surface, declared=True, **common)
+    if "file" in v:
+        path = Path(v["file"])
+        path = path if path.is_absolute() else base / path
+        unit = v.get("file_unit", keys("duty")["file_unit"].default)
+        return DutySpec(preset=None, series=_series(path, unit, springs),
+                        series_unit="fraction" if unit == "fraction" else "rad",
+                        series_repeats=float(v.get("file_repeats", 1.0)),
+                        series_file=v["file"], surface=surface, declared=True, **common)
+    for k in ("file_unit", "file_repeats"):
+        if k in v:
+            raise ConfigError(f"duty.{k}", v[k], "applies only with duty.file")
+    return DutySpec(preset=v.get("preset", DutySpec.preset), surface=surface, declared=True,
+                    **common)
+
+
 def _job_name(given: str | None, fallback: str) -> str:
     """The job name; a file-name fallback is made ASCII-safe (it goes into STEP headers)."""
     if given is not None:
@@ -228,8 +351,11 @@ def job_from_dict(data, name: str = "job", source: str = "") -> Job:
                                                 f"{', '.join(springs)})")
     stack_v = check_section(stack_t, "stack", "stack")
     stack = _stack(stack_v, springs)
-    mfg = ManufacturingSpec(**check_section(data.get("manufacturing", {}), "manufacturing",
-                                            "manufacturing"))
+    mfg_v = check_section(data.get("manufacturing", {}), "manufacturing", "manufacturing")
+    surface = mfg_v.pop("surface", keys("manufacturing")["surface"].default)
+    mfg = ManufacturingSpec(**mfg_v)
+    base = Path(source).parent if source else Path.cwd()
+    material = replace(material, duty=_duty(data.get("duty"), springs, surface, base))
     hw = HardwareSpec(**check_section(data.get("hardware", {}), "hardware", "hardware"))
     an = AnalysisSpec(**check_section(data.get("analysis", {}), "analysis", "analysis"))
     job = Job(name=_job_name(job_v.get("name"), name),

@@ -198,6 +198,11 @@ CONNECTIONS = ("shaft", "rim")
 PROCESSES = ("wire_edm",)
 FASTENER_KINDS = ("bolt", "dowel")
 TOLERANCE_DISTRIBUTIONS = ("uniform", "normal")
+#: surface conditions of the cut faces (springcad/data/surface.csv, kept equal by a test)
+SURFACES = ("edm_main_cut", "edm_skim_cuts", "polished", "shot_peened")
+#: named duties (springcad.design.duty.PRESETS, kept equal by a test)
+DUTY_PRESETS = ("static", "robot_joint", "series_elastic_actuator", "prosthesis")
+SERIES_UNITS = ("deg", "rad", "fraction")
 #: most springs in one stack, and most spring tables in one job (run time of build/verify)
 MAX_SPRINGS = 8
 
@@ -268,6 +273,8 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
         _f("min_hole_edge_mm", "mm", 0.02, 10.0, 0.4, "material between a rim hole and an edge"),
         _c("tolerance_distribution", TOLERANCE_DISTRIBUTIONS, "uniform", "Monte Carlo: uniform "
            "in +-t, or normal with t = 3 sigma"),
+        _c("surface", SURFACES, "edm_skim_cuts", "surface of the flexures' cut faces: fatigue "
+           "surface factor and the ring drawing's surface note (springcad/data/surface.csv)"),
     ),
     "hardware": (
         _c("fastener", FASTENER_KINDS, "dowel", "rim fastener"),
@@ -285,6 +292,31 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
            "rim spacer density (default: 6061_t6 in the material table)"),
         _f("plastic_density_kg_per_m3", "kg/m^3", 500.0, 25000.0, "pom",
            "washer, centre spacer and bushing density (default: pom in the material table)"),
+    ),
+    "duty": (
+        _c("preset", DUTY_PRESETS, CHOSEN, "a named duty (README: Duty); default robot_joint "
+           "when the job gives no blocks or file"),
+        _s("file", "text", 400, CHOSEN, "deflection time series (CSV/text, last column; path "
+           "relative to the config), counted by rainflow (ASTM E1049)"),
+        _c("file_unit", SERIES_UNITS, "deg", "unit of the file's deflection column (fraction: "
+           "of each spring's theta_max)"),
+        _f("file_repeats", "-", 1.0, 1e12, 1.0, "times the file's record is repeated over "
+           "the life"),
+        _f("safety_factor", "-", 1.0, 5.0, 1.2, "required fatigue safety factor on stress "
+           "(Miner sum <= 1 with every block's stress x this factor)"),
+        _f("reliability", "-", 0.5, 0.9999, 0.99, "survival probability of the endurance limit "
+           "(Marin k_e = 1 - 0.08 z; handbook limits are mean values)"),
+    ),
+    "duty.blocks": (
+        _f("cycles", "-", 1.0, 1e12, REQUIRED, "cycles of this block"),
+        _f("amplitude_fraction", "-", 0.0, 1.0, CHOSEN, "half the deflection range, as a "
+           "fraction of each spring's theta_max (or amplitude_deg)", lo_open=True),
+        _f("amplitude_deg", "deg", 0.0, 89.0, CHOSEN, "half the deflection range in deg",
+           lo_open=True),
+        _f("mean_fraction", "-", -1.0, 1.0, 0.0, "mean deflection as a fraction of theta_max "
+           "(or mean_deg)"),
+        _f("mean_deg", "deg", -89.0, 89.0, 0.0, "mean deflection in deg"),
+        _s("label", "text", 60, "", "name of the block in reports", lo=0),
     ),
     "analysis": (
         _i("monte_carlo_samples", 1, 1_000_000, 20000, "Monte Carlo stacks for the backlash "

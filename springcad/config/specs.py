@@ -16,14 +16,75 @@ def _d(section: str, name: str):
     return field(default=default(section, name))
 
 
+#: the duty a job gets without a [duty] table (README; springcad.design.duty.PRESETS)
+DEFAULT_DUTY_PRESET = "robot_joint"
+
+
+@dataclass(frozen=True)
+class DutyBlock:
+    """One block of a duty: ``cycles`` cycles of deflection ``mean`` +- ``amplitude``.
+
+    Attributes:
+        cycles: number of cycles (-).
+        amplitude: half the deflection range, in ``unit``.
+        mean: mean deflection (signed), in ``unit``.
+        unit: ``"fraction"`` (of the spring's theta_max) or ``"rad"``.
+        label: a name for reports.
+    """
+
+    cycles: float
+    amplitude: float
+    mean: float = 0.0
+    unit: str = "fraction"
+    label: str = ""
+
+
+@dataclass(frozen=True)
+class DutySpec:
+    """What the springs will see in service, and how it is judged.
+
+    The duty is one of: a named ``preset`` (:data:`springcad.design.duty.PRESETS`),
+    ``blocks``, or a deflection time ``series`` counted by rainflow (ASTM E1049),
+    repeated ``series_repeats`` times over the life.
+
+    Attributes:
+        preset: preset name, or None.
+        blocks: explicit blocks.
+        series: deflection samples in ``series_unit`` (a time series, turning points
+            are found by the counting).
+        series_unit: ``"fraction"`` (of theta_max) or ``"rad"``.
+        series_repeats: how many times the series is repeated over the life (-).
+        series_file: the file the series came from (reports).
+        safety_factor: required fatigue safety factor on stress (-): the stresses of
+            every block times this factor still give a Miner sum <= 1.
+        reliability: survival probability of the endurance limit (-).
+        surface: surface condition of the cut faces (``springcad/data/surface.csv``,
+            from ``manufacturing.surface``); sets the Marin factor and the drawing note.
+        declared: the job declared a ``[duty]`` table (False: springcad's default duty).
+    """
+
+    preset: str | None = DEFAULT_DUTY_PRESET
+    blocks: tuple[DutyBlock, ...] = ()
+    series: tuple[float, ...] = ()
+    series_unit: str = "fraction"
+    series_repeats: float = 1.0
+    series_file: str = ""
+    safety_factor: float = _d("duty", "safety_factor")
+    reliability: float = _d("duty", "reliability")
+    surface: str = _d("manufacturing", "surface")
+    declared: bool = False
+
+
 @dataclass(frozen=True)
 class MaterialSpec:
-    """Material with the stress the flexures are designed to (MPa)."""
+    """Material with the stress the flexures are designed to (MPa), and the duty."""
 
     material: Material
     design_stress_MPa: float
     safety_factor: float
     """Required ratio yield strength / peak stress (checked by FEA)."""
+    duty: DutySpec = field(default_factory=DutySpec)
+    """The fatigue duty the flexures are sized for too (:mod:`springcad.design.duty`)."""
 
 
 @dataclass(frozen=True)

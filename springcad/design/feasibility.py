@@ -139,7 +139,7 @@ def as_material(material: MaterialSpec, name: str) -> MaterialSpec:
     sigma = material.design_stress_MPa * other.yield_strength_MPa / \
         material.material.yield_strength_MPa
     sigma = math.floor(sigma / STRESS_STEP_MPA) * STRESS_STEP_MPA
-    return MaterialSpec(other, float(sigma), material.safety_factor)
+    return _replace(material, material=other, design_stress_MPa=float(sigma))
 
 
 def material_changes(material: MaterialSpec,

@@ -8,6 +8,7 @@ from dataclasses import dataclass, replace
 from springcad.version import __version__
 from springcad.config import Job
 from springcad.config.consistency import min_rim_mm
+from springcad.design import duty
 from springcad.design.connections import RIM, camshaft_indices, connection_sequence
 from springcad.design.hardware import rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware
@@ -81,6 +82,8 @@ class JobDesign:
                 "tolerance_distribution")},
             "springs": {name: s.to_dict() for name, s in self.springs.items()},
             "stack": self.stack.to_dict(),
+            "duty": {"description": duty.describe(mat.duty), "source": duty.source(mat.duty),
+                     "declared": mat.duty.declared},
             "notes": self.notes(),
             "warnings": list(self.warnings),
         }
@@ -113,16 +116,17 @@ class JobDesign:
             f"{st.energy_J / (st.envelope_volume_mm3 / MM3_PER_CM3):.3f} J/cm3, "
             f"{st.energy_J / st.mass_kg:.1f} J/kg",
         ]
+        lines.append(f"duty: {duty.describe(self.job.material.duty)}")
         for s in self.springs.values():
-            fat = s.fatigue
-            fat_txt = ("" if fat is None else
-                       f", fatigue margin {fat.margin:.2f} at +-{math.degrees(s.max_deflection_rad):.1f} deg"
-                       + ("" if fat.margin >= 1 else f" (life {fat.life_cycles:.2g} cycles)"))
+            check = s.duty_check
             lines.append(
                 f"{s.name}: beam stress {s.peak_stress_MPa:.0f} MPa, predicted peak "
                 f"{s.predicted_peak_stress_MPa:.0f} MPa at the {s.stress.region if s.stress else '-'}, "
-                f"yield margin {s.yield_margin:.3f} (required {s.material.safety_factor:g})"
-                f"{fat_txt}, root flare {s.root_flare:g}")
+                f"yield margin {s.yield_margin:.3f} (required {s.material.safety_factor:g}; "
+                f"{s.required_yield_margin:.3g} with the duty), root flare {s.root_flare:g}")
+            lines.append(f"  {s.name} " + ("duty not checked: no fatigue data for "
+                                           f"{s.material.material.name}" if check is None
+                                           else check.rating_text()))
         lines += [f"note: {n}" for n in self.notes()]
         return "\n".join(lines)
 

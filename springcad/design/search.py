@@ -26,6 +26,7 @@ from dataclasses import replace as _replace
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.config.consistency import min_rim_mm
+from springcad.design import duty
 from springcad.design import flexure as fx
 from springcad.design.cam import TIP_CLEARANCE_SHORT
 from springcad.design.planar import find_defect
@@ -241,7 +242,7 @@ def _design_with_margin(spec: SpringSpec, material: MaterialSpec,
     Raises:
         _NoMoreLayouts: ``rank`` is past the last candidate.
     """
-    required = material.safety_factor
+    required = duty.required_margin(material, spec.max_deflection_rad)  # yield and the duty
     derating, history = 1.0, []
     d = None
     for _ in range(STRESS_PASSES):
@@ -406,7 +407,7 @@ def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign
     from springcad.design.ring import with_hole_circle
 
     mat = design.material
-    biased = _replace(mat, safety_factor=mat.safety_factor * max(model_bias, 1.0))
+    biased = duty.biased(mat, max(model_bias, 1.0))
     d = design_spring(design.spec, biased, design.manufacturing, design.hardware, explain=False,
                       max_root_radius_mm=design.max_root_radius_mm)
     d = _replace(d, material=mat, warnings=tuple(dict.fromkeys(d.warnings + (
@@ -473,7 +474,7 @@ def redesign_for_contact(design: SpringDesign, min_tip_radius_mm: float) -> Spri
 def _stress_text(spec, material, history, err) -> str:
     """Why no beam stress keeps the yield margin (the last stress pass, numbers)."""
     derating, peak, region = history[-1]
-    required = material.safety_factor
+    required = duty.required_margin(material, spec.max_deflection_rad)
     sigma_need = material.design_stress_MPa * derating * (
         material.material.yield_strength_MPa / required / peak)
     return (f"spring '{spec.name}': the predicted peak {peak:.0f} MPa at the {region} leaves a "
@@ -496,17 +497,23 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     """The refusal: the nearest values of the user's own keys that design (numbers) first,
     then why (the binding rule of the reference layout), so a console line cut at its
     length limit keeps the change."""
-    def designs(s, mat=material) -> bool:
+    def designs(s, m=material) -> bool:
         try:
-            d = design_spring(s, mat, manufacturing, hardware, explain=False,
+            d = design_spring(s, m, manufacturing, hardware, explain=False,
                               max_root_radius_mm=max_root_radius_mm, candidates=PROBE_CANDIDATES)
         except DesignError:
             return False
-        return d.yield_margin >= mat.safety_factor * (1.0 - 1e-3)
+        return d.yield_margin >= duty.required_margin(m, s.max_deflection_rad) * (1.0 - 1e-3)
 
-    series = series_change(spec, designs)
-    materials = material_changes(material, lambda m: designs(spec, m))
+    if duty.fatigue_limited(material, spec.max_deflection_rad):
+        # the duty sets the allowed peak: its own alternatives (surface, materials with
+        # fatigue data, one more disk) replace the yield-limited ones
+        series, materials = None, []
+    else:
+        series = series_change(spec, designs)
+        materials = material_changes(material, lambda m: designs(spec, m))
     nearest = nearest_changes(spec, designs, deadline=time.monotonic() + REFUSAL_BUDGET_S)
     changes = describe(spec.name, nearest, materials, series, spec)
+    changes += duty.alternatives(spec, material, designs)  # "" unless the duty binds
     return DesignError(f"spring '{spec.name}' cannot be made as specified; {changes}. "
                        f"Why{tried}: {_short(text)}")

@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
+from springcad.design import duty, fatigue
 from springcad.design import flexure as fx
 from springcad.design.curves import Profile
 from springcad.errors import DesignError
@@ -148,11 +149,26 @@ class SpringDesign:
 
     @property
     def fatigue(self):
-        """Fully reversed fatigue at +-theta_max from the predicted peak
-        (:func:`springcad.design.fatigue.check`), or None without fatigue data."""
-        from springcad.design import fatigue
+        """Fully reversed fatigue at +-theta_max from the predicted peak, with the duty's
+        surface and reliability (:func:`springcad.design.fatigue.check`), or None without
+        fatigue data."""
+        d = self.material.duty
+        return fatigue.check(self.material.material.name, self.predicted_peak_stress_MPa,
+                             d.surface, d.reliability)
 
-        return fatigue.check(self.material.material.name, self.predicted_peak_stress_MPa)
+    @property
+    def duty_check(self):
+        """The duty at the predicted peak (:func:`springcad.design.duty.check`), or None
+        without fatigue data."""
+        return duty.check(self.material.duty, self.material.material.name,
+                          self.predicted_peak_stress_MPa, self.max_deflection_rad,
+                          where=f"predicted peak ({self.stress.region})"
+                          if self.stress is not None else "beam peak")
+
+    @property
+    def required_yield_margin(self) -> float:
+        """Yield / peak the design needs for yield and the duty (-)."""
+        return duty.required_margin(self.material, self.max_deflection_rad)
 
     @property
     def yield_margin_beam(self) -> float:
@@ -277,9 +293,11 @@ class SpringDesign:
             "beam_stress_MPa": self.beam_stress_MPa,
             "stress_derating": self.stress_derating,
             "required_yield_margin": self.material.safety_factor,
+            "required_yield_margin_with_duty": self.required_yield_margin,
             "yield_margin": self.yield_margin,
             "yield_margin_beam": self.yield_margin_beam,
             "fatigue": self.fatigue.to_dict() if self.fatigue is not None else None,
+            "duty": self.duty_check.to_dict() if self.duty_check is not None else None,
             "root_flare": self.root_flare,
             "root_flare_length_mm": self.root_flare_length_mm,
             "n_flexures": self.n_flexures,

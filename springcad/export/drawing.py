@@ -19,10 +19,12 @@ from pathlib import Path
 
 from springcad.data import data_path
 from springcad.design.catalogue import RIM_PIN_HOLE_FIT
+from springcad.design.fatigue import surface_table
 from springcad.design.processes import process_chain_text, process_text, processes
 from springcad.export.release import UNASSESSED, ReleaseStatus
 from springcad.export.sheet import (A3, FRAME_MM, LABEL_FONT, NOTE_FONT, TEXT_FONT, THICK, Sheet,
                                     fmt, scale_text)
+from springcad.geometry.disk import FlexureRing
 
 TITLE_BLOCK_NAME = "drawing_title_block.toml"
 #: sheet parts this thin or thinner get the template's ``thin_sheet`` notes (mm)
@@ -116,6 +118,12 @@ def _has_hole_table(part) -> bool:
     return bool(hole_rows(part.slabs[-1].region, ""))
 
 
+def surface_note(spring) -> str:
+    """The ring's surface note, from the surface condition its fatigue check assumes
+    (``manufacturing.surface``; ``springcad/data/surface.csv``)."""
+    return surface_table()[spring.material.duty.surface].drawing_note
+
+
 def note_lines(part, values: dict, template: dict) -> list[str]:
     """Every note of the drawing, from the template's note lists and the part's own notes."""
     notes = template.get("notes", {})
@@ -130,9 +138,13 @@ def note_lines(part, values: dict, template: dict) -> list[str]:
                            [])
     if p.cut_profile is not None:
         lines += notes.get("cut", [])
-    lines += (notes.get("process_by_kind", {}).get(p.kind, {}).get(p.process)
-              or notes.get("process", {}).get(p.process, []))
     spring = getattr(part, "spring", None)
+    if isinstance(part, FlexureRing):
+        # the flexures' cut faces: the note of the surface the fatigue check assumed
+        lines.append(surface_note(spring))
+    else:
+        lines += (notes.get("process_by_kind", {}).get(p.kind, {}).get(p.process)
+                  or notes.get("process", {}).get(p.process, []))
     if p.process == "wire_edm" and spring is not None:
         m = spring.manufacturing
         lines.append(f"Wire Ø{fmt(m.wire_diameter_mm)} mm or finer: the smallest inside "
@@ -227,7 +239,7 @@ def release_box(sheet: Sheet, x0: float, y0: float, width: float,
                 status: ReleaseStatus) -> float:
     """The release status above the title block: RELEASED, or NOT FOR MANUFACTURE, how many
     reasons and the first of them (at the notes' size, cut after :data:`RELEASE_LINES`
-    lines; every reason is in report.html and build.json). Returns the top of the box
+    lines; every reason is in report.html and build.json), then the duty's ratings. Returns the top of the box
     (sheet mm)."""
     reasons = list(status.reasons)
     lines: list[str] = []
@@ -239,6 +251,8 @@ def release_box(sheet: Sheet, x0: float, y0: float, width: float,
         if len(lines) > RELEASE_LINES + 1:
             lines = lines[:RELEASE_LINES + 1]
             lines[-1] = lines[-1].rstrip()[:-2] + " ..."
+    # what the part is rated for (the duty), after the reasons
+    lines += _wrap(list(status.ratings), chars_per_line(sheet, width - 4.0) - 2, lambda i: "- ")
     h = 9.0 + NOTE_LINE_MM * len(lines)
     sheet.rect(x0, y0, width, h, lw=THICK)
     colour = "black" if status.released else "#c00000"

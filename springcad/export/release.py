@@ -5,6 +5,9 @@ A build is *released* only when all of these hold:
 * the FEA verification ran (no ``--no-verify``) and passed;
 * at +-theta_max the tip ball's Hertz contact von Mises meets the yield margin and every
   clearance stays open with the profile tolerances (``fea.contact_tolerance``);
+* every spring's verified stress field meets the job's duty with its fatigue safety
+  factor (``fea.verdict``; a static/prototype duty is met by its 1e3 cycles and the
+  drawing says "rated for 1e3 cycles at ...");
 * the design carries no warning (spring warnings such as an undersized tip
   ball or a stress derating, stack warnings such as cam interfaces that can
   interfere in the Monte Carlo tolerance stack);
@@ -38,6 +41,9 @@ class ReleaseStatus:
 
     reasons: tuple[str, ...] = ()
     notes: tuple[str, ...] = ()
+    ratings: tuple[str, ...] = ()
+    """What each spring is rated for (its duty, Miner sum, safety factor, life at
+    +-theta_max): written beside the stamp on the drawings, released or not."""
 
     @property
     def released(self) -> bool:
@@ -50,7 +56,8 @@ class ReleaseStatus:
 
     def to_dict(self) -> dict:
         return {"status": self.stamp, "released": self.released,
-                "reasons": list(self.reasons), "notes": list(self.notes)}
+                "reasons": list(self.reasons), "notes": list(self.notes),
+                "ratings": list(self.ratings)}
 
     def summary_lines(self) -> list[str]:
         """The console summary: the verdict, then every reason and note."""
@@ -58,6 +65,7 @@ class ReleaseStatus:
                 f"release: {self.stamp} ({len(self.reasons)} reason"
                 f"{'s' if len(self.reasons) != 1 else ''}; drawings are stamped)")
         return ([head] + [f"  - {r}" for r in self.reasons]
+                + [f"  rating: {r}" for r in self.ratings]
                 + [f"  note: {n}" for n in self.notes])
 
 
@@ -103,6 +111,7 @@ def release_status(job_design, verification=None, verify_skipped: bool = False,
     """
     reasons: list[str] = []
     notes: list[str] = []
+    ratings: list[str] = []
     if verify_skipped:
         reasons.append("FEA verification skipped (--no-verify): beam-theory design, "
                        "stiffness and stress not verified")
@@ -116,6 +125,12 @@ def release_status(job_design, verification=None, verify_skipped: bool = False,
         # the contact at full deflection (ball stress, clearances with the tolerances)
         reasons += [f"contact at full deflection: {r}"
                     for r in getattr(verification, "release_failures", list)()]
+        # the duty at the verified stress field (a static/prototype duty releases as such)
+        reasons += list(getattr(verification, "duty_failures", list)())
+        ratings += list(getattr(verification, "ratings", list)())
+        notes += [f"contact fatigue, {n}"
+                  for n in getattr(verification, "contact_fatigue_notes", list)()]
     reasons += [f"design warning: {w}" for w in job_design.release_warnings()]
     reasons += [_check_reason(c) for c in checks if not c.passed]
-    return ReleaseStatus(tuple(dict.fromkeys(reasons)), tuple(dict.fromkeys(notes)))
+    return ReleaseStatus(tuple(dict.fromkeys(reasons)), tuple(dict.fromkeys(notes)),
+                         tuple(ratings))

@@ -46,6 +46,12 @@ def write_outputs(result, folder: Path, render: bool = True,
                     v.contact, folder / f"{name}_contact.png",
                     f"{name}: rigid cam turned to +-{math.degrees(v.contact.max_deflection_rad):.1f}"
                     " deg against the sector (2D plane stress, nonlinear kinematics)"))
+        from springcad.report.duty_png import render_duty
+
+        for name, v in result.springs.items():
+            check = v.duty_check
+            if check is not None:
+                written += render_duty(check.to_dict(), folder, name, v.yield_strength_MPa)
     write_json(folder / "fea.json", result.to_dict())
     written.append(folder / "fea.json")
     return written

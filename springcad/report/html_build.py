@@ -22,7 +22,7 @@ from springcad.report.html_page import img_tag as _img
 from springcad.report.html_page import page
 
 #: headings every report has, in order (tests look for them)
-SECTIONS = ("Verdict", "Spec vs achieved", "Warnings", "FEA", "Assembly", "Drawings",
+SECTIONS = ("Verdict", "Spec vs achieved", "Duty", "Warnings", "FEA", "Assembly", "Drawings",
             "Bill of materials")
 
 def _read_json(path: Path) -> dict | None:
@@ -77,16 +77,19 @@ def verdict(build: dict, fea: dict | None) -> tuple[bool, list[str]]:
     return not reasons, reasons
 
 
+def _duty(design: dict, fea: dict | None, name: str) -> dict | None:
+    """A spring's duty entry: the verified one (fea.json) when there is one."""
+    f = ((fea or {}).get("springs", {}).get(name) or {}).get("duty")
+    return f or (design.get("springs", {}).get(name) or {}).get("duty")
+
+
 def caveats(design: dict, fea: dict | None) -> list[str]:
-    """What a reader must know even of a released build: finite fatigue life."""
+    """What a reader must know even of a released build: what each spring is rated for."""
     out = []
-    fsp = (fea or {}).get("springs", {})
-    for n, s in design.get("springs", {}).items():
-        fat = fsp.get(n, {}).get("fatigue") or s.get("fatigue")
-        if fat and fat.get("margin") is not None and fat["margin"] < 1.0:
-            life = fat.get("life_cycles")
-            out.append(f"spring {n}: fatigue margin {fat['margin']:.2f} < 1 at ±θmax (R = -1): "
-                       f"finite life" + (f", about {life:.2g} full cycles" if life else ""))
+    for n in design.get("springs", {}):
+        d = _duty(design, fea, n)
+        if d:
+            out.append(f"spring {n}: {d['rating']} (at the {d['where']})")
     return out
 
 
@@ -116,9 +119,11 @@ def _spec_rows(design: dict, fea: dict | None) -> str:
             cells.append(f"<td class='n{' fail' if bad else ''}'>{_n(v, digits)}</td>")
         return f"<tr><td>{html.escape(label)}</td>{''.join(cells)}</tr>"
 
-    def fat(s, f):
-        d = f.get("fatigue") or s.get("fatigue")
-        return None if not d else d.get("margin")
+    def duty_value(key):
+        def get(s, f):
+            d = f.get("duty") or s.get("duty")
+            return None if not d else d.get(key)
+        return get
 
     rows = [
         row("K target (N·m/rad)", lambda s, f: s.get("target_stiffness_Nm_per_rad")),
@@ -133,7 +138,11 @@ def _spec_rows(design: dict, fea: dict | None) -> str:
             lambda s, f: f.get("yield_margin", s.get("yield_margin")), 3,
             lambda v, s, f: v < s.get("required_yield_margin", 1.0)),
         row("required yield margin", lambda s, f: s.get("required_yield_margin"), 3),
-        row("fatigue margin (R = -1)", fat, 3, lambda v, s, f: v < 1.0),
+        row("duty: Miner sum", duty_value("miner_sum"), 3),
+        row("duty: fatigue safety factor", duty_value("safety_factor"), 3,
+            lambda v, s, f: v < (f.get("duty") or s.get("duty"))["required_safety_factor"]),
+        row("life at ±θmax (cycles)", duty_value("life_at_max_deflection_cycles"), 3),
+        row("fatigue-rated deflection (°)", duty_value("fatigue_rated_deflection_deg"), 3),
         row("deflection limit (rad)", lambda s, f: s.get("max_deflection_rad")),
         row("flexures", lambda s, f: s.get("n_flexures")),
         row("mass (kg)", lambda s, f: s.get("mass_kg")),
@@ -170,6 +179,28 @@ def _spec_rows(design: dict, fea: dict | None) -> str:
                          for k, v in stack_rows)
     return (f"<h2>Spec vs achieved</h2><h3>Springs</h3><table>{header}{''.join(rows)}</table>"
             f"<h3>Stack</h3><table><tr><th>quantity</th><th>value</th></tr>{stack_html}</table>")
+
+
+def _duty_html(out: Path, design: dict, fea: dict | None) -> str:
+    """The duty, the damage per block, the life at ±θmax, the fatigue-rated deflection, and
+    the Haigh and S-N plots of every spring."""
+    from springcad.report.duty_png import duty_rows
+
+    parts = []
+    for n in design.get("springs", {}):
+        d = _duty(design, fea, n)
+        if not d:
+            parts.append(f"<h3>{html.escape(n)}</h3><p>duty not checked: no fatigue data for "
+                         "this material</p>")
+            continue
+        rows = "".join(f"<tr><td>{html.escape(k)}</td><td>{html.escape(v)}</td></tr>"
+                       for k, v in duty_rows(d))
+        figs = _figures([(out / "fea" / f"{n}_haigh.png", f"{n}: Haigh diagram"),
+                         (out / "fea" / f"{n}_sn.png", f"{n}: S-N and the duty")], 520)
+        cf = ((fea or {}).get("springs", {}).get(n) or {}).get("contact_fatigue")
+        contact = (f"<p>Contact at the ball: {html.escape(cf['text'])}</p>" if cf else "")
+        parts.append(f"<h3>{html.escape(n)}</h3><table>{rows}</table>{contact}{figs}")
+    return "<h2>Duty</h2>" + "".join(parts)
 
 
 def _warnings_html(design: dict, fea: dict | None, build: dict) -> str:
@@ -272,6 +303,7 @@ def render_build_report(out_dir: Path | str) -> str:
         f"<h1>Build report: {html.escape(job)}</h1><p>{meta}</p>",
         _verdict_html(build, fea, design),
         _spec_rows(design, fea),
+        _duty_html(out, design, fea),
         _warnings_html(design, fea, build),
         _fea_html(out, design),
         "<h2>Assembly</h2>" + _figures([(out / "assembly.png", "assembly render")], 700),

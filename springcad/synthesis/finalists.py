@@ -59,6 +59,7 @@ def job_document(req, cand: dict) -> dict:
         "stack": {"sequence": sequence, "input": cand["input"]},
         "manufacturing": dict(req.manufacturing_table),
         "hardware": dict(req.hardware_table),
+        **({"duty": dict(req.duty_table)} if req.duty_table else {}),
     }
 
 
@@ -71,11 +72,14 @@ def _toml_value(v) -> str:
         return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
     if isinstance(v, (list, tuple)):
         return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, dict):  # an inline table, e.g. a [[duty.blocks]] entry
+        return "{" + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + "}"
     raise TypeError(f"no TOML form for {v!r}")
 
 
 def toml_text(doc: dict, header: str = "") -> str:
-    """A job document (tables of scalars and lists; ``springs`` nested) as TOML text."""
+    """A job document (tables of scalars, lists and inline tables; ``springs`` nested) as
+    TOML text."""
     lines = [f"# {h}" if h else "#" for h in header.splitlines()] if header else []
     for section, table in doc.items():
         if section == "springs":
@@ -105,6 +109,7 @@ def design_candidate(req, cand: dict):
 
 #: failure classes of a finalist, by a phrase of the design's message (first match wins)
 FAILURE_CLASSES = (("yield margin", "yield_margin"), ("fatigue margin", "fatigue_margin"),
+                   ("duty not met", "duty"),
                    ("fillet", "fillet"), ("neighbour", "neighbour_clearance"),
                    ("edge radius", "concave_edge_radius"), ("rim holes", "rim_holes"), ("cam", "cam"),
                    ("stack height", "axial_length"), ("envelope radius", "envelope_radius"),
@@ -142,6 +147,11 @@ def full_design_summary(req, cand: dict) -> dict:
         if req.fatigue_margin is not None and (fat is None or fat.margin < req.fatigue_margin * (1 - 1e-3)):
             fails.append(f"spring {name}: fatigue margin "
                          f"{'n/a' if fat is None else f'{fat.margin:.3f}'} < {req.fatigue_margin:g}")
+        check = s.duty_check
+        if req.duty is not None and (check is None or not check.met):
+            fails.append(f"spring {name}: duty not met (fatigue safety factor "
+                         f"{'n/a' if check is None else f'{check.safety_factor:.3f}'} < "
+                         f"{req.duty.safety_factor:g})")
     if st.height_mm > req.max_axial_length_mm + 1e-9:
         fails.append(f"stack height {st.height_mm:.2f} mm > {req.max_axial_length_mm:g} mm")
     if st.envelope_radius_mm > req.max_outer_radius_mm + 1e-9:

@@ -14,6 +14,9 @@ Sections of a requirements TOML (units in key names; see
                      outer_radius_fractions, n_flexures or fewer_flexures, inputs, mixed,
                      compliance_splits,
                      min_tip_radius_mm, tip_radius_mm
+``[duty]``           as in a job config (preset, or blocks in fractions of theta_max; the
+                     surface is ``manufacturing.surface``): every stack is ranked only if
+                     its disks meet it; passed through to the winner's job
 ``[manufacturing]``, ``[hardware]``  as in a job config (passed through to the winner's job)
 
 A bad value raises :class:`~springcad.errors.ConfigError` naming the key, the value
@@ -30,7 +33,8 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from springcad.config import CONNECTIONS, HardwareSpec, ManufacturingSpec, job_from_dict
-from springcad.design import fatigue
+from springcad.config.specs import DutySpec
+from springcad.design import duty, fatigue
 from springcad.errors import ConfigError
 from springcad.materials import Material, material_table
 from springcad.units import NMM_PER_NM
@@ -171,6 +175,11 @@ class Requirements:
     hardware_table: dict = field(default_factory=dict)
     source: str = ""
     fatigue_margin: float | None = None
+    duty: DutySpec | None = None
+    """A declared duty (fractions of each disk's theta_max): a peak-stress limit per material."""
+    duty_table: dict = field(default_factory=dict)
+    surface: str = fatigue.DEFAULT_SURFACE
+    """``manufacturing.surface``: the cut faces' surface condition (fatigue surface factor)."""
 
     @property
     def peak_torque_Nmm(self) -> float:
@@ -182,7 +191,7 @@ class Requirements:
 
     def endurance_limit_MPa(self, material: Material) -> float:
         """Corrected endurance limit S_e of the part (MPa; NaN without fatigue data)."""
-        check = fatigue.check(material.name, 1.0)
+        check = fatigue.check(material.name, 1.0, self.surface)
         return check.endurance_limit_MPa if check is not None else float("nan")
 
     def required_yield_margin(self, material: Material) -> float:
@@ -196,6 +205,9 @@ class Requirements:
         if self.fatigue_margin is not None:
             margin = max(margin, self.fatigue_margin * material.yield_strength_MPa
                          / self.endurance_limit_MPa(material))
+        if self.duty is not None:  # fractions of theta_max: the same limit for every disk
+            check = duty.check(self.duty, material.name, 1.0, 1.0)
+            margin = max(margin, material.yield_strength_MPa / check.allowed_peak_MPa)
         return margin
 
     def allowed_peak_MPa(self, material: Material) -> float:
@@ -319,7 +331,7 @@ def requirements_from_dict(data: dict, name: str = "requirements",
         ConfigError: the first key whose value is not allowed.
     """
     _check_keys(data, "", {"requirement", "envelope", "materials", "objective", "search",
-                           "manufacturing", "hardware"})
+                           "manufacturing", "hardware", "duty"})
     p = "requirement"
     req = data.get("requirement")
     if not isinstance(req, dict):
@@ -359,10 +371,25 @@ def requirements_from_dict(data: dict, name: str = "requirements",
     search = _search(data.get("search", {}), r_max)
     mfg_t, hw_t = data.get("manufacturing", {}), data.get("hardware", {})
     # the job schema validates these tables: same keys, same messages as a job config
+    duty_t = data.get("duty")
     probe = job_from_dict({"springs": {"probe": {"stiffness_Nm_per_rad": 1.0,
-                                                 "max_deflection_rad": 0.1,
+                                                 "max_deflection_rad": 1.55,
                                                  "outer_radius_mm": 10.0, "thickness_mm": 1.0}},
-                           "manufacturing": mfg_t, "hardware": hw_t})
+                           "manufacturing": mfg_t, "hardware": hw_t,
+                           **({"duty": duty_t} if duty_t is not None else {})})
+    duty_spec = probe.material.duty if duty_t is not None else None
+    if duty_spec is not None:
+        if any(b.unit != "fraction" for b in duty_spec.blocks) or (
+                duty_spec.series and duty_spec.series_unit != "fraction"):
+            raise ConfigError("duty", duty_t, "in a requirements file the duty is given in "
+                              "fractions of each disk's theta_max (a preset, amplitude_fraction "
+                              "blocks or a file with file_unit = \"fraction\"): the disks' "
+                              "deflections are what the synthesis chooses")
+        missing = [m.name for m in materials if m.name not in fatigue.fatigue_table()]
+        if missing:
+            raise ConfigError("duty", duty_t, f"cannot be checked for {', '.join(missing)}: no "
+                              f"fatigue data (springcad/data/fatigue.csv has "
+                              f"{', '.join(fatigue.fatigue_table())})")
     for ball_key in ("min_tip_radius_mm", "tip_radius_mm"):
         ball_mm = getattr(search, ball_key)
         if ball_mm is not None and ball_mm < probe.manufacturing.min_inside_radius_mm:
@@ -377,7 +404,8 @@ def requirements_from_dict(data: dict, name: str = "requirements",
         stress_concentration=kt, objective=value, search=search,
         manufacturing=probe.manufacturing, hardware=probe.hardware,
         manufacturing_table=dict(mfg_t), hardware_table=dict(hw_t), source=source,
-        fatigue_margin=fatigue_margin)
+        fatigue_margin=fatigue_margin, duty=duty_spec, surface=probe.material.duty.surface,
+        duty_table=dict(duty_t) if duty_t is not None else {})
 
 
 def load_requirements(path: Path | str) -> Requirements:

@@ -237,13 +237,20 @@ def test_build_verifies_before_exporting(tmp_path):
     # at full deflection (ball stress, clearances with the tolerances) stops it
     release = doc["release"]
     contact_reasons = [f"contact at full deflection: {r}" for r in fea["release_failures"]]
+    contact_reasons += fea["duty_failures"]
     assert release["reasons"] == contact_reasons
+    # the duty (issue 21): declared, met on the verified field, and design.json and fea.json
+    # agree on the damage within 10 %
+    fd, dd = s1["duty"], design["springs"]["S1"]["duty"]
+    assert fd["declared"] and fd["met"] and fea["duty_failures"] == []
+    assert fd["miner_sum"] == pytest.approx(dd["miner_sum"], rel=0.10)
+    assert release["ratings"] == fea["duty_ratings"]
     assert release["released"] == (not contact_reasons)
     assert release["status"] == ("RELEASED" if not contact_reasons else "NOT FOR MANUFACTURE")
     # the notes are the FEA's own findings that do not fail it (contact sweep flags)
     contact = [f"FEA contact sweep, spring {n}: {f['message']}" for n, s in fea["springs"].items()
                for f in s.get("contact_sweep", {}).get("flags", [])]
-    assert release["notes"] == contact
+    assert release["notes"] == contact + [f"contact fatigue, {n}" for n in fea["contact_fatigue"]]
     from pdftext import pdf_text
 
     for pdf in (out / "parts").glob("*.pdf"):

@@ -134,3 +134,33 @@ def test_render_shows_the_stack(stack_4xs1, tmp_path):
     assert rows[-1] - rows[0] > 0.65 * img.shape[0]  # 0.69 for 4xS1 at 800 x 600
     for half in (ink[: img.shape[0] // 2], ink[img.shape[0] // 2:]):
         assert half.mean() > 0.08
+
+
+@pytest.mark.parametrize("surface", ["edm_main_cut", "edm_skim_cuts", "polished", "shot_peened"])
+def test_ring_surface_note_and_fatigue_factor_come_from_one_setting(ring_s1, surface):
+    """manufacturing.surface sets both the ring drawing's surface note and the Marin surface
+    factor of the fatigue check (issue 21: drawing and calculation describe one part)."""
+    import copy
+    import tomllib
+    from dataclasses import replace
+
+    from springcad.config import job_from_dict
+    from springcad.design.fatigue import surface_table
+    from springcad.export.drawing import fields, note_lines
+    from tests.conftest import template
+
+    data = tomllib.loads(template("paper_S1").read_text())
+    data["manufacturing"]["surface"] = surface
+    duty = job_from_dict(data).material.duty
+    part = copy.copy(ring_s1)
+    part.spring = replace(ring_s1.spring, material=replace(ring_s1.spring.material, duty=duty))
+    tb = load_title_block()
+    lines = note_lines(part, fields(part, INFO, 1.0, tb), tb)
+    row = surface_table()[surface]
+    assert row.drawing_note in lines
+    others = [s.drawing_note for n, s in surface_table().items() if n != surface]
+    assert not any(o in lines for o in others)
+    assert part.spring.fatigue.surface_factor == row.factor
+    assert part.spring.duty_check.surface_factor == row.factor
+    if surface in ("polished", "shot_peened"):
+        assert any("remove the recast" in line for line in lines)

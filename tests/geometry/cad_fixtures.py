@@ -49,7 +49,7 @@ def job_data(sequence, input_connection="shaft", **sections) -> dict:
 
 
 def toml_text(data: dict) -> str:
-    """Write a job dict back as TOML (tables of scalars and lists only)."""
+    """Write a job dict back as TOML (tables of scalars, lists and inline tables)."""
     def value(v):
         if isinstance(v, str):
             return f'"{v}"'
@@ -57,6 +57,8 @@ def toml_text(data: dict) -> str:
             return "true" if v else "false"
         if isinstance(v, list):
             return "[" + ", ".join(value(x) for x in v) + "]"
+        if isinstance(v, dict):  # inline table ([[duty.blocks]] entries)
+            return "{" + ", ".join(f"{k} = {value(x)}" for k, x in v.items()) + "}"
         return repr(v)
 
     lines = []
