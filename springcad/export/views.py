@@ -427,6 +427,15 @@ def ring_views(sheet: Sheet, part, zone) -> float:
     prof = part.info.cut_profile
     flex = prof.loop("flexures")
     v, _ = main_and_side(sheet, part, prof)
+    # the detail circles first, so the datum symbols and callouts placed after keep clear of them
+    rc, rb = part.contact_radius, part.tip_radius
+    half = max(4.0 * rb, 0.6 * 2 * math.pi * rc / part.n_flexures)
+    mark_detail(sheet, v, (0.0, rc), max(3.0, 1.5 * half * v.scale), "C")
+    roots = flex.named("root", 0)
+    rr = roots[0].radius
+    mid = 0.5 * (np.asarray(roots[0].mid) + np.asarray(roots[-1].mid))
+    span = max(abs(roots[0].mid[0] - roots[-1].mid[0]), 4 * rr) * 0.75
+    mark_detail(sheet, v, tuple(mid), max(3.0, 1.2 * span * v.scale), "D")
     holes = [lp.segments[0].center for lp in prof.holes if lp.is_circle]
     rim = max(flex.named("rim"), key=lambda a: min((math.dist(a.mid, h) for h in holes),
                                                      default=-a.mid[1]))
@@ -435,8 +444,6 @@ def ring_views(sheet: Sheet, part, zone) -> float:
                   boxed=True)
     dim_profile(sheet, v, prof, part)
     # detail C: the tip of flexure 0 (ball centre on +Y at the contact radius)
-    rc, rb = part.contact_radius, part.tip_radius
-    half = max(4.0 * rb, 0.6 * 2 * math.pi * rc / part.n_flexures)
     box_a, box_b = _halves(zone)
     win = (-half, rc - 1.2 * half, half, rc + 0.8 * half)
     da = _detail_in(sheet, prof, win, box_a, "C", "flexure 0 tip")
@@ -454,18 +461,12 @@ def ring_views(sheet: Sheet, part, zone) -> float:
     label = f"R{fmt(rc)} ball centres"
     sheet.callout(da(arc_pts[8]), label, (0.4, -1.0),
                   Dimension("radius", rc, label, "ball centres"), boxed=True)
-    mark_detail(sheet, v, (0.0, rc), max(3.0, 1.5 * half * v.scale), "C")
     # detail D: the root of flexure 0
-    roots = flex.named("root", 0)
-    rr = roots[0].radius
-    mid = 0.5 * (np.asarray(roots[0].mid) + np.asarray(roots[-1].mid))
-    span = max(abs(roots[0].mid[0] - roots[-1].mid[0]), 4 * rr) * 0.75
     win = (mid[0] - span, mid[1] - 1.3 * span, mid[0] + span, mid[1] + 0.5 * span)
     db = _detail_in(sheet, prof, win, box_b, "D", "flexure 0 root")
     label = f"{len(roots)}× R{fmt(rr)}"
     sheet.callout(db(roots[0].mid), label, _unit(np.asarray(roots[0].mid) - roots[0].center),
                   Dimension("radius", rr, label, "root fillets"), boxed=True)
-    mark_detail(sheet, v, tuple(mid), max(3.0, 1.2 * span * v.scale), "D")
     return v.scale
 
 
