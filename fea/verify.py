@@ -43,6 +43,8 @@ import time
 from fea.problem import Material, solver_material
 from fea.study import ModelRun, VerifyOptions, _noop, add_3d_factor, run_model, support_study
 from fea.verdict import JobVerification, SpringVerification, verify_stack
+from springcad.design import search as spring_design
+from springcad.design.spring import with_width_scale
 from springcad.errors import DesignError, SpringcadError
 from springcad.units import NMM_PER_NM
 
@@ -146,8 +148,6 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
                 k, design, run, target, f"redesign for the FEA peak ({bias:.3f} x the design's "
                 f"prediction; yield margin {margin:.3f} < {required:g})"))
             try:
-                from springcad.design import search as spring_design
-
                 design = spring_design.redesign_for_margin(design, bias * (1.0 + 0.01 * stress_passes))
             except DesignError as exc:
                 notes.append(f"stress correction stopped: {exc}")
@@ -168,8 +168,6 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
         iterations.append(_iteration_record(
             k, design, run, target, f"rescale widths x{new_scale / design.width_scale:.5f}"))
         try:
-            from springcad.design.spring import with_width_scale
-
             design = with_width_scale(design, new_scale)
         except DesignError as exc:
             # the wider flexures break a rule: a layout with room for them, from the search
@@ -178,8 +176,6 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
                 break
             redesigned_for_k = True
             try:
-                from springcad.design import search as spring_design
-
                 ratio = (target / K) * design.stiffness_beam_Nmm_per_rad / target
                 design = spring_design.redesign_for_stiffness(design, ratio)
             except DesignError as exc2:
@@ -208,8 +204,6 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
                 k, design, run, target, f"redesign for the tip-ball contact (balls of at "
                 f"least {r_min:.3f} mm)"))
             try:
-                from springcad.design import search as spring_design
-
                 redesigned = spring_design.redesign_for_contact(design,
                                                                 r_min * CONTACT_BALL_MARGIN)
             except DesignError as exc:

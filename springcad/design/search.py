@@ -34,6 +34,7 @@ from springcad.design.feasibility import (describe, material_changes, nearest_ch
                                           series_change)
 from springcad.design.layout import (MAX_CANDIDATES, ContactLimit, Layout, candidate_layouts,
                                      rim_root_radius)
+from springcad.design.ring import with_hole_circle
 from springcad.design.spring import SpringDesign, with_width
 from springcad.errors import DesignError, SpecInfeasible
 from springcad.units import J_PER_NMM, NMM_PER_NM
@@ -392,6 +393,14 @@ def _choice_text(d: SpringDesign, rejected) -> str:
             + "; ".join(_short(e) for _, e, _ in rejected))
 
 
+def _on_holes_of(design: SpringDesign, redesigned: SpringDesign) -> SpringDesign:
+    """``redesigned`` with its rim holes on ``design``'s hole circle (a redesign keeps the
+    circle the stack shares), or as it is when ``design`` has no holes."""
+    if not design.hole_centres_mm:
+        return redesigned
+    return with_hole_circle(redesigned, math.hypot(*design.hole_centres_mm[0]))
+
+
 def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign:
     """The spring redesigned so its predicted peak x ``model_bias`` keeps the required margin.
 
@@ -404,8 +413,6 @@ def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign
     Raises:
         DesignError: no beam stress fits the envelope with that margin.
     """
-    from springcad.design.ring import with_hole_circle
-
     mat = design.material
     biased = duty.biased(mat, max(model_bias, 1.0))
     d = design_spring(design.spec, biased, design.manufacturing, design.hardware, explain=False,
@@ -413,9 +420,7 @@ def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign
     d = _replace(d, material=mat, warnings=tuple(dict.fromkeys(d.warnings + (
         f"redesigned by the FEA stress correction (FEA peak {model_bias:.3f} x the design "
         f"prediction): beam stress {d.beam_stress_MPa:.0f} MPa",))))
-    if design.hole_centres_mm:
-        d = with_hole_circle(d, math.hypot(*design.hole_centres_mm[0]))
-    return d
+    return _on_holes_of(design, d)
 
 
 def redesign_for_stiffness(design: SpringDesign, k_ratio: float) -> SpringDesign:
@@ -431,8 +436,6 @@ def redesign_for_stiffness(design: SpringDesign, k_ratio: float) -> SpringDesign
     Raises:
         DesignError: no layout carries that stiffness in the envelope.
     """
-    from springcad.design.ring import with_hole_circle
-
     spec = design.spec
     biased = _replace(spec, stiffness_Nmm_per_rad=spec.stiffness_Nmm_per_rad * k_ratio)
     d = design_spring(biased, design.material, design.manufacturing, design.hardware,
@@ -440,9 +443,7 @@ def redesign_for_stiffness(design: SpringDesign, k_ratio: float) -> SpringDesign
     d = _replace(d, spec=spec, warnings=d.warnings, design_choice=(
         f"{d.design_choice}; redesigned by the FEA stiffness correction for a beam stiffness "
         f"{k_ratio:.4f} x the target (the widths alone could not be scaled)"))
-    if design.hole_centres_mm:
-        d = with_hole_circle(d, math.hypot(*design.hole_centres_mm[0]))
-    return d
+    return _on_holes_of(design, d)
 
 
 def redesign_for_contact(design: SpringDesign, min_tip_radius_mm: float) -> SpringDesign:
@@ -457,8 +458,6 @@ def redesign_for_contact(design: SpringDesign, min_tip_radius_mm: float) -> Spri
     Raises:
         DesignError: no layout with balls that large meets the spec.
     """
-    from springcad.design.ring import with_hole_circle
-
     spec = design.spec
     floor = _replace(spec, min_tip_radius_mm=max(spec.min_tip_radius_mm, min_tip_radius_mm))
     d = design_spring(floor, design.material, design.manufacturing, design.hardware,
@@ -466,9 +465,7 @@ def redesign_for_contact(design: SpringDesign, min_tip_radius_mm: float) -> Spri
     d = _replace(d, spec=spec, design_choice=(
         f"{d.design_choice}; redesigned by the FEA contact correction for tip balls of at "
         f"least {min_tip_radius_mm:.3f} mm"))
-    if design.hole_centres_mm:
-        d = with_hole_circle(d, math.hypot(*design.hole_centres_mm[0]))
-    return d
+    return _on_holes_of(design, d)
 
 
 def _stress_text(spec, material, history, err) -> str:
