@@ -78,26 +78,63 @@ def test_rim_joined_springs_with_different_n_share_their_holes():
     assert fastener_clashes(d.stack.layout, d.stack.springs) == []
 
 
-def test_bolts_next_to_a_shaft_joint_are_refused_at_design_time():
-    with pytest.raises(DesignError, match='fastener = "dowel"') as err:
-        design_job(_job("bolt", ["A", "A", "B"], "rim"), explain=False)
-    assert "head" in str(err.value) and "spring_1_A" in str(err.value)
+def _gap_after(d, j):
+    """Axial gap between spring j's output face and spring j + 1's input face (mm)."""
+    lay = d.stack.layout
+    return lay.spring_z_mm[j + 1] - lay.spring_z_mm[j] - d.stack.springs[j].thickness_mm
 
 
-def _bolted_three_stack():
-    """A + A + B driven at the rim, with bolts, laid out without the room check (the
-    springs of a bolted 2-stack)."""
+def test_bolted_three_stack_makes_room_for_the_heads_at_its_shaft_joint():
+    # joints: shaft (A-A, rim washer), rim (A-B, bolted): the heads of the A-B bolts sit
+    # on spring 2's input face and turn against spring 1: the shaft joint holds the head
+    # height k, 0.3 mm of clearance and the 0.5 mm washer, the washer against spring 1
+    d = design_job(_job("bolt", ["A", "A", "B"], "rim"), explain=False)
+    k = bolt_set(2.0).head_height_mm
+    assert _gap_after(d, 0) == pytest.approx(0.5 + 0.3 + k)
+    assert _gap_after(d, 1) == pytest.approx(0.5)  # the bolted rim joint: the rim spacer
+    washer = next(c for c in d.stack.components if c.kind == "rim_washer")
+    assert washer.z_mm == pytest.approx(d.stack.springs[0].thickness_mm)
+    assert washer.length_mm == pytest.approx(0.5)
+    assert fastener_clashes(d.stack.layout, d.stack.springs) == []
+
+
+def test_bolted_four_stack_by_hand():
+    # joints rim, shaft, rim: the nuts (or screw ends) of pair 1 and the heads of pair 2
+    # share the middle joint, the washer between them; every head and nut inside the rims'
+    # outer radius (the outer bushing turns against them)
+    d = design_job(_job("bolt", ["A", "A", "A", "A"], "shaft"), explain=False)
+    b = bolt_set(2.0)
+    grip = 3.0 + 0.5 + 3.0
+    below = max(b.nut_height_mm, b.screw_length_mm(grip) - grip)
+    assert _gap_after(d, 1) == pytest.approx(below + 0.3 + 0.5 + 0.3 + b.head_height_mm)
+    washer = next(c for c in d.stack.components if c.kind == "rim_washer")
+    assert washer.z_mm == pytest.approx(d.stack.layout.spring_z_mm[1] + 3.0 + below + 0.3)
+    r_piece = 0.5 * max(b.head_diameter_mm, b.nut_across_corners_mm)
+    for s in d.stack.springs:
+        for c in s.hole_centres_mm:
+            assert math.hypot(*c) + r_piece <= s.outer_radius_mm + 1e-9
+    assert fastener_clashes(d.stack.layout, d.stack.springs) == []
+
+
+def _bolted_three_stack(monkeypatch):
+    """A + A + B driven at the rim, with bolts, laid out without room for the heads (the
+    springs of a bolted 2-stack, every joint gap the 0.5 mm washer or spacer, the holes
+    where the 2-stack has them)."""
+    from springcad.design import hardware, stack
+
+    monkeypatch.setattr(hardware._Layout, "_joint_gap", lambda self, j: (self.gap, 0.0))
+    monkeypatch.setattr(stack, "bolt_circle_limit_mm", lambda *args: math.inf)
     two = design_job(_job("bolt", ["A", "B"], "shaft"), explain=False)
     job = _job("bolt", ["A", "A", "B"], "rim")
     springs = [two.springs[n] for n in job.stack.sequence]
     return JobDesign(job, two.springs, design_stack(springs, "rim"))
 
 
-def test_head_clash_by_hand():
-    # joints: shaft (A-A, rim washer), rim (A-B, bolted); the head sits on spring 2's input
+def test_head_clash_by_hand(monkeypatch):
+    # without the room: joints: shaft (A-A, rim washer), rim (A-B, bolted); the head sits on spring 2's input
     # face at z = 3 + 0.5 = 3.5 and runs its height k back through the 0.5 mm washer into
     # spring 1, which turns against it
-    d = _bolted_three_stack()
+    d = _bolted_three_stack(monkeypatch)
     k = bolt_set(2.0).head_height_mm
     clashes = fastener_clashes(d.stack.layout, d.stack.springs)
     head = {(c.piece.owner, c.other): c.axial_mm for c in clashes if c.piece.what == "head"}
@@ -107,14 +144,14 @@ def test_head_clash_by_hand():
 
 
 @pytest.mark.slow
-def test_room_check_agrees_with_the_solids():
+def test_room_check_agrees_with_the_solids(monkeypatch):
     """The solids' interference check finds every clash the design check names (heads,
     shanks), and none it does not (the design check's nut circle and ring disc err on the
     safe side)."""
     from springcad.geometry.interference import InterferenceChecker
     from springcad.geometry.stack import build_stack
 
-    d = _bolted_three_stack()
+    d = _bolted_three_stack(monkeypatch)
     asm = build_stack(d)
     checker = InterferenceChecker(asm)
     solid = set()
@@ -147,4 +184,21 @@ def test_solids_of_two_springs_with_different_n_have_no_fastener_overlap():
     for f in pins:
         for o in asm.instances:
             if o is not f:
+                assert checker.pair(f, o).relation != "overlap", (f.name, o.name)
+
+
+@pytest.mark.slow
+def test_solids_of_a_bolted_four_stack_have_no_fastener_overlap():
+    """The room the layout makes at the shaft joint, checked on the solids."""
+    from springcad.geometry.interference import InterferenceChecker
+    from springcad.geometry.stack import build_stack
+
+    d = design_job(_job("bolt", ["A", "A", "A", "A"], "shaft"), explain=False)
+    asm = build_stack(d)
+    checker = InterferenceChecker(asm)
+    bolts = [i for i in asm.instances if i.component.kind == "fastener"]
+    assert len(bolts) >= 8
+    for f in bolts:
+        for o in asm.instances:
+            if o is not f and o.component is not f.component:
                 assert checker.pair(f, o).relation != "overlap", (f.name, o.name)

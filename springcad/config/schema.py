@@ -261,9 +261,12 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
     ),
     "manufacturing": (
         _c("process", PROCESSES, "wire_edm", "manufacturing process"),
-        _f("t_spring_mm", "mm", 0.0, 0.5, 0.03, "machine tolerance of the spring profile"),
-        _f("t_shaft_mm", "mm", 0.0, 0.5, 0.03, "machine tolerance of the camshaft profile"),
-        _f("w_gap_mm", "mm", 0.005, 1.0, 0.025, "designed tip-to-cam gap per side"),
+        _f("t_spring_mm", "mm", 0.0, 0.5, 0.01, "machine tolerance of the spring profile "
+           "(wire EDM with skim cuts)"),
+        _f("t_shaft_mm", "mm", 0.0, 0.5, 0.01, "machine tolerance of the camshaft profile "
+           "(wire EDM with skim cuts)"),
+        _f("w_gap_mm", "mm", 0.005, 1.0, CHOSEN, "designed tip-to-cam gap per side; chosen: "
+           "t_spring_mm + t_shaft_mm + 0.02, so the worst-case gap stays 0.02 mm"),
         _f("wire_diameter_mm", "mm", 0.02, 0.5, 0.25, "EDM wire diameter"),
         _f("spark_gap_mm", "mm", 0.0, 0.2, 0.025, "spark gap; min inside radius = wire radius + "
            "spark gap"),

@@ -126,6 +126,11 @@ class StackSpec:
     input: str = _d("stack", "input")
 
 
+#: worst-case tip-to-cam gap per side the chosen ``w_gap_mm`` keeps over the two profile
+#: tolerances (mm): the default template's 0.04 mm gap over +-0.01 mm profiles
+W_GAP_CLEARANCE_MM = 0.02
+
+
 @dataclass(frozen=True)
 class ManufacturingSpec:
     """Process limits and tolerances (mm)."""
@@ -140,6 +145,11 @@ class ManufacturingSpec:
     min_web_mm: float = _d("manufacturing", "min_web_mm")
     min_hole_edge_mm: float = _d("manufacturing", "min_hole_edge_mm")
     tolerance_distribution: str = _d("manufacturing", "tolerance_distribution")
+
+    def __post_init__(self):
+        if self.w_gap_mm is None:  # chosen: the worst-case tip-to-cam gap stays positive
+            object.__setattr__(self, "w_gap_mm",
+                               self.t_spring_mm + self.t_shaft_mm + W_GAP_CLEARANCE_MM)
 
     @property
     def min_inside_radius_mm(self) -> float:

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 
 from springcad.design import plans as pl
 from springcad.design.cam import d_bore
-from springcad.design.catalogue import m6_deviation_mm, rim_dowel_length, rim_pin_fit
-from springcad.design.connections import SHAFT, camshaft_indices
+from springcad.design.catalogue import bolt_set, m6_deviation_mm, rim_dowel_length, rim_pin_fit
+from springcad.design.connections import RIM, SHAFT, camshaft_indices
 from springcad.design.processes import process
 from springcad.design.tolerance import DJoint, RimPinJoint, d_half_chord_mm
 from springcad.errors import DesignError
@@ -51,6 +51,9 @@ FLAT_RATIO = 0.8
 #: stacks of this many springs or more float their middle camshafts on an alignment shaft
 #: inside an outer bushing (paper Section II-A)
 FLOATING_FROM_SPRINGS = 3
+#: axial clearance between a bolt's head or nut (or its screw's end) and the rim washer
+#: that turns against it at a shaft-to-shaft joint (mm)
+BOLT_END_CLEARANCE_MM = 0.3
 #: (material, default density kg/m^3) of the rim spacers and of the plastic parts; the
 #: densities used are hardware.rim_spacer_density_kg_per_m3 / plastic_density_kg_per_m3
 ALUMINIUM = ("aluminium 6061-T6", 2700.0)
@@ -102,6 +105,21 @@ class Component:
                 "density_kg_per_m3": self.density_kg_per_m3, "z_mm": self.z_mm,
                 "length_mm": self.length_mm, "dims": self.plan.to_dict(), "role": self.role,
                 "in_mass": self.in_mass, "mass_kg": self.mass_kg}
+
+
+def bolt_circle_limit_mm(hardware, n_springs: int, outer_radius_mm: float) -> float:
+    """Largest rim-hole circle radius (mm) for a stack's fasteners.
+
+    In a stack that floats inside an outer bushing (:data:`FLOATING_FROM_SPRINGS` or
+    more springs), a bolt's head and nut turn with its rims against the bushing: their
+    circles (the ISO 4762 head, the ISO 4032 nut through its corners) stay inside the
+    rims' outer radius ``outer_radius_mm``. Dowels are flush: no limit (inf).
+    """
+    if (hardware.fastener != "bolt" or hardware.fastener_count == 0
+            or n_springs < FLOATING_FROM_SPRINGS):
+        return math.inf
+    b = bolt_set(hardware.fastener_diameter_mm)
+    return outer_radius_mm - 0.5 * max(b.head_diameter_mm, b.nut_across_corners_mm)
 
 
 def max_pin_mm(fastener: str, diameter_mm: float) -> float:
@@ -236,13 +254,46 @@ class _Layout:
         self.steel = (mat.name, mat.density_kg_per_m3)
         self.gap = self.hw.rim_spacer_thickness_mm
         n = len(springs)
+        #: per joint: (axial gap between the two rims, washer offset from the first rim) (mm)
+        self.joint_gaps = [self._joint_gap(j) for j in range(n - 1)]
         z, z0 = 0.0, []
         for i, s in enumerate(springs):
             z0.append(z)
-            z += s.thickness_mm + (self.gap if i < n - 1 else 0.0)
+            z += s.thickness_mm + (self.joint_gaps[i][0] if i < n - 1 else 0.0)
         self.z0, self.height = tuple(z0), z
         self.r_outer = max(s.outer_radius_mm for s in springs)
         self.floating = n >= FLOATING_FROM_SPRINGS
+
+    def _bolted(self, j: int) -> bool:
+        """Rim joint j (0 <= j < n - 1) is clamped by through bolts."""
+        return (0 <= j < len(self.joints) and self.joints[j] == RIM
+                and self.hw.fastener == "bolt" and bool(self.springs[j].hole_centres_mm))
+
+    def _joint_gap(self, j: int) -> tuple[float, float]:
+        """(axial gap, washer offset) of joint j (mm).
+
+        A rim joint and a plain shaft joint keep ``rim_spacer_thickness_mm`` between the
+        rims. A bolt's head and nut stand proud of the rims it clamps
+        (:func:`springcad.design.fastener_room.fastener_pieces`): at a shaft-to-shaft
+        joint next to a bolted rim joint, the nuts (or screw ends) of the pair below and
+        the heads of the pair above turn against each other, so the gap holds both with
+        the rim washer between them and :data:`BOLT_END_CLEARANCE_MM` on each side.
+        """
+        washer = self.gap
+        if self.joints[j] != SHAFT:
+            return washer, 0.0
+        below = above = 0.0
+        if self._bolted(j - 1):
+            b = bolt_set(self.hw.fastener_diameter_mm)
+            grip = self.springs[j - 1].thickness_mm + self.gap + self.springs[j].thickness_mm
+            below = max(b.nut_height_mm, b.screw_length_mm(grip) - grip)
+        if self._bolted(j + 1):
+            above = bolt_set(self.hw.fastener_diameter_mm).head_height_mm
+        if below == above == 0.0:
+            return washer, 0.0
+        lo = below + BOLT_END_CLEARANCE_MM if below else 0.0
+        hi = above + BOLT_END_CLEARANCE_MM if above else 0.0
+        return lo + washer + hi, lo
 
     def end_z(self, i: int) -> float:
         return self.z0[i] + self.springs[i].thickness_mm
@@ -337,7 +388,8 @@ class _Layout:
         r_in = max(springs[j].root_radius_mm, springs[j + 1].root_radius_mm) + ROOT_CLEARANCE_MM
         if kind == SHAFT:
             plan = pl.RimWasherPlan(inner_radius_mm=r_in, outer_radius_mm=self.r_outer, joint=j)
-            return [_annular(f"rim_washer_{j + 1}", plan, self.plastic, zj, gap)]
+            return [_annular(f"rim_washer_{j + 1}", plan, self.plastic,
+                             zj + self.joint_gaps[j][1], gap)]
         centres = springs[j].hole_centres_mm
         spacer = self.rim_spacer(j, centres)
         r_cs = max(springs[j].cam_tip_radius_mm, springs[j + 1].cam_tip_radius_mm) \

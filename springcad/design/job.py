@@ -10,7 +10,7 @@ from springcad.config import Job
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty
 from springcad.design.connections import RIM, camshaft_indices, connection_sequence
-from springcad.design.hardware import rim_spacer_rim_mm
+from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware
 from springcad.design.ring import common_hole_pattern
 from springcad.design.search import design_spring
@@ -35,7 +35,7 @@ class JobDesign:
 
     def with_springs(self, springs: dict[str, SpringDesign]) -> "JobDesign":
         """The same job with some springs replaced (e.g. FEA-corrected); the stack is redone."""
-        merged = common_hole_circle({**self.springs, **springs})
+        merged = common_hole_circle({**self.springs, **springs}, self.job)
         stack = design_stack([merged[n] for n in self.job.stack.sequence], self.job.stack.input,
                              self.job.analysis.monte_carlo_samples, self.job.analysis.seed)
         return JobDesign(self.job, merged, stack)
@@ -131,10 +131,17 @@ class JobDesign:
         return "\n".join(lines)
 
 
-def common_hole_circle(springs: dict[str, SpringDesign]) -> dict[str, SpringDesign]:
+def common_hole_circle(springs: dict[str, SpringDesign], job: Job) -> dict[str, SpringDesign]:
     """Put the rim holes of every spring on one circle at the same angles, so any two rims
-    can be pinned (:func:`springcad.design.ring.common_hole_pattern`)."""
-    return common_hole_pattern(springs)
+    can be pinned (:func:`springcad.design.ring.common_hole_pattern`), inside the job's
+    :func:`bolt_circle_limit_mm`."""
+    return common_hole_pattern(springs, _bolt_circle_mm(job))
+
+
+def _bolt_circle_mm(job: Job) -> float:
+    """The job's :func:`~springcad.design.hardware.bolt_circle_limit_mm` (mm; inf without)."""
+    ro = min(job.springs[n].outer_radius_mm for n in set(job.stack.sequence))
+    return bolt_circle_limit_mm(job.hardware, len(job.stack.sequence), ro)
 
 
 def camshaft_groups(job: Job) -> list[tuple[str, ...]]:
@@ -167,8 +174,11 @@ def shared_rim_limit_mm(job: Job) -> float:
     if RIM not in joints or job.hardware.fastener_count == 0:
         return math.inf
     ro = min(job.springs[n].outer_radius_mm for n in set(seq))
-    return ro - max(min_rim_mm(ro, job.manufacturing, job.hardware),
-                    rim_spacer_rim_mm(job.hardware, job.manufacturing))
+    # bolt heads and nuts inside the rims: the holes sit at most on that circle
+    bolts = (_bolt_circle_mm(job) - 0.5 * job.hardware.hole_diameter_mm
+             - job.manufacturing.min_hole_edge_mm)
+    return min(bolts, ro - max(min_rim_mm(ro, job.manufacturing, job.hardware),
+                               rim_spacer_rim_mm(job.hardware, job.manufacturing)))
 
 
 def _share_camshafts(job: Job, springs: dict[str, SpringDesign],
@@ -231,7 +241,7 @@ def design_job(job: Job, explain: bool = True) -> JobDesign:
                                    explain=explain, max_root_radius_mm=rr_max)
                for name, spec in job.springs.items()}
     springs = _share_camshafts(job, springs, rr_max)
-    springs = common_hole_circle(springs)
+    springs = common_hole_circle(springs, job)
     stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
                          job.analysis.monte_carlo_samples, job.analysis.seed)
     design = JobDesign(job, springs, stack)

@@ -242,20 +242,23 @@ def shared_hole_angles_rad(n_flexures, count: int) -> tuple[float, ...]:
 ANGLE_SAMPLES = 4001
 
 
-def common_hole_pattern(springs: dict) -> dict:
+def common_hole_pattern(springs: dict, max_radius_mm: float = math.inf) -> dict:
     """Every spring's rim holes on one circle at the same angles, so any two rims can be
     pinned through them (spring name -> design; springs without holes unchanged).
 
     The circle is the middle of the thinnest rim: half way between the largest root
-    radius and the smallest outer radius (mm); the angles are
+    radius and the smallest outer radius (mm), at most ``max_radius_mm`` (bolt heads and
+    nuts inside the rims, :func:`springcad.design.hardware.bolt_circle_limit_mm`); the
+    angles are
     :func:`shared_hole_angles_rad` of the springs' flexure counts. Applying it twice
     changes nothing.
     """
     with_holes = [s for s in springs.values() if s.hole_centres_mm]
-    if len(with_holes) < 2:
+    if len(with_holes) < 2 and all(math.hypot(*c) <= max_radius_mm + 1e-9
+                                   for s in with_holes for c in s.hole_centres_mm):
         return springs
-    radius = 0.5 * (max(s.root_radius_mm for s in with_holes)
-                    + min(s.outer_radius_mm for s in with_holes))
+    radius = min(max_radius_mm, 0.5 * (max(s.root_radius_mm for s in with_holes)
+                                       + min(s.outer_radius_mm for s in with_holes)))
     angles = shared_hole_angles_rad([s.n_flexures for s in with_holes],
                                     min(len(s.hole_centres_mm) for s in with_holes))
     want = tuple((radius * math.cos(a), radius * math.sin(a)) for a in angles)

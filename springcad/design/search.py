@@ -284,7 +284,37 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
                   hardware: HardwareSpec, explain: bool = True,
                   max_root_radius_mm: float = math.inf,
                   candidates: int = MAX_CANDIDATES) -> SpringDesign:
-    """Synthesise one spring whose *predicted* peak stress keeps the required yield margin.
+    """Synthesise one spring for yield and its duty (:func:`design_for_margin`).
+
+    A job that declares no ``[duty]`` gets springcad's default duty
+    (:data:`springcad.config.specs.DEFAULT_DUTY_PRESET`): the spring is sized for it when
+    its envelope can carry it, else for the yield margin alone, and the duty check then
+    gates the release with the rated life and the change that would meet it
+    (:func:`springcad.design.duty.required_margin`).
+    """
+    if not material.duty.declared:
+        sized = _replace(material, duty=_replace(material.duty, declared=True))
+        if duty.fatigue_limited(sized, spec.max_deflection_rad):
+            try:
+                d = design_for_margin(spec, sized, manufacturing, hardware, explain=False,
+                                      max_root_radius_mm=max_root_radius_mm,
+                                      candidates=min(candidates, PROBE_CANDIDATES))
+            except DesignError:
+                pass
+            else:
+                return _replace(d, material=material, design_choice=(
+                    f"{d.design_choice}; sized for springcad's default duty "
+                    f"({duty.describe(material.duty)})"))
+    return design_for_margin(spec, material, manufacturing, hardware, explain,
+                             max_root_radius_mm, candidates)
+
+
+def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
+                      hardware: HardwareSpec, explain: bool = True,
+                      max_root_radius_mm: float = math.inf,
+                      candidates: int = MAX_CANDIDATES) -> SpringDesign:
+    """Synthesise one spring whose *predicted* peak stress keeps the required yield margin
+    (yield and a declared duty, :func:`springcad.design.duty.required_margin`).
 
     ``max_root_radius_mm``: a root radius cap from the stack (the common rim-hole circle of
     springs pinned rim to rim must fit the thinnest rim; mm). The candidate layouts are tried best first (module docstring); for each:
@@ -496,8 +526,9 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     length limit keeps the change."""
     def designs(s, m=material) -> bool:
         try:
-            d = design_spring(s, m, manufacturing, hardware, explain=False,
-                              max_root_radius_mm=max_root_radius_mm, candidates=PROBE_CANDIDATES)
+            d = design_for_margin(s, m, manufacturing, hardware, explain=False,
+                                  max_root_radius_mm=max_root_radius_mm,
+                                  candidates=PROBE_CANDIDATES)
         except DesignError:
             return False
         return d.yield_margin >= duty.required_margin(m, s.max_deflection_rad) * (1.0 - 1e-3)

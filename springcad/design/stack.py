@@ -11,7 +11,8 @@ import math
 from dataclasses import dataclass
 
 from springcad.design.connections import camshaft_indices, connection_sequence
-from springcad.design.hardware import Component, StackLayout, d_joints, stack_layout
+from springcad.design.hardware import (Component, StackLayout, bolt_circle_limit_mm, d_joints,
+                                      stack_layout)
 from springcad.design.ring import common_hole_pattern
 from springcad.design.spring import SpringDesign
 from springcad.design.tolerance import Interface, StackBacklash, stack_backlash
@@ -168,7 +169,9 @@ def design_stack(springs: list[SpringDesign], input_connection: str, mc_samples:
                  seed: int = 1) -> StackDesign:
     """Assemble designed springs (input to output) into a :class:`StackDesign`."""
     # rims joined rim to rim are pinned through the same holes: one circle, one set of angles
-    holed = common_hole_pattern({s.name: s for s in springs})
+    limit = bolt_circle_limit_mm(springs[0].hardware, len(springs),
+                                 min(s.outer_radius_mm for s in springs))
+    holed = common_hole_pattern({s.name: s for s in springs}, limit)
     springs = [holed[s.name] for s in springs]
     joints, output = connection_sequence(len(springs), input_connection)
     mfg = springs[0].manufacturing
