@@ -134,7 +134,8 @@ class SpringVerification:
                 f"({c.peak_MPa:.0f} MPa at theta_max): Miner sum {c.miner_sum:.3g}, fatigue "
                 f"safety factor {c.safety_factor:.2f} < {c.required_safety_factor:g}; rated "
                 f"life at +-{math.degrees(c.theta_max_rad):.1f} deg {life}, fatigue-rated "
-                f"deflection {math.degrees(c.rated_deflection_rad):.1f} deg"]
+                f"deflection {math.degrees(c.rated_deflection_rad):.1f} deg"
+                + (f"; {self.design.duty_advice}" if self.design.duty_advice else "")]
 
     @property
     def stiffness_ok(self) -> bool:

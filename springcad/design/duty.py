@@ -401,7 +401,7 @@ def biased(material: MaterialSpec, bias: float) -> MaterialSpec:
 
 
 # ====================================================================== refusals
-def alternatives(spec, material: MaterialSpec, designs) -> str:
+def alternatives(spec, material: MaterialSpec, designs, deadline: float | None = None) -> str:
     """When a declared duty sets the allowed peak and the envelope cannot meet it: the
     changes beyond the spring's own keys that would, each checked with ``designs``.
 
@@ -409,6 +409,8 @@ def alternatives(spec, material: MaterialSpec, designs) -> str:
         spec: the :class:`~springcad.config.SpringSpec` refused.
         material: its material spec (with the duty).
         designs: ``designs(spec, material) -> bool``, the design search as a probe.
+        deadline: when the nearest-value bisection stops refining (``time.monotonic()``
+            seconds; None: never).
 
     Returns:
         "" or text to append to the refusal: a better surface finish, another material
@@ -455,7 +457,7 @@ def alternatives(spec, material: MaterialSpec, designs) -> str:
     best = max(surfaces.values(), key=lambda x: x.factor)
     better = replace(material, duty=replace(material.duty, surface=best.name))
     changes = nearest_changes(spec, lambda s: designs(s, better), keys=(
-        "thickness_mm", "outer_radius_mm", "max_deflection_deg"))
+        "thickness_mm", "outer_radius_mm", "max_deflection_deg"), deadline=deadline)
     if changes:
         return (head + f'; no surface finish, material or extra disk alone meets it; with '
                 f'manufacturing.surface = "{best.name}" it is '

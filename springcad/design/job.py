@@ -127,6 +127,8 @@ class JobDesign:
             lines.append(f"  {s.name} " + ("duty not checked: no fatigue data for "
                                            f"{s.material.material.name}" if check is None
                                            else check.rating_text()))
+            if s.duty_advice:
+                lines.append(f"  {s.name}: sized for yield alone: {s.duty_advice}")
         lines += [f"note: {n}" for n in self.notes()]
         return "\n".join(lines)
 

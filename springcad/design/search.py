@@ -295,18 +295,35 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
     if not material.duty.declared:
         sized = _replace(material, duty=_replace(material.duty, declared=True))
         if duty.fatigue_limited(sized, spec.max_deflection_rad):
-            try:
+            if _designs(spec, sized, manufacturing, hardware, max_root_radius_mm):
                 d = design_for_margin(spec, sized, manufacturing, hardware, explain=False,
                                       max_root_radius_mm=max_root_radius_mm,
-                                      candidates=min(candidates, PROBE_CANDIDATES))
-            except DesignError:
-                pass
-            else:
+                                      candidates=candidates)
                 return _replace(d, material=material, design_choice=(
                     f"{d.design_choice}; sized for springcad's default duty "
                     f"({duty.describe(material.duty)})"))
+            d = design_for_margin(spec, material, manufacturing, hardware, explain,
+                                  max_root_radius_mm, candidates)
+            if not explain:
+                return d
+            advice = duty.alternatives(spec, sized, lambda s, m: _designs(
+                s, m, manufacturing, hardware, max_root_radius_mm),
+                deadline=time.monotonic() + REFUSAL_BUDGET_S)
+            return _replace(d, duty_advice=advice.lstrip("; "))
     return design_for_margin(spec, material, manufacturing, hardware, explain,
                              max_root_radius_mm, candidates)
+
+
+def _designs(spec, material, manufacturing, hardware, max_root_radius_mm) -> bool:
+    """A feasibility probe: the search (:data:`PROBE_CANDIDATES` layouts) designs ``spec``
+    with the yield margin and duty of ``material``."""
+    try:
+        d = design_for_margin(spec, material, manufacturing, hardware, explain=False,
+                              max_root_radius_mm=max_root_radius_mm,
+                              candidates=PROBE_CANDIDATES)
+    except DesignError:
+        return False
+    return d.yield_margin >= duty.required_margin(material, spec.max_deflection_rad) * (1.0 - 1e-3)
 
 
 def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
@@ -525,13 +542,7 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     then why (the binding rule of the reference layout), so a console line cut at its
     length limit keeps the change."""
     def designs(s, m=material) -> bool:
-        try:
-            d = design_for_margin(s, m, manufacturing, hardware, explain=False,
-                                  max_root_radius_mm=max_root_radius_mm,
-                                  candidates=PROBE_CANDIDATES)
-        except DesignError:
-            return False
-        return d.yield_margin >= duty.required_margin(m, s.max_deflection_rad) * (1.0 - 1e-3)
+        return _designs(s, m, manufacturing, hardware, max_root_radius_mm)
 
     if duty.fatigue_limited(material, spec.max_deflection_rad):
         # the duty sets the allowed peak: its own alternatives (surface, materials with
@@ -542,6 +553,7 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
         materials = material_changes(material, lambda m: designs(spec, m))
     nearest = nearest_changes(spec, designs, deadline=time.monotonic() + REFUSAL_BUDGET_S)
     changes = describe(spec.name, nearest, materials, series, spec)
-    changes += duty.alternatives(spec, material, designs)  # "" unless the duty binds
+    changes += duty.alternatives(spec, material, designs,
+                                 deadline=time.monotonic() + REFUSAL_BUDGET_S)  # "" unless the duty binds
     return DesignError(f"spring '{spec.name}' cannot be made as specified; {changes}. "
                        f"Why{tried}: {_short(text)}")

@@ -103,6 +103,9 @@ class SpringDesign:
     """Root radius cap from the stack (common rim-hole circle) the design was searched under (mm)."""
     design_choice: str = ""
     """Which layout the design search chose and why (the candidates it rejected first)."""
+    duty_advice: str = ""
+    """Sized for yield alone because the envelope cannot carry springcad's default duty:
+    what would meet it (surface, material, one more disk), or ""."""
     serpentine_balance: str | None = None
     """How the serpentine's lobes are balanced (:data:`flexure.BALANCES`): "uncoupled" (a
     tangential tip load moves the ball tangentially only), "root" (the reference tool's:
@@ -336,6 +339,7 @@ class SpringDesign:
             "width_scale": self.width_scale,
             "width_offset_mm": self.width_offset_mm,
             "design_choice": self.design_choice,
+            "duty_advice": self.duty_advice,
             "warnings": list(self.warnings),
         }
 
