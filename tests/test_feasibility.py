@@ -14,6 +14,7 @@ from springcad.config.schema import keys
 from springcad.design.feasibility import (as_material, describe, in_series, material_changes,
                                           nearest_changes, series_change)
 from springcad.design.search import design_spring, redesign_for_contact
+from springcad.errors import DesignError
 
 BASE = {"stiffness_Nm_per_rad": 150, "max_deflection_deg": 14, "outer_radius_mm": 36,
         "thickness_mm": 5.0}
@@ -99,3 +100,24 @@ def test_contact_correction_redesigns_with_balls_at_least_the_floor():
     assert r.tip_radius_mm >= floor - 1e-12
     assert r.spec == d.spec  # the user's spec, not the floor
     assert "contact correction" in r.design_choice
+
+
+def test_a_fixed_flexure_count_that_cannot_work_is_named_with_the_count_that_does():
+    """70 flexures on the default disk leave no room to lower the stress to its duty; the refusal
+    names removing n_flexures and the count the search then chooses, and that count
+    designs."""
+    from pathlib import Path
+
+    from springcad.config import load_job
+    from springcad.design.search import _freed_choices
+
+    job = load_job(Path(__file__).parents[1] / "templates" / "default.toml")  # its duty
+    spec = replace(job.springs["S1"], n_flexures=70)
+    mat, mfg, hw = job.material, job.manufacturing, job.hardware
+    with pytest.raises(DesignError):
+        design_spring(spec, mat, mfg, hw, explain=False)
+    text = _freed_choices(spec, mat, mfg, hw, math.inf)
+    assert "springs.S1.n_flexures removed (now 70; springcad then chooses " in text
+    n = int(text.split("chooses ")[1].split(")")[0])
+    d = design_spring(replace(spec, n_flexures=n), mat, mfg, hw, explain=False)
+    assert d.n_flexures == n and d.yield_margin >= d.required_yield_margin * (1 - 1e-3)

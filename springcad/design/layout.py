@@ -161,8 +161,9 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
             f"spring '{spec.name}': peak torque {peak / NMM_PER_NM:.3g} N*m exceeds the torque cap "
             f"{cap(rc, z, sigma) / NMM_PER_NM:.3g} N*m of tip balls sized for the peak load at "
             f"contact radius {rc:.3g} mm (cap = pi r_c^2 z sigma / (6 sqrt 3)); raise "
-            "contact_radius_mm or thickness_mm, lower the deflection, or fix tip_radius_mm to "
-            "accept an undersized ball")
+            f"contact_radius_mm to at least {float(fx.min_contact_radius_mm(peak, z, sigma)):.3g} "
+            f"mm or thickness_mm to at least {z * peak / cap(rc, z, sigma):.3g} mm (the cap "
+            "alone), lower the deflection, or fix tip_radius_mm to accept an undersized ball")
 
     if spec.contact_radius_mm is not None:
         rc = spec.contact_radius_mm

@@ -536,6 +536,35 @@ REFUSAL_BUDGET_S = 30.0
 PROBE_CANDIDATES = 4
 
 
+#: layout keys a user may fix that the design search otherwise chooses, with their units
+FREE_CHOICES = (("n_flexures", ""), ("contact_radius_mm", " mm"), ("tip_radius_mm", " mm"),
+                ("root_radius_mm", " mm"))
+
+
+def _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm) -> str:
+    """When the user fixed layout keys springcad would otherwise choose: the smallest set
+    of them (one at a time, then all) whose removal lets the search design the spring,
+    with the values it then chooses, or ""."""
+    fixed = [(k, u) for k, u in FREE_CHOICES if getattr(spec, k) is not None]
+    trials = [[ku] for ku in fixed] + ([fixed] if len(fixed) > 1 else [])
+    for keys in trials:
+        free = _replace(spec, **{k: None for k, _ in keys})
+        try:
+            d = design_for_margin(free, material, manufacturing, hardware, explain=False,
+                                  max_root_radius_mm=max_root_radius_mm,
+                                  candidates=PROBE_CANDIDATES)
+        except DesignError:
+            continue
+        if d.yield_margin < duty.required_margin(material, spec.max_deflection_rad) * (1 - 1e-3):
+            continue
+        chosen = {"n_flexures": d.n_flexures, "contact_radius_mm": d.contact_radius_mm,
+                  "tip_radius_mm": d.tip_radius_mm, "root_radius_mm": d.root_radius_mm}
+        return "feasible with " + " and ".join(
+            f"springs.{spec.name}.{k} removed (now {getattr(spec, k):g}{u}; springcad then "
+            f"chooses {chosen[k]:.4g}{u})" for k, u in keys)
+    return ""
+
+
 def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
              tried: str = "") -> DesignError:
     """The refusal: the nearest values of the user's own keys that design (numbers) first,
@@ -551,8 +580,11 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     else:
         series = series_change(spec, designs)
         materials = material_changes(material, lambda m: designs(spec, m))
+    freed = _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm)
     nearest = nearest_changes(spec, designs, deadline=time.monotonic() + REFUSAL_BUDGET_S)
     changes = describe(spec.name, nearest, materials, series, spec)
+    if freed:
+        changes = freed + ("; or " + changes if not changes.startswith("no change") else "")
     changes += duty.alternatives(spec, material, designs,
                                  deadline=time.monotonic() + REFUSAL_BUDGET_S)  # "" unless the duty binds
     return DesignError(f"spring '{spec.name}' cannot be made as specified; {changes}. "
