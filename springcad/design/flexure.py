@@ -438,7 +438,11 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
         for _ in range(6):
             w_r = width_fn(r)
             budget = np.sqrt(np.maximum((r * pitch / (w_r + margin)) ** 2 - 1.0, 0.0))
-            h = trial_tilt(k, a, balance, u, taper, budget, r, rc, w_r)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                h = trial_tilt(k, a, balance, u, taper, budget, r, rc, w_r)
+            if not np.all(np.isfinite(h)):  # no budget where the lobes would balance
+                result, why = None, "no tilt budget to balance its lobes"
+                break
             lam = solve_lam(h, budget)
             if lam is None:
                 result, why = None, "tilt budget too small"
