@@ -90,7 +90,7 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
             "or thicken the disk, or put springs in series")
 
     layouts = candidate_layouts(spec, sigma, E, max_root_radius_mm=rr_max,
-                                contact=ContactLimit.of(material))
+                                contact=ContactLimit.of(material, spec.max_deflection_rad))
     if rank >= len(layouts):
         raise _NoMoreLayouts(rank)
     lay = layouts[rank]
