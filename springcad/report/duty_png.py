@@ -140,7 +140,7 @@ def duty_rows(d: dict) -> list[tuple[str, str]]:
         return "–" if v is None or (isinstance(v, float) and not math.isfinite(v)) else f"{v:.3g}"
 
     def life(v):  # JSON holds an infinite life as null
-        return "no failure (below the endurance limit)" if v is None else f"life {v:.3g} cycles"
+        return "no failure (below the endurance limit)" if v is None else f"{v:.3g} cycles"
     rows = [("duty", d["duty"]), ("source", d["duty_source"]), ("critical point", d["where"]),
             ("peak at ±θmax (MPa)", n(d["peak_at_max_deflection_MPa"])),
             ("S_e of the part (MPa): S_e' x surface x size x reliability",
@@ -151,7 +151,8 @@ def duty_rows(d: dict) -> list[tuple[str, str]]:
         rows.append((f"block '{b['label']}'",
                      f"{b['cycles']:.3g} cycles of {b['mean_deg']:+.1f} ± {b['amplitude_deg']:.1f}°"
                      f": σa {b['amplitude_MPa']:.0f}, σm {b['mean_MPa']:.0f}, Goodman "
-                     f"{b['equivalent_amplitude_MPa']:.0f} MPa; {life(b['life_cycles'])}; "
+                     f"{b['equivalent_amplitude_MPa']:.0f} MPa; "
+                     + ("" if b["life_cycles"] is None else "life ") + f"{life(b['life_cycles'])}; "
                      f"damage {b['damage']:.3g}"))
     rows += [("Miner sum", n(d["miner_sum"])),
              ("fatigue safety factor (required)",

@@ -148,6 +148,8 @@ def _spec_rows(design: dict, fea: dict | None) -> str:
             lambda s, f: f.get("yield_margin", s.get("yield_margin")), 3,
             lambda v, s, f: v < s.get("required_yield_margin", 1.0)),
         row("required yield margin", lambda s, f: s.get("required_yield_margin"), 3),
+        row("yield margin the design sized to (with a declared duty)",
+            lambda s, f: s.get("required_yield_margin_with_duty"), 3),
         row("duty: Miner sum", duty_value("miner_sum"), 3),
         row("duty: fatigue safety factor", duty_value("safety_factor"), 3,
             lambda v, s, f: v < (f.get("duty") or s.get("duty"))["required_safety_factor"]),
