@@ -176,7 +176,7 @@ def is_static(duty: DutySpec) -> bool:
 
 # ====================================================================== evaluation
 #: what an infinite life is called in every output (console, JSON text, report, drawing)
-INFINITE_LIFE = "no failure predicted: stress below the endurance limit"
+INFINITE_LIFE = "infinite (stress below the endurance limit: no failure predicted)"
 
 
 def life_text(cycles: float | None) -> str:
