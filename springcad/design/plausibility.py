@@ -105,9 +105,7 @@ def design_warnings(job_design) -> list[str]:
                 f"{s.target_stiffness_Nmm_per_rad / NMM_PER_NM:.3g} N*m/rad is too low for this "
                 "disk; use a thinner or smaller disk, or fewer flexures")
         k, target = s.stiffness_beam_Nmm_per_rad, s.target_stiffness_Nmm_per_rad
-        # an FEA-corrected design (width_scale != 1) leaves beam theory on purpose: the FEA
-        # stiffness meets the target (fea.json), the beam's is the uncorrected model's
-        if abs(k / target - 1) > STIFFNESS_WARN_FRACTION and s.width_scale == 1.0:
+        if abs(k / target - 1) > STIFFNESS_WARN_FRACTION:
             out.append(
                 f"spring {s.name}: beam-theory stiffness {k / NMM_PER_NM:.4g} N*m/rad is "
                 f"{100 * (k / target - 1):+.1f} % from the target {target / NMM_PER_NM:.4g}: the "
