@@ -110,26 +110,49 @@ class SpringVerification:
     @property
     def contact_fatigue(self):
         """Contact fatigue of the tip ball over the duty
-        (:func:`springcad.design.contact_fatigue.contact_check`) from the largest Hertz pressure of the contact sweep at +-theta_max
-        (nominal geometry), or None (no sweep, no contact, no contact-fatigue data)."""
+        (:func:`springcad.design.contact_fatigue.contact_check`) from the largest Hertz
+        pressure of the contact sweep at +-theta_max (nominal geometry), or None (no
+        sweep, no contact, no contact-fatigue data)."""
         at_max = getattr(self.contact, "at_max", None)
         if at_max is None:
             return None
-        p0 = max((e.contact.get("p0_MPa", 0.0) for e in at_max.ends.values()), default=0.0)
+        p0 = self._hardest_contact().get("p0_MPa", 0.0)
         d = self.design
         return contact_fatigue.contact_check(d.material.duty, d.material.material.name, p0,
-                                  d.max_deflection_rad)
+                                             d.max_deflection_rad)
+
+    def _hardest_contact(self) -> dict:
+        """The contact entry (force, ball and flank radius, p0) of the sweep's end at
+        +-theta_max with the largest Hertz pressure ({} without a sweep)."""
+        at_max = getattr(self.contact, "at_max", None)
+        ends = [e.contact for e in at_max.ends.values()] if at_max is not None else []
+        return max(ends, key=lambda c: c.get("p0_MPa", 0.0), default={})
+
+    def contact_fatigue_failures(self) -> list[str]:
+        """Why the tip ball's contact fatigue over the duty stops a release (empty when it
+        is met or not judged), with the changes that would meet it."""
+        c = self.contact_fatigue
+        if c is None or not c.judged or c.met:
+            return []
+        h, m = self._hardest_contact(), self.design.material.material
+        change = c.changes(h["force_N"], h["ball_radius_mm"], h["flank_radius_mm"],
+                           self.design.thickness_mm, m.youngs_modulus_MPa, m.poisson_ratio)
+        return [f"spring {self.name}: tip-ball contact fatigue over the duty not met: "
+                f"{c.text()}; {change}"]
 
     def duty_failures(self) -> list[str]:
-        """Why the duty stops a release (empty when it is met or static/prototype)."""
+        """Why the duty stops a release (empty when it is met or static/prototype): the
+        flexures' fatigue and the tip balls' contact fatigue."""
+        return self._flexure_duty_failures() + self.contact_fatigue_failures()
+
+    def _flexure_duty_failures(self) -> list[str]:
         c = self.duty_check
         if c is None:
             return [f"spring {self.name}: duty not checked: no fatigue data for "
                     f"{self.design.material.material.name} (springcad/data/fatigue.csv)"]
         if c.met:
             return []
-        life = ("no finite life" if math.isinf(c.life_at_max_cycles)
-                else f"{c.life_at_max_cycles:.3g} cycles")
+        life = duty.life_text(c.life_at_max_cycles)
         return [f"spring {self.name}: duty ({duty.describe(c.duty)}) not met at the {c.where} "
                 f"({c.peak_MPa:.0f} MPa at theta_max): Miner sum {c.miner_sum:.3g}, fatigue "
                 f"safety factor {c.safety_factor:.2f} < {c.required_safety_factor:g}; rated "
@@ -421,10 +444,11 @@ class JobVerification:
         return out
 
     def contact_fatigue_notes(self) -> list[str]:
-        """The tip balls' contact fatigue over the duty, one line per spring (a note: the
-        ball is sized for the static contact yield margin, not yet for pitting)."""
+        """The tip balls' contact fatigue over the duty, one line per spring whose balls
+        meet it or are not judged (a shortfall is a duty failure instead)."""
         return [f"spring {n}: {v.contact_fatigue.text()}"
-                for n, v in self.springs.items() if v.contact_fatigue is not None]
+                for n, v in self.springs.items()
+                if v.contact_fatigue is not None and not v.contact_fatigue_failures()]
 
     def raise_for_failures(self) -> None:
         """Raise :class:`VerificationFailed` listing every failure (for ``springcad build``)."""

@@ -180,20 +180,55 @@ def test_surface_setting_is_checked():
 
 def test_contact_fatigue_of_the_ball_against_agma_by_hand():
     """robot_joint duty, p0 = 1505 MPa at theta_max on 420_ht (S_c = 1170 MPa, AGMA 2001-D04
-    Table 3 at 50 HRC). By hand: block 1, 1e7 cycles at 0.5 theta_max: p0 = 1505 sqrt(0.5) =
-    1064.2 MPa, p0/S_c = 0.9096 < Z_N(1e7) = 1.4488e7^-0.023 = 0.9998: the 2.466 N^-0.056
-    branch, N = (0.9096/2.466)^(-1/0.056) = 5.5e7, damage 0.18; block 2, 1e5 cycles at
-    theta_max: p0/S_c = 1.2863 > Z_N(1e4) = 1.1719: N = 1e4 (1.2863/1.1719)^(-1/0.023) = 176.6,
-    damage 566."""
+    Table 3 at 50 HRC). Z_N (Shigley Fig. 14-15): 2.466 N^-0.056 from 1e4 to 1e7 cycles,
+    1.4488 N^-0.023 beyond (Shigley's Example 14-5: 0.948 at 1e8). By hand: block 1, 1e7
+    cycles at 0.5 theta_max: p0 = 1505 sqrt(0.5) = 1064.2 MPa, p0/S_c = 0.9096 < Z_N(1e7) = 1:
+    N = (0.9096/1.4488)^(-1/0.023) = 6.2e8, damage 0.016; block 2, 1e5 cycles at theta_max:
+    p0/S_c = 1.2863, between Z_N(1e7) and Z_N(1e4) = 1.472: N = (1.2863/2.466)^(-1/0.056) =
+    1.115e5, damage 0.897."""
     from springcad.design import contact_fatigue
 
+    assert contact_fatigue.contact_life_factor(1e4) == pytest.approx(1.47, abs=0.005)
+    assert contact_fatigue.contact_life_factor(1e7) == pytest.approx(1.0, abs=1e-3)
+    assert contact_fatigue.contact_life_factor(1e8) == pytest.approx(0.948, abs=1e-3)
     c = contact_fatigue.contact_check(DutySpec(), "420_ht", 1505.0, math.radians(14))
-    n1 = (1505 * math.sqrt(0.5) / 1170 / 2.466) ** (-1 / 0.056)
-    n2 = 1e4 * ((1505 / 1170) / (1.4488 * 1e4 ** -0.023)) ** (-1 / 0.023)
-    assert n1 == pytest.approx(5.5e7, rel=0.05) and n2 == pytest.approx(176.6, rel=0.01)
+    n1 = (1505 * math.sqrt(0.5) / 1170 / 1.4488) ** (-1 / 0.023)
+    n2 = (1505 / 1170 / 2.466) ** (-1 / 0.056)
+    assert n1 == pytest.approx(6.2e8, rel=0.05) and n2 == pytest.approx(1.115e5, rel=0.01)
     assert c.miner_sum == pytest.approx(1e7 / n1 + 1e5 / n2, rel=1e-9)
-    assert not c.met and c.strength_MPa == 1170
+    assert c.met is False and c.judged and c.strength_MPa == 1170
     assert contact_fatigue.contact_check(DutySpec(), "ti6al4v", 1505.0, 0.2) is None
     # the allowable meets the duty with its factor exactly
     at = contact_fatigue.contact_check(DutySpec(), "420_ht", c.allowable_MPa, math.radians(14))
     assert at.safety_factor == pytest.approx(1.2, rel=1e-6)
+    assert contact_fatigue.allowable_p0_MPa(DutySpec(), "420_ht", 0.2) == pytest.approx(
+        c.allowable_MPa, rel=1e-9)
+
+
+def test_contact_fatigue_is_judged_from_1e4_cycles_and_sizes_only_a_declared_duty():
+    """A bench duty of 100 cycles (paper templates) and the static preset are left to the
+    static contact rule; springcad's default duty is judged but sizes no ball unless
+    declared; a declared one allows c_vm p0 as the ball's von Mises (c_vm = 0.557 at nu 0.3)."""
+    from dataclasses import replace
+
+    from springcad.config.specs import DutyBlock, MaterialSpec
+    from springcad.design import contact_fatigue
+    from springcad.design.contact_stress import von_mises_peak
+    from springcad.materials import material_table
+
+    bench = DutySpec(blocks=(DutyBlock(100, 1.0, 0.0, "fraction", "bench"),), preset=None,
+                     declared=True)
+    assert not contact_fatigue.judged(bench, 0.2)
+    assert not contact_fatigue.judged(DutySpec(preset="static", declared=True), 0.2)
+    assert contact_fatigue.judged(DutySpec(), 0.2)
+    assert contact_fatigue.contact_check(bench, "420_ht", 3000.0, 0.2).judged is False
+    mat = MaterialSpec(material=material_table()["420_ht"], design_stress_MPa=780,
+                       safety_factor=1.2)
+    assert not mat.duty.declared and math.isinf(
+        contact_fatigue.allowable_von_mises_MPa(mat, 0.2))
+    declared = replace(mat, duty=replace(mat.duty, declared=True))
+    p0 = contact_fatigue.allowable_p0_MPa(declared.duty, "420_ht", 0.2)
+    c_vm = von_mises_peak(mat.material.poisson_ratio)[0]  # 0.557 at nu = 0.3 (its own test)
+    assert 0.55 < c_vm < 0.58
+    assert contact_fatigue.allowable_von_mises_MPa(declared, 0.2) == pytest.approx(
+        c_vm * p0, rel=1e-9)

@@ -175,6 +175,17 @@ def is_static(duty: DutySpec) -> bool:
 
 
 # ====================================================================== evaluation
+#: what an infinite life is called in every output (console, JSON text, report, drawing)
+INFINITE_LIFE = "infinite (stress below the endurance limit: no failure predicted)"
+
+
+def life_text(cycles: float | None) -> str:
+    """A life in cycles as text: ``INFINITE_LIFE`` for inf or None (JSON's infinite life)."""
+    if cycles is None or math.isinf(cycles):
+        return INFINITE_LIFE
+    return f"{cycles:.3g} cycles"
+
+
 def goodman_amplitude(amplitude_MPa: float, mean_MPa: float, ultimate_MPa: float) -> float:
     """Equivalent fully reversed amplitude sigma_a / (1 - sigma_m / S_ut) (MPa; inf at or
     beyond S_ut; a compressive mean is given no credit)."""
@@ -242,7 +253,8 @@ class DutyCheck:
         miner_sum: Miner's sum D of the duty.
         safety_factor: factor on stress that brings D to 1 (-).
         required_safety_factor: the duty's required factor.
-        life_at_max_cycles: cycles to failure at +-theta_max (inf: endless).
+        life_at_max_cycles: cycles to failure at +-theta_max (inf: below the endurance
+            limit, no failure predicted).
         rated_deflection_rad: largest theta_max meeting the duty with its factor (rad).
         allowed_peak_MPa: largest peak at theta_max meeting the duty with its factor.
     """
@@ -283,8 +295,7 @@ class DutyCheck:
     def rating_text(self) -> str:
         """One line for the console and the drawing."""
         deg = math.degrees(self.theta_max_rad)
-        life = ("no finite life predicted" if math.isinf(self.life_at_max_cycles)
-                else f"{self.life_at_max_cycles:.3g} cycles")
+        life = life_text(self.life_at_max_cycles)
         if self.static:
             return (f"rated for {PRESETS[self.duty.preset][0][0].cycles:.3g} cycles at "
                     f"+-{deg:.1f} deg (static/prototype duty; life at +-theta_max {life}); "

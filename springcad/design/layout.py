@@ -17,6 +17,7 @@ import numpy as np
 
 from springcad.config import SpringSpec
 from springcad.design import flexure as fx
+from springcad.design.contact_fatigue import allowable_von_mises_MPa
 from springcad.design.contact_stress import tip_radius_for_contact_mm
 from springcad.errors import DesignError, SpecInfeasible
 from springcad.units import NMM_PER_NM
@@ -67,11 +68,15 @@ class ContactLimit:
     allowable_MPa: float
 
     @classmethod
-    def of(cls, material) -> "ContactLimit":
-        """The limit of a :class:`~springcad.config.MaterialSpec` (yield / safety factor)."""
+    def of(cls, material, theta_max_rad: float | None = None) -> "ContactLimit":
+        """The limit of a :class:`~springcad.config.MaterialSpec`: yield / safety factor,
+        and with ``theta_max_rad`` the contact fatigue of a declared duty too
+        (:func:`springcad.design.contact_fatigue.allowable_von_mises_MPa`)."""
         m = material.material
-        return cls(m.youngs_modulus_MPa, m.poisson_ratio,
-                   m.yield_strength_MPa / material.safety_factor)
+        allowed = m.yield_strength_MPa / material.safety_factor
+        if theta_max_rad is not None:
+            allowed = min(allowed, allowable_von_mises_MPa(material, theta_max_rad))
+        return cls(m.youngs_modulus_MPa, m.poisson_ratio, allowed)
 
 
 def tip_ball(spec: SpringSpec, sigma, n, rc, contact: ContactLimit | None = None):

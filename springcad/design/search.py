@@ -90,15 +90,20 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
             "or thicken the disk, or put springs in series")
 
     layouts = candidate_layouts(spec, sigma, E, max_root_radius_mm=rr_max,
-                                contact=ContactLimit.of(material))
+                                contact=ContactLimit.of(material, spec.max_deflection_rad))
     if rank >= len(layouts):
         raise _NoMoreLayouts(rank)
     lay = layouts[rank]
     n, rc, rb, rr = lay.n, lay.rc, lay.rb, lay.rr
     if rb < lay.rb_req:
+        need = (f"tip ball {rb:.3f} mm is below the {lay.rb_req:.3f} mm the peak load "
+                f"{lay.load:.1f} N needs in bending at the neck and in Hertz contact (yield; "
+                "a declared duty's contact fatigue)" if math.isfinite(lay.rb_req) else
+                f"no tip ball carries the peak load {lay.load:.1f} N in Hertz contact on this "
+                "flank (its own curvature r_c theta exceeds what yield or a declared duty's "
+                f"contact fatigue allows; the ball is {rb:.3f} mm)")
         warnings.append(
-            f"tip ball {rb:.3f} mm is below the {lay.rb_req:.3f} mm the peak load "
-            f"{lay.load:.1f} N needs at the design stress; torque cap at r_c = {rc:g} mm is "
+            f"{need}; torque cap at r_c = {rc:g} mm is "
             f"{fx.torque_cap_Nmm(rc, z, sigma) / NMM_PER_NM:.2f} N*m vs peak "
             f"{K * theta_d / NMM_PER_NM:.2f} N*m: expect higher stress at the tip neck")
 

@@ -101,8 +101,9 @@ def render_sn(d: dict, path: Path, title: str) -> Path:
     ax.plot([], [], "x", color="tab:red", label="life of each block's amplitude")
     life_max = d.get("life_at_max_deflection_cycles")
     ax.axhline(d["peak_at_max_deflection_MPa"], color="tab:orange", lw=0.9, ls=":",
-               label=f"peak at ±θmax {d['peak_at_max_deflection_MPa']:.0f} MPa: life "
-                     + (f"{life_max:.3g}" if life_max else "no finite life"))
+               label=f"peak at ±θmax {d['peak_at_max_deflection_MPa']:.0f} MPa: "
+                     + (f"life {life_max:.3g} cycles" if life_max else
+                        "no failure (below the endurance limit)"))
     lo = 0.5 * min([d["endurance_limit_MPa"] / d["required_safety_factor"]]
                    + [b["equivalent_amplitude_MPa"] for b in blocks if b["equivalent_amplitude_MPa"] > 0])
     ax.set_ylim(lo, d["ultimate_strength_MPa"] * 1.2)
@@ -137,6 +138,9 @@ def duty_rows(d: dict) -> list[tuple[str, str]]:
     """The duty's numbers as (label, text) rows for reports."""
     def n(v):
         return "–" if v is None or (isinstance(v, float) and not math.isfinite(v)) else f"{v:.3g}"
+
+    def life(v):  # JSON holds an infinite life as null
+        return "no failure (below the endurance limit)" if v is None else f"{v:.3g} cycles"
     rows = [("duty", d["duty"]), ("source", d["duty_source"]), ("critical point", d["where"]),
             ("peak at ±θmax (MPa)", n(d["peak_at_max_deflection_MPa"])),
             ("S_e of the part (MPa): S_e' x surface x size x reliability",
@@ -147,12 +151,13 @@ def duty_rows(d: dict) -> list[tuple[str, str]]:
         rows.append((f"block '{b['label']}'",
                      f"{b['cycles']:.3g} cycles of {b['mean_deg']:+.1f} ± {b['amplitude_deg']:.1f}°"
                      f": σa {b['amplitude_MPa']:.0f}, σm {b['mean_MPa']:.0f}, Goodman "
-                     f"{b['equivalent_amplitude_MPa']:.0f} MPa; life {n(b['life_cycles'])}; "
+                     f"{b['equivalent_amplitude_MPa']:.0f} MPa; "
+                     + ("" if b["life_cycles"] is None else "life ") + f"{life(b['life_cycles'])}; "
                      f"damage {b['damage']:.3g}"))
     rows += [("Miner sum", n(d["miner_sum"])),
              ("fatigue safety factor (required)",
               f"{d['safety_factor']:.2f} ({d['required_safety_factor']:g})"),
-             ("life at ±θmax (cycles)", n(d["life_at_max_deflection_cycles"])),
+             ("life at ±θmax", life(d["life_at_max_deflection_cycles"])),
              ("fatigue-rated deflection (°), static θmax (°)",
               f"{d['fatigue_rated_deflection_deg']:.1f}, {d['max_deflection_deg']:.1f}"),
              ("verdict", "met" if d["met"] else "NOT met")]

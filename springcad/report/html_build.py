@@ -104,6 +104,16 @@ def _verdict_html(build: dict, fea: dict | None, design: dict) -> str:
             + (f"<p>Caveats:</p><ul>{notes}</ul>" if notes else ""))
 
 
+def _life_at_max(s: dict, f: dict):
+    """A spring's life at ±θmax for the table: cycles, the words for an infinite life (JSON
+    null), or None without a duty."""
+    d = f.get("duty") or s.get("duty")
+    if not d:
+        return None
+    life = d.get("life_at_max_deflection_cycles")
+    return "no failure (below the endurance limit)" if life is None else life
+
+
 def _spec_rows(design: dict, fea: dict | None) -> str:
     """The spec vs achieved table: one column per spring plus the stack."""
     springs = design.get("springs", {})
@@ -138,10 +148,12 @@ def _spec_rows(design: dict, fea: dict | None) -> str:
             lambda s, f: f.get("yield_margin", s.get("yield_margin")), 3,
             lambda v, s, f: v < s.get("required_yield_margin", 1.0)),
         row("required yield margin", lambda s, f: s.get("required_yield_margin"), 3),
+        row("yield margin the design sized to (with a declared duty)",
+            lambda s, f: s.get("required_yield_margin_with_duty"), 3),
         row("duty: Miner sum", duty_value("miner_sum"), 3),
         row("duty: fatigue safety factor", duty_value("safety_factor"), 3,
             lambda v, s, f: v < (f.get("duty") or s.get("duty"))["required_safety_factor"]),
-        row("life at ±θmax (cycles)", duty_value("life_at_max_deflection_cycles"), 3),
+        row("life at ±θmax (cycles)", _life_at_max, 3),
         row("fatigue-rated deflection (°)", duty_value("fatigue_rated_deflection_deg"), 3),
         row("deflection limit (rad)", lambda s, f: s.get("max_deflection_rad")),
         row("flexures", lambda s, f: s.get("n_flexures")),

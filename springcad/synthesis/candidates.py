@@ -106,6 +106,8 @@ class CandidateSpace:
     endurance_limit_MPa: tuple[float, ...] = ()
     fatigue_margin: float | None = None
     tip_radius_mm: float | None = None
+    contact_allowed_MPa: tuple[float, ...] = ()
+    """Per material: allowed tip-ball contact von Mises (MPa; default yield / margin)."""
 
     @classmethod
     def from_requirements(cls, req) -> "CandidateSpace":
@@ -127,7 +129,8 @@ class CandidateSpace:
             allowed_peak_MPa=tuple(req.allowed_peak_MPa(m) for m in req.materials),
             fatigue_limited=tuple(req.fatigue_limited(m) for m in req.materials),
             endurance_limit_MPa=tuple(req.endurance_limit_MPa(m) for m in req.materials),
-            fatigue_margin=req.fatigue_margin, tip_radius_mm=s.tip_radius_mm)
+            fatigue_margin=req.fatigue_margin, tip_radius_mm=s.tip_radius_mm,
+            contact_allowed_MPa=tuple(req.contact_allowed_MPa(m) for m in req.materials))
 
     def stress_limits(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Per material: allowed predicted peak (MPa), fatigue-limited, S_e (MPa; NaN)."""
@@ -140,10 +143,12 @@ class CandidateSpace:
 
     def contact_limits(self, material_index) -> tuple[np.ndarray, np.ndarray]:
         """(Poisson's ratio, allowed tip-ball contact von Mises MPa) of each row's material:
-        yield / the required yield margin, as the design sizes its balls."""
+        yield / the required yield margin, and the duty's contact fatigue, as the design
+        sizes its balls."""
         idx = np.asarray(material_index, dtype=int)
         nu = np.array([m.poisson_ratio for m in self.materials], dtype=float)
-        allowed = np.array([m.yield_strength_MPa / self.yield_margin for m in self.materials])
+        allowed = np.array(self.contact_allowed_MPa or
+                           [m.yield_strength_MPa / self.yield_margin for m in self.materials])
         return nu[idx], allowed[idx]
 
     # ------------------------------------------------------------- families

@@ -101,7 +101,9 @@ def verification_entry(req, cand: dict, fea_model: str) -> dict:
 
     The FEA (:func:`verify_candidate`, build's options) and then, if it passed, build's
     solids and checks on the FEA-corrected design (:func:`build_checks`). ``ok`` only when
-    both pass. A failed solve or solid is a finding (``failures``), not a crash.
+    both pass and, with a duty in the requirements, build's release gate would stamp it
+    RELEASED (the duty and the contact at full deflection hold). A failed solve or solid is a
+    finding (``failures``), not a crash.
     """
     try:
         v, corrected = verify_candidate(req, cand, model=fea_model)
@@ -116,7 +118,19 @@ def verification_entry(req, cand: dict, fea_model: str) -> dict:
                              "width_scale": sv.design.width_scale}
                          for n, sv in v.springs.items()},
              "mass_kg": corrected.stack.mass_kg, "build_checks": None}
-    if not v.ok:
+    # with a duty in the requirements, build's release gate on the verified springs: the
+    # duty (flexures and tip balls) and the contact at full deflection (ball stress,
+    # clearances with the tolerances); a finalist that would build NOT FOR MANUFACTURE is not
+    # a winner. Without one the winner is the first to pass the FEA and the build checks (its
+    # job gets springcad's default duty, rated at build; e.g. the paper's +-0.05 mm
+    # tolerances leave no stack whose contact clearances hold)
+    stops = (list(v.duty_failures()) + list(v.release_failures())
+             if req.duty is not None else [])
+    entry["release_failures"] = stops
+    if stops:
+        entry["ok"] = False
+        entry["failures"] = entry["failures"] + [f"release: {f}" for f in stops]
+    if not entry["ok"]:
         return entry
     try:
         checks = build_checks(corrected)

@@ -34,7 +34,8 @@ from pathlib import Path
 
 from springcad.config import CONNECTIONS, HardwareSpec, ManufacturingSpec, job_from_dict
 from springcad.config.specs import DutySpec
-from springcad.design import duty, fatigue
+from springcad.design import contact_fatigue, duty, fatigue
+from springcad.design.contact_stress import von_mises_peak
 from springcad.errors import ConfigError
 from springcad.materials import Material, material_table
 from springcad.units import NMM_PER_NM
@@ -209,6 +210,18 @@ class Requirements:
             check = duty.check(self.duty, material.name, 1.0, 1.0)
             margin = max(margin, material.yield_strength_MPa / check.allowed_peak_MPa)
         return margin
+
+    def contact_allowed_MPa(self, material: Material) -> float:
+        """Largest tip-ball contact von Mises at theta_max (MPa): yield / yield margin, and
+        with a duty c_vm x the p0 its contact fatigue allows
+        (:func:`springcad.design.contact_fatigue.allowable_p0_MPa`), as the design sizes
+        its balls for a declared duty."""
+        allowed = material.yield_strength_MPa / self.yield_margin
+        if self.duty is not None:  # fractions of theta_max: the same limit for every disk
+            p0 = contact_fatigue.allowable_p0_MPa(self.duty, material.name, 1.0)
+            if math.isfinite(p0):
+                allowed = min(allowed, von_mises_peak(round(material.poisson_ratio, 6))[0] * p0)
+        return allowed
 
     def allowed_peak_MPa(self, material: Material) -> float:
         """Largest predicted peak stress a disk of ``material`` may carry (MPa)."""

@@ -240,9 +240,11 @@ def test_build_verifies_before_exporting(tmp_path):
     contact_reasons += fea["duty_failures"]
     assert release["reasons"] == contact_reasons
     # the duty (issue 21): declared, met on the verified field, and design.json and fea.json
-    # agree on the damage. Issue 21 asks 10 %; the default at +-0.01 mm tolerances measures
-    # 12 % (FEA 0.111, design 0.126: the design's peak is 2.7 % over the FEA's and the S-N
-    # slope multiplies that ~4x), so this holds the 15 % measured today, not the target
+    # agree on the damage. Issue 21 asks 10 %; the S-N slope (1/0.103) turns 1 % of stress
+    # into 10 % of damage, and neither side is that close: the 12 mm default measures design
+    # 0.131 vs FEA 0.146 (peak 669 vs 676 MPa; the FEA's 3D factor is +1.9 %, the design has
+    # none), paper S1 29 %, the default at 9 mm / 10 deg 3.5 % (2026-11-26). This holds the
+    # default's 11 % with room, not the target
     fd, dd = s1["duty"], design["springs"]["S1"]["duty"]
     assert fd["declared"] and fd["met"] and fea["duty_failures"] == []
     assert fd["miner_sum"] == pytest.approx(dd["miner_sum"], rel=0.15)
