@@ -21,7 +21,7 @@ def _job(thickness_mm, duty_table=None):
 
 
 def test_an_envelope_that_carries_the_default_duty_is_sized_for_it():
-    job = _job(7.5)
+    job = _job(9.0)
     assert not job.material.duty.declared and job.material.duty.preset == DEFAULT_DUTY_PRESET
     s = design_job(job, explain=False).springs["A"]
     assert "sized for springcad's default duty" in s.design_choice
