@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -84,7 +85,7 @@ class Key:
     hi: float | None = None
     default: Any = REQUIRED
     doc: str = ""
-    choices: tuple[str, ...] = ()
+    choices: Sequence[str] = ()
     text: str = "text"
     lo_open: bool = False
 
@@ -193,7 +194,38 @@ def _s(name, text, hi, default, doc, lo=1):
     return Key(name, "str", "-", lo, hi, default, doc, text=text)
 
 
-FLEXURE_SHAPES = ("auto", "straight", "serpentine")
+class Registered(Sequence):
+    """The allowed strings of a choice key whose values a higher layer registers.
+
+    The schema sits below the design layer, so it cannot import what the design defines;
+    the design's registry adds each name here when it registers it (a flexure shape:
+    :func:`springcad.design.shapes.registry.register`), and the key's check and message
+    read the list as it stands. Hashed and compared by identity, like a registry.
+    """
+
+    def __init__(self, fixed: tuple[str, ...] = ()):
+        self._names: list[str] = list(fixed)
+
+    def add(self, name: str) -> None:
+        if name not in self._names:
+            self._names.append(name)
+
+    def discard(self, name: str) -> None:
+        if name in self._names:
+            self._names.remove(name)
+
+    def __getitem__(self, i):
+        return self._names[i]
+
+    def __len__(self) -> int:
+        return len(self._names)
+
+    def __repr__(self) -> str:
+        return f"Registered({tuple(self._names)!r})"
+
+
+#: "auto" and every flexure shape of the registry (:mod:`springcad.design.shapes`)
+FLEXURE_SHAPES = Registered(("auto",))
 CONNECTIONS = ("shaft", "rim")
 PROCESSES = ("wire_edm",)
 FASTENER_KINDS = ("bolt", "dowel")
