@@ -16,7 +16,7 @@ without building the exact profiles:
    test of the serpentine search, so screening never rejects a disk that the full
    design accepts on this ground;
 5. root gap for the wire and the cam web over the bore;
-6. the serpentine the design would choose (:func:`~springcad.synthesis.shapes.serpentine_centrelines`:
+6. the serpentine the design would choose (:func:`~springcad.design.shapes.serpentine_screen.serpentine_centrelines`:
    the tilt factor of every shape that reaches s, the wire's concave edge radius,
    the smallest curved-beam measure) and the *predicted peak stress* of the real
    geometry with the root flare the design would choose
@@ -50,7 +50,7 @@ from springcad.config.consistency import MIN_RIM_FRACTION, min_rim_mm
 from springcad.design.contact_stress import tip_radius_for_contact_mm
 from springcad.design.search import STRESS_PASSES
 from springcad.synthesis.peak import predict_peaks
-from springcad.synthesis.shapes import U, serpentine_centrelines, serpentine_reach
+from springcad.design.shapes.serpentine_screen import U, serpentine_centrelines, serpentine_reach
 
 __all__ = ["REASONS", "cam_tooth_width_mm", "screen_disks", "serpentine_reach"]
 

@@ -5,7 +5,8 @@ the design stress and is lengthened by curving its centreline between its neighb
 until its area is the serpentine factor s = (theta_d / theta_s)^(3/2) (eq. 4) times a
 straight one's (:func:`springcad.design.flexure.design_serpentine`: the deterministic
 search over tilt shapes, neighbour clearance and concave edge radius as hard rules).
-Units: mm, N, MPa, rad.
+Its vectorised twin, which the synthesis screen runs on many disks at once, is
+:mod:`springcad.design.shapes.serpentine_screen`. Units: mm, N, MPa, rad.
 """
 
 from __future__ import annotations
