@@ -265,7 +265,8 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
            "without design_stress_MPa, else 1)"),
     ),
     "springs.<name>": (
-        _f("stiffness_Nm_per_rad", "N*m/rad", 0.001, 1e5, REQUIRED, "target stiffness K"),
+        _f("target_stiffness_Nm_per_rad", "N*m/rad", 0.001, 1e5, REQUIRED, "target stiffness K "
+           "(formerly stiffness_Nm_per_rad)"),
         _f("max_deflection_deg", "deg", 0.05, 89.0, REQUIRED, "deflection reached at the design "
            "stress (or max_deflection_rad)"),
         _f("max_deflection_rad", "rad", 0.000873, 1.553, REQUIRED, "the same in rad (give one of "
@@ -355,6 +356,12 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
            "statistics"),
         _i("seed", 0, 2 ** 32 - 1, 1, "random seed (results are reproducible)"),
     ),
+}
+
+#: keys that were renamed: (section, old name) -> new name. The old name is still read,
+#: with a deprecation warning on the job (:func:`springcad.config.load.check_section`)
+RENAMED = {
+    ("springs.<name>", "stiffness_Nm_per_rad"): "target_stiffness_Nm_per_rad",
 }
 
 #: keys that were accepted once and had no effect: refused with the reason
