@@ -6,7 +6,7 @@ the record are in :mod:`.base`. Light: the shape modules load on first use.
 """
 
 from springcad.design.shapes.registry import (AUTO, BUILT_IN, SHAPES, get, names, register,
-                                              size_flexure, unregister)
+                                              size_flexure, tried, unregister)
 
-__all__ = ["AUTO", "BUILT_IN", "SHAPES", "get", "names", "register", "size_flexure",
+__all__ = ["AUTO", "BUILT_IN", "SHAPES", "get", "names", "register", "size_flexure", "tried",
            "unregister"]

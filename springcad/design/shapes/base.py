@@ -22,6 +22,7 @@ from springcad.config import ManufacturingSpec, SpringSpec
 from springcad.design import stress
 from springcad.design.flexure import Centreline
 from springcad.design.layout import Layout
+from springcad.design.shapes.screen import ScreenCentreline, ScreenRows, ScreenSizing
 
 if TYPE_CHECKING:
     from springcad.design.spring import SpringDesign
@@ -147,6 +148,25 @@ class FlexureShape:
         """The width law at radius y before the width factor, the root flare, the web
         floor and the profile offset that ``SpringDesign.width_mm`` applies (mm)."""
         raise NotImplementedError
+
+    # ------------------------------------------------------------- the synthesis screen
+    @property
+    def screens(self) -> bool:
+        """Whether the synthesis screen can size this shape (:meth:`screen_size`)."""
+        return type(self).screen_size is not FlexureShape.screen_size
+
+    def screen_size(self, rows: ScreenRows) -> ScreenSizing:
+        """:meth:`size` on arrays, for many disks at once (:mod:`.screen`).
+
+        Raises:
+            NotImplementedError: the shape has no screen; the synthesis does not offer it.
+        """
+        raise NotImplementedError(f"flexure shape '{self.name}' has no synthesis screen")
+
+    def screen_centreline(self, rows: ScreenRows, sizing: ScreenSizing) -> ScreenCentreline | None:
+        """The centreline of the taken rows on the screen's stations, or None for the
+        radial straight line the screen assumes by default."""
+        return None
 
     def calibration(self) -> stress.StressCalibration:
         """The stress-concentration coefficients of this shape's peak prediction: the

@@ -76,7 +76,7 @@ def names() -> tuple[str, ...]:
     return tuple(n for n in FLEXURE_SHAPES if n != AUTO)
 
 
-def _tried(requested: str) -> list["FlexureShape"]:
+def tried(requested: str) -> list["FlexureShape"]:
     """The shapes a request tries, in order: every ``auto`` shape for "auto"; else the
     shapes the requested one defers to, then itself."""
     if requested == AUTO:
@@ -102,7 +102,7 @@ def size_flexure(requested: str, ctx: "SizingContext") -> tuple["Sizing", list[s
     name = ctx.spec.name
     if requested != AUTO and (why := get(requested).refusal(ctx)):
         raise DesignError(f"spring '{name}': {why}")
-    for shape in _tried(requested):
+    for shape in tried(requested):
         sizing = shape.size(ctx)
         if sizing is None:
             continue

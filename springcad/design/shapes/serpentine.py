@@ -13,8 +13,12 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from springcad.design import flexure as fx
 from springcad.design.shapes.base import FlexureRecord, FlexureShape, Sizing, SizingContext
+from springcad.design.shapes.screen import ScreenCentreline, ScreenRows, ScreenSizing
+from springcad.design.shapes.serpentine_screen import serpentine_centrelines, serpentine_reach
 from springcad.design.shapes.registry import register
 from springcad.errors import DesignError
 
@@ -47,6 +51,30 @@ class Serpentine(FlexureShape):
                                res.centreline, required_area_ratio=s_req,
                                area_ratio=res.area_ratio, balance=res.balance)
         return Sizing(lay, record, res.min_clearance_mm)
+
+    def screen_size(self, rows: ScreenRows) -> ScreenSizing:
+        """Every row, the serpentine factor and the search's first test, exact: some trial
+        shape reaches the area ratio at full tilt (else ``serpentine_budget``)."""
+        L = rows.rr - rows.rc
+        s = (rows.theta / rows.theta_s) ** 1.5
+        reach = serpentine_reach(s, rows.rc, rows.rr, rows.n, rows.load, rows.z, rows.sigma,
+                                 rows.clearance_mm, 2.0 * (rows.ro - rows.rr))
+        return ScreenSizing(
+            np.ones(len(s), dtype=bool), rows.rr, rows.theta_s,
+            np.sqrt(6 * rows.load * L / (rows.z * rows.sigma)), s,
+            6 * rows.load / (rows.z * rows.sigma), rows.sigma,
+            failures=[("serpentine_budget", reach < s, s, reach)])
+
+    def screen_centreline(self, rows: ScreenRows, sizing: ScreenSizing) -> ScreenCentreline:
+        """The serpentine the design would choose (``serpentine_shape`` when none keeps the
+        wire's concave edge radius)."""
+        shape = serpentine_centrelines(sizing.s, rows.rc, sizing.rr, rows.n, rows.load, rows.z,
+                                       rows.sigma, rows.clearance_mm,
+                                       2.0 * (rows.ro - sizing.rr), rows.min_inside_radius_mm)
+        return ScreenCentreline(
+            shape["x"], shape["y"], shape["slope"], shape["kappa"],
+            failures=[("serpentine_shape", ~shape["ok"], shape["edge_radius_mm"],
+                       np.full(len(rows.rc), rows.min_inside_radius_mm))])
 
     def width_mm(self, design, y_mm):
         """sqrt(6 F (y - r_c) / (z sigma)) at the design's beam stress (mm)."""

@@ -15,6 +15,7 @@ import numpy as np
 from springcad.design import flexure as fx
 from springcad.design.layout import Layout, rim_root_radius
 from springcad.design.shapes.base import FlexureRecord, FlexureShape, Sizing, SizingContext
+from springcad.design.shapes.screen import ScreenRows, ScreenSizing, rim_root_radius_rows
 from springcad.design.shapes.registry import register
 
 
@@ -49,6 +50,33 @@ class Straight(FlexureShape):
         record = FlexureRecord(self.name, "stiffness", w0_stiff(rr - rc),
                                fx.Centreline.straight(rc, rr))
         return Sizing(Layout(n, rc, lay.rb, lay.rb_req, rr, theta_s, lay.load), record)
+
+    def screen_size(self, rows: ScreenRows) -> ScreenSizing:
+        """The rows whose straight limit reaches the deflection, as :meth:`size` (a rim
+        rule without a root fails ``rim_rule``; a limit that falls short at the new root
+        radius leaves the row to the next shape)."""
+        m = len(rows.K)
+        nan = np.full(m, np.nan)
+        taken, rim_bad = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
+        rr, theta_s, w0 = nan.copy(), nan.copy(), nan.copy()
+        i = np.flatnonzero(rows.theta_s >= rows.theta)
+        if i.size:
+            r = rows.take(i)
+            coef = 8.0 * r.K / (r.n * r.rc ** 2 * r.E * r.z)
+            rr_s = np.minimum(rim_root_radius_rows(r.ro, r.n, r.rc,
+                                                   lambda Ls, c=coef: np.cbrt(c * Ls ** 3)),
+                              r.rim_max)
+            rim_bad[i[np.isnan(rr_s)]] = True
+            th2 = fx.straight_limit_rad(r.n, r.z, r.sigma, rr_s - r.rc, r.E, r.K, r.rc)
+            keep = ~np.isnan(rr_s) & (th2 >= r.theta)
+            j = i[keep]
+            taken[j], rr[j], theta_s[j] = True, rr_s[keep], th2[keep]
+            w0[j] = np.cbrt(coef[keep] * (rr[j] - rows.rc[j]) ** 3)
+        L = rr - rows.rc
+        return ScreenSizing(
+            taken, rr, theta_s, w0, np.ones(m), w0 ** 2 / L,
+            6 * rows.load * L / (rows.z * w0 ** 2),
+            failures=[("rim_rule", rim_bad, rows.n.astype(float), rows.ro)])
 
     def width_mm(self, design, y_mm):
         """w0 sqrt((y - r_c) / L) (mm)."""
