@@ -28,10 +28,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
-from springcad.design import duty, fatigue, shapes
+from springcad.design import duty, fatigue
 from springcad.design import flexure as fx
 from springcad.design.curves import Profile
 from springcad.design.shapes.base import FlexureRecord, FlexureShape
+from springcad.design.shapes.registry import get as shape_named
 from springcad.errors import DesignError
 from springcad.units import J_PER_NMM, MM3_PER_CM3, NMM_PER_NM
 
@@ -105,7 +106,7 @@ class SpringDesign:
     @property
     def flexure_shape(self) -> FlexureShape:
         """The registered shape of the flexures (:func:`springcad.design.shapes.get`)."""
-        return shapes.get(self.shape.name)
+        return shape_named(self.shape.name)
 
     @property
     def flexure(self) -> str:

@@ -16,16 +16,12 @@ the tip-ball centre at ``(0, r_c)``. Units: mm, N, MPa, N*mm, rad.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 from springcad.config import ManufacturingSpec, SpringSpec
 from springcad.design import stress
 from springcad.design.flexure import Centreline
 from springcad.design.layout import Layout
 from springcad.design.shapes.screen import ScreenCentreline, ScreenRows, ScreenSizing
-
-if TYPE_CHECKING:
-    from springcad.design.spring import SpringDesign
 
 
 @dataclass(frozen=True)
@@ -144,9 +140,11 @@ class FlexureShape:
         checked before any shape is tried, so the user's request is refused early."""
         return ""
 
-    def width_mm(self, design: "SpringDesign", y_mm):
-        """The width law at radius y before the width factor, the root flare, the web
-        floor and the profile offset that ``SpringDesign.width_mm`` applies (mm)."""
+    def width_mm(self, design, y_mm):
+        """The width law at radius y of ``design`` (a
+        :class:`~springcad.design.spring.SpringDesign`, which holds this shape's record)
+        before the width factor, the root flare, the web floor and the profile offset
+        that ``SpringDesign.width_mm`` applies (mm)."""
         raise NotImplementedError
 
     # ------------------------------------------------------------- the synthesis screen
