@@ -22,9 +22,9 @@ OUT = ROOT / "springcad" / "data" / "stress_calibration.json"
 
 #: extra geometries: (label, template, overrides of its first spring)
 EXTRA = (
-    ("thin_soft", "default.toml", {"thickness_mm": 3.0, "stiffness_Nm_per_rad": 60.0,
+    ("thin_soft", "default.toml", {"thickness_mm": 3.0, "target_stiffness_Nm_per_rad": 60.0,
                                    "max_deflection_deg": 18.0}),
-    ("thick_few", "default.toml", {"thickness_mm": 6.0, "stiffness_Nm_per_rad": 250.0,
+    ("thick_few", "default.toml", {"thickness_mm": 6.0, "target_stiffness_Nm_per_rad": 250.0,
                                    "max_deflection_deg": 12.0}),
 )
 

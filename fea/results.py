@@ -39,6 +39,34 @@ REGION_NAMES = {"root": "root fillet", "edge": "flexure flank", "neck": "tip-nec
                 "clamp": "rim (held face)", "hole": "rim hole", "face": "flexure flank"}
 
 
+@dataclass(frozen=True, eq=False)
+class Field:
+    """The FE field of one solved mesh at the maximum deflection, as plain arrays.
+
+    What a viewer or a report needs without scikit-fem: node rows, quadratic cells in
+    VTK's local node order (scikit-fem's for quadratic triangles and tetrahedra), the
+    nodal displacement and von Mises stress. The mesh is the modelled sector (a 3D
+    model may be half the thickness, see ``thickness_fraction``). Units: mm, MPa.
+
+    Attributes:
+        points_mm: node coordinates, shape (n, 3) (z = 0 in 2D).
+        cells: node indices of each cell, shape (e, 6) triangles or (e, 10) tetrahedra.
+        displacement_mm: nodal displacement, shape (n, 3).
+        von_mises_MPa: nodal von Mises stress, shape (n,).
+        excluded: nodes excluded from the reported peak (supports, load), shape (n,).
+        thickness_mm: disk thickness z (mm).
+        thickness_fraction: share of the thickness modelled (0.5: mid-plane symmetry).
+    """
+
+    points_mm: np.ndarray
+    cells: np.ndarray
+    displacement_mm: np.ndarray
+    von_mises_MPa: np.ndarray
+    excluded: np.ndarray
+    thickness_mm: float
+    thickness_fraction: float = 1.0
+
+
 @dataclass(eq=False)
 class StaticResult:
     """One solved mesh.
@@ -55,7 +83,9 @@ class StaticResult:
         timings_s: "assemble", "solve", "post" wall times (s).
         solve_info: the :class:`~fea.solve.SolveInfo`.
         fields: point data for output: "displacement_mm" (n, 3) and "von_mises_MPa" (n,)
-            on the mesh nodes at max deflection (not serialised).
+            on the mesh nodes at max deflection, "points_mm" (dim, n), "excluded" (n,),
+            "cells" (e, local nodes) (not serialised); :attr:`field` gives them as a
+            :class:`Field`.
     """
 
     stiffness_Nmm_per_rad: float
@@ -76,6 +106,23 @@ class StaticResult:
     mesh: object = field(default=None, repr=False)
     peak_by_region_MPa: dict = field(default_factory=dict)
     """Largest nodal von Mises on each kind of boundary (root fillet, flank, neck, ...)."""
+
+    @property
+    def field(self) -> Field:
+        """The field as plain arrays (:class:`Field`).
+
+        Raises:
+            ValueError: the result was solved without ``keep_fields``.
+        """
+        f = self.fields
+        if not f:
+            raise ValueError("the result carries no fields: verify (or solve) with keep_fields=True")
+        rows = to_rows(f["points_mm"])
+        points = np.zeros((len(rows), 3))
+        points[:, :rows.shape[1]] = rows
+        return Field(points, f["cells"], f["displacement_mm"], f["von_mises_MPa"],
+                     np.asarray(f["excluded"], dtype=bool), self.mesh.thickness_mm,
+                     self.mesh.thickness_fraction)
 
     def to_dict(self) -> dict:
         return {"stiffness_Nm_per_rad": self.stiffness_Nmm_per_rad / NMM_PER_NM,
@@ -225,7 +272,7 @@ def evaluate(fm, system, u: np.ndarray, case, max_deflection_rad: float, timings
         disp = np.zeros((sb.N, 3))
         disp[:, :system.dim] = (u * scale).reshape(-1, system.dim)
         fields = {"displacement_mm": disp, "von_mises_MPa": vm_nodes, "points_mm": xyz,
-                  "excluded": excl}
+                  "excluded": excl, "cells": np.ascontiguousarray(sb.element_dofs.T)}
     return StaticResult(
         stiffness_Nmm_per_rad=k_ring, torque_at_max_Nmm=torque_ring,
         max_deflection_rad=max_deflection_rad, peak_von_mises_MPa=peak,

@@ -20,6 +20,7 @@ from fea.study import ModelRun, VerifyOptions
 from springcad.design import contact_fatigue, duty, fatigue
 from springcad.errors import CheckFailed
 from springcad.units import NMM_PER_NM
+from springcad.version import stamp
 
 SCHEMA = "springcad.fea/1"
 
@@ -467,9 +468,7 @@ class JobVerification:
         return job_design.with_springs(self.corrected_designs())
 
     def to_dict(self) -> dict:
-        from springcad.version import __version__
-
-        return {"schema": SCHEMA, "springcad_version": __version__, "job": self.job_name,
+        return {**stamp(SCHEMA), "job": self.job_name,
                 "options": {"model": self.options.model, "levels": self.options.levels,
                             "mesher": self.options.mesher,
                             "tolerance_pct": 100 * self.options.tolerance,

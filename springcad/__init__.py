@@ -38,6 +38,7 @@ from springcad.api import (
     validate_paper,
     verify,
 )
+from springcad.design.shapes import registry as _shapes  # noqa: F401  the config's flexure names (light)
 from springcad.errors import SpringcadError
 from springcad.version import __version__
 

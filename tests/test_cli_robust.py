@@ -250,7 +250,7 @@ def test_a_failing_overwrite_leaves_the_old_output_unchanged(tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["design", str(template("paper_S1")), "--out", str(out)]) == 0
     before = {p.name: p.read_bytes() for p in out.iterdir()}
-    bad = write_job(tmp_path, lambda d: d["springs"]["S1"].update(stiffness_Nm_per_rad=5e4))
+    bad = write_job(tmp_path, lambda d: d["springs"]["S1"].update(target_stiffness_Nm_per_rad=5e4))
     for command in (["design"], ["build", "--no-verify", "--no-render"]):
         assert main(command[:1] + [str(bad), "--out", str(out), "--overwrite"] + command[1:]) == 2
         one_error_line(capsys.readouterr().err)
@@ -284,7 +284,7 @@ def test_simulate_out_is_a_folder_even_with_overwrite(tmp_path, capsys):
 
 
 def test_failed_run_removes_the_parent_folders_it_created(tmp_path, capsys):
-    bad = write_job(tmp_path, lambda d: d["springs"]["S1"].update(stiffness_Nm_per_rad=5e4))
+    bad = write_job(tmp_path, lambda d: d["springs"]["S1"].update(target_stiffness_Nm_per_rad=5e4))
     assert main(["build", str(bad), "--out", str(tmp_path / "a" / "b" / "out"), "--no-verify"]) == 2
     assert sorted(p.name for p in tmp_path.iterdir()) == ["job.toml"]
 
@@ -311,7 +311,7 @@ def test_fastener_count_cut_is_a_warning(tmp_path, capsys):
 
 
 def test_low_stiffness_in_range_warns_of_flexures_thinner_than_the_wire(tmp_path, capsys):
-    job = write_job(tmp_path, lambda d: d["springs"]["S1"].update(stiffness_Nm_per_rad=0.001),
+    job = write_job(tmp_path, lambda d: d["springs"]["S1"].update(target_stiffness_Nm_per_rad=0.001),
                     base="default")
     rc = main(["design", str(job), "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
@@ -344,7 +344,7 @@ def test_fastener_too_big_for_the_rim_rule_gets_a_wider_rim(tmp_path, capsys):
 def test_no_layout_message_does_not_blame_the_torque_cap(tmp_path, capsys):
     """120 flexures cannot fit a 20 mm disk; the torque cap is not the reason (it was quoted)."""
     job = write_job(tmp_path, lambda d: (d["springs"]["S1"].update(
-        n_flexures=120, outer_radius_mm=20, stiffness_Nm_per_rad=5), d.update(
+        n_flexures=120, outer_radius_mm=20, target_stiffness_Nm_per_rad=5), d.update(
         hardware={"fastener_count": 0}), d["stack"].update(sequence=["S1"])), base="default")
     assert main(["design", str(job), "--out", str(tmp_path / "o")]) == 2
     line = one_error_line(capsys.readouterr().err)

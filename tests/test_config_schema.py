@@ -205,7 +205,7 @@ ISSUE_VALUES = {  # the values the issue found crashing or hanging, each refused
     "outer radius 1e300": ("springs.<name>", "outer_radius_mm", 1e300, "3 to 250 mm"),
     "thickness 1e300": ("springs.<name>", "thickness_mm", 1e300, "0.2 to 100 mm"),
     "deflection 1e-6 deg": ("springs.<name>", "max_deflection_deg", 1e-6, "0.05 to 89 deg"),
-    "stiffness 1e-6": ("springs.<name>", "stiffness_Nm_per_rad", 1e-6, "0.001 to 100000"),
+    "stiffness 1e-6": ("springs.<name>", "target_stiffness_Nm_per_rad", 1e-6, "0.001 to 100000"),
     "tolerance 1e300": ("manufacturing", "t_spring_mm", 1e300, "0 to 0.5 mm"),
     "gap 1e300": ("manufacturing", "w_gap_mm", 1e300, "0.005 to 1 mm"),
     "web 1e300": ("manufacturing", "min_web_mm", 1e300, "0.02 to 5 mm"),
@@ -325,3 +325,25 @@ def test_zero_spread_statistics_are_what_the_warning_says():
     data["analysis"] = {"monte_carlo_samples": 1}
     b = design_job(job_from_dict(data)).stack.backlash
     assert b.mc_std == 0.0 and math.isfinite(b.mc_mean)
+
+
+def test_old_stiffness_key_is_read_with_a_deprecation_warning():
+    """springs.<name>.stiffness_Nm_per_rad was renamed target_stiffness_Nm_per_rad: a config
+    with the old name loads to the same spec and says so; both names at once are refused."""
+    new = job_from_dict(paper_s1())
+    data = paper_s1()
+    spring = data["springs"]["S1"]
+    spring["stiffness_Nm_per_rad"] = spring.pop("target_stiffness_Nm_per_rad")
+    old = job_from_dict(data)
+    assert old.springs == new.springs
+    assert old.warnings[0] == ("springs.S1.stiffness_Nm_per_rad is deprecated: it is now "
+                               "springs.S1.target_stiffness_Nm_per_rad (same value and unit); "
+                               "rename the key")
+    assert old.warnings[1:] == new.warnings
+    spring["stiffness_Nm_per_rad"] = -1.0  # a bad value names the key as written
+    with pytest.raises(ConfigError, match=r"springs\.S1\.stiffness_Nm_per_rad' = -1\.0: must be"):
+        job_from_dict(data)
+    spring["target_stiffness_Nm_per_rad"] = 150.0
+    with pytest.raises(ConfigError, match="old name of springs.S1.target_stiffness_Nm_per_rad, "
+                                          "which is also given"):
+        job_from_dict(data)

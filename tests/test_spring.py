@@ -207,7 +207,7 @@ def test_a_refusal_names_changes_in_numbers_and_each_change_designs():
     applying each suggested value alone gives a spring that designs with the margin."""
     import re
 
-    base = {"stiffness_Nm_per_rad": 150, "max_deflection_deg": 16, "outer_radius_mm": 33.5,
+    base = {"target_stiffness_Nm_per_rad": 150, "max_deflection_deg": 16, "outer_radius_mm": 33.5,
             "thickness_mm": 4.5, "contact_radius_mm": 5.5, "tip_radius_mm": 0.3,
             "n_flexures": 28}
     mat = {"design_stress_MPa": 912, "safety_factor": 1.6}
@@ -241,7 +241,7 @@ def test_a_refusal_over_the_energy_bound_names_disks_in_series_that_design():
 
     from springcad.config.schema import keys
 
-    base = {"stiffness_Nm_per_rad": 150, "max_deflection_deg": 28, "outer_radius_mm": 36,
+    base = {"target_stiffness_Nm_per_rad": 150, "max_deflection_deg": 28, "outer_radius_mm": 36,
             "thickness_mm": 5.0}  # the default template's disk at twice its deflection
     mat = {"design_stress_MPa": 780, "safety_factor": 1.2}
     j = job_from_dict({"material": mat, "springs": {"A": base}})
@@ -249,12 +249,12 @@ def test_a_refusal_over_the_energy_bound_names_disks_in_series_that_design():
         design_spring(j.springs["A"], j.material, j.manufacturing, j.hardware)
     text = str(exc.value)
     (m, k, deg), = re.findall(r"(\d) disks in series in its place \(each springs\.A\."
-                              r"stiffness_Nm_per_rad = ([\d.]+), max_deflection_deg = "
+                              r"target_stiffness_Nm_per_rad = ([\d.]+), max_deflection_deg = "
                               r"([\d.]+)", text)
     assert float(k) == pytest.approx(150 * int(m), rel=1e-3)
     assert float(deg) == pytest.approx(base["max_deflection_deg"] / int(m), rel=1e-3)
     one = job_from_dict({"material": mat, "springs": {"A": {
-        **base, "stiffness_Nm_per_rad": float(k), "max_deflection_deg": float(deg)}}})
+        **base, "target_stiffness_Nm_per_rad": float(k), "max_deflection_deg": float(deg)}}})
     s = design_spring(one.springs["A"], one.material, one.manufacturing, one.hardware)
     assert s.yield_margin >= one.material.safety_factor * (1 - 1e-3)
     bounds = keys("springs.<name>")

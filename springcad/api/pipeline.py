@@ -26,6 +26,7 @@ from springcad.options import REVISION, api_door, check_revision
 from springcad.progress import Tracker
 from springcad.report import notebook
 from springcad.stages import stage
+from springcad.version import stamp
 
 #: schema of ``build.json``
 SCHEMA = "springcad.build/1"
@@ -112,14 +113,11 @@ class Build:
 
     def to_dict(self) -> dict:
         """The ``build.json`` document (needs :func:`export_build` for files and release)."""
-        from springcad.version import __version__
-
         asm, st = self.assembly, self.design.raw.stack
         checks = self.checks.checks + self.roundtrip
         ver = self.verification
         return {
-            "schema": SCHEMA,
-            "springcad_version": __version__,
+            **stamp(SCHEMA),
             "job": {"name": self.design.job.name, "config": str(self.design.job.source)},
             "started": self.started,
             "verification": ({"ok": ver.ok, "fea_json": "fea/fea.json",

@@ -9,6 +9,7 @@ hands over to :mod:`springcad.report.notebook`: the results hold data, not HTML.
 
 from __future__ import annotations
 
+from springcad.options import api_door, check_choice, refuse
 from springcad.report import notebook
 from springcad.units import NMM_PER_NM as _NMM_PER_NM
 
@@ -190,6 +191,33 @@ class Verification:
     @property
     def stack_stiffness_Nm_per_rad(self) -> float:
         return self.raw.stack.stiffness_Nmm_per_rad / _NMM_PER_NM
+
+    @api_door
+    def field(self, spring: str, model: str = "finest"):
+        """The FE field of one spring at its maximum deflection, as plain arrays.
+
+        Args:
+            spring: the spring's name.
+            model: "finest" (the finest mesh of the convergence study, in the verified
+                model) or "3d" (the 3D check, when it ran).
+
+        Returns:
+            A :class:`fea.results.Field`: ``points_mm`` (n, 3), ``cells`` (quadratic,
+            VTK node order), ``displacement_mm`` (n, 3), ``von_mises_MPa`` (n,),
+            ``excluded`` (n,) (mm, MPa).
+
+        Raises:
+            OptionError: an unknown spring or model, or a 3D field that was not computed.
+            ValueError: the verification kept no fields.
+        """
+        check_choice("spring", spring, tuple(self.raw.springs))
+        check_choice("model", model, ("finest", "3d"))
+        run = self.raw.springs[spring].run
+        if model == "finest":
+            return run.study.finest.field
+        if not run.check3d:
+            raise refuse("model", model, "needs the 3D check, which this verification did not run")
+        return run.check3d[-1].field
 
     def to_dict(self) -> dict:
         """The ``fea.json`` document."""

@@ -15,7 +15,7 @@ from dataclasses import asdict, replace
 from pathlib import Path
 
 from springcad.config import consistency
-from springcad.config.schema import MAX_SPRINGS, REMOVED, REQUIRED, Key, _toml_type, keys
+from springcad.config.schema import MAX_SPRINGS, REMOVED, RENAMED, REQUIRED, Key, _toml_type, keys
 from springcad.config.specs import (AnalysisSpec, DutyBlock, DutySpec, HardwareSpec, Job,
                                     ManufacturingSpec, MaterialSpec, SpringSpec, StackSpec)
 from springcad.errors import ConfigError, ConfigFileError
@@ -96,10 +96,22 @@ def check_section(table, section: str, prefix: str) -> dict:
         full = f"{prefix}.{name}"
         if (section, name) in REMOVED:
             raise ConfigError(full, value, REMOVED[(section, name)])
+        if (section, name) in RENAMED:  # read under its new name (deprecations() warns)
+            name = RENAMED[(section, name)]
+            if name in table:
+                raise ConfigError(full, value, f"is the old name of {prefix}.{name}, which is "
+                                  "also given; delete this key")
         if name not in declared:
             raise _unknown(full, value, list(declared))
         values[name] = declared[name].check(value, full)
     return values
+
+
+def deprecations(table, section: str, prefix: str) -> list[str]:
+    """The deprecation warnings of one table's renamed keys (:data:`RENAMED`)."""
+    return [f"{prefix}.{old} is deprecated: it is now {prefix}.{new} (same value and unit); "
+            "rename the key" for (sec, old), new in RENAMED.items()
+            if sec == section and isinstance(table, dict) and old in table]
 
 
 def _required(values: dict, section: str, prefix: str, *names: str) -> None:
@@ -154,7 +166,7 @@ def _material(v: dict) -> MaterialSpec:
 def _spring(name: str, v: dict) -> SpringSpec:
     p = f"springs.{name}"
     sec = "springs.<name>"
-    _required(v, sec, p, "stiffness_Nm_per_rad", "outer_radius_mm", "thickness_mm")
+    _required(v, sec, p, "target_stiffness_Nm_per_rad", "outer_radius_mm", "thickness_mm")
     deg, rad = "max_deflection_deg" in v, "max_deflection_rad" in v
     if deg and rad:
         raise ConfigError(f"{p}.max_deflection_deg", v["max_deflection_deg"],
@@ -164,7 +176,7 @@ def _spring(name: str, v: dict) -> SpringSpec:
                           "is required (max_deflection_deg or max_deflection_rad)")
     theta = math.radians(v["max_deflection_deg"]) if deg else float(v["max_deflection_rad"])
     return SpringSpec(
-        name, v["stiffness_Nm_per_rad"] * NMM_PER_NM, theta, float(v["outer_radius_mm"]),
+        name, v["target_stiffness_Nm_per_rad"] * NMM_PER_NM, theta, float(v["outer_radius_mm"]),
         float(v["thickness_mm"]), v.get("contact_radius_mm"),
         v.get("min_tip_radius_mm", SpringSpec.min_tip_radius_mm), v.get("tip_radius_mm"),
         v.get("n_flexures"), v.get("root_radius_mm"), v.get("flexure", SpringSpec.flexure))
@@ -340,10 +352,11 @@ def job_from_dict(data, name: str = "job", source: str = "") -> Job:
     if len(springs_t) > MAX_SPRINGS:
         raise ConfigError("springs", f"{len(springs_t)} tables",
                           f"at most {MAX_SPRINGS} spring designs per job")
-    spring_values = {}
+    spring_values, deprecated = {}, []
     for sname, table in springs_t.items():
         SPRING_NAME.check(sname, "springs.<name>")
         spring_values[sname] = check_section(table, "springs.<name>", f"springs.{sname}")
+        deprecated += deprecations(table, "springs.<name>", f"springs.{sname}")
     springs = {n: _spring(n, v) for n, v in spring_values.items()}
     stack_t = data.get("stack", {})
     if isinstance(stack_t, dict) and stack_t.get("sequence") == []:
@@ -362,7 +375,8 @@ def job_from_dict(data, name: str = "job", source: str = "") -> Job:
               description=job_v.get("description", keys("job")["description"].default),
               material=material, springs=springs, stack=stack, manufacturing=mfg, hardware=hw,
               analysis=an, source=source)
-    return consistency.check(job, spring_values)
+    job = consistency.check(job, spring_values)
+    return replace(job, warnings=tuple(deprecated) + job.warnings) if deprecated else job
 
 
 def load_job(path: Path | str) -> Job:

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -84,7 +85,7 @@ class Key:
     hi: float | None = None
     default: Any = REQUIRED
     doc: str = ""
-    choices: tuple[str, ...] = ()
+    choices: Sequence[str] = ()
     text: str = "text"
     lo_open: bool = False
 
@@ -193,7 +194,38 @@ def _s(name, text, hi, default, doc, lo=1):
     return Key(name, "str", "-", lo, hi, default, doc, text=text)
 
 
-FLEXURE_SHAPES = ("auto", "straight", "serpentine")
+class Registered(Sequence):
+    """The allowed strings of a choice key whose values a higher layer registers.
+
+    The schema sits below the design layer, so it cannot import what the design defines;
+    the design's registry adds each name here when it registers it (a flexure shape:
+    :func:`springcad.design.shapes.registry.register`), and the key's check and message
+    read the list as it stands. Hashed and compared by identity, like a registry.
+    """
+
+    def __init__(self, fixed: tuple[str, ...] = ()):
+        self._names: list[str] = list(fixed)
+
+    def add(self, name: str) -> None:
+        if name not in self._names:
+            self._names.append(name)
+
+    def discard(self, name: str) -> None:
+        if name in self._names:
+            self._names.remove(name)
+
+    def __getitem__(self, i):
+        return self._names[i]
+
+    def __len__(self) -> int:
+        return len(self._names)
+
+    def __repr__(self) -> str:
+        return f"Registered({tuple(self._names)!r})"
+
+
+#: "auto" and every flexure shape of the registry (:mod:`springcad.design.shapes`)
+FLEXURE_SHAPES = Registered(("auto",))
 CONNECTIONS = ("shaft", "rim")
 PROCESSES = ("wire_edm",)
 FASTENER_KINDS = ("bolt", "dowel")
@@ -233,7 +265,8 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
            "without design_stress_MPa, else 1)"),
     ),
     "springs.<name>": (
-        _f("stiffness_Nm_per_rad", "N*m/rad", 0.001, 1e5, REQUIRED, "target stiffness K"),
+        _f("target_stiffness_Nm_per_rad", "N*m/rad", 0.001, 1e5, REQUIRED, "target stiffness K "
+           "(formerly stiffness_Nm_per_rad)"),
         _f("max_deflection_deg", "deg", 0.05, 89.0, REQUIRED, "deflection reached at the design "
            "stress (or max_deflection_rad)"),
         _f("max_deflection_rad", "rad", 0.000873, 1.553, REQUIRED, "the same in rad (give one of "
@@ -326,6 +359,12 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
            "statistics"),
         _i("seed", 0, 2 ** 32 - 1, 1, "random seed (results are reproducible)"),
     ),
+}
+
+#: keys that were renamed: (section, old name) -> new name. The old name is still read,
+#: with a deprecation warning on the job (:func:`springcad.config.load.check_section`)
+RENAMED = {
+    ("springs.<name>", "stiffness_Nm_per_rad"): "target_stiffness_Nm_per_rad",
 }
 
 #: keys that were accepted once and had no effect: refused with the reason

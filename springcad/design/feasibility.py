@@ -62,7 +62,7 @@ def _keys() -> tuple[KeyRange, ...]:
                  lambda s, v: _replace(s, outer_radius_mm=v), 1.8, 0.5),
         KeyRange("max_deflection_deg", lambda s: math.degrees(s.max_deflection_rad),
                  lambda s, v: _replace(s, max_deflection_rad=math.radians(v)), 0.3, 0.1),
-        KeyRange("stiffness_Nm_per_rad", lambda s: s.stiffness_Nmm_per_rad / NMM_PER_NM,
+        KeyRange("target_stiffness_Nm_per_rad", lambda s: s.stiffness_Nmm_per_rad / NMM_PER_NM,
                  lambda s, v: _replace(s, stiffness_Nmm_per_rad=v * NMM_PER_NM), 0.3, 0.0),
     )
 
@@ -169,12 +169,12 @@ def describe(spring_name: str, changes: list[tuple[str, float, float]],
         one = in_series(spec, series)
         clauses.append(
             f"{series} disks in series in its place (each springs.{spring_name}."
-            f"stiffness_Nm_per_rad = {one.stiffness_Nmm_per_rad / NMM_PER_NM:.4g}, "
+            f"target_stiffness_Nm_per_rad = {one.stiffness_Nmm_per_rad / NMM_PER_NM:.4g}, "
             f"max_deflection_deg = {math.degrees(one.max_deflection_rad):.4g}, and "
             f"'{spring_name}' {series} times in stack.sequence where it is once)")
     if not clauses:
         return ("no change of thickness_mm (to 2.5x), outer_radius_mm (to 1.8x), "
-                "max_deflection_deg (to 0.3x) or stiffness_Nm_per_rad (to 0.3x) alone, "
+                "max_deflection_deg (to 0.3x) or target_stiffness_Nm_per_rad (to 0.3x) alone, "
                 f"no stronger built-in material and no {SERIES_COUNTS[-1]} disks in series "
                 "design: change several keys")
     return "feasible with " + " or ".join(clauses) + " (each alone, other keys unchanged)"

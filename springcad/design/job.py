@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from springcad.version import __version__
+from springcad.version import stamp
 from springcad.config import Job
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty
@@ -63,8 +63,7 @@ class JobDesign:
         """The ``design.json`` document (units in key names)."""
         mat = self.job.material
         return {
-            "schema": SCHEMA,
-            "springcad_version": __version__,
+            **stamp(SCHEMA),
             "job": {"name": self.job.name, "description": self.job.description,
                     "config": self.job.source},
             "material": {

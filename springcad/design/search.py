@@ -26,15 +26,15 @@ from dataclasses import replace as _replace
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.config.consistency import min_rim_mm
-from springcad.design import duty
+from springcad.design import duty, shapes
 from springcad.design import flexure as fx
 from springcad.design.cam import TIP_CLEARANCE_SHORT
 from springcad.design.planar import find_defect
 from springcad.design.feasibility import (describe, material_changes, nearest_changes,
                                           series_change)
-from springcad.design.layout import (MAX_CANDIDATES, ContactLimit, Layout, candidate_layouts,
-                                     rim_root_radius)
+from springcad.design.layout import MAX_CANDIDATES, ContactLimit, Layout, candidate_layouts
 from springcad.design.ring import with_hole_circle
+from springcad.design.shapes.base import SizingContext
 from springcad.design.spring import SpringDesign, with_width
 from springcad.errors import DesignError, SpecInfeasible
 from springcad.units import J_PER_NMM, NMM_PER_NM
@@ -107,53 +107,10 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
             f"{fx.torque_cap_Nmm(rc, z, sigma) / NMM_PER_NM:.2f} N*m vs peak "
             f"{K * theta_d / NMM_PER_NM:.2f} N*m: expect higher stress at the tip neck")
 
-    shape = spec.flexure
-    if shape == "straight" and lay.theta_s < theta_d:
-        raise DesignError(
-            f"spring '{spec.name}': straight flexures reach only {lay.theta_s:.4f} rad "
-            f"({math.degrees(lay.theta_s):.2f} deg) < max deflection {theta_d:.4f} rad; "
-            "allow flexure = \"serpentine\" or \"auto\"")
-    use_straight = lay.theta_s >= theta_d
-    if shape == "serpentine" and use_straight:
-        warnings.append("serpentine requested but straight flexures already reach the target "
-                        "deflection; straight flexures used")
-    L = rr - rc
-    clearance = balance = None
-    if use_straight:
-        def w0_stiff(length):
-            return fx.straight_root_width_for_stiffness_mm(K, n, rc, length, E, z)
-        rr_s = spec.root_radius_mm or min(rr_max, rim_root_radius(spec.outer_radius_mm, n, rc,
-                                                                   w0_stiff))
-        theta_s2 = fx.straight_limit_rad(n, z, sigma, rr_s - rc, E, K, rc)
-        if theta_s2 >= theta_d:
-            rr, L = rr_s, rr_s - rc
-            lay = Layout(n, rc, rb, lay.rb_req, rr, theta_s2, lay.load)
-            width_law, w0 = "stiffness", w0_stiff(L)
-            centre = fx.Centreline.straight(rc, rr)
-            s_req = ratio = 1.0
-        else:
-            use_straight = False
-    if not use_straight:
-        width_law = "stress"
-        w0 = math.sqrt(6 * lay.load * L / (z * sigma))
-        s_req = fx.serpentine_factor(theta_d, lay.theta_s)
-
-        def width_fn(y):
-            return fx.constant_stress_width_mm(y, lay.load, rc, z, sigma)
-
-        try:
-            res = fx.design_serpentine(
-                target_area_ratio=s_req, contact_radius_mm=rc, root_radius_mm=rr, n_flexures=n,
-                width_fn=width_fn, tip_radius_mm=rb,
-                min_clearance_mm=max(manufacturing.min_slot_width_mm,
-                                     2 * manufacturing.min_inside_radius_mm),
-                min_inside_radius_mm=manufacturing.min_inside_radius_mm,
-                root_zone_mm=2.0 * (spec.outer_radius_mm - rr), balances=balances)
-        except DesignError as err:  # the flexure module does not know the spring's name
-            raise DesignError(f"spring '{spec.name}': {err}") from None
-        centre, ratio, clearance = res.centreline, res.area_ratio, res.min_clearance_mm
-        balance = res.balance
-
+    sizing, shape_warnings = shapes.size_flexure(spec.flexure, SizingContext(
+        spec, lay, sigma, E, manufacturing, rr_max, balances))
+    warnings += shape_warnings
+    lay, rr, w0 = sizing.layout, sizing.layout.rr, sizing.record.root_width_mm
 
     t_rim = spec.outer_radius_mm - rr
     gap_root = 2 * math.pi * rr / n - w0
@@ -168,11 +125,9 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
         name=spec.name, spec=spec, material=material, manufacturing=manufacturing,
         hardware=hardware, n_flexures=n, contact_radius_mm=rc, root_radius_mm=rr,
         outer_radius_mm=spec.outer_radius_mm, thickness_mm=z, tip_radius_mm=rb,
-        tip_radius_required_mm=lay.rb_req, flexure="straight" if use_straight else "serpentine",
-        width_law=width_law, root_width_mm=w0, tip_load_N=lay.load,
-        straight_limit_rad=lay.theta_s, serpentine_factor=s_req, centreline=centre,
-        area_ratio=ratio, min_neighbour_clearance_mm=clearance, rim_thickness_mm=t_rim,
-        serpentine_balance=balance,
+        tip_radius_required_mm=lay.rb_req, shape=sizing.record, tip_load_N=lay.load,
+        straight_limit_rad=lay.theta_s, min_neighbour_clearance_mm=sizing.clearance_mm,
+        rim_thickness_mm=t_rim,
         root_fillet_radius_mm=root_fillet, neck_fillet_radius_mm=neck_fillet,
         torque_cap_Nmm=fx.torque_cap_Nmm(rc, z, sigma), stiffness_beam_Nmm_per_rad=float("nan"),
         peak_stress_MPa=float("nan"), warnings=tuple(warnings), stress_derating=derating)

@@ -31,6 +31,8 @@ from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, Spri
 from springcad.design import duty, fatigue
 from springcad.design import flexure as fx
 from springcad.design.curves import Profile
+from springcad.design.shapes.base import FlexureRecord, FlexureShape
+from springcad.design.shapes.registry import get as shape_named
 from springcad.errors import DesignError
 from springcad.units import J_PER_NMM, MM3_PER_CM3, NMM_PER_NM
 
@@ -57,15 +59,11 @@ class SpringDesign:
     thickness_mm: float
     tip_radius_mm: float
     tip_radius_required_mm: float
-    flexure: str
-    width_law: str
-    """"stress" (w sized for the design stress at peak load) or "stiffness" (straight, w0 sized for K)."""
-    root_width_mm: float
+    shape: FlexureRecord
+    """The flexure shape's record: its name, width law, root width, centreline and area
+    ratios (:mod:`springcad.design.shapes`)."""
     tip_load_N: float
     straight_limit_rad: float
-    serpentine_factor: float
-    centreline: fx.Centreline
-    area_ratio: float
     min_neighbour_clearance_mm: float | None
     rim_thickness_mm: float
     root_fillet_radius_mm: float
@@ -106,10 +104,47 @@ class SpringDesign:
     duty_advice: str = ""
     """Sized for yield alone because the envelope cannot carry springcad's default duty:
     what would meet it (surface, material, one more disk), or ""."""
-    serpentine_balance: str | None = None
-    """How the serpentine's lobes are balanced (:data:`flexure.BALANCES`): "uncoupled" (a
-    tangential tip load moves the ball tangentially only), "root" (the reference tool's:
-    root on the tip's radial line) or "swept"; None for straight flexures."""
+
+    # ------------------------------------------------------------- the shape
+    @property
+    def flexure_shape(self) -> FlexureShape:
+        """The registered shape of the flexures (:func:`springcad.design.shapes.get`)."""
+        return shape_named(self.shape.name)
+
+    @property
+    def flexure(self) -> str:
+        """The shape's name ("straight", "serpentine", or another registered one)."""
+        return self.shape.name
+
+    @property
+    def width_law(self) -> str:
+        """"stress" (w sized for the design stress at peak load), "stiffness" (straight,
+        w0 sized for K), or another shape's law."""
+        return self.shape.width_law
+
+    @property
+    def root_width_mm(self) -> float:
+        return self.shape.root_width_mm
+
+    @property
+    def centreline(self) -> fx.Centreline:
+        return self.shape.centreline
+
+    @property
+    def serpentine_factor(self) -> float:
+        """Area ratio the deflection needs over a straight flexure (eq. 4; 1 for straight) (-)."""
+        return self.shape.required_area_ratio
+
+    @property
+    def area_ratio(self) -> float:
+        return self.shape.area_ratio
+
+    @property
+    def serpentine_balance(self) -> str | None:
+        """How the serpentine's lobes are balanced (:data:`flexure.BALANCES`): "uncoupled" (a
+        tangential tip load moves the ball tangentially only), "root" (the reference tool's:
+        root on the tip's radial line) or "swept"; None for other shapes."""
+        return self.shape.balance
 
     # ------------------------------------------------------------- predictions
     @property
@@ -185,12 +220,7 @@ class SpringDesign:
     def width_mm(self, y_mm):
         """Flexure width normal to the centreline at radius y (mm)."""
         y = np.asarray(y_mm, dtype=float)
-        if self.width_law == "stiffness":
-            w = self.root_width_mm * np.sqrt(np.maximum(y - self.contact_radius_mm, 0.0)
-                                             / self.length_mm)
-        else:
-            w = fx.constant_stress_width_mm(y, self.tip_load_N, self.contact_radius_mm,
-                                            self.thickness_mm, self.beam_stress_MPa)
+        w = self.flexure_shape.width_mm(self, y)
         w = self.width_scale * w * fx.root_flare_factor(y, self.root_radius_mm, self.root_flare,
                                                          self.root_flare_length_mm)
         # near the tip the constant-stress law tends to zero: keep the web the wire can leave,
@@ -341,6 +371,7 @@ class SpringDesign:
             "design_choice": self.design_choice,
             "duty_advice": self.duty_advice,
             "warnings": list(self.warnings),
+            **({"flexure_params": dict(self.shape.params)} if self.shape.params else {}),
         }
 
 

@@ -156,9 +156,11 @@ def predict(design, load_N: float | None = None,
     Args:
         design: the spring (its centreline, width law, root fillet and flare).
         load_N: tip load (N); default the beam load at the maximum deflection.
-        cal: coefficients; default the shipped :func:`calibration`.
+        cal: coefficients; default the flexure shape's
+            (:meth:`~springcad.design.shapes.FlexureShape.calibration`; the shipped
+            :func:`calibration` for the built-in shapes).
     """
-    cal = cal or calibration()
+    cal = cal or design.flexure_shape.calibration()
     rc = design.contact_radius_mm
     if load_N is None:
         load_N = (design.stiffness_beam_Nmm_per_rad * design.max_deflection_rad

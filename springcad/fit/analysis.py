@@ -38,6 +38,7 @@ from springcad.fit.segment import CycleEnergy, Segmentation, cycle_energies, seg
 from springcad.fit.signals import Signals, make_signals
 from springcad.fit.torque_model import single_threaded_blas
 from springcad.options import spell
+from springcad.version import stamp
 
 SCHEMA = "springcad.fit/2"
 
@@ -125,7 +126,7 @@ class FitResult:
         idx = final.inliers(np.arange(self.signals.n))
         amps, speed = record_protocol(self.signals)
         out = {
-            "schema": SCHEMA,
+            **stamp(SCHEMA),
             "input": {"source": rec.source, "n_samples": rec.n_samples,
                       "duration_s": rec.duration_s, "sample_rate_hz": rec.sample_rate_hz,
                       "has_encoder": rec.encoder_deflection_rad is not None,

@@ -13,29 +13,20 @@ import numpy as np
 
 from springcad.report.outdir import require_free_space
 
-#: scikit-fem local node order equals VTK's for quadratic triangles and tetrahedra
+#: VTK cell types of the quadratic cells (:class:`fea.results.Field`, VTK node order)
 _VTK_QUADRATIC = {6: 22, 10: 24}  # nodes per cell -> VTK_QUADRATIC_TRIANGLE / _TETRA
 
 
 def result_grid(result):
-    """A pyvista ``UnstructuredGrid`` of a :class:`~fea.results.StaticResult` with fields."""
+    """A pyvista ``UnstructuredGrid`` of a :class:`~fea.results.StaticResult` with fields
+    (its :attr:`~fea.results.StaticResult.field`)."""
     import pyvista as pv
 
-    f = result.fields
-    if not f:
-        raise ValueError("the result carries no fields (solve with keep_fields=True)")
-    fm = result.mesh
-    from skfem import CellBasis
-
-    sb = CellBasis(fm.mesh, fm.mesh.elem(), intorder=1)
-    cells = sb.element_dofs.T  # (elements, local nodes), scikit-fem = VTK order
-    pts = np.zeros((f["points_mm"].shape[1], 3))
-    pts[:, :f["points_mm"].shape[0]] = f["points_mm"].T
-    disp = f["displacement_mm"]
-    vm = f["von_mises_MPa"]
-    excluded = f["excluded"].astype(np.uint8)
-    if fm.thickness_fraction < 1.0:  # mirror the upper half about the mid-plane
-        z_mid = 0.5 * fm.thickness_mm
+    f = result.field
+    cells, pts, disp, vm = f.cells, f.points_mm.copy(), f.displacement_mm, f.von_mises_MPa
+    excluded = f.excluded.astype(np.uint8)
+    if f.thickness_fraction < 1.0:  # mirror the upper half about the mid-plane
+        z_mid = 0.5 * f.thickness_mm
         mirror = pts.copy()
         mirror[:, 2] = 2 * z_mid - mirror[:, 2]
         dmir = disp.copy()

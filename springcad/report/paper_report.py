@@ -284,7 +284,7 @@ def _geometry_change_lines(changes: list[dict]) -> list[str]:
         for tag in ("reference", "springcad"):
             g = c[tag]
             flare = "0" if tag == "reference" else f"{c['root_flare']:g} over {c['root_flare_length_mm']:.2f} mm"
-            row = (f"| {c['spring']} | {tag} | {g.get('serpentine_balance') or 'straight'} "
+            row = (f"| {c['spring']} | {tag} | {g.get('serpentine_balance') or g.get('flexure', 'straight')} "
                    f"| {flare} | {g['beam_stiffness_Nm_per_rad']:.2f} "
                    f"| {g['nominal_beam_stress_MPa']:.0f} | {g['predicted_peak_MPa']:.0f} "
                    f"({g['predicted_region']}) | {g['yield_margin_predicted']:.3f} | {g['mass_g']:.2f} |")

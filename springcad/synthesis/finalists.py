@@ -33,7 +33,7 @@ def job_document(req, cand: dict) -> dict:
             else {"min_tip_radius_mm": req.search.min_tip_radius_mm})
 
     def spring(k_nm, theta, z, n):
-        return {"stiffness_Nm_per_rad": round(float(k_nm), 9),
+        return {"target_stiffness_Nm_per_rad": round(float(k_nm), 9),
                 "max_deflection_rad": round(float(theta), 12),
                 "outer_radius_mm": round(float(cand["outer_radius_mm"]), 9),
                 "thickness_mm": float(z), "contact_radius_mm": float(cand["contact_radius_mm"]),

@@ -5,7 +5,7 @@ real geometry (:mod:`springcad.design.stress`: the Winkler-Bach curved-beam flan
 the root fillet and the tip-neck fillet, calibrated to FEA) below yield / margin,
 choosing the root flare with the lowest peak. :func:`predict_peaks` evaluates the
 same model on many screened disks at once, on the centreline stations of
-:mod:`springcad.synthesis.shapes` (or straight flexures):
+:mod:`springcad.design.shapes.serpentine_screen` (or straight flexures):
 
 1. the flexure widths w = web-floor(scale x w_law(y) x flare(y)): the scale brought
    onto the target stiffness (Castigliano) in two passes without a flare, then, for each
@@ -33,7 +33,7 @@ import numpy as np
 from springcad.design import flexure as fx
 from springcad.design import stress
 from springcad.design.search import FLARE_GAIN, ROOT_FLARES
-from springcad.synthesis.shapes import U, blocks, trapz_rows
+from springcad.design.shapes.serpentine_screen import U, blocks, trapz_rows
 
 #: peak regions, in the order of :class:`springcad.design.stress.StressPrediction`
 REGIONS = ("flexure flank", "root fillet", "tip-neck fillet")

@@ -18,6 +18,7 @@ from springcad.synthesis.finalists import (build_checks, full_design_summary, jo
                                            toml_text, verify_candidate)
 from springcad.synthesis.runner import run_sweep
 from springcad.units import G_PER_KG, NMM_PER_NM
+from springcad.version import stamp
 
 SCHEMA = "springcad.synthesis/1"
 
@@ -62,11 +63,9 @@ class SynthesisResult:
         return toml_text(self.winner_job, head)
 
     def to_dict(self) -> dict:
-        from springcad.version import __version__
-
         req = self.requirements
         return {
-            "schema": SCHEMA, "springcad_version": __version__,
+            **stamp(SCHEMA),
             "requirements": {
                 "name": req.name, "source": req.source,
                 "stiffness_Nm_per_rad": req.stiffness_Nmm_per_rad / NMM_PER_NM,

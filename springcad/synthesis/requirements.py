@@ -385,7 +385,7 @@ def requirements_from_dict(data: dict, name: str = "requirements",
     mfg_t, hw_t = data.get("manufacturing", {}), data.get("hardware", {})
     # the job schema validates these tables: same keys, same messages as a job config
     duty_t = data.get("duty")
-    probe = job_from_dict({"springs": {"probe": {"stiffness_Nm_per_rad": 1.0,
+    probe = job_from_dict({"springs": {"probe": {"target_stiffness_Nm_per_rad": 1.0,
                                                  "max_deflection_rad": 1.55,
                                                  "outer_radius_mm": 10.0, "thickness_mm": 1.0}},
                            "manufacturing": mfg_t, "hardware": hw_t,

@@ -8,15 +8,17 @@ without building the exact profiles:
 2. torque cap of load-sized tip balls (eq. 6), then N = the largest count whose
    balls and teeth fit around r_c, tried downward as the design does (or the
    given N), each with the rim rule for R_r solved by vectorised bisection (eq. 8);
-3. straight limit theta_s (eq. 3); straight flexures with the stiffness width law
-   when they reach the deflection, else the serpentine factor s (eq. 4);
+3. straight limit theta_s (eq. 3); then the flexure shapes the request tries, each
+   sizing the rows still open on arrays (:meth:`~springcad.design.shapes.base.FlexureShape.screen_size`,
+   as the design asks the shape registry): straight flexures with the stiffness width
+   law when they reach the deflection, else the serpentine factor s (eq. 4);
 4. the serpentine tilt budget: the area ratio of every trial shape of
    :func:`springcad.design.flexure.design_serpentine` at full tilt (lam = 1) on the
    same radial stations. A disk passes when one shape reaches s: the exact first
    test of the serpentine search, so screening never rejects a disk that the full
    design accepts on this ground;
 5. root gap for the wire and the cam web over the bore;
-6. the serpentine the design would choose (:func:`~springcad.synthesis.shapes.serpentine_centrelines`:
+6. the serpentine the design would choose (:func:`~springcad.design.shapes.serpentine_screen.serpentine_centrelines`:
    the tilt factor of every shape that reaches s, the wire's concave edge radius,
    the smallest curved-beam measure) and the *predicted peak stress* of the real
    geometry with the root flare the design would choose
@@ -43,16 +45,17 @@ from __future__ import annotations
 import numpy as np
 
 from springcad.design import flexure as fx
+from springcad.design import shapes
 from springcad.design.cam import OVERTRAVELS
-from springcad.design.layout import RIM_GAP_RATIO
 from springcad.design.ring import hole_diameter_mm
 from springcad.config.consistency import MIN_RIM_FRACTION, min_rim_mm
 from springcad.design.contact_stress import tip_radius_for_contact_mm
 from springcad.design.search import STRESS_PASSES
+from springcad.design.shapes.screen import ScreenRows, ScreenSizing, rim_root_radius_rows
+from springcad.design.shapes.serpentine_screen import U
 from springcad.synthesis.peak import predict_peaks
-from springcad.synthesis.shapes import U, serpentine_centrelines, serpentine_reach
 
-__all__ = ["REASONS", "cam_tooth_width_mm", "screen_disks", "serpentine_reach"]
+__all__ = ["REASONS", "cam_tooth_width_mm", "screen_disks", "screened_shapes"]
 
 #: failure codes (0 = passes), in the order the design meets them
 (OK, ENERGY, TORQUE_CAP, FLEXURE_FIT, RIM_RULE, STRAIGHT, SERPENTINE, ROOT_GAP, CAM_TOOTH,
@@ -62,6 +65,8 @@ REASONS = {ENERGY: "energy_bound", TORQUE_CAP: "torque_cap", FLEXURE_FIT: "flexu
            ROOT_GAP: "root_gap", CAM_TOOTH: "cam_tooth", CAM_BORE: "cam_bore",
            SERP_SHAPE: "serpentine_shape", ROOT_FILLET: "root_fillet", YIELD: "yield_margin",
            FATIGUE: "fatigue_margin"}
+#: failure code by reason name (a shape's screen names its failures)
+CODES = {reason: code for code, reason in REASONS.items()}
 def _nmax(rb, rc):
     """Eq. 6 on arrays: floor(pi hypot(r_b, r_c) / (2 r_b))."""
     return np.floor(np.pi * np.hypot(rb, rc) / (2.0 * rb)).astype(np.int64)
@@ -84,23 +89,17 @@ def cam_tooth_width_mm(rc, rho, n, theta):
     return best
 
 
-def _rim_residual(rr, ro, n, rc, w0_of_length):
-    return ro - rr - (2 * np.pi * rr / n - w0_of_length(rr - rc)) / RIM_GAP_RATIO
+def screened_shapes(flexure: str = shapes.AUTO) -> list:
+    """The shapes a ``flexure`` request tries (:func:`springcad.design.shapes.tried`) that
+    have a synthesis screen, in order."""
+    return [shape for shape in shapes.tried(flexure) if shape.screens]
 
 
-def _rim_root(ro, n, rc, w0_of_length, iterations=48):
-    """R_r from the rim rule by bisection on arrays; NaN where there is no bracket."""
-    lo = rc * (1 + 1e-6) + 1e-6
-    hi = np.array(ro, dtype=float)
-    f_lo = _rim_residual(lo, ro, n, rc, w0_of_length)
-    f_hi = _rim_residual(hi, ro, n, rc, w0_of_length)
-    ok = (f_lo > 0) & (f_hi < 0)
-    a, b = np.where(ok, lo, np.nan), np.where(ok, hi, np.nan)
-    for _ in range(iterations):
-        mid = 0.5 * (a + b)
-        pos = _rim_residual(mid, ro, n, rc, w0_of_length) > 0
-        a, b = np.where(pos, mid, a), np.where(pos, b, mid)
-    return 0.5 * (a + b)
+def _spread(m: int, rows, values) -> np.ndarray:
+    """A column of ``m`` NaNs with ``values`` at ``rows``."""
+    out = np.full(m, np.nan)
+    out[rows] = values
+    return out
 
 
 def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
@@ -270,8 +269,8 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         load = fx.tip_load_N(K[i], theta[i], n[i], rc[i])
         rb_i = ball(load, z[i], sigma[i], i)
         c_i = 6 * load / (z[i] * sigma[i])
-        rr_i = np.minimum(_rim_root(ro[i], n[i], rc[i],
-                                    lambda L, c=c_i: np.sqrt(c * np.maximum(L, 0.0))),
+        rr_i = np.minimum(rim_root_radius_rows(ro[i], n[i], rc[i],
+                                               lambda L, c=c_i: np.sqrt(c * np.maximum(L, 0.0))),
                           ro[i] - rim_min[i])  # the rim keeps room for its holes (layout_at)
         rim_bad = np.isnan(rr_i) | (rr_i <= rc[i])
         fits = np.isfinite(rb_i) & (n[i] <= _nmax(np.where(np.isfinite(rb_i), rb_i, 1.0), rc[i]))
@@ -301,39 +300,34 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     rb = ball(load, z, sigma)
     L = rr - rc
     theta_s = fx.straight_limit_rad(n, z, sigma, L, E, K, rc)
-    # 3. straight flexures with the stiffness width law where they reach the deflection
-    straight = good & (theta_s >= theta)
     w0 = np.sqrt(6 * load * L / (z * sigma))
     s = np.where(good, (theta / theta_s) ** 1.5, np.nan)
-    if np.any(straight):
-        i = np.flatnonzero(straight)
-        coef = 8.0 * K[i] / (n[i] * rc[i] ** 2 * E[i] * z[i])
-        rr_s = np.minimum(_rim_root(ro[i], n[i], rc[i], lambda Ls, c=coef: np.cbrt(c * Ls ** 3)),
-                          ro[i] - rim_min[i])
-        sel = np.zeros(m, dtype=bool)
-        sel[i[np.isnan(rr_s)]] = True
-        fail(sel, RIM_RULE, n.astype(float), ro)
-        th2 = fx.straight_limit_rad(n[i], z[i], sigma[i], rr_s - rc[i], E[i], K[i], rc[i])
-        keep = ~np.isnan(rr_s) & (th2 >= theta[i])
-        j = i[keep]
-        rr[j], L[j], theta_s[j] = rr_s[keep], rr_s[keep] - rc[j], th2[keep]
-        w0[j] = np.cbrt(coef[keep] * L[j] ** 3)
-        s[j] = 1.0
-        straight[:] = False
-        straight[j] = True
-    if straight_only:
-        fail(~straight, STRAIGHT, theta, theta_s)
-    # 4. serpentine tilt budget (the search's first test, exact)
-    serp = (code == OK) & ~straight
-    if np.any(serp):
-        i = np.flatnonzero(serp)
-        reach = serpentine_reach(s[i], rc[i], rr[i], n[i], load[i], z[i], sigma[i],
-                                 clearance, 2.0 * (ro[i] - rr[i]))
-        sel = np.zeros(m, dtype=bool)
-        sel[i[reach < s[i]]] = True
-        val = np.full(m, np.nan)
-        val[i] = reach
-        fail(sel, SERPENTINE, s, val)
+    coef, beam_stress = 6 * load / (z * sigma), sigma.copy()
+    # 3-4. the flexure shapes the request tries, in order (straight flexures with the
+    # stiffness width law where they reach the deflection, then serpentines within the
+    # tilt budget): each sizes the open rows it takes, as the design's shape registry does
+    rows = ScreenRows(K, theta, ro, z, rc, sigma, E, n, load, rr.copy(), theta_s.copy(),
+                      ro - rim_min, clearance, rw)
+    shape_of = np.full(m, -1)
+    sizings = []
+    for k, shape in enumerate(screened_shapes("straight" if straight_only else shapes.AUTO)):
+        i = np.flatnonzero((code == OK) & (shape_of < 0))
+        if i.size == 0:
+            break
+        size = shape.screen_size(rows.take(i))
+        for reason, mask, v, lim in size.failures:
+            sel = np.zeros(m, dtype=bool)
+            sel[i[mask]] = True
+            fail(sel, CODES[reason], _spread(m, i, v), _spread(m, i, lim))
+        j, t = i[size.taken], size.taken
+        shape_of[j] = k
+        rr[j], theta_s[j], w0[j], s[j] = size.rr[t], size.theta_s[t], size.w0[t], size.s[t]
+        coef[j], beam_stress[j] = size.width_coef[t], size.beam_stress_MPa[t]
+        sizings.append((shape, j, size))
+    L = rr - rc
+    straight = np.isin(shape_of, [k for k, (shape, _, _) in enumerate(sizings)
+                                  if shape.name == "straight"])
+    fail(shape_of < 0, STRAIGHT, theta, theta_s)  # no shape the request tries reaches
     # 5. root gap and cam web
     gap = 2 * np.pi * rr / n - w0
     fail(gap <= 2 * rw, ROOT_GAP, gap, np.full(m, 2 * rw))
@@ -351,18 +345,20 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     x = np.zeros((m, U.size))
     y = np.where(np.isfinite(L), rc, 0.0)[:, None] + np.where(np.isfinite(L), L, 0.0)[:, None] * U
     slope, kappa = np.zeros_like(x), np.zeros_like(x)
-    serp = (code == OK) & ~straight
-    if np.any(serp):
-        i = np.flatnonzero(serp)
-        shape = serpentine_centrelines(s[i], rc[i], rr[i], n[i], load[i], z[i], sigma[i],
-                                       clearance, 2.0 * t_rim[i], rw)
-        sel = np.zeros(m, dtype=bool)
-        sel[i[~shape["ok"]]] = True
-        val = np.full(m, np.nan)
-        val[i] = shape["edge_radius_mm"]
-        fail(sel, SERP_SHAPE, val, np.full(m, rw))
-        for name, arr in (("x", x), ("y", y), ("slope", slope), ("kappa", kappa)):
-            arr[i] = shape[name]
+    for shape, j, _ in sizings:
+        i = j[code[j] == OK]
+        if i.size == 0:
+            continue
+        line = shape.screen_centreline(rows.take(i), ScreenSizing(
+            np.ones(i.size, dtype=bool), rr[i], theta_s[i], w0[i], s[i], coef[i],
+            beam_stress[i]))
+        if line is None:  # the radial straight line set above
+            continue
+        for reason, mask, v, lim in line.failures:
+            sel = np.zeros(m, dtype=bool)
+            sel[i[mask]] = True
+            fail(sel, CODES[reason], _spread(m, i, v), _spread(m, i, lim))
+        x[i], y[i], slope[i], kappa[i] = line.x, line.y, line.slope, line.kappa
     ok = code == OK
     pk = {k: np.full(m, np.nan) for k in ("flank_MPa", "root_MPa", "neck_MPa", "peak_MPa",
                                          "flare", "width_scale", "flexure_area_mm2",
@@ -370,9 +366,8 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     pk["region"] = np.zeros(m, dtype=np.int64)
     if np.any(ok):
         i = np.flatnonzero(ok)
-        coef = np.where(straight[i], w0[i] ** 2 / L[i], 6 * load[i] / (z[i] * sigma[i]))
         res = predict_peaks(x[i], y[i], slope[i], kappa[i], rc=rc[i], rr=rr[i], ro=ro[i], n=n[i],
-                            load=load[i], z=z[i], E=E[i], K=K[i], width_coef=coef, rb=rb[i],
+                            load=load[i], z=z[i], E=E[i], K=K[i], width_coef=coef[i], rb=rb[i],
                             root_fillet_mm=root_fillet[i], neck_fillet_mm=neck_fillet[i],
                             manufacturing=mfg)
         for k in pk:
@@ -382,7 +377,6 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         fail(sel, ROOT_FILLET, root_fillet, t_rim)
     # 7. areas, mass, cut length
     ok = code == OK
-    beam_stress = np.where(straight, 6 * load * L / (z * w0 ** 2), sigma)
     holes = min(hardware.fastener_count, 10 ** 9) * np.ones(m)
     holes = np.minimum(holes, n)
     hole_d = hole_diameter_mm(hardware) if hardware.fastener_count else 0.0

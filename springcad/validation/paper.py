@@ -279,7 +279,7 @@ def geometry_changes(designs: dict, use_fea: bool = False, progress=lambda messa
                "beam_stress_MPa": s.beam_stress_MPa,
                "design_stress_MPa": s.material.design_stress_MPa}
         for tag, g in (("reference", ref), ("springcad", s)):
-            row[tag] = {"serpentine_balance": g.serpentine_balance,
+            row[tag] = {"flexure": g.flexure, "serpentine_balance": g.serpentine_balance,
                         "beam_stiffness_Nm_per_rad": g.stiffness_beam_Nmm_per_rad / NMM_PER_NM,
                         "nominal_beam_stress_MPa": g.peak_stress_MPa,
                         "predicted_peak_MPa": g.predicted_peak_stress_MPa,

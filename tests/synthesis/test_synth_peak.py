@@ -30,7 +30,7 @@ from springcad.errors import DesignError
 from springcad.synthesis import peak
 from springcad.synthesis.screening import (ENERGY, FLEXURE_FIT, OK, REASONS, RIM_RULE,
                                           TORQUE_CAP, YIELD, screen_disks)
-from springcad.synthesis.shapes import DESIGN_SHAPES, serpentine_centrelines, spline_centreline
+from springcad.design.shapes.serpentine_screen import DESIGN_SHAPES, serpentine_centrelines, spline_centreline
 from synth_fixtures import TEMPLATES
 
 JOB = load_job(TEMPLATES / "paper_S1.toml")
