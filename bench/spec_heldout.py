@@ -449,8 +449,8 @@ INT_KEYS = ("n_flexures", "fastener_count")
 #: schema defaults (README config table) of keys a config may leave out
 DEFAULTS = {"min_tip_radius_mm": 0.3, "fastener_diameter_mm": 1.5, "fastener_count": 7,
             "shaft_diameter_mm": 4.0, "min_slot_width_mm": 0.35, "min_web_mm": 0.4,
-            "min_hole_edge_mm": 0.4, "w_gap_mm": 0.025, "t_spring_mm": 0.03,
-            "t_shaft_mm": 0.03}
+            "min_hole_edge_mm": 0.4, "w_gap_mm": 0.04, "t_spring_mm": 0.01,
+            "t_shaft_mm": 0.01}  # w_gap: t_spring + t_shaft + 0.02 when not given
 #: "springs.S1.thickness_mm = 6.5", "thickness_mm 6.5", "thickness_mm to 6.5", ...
 _KEY_RE = re.compile(r"(?:springs\.(?P<spring>[A-Za-z0-9_-]+)\.)?(?:(?:material|hardware|"
                      r"manufacturing)\.)?(?P<key>" + "|".join(SPRING_KEYS + tuple(OTHER_KEYS))
