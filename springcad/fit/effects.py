@@ -78,6 +78,9 @@ class Effect:
     signature: str = ""
     #: a torque of the spring itself, delayed with the torque channel (see ``time_shift_s``)
     delayed: bool = False
+    #: a torque of the spring's material, acting on the spring's own deflection (after a
+    #: crossover): evaluated by ``spring_torque`` on the whole smooth trace of it
+    on_spring: bool = False
 
     def params(self, sc: Scales) -> tuple[Param, ...]:
         """Parameters of the term for a record with scales ``sc``."""
@@ -138,6 +141,12 @@ class Effect:
         """Additive torque (N·m) at samples ``idx``; ``fraction`` gives fractional
         sample positions for a ``delayed`` term (``idx`` is then the nearest sample)."""
         return 0.0
+
+    def spring_torque(self, p: np.ndarray, spring: np.ndarray, sig: Signals,
+                      idx: np.ndarray) -> np.ndarray:
+        """Additive torque (N·m) at samples ``idx`` of an ``on_spring`` term, from the
+        spring's deflection ``spring`` (rad) on every sample."""
+        return np.zeros(idx.size)
 
 
 #: widest logit transition of a crossover, as a fraction of the largest deflection
@@ -476,6 +485,70 @@ class FirstOrderLag(TimeLag):
         return {"filter_time_constant_s": float(p[0]), "lag_s": float(p[0])}
 
 
+class StandardLinearSolid(TimeLag):
+    """A relaxing (Maxwell) branch beside the spring: stiffness ``k₂`` (N·m/rad) in series
+    with a damper, relaxation time ``T`` (s) — the standard linear solid.
+
+    Its torque is ``k₂·(x - x_T)``, with ``x`` the spring's own deflection (after a
+    crossover: the flexures' material relaxes) and ``x_T`` it through a first-order
+    low-pass of time constant ``T``: on motion much slower than ``T`` it is viscous
+    damping ``c = k₂·T`` (the time-lag family's damper), on fast motion an extra stiffness
+    ``k₂``, and at constant deflection it decays as ``exp(-t/T)`` (torque relaxing in a
+    hold). ``K`` is then the relaxed (equilibrium) stiffness. A passive branch has
+    ``k₂ ≥ 0``: a torque-sensor low-pass of time constant ``T`` would read as ``k₂ = -K``.
+    """
+
+    law = "standard_linear_solid"
+    meaning = ("viscoelastic relaxation (a polymer bushing, a glued or clamped joint): a "
+               "branch of stiffness k2 in series with a damper beside the spring, so the "
+               "torque overshoots while moving and decays with time constant T toward K·θ "
+               "at constant deflection; on slow motion it is viscous damping c = k2·T")
+    stage = "torque"
+    delayed = False
+    on_spring = True
+
+    def params(self, sc):
+        k_ref = sc.torque_ref / max(sc.theta_ref, 1e-12)
+        # from a few samples (below that it is the viscous law) to a fifth of the record
+        # (beyond that a relaxation cannot be told from a stiffness change or a drift)
+        t_lo = 3.0 / sc.sample_rate_hz
+        t_hi = max(0.2 * sc.t_span, 2.0 * t_lo)
+        return (Param("relaxing_stiffness", 0.0, k_ref, 0.0, 0.02 * k_ref),
+                Param("relaxation_time", t_lo, t_hi, t_lo, min(max(0.3, t_lo), t_hi)))
+
+    def starts(self, sc):
+        p = self.params(sc)
+        k_ref = sc.torque_ref / max(sc.theta_ref, 1e-12)
+        lo, hi = p[1].lower, p[1].upper
+        return [np.array([0.03 * k_ref, min(max(f, lo), hi)]) for f in (0.05, 0.3, 1.5)]
+
+    def physical_problem(self, p, stiffness, sc):
+        q = self.params(sc)[1]
+        if p[1] >= q.upper * (1 - 1e-4):
+            return (f"relaxation time {p[1]:.4g} s rests on its upper bound: a torque that "
+                    "never settles within the record is no relaxation")
+        return Effect.physical_problem(self, p, stiffness, sc)
+
+    def time_shift_s(self, p):
+        return 0.0
+
+    def angle(self, theta, p, sig, idx):
+        return theta
+
+    def spring_torque(self, p, spring, sig, idx):
+        from scipy.signal import lfilter
+
+        a = float(np.exp(-1.0 / (max(p[1], 1e-12) * sig.scales.sample_rate_hz)))
+        low = lfilter([1.0 - a], [1.0, -a], spring - spring[0]) + spring[0]
+        return p[0] * (spring[idx] - low[idx])
+
+    def report(self, p, stiffness, sc):
+        return {"relaxing_stiffness_Nm_per_rad": float(p[0]),
+                "relaxation_time_s": float(p[1]),
+                "equivalent_viscous_damping_Nms_per_rad": float(p[0] * p[1]),
+                "equivalent_lag_s": float(-p[0] * p[1] / stiffness) if stiffness else 0.0}
+
+
 class RegularisedCoulomb(Hysteresis):
     """Friction ``F·tanh(v/v0)`` (N·m; v0 in rad/s): zero at rest, Coulomb in motion."""
 
@@ -515,7 +588,7 @@ TimeLag.law = "pure_delay"
 
 #: laws of each family other than the library's, tried in its place once it is named
 OTHER_LAWS: dict[str, tuple[Effect, ...]] = {
-    "time_lag": (ViscousDamping(), FirstOrderLag()),
+    "time_lag": (ViscousDamping(), FirstOrderLag(), StandardLinearSolid()),
     "hysteresis": (RegularisedCoulomb(),),
 }
 

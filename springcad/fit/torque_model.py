@@ -127,9 +127,14 @@ class TorqueModel:
         parts = self._parts(x)
         shift = sum(e.time_shift_s(parts[e.name]) for e in self.effects)
         out = np.zeros(idx.size)
+        trace = None
         for e in self.effects:
             if e.stage == "torque" and (names is None or e.name in names):
-                if e.delayed and shift != 0.0:
+                if e.on_spring:
+                    if trace is None:
+                        trace = self.spring_trace(x, sig)
+                    term = e.spring_torque(parts[e.name], trace, sig, idx)
+                elif e.delayed and shift != 0.0:
                     pos = np.clip(idx - shift * sig.scales.sample_rate_hz, 0, sig.n - 1)
                     term = e.torque(parts[e.name], sig, np.rint(pos).astype(int),
                                     fraction=pos)
@@ -137,6 +142,21 @@ class TorqueModel:
                     term = e.torque(parts[e.name], sig, idx)
                 out = out + term
         return out
+
+    def spring_trace(self, x: np.ndarray, sig: Signals) -> np.ndarray:
+        """The spring's own deflection (rad) on every sample, read on the smooth motion
+        (:attr:`Signals.theta_trace`) through the angle and map stages: what a term of
+        the spring's material (``Effect.on_spring``) acts on."""
+        parts = self._parts(x)
+        every = np.arange(sig.n)
+        spring = sig.theta_trace
+        for e in self.effects:
+            if e.stage == "angle":
+                spring = e.angle(spring, parts[e.name], sig, every)
+        for e in self.effects:
+            if e.stage == "map":
+                spring = e.map(spring, parts[e.name])
+        return spring
 
     def predict(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
         """Model torque (N·m) at samples ``idx``."""

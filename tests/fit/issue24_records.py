@@ -116,7 +116,7 @@ class Rec:
 
     Attributes:
         name: case name.
-        cls: issue class (1-4).
+        cls: issue class (1-4; 5: physics within the library's meaning, never flagged).
         K: true stiffness (N·m/rad).
         accept: acceptable named sets (groups as ``"a|b"``, sorted).
         unexplained: whether structure outside the library is in the record (``None``:
@@ -211,6 +211,18 @@ def records() -> list[Rec]:
         t, th = holds
         return noisy(rng, t, th, K * th + relaxation(t, th, 0.04 * K, 0.4))
 
+    def c3_relax_backlash(rng):
+        t, th = holds
+        # the flexures' material relaxes: the branch acts on the spring's own deflection
+        x = deadband(th, 0.02)
+        tau = K_stack * x + relaxation(t, x, 0.1 * K_stack, 0.6)
+        return noisy(rng, t, th, tau, tn=0.01)
+
+    def c5_viscous_holds(rng):
+        # a damper c·dθ/dt: within the time lag's meaning, not a relaxation
+        t, th = holds
+        return noisy(rng, t, th, K * th + 0.4 * np.gradient(th, t))
+
     def c3_stop_backlash(rng):
         t, th = stair
         tau = K_stack * deadband(th, 0.02) + 30 * K_stack * deadband(th, 0.3)
@@ -245,6 +257,10 @@ def records() -> list[Rec]:
         # crossover
         Rec("c3_relax_holds", 3, K, [S(), S("hysteresis"), S("time_lag"), S(G(*fh)),
                                      S(*fh)], True, c3_relax_holds),
+        Rec("c3_relax_backlash", 3, K_stack,
+            [S("backlash"), S("backlash", "hysteresis"), S("backlash", "time_lag"),
+             S("backlash", G(*fh)), S("backlash", *fh)], True, c3_relax_backlash),
+        Rec("c5_viscous_holds", 5, K, [S("time_lag")], False, c5_viscous_holds),
         Rec("c3_stop_backlash", 3, K_stack, [S("backlash")], True, c3_stop_backlash),
         Rec("c4_stick_slip", 4, K, [S("hysteresis"), S(G(*fh))], True, c4_stick_slip),
     ]
