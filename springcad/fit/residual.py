@@ -172,6 +172,83 @@ def _line_ms(power: np.ndarray, level: np.ndarray, ratio: np.ndarray, n: int) ->
     return float(np.sum(2.0 * np.maximum(power[keep] - level[keep], 0.0))) / float(n) ** 2
 
 
+@dataclass(frozen=True)
+class Flicker:
+    """A 1/f (flicker) part of the residual's noise: power ``level/k`` at the k-th Fourier
+    bin of an ``n``-sample record (periodogram units ``|FFT|²/n``, N·m²).
+
+    Flicker noise (a strain-gauge bridge's, an amplifier's) has no time scale: its
+    spectrum continues the same ``1/f`` law from the fast fluctuations down to the
+    record's length, so the means of long stretches of it wander by as much as those of
+    short ones (a flat Allan deviation). A torque zero that drifts or settles is a
+    deterministic curve whose power sits at the lowest frequencies, far above that law
+    measured higher up. The law is measured at frequencies above the time tests' scale
+    and carried down to predict how much the bin and run means of noise alone vary.
+    """
+
+    level: float
+    n: int
+
+    def group_variance(self, key: np.ndarray, weights: np.ndarray) -> np.ndarray:
+        """Variance (N·m²) of ``Σ w·e`` over the samples of each group under the flicker
+        part: ``key`` gives each residual sample's group (0 … G-1), ``weights`` its weight.
+
+        The weights are summed in blocks onto ``FLICKER_FFT_POINTS`` points first: the
+        flicker lives at the lowest frequencies, which the block sums keep.
+        """
+        groups = int(key.max()) + 1 if key.size else 0
+        if self.level <= 0.0 or groups == 0:
+            return np.zeros(groups)
+        m = max(1, int(math.ceil(self.n / FLICKER_FFT_POINTS)))
+        nb = int(math.ceil(self.n / m))
+        block = np.arange(key.size) // m
+        w = np.bincount(key * nb + block, weights=weights, minlength=groups * nb)
+        spec = np.abs(np.fft.rfft(w.reshape(groups, nb), axis=1)) ** 2
+        k = np.arange(1, spec.shape[1])
+        return (2.0 / self.n) * (spec[:, 1:] @ (self.level / k))
+
+    @property
+    def total_variance(self) -> float:
+        """Variance (N·m²) the flicker part adds to every sample."""
+        if self.level <= 0.0:
+            return 0.0
+        k = np.arange(1, self.n // 2 + 1)
+        return float((2.0 / self.n) * np.sum(self.level / k))
+
+
+#: points of the short FFT on which the flicker part of a mean's variance is summed
+FLICKER_FFT_POINTS = 4096
+#: the 1/f law is measured from this many cycles per record up (above the time tests'
+#: bins) to an eighth of the sampling rate
+FLICKER_LOW_CYCLES = 80
+
+
+def flicker_noise(r: np.ndarray) -> Flicker:
+    """The 1/f part of a residual's noise (see :class:`Flicker`), or a zero level.
+
+    The periodogram's mean power in log-spaced bands from ``FLICKER_LOW_CYCLES`` cycles
+    per record up to a sixteenth of the sampling rate is fitted with ``W + level/k``
+    (white plus flicker; weighted least squares on the bands' relative errors). The level
+    is kept when the flicker part at the lowest band is at least the white part there: a
+    real 1/f rise, not the scatter of white or coloured noise.
+    """
+    n = r.size
+    hi = n // 16
+    if hi <= 4 * FLICKER_LOW_CYCLES:
+        return Flicker(0.0, n)
+    power = np.abs(np.fft.rfft(r - r.mean())) ** 2 / n
+    edges = np.unique(np.round(np.geomspace(FLICKER_LOW_CYCLES, hi, 13)).astype(int))
+    k_mid = np.sqrt(edges[:-1] * edges[1:].astype(float))
+    p_band = np.array([float(np.mean(power[a:b])) for a, b in zip(edges[:-1], edges[1:])])
+    cnt = np.diff(edges).astype(float)
+    w = np.sqrt(cnt) / np.maximum(p_band, 1e-300)
+    design = np.column_stack([np.ones_like(k_mid), 1.0 / k_mid]) * w[:, None]
+    (white, level), *_ = np.linalg.lstsq(design, p_band * w, rcond=None)
+    if level <= 0.0 or level / k_mid[0] < max(white, 0.0):
+        return Flicker(0.0, n)
+    return Flicker(float(level), n)
+
+
 def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int = 40,
                        min_rms: float = 0.25, p_level: float = 1e-6,
                        excess_ratio: float = 1.25) -> tuple[dict, bool, float]:
@@ -210,7 +287,6 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     # differences of the residual itself at the lag where that noise decorrelates
     noise = noise_model(flexible_remainder(r, idx, sig), sig.scales.sample_rate_hz)
     sigma = noise_std(r, noise.lag)
-    ratio = rmse(r) / sigma if sigma > 0 else math.inf
     var_noise = sigma ** 2 * noise.tau  # bin means of correlated noise vary as σ²·τ/n
     theta = sig.theta_smooth[idx]
     nb = bins
@@ -219,6 +295,12 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     key_theta = 2 * b_theta + (sig.direction[idx] > 0)
     t = sig.t[idx]
     key_time = np.clip(((t - t[0]) / (t[-1] - t[0]) * nb).astype(int), 0, nb - 1)
+    # the residual with its means by deflection and direction taken out: for the 1/f part
+    # of the noise and for periodic structure
+    cnt = np.bincount(key_theta)
+    flat = r - (np.bincount(key_theta, weights=r) / np.maximum(cnt, 1))[key_theta]
+    flicker = flicker_noise(flat)
+    ratio = (rmse(r) / math.sqrt(sigma ** 2 + flicker.total_variance)) if sigma > 0 else math.inf
     tests = {}
     unexplained = ratio > excess_ratio
 
@@ -237,9 +319,12 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
         tot = np.bincount(key, weights=r)
         ok = cnt >= 20
         means = tot[ok] / cnt[ok]
-        chi2 = float(np.sum(cnt[ok] * means ** 2) / var_noise) if sigma > 0 else math.inf
+        # what a bin's mean of noise alone varies by: white (σ²·τ/n) and the 1/f part
+        # carried down to the times its samples span (a hold's level is one stretch)
+        expect = var_noise / cnt[ok] + flicker.group_variance(key, 1.0 / cnt[key])[ok]
+        chi2 = float(np.sum(means ** 2 / expect)) if sigma > 0 else math.inf
         dof = int(ok.sum())
-        excess = np.sum(cnt[ok] * means ** 2 - var_noise) / max(np.sum(cnt[ok]), 1)
+        excess = np.sum(cnt[ok] * (means ** 2 - expect)) / max(np.sum(cnt[ok]), 1)
         worst = int(np.argmax(np.abs(means))) if dof else 0
         where = np.flatnonzero(ok)[worst] if dof else 0
         at = float(np.mean(centre[key == where])) if dof else 0.0
@@ -248,10 +333,14 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
             ("largest_at_rad" if "deflection" in name else "largest_at_s"): at})
 
     feats = run_features(r, idx, sig)
-    energy = feats["n"] * feats["mean_Nm"] ** 2 + feats["sxx_rad2"] * feats["slope_Nm_per_rad"] ** 2
-    dof = 2 * int(feats["n"].size)
-    chi2 = float(np.sum(energy) / var_noise) if sigma > 0 else math.inf
-    excess = (float(np.sum(energy)) - dof * var_noise) / max(float(np.sum(feats["n"])), 1.0)
+    n_run, sxx = feats["n"], feats["sxx_rad2"]
+    e_mean, e_slope = n_run * feats["mean_Nm"] ** 2, sxx * feats["slope_Nm_per_rad"] ** 2
+    f_mean, f_slope = _run_flicker(flicker, idx, sig)
+    # each run's mean and slope against what noise alone gives them (white, and 1/f)
+    x_mean, x_slope = var_noise + n_run * f_mean, var_noise + sxx * f_slope
+    dof = 2 * int(n_run.size)
+    chi2 = float(np.sum(e_mean / x_mean + e_slope / x_slope)) if sigma > 0 else math.inf
+    excess = float(np.sum(e_mean - x_mean + e_slope - x_slope)) / max(float(np.sum(n_run)), 1.0)
     unexplained |= verdict("by_run", chi2, dof, excess, {"runs": int(feats["n"].size)})
 
     rate_hz = sig.scales.sample_rate_hz / max(float(np.median(np.diff(idx))), 1.0)
@@ -261,8 +350,6 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     # with the residual's means by deflection and direction taken out (the bins of the
     # test above), or on a periodic motion (a sine) every shape in deflection would
     # count again as harmonics of the drive
-    cnt = np.bincount(key_theta)
-    flat = r - (np.bincount(key_theta, weights=r) / np.maximum(cnt, 1))[key_theta]
     excess = max(0.5 * spec["peak_amplitude"] ** 2 - sigma ** 2 / max(r.size, 1),
                  periodogram(flat, rate_hz)["line_ms"])
     p = spec["p_value"]
@@ -275,6 +362,7 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
         "significant": bool(significant)}
     unexplained |= significant
     evidence = {"noise_Nm": sigma, "noise_decorrelation_lag_samples": noise.lag,
+                "flicker_noise_rms_Nm": math.sqrt(flicker.total_variance),
                 "noise_correlation_samples": noise.tau, "residual_rms_Nm": rmse(r),
                 "residual_rms_over_noise": ratio,
                 "lag1_autocorrelation": _autocorr(r, 1),
@@ -282,6 +370,24 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
                 "thresholds": {"p_value": p_level, "structure_rms_over_noise": min_rms,
                                "residual_rms_over_noise": excess_ratio}}
     return evidence, bool(unexplained), sigma
+
+
+def _run_flicker(flicker: Flicker, idx: np.ndarray, sig: Signals,
+                 min_samples: int = 20) -> tuple[np.ndarray, np.ndarray]:
+    """Variance (N·m², N·m²/rad²) the 1/f part of the noise gives each run's mean and its
+    slope against deflection (the runs of :func:`run_features`, in its order)."""
+    runs = sig.runs[idx]
+    _, inv = np.unique(runs, return_inverse=True)
+    n = np.bincount(inv).astype(float)
+    ok = n >= min_samples
+    if flicker.level <= 0.0:
+        return np.zeros(int(ok.sum())), np.zeros(int(ok.sum()))
+    theta = sig.theta_smooth[idx]
+    dth = theta - (np.bincount(inv, weights=theta) / n)[inv]
+    sxx = np.bincount(inv, weights=dth * dth)
+    w_slope = dth / np.where(sxx > 0, sxx, 1.0)[inv]
+    return (flicker.group_variance(inv, 1.0 / n[inv])[ok],
+            flicker.group_variance(inv, w_slope)[ok])
 
 
 def _autocorr(r: np.ndarray, lag: int) -> float:

@@ -137,6 +137,16 @@ class Rec:
     truth: dict = field(default_factory=dict)
 
 
+def pink(rng, n, rms):
+    """Flicker (1/f) noise of standard deviation ``rms``: white noise shaped by 1/sqrt(f)."""
+    spec = np.fft.rfft(rng.normal(size=n))
+    k = np.arange(spec.size)
+    spec[1:] /= np.sqrt(k[1:])
+    spec[0] = 0.0
+    x = np.fft.irfft(spec, n)
+    return rms * x / x.std()
+
+
 def G(*names):
     return "|".join(sorted(names))
 
@@ -223,6 +233,19 @@ def records() -> list[Rec]:
         t, th = holds
         return noisy(rng, t, th, K * th + 0.4 * np.gradient(th, t))
 
+    def c5_pink_torque(rng):
+        # a bridge amplifier's 1/f noise (0.4 % of the peak torque) beside white noise:
+        # noise, not a wandering zero
+        t, th = holds
+        t, tau, meas = noisy(rng, t, th, K * th)
+        return t, tau + pink(rng, t.size, 0.05), meas
+
+    def c3_settling_zero(rng):
+        # a torque zero settling after power-up by 0.06 N·m (0.5 % of peak) with a time
+        # constant of 3 s: a deterministic curve, not noise
+        t, th = holds
+        return noisy(rng, t, th, K * th + 0.06 * np.exp(-t / 3.0))
+
     def c3_stop_backlash(rng):
         t, th = stair
         tau = K_stack * deadband(th, 0.02) + 30 * K_stack * deadband(th, 0.3)
@@ -261,6 +284,10 @@ def records() -> list[Rec]:
             [S("backlash"), S("backlash", "hysteresis"), S("backlash", "time_lag"),
              S("backlash", G(*fh)), S("backlash", *fh)], True, c3_relax_backlash),
         Rec("c5_viscous_holds", 5, K, [S("time_lag")], False, c5_viscous_holds),
+        Rec("c5_pink_torque", 5, K, [S(), S("torque_offset"), S("drift"),
+                                     S("drift", "torque_offset")], False, c5_pink_torque),
+        Rec("c3_settling_zero", 3, K, [S(), S("torque_offset"), S("drift"),
+                                       S("drift", "torque_offset")], True, c3_settling_zero),
         Rec("c3_stop_backlash", 3, K_stack, [S("backlash")], True, c3_stop_backlash),
         Rec("c4_stick_slip", 4, K, [S("hysteresis"), S(G(*fh))], True, c4_stick_slip),
     ]

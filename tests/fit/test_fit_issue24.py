@@ -127,3 +127,35 @@ def test_a_damper_is_a_lag_within_the_library_not_a_relaxation():
     assert loop.laws["time_lag"]["law"] in ("viscous", "pure_delay", "standard_linear_solid")
     assert not [f for f in (loop.localisation or {}).get("findings", [])
                 if f["kind"] == "law_outside_library"]
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_flicker_noise_is_noise_and_a_settling_zero_is_structure(seed):
+    # 1/f torque noise has the same law from the fast fluctuations down to the record's
+    # length: its wandering bin and run means are what the noise predicts, not a zero that
+    # moves; a settling zero of a similar size sits far above that law at low frequency
+    pink = fit_one(RECORDS["c5_pink_torque"], seed=seed).loop
+    assert not pink.unexplained, pink.structure["tests"]
+    assert pink.structure["flicker_noise_rms_Nm"] > 0.02
+    settle = fit_one(RECORDS["c3_settling_zero"], seed=seed).loop
+    assert settle.unexplained
+    assert settle.structure["tests"]["by_time"]["significant"]
+
+
+def test_flicker_part_of_a_mean_variance_matches_its_closed_form():
+    # the variance of the mean of L samples of noise with periodogram level/k, summed
+    # exactly over every Fourier bin, against the block-summed short FFT
+    import numpy as np
+
+    from springcad.fit.residual import Flicker
+
+    n, L, level = 50_000, 5_000, 2.0
+    f = Flicker(level, n)
+    key = np.zeros(n, dtype=int)
+    key[L:] = 1
+    w = np.where(key == 0, 1.0 / L, 0.0)
+    got = f.group_variance(key, w)[0]
+    k = np.arange(1, n // 2 + 1)
+    dirichlet = np.sin(np.pi * k * L / n) / (L * np.sin(np.pi * k / n))
+    want = (2.0 / n) * np.sum(level / k * dirichlet ** 2)
+    assert got == pytest.approx(want, rel=0.02)
