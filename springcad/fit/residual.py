@@ -299,7 +299,7 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     # of the noise and for periodic structure
     cnt = np.bincount(key_theta)
     flat = r - (np.bincount(key_theta, weights=r) / np.maximum(cnt, 1))[key_theta]
-    flicker = flicker_noise(flat)
+    flicker = flicker_noise(flat - _phase_means(flat, idx, sig))
     ratio = (rmse(r) / math.sqrt(sigma ** 2 + flicker.total_variance)) if sigma > 0 else math.inf
     tests = {}
     unexplained = ratio > excess_ratio
@@ -370,6 +370,34 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
                 "thresholds": {"p_value": p_level, "structure_rms_over_noise": min_rms,
                                "residual_rms_over_noise": excess_ratio}}
     return evidence, bool(unexplained), sigma
+
+
+#: bins of the time since the motion last started, stopped or turned (log-spaced)
+PHASE_BINS = 24
+
+
+def _phase_means(r: np.ndarray, idx: np.ndarray, sig: Signals) -> np.ndarray:
+    """The residual's means by phase of the protocol: holding or moving, direction, and the
+    time since the motion last started, stopped or turned (log-spaced bins).
+
+    What the bench does after every start, stop and turn alike (a torque relaxing in each
+    hold, a friction law's transient) repeats with the protocol and is taken out with
+    these means before the noise's 1/f law is measured; flicker noise is not locked to
+    the protocol and averages out of them.
+    """
+    hold = sig.in_hold[idx]
+    runs = sig.runs[idx]
+    change = np.ones(idx.size, dtype=bool)
+    change[1:] = (hold[1:] != hold[:-1]) | (runs[1:] != runs[:-1])
+    seg = np.cumsum(change) - 1
+    t = sig.t[idx]
+    elapsed = t - t[np.flatnonzero(change)][seg]
+    dt = 1.0 / sig.scales.sample_rate_hz
+    edges = np.geomspace(dt, max(float(elapsed.max()), 2.0 * dt), PHASE_BINS)
+    b = np.searchsorted(edges, elapsed)
+    key = (b * 2 + hold) * 2 + (sig.direction[idx] > 0)
+    cnt = np.bincount(key)
+    return (np.bincount(key, weights=r) / np.maximum(cnt, 1))[key]
 
 
 def _run_flicker(flicker: Flicker, idx: np.ndarray, sig: Signals,
