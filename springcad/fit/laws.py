@@ -2,9 +2,9 @@
 
 An effect family (friction, a late torque channel) is searched for with the
 library's law (:data:`springcad.fit.effects.LIBRARY`). Once the loop has named
-it, its other laws (:data:`springcad.fit.effects.OTHER_LAWS`: viscous damping
-and a first-order filter for the lag family, velocity-regularised Coulomb
-friction for the friction family) are fitted in its place, with the rest of
+it, its other laws (:data:`springcad.fit.other_laws.OTHER_LAWS`: viscous damping,
+a first-order filter and a relaxing standard-linear-solid branch for the lag
+family, velocity-regularised Coulomb friction for the friction family) are fitted in its place, with the rest of
 the model free, and scored with the same held-out criterion. The law with the
 lowest criterion is kept when it beats the one in the model by more than
 ``LAW_MARGIN``; the record tells the laws apart when the best beats every
@@ -38,7 +38,8 @@ from typing import Callable
 
 import numpy as np
 
-from springcad.fit.effects import OTHER_LAWS, Effect, get_effect
+from springcad.fit.effects import Effect, get_effect
+from springcad.fit.other_laws import OTHER_LAWS
 from springcad.fit.search import LAW_MARGIN, Search, State
 from springcad.fit.torque_model import TorqueModel
 

@@ -2,9 +2,11 @@
 
 A residual that only holds sensor noise has no mean in any bin of deflection or
 of time. :func:`noise_model` estimates the noise level and its correlation time
-from the residual's fast variations; :func:`residual_structure` compares bin
-means against that noise and says whether structure remains that the model
-does not explain. Torque in N·m, time in s, deflection in rad.
+from the residual's fast variations, :func:`flicker_noise` its 1/f part (a
+strain-gauge amplifier's flicker noise, whose slow wander is noise, not a zero
+that moves); :func:`residual_structure` compares bin means against that noise
+and says whether structure remains that the model does not explain. Torque in
+N·m, time in s, deflection in rad.
 """
 
 from __future__ import annotations
@@ -255,8 +257,9 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     """Test a residual for structure beyond noise.
 
     Four tests, each against the noise level ``σ`` (from lagged differences of
-    the residual at a lag where the noise no longer correlates) and its
-    correlation time ``τ``:
+    the residual at a lag where the noise no longer correlates), its
+    correlation time ``τ`` and its 1/f part (:func:`flicker_noise`, carried
+    down to the samples of each bin and run by :meth:`Flicker.group_variance`):
 
     * ``by_deflection_and_direction``: residual means in bins of deflection,
       separately for each direction of motion;

@@ -18,7 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from springcad.fit.effects import LIBRARY, OTHER_LAWS, Effect
+from springcad.fit.effects import LIBRARY, Effect
+from springcad.fit.other_laws import OTHER_LAWS
 from springcad.fit.inference import jacobian
 from springcad.fit.models import rmse
 from springcad.fit.nuisance import nuisance_views
