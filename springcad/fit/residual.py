@@ -221,8 +221,13 @@ class Flicker:
 #: points of the short FFT on which the flicker part of a mean's variance is summed
 FLICKER_FFT_POINTS = 4096
 #: the 1/f law is measured from this many cycles per record up (above the time tests'
-#: bins) to an eighth of the sampling rate
+#: bins) to a sixteenth of the sampling rate
 FLICKER_LOW_CYCLES = 80
+
+
+#: the white + 1/f law fitted up to a sixteenth of the sampling rate must predict the mean power of the octave
+#: above its band within this factor
+FLICKER_CONTINUITY = 1.5
 
 
 def flicker_noise(r: np.ndarray) -> Flicker:
@@ -231,8 +236,9 @@ def flicker_noise(r: np.ndarray) -> Flicker:
     The periodogram's mean power in log-spaced bands from ``FLICKER_LOW_CYCLES`` cycles
     per record up to a sixteenth of the sampling rate is fitted with ``W + level/k``
     (white plus flicker; weighted least squares on the bands' relative errors). The level
-    is kept when the flicker part at the lowest band is at least the white part there: a
-    real 1/f rise, not the scatter of white or coloured noise.
+    is kept when the flicker part at the lowest band is at least the white part there (a
+    real 1/f rise, not the scatter of white or coloured noise) and the law predicts the
+    octave above its band (``FLICKER_CONTINUITY``).
     """
     n = r.size
     hi = n // 16
@@ -246,7 +252,14 @@ def flicker_noise(r: np.ndarray) -> Flicker:
     w = np.sqrt(cnt) / np.maximum(p_band, 1e-300)
     design = np.column_stack([np.ones_like(k_mid), 1.0 / k_mid]) * w[:, None]
     (white, level), *_ = np.linalg.lstsq(design, p_band * w, rcond=None)
-    if level <= 0.0 or level / k_mid[0] < max(white, 0.0):
+    if white <= 0.0 or level <= 0.0 or level / k_mid[0] < white:
+        return Flicker(0.0, n)
+    # the law must go on describing the octave above the band it was fitted on: structure
+    # (a friction law's transient at every start) whose spectrum falls faster than 1/f is
+    # not white plus flicker noise, and would be carried down as too much noise
+    k_up = np.arange(hi, min(2 * hi, power.size))
+    above = float(np.mean(power[k_up])) / float(np.mean(white + level / k_up))
+    if not 1.0 / FLICKER_CONTINUITY <= above <= FLICKER_CONTINUITY:
         return Flicker(0.0, n)
     return Flicker(float(level), n)
 
