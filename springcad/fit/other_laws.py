@@ -123,9 +123,15 @@ class StandardLinearSolid(TimeLag):
     def spring_torque(self, p, spring, sig, idx):
         from scipy.signal import lfilter
 
-        a = float(np.exp(-1.0 / (max(p[1], 1e-12) * sig.scales.sample_rate_hz)))
-        low = lfilter([1.0 - a], [1.0, -a], spring - spring[0]) + spring[0]
-        return p[0] * (spring[idx] - low[idx])
+        cached = getattr(self, "_cache", None)
+        if cached is not None and cached[0] is spring and cached[1] == p[1]:
+            high = cached[2]
+        else:
+            a = float(np.exp(-1.0 / (max(p[1], 1e-12) * sig.scales.sample_rate_hz)))
+            high = spring - (lfilter([1.0 - a], [1.0, -a], spring - spring[0]) + spring[0])
+            # the last trace and time constant (a Jacobian moves k2 and K with them fixed)
+            self._cache = (spring, float(p[1]), high)
+        return p[0] * high[idx]
 
     def report(self, p, stiffness, sc):
         return {"relaxing_stiffness_Nm_per_rad": float(p[0]),
