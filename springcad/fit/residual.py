@@ -230,15 +230,31 @@ FLICKER_LOW_CYCLES = 80
 FLICKER_CONTINUITY = 1.5
 
 
-def flicker_noise(r: np.ndarray) -> Flicker:
+def _speed_groups(idx: np.ndarray, sig: Signals, min_share: float = 0.1) -> list[np.ndarray]:
+    """Positions of the residual's samples at rest, moving slowly and moving fast (below
+    and above the median speed in motion); groups under ``min_share`` of them are left out."""
+    speed = np.abs(sig.rate_trace[idx])
+    top = float(np.max(speed)) if speed.size else 0.0
+    rest = speed <= 0.01 * top
+    moving = np.flatnonzero(~rest)
+    groups = [np.flatnonzero(rest)]
+    if moving.size:
+        mid = float(np.median(speed[moving]))
+        groups += [moving[speed[moving] <= mid], moving[speed[moving] > mid]]
+    return [g for g in groups if g.size >= min_share * idx.size]
+
+
+def flicker_noise(r: np.ndarray, groups: list[np.ndarray] | None = None) -> Flicker:
     """The 1/f part of a residual's noise (see :class:`Flicker`), or a zero level.
 
     The periodogram's mean power in log-spaced bands from ``FLICKER_LOW_CYCLES`` cycles
     per record up to a sixteenth of the sampling rate is fitted with ``W + level/k``
     (white plus flicker; weighted least squares on the bands' relative errors). The level
     is kept when the flicker part at the lowest band is at least the white part there (a
-    real 1/f rise, not the scatter of white or coloured noise) and the law predicts the
-    octave above its band (``FLICKER_CONTINUITY``).
+    real 1/f rise, not the scatter of white or coloured noise), the law predicts the
+    octave above its band and the top octave of the spectrum, and the band's power is
+    alike in every group of ``groups`` (at rest, slow, fast: a sensor's noise does not
+    know the speed), all within ``FLICKER_CONTINUITY``.
     """
     n = r.size
     hi = n // 16
@@ -257,10 +273,23 @@ def flicker_noise(r: np.ndarray) -> Flicker:
     # the law must go on describing the octave above the band it was fitted on: structure
     # (a friction law's transient at every start) whose spectrum falls faster than 1/f is
     # not white plus flicker noise, and would be carried down as too much noise
-    k_up = np.arange(hi, min(2 * hi, power.size))
-    above = float(np.mean(power[k_up])) / float(np.mean(white + level / k_up))
-    if not 1.0 / FLICKER_CONTINUITY <= above <= FLICKER_CONTINUITY:
-        return Flicker(0.0, n)
+    # a sensor's noise does not know the speed: the band's power must be alike at rest, at
+    # low and at high speed (a relaxation in holds, a breakaway at low speed, a lag at
+    # high speed are not); the band's part of the residual, by inverse FFT
+    if groups and len(groups) > 1:
+        spec = np.fft.rfft(r - r.mean())
+        spec[:FLICKER_LOW_CYCLES] = 0.0
+        spec[hi:] = 0.0
+        band = np.fft.irfft(spec, n)
+        ms = [float(np.mean(band[g] ** 2)) for g in groups]
+        if max(ms) > FLICKER_CONTINUITY * min(ms):
+            return Flicker(0.0, n)
+    # and the top of the spectrum, where the white part alone is left
+    for lo_k, hi_k in ((hi, 2 * hi), (n // 4, n // 2)):
+        k_up = np.arange(lo_k, min(hi_k, power.size))
+        above = float(np.mean(power[k_up])) / float(np.mean(white + level / k_up))
+        if not 1.0 / FLICKER_CONTINUITY <= above <= FLICKER_CONTINUITY:
+            return Flicker(0.0, n)
     return Flicker(float(level), n)
 
 
@@ -315,7 +344,7 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     # of the noise and for periodic structure
     cnt = np.bincount(key_theta)
     flat = r - (np.bincount(key_theta, weights=r) / np.maximum(cnt, 1))[key_theta]
-    flicker = flicker_noise(flat - _phase_means(flat, idx, sig))
+    flicker = flicker_noise(flat - _phase_means(flat, idx, sig), _speed_groups(idx, sig))
     ratio = (rmse(r) / math.sqrt(sigma ** 2 + flicker.total_variance)) if sigma > 0 else math.inf
     tests = {}
     unexplained = ratio > excess_ratio
@@ -394,10 +423,11 @@ PHASE_BINS = 24
 
 def _phase_means(r: np.ndarray, idx: np.ndarray, sig: Signals) -> np.ndarray:
     """The residual's means by phase of the protocol: holding or moving, direction, and the
-    time since the motion last started, stopped or turned (log-spaced bins).
+    time since the motion last started, stopped or turned (log-spaced bins); then by the
+    speed.
 
-    What the bench does after every start, stop and turn alike (a torque relaxing in each
-    hold, a friction law's transient) repeats with the protocol and is taken out with
+    What the bench does after every start, stop and turn alike, or at every speed alike (a
+    torque relaxing in each hold, a friction law's breakaway) repeats with the protocol and is taken out with
     these means before the noise's 1/f law is measured; flicker noise is not locked to
     the protocol and averages out of them.
     """
@@ -413,7 +443,18 @@ def _phase_means(r: np.ndarray, idx: np.ndarray, sig: Signals) -> np.ndarray:
     b = np.searchsorted(edges, elapsed)
     key = (b * 2 + hold) * 2 + (sig.direction[idx] > 0)
     cnt = np.bincount(key)
-    return (np.bincount(key, weights=r) / np.maximum(cnt, 1))[key]
+    phase = (np.bincount(key, weights=r) / np.maximum(cnt, 1))[key]
+    # and by the speed (signed, log-spaced): a friction law's breakaway and Stribeck dip
+    # follow the speed, which reaches a given value at a different time on every ramp
+    rate = sig.rate_trace[idx]
+    top = float(np.max(np.abs(rate)))
+    if top <= 0.0:
+        return phase
+    mag = np.searchsorted(np.geomspace(1e-3 * top, top, PHASE_BINS), np.abs(rate))
+    key = 2 * mag + (rate > 0)
+    rest = r - phase
+    cnt = np.bincount(key)
+    return phase + (np.bincount(key, weights=rest) / np.maximum(cnt, 1))[key]
 
 
 def _run_flicker(flicker: Flicker, idx: np.ndarray, sig: Signals,
