@@ -78,6 +78,9 @@ class Effect:
     signature: str = ""
     #: a torque of the spring itself, delayed with the torque channel (see ``time_shift_s``)
     delayed: bool = False
+    #: a torque of the spring's material, acting on the spring's own deflection (after a
+    #: crossover): evaluated by ``spring_torque`` on the whole smooth trace of it
+    on_spring: bool = False
 
     def params(self, sc: Scales) -> tuple[Param, ...]:
         """Parameters of the term for a record with scales ``sc``."""
@@ -138,6 +141,12 @@ class Effect:
         """Additive torque (N·m) at samples ``idx``; ``fraction`` gives fractional
         sample positions for a ``delayed`` term (``idx`` is then the nearest sample)."""
         return 0.0
+
+    def spring_torque(self, p: np.ndarray, spring: np.ndarray, sig: Signals,
+                      idx: np.ndarray) -> np.ndarray:
+        """Additive torque (N·m) at samples ``idx`` of an ``on_spring`` term, from the
+        spring's deflection ``spring`` (rad) on every sample."""
+        return np.zeros(idx.size)
 
 
 #: widest logit transition of a crossover, as a fraction of the largest deflection
@@ -413,112 +422,10 @@ class SeriesCompliance(Effect):
         return sig.encoder is not None
 
 
-# --- other laws of an effect family ---------------------------------------------------------
-#
-# The loop searches with the library's law of each family (above); once a family is in
-# the model, its other laws are fitted in its place and the one the held-out criterion
-# prefers is kept (``springcad.fit.laws``). A law carries its family's name (the effect
-# named is the family) and reports parameters with the law's own meaning.
-
-
-class ViscousDamping(TimeLag):
-    """Rate-proportional torque ``c·dθ/dt`` (N·m·s/rad): the time-lag family's damper law."""
-
-    law = "viscous"
-    meaning = ("rate-proportional (viscous) damping c: a torque c·dθ/dt that follows the speed "
-               "of the motion (greases, eddy currents, a viscoelastic bushing at one rate); on "
-               "this bench it reads as a torque channel early by c/K")
-    stage = "torque"
-    delayed = False
-
-    def params(self, sc):
-        c_max = 0.5 * sc.torque_ref / max(sc.theta_ref, 1e-12)
-        return (Param("damping", -c_max, c_max, 0.0, -2.0 / sc.sample_rate_hz * c_max),)
-
-    def time_shift_s(self, p):
-        return 0.0
-
-    def angle(self, theta, p, sig, idx):
-        return theta
-
-    def torque(self, p, sig, idx, fraction=None):
-        return p[0] * sig.rate_trace[idx]
-
-    def report(self, p, stiffness, sc):
-        return {"viscous_damping_Nms_per_rad": float(p[0]),
-                "equivalent_lag_s": float(-p[0] / stiffness) if stiffness else 0.0}
-
-
-class FirstOrderLag(TimeLag):
-    """Torque channel through a first-order low-pass of time constant T (s)."""
-
-    law = "first_order_filter"
-    meaning = ("a first-order low-pass in the torque channel (sensor or amplifier filter) of "
-               "time constant T: slow motion is delayed by T, turns are rounded")
-
-    def params(self, sc):
-        return (Param("filter_time_constant", 0.0, 0.5, 0.0, 2.0 / sc.sample_rate_hz),)
-
-    def starts(self, sc):
-        return [np.array([f / sc.sample_rate_hz]) for f in (2.0, 10.0, 30.0)]
-
-    def angle(self, theta, p, sig, idx):
-        from scipy.signal import lfilter
-
-        trace = sig.theta_trace
-        if p[0] <= 0.0:
-            return theta
-        a = float(np.exp(-1.0 / (max(p[0], 1e-12) * sig.scales.sample_rate_hz)))
-        low = lfilter([1.0 - a], [1.0, -a], trace - trace[0]) + trace[0]
-        return theta + (low[idx] - trace[idx])
-
-    def report(self, p, stiffness, sc):
-        return {"filter_time_constant_s": float(p[0]), "lag_s": float(p[0])}
-
-
-class RegularisedCoulomb(Hysteresis):
-    """Friction ``F·tanh(v/v0)`` (N·m; v0 in rad/s): zero at rest, Coulomb in motion."""
-
-    law = "regularised_coulomb"
-    meaning = ("friction that follows the speed: F·tanh(v/v0), Coulomb friction F in motion, "
-               "fading to zero below the speed v0 and at rest (no friction held in holds)")
-
-    def params(self, sc):
-        v_ref = sc.theta_ref * 2.0
-        return (Param("friction", 0.0, 0.5 * sc.torque_ref, 0.0, 0.01 * sc.torque_ref),
-                Param("fade_speed", 1e-4 * v_ref, v_ref, 0.01 * v_ref, 0.01 * v_ref))
-
-    def starts(self, sc):
-        return [np.array([0.02 * sc.torque_ref, f * sc.theta_ref]) for f in (0.003, 0.02, 0.1)]
-
-    def physical_problem(self, p, stiffness, sc):
-        q = self.params(sc)[1]
-        if p[1] >= q.upper * (1 - 1e-4):
-            return f"fade speed {p[1]:.4g} rad/s rests on its upper bound: not a friction"
-        return Effect.physical_problem(self, p, stiffness, sc)
-
-    def torque(self, p, sig, idx, fraction=None):
-        if fraction is not None:
-            v = np.interp(fraction, np.arange(sig.n), sig.rate_trace)
-        else:
-            v = sig.rate_trace[idx]
-        return p[0] * np.tanh(v / p[1])
-
-    def report(self, p, stiffness, sc):
-        return {"friction_torque_Nm": float(p[0]), "fade_speed_rad_per_s": float(p[1])}
-
-
 Effect.law = "library"
 Backlash.law = "logit_crossover"
 Hysteresis.law = "presliding"
 TimeLag.law = "pure_delay"
-
-#: laws of each family other than the library's, tried in its place once it is named
-OTHER_LAWS: dict[str, tuple[Effect, ...]] = {
-    "time_lag": (ViscousDamping(), FirstOrderLag()),
-    "hysteresis": (RegularisedCoulomb(),),
-}
-
 
 #: the library, in the order candidates are listed
 LIBRARY: tuple[Effect, ...] = (

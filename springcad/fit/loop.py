@@ -53,7 +53,7 @@ from springcad.fit.evidence import EffectEvidence, audit
 from springcad.fit.identify import (Confounded, contribution, find_confounded,
                                     recommend_protocol)
 from springcad.fit.joint import joint_sets
-from springcad.fit.laws import beyond_library, choose_laws
+from springcad.fit.laws import beyond_library, choose_laws, fitted_in_place
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
 from springcad.fit.localise import localise
 from springcad.fit.region import outside_structure
@@ -308,7 +308,8 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
 def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, spring: dict,
             evidence: dict, rejected: tuple, pairs, laws: dict | None = None) -> LoopResult:
     """Intervals, confounded groups with advice, and the structure left over (and a law
-    outside the library's, see :func:`springcad.fit.laws.beyond_library`)."""
+    outside the library's, see :func:`springcad.fit.laws.beyond_library`: flagged when the
+    library's law fitted in its place leaves structure the residual tests find)."""
     sig, settings = lp.sig, lp.s
     fitted = state.inliers(lp.all)
     if spring.get("above_noise", True):
@@ -324,7 +325,19 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
         r, idx, sig, bins=settings.structure_bins, min_rms=settings.structure_min_rms,
         p_level=settings.structure_p, excess_ratio=settings.excess_ratio)
     tau = structure["noise_correlation_samples"]
-    outside = beyond_library(laws or {}, settings.gain_threshold)
+    def leaves_structure(family: str, law: str) -> bool:
+        # the library's law fitted in the kept one's place, on all fitted samples, judged
+        # by the same residual tests
+        found = fitted_in_place(state, lp, family, law, lp.f_scale(state))
+        if found is None:
+            return True
+        model, x_law = found
+        r_law = model.residual(x_law, sig, idx)
+        return residual_structure(
+            r_law, idx, sig, bins=settings.structure_bins, min_rms=settings.structure_min_rms,
+            p_level=settings.structure_p, excess_ratio=settings.excess_ratio)[1]
+
+    outside = beyond_library(laws or {}, settings.gain_threshold, leaves_structure)
     if outside:
         structure = {**structure, "laws_outside_library": outside}
         unexplained = True

@@ -2,9 +2,11 @@
 
 A residual that only holds sensor noise has no mean in any bin of deflection or
 of time. :func:`noise_model` estimates the noise level and its correlation time
-from the residual's fast variations; :func:`residual_structure` compares bin
-means against that noise and says whether structure remains that the model
-does not explain. Torque in N·m, time in s, deflection in rad.
+from the residual's fast variations, :func:`flicker_noise` its 1/f part (a
+strain-gauge amplifier's flicker noise, whose slow wander is noise, not a zero
+that moves); :func:`residual_structure` compares bin means against that noise
+and says whether structure remains that the model does not explain. Torque in
+N·m, time in s, deflection in rad.
 """
 
 from __future__ import annotations
@@ -172,14 +174,134 @@ def _line_ms(power: np.ndarray, level: np.ndarray, ratio: np.ndarray, n: int) ->
     return float(np.sum(2.0 * np.maximum(power[keep] - level[keep], 0.0))) / float(n) ** 2
 
 
+@dataclass(frozen=True)
+class Flicker:
+    """A 1/f (flicker) part of the residual's noise: power ``level/k`` at the k-th Fourier
+    bin of an ``n``-sample record (periodogram units ``|FFT|²/n``, N·m²).
+
+    Flicker noise (a strain-gauge bridge's, an amplifier's) has no time scale: its
+    spectrum continues the same ``1/f`` law from the fast fluctuations down to the
+    record's length, so the means of long stretches of it wander by as much as those of
+    short ones (a flat Allan deviation). A torque zero that drifts or settles is a
+    deterministic curve whose power sits at the lowest frequencies, far above that law
+    measured higher up. The law is measured at frequencies above the time tests' scale
+    and carried down to predict how much the bin and run means of noise alone vary.
+    """
+
+    level: float
+    n: int
+
+    def group_variance(self, key: np.ndarray, weights: np.ndarray) -> np.ndarray:
+        """Variance (N·m²) of ``Σ w·e`` over the samples of each group under the flicker
+        part: ``key`` gives each residual sample's group (0 … G-1), ``weights`` its weight.
+
+        The weights are summed in blocks onto ``FLICKER_FFT_POINTS`` points first: the
+        flicker lives at the lowest frequencies, which the block sums keep.
+        """
+        groups = int(key.max()) + 1 if key.size else 0
+        if self.level <= 0.0 or groups == 0:
+            return np.zeros(groups)
+        m = max(1, int(math.ceil(self.n / FLICKER_FFT_POINTS)))
+        nb = int(math.ceil(self.n / m))
+        block = np.arange(key.size) // m
+        w = np.bincount(key * nb + block, weights=weights, minlength=groups * nb)
+        spec = np.abs(np.fft.rfft(w.reshape(groups, nb), axis=1)) ** 2
+        k = np.arange(1, spec.shape[1])
+        return (2.0 / self.n) * (spec[:, 1:] @ (self.level / k))
+
+    @property
+    def total_variance(self) -> float:
+        """Variance (N·m²) the flicker part adds to every sample."""
+        if self.level <= 0.0:
+            return 0.0
+        k = np.arange(1, self.n // 2 + 1)
+        return float((2.0 / self.n) * np.sum(self.level / k))
+
+
+#: points of the short FFT on which the flicker part of a mean's variance is summed
+FLICKER_FFT_POINTS = 4096
+#: the 1/f law is measured from this many cycles per record up (above the time tests'
+#: bins) to a sixteenth of the sampling rate
+FLICKER_LOW_CYCLES = 80
+
+
+#: the white + 1/f law fitted up to a sixteenth of the sampling rate must predict the mean power of the octave
+#: above its band within this factor
+FLICKER_CONTINUITY = 1.5
+
+
+def _speed_groups(idx: np.ndarray, sig: Signals, min_share: float = 0.1) -> list[np.ndarray]:
+    """Positions of the residual's samples at rest, moving slowly and moving fast (below
+    and above the median speed in motion); groups under ``min_share`` of them are left out."""
+    speed = np.abs(sig.rate_trace[idx])
+    top = float(np.max(speed)) if speed.size else 0.0
+    rest = speed <= 0.01 * top
+    moving = np.flatnonzero(~rest)
+    groups = [np.flatnonzero(rest)]
+    if moving.size:
+        mid = float(np.median(speed[moving]))
+        groups += [moving[speed[moving] <= mid], moving[speed[moving] > mid]]
+    return [g for g in groups if g.size >= min_share * idx.size]
+
+
+def flicker_noise(r: np.ndarray, groups: list[np.ndarray] | None = None) -> Flicker:
+    """The 1/f part of a residual's noise (see :class:`Flicker`), or a zero level.
+
+    The periodogram's mean power in log-spaced bands from ``FLICKER_LOW_CYCLES`` cycles
+    per record up to a sixteenth of the sampling rate is fitted with ``W + level/k``
+    (white plus flicker; weighted least squares on the bands' relative errors). The level
+    is kept when the flicker part at the lowest band is at least the white part there (a
+    real 1/f rise, not the scatter of white or coloured noise), the law predicts the
+    octave above its band and the top octave of the spectrum, and the band's power is
+    alike in every group of ``groups`` (at rest, slow, fast: a sensor's noise does not
+    know the speed), all within ``FLICKER_CONTINUITY``.
+    """
+    n = r.size
+    hi = n // 16
+    if hi <= 4 * FLICKER_LOW_CYCLES:
+        return Flicker(0.0, n)
+    power = np.abs(np.fft.rfft(r - r.mean())) ** 2 / n
+    edges = np.unique(np.round(np.geomspace(FLICKER_LOW_CYCLES, hi, 13)).astype(int))
+    k_mid = np.sqrt(edges[:-1] * edges[1:].astype(float))
+    p_band = np.array([float(np.mean(power[a:b])) for a, b in zip(edges[:-1], edges[1:])])
+    cnt = np.diff(edges).astype(float)
+    w = np.sqrt(cnt) / np.maximum(p_band, 1e-300)
+    design = np.column_stack([np.ones_like(k_mid), 1.0 / k_mid]) * w[:, None]
+    (white, level), *_ = np.linalg.lstsq(design, p_band * w, rcond=None)
+    if white <= 0.0 or level <= 0.0 or level / k_mid[0] < white:
+        return Flicker(0.0, n)
+    # the law must go on describing the octave above the band it was fitted on: structure
+    # (a friction law's transient at every start) whose spectrum falls faster than 1/f is
+    # not white plus flicker noise, and would be carried down as too much noise
+    # a sensor's noise does not know the speed: the band's power must be alike at rest, at
+    # low and at high speed (a relaxation in holds, a breakaway at low speed, a lag at
+    # high speed are not); the band's part of the residual, by inverse FFT
+    if groups and len(groups) > 1:
+        spec = np.fft.rfft(r - r.mean())
+        spec[:FLICKER_LOW_CYCLES] = 0.0
+        spec[hi:] = 0.0
+        band = np.fft.irfft(spec, n)
+        ms = [float(np.mean(band[g] ** 2)) for g in groups]
+        if max(ms) > FLICKER_CONTINUITY * min(ms):
+            return Flicker(0.0, n)
+    # and the top of the spectrum, where the white part alone is left
+    for lo_k, hi_k in ((hi, 2 * hi), (n // 4, n // 2)):
+        k_up = np.arange(lo_k, min(hi_k, power.size))
+        above = float(np.mean(power[k_up])) / float(np.mean(white + level / k_up))
+        if not 1.0 / FLICKER_CONTINUITY <= above <= FLICKER_CONTINUITY:
+            return Flicker(0.0, n)
+    return Flicker(float(level), n)
+
+
 def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int = 40,
                        min_rms: float = 0.25, p_level: float = 1e-6,
                        excess_ratio: float = 1.25) -> tuple[dict, bool, float]:
     """Test a residual for structure beyond noise.
 
     Four tests, each against the noise level ``σ`` (from lagged differences of
-    the residual at a lag where the noise no longer correlates) and its
-    correlation time ``τ``:
+    the residual at a lag where the noise no longer correlates), its
+    correlation time ``τ`` and its 1/f part (:func:`flicker_noise`, carried
+    down to the samples of each bin and run by :meth:`Flicker.group_variance`):
 
     * ``by_deflection_and_direction``: residual means in bins of deflection,
       separately for each direction of motion;
@@ -210,7 +332,6 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     # differences of the residual itself at the lag where that noise decorrelates
     noise = noise_model(flexible_remainder(r, idx, sig), sig.scales.sample_rate_hz)
     sigma = noise_std(r, noise.lag)
-    ratio = rmse(r) / sigma if sigma > 0 else math.inf
     var_noise = sigma ** 2 * noise.tau  # bin means of correlated noise vary as σ²·τ/n
     theta = sig.theta_smooth[idx]
     nb = bins
@@ -219,6 +340,12 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     key_theta = 2 * b_theta + (sig.direction[idx] > 0)
     t = sig.t[idx]
     key_time = np.clip(((t - t[0]) / (t[-1] - t[0]) * nb).astype(int), 0, nb - 1)
+    # the residual with its means by deflection and direction taken out: for the 1/f part
+    # of the noise and for periodic structure
+    cnt = np.bincount(key_theta)
+    flat = r - (np.bincount(key_theta, weights=r) / np.maximum(cnt, 1))[key_theta]
+    flicker = flicker_noise(flat - _phase_means(flat, idx, sig), _speed_groups(idx, sig))
+    ratio = (rmse(r) / math.sqrt(sigma ** 2 + flicker.total_variance)) if sigma > 0 else math.inf
     tests = {}
     unexplained = ratio > excess_ratio
 
@@ -237,9 +364,12 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
         tot = np.bincount(key, weights=r)
         ok = cnt >= 20
         means = tot[ok] / cnt[ok]
-        chi2 = float(np.sum(cnt[ok] * means ** 2) / var_noise) if sigma > 0 else math.inf
+        # what a bin's mean of noise alone varies by: white (σ²·τ/n) and the 1/f part
+        # carried down to the times its samples span (a hold's level is one stretch)
+        expect = var_noise / cnt[ok] + flicker.group_variance(key, 1.0 / cnt[key])[ok]
+        chi2 = float(np.sum(means ** 2 / expect)) if sigma > 0 else math.inf
         dof = int(ok.sum())
-        excess = np.sum(cnt[ok] * means ** 2 - var_noise) / max(np.sum(cnt[ok]), 1)
+        excess = np.sum(cnt[ok] * (means ** 2 - expect)) / max(np.sum(cnt[ok]), 1)
         worst = int(np.argmax(np.abs(means))) if dof else 0
         where = np.flatnonzero(ok)[worst] if dof else 0
         at = float(np.mean(centre[key == where])) if dof else 0.0
@@ -248,10 +378,14 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
             ("largest_at_rad" if "deflection" in name else "largest_at_s"): at})
 
     feats = run_features(r, idx, sig)
-    energy = feats["n"] * feats["mean_Nm"] ** 2 + feats["sxx_rad2"] * feats["slope_Nm_per_rad"] ** 2
-    dof = 2 * int(feats["n"].size)
-    chi2 = float(np.sum(energy) / var_noise) if sigma > 0 else math.inf
-    excess = (float(np.sum(energy)) - dof * var_noise) / max(float(np.sum(feats["n"])), 1.0)
+    n_run, sxx = feats["n"], feats["sxx_rad2"]
+    e_mean, e_slope = n_run * feats["mean_Nm"] ** 2, sxx * feats["slope_Nm_per_rad"] ** 2
+    f_mean, f_slope = _run_flicker(flicker, idx, sig)
+    # each run's mean and slope against what noise alone gives them (white, and 1/f)
+    x_mean, x_slope = var_noise + n_run * f_mean, var_noise + sxx * f_slope
+    dof = 2 * int(n_run.size)
+    chi2 = float(np.sum(e_mean / x_mean + e_slope / x_slope)) if sigma > 0 else math.inf
+    excess = float(np.sum(e_mean - x_mean + e_slope - x_slope)) / max(float(np.sum(n_run)), 1.0)
     unexplained |= verdict("by_run", chi2, dof, excess, {"runs": int(feats["n"].size)})
 
     rate_hz = sig.scales.sample_rate_hz / max(float(np.median(np.diff(idx))), 1.0)
@@ -261,8 +395,6 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     # with the residual's means by deflection and direction taken out (the bins of the
     # test above), or on a periodic motion (a sine) every shape in deflection would
     # count again as harmonics of the drive
-    cnt = np.bincount(key_theta)
-    flat = r - (np.bincount(key_theta, weights=r) / np.maximum(cnt, 1))[key_theta]
     excess = max(0.5 * spec["peak_amplitude"] ** 2 - sigma ** 2 / max(r.size, 1),
                  periodogram(flat, rate_hz)["line_ms"])
     p = spec["p_value"]
@@ -275,6 +407,7 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
         "significant": bool(significant)}
     unexplained |= significant
     evidence = {"noise_Nm": sigma, "noise_decorrelation_lag_samples": noise.lag,
+                "flicker_noise_rms_Nm": math.sqrt(flicker.total_variance),
                 "noise_correlation_samples": noise.tau, "residual_rms_Nm": rmse(r),
                 "residual_rms_over_noise": ratio,
                 "lag1_autocorrelation": _autocorr(r, 1),
@@ -282,6 +415,64 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
                 "thresholds": {"p_value": p_level, "structure_rms_over_noise": min_rms,
                                "residual_rms_over_noise": excess_ratio}}
     return evidence, bool(unexplained), sigma
+
+
+#: bins of the time since the motion last started, stopped or turned (log-spaced)
+PHASE_BINS = 24
+
+
+def _phase_means(r: np.ndarray, idx: np.ndarray, sig: Signals) -> np.ndarray:
+    """The residual's means by phase of the protocol: holding or moving, direction, and the
+    time since the motion last started, stopped or turned (log-spaced bins); then by the
+    speed.
+
+    What the bench does after every start, stop and turn alike, or at every speed alike (a
+    torque relaxing in each hold, a friction law's breakaway) repeats with the protocol and is taken out with
+    these means before the noise's 1/f law is measured; flicker noise is not locked to
+    the protocol and averages out of them.
+    """
+    hold = sig.in_hold[idx]
+    runs = sig.runs[idx]
+    change = np.ones(idx.size, dtype=bool)
+    change[1:] = (hold[1:] != hold[:-1]) | (runs[1:] != runs[:-1])
+    seg = np.cumsum(change) - 1
+    t = sig.t[idx]
+    elapsed = t - t[np.flatnonzero(change)][seg]
+    dt = 1.0 / sig.scales.sample_rate_hz
+    edges = np.geomspace(dt, max(float(elapsed.max()), 2.0 * dt), PHASE_BINS)
+    b = np.searchsorted(edges, elapsed)
+    key = (b * 2 + hold) * 2 + (sig.direction[idx] > 0)
+    cnt = np.bincount(key)
+    phase = (np.bincount(key, weights=r) / np.maximum(cnt, 1))[key]
+    # and by the speed (signed, log-spaced): a friction law's breakaway and Stribeck dip
+    # follow the speed, which reaches a given value at a different time on every ramp
+    rate = sig.rate_trace[idx]
+    top = float(np.max(np.abs(rate)))
+    if top <= 0.0:
+        return phase
+    mag = np.searchsorted(np.geomspace(1e-3 * top, top, PHASE_BINS), np.abs(rate))
+    key = 2 * mag + (rate > 0)
+    rest = r - phase
+    cnt = np.bincount(key)
+    return phase + (np.bincount(key, weights=rest) / np.maximum(cnt, 1))[key]
+
+
+def _run_flicker(flicker: Flicker, idx: np.ndarray, sig: Signals,
+                 min_samples: int = 20) -> tuple[np.ndarray, np.ndarray]:
+    """Variance (N·m², N·m²/rad²) the 1/f part of the noise gives each run's mean and its
+    slope against deflection (the runs of :func:`run_features`, in its order)."""
+    runs = sig.runs[idx]
+    _, inv = np.unique(runs, return_inverse=True)
+    n = np.bincount(inv).astype(float)
+    ok = n >= min_samples
+    if flicker.level <= 0.0:
+        return np.zeros(int(ok.sum())), np.zeros(int(ok.sum()))
+    theta = sig.theta_smooth[idx]
+    dth = theta - (np.bincount(inv, weights=theta) / n)[inv]
+    sxx = np.bincount(inv, weights=dth * dth)
+    w_slope = dth / np.where(sxx > 0, sxx, 1.0)[inv]
+    return (flicker.group_variance(inv, 1.0 / n[inv])[ok],
+            flicker.group_variance(inv, w_slope)[ok])
 
 
 def _autocorr(r: np.ndarray, lag: int) -> float:

@@ -18,7 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from springcad.fit.effects import LIBRARY, OTHER_LAWS, Effect
+from springcad.fit.effects import LIBRARY, Effect
+from springcad.fit.other_laws import OTHER_LAWS
 from springcad.fit.inference import jacobian
 from springcad.fit.models import rmse
 from springcad.fit.nuisance import nuisance_views
@@ -172,6 +173,9 @@ class Search:
         self.cv_rate_hz = sig.scales.sample_rate_hz / stride
         self.tau = 1.0
         self.half_range = sig.scales.torque_ref
+        #: per named family, each law's model and fitted parameters from the last
+        #: :func:`springcad.fit.laws.choose_laws` (for :func:`springcad.fit.laws.beyond_library`)
+        self.law_fits: dict[str, dict] = {}
 
     @property
     def n_eff(self) -> float:

@@ -107,23 +107,9 @@ class Signals:
         """
         from scipy.signal import savgol_filter
 
-        rate = self.scales.sample_rate_hz
-        w_min = max(5, int(round(TRACE_WINDOW_S[0] * rate)))
-        w_max = max(w_min, int(round(TRACE_WINDOW_S[1] * rate)))
+        w_min = max(5, int(round(TRACE_WINDOW_S[0] * self.scales.sample_rate_hz)))
         out = self.theta_smooth.copy()
-        bounds = np.concatenate([[0], np.flatnonzero(np.diff(self.runs) != 0) + 1, [self.n]])
-        # pieces (start, end, hold, window), joined into blocks fitted as one
-        blocks: list[list[tuple[int, int, bool, int]]] = []
-        for k, (a, b) in enumerate(zip(bounds[:-1], bounds[1:])):
-            w = min(max(w_min, int(TRACE_RUN_FRACTION * (b - a))), w_max) | 1
-            for c, d, hold in self._pieces(a, b, 2 * w_min):
-                prev = blocks[-1][-1] if blocks else None
-                joined = (prev is not None and not hold and not prev[2]
-                          and not _sharp_turn(self.theta, c, min(w, prev[3])))
-                if joined:
-                    blocks[-1].append((c, d, hold, w))
-                else:
-                    blocks.append([(c, d, hold, w)])
+        blocks = self._trace_blocks
         for block in blocks:
             c0, d0 = block[0][0], block[-1][1]
             if block[0][2]:
@@ -142,6 +128,37 @@ class Signals:
                     fits[wp] = savgol_filter(self.theta[c0:d0], wp, 3, mode="interp")
                 out[c:d] = fits[wp][c - c0:d - c0]
         return out
+
+    @functools.cached_property
+    def in_hold(self) -> np.ndarray:
+        """Per-sample flag: in a hold of :attr:`theta_trace` (its trace is the hold's mean)."""
+        out = np.zeros(self.n, dtype=bool)
+        for block in self._trace_blocks:
+            if block[0][2]:
+                out[block[0][0]:block[-1][1]] = True
+        return out
+
+    @functools.cached_property
+    def _trace_blocks(self) -> list:
+        """Pieces ``(start, end, hold, window)`` of :attr:`theta_trace`, joined into blocks
+        fitted as one."""
+        rate = self.scales.sample_rate_hz
+        w_min = max(5, int(round(TRACE_WINDOW_S[0] * rate)))
+        w_max = max(w_min, int(round(TRACE_WINDOW_S[1] * rate)))
+        bounds = np.concatenate([[0], np.flatnonzero(np.diff(self.runs) != 0) + 1, [self.n]])
+        # pieces (start, end, hold, window), joined into blocks fitted as one
+        blocks: list[list[tuple[int, int, bool, int]]] = []
+        for k, (a, b) in enumerate(zip(bounds[:-1], bounds[1:])):
+            w = min(max(w_min, int(TRACE_RUN_FRACTION * (b - a))), w_max) | 1
+            for c, d, hold in self._pieces(a, b, 2 * w_min):
+                prev = blocks[-1][-1] if blocks else None
+                joined = (prev is not None and not hold and not prev[2]
+                          and not _sharp_turn(self.theta, c, min(w, prev[3])))
+                if joined:
+                    blocks[-1].append((c, d, hold, w))
+                else:
+                    blocks.append([(c, d, hold, w)])
+        return blocks
 
     def _pieces(self, a: int, b: int, min_hold: int) -> list[tuple[int, int, bool]]:
         """Run ``[a, b)`` cut where the motion leaves the turn's angle after a hold, and
@@ -265,6 +282,11 @@ class Signals:
         moving = np.sign(trace[end] - trace[start])
         back = np.maximum.reduceat(-moving[k] * trace, start)
         turn = np.where(moving != 0, -moving * back, trace[start])
+        # a run that starts in a hold turned at the hold's angle: the cubic fitted to the
+        # ramp after it may overshoot it by a fraction of a mrad at its one-sided end, and
+        # read as the turn that put a small travel (friction swung part-way) into the hold
+        held = self.in_hold[start]
+        turn = np.where(held, trace[start], turn)
         after = first > 0
         out = np.abs(self.theta_smooth - self.reversal)
         out[after] = np.abs(trace[after] - turn[k[after]])

@@ -65,6 +65,7 @@ class TorqueModel:
         lo = [1e-9] + [p.lower for e in self.effects for p in self._params[e.name]]
         hi = [np.inf] + [p.upper for e in self.effects for p in self._params[e.name]]
         self.bounds = (np.array(lo, float), np.array(hi, float))
+        self._trace_cache = None
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -127,9 +128,14 @@ class TorqueModel:
         parts = self._parts(x)
         shift = sum(e.time_shift_s(parts[e.name]) for e in self.effects)
         out = np.zeros(idx.size)
+        trace = None
         for e in self.effects:
             if e.stage == "torque" and (names is None or e.name in names):
-                if e.delayed and shift != 0.0:
+                if e.on_spring:
+                    if trace is None:
+                        trace = self.spring_trace(x, sig)
+                    term = e.spring_torque(parts[e.name], trace, sig, idx)
+                elif e.delayed and shift != 0.0:
                     pos = np.clip(idx - shift * sig.scales.sample_rate_hz, 0, sig.n - 1)
                     term = e.torque(parts[e.name], sig, np.rint(pos).astype(int),
                                     fraction=pos)
@@ -137,6 +143,30 @@ class TorqueModel:
                     term = e.torque(parts[e.name], sig, idx)
                 out = out + term
         return out
+
+    def spring_trace(self, x: np.ndarray, sig: Signals) -> np.ndarray:
+        """The spring's own deflection (rad) on every sample, read on the smooth motion
+        (:attr:`Signals.theta_trace`) through the angle and map stages: what a term of
+        the spring's material (``Effect.on_spring``) acts on."""
+        parts = self._parts(x)
+        shaping = [e for e in self.effects if e.stage in ("angle", "map")]
+        # a finite-difference Jacobian moves one parameter at a time: the trace depends on
+        # the angle and map stages' only, and is kept for the last of them
+        key = (id(sig), tuple(float(v) for e in shaping for v in parts[e.name]),
+               tuple(e.name + e.law for e in shaping))
+        cached = self._trace_cache
+        if cached is not None and cached[0] == key and cached[1] is sig:
+            return cached[2]
+        every = np.arange(sig.n)
+        spring = sig.theta_trace
+        for e in self.effects:
+            if e.stage == "angle":
+                spring = e.angle(spring, parts[e.name], sig, every)
+        for e in self.effects:
+            if e.stage == "map":
+                spring = e.map(spring, parts[e.name])
+        self._trace_cache = (key, sig, spring)
+        return spring
 
     def predict(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
         """Model torque (N·m) at samples ``idx``."""

@@ -116,7 +116,7 @@ class Rec:
 
     Attributes:
         name: case name.
-        cls: issue class (1-4).
+        cls: issue class (1-4; 5: physics within the library's meaning, never flagged).
         K: true stiffness (N·m/rad).
         accept: acceptable named sets (groups as ``"a|b"``, sorted).
         unexplained: whether structure outside the library is in the record (``None``:
@@ -135,6 +135,16 @@ class Rec:
     k_tol: float = 0.02
     not_both: tuple | None = None
     truth: dict = field(default_factory=dict)
+
+
+def pink(rng, n, rms):
+    """Flicker (1/f) noise of standard deviation ``rms``: white noise shaped by 1/sqrt(f)."""
+    spec = np.fft.rfft(rng.normal(size=n))
+    k = np.arange(spec.size)
+    spec[1:] /= np.sqrt(k[1:])
+    spec[0] = 0.0
+    x = np.fft.irfft(spec, n)
+    return rms * x / x.std()
 
 
 def G(*names):
@@ -211,6 +221,31 @@ def records() -> list[Rec]:
         t, th = holds
         return noisy(rng, t, th, K * th + relaxation(t, th, 0.04 * K, 0.4))
 
+    def c3_relax_backlash(rng):
+        t, th = holds
+        # the flexures' material relaxes: the branch acts on the spring's own deflection
+        x = deadband(th, 0.02)
+        tau = K_stack * x + relaxation(t, x, 0.1 * K_stack, 0.6)
+        return noisy(rng, t, th, tau, tn=0.01)
+
+    def c5_viscous_holds(rng):
+        # a damper c·dθ/dt: within the time lag's meaning, not a relaxation
+        t, th = holds
+        return noisy(rng, t, th, K * th + 0.4 * np.gradient(th, t))
+
+    def c5_pink_torque(rng):
+        # a bridge amplifier's 1/f noise (0.4 % of the peak torque) beside white noise:
+        # noise, not a wandering zero
+        t, th = holds
+        t, tau, meas = noisy(rng, t, th, K * th)
+        return t, tau + pink(rng, t.size, 0.05), meas
+
+    def c3_settling_zero(rng):
+        # a torque zero settling after power-up by 0.06 N·m (0.5 % of peak) with a time
+        # constant of 3 s: a deterministic curve, not noise
+        t, th = holds
+        return noisy(rng, t, th, K * th + 0.06 * np.exp(-t / 3.0))
+
     def c3_stop_backlash(rng):
         t, th = stair
         tau = K_stack * deadband(th, 0.02) + 30 * K_stack * deadband(th, 0.3)
@@ -245,6 +280,14 @@ def records() -> list[Rec]:
         # crossover
         Rec("c3_relax_holds", 3, K, [S(), S("hysteresis"), S("time_lag"), S(G(*fh)),
                                      S(*fh)], True, c3_relax_holds),
+        Rec("c3_relax_backlash", 3, K_stack,
+            [S("backlash"), S("backlash", "hysteresis"), S("backlash", "time_lag"),
+             S("backlash", G(*fh)), S("backlash", *fh)], True, c3_relax_backlash),
+        Rec("c5_viscous_holds", 5, K, [S("time_lag")], False, c5_viscous_holds),
+        Rec("c5_pink_torque", 5, K, [S(), S("torque_offset"), S("drift"),
+                                     S("drift", "torque_offset")], False, c5_pink_torque),
+        Rec("c3_settling_zero", 3, K, [S(), S("torque_offset"), S("drift"),
+                                       S("drift", "torque_offset")], True, c3_settling_zero),
         Rec("c3_stop_backlash", 3, K_stack, [S("backlash")], True, c3_stop_backlash),
         Rec("c4_stick_slip", 4, K, [S("hysteresis"), S(G(*fh))], True, c4_stick_slip),
     ]

@@ -1,0 +1,179 @@
+"""Other laws of the effect families: the ways a family's physics may go beside the
+library's own law (see :mod:`springcad.fit.effects` and :mod:`springcad.fit.laws`).
+
+The loop searches with the library's law of each family; once a family is in the
+model, its other laws are fitted in its place and the one the held-out criterion
+prefers is kept (``springcad.fit.laws``). A law carries its family's name (the effect
+named is the family) and reports parameters with the law's own meaning.
+
+Units: N·m, rad, s.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from springcad.fit.effects import Effect, Hysteresis, Param, TimeLag
+
+class ViscousDamping(TimeLag):
+    """Rate-proportional torque ``c·dθ/dt`` (N·m·s/rad): the time-lag family's damper law."""
+
+    law = "viscous"
+    meaning = ("rate-proportional (viscous) damping c: a torque c·dθ/dt that follows the speed "
+               "of the motion (greases, eddy currents, a viscoelastic bushing at one rate); on "
+               "this bench it reads as a torque channel early by c/K")
+    stage = "torque"
+    delayed = False
+
+    def params(self, sc):
+        c_max = 0.5 * sc.torque_ref / max(sc.theta_ref, 1e-12)
+        return (Param("damping", -c_max, c_max, 0.0, -2.0 / sc.sample_rate_hz * c_max),)
+
+    def time_shift_s(self, p):
+        return 0.0
+
+    def angle(self, theta, p, sig, idx):
+        return theta
+
+    def torque(self, p, sig, idx, fraction=None):
+        return p[0] * sig.rate_trace[idx]
+
+    def report(self, p, stiffness, sc):
+        return {"viscous_damping_Nms_per_rad": float(p[0]),
+                "equivalent_lag_s": float(-p[0] / stiffness) if stiffness else 0.0}
+
+
+class FirstOrderLag(TimeLag):
+    """Torque channel through a first-order low-pass of time constant T (s)."""
+
+    law = "first_order_filter"
+    meaning = ("a first-order low-pass in the torque channel (sensor or amplifier filter) of "
+               "time constant T: slow motion is delayed by T, turns are rounded")
+
+    def params(self, sc):
+        return (Param("filter_time_constant", 0.0, 0.5, 0.0, 2.0 / sc.sample_rate_hz),)
+
+    def starts(self, sc):
+        return [np.array([f / sc.sample_rate_hz]) for f in (2.0, 10.0, 30.0)]
+
+    def angle(self, theta, p, sig, idx):
+        from scipy.signal import lfilter
+
+        trace = sig.theta_trace
+        if p[0] <= 0.0:
+            return theta
+        a = float(np.exp(-1.0 / (max(p[0], 1e-12) * sig.scales.sample_rate_hz)))
+        low = lfilter([1.0 - a], [1.0, -a], trace - trace[0]) + trace[0]
+        return theta + (low[idx] - trace[idx])
+
+    def report(self, p, stiffness, sc):
+        return {"filter_time_constant_s": float(p[0]), "lag_s": float(p[0])}
+
+
+class StandardLinearSolid(TimeLag):
+    """A relaxing (Maxwell) branch beside the spring: stiffness ``k₂`` (N·m/rad) in series
+    with a damper, relaxation time ``T`` (s) — the standard linear solid.
+
+    Its torque is ``k₂·(x - x_T)``, with ``x`` the spring's own deflection (after a
+    crossover: the flexures' material relaxes) and ``x_T`` it through a first-order
+    low-pass of time constant ``T``: on motion much slower than ``T`` it is viscous
+    damping ``c = k₂·T`` (the time-lag family's damper), on fast motion an extra stiffness
+    ``k₂``, and at constant deflection it decays as ``exp(-t/T)`` (torque relaxing in a
+    hold). ``K`` is then the relaxed (equilibrium) stiffness. A passive branch has
+    ``k₂ ≥ 0``: a torque-sensor low-pass of time constant ``T`` would read as ``k₂ = -K``.
+    """
+
+    law = "standard_linear_solid"
+    meaning = ("viscoelastic relaxation (a polymer bushing, a glued or clamped joint): a "
+               "branch of stiffness k2 in series with a damper beside the spring, so the "
+               "torque overshoots while moving and decays with time constant T toward K·θ "
+               "at constant deflection; on slow motion it is viscous damping c = k2·T")
+    stage = "torque"
+    delayed = False
+    on_spring = True
+
+    def params(self, sc):
+        k_ref = sc.torque_ref / max(sc.theta_ref, 1e-12)
+        # from a few samples (below that it is the viscous law) to a fifth of the record
+        # (beyond that a relaxation cannot be told from a stiffness change or a drift)
+        t_lo = 3.0 / sc.sample_rate_hz
+        t_hi = max(0.2 * sc.t_span, 2.0 * t_lo)
+        return (Param("relaxing_stiffness", 0.0, k_ref, 0.0, 0.02 * k_ref),
+                Param("relaxation_time", t_lo, t_hi, t_lo, min(max(0.3, t_lo), t_hi)))
+
+    def starts(self, sc):
+        p = self.params(sc)
+        k_ref = sc.torque_ref / max(sc.theta_ref, 1e-12)
+        lo, hi = p[1].lower, p[1].upper
+        return [np.array([0.03 * k_ref, min(max(f, lo), hi)]) for f in (0.05, 0.3, 1.5)]
+
+    def physical_problem(self, p, stiffness, sc):
+        q = self.params(sc)[1]
+        if p[1] >= q.upper * (1 - 1e-4):
+            return (f"relaxation time {p[1]:.4g} s rests on its upper bound: a torque that "
+                    "never settles within the record is no relaxation")
+        return Effect.physical_problem(self, p, stiffness, sc)
+
+    def time_shift_s(self, p):
+        return 0.0
+
+    def angle(self, theta, p, sig, idx):
+        return theta
+
+    def spring_torque(self, p, spring, sig, idx):
+        from scipy.signal import lfilter
+
+        cached = getattr(self, "_cache", None)
+        if cached is not None and cached[0] is spring and cached[1] == p[1]:
+            high = cached[2]
+        else:
+            a = float(np.exp(-1.0 / (max(p[1], 1e-12) * sig.scales.sample_rate_hz)))
+            high = spring - (lfilter([1.0 - a], [1.0, -a], spring - spring[0]) + spring[0])
+            # the last trace and time constant (a Jacobian moves k2 and K with them fixed)
+            self._cache = (spring, float(p[1]), high)
+        return p[0] * high[idx]
+
+    def report(self, p, stiffness, sc):
+        return {"relaxing_stiffness_Nm_per_rad": float(p[0]),
+                "relaxation_time_s": float(p[1]),
+                "equivalent_viscous_damping_Nms_per_rad": float(p[0] * p[1]),
+                "equivalent_lag_s": float(-p[0] * p[1] / stiffness) if stiffness else 0.0}
+
+
+class RegularisedCoulomb(Hysteresis):
+    """Friction ``F·tanh(v/v0)`` (N·m; v0 in rad/s): zero at rest, Coulomb in motion."""
+
+    law = "regularised_coulomb"
+    meaning = ("friction that follows the speed: F·tanh(v/v0), Coulomb friction F in motion, "
+               "fading to zero below the speed v0 and at rest (no friction held in holds)")
+
+    def params(self, sc):
+        v_ref = sc.theta_ref * 2.0
+        return (Param("friction", 0.0, 0.5 * sc.torque_ref, 0.0, 0.01 * sc.torque_ref),
+                Param("fade_speed", 1e-4 * v_ref, v_ref, 0.01 * v_ref, 0.01 * v_ref))
+
+    def starts(self, sc):
+        return [np.array([0.02 * sc.torque_ref, f * sc.theta_ref]) for f in (0.003, 0.02, 0.1)]
+
+    def physical_problem(self, p, stiffness, sc):
+        q = self.params(sc)[1]
+        if p[1] >= q.upper * (1 - 1e-4):
+            return f"fade speed {p[1]:.4g} rad/s rests on its upper bound: not a friction"
+        return Effect.physical_problem(self, p, stiffness, sc)
+
+    def torque(self, p, sig, idx, fraction=None):
+        if fraction is not None:
+            v = np.interp(fraction, np.arange(sig.n), sig.rate_trace)
+        else:
+            v = sig.rate_trace[idx]
+        return p[0] * np.tanh(v / p[1])
+
+    def report(self, p, stiffness, sc):
+        return {"friction_torque_Nm": float(p[0]), "fade_speed_rad_per_s": float(p[1])}
+
+
+#: laws of each family other than the library's, tried in its place once it is named
+OTHER_LAWS: dict[str, tuple[Effect, ...]] = {
+    "time_lag": (ViscousDamping(), FirstOrderLag(), StandardLinearSolid()),
+    "hysteresis": (RegularisedCoulomb(),),
+}
