@@ -104,7 +104,7 @@ class PartInfo:
             :class:`SpringcadPart`, never by hand.
         secondary_processes: processes that finish features after the main one (keys of
             ``springcad/data/processes.toml``: ``("ground",)`` for the fits of a turned
-            and hardened shaft, ``("sinker_edm", "ground")`` for a blind socket).
+            and hardened shaft, ``("sinker_edm",)`` for a blind socket).
     """
 
     name: str
