@@ -3,7 +3,8 @@
 :func:`check_hardware` raises :class:`DesignError` for parts that cannot exist
 (rim holes crossing an edge or each other, a camshaft bore that eats the cam, a
 component with no volume, a rim fastener reaching a part it does not join:
-:mod:`springcad.design.fastener_room`); :func:`design_warnings` lists legal but suspicious
+:mod:`springcad.design.fastener_room`, rim pins too weak for the stack torque:
+:mod:`springcad.design.joint_strength`); :func:`design_warnings` lists legal but suspicious
 results (flexures thinner than the wire, a stiffness the envelope cannot give,
 fasteners cut to the number of flexure gaps). Config-only checks are in
 :mod:`springcad.config.consistency`. Units: mm, N*mm/rad, kg.
@@ -17,6 +18,7 @@ import numpy as np
 
 from springcad.config.consistency import MIN_RIM_FRACTION
 from springcad.design.fastener_room import check_fastener_room
+from springcad.design.joint_strength import check_pin_strength
 from springcad.errors import DesignError
 from springcad.units import NMM_PER_NM
 
@@ -89,6 +91,7 @@ def check_hardware(job_design) -> None:
                 f"{c.volume_mm3:.3g} mm^3): its holes or bore are larger than the part; check "
                 "the hardware sizes against the spring radii")
     check_fastener_room(job_design.stack.layout, job_design.stack.springs)
+    check_pin_strength(job_design.stack)
 
 
 def design_warnings(job_design) -> list[str]:

@@ -95,5 +95,5 @@ def process_text(key: str) -> str:
 
 def process_chain_text(key: str, secondary: tuple[str, ...] = ()) -> str:
     """The main process and those that finish features after it, as the drawing's title
-    block and the BOM print them (``"turned, sinker EDM, ground"``)."""
+    block and the BOM print them (``"turned, sinker EDM"``)."""
     return ", ".join(process_text(k) for k in (key, *secondary))

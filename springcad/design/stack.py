@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from springcad.design.connections import camshaft_indices, connection_sequence
 from springcad.design.hardware import (Component, StackLayout, bolt_circle_limit_mm, d_joints,
                                       stack_layout)
+from springcad.design.joint_strength import stack_pin_strengths
 from springcad.design.ring import common_hole_pattern
 from springcad.design.spring import SpringDesign
 from springcad.design.tolerance import Interface, StackBacklash, stack_backlash
@@ -153,6 +154,7 @@ class StackDesign:
                  "fraction_of_own_limit": th / s.max_deflection_rad}
                 for s, th in zip(self.springs, shares)],
             "backlash_rad": self.backlash.to_dict(),
+            "rim_pins": [p.to_dict() for p in stack_pin_strengths(self)],
             "height_mm": self.height_mm,
             "envelope_radius_mm": self.envelope_radius_mm,
             "envelope_volume_cm3": self.envelope_volume_mm3 / MM3_PER_CM3,

@@ -308,7 +308,7 @@ def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
     """Lay out the drawing of one part on one A3 sheet, or on two when the notes and the hole
     table at a readable size would leave the views' right column less than
     :data:`MIN_VIEW_ZONE_MM` (sheet 1: views, release and title block; sheet 2: hole table,
-    notes and title block; one figure, sheet 2 above sheet 1, the PDF a page each).
+    notes and title block; one figure, sheet 2 below sheet 1, the PDF a page each).
 
     Returns:
         the :class:`~springcad.export.sheet.Sheet`; ``texts`` holds every text,
@@ -326,9 +326,10 @@ def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
     top = release_box(probe, x0, top, width, info.release)
     two = VIEWS_TOP - (top + _column_height(probe, notes, rows, width - 2.0)) < MIN_VIEW_ZONE_MM
     probe.fig.clear()
-    sheet = Sheet((PAGE[0], PAGE[1] * (2 if two else 1)))
-    for k in range(2 if two else 1):
-        y_page = k * PAGE[1]
+    pages = 2 if two else 1
+    sheet = Sheet((PAGE[0], PAGE[1] * pages), bottom_mm=-(pages - 1) * PAGE[1])
+    for k in range(pages):
+        y_page = -k * PAGE[1]  # page 1 on top, so the SVG reads in page order
         sheet.rect(FRAME_MM, y_page + FRAME_MM, sheet.width - 2 * FRAME_MM,
                    PAGE[1] - 2 * FRAME_MM, lw=THICK)
         header(sheet, part, info, y_page)

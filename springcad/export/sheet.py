@@ -147,17 +147,18 @@ class Sheet:
             candidate); a good layout leaves it empty.
     """
 
-    def __init__(self, size_mm=A3):
+    def __init__(self, size_mm=A3, bottom_mm: float = 0.0):
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
 
         self.width, self.height = size_mm
+        self.bottom = bottom_mm  # sheet y of the figure's lower edge (< 0: pages below page 1)
         self.fig = Figure(figsize=(self.width / 25.4, self.height / 25.4))
         self._canvas = FigureCanvasAgg(self.fig)
         self._renderer = self._canvas.get_renderer()
         self.ax = self.fig.add_axes((0, 0, 1, 1))
         self.ax.set_xlim(0, self.width)
-        self.ax.set_ylim(0, self.height)
+        self.ax.set_ylim(self.bottom, self.bottom + self.height)
         self.ax.set_aspect("equal")
         self.ax.axis("off")
         self.texts: list[str] = []
@@ -171,7 +172,8 @@ class Sheet:
     @property
     def inner(self) -> tuple[float, float, float, float]:
         """The drawing area inside the frame (sheet mm)."""
-        return (FRAME_MM, FRAME_MM, self.width - FRAME_MM, self.height - FRAME_MM)
+        return (FRAME_MM, self.bottom + FRAME_MM, self.width - FRAME_MM,
+                self.bottom + self.height - FRAME_MM)
 
     # ---------------------------------------------------------------- bookkeeping
     def _add_segments(self, p: np.ndarray) -> None:
@@ -501,8 +503,8 @@ class Sheet:
         """Write the sheet (SVG, PDF or PNG by suffix) without the clock time: no creation
         date in the PDF or SVG meta data and fixed SVG ids, so a drawing is a function of
         its content (the date in the title block included) and two builds give the same
-        bytes. A sheet of several A3 pages stacked upwards (page 1 at the bottom) is one
-        PDF page per A3 page, page 1 first; SVG and PNG show the whole figure."""
+        bytes. A sheet of several A3 pages stacked downwards (page 1 at the top, so the SVG
+        and PNG read in page order) is one PDF page per A3 page, page 1 first."""
         import matplotlib
         from matplotlib.backends.backend_pdf import PdfPages
 
@@ -519,10 +521,11 @@ class Sheet:
                 with PdfPages(p, metadata=no_clock[".pdf"]) as pdf:
                     self.fig.set_size_inches(self.width / 25.4, A3[1] / 25.4)
                     for k in range(pages):
-                        self.ax.set_ylim(k * A3[1], (k + 1) * A3[1])
+                        top = self.bottom + self.height - k * A3[1]
+                        self.ax.set_ylim(top - A3[1], top)
                         pdf.savefig(self.fig, dpi=72)
                     self.fig.set_size_inches(self.width / 25.4, self.height / 25.4)
-                    self.ax.set_ylim(0, self.height)
+                    self.ax.set_ylim(self.bottom, self.bottom + self.height)
 
 
 def _unit(axis: int) -> np.ndarray:

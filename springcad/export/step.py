@@ -42,12 +42,23 @@ def set_step_date(path: Path, date: str = "") -> Path:
     return path
 
 
+def step_shape(solid):
+    """The shape a STEP file carries for a part's solid: its extruded curve faces (the
+    flanks' Bezier pieces) as B-spline surfaces, on which OCC's volume integral (FreeCAD's
+    ``Volume``) is exact at its default and converges at any tolerance asked (on
+    extrusion surfaces it was 8e-4 off at 1e-2); lines, circles and planes stay exact."""
+    import build123d as bd
+    from OCP.ShapeCustom import ShapeCustom
+
+    return bd.Solid(ShapeCustom.ConvertToBSpline_s(solid.wrapped, True, False, False, False))
+
+
 def write_part_step(part, path: Path, date: str = "") -> Path:
     """Write one part as STEP (mm), product named by its part number, dated ``date``
     (YYYY-MM-DD; :data:`STEP_EPOCH_DATE` if empty) instead of the clock time."""
     import build123d as bd
 
-    solid = part.solid
+    solid = step_shape(part.solid)
     solid.label = part.part_number
     solid.color = bd.Color(*part.colour)
     bd.export_step(solid, str(path), unit=bd.Unit.MM)
@@ -112,7 +123,7 @@ def write_assembly_step(assembly, path: Path, date: str = "") -> Path:
     name(top, assembly.design.job.name)
     part_labels = {}
     for pn, part in assembly.parts.items():
-        label = shapes.AddShape(part.solid.wrapped, False)
+        label = shapes.AddShape(step_shape(part.solid).wrapped, False)
         name(label, pn)
         colours.SetColor(label, Color(*part.colour).wrapped, XCAFDoc_ColorType.XCAFDoc_ColorGen)
         part_labels[pn] = label

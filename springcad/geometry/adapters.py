@@ -34,6 +34,10 @@ class RimFlange(AnnularPart):
              "left to the user.",)
 
 
+#: a socket torque shaft is hardened between turning and the sinker EDM of its socket
+SOCKET_HEAT_TREATMENT_SEQUENCE = "after turning, before the sinker EDM of the socket"
+
+
 class TorqueShaft(SpringcadPart):
     """Input/output torque shaft on an end camshaft.
 
@@ -83,7 +87,10 @@ class TorqueShaft(SpringcadPart):
                     "electrode (cannot be turned, ground or wire cut); H7 on the round part, "
                     "flat toleranced as drawn; 0.2 x 45° chamfer at the mouth.")
             fits = {"bore": "H7"}
-            secondary = ("sinker_edm", "ground")
+            # nothing on it is ground: the H7 socket is finished by the sinker EDM, the
+            # outside is a plain turned diameter
+            secondary = ("sinker_edm",)
+            heat_treatment_sequence = SOCKET_HEAT_TREATMENT_SEQUENCE
         else:
             raise GeometryError(f"{name}: no torque shaft of style "
                                 f"{type(plan).__name__}; use a D shaft or a hub socket")

@@ -104,7 +104,7 @@ class PartInfo:
             :class:`SpringcadPart`, never by hand.
         secondary_processes: processes that finish features after the main one (keys of
             ``springcad/data/processes.toml``: ``("ground",)`` for the fits of a turned
-            and hardened shaft, ``("sinker_edm", "ground")`` for a blind socket).
+            and hardened shaft, ``("sinker_edm",)`` for a blind socket).
     """
 
     name: str
@@ -310,14 +310,16 @@ def solid_volume_mm3(shape) -> float:
 
     With the field F = (0, 0, z), V = sum over faces of the integral of z n_z dA.
     Side faces of a z-prism (cylinders with a z axis, extrusions along z, vertical
-    planes) have n_z = 0; horizontal planar faces contribute n_z z A with the exact
+    planes, B-spline surfaces that are such extrusions, as a STEP export writes
+    them) have n_z = 0; horizontal planar faces contribute n_z z A with the exact
     kernel area. A face of any other kind (a screw head, a tilted plane) sends the
     whole shape to :func:`mesh_volume_mm3`. The kernel's default volume integration
-    is ~1 % off on extruded B-spline faces, which is why it is not used.
+    was 0.2-8 % off on extruded many-span B-spline faces, which is why it is not used.
     """
     from OCP.BRepAdaptor import BRepAdaptor_Surface
     from OCP.BRepGProp import BRepGProp
-    from OCP.GeomAbs import GeomAbs_Cylinder, GeomAbs_Plane, GeomAbs_SurfaceOfExtrusion
+    from OCP.GeomAbs import (GeomAbs_BSplineSurface, GeomAbs_Cylinder, GeomAbs_Plane,
+                             GeomAbs_SurfaceOfExtrusion)
     from OCP.GProp import GProp_GProps
     from OCP.TopAbs import TopAbs_REVERSED
 
@@ -341,6 +343,21 @@ def solid_volume_mm3(shape) -> float:
         elif kind == GeomAbs_SurfaceOfExtrusion:
             if abs(abs(surf.Direction().Z()) - 1.0) > 1e-9:
                 return mesh_volume_mm3(shape)
+        elif kind == GeomAbs_BSplineSurface:
+            if not _is_z_extrusion(surf.BSpline()):
+                return mesh_volume_mm3(shape)
         else:
             return mesh_volume_mm3(shape)
     return total
+
+
+def _is_z_extrusion(bspline, tol_mm: float = 1e-9) -> bool:
+    """True if a B-spline surface is a curve extruded along z: linear in v with its two
+    rows of poles differing in z only (its normal is horizontal everywhere)."""
+    if bspline.VDegree() != 1 or bspline.NbVPoles() != 2 or bspline.IsVRational():
+        return False
+    for i in range(1, bspline.NbUPoles() + 1):
+        a, b = bspline.Pole(i, 1), bspline.Pole(i, 2)
+        if abs(a.X() - b.X()) > tol_mm or abs(a.Y() - b.Y()) > tol_mm:
+            return False
+    return True

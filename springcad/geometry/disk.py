@@ -167,10 +167,13 @@ class Camshaft(SpringcadPart):
                  "Bore: running fit on the alignment shaft (H7/g6).",
                  "Do not round or chamfer the cut edges of the teeth; remove burrs only."]
         if hub_length_mm:
-            notes.append("Hub: turned before the teeth are cut, coaxial to the bore (datum A) "
-                         f"within Ø{fmt_mm(HUB_COAXIALITY_MM)} (frame in view B); "
-                         + ("its D flat drives the torque shaft (view B)."
-                            if drive == "hub_flat" else "torque through the D bore."))
+            # the blank is hardened before the EDM, so the hub is finished hard
+            notes.append("Hub: finished after the heat treatment (hard turned) and before the "
+                         "teeth are cut, coaxial to the bore (datum A) within "
+                         f"Ø{fmt_mm(HUB_COAXIALITY_MM)} (frame in view B); "
+                         + ("its g6 diameter and its D flat ground (the flat drives the torque "
+                            "shaft, view B)." if drive == "hub_flat"
+                            else "torque through the D bore."))
             notes.append(f"The hub is {self.root_radius - self.hub_radius:.2f} mm inside the "
                          "tooth root at its largest size (toleranced minus only): the wire "
                          "cutting the teeth passes it.")

@@ -1,8 +1,10 @@
 """Turn exact 2D profiles (:mod:`springcad.design.curves`) into build123d faces and solids.
 
-Lines, arcs and circles become true lines and circles in the kernel; splines
-become B-spline edges interpolating the same fit points with the same end
-tangents. Units: mm.
+Lines, arcs and circles become true lines and circles in the kernel; a spline
+becomes a few Bezier edges of degree 8 within 0.5 um of it
+(:mod:`springcad.geometry.bezier`), so the kernel's volume integral of the
+solid, and that of any OCC-based CAD reading its STEP, is exact (a
+single ~40-span B-spline edge per flank made it 0.2-8 % off). Units: mm.
 """
 
 from __future__ import annotations
@@ -12,10 +14,33 @@ import math
 from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
 from springcad.design.planar import find_defect
 from springcad.errors import GeometryError
+from springcad.geometry.bezier import spline_beziers
+
+
+def _bezier_edge(ctrl):
+    """build123d ``Edge`` of one planar Bezier piece (control points (n, 2), mm)."""
+    import build123d as bd
+    from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge
+    from OCP.collections import Array1_gp_Pnt
+    from OCP.Geom import Geom_BezierCurve
+    from OCP.gp import gp_Pnt
+
+    poles = Array1_gp_Pnt(1, len(ctrl))
+    for i, (x, y) in enumerate(ctrl):
+        poles.SetValue(i + 1, gp_Pnt(float(x), float(y), 0.0))
+    return bd.Edge(BRepBuilderAPI_MakeEdge(Geom_BezierCurve(poles)).Edge())
+
+
+def segment_edges(seg) -> list:
+    """build123d edges for a profile segment: one, or a spline's Bezier pieces."""
+    if isinstance(seg, Spline) and seg.start_tangent is not None and seg.end_tangent is not None:
+        pieces, _ = spline_beziers(seg)
+        return [_bezier_edge(c) for c in pieces]
+    return [segment_edge(seg)]
 
 
 def segment_edge(seg):
-    """One build123d ``Edge`` for a profile segment."""
+    """One build123d ``Edge`` for a profile segment (a spline as one interpolating B-spline)."""
     import build123d as bd
 
     if isinstance(seg, Line):
@@ -48,7 +73,7 @@ def loop_wire(loop: Loop):
     """A closed build123d ``Wire`` for a loop (endpoints snapped by the kernel)."""
     import build123d as bd
 
-    edges = [segment_edge(s) for s in loop.segments]
+    edges = [e for s in loop.segments for e in segment_edges(s)]
     try:
         wire = bd.Wire(edges)
     except ValueError:

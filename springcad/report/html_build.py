@@ -24,6 +24,11 @@ from springcad.report.html_page import page
 #: headings every report has, in order (tests look for them)
 SECTIONS = ("Verdict", "Spec vs achieved", "Duty", "Warnings", "FEA", "Assembly", "Drawings",
             "Bill of materials")
+#: shown above each group of figures on a narrow (phone) screen only: the plots are drawn
+#: for a desktop page
+NARROW_NOTE = ("Desktop figures: their labels are small on a phone; zoom in, or open "
+               "report.html on a wide screen.")
+
 
 def _read_json(path: Path) -> dict | None:
     try:
@@ -232,7 +237,8 @@ def _warnings_html(design: dict, fea: dict | None, build: dict) -> str:
 def _figures(paths: list[tuple[Path, str]], width: int) -> str:
     figs = [f"<figure>{_img(p, cap, width=width)}<figcaption>{html.escape(cap)}</figcaption></figure>"
             for p, cap in paths if p.is_file()]
-    return f"<div class='figs'>{''.join(figs)}</div>" if figs else "<p>no images in this build</p>"
+    return (f"<p class='narrow'>{NARROW_NOTE}</p><div class='figs'>{''.join(figs)}</div>"
+            if figs else "<p>no images in this build</p>")
 
 
 def _fea_html(out: Path, design: dict) -> str:

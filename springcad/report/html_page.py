@@ -28,7 +28,9 @@ figure{margin:0}img{max-width:100%;height:auto}figcaption{font-size:.9em;color:#
 .thumb{border:1px solid #ccc;background:#fff;width:260px;height:185px;object-fit:contain}
 code{background:#f4f4f4;padding:0 .2em}
 .scroll{overflow-x:auto}.bom td{vertical-align:top}.bom a{margin-right:.4em}
+.narrow{display:none;font-size:.9em;color:#555;font-style:italic}
 @media (max-width:700px){body{margin:1em auto;font-size:.95em}.thumb{width:100%;height:auto}
+.narrow{display:block}
 td,th{padding:.2em .35em}.bom td,.bom th{white-space:nowrap}}
 """
 

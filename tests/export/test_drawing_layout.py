@@ -31,7 +31,8 @@ REASONS = ("FEA verification skipped (--no-verify): beam-theory design, stiffnes
 
 @pytest.fixture(scope="session")
 def drawings(tmp_path_factory):
-    """(job, part, sheet, pdf) of every made part of the default and the 4xS1 job."""
+    """(job, part, sheet, pdf) of every made part of the default and the 4xS1 job (the SVG
+    beside the PDF)."""
     out = []
     for job in ("default", "4xS1"):
         asm = assembly(job)
@@ -42,7 +43,7 @@ def drawings(tmp_path_factory):
                 continue
             sheet = draw_part(part, DrawingInfo(job, qty[pn], release=ReleaseStatus(REASONS)))
             pdf = folder / f"{pn}.pdf"
-            sheet.save(pdf)
+            sheet.save(pdf, pdf.with_suffix(".svg"))
             out.append((job, part, sheet, pdf))
             sheet.fig.clear()
     return out
@@ -230,3 +231,27 @@ def test_text_is_readable(drawings):
              if role != "title block" and size * CAP_MM_PER_PT < MIN_CAP_MM - 1e-9]
     assert not small, small[:10]
     assert any(pdf_pages(pdf) == 2 for *_, pdf in drawings)  # the rings' notes need one
+
+
+def _svg_text_y(svg, text: str) -> list[float]:
+    """SVG y (down the page) of every text element reading ``text`` exactly."""
+    import xml.etree.ElementTree as ET
+
+    ns = "{http://www.w3.org/2000/svg}"
+    return [float(e.get("y")) for e in ET.parse(svg).getroot().iter(f"{ns}text")
+            if (e.text or "").strip() == text]
+
+
+def test_two_sheet_drawings_read_in_page_order(drawings):
+    """Issue 26: a two-sheet drawing's SVG showed sheet 2 above sheet 1. Sheet 1 (the views)
+    is now on top in the SVG and the first PDF page; sheet 2 (notes) below and second."""
+    two = [(part, pdf) for _, part, _, pdf in drawings if pdf_pages(pdf) == 2]
+    assert two
+    for part, pdf in two:
+        first, second = (_svg_text_y(pdf.with_suffix(".svg"), f"{k}/2") for k in (1, 2))
+        assert len(first) == len(second) == 1, (part.name, first, second)
+        assert first[0] < second[0], part.name  # SVG y grows downwards
+        page1 = {w.text for w in pdf_words(pdf, 1)[0]}
+        page2 = {w.text for w in pdf_words(pdf, 2)[0]}
+        assert "1/2" in page1 and "2/2" not in page1, part.name
+        assert "2/2" in page2 and "NOTES" in page2 and "NOTES" not in page1, part.name

@@ -109,3 +109,25 @@ def test_layout_masses_are_the_part_shapes(stack):
         if comp.kind in ("torque_shaft", "rim_spacer", "centre_spacer", "rim_washer"):
             assert comp.volume_mm3 == pytest.approx(solid_volume_mm3(inst.part.solid),
                                                     rel=1e-6), inst.name
+
+
+def test_ground_only_where_a_fit_is_ground():
+    """A part lists "ground" only when one of its fits is ground (issue 26: the 4xS1 socket
+    torque shaft read "turned, sinker EDM, ground" and "hardened before grinding the fits"
+    with nothing to grind: its H7 socket is sinker EDM, its outside a plain diameter)."""
+    from springcad.export.drawing import DrawingInfo, fields, load_title_block, note_lines
+    from springcad.export.views import choose_scale_of
+
+    template = load_title_block()
+    seen = set()
+    for stack in ("4xS1", "default"):
+        for pn, part in assembly(stack).parts.items():
+            info = part.info
+            ground = [f for f in info.fits.values() if f in ("g6", "h6")]
+            assert ("ground" in info.secondary_processes) == bool(ground), (pn, info.fits)
+            if info.kind == "torque_shaft":
+                values = fields(part, DrawingInfo(stack, 1), choose_scale_of(part), template)
+                notes = " ".join(note_lines(part, values, template))
+                assert ("grinding" in notes) == bool(ground), (pn, notes)
+                seen.add(part.info.secondary_processes)
+    assert seen == {("ground",), ("sinker_edm",)}  # a D shaft and a socket shaft

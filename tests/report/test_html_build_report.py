@@ -60,6 +60,13 @@ def test_report_is_written_listed_and_self_contained(built):
     pdfs = [p for p in links if p.endswith(".pdf")]
     assert pdfs and all((built / p).is_file() for p in links)  # every link is a built file
     assert "name='viewport'" in text
+    # phone width: the figures are marked as desktop figures (shown on narrow screens only)
+    from springcad.report.html_build import NARROW_NOTE
+
+    assert text.count(f"<p class='narrow'>{NARROW_NOTE}</p><div class='figs'>") >= 1
+    style = text[text.index("<style>"):text.index("</style>")]
+    wide, _, narrow = style.partition("@media (max-width:700px){")
+    assert ".narrow{display:none" in wide and ".narrow{display:block}" in narrow
     design = json.loads((built / "design.json").read_text())
     k = design["springs"]["S1"]["stiffness_Nm_per_rad"]
     assert f"{k:.4g}" in text
