@@ -557,15 +557,18 @@ def _pdf_font(fig, core: bool):
         yield
         return
     texts = fig.findobj(matplotlib.text.Text)
-    families = [t.get_fontfamily() for t in texts]
-    for t in texts:
+    kept = [(t.get_fontfamily(), t.get_fontweight()) for t in texts]
+    for t, (_, weight) in zip(texts, kept):
         t.set_fontfamily(PDF_CORE_FONT)
+        if weight in ("normal", "regular", 400):  # the core font's regular weight is "Medium"
+            t.set_fontweight("medium")
     try:
         with matplotlib.rc_context({"pdf.use14corefonts": True}):
             yield
     finally:
-        for t, fam in zip(texts, families):
-            t.set_fontfamily(fam)
+        for t, (family, weight) in zip(texts, kept):
+            t.set_fontfamily(family)
+            t.set_fontweight(weight)
 
 
 def _unit(axis: int) -> np.ndarray:

@@ -28,10 +28,11 @@ def write(tmp_path, texts):
     return pdf
 
 
-def test_latin_texts_use_the_core_font(tmp_path):
+def test_latin_texts_use_the_core_font(tmp_path, caplog):
     texts = ["7× Ø1.5 E7 THRU", "11 ±0.01", "0.2 x 45°", "Ra 0.8 µm"]
     pdf = write(tmp_path, texts)
     assert fonts(pdf) == [("Helvetica", "no")]
+    assert not [r for r in caplog.records if "findfont" in r.getMessage()]  # no font lookups
     read = pdf_text(pdf)
     assert all(t in read for t in texts), read
 
