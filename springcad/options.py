@@ -106,6 +106,10 @@ class CacheDefaults:
 
 CACHE = CacheDefaults()
 
+#: run a build's independent export steps in a second process (the FEA outputs' renders
+#: beside the part exports; :mod:`springcad.parallel`; ``$SPRINGCAD_PARALLEL=0`` turns it off)
+PARALLEL = True
+
 # ----------------------------------------------------------------------------- export
 #: drawing revision of a build (``sc.export_build``, ``springcad build --revision``)
 REVISION = "A"

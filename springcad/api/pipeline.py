@@ -14,6 +14,7 @@ Units: lengths mm, stiffness N*m/rad, angles rad, masses kg.
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import datetime
 import time
@@ -245,6 +246,31 @@ def _drawn_by() -> str:
     return f"springcad {__version__}"
 
 
+@contextlib.contextmanager
+def _fea_outputs(ver, tmp: Path, render: bool, store, track):
+    """The FEA files (``fea/``: fea.json, .vtu fields, PNG renders) of a verified build, written
+    by a second process beside the part exports when there are renders to make
+    (:func:`springcad.parallel.beside`); yields a pending result whose ``.result()`` is the
+    list of files (empty without a verification)."""
+    from springcad.parallel import Pending, beside, enabled
+
+    if ver is None:
+        yield Pending(value=[])
+        return
+    from springcad.report.fea_outputs import write_outputs
+
+    (tmp / "fea").mkdir()
+    if not render:
+        yield Pending(value=write_outputs(ver.raw, tmp / "fea", render=False, progress=track,
+                                          cache=store))
+        return
+    if enabled():
+        track("writing the FEA outputs (.vtu, renders) in a second process")
+    with beside(write_outputs, ver.raw, tmp / "fea", render=True, cache=store,
+                progress=track) as pending:
+        yield pending
+
+
 @api_door
 def export_build(built: Build, out, overwrite: bool = False, render: bool = True,
                  revision: str = REVISION,
@@ -298,14 +324,9 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
     fea_files = []
     with atomic_output_dir(out, overwrite=overwrite, inputs=inputs) as tmp:
         tmp = Path(tmp)
-        with stage("exports", track.subject("exports")):
+        with stage("exports", track.subject("exports")), \
+                _fea_outputs(ver, tmp, render, store, track) as fea_outputs:
             write_json(tmp / "design.json", d.to_dict())
-            if ver is not None:
-                from springcad.report.fea_outputs import write_outputs
-
-                (tmp / "fea").mkdir()
-                fea_files = write_outputs(ver.raw, tmp / "fea", render=render, progress=track,
-                                          cache=store)
             built.release = release_status(d.raw, ver.raw if ver is not None else None,
                                            ver is None, built.checks.checks)
             info = {"job": d.job.name, "revision": revision,
@@ -318,6 +339,7 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
                                          date=info["date"], cache=store)
             built.roundtrip = roundtrip_checks(built.assembly, tmp, files, progress=track,
                                                cache=store)
+            fea_files = fea_outputs.result()
         CheckReport(built.roundtrip).raise_if_failed()
         from springcad.export.bundle import WrittenFile
 
