@@ -6,8 +6,9 @@ Each case runs ``python -m springcad ...`` in a fresh process (interpreter start
 included, as a user sees it) with every export and verification: cold with an empty result
 cache (``SPRINGCAD_CACHE_DIR`` a new temporary folder), then warm (the same command again on
 that cache). It prints the wall time, each stage's time (``build.json``), the peak memory of
-the process tree (psutil, summed over the processes alive together; else the largest
-process's ``ru_maxrss``), the load average, whether the warm files equal the cold ones byte
+the process tree (psutil: the unique pages of every process alive together plus the largest
+process's shared pages, so what a forked child shares with the build counts once; else the
+largest process's ``ru_maxrss``), the load average, whether the warm files equal the cold ones byte
 for byte (``build.json`` and ``report.html`` carry the run's own timings and start time and
 are left out, as is the ``timings_s`` table of ``fea.json``),
 and PASS/FAIL against the targets of issue 22 (2-core machine):
@@ -80,13 +81,18 @@ def run(args: list[str], env: dict) -> dict:
             try:
                 top = psutil.Process(proc.pid)
                 while proc.poll() is None:
-                    rss = 0
+                    unique, shared = 0, 0
                     for p in [top, *top.children(recursive=True)]:
-                        try:
-                            rss += p.memory_info().rss
-                        except psutil.Error:
-                            pass
-                    peak = max(peak, rss)
+                        try:  # pages a forked child shares with its parent count once
+                            m = p.memory_full_info()
+                            unique += m.uss
+                            shared = max(shared, m.rss - m.uss)
+                        except (psutil.Error, AttributeError):
+                            try:
+                                unique += p.memory_info().rss
+                            except psutil.Error:
+                                pass
+                    peak = max(peak, unique + shared)
                     time.sleep(0.05)
             except psutil.Error:
                 pass

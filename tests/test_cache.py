@@ -91,8 +91,8 @@ def test_cached_fea_is_bit_identical_to_fresh_and_a_stack_change_reuses_it(monke
     messages = []
     fresh = sc.verify(_job(["S1", "S1"]), cache=True, **opts)            # computed and stored
     t0 = time.perf_counter()
-    cached = sc.verify(_job(["S1", "S1"]), cache=True, progress=lambda m, f=None: messages.append(m),
-                       **opts)
+    cached = sc.verify(_job(["S1", "S1"]), cache=True,
+                       progress=lambda m, f=None: messages.append(m), **opts)
     t_cached = time.perf_counter() - t0
     assert any("from the cache" in m for m in messages), messages
     assert _json(cached.raw.to_dict()["springs"]) == _json(fresh.raw.to_dict()["springs"])

@@ -23,6 +23,7 @@ from springcad.cli.common import add_cache_flag, cache_of, default_out, warn
 from springcad.cli.progress import console
 from springcad.errors import ConfigError
 from springcad.options import REVISION, check_revision
+from springcad.parallel import trim_heap
 from springcad.report.outdir import check_output_dir
 
 #: the stages, in order: the FEA verification (and correction) comes before any solid is
@@ -96,6 +97,7 @@ def run(args) -> int:
         say(verification.raw.summary().replace("\n", "\n  "))
         if not verification.ok:
             verification.raise_for_failures()
+        trim_heap()  # the FEA's freed factorisations: ~200 MB less for the CAD steps
     _done("verify", t0, timings)
 
     # solids and checks are one API call (sc.build); its own timings split them
