@@ -1,25 +1,45 @@
-"""Benchmark: build the paper's 4xS1 stack with every export (``springcad build``).
+"""Benchmark: cold and warm builds of the default job and the paper's 4xS1, ``verify`` and ``design``.
 
-Usage: ``python bench/bench_build.py [--repeat N] [--keep DIR]``
+Usage: ``python bench/bench_build.py [--only default,4xS1,verify,design] [--keep DIR]``
 
-Writes a 4xS1 job (the S1 template with ``sequence = ["S1"] * 4``) into a
-temporary folder, runs the build in-process with ``--accept-violations`` and
-prints the wall time of each step and in total. Target: under 60 s on 2 cores.
+Each case runs ``python -m springcad ...`` in a fresh process (interpreter start and imports
+included, as a user sees it) with every export and verification: cold with an empty result
+cache (``SPRINGCAD_CACHE_DIR`` a new temporary folder), then warm (the same command again on
+that cache). It prints the wall time, each stage's time (``build.json``), the peak memory of
+the process tree (psutil: the unique pages of every process alive together plus the largest
+process's shared pages, so what a forked child shares with the build counts once; else the
+largest process's ``ru_maxrss``), the load average, whether the warm files equal the cold ones byte
+for byte (``build.json`` and ``report.html`` carry the run's own timings and start time and
+are left out, as is the ``timings_s`` table of ``fea.json``),
+and PASS/FAIL against the targets of issue 22 (2-core machine):
+
+    default build   <= 10 s cold, <= 3 s warm     4xS1 build   <= 20 s cold
+    verify paper_S1 <= 4 s                        design       <= 0.5 s
+    peak memory     <= 1 GB
+
+``SOURCE_DATE_EPOCH`` is fixed so that two builds give the same bytes.
 """
 
 from __future__ import annotations
 
 import argparse
-import contextlib
-import io
 import json
 import os
 import shutil
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+GB = 2 ** 30
+#: (case, state) -> target wall time (s)
+TARGETS_S = {("default", "cold"): 10.0, ("default", "warm"): 3.0, ("4xS1", "cold"): 20.0,
+             ("verify", "cold"): 4.0, ("design", "cold"): 0.5}
+PEAK_TARGET_BYTES = 1 * GB
+#: files that hold the run's own timings (and start time), not results
+RUN_FILES = {"build.json", "report.html"}
 
 
 def job_4xs1(folder: Path) -> Path:
@@ -31,41 +51,154 @@ def job_4xs1(folder: Path) -> Path:
     return path
 
 
-def run_once(folder: Path) -> dict:
-    from springcad.cli import main
+def command(case: str, folder: Path, out: Path) -> list[str]:
+    if case == "default":
+        return ["build", str(ROOT / "templates" / "default.toml"), "--out", str(out)]
+    if case == "4xS1":
+        return ["build", str(job_4xs1(folder)), "--out", str(out), "--accept-violations"]
+    if case == "verify":
+        return ["verify", str(ROOT / "templates" / "paper_S1.toml"), "--out", str(out)]
+    if case == "design":
+        return ["design", str(ROOT / "templates" / "default.toml"), "--out", str(out)]
+    raise SystemExit(f"unknown case {case!r}")
 
-    out = folder / "out"
-    shutil.rmtree(out, ignore_errors=True)
+
+def run(args: list[str], env: dict) -> dict:
+    """Run ``python -m springcad ARGS``: wall time, exit code, peak memory of the tree."""
+    try:
+        import psutil
+    except ImportError:
+        psutil = None
     t0 = time.perf_counter()
-    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-        code = main(["build", str(job_4xs1(folder)), "--out", str(out), "--accept-violations",
-                     "--no-verify"])
+    proc = subprocess.Popen([sys.executable, "-m", "springcad", *args], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    peak = 0
+    if psutil is not None:
+        import threading
+
+        def watch():
+            nonlocal peak
+            try:
+                top = psutil.Process(proc.pid)
+                while proc.poll() is None:
+                    unique, shared = 0, 0
+                    for p in [top, *top.children(recursive=True)]:
+                        try:  # pages a forked child shares with its parent count once
+                            m = p.memory_full_info()
+                            unique += m.uss
+                            shared = max(shared, m.rss - m.uss)
+                        except (psutil.Error, AttributeError):
+                            try:
+                                unique += p.memory_info().rss
+                            except psutil.Error:
+                                pass
+                    peak = max(peak, unique + shared)
+                    time.sleep(0.05)
+            except psutil.Error:
+                pass
+
+        watcher = threading.Thread(target=watch, daemon=True)
+        watcher.start()
+    out, err = proc.communicate()
     wall = time.perf_counter() - t0
-    if code != 0:
-        raise SystemExit(f"build failed with exit code {code}")
-    doc = json.loads((out / "build.json").read_text())
-    return {"wall_s": wall, "steps_s": doc["timings_s"], "files": len(doc["files"]),
-            "checks": doc["checks"]["n_checks"]}
+    if psutil is not None:
+        watcher.join(1.0)
+    import resource
+
+    maxrss = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * 1024  # KB on Linux
+    return {"wall_s": wall, "code": proc.returncode, "peak_bytes": max(peak, 0) or maxrss,
+            "stdout": out, "stderr": err}
 
 
-def main() -> None:
+def _content(path: Path):
+    """A file's bytes; a JSON document without its ``timings_s`` (the run's own clock)."""
+    if path.suffix == ".json":
+        def strip(x):
+            if isinstance(x, dict):
+                return {k: strip(v) for k, v in x.items() if k != "timings_s"}
+            return [strip(v) for v in x] if isinstance(x, list) else x
+        return strip(json.loads(path.read_text()))
+    return path.read_bytes()
+
+
+def same_files(a: Path, b: Path) -> tuple[bool, list[str]]:
+    """Whether two output folders hold the same files with the same bytes (the run files
+    aside, and the ``timings_s`` of JSON files, which time the run, not its results)."""
+    def files(root):
+        return {str(p.relative_to(root)) for p in root.rglob("*") if p.is_file()}
+    fa, fb = files(a), files(b)
+    diff = sorted((fa ^ fb) | {f for f in fa & fb if Path(f).name not in RUN_FILES
+                               and _content(a / f) != _content(b / f)})
+    return not diff, diff
+
+
+def stage_times(out: Path) -> dict:
+    doc = out / "build.json"
+    if not doc.is_file():
+        return {}
+    return json.loads(doc.read_text()).get("timings_s", {})
+
+
+def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--repeat", type=int, default=1)
-    ap.add_argument("--keep", type=Path, default=None, help="keep the output in this folder")
+    ap.add_argument("--only", default="default,4xS1,verify,design",
+                    help="comma-separated cases (default: all)")
+    ap.add_argument("--keep", type=Path, default=None, help="keep the outputs in this folder")
     args = ap.parse_args()
-    t_import = time.perf_counter()
-    import springcad.cli  # noqa: F401
-    print(f"cpus: {os.cpu_count()}  import: {time.perf_counter() - t_import:.2f} s")
+    cases = [c.strip() for c in args.only.split(",") if c.strip()]
+    print(f"cpus: {os.cpu_count()}  python: {sys.version.split()[0]}")
+    results = []
     with tempfile.TemporaryDirectory() as tmp:
-        folder = Path(tmp)
-        for i in range(args.repeat):
-            res = run_once(folder)
-            steps = "  ".join(f"{k} {v:.1f}" for k, v in res["steps_s"].items())
-            print(f"run {i + 1}: 4xS1 build with all exports {res['wall_s']:.1f} s wall "
-                  f"({res['files']} files, {res['checks']} checks); steps s: {steps}")
-        if args.keep:
-            shutil.copytree(folder / "out", args.keep, dirs_exist_ok=True)
+        tmp = Path(tmp)
+        for case in cases:
+            cache = tmp / f"cache-{case}"
+            env = {**os.environ, "SPRINGCAD_CACHE_DIR": str(cache), "SOURCE_DATE_EPOCH": "1700000000",
+                   "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
+            env.pop("SPRINGCAD_CACHE", None)
+            outs = {}
+            for state in ("cold", "warm"):
+                out = tmp / f"out-{case}-{state}"
+                load = os.getloadavg()[0]
+                res = run(command(case, tmp, out), env)
+                outs[state] = out
+                if res["code"] != 0:
+                    print(f"{case} {state}: exit {res['code']}\n{res['stderr'][-3000:]}")
+                    results.append((case, state, None, res))
+                    break
+                steps = stage_times(out)
+                line = "  ".join(f"{k} {v:.2f}" for k, v in steps.items())
+                target = TARGETS_S.get((case, state))
+                verdict = ("" if target is None else
+                           ("PASS" if res["wall_s"] <= target else "FAIL") + f" (<= {target:g} s)")
+                print(f"{case:8s} {state}: {res['wall_s']:6.2f} s wall  peak "
+                      f"{res['peak_bytes'] / GB:.2f} GB  load {load:.1f}  {verdict}"
+                      + (f"\n          stages s: {line}" if line else ""))
+                results.append((case, state, target, res))
+            if len(outs) == 2 and all(o.exists() for o in outs.values()):
+                ok, diff = same_files(outs["cold"], outs["warm"])
+                print(f"{case:8s} warm files equal the cold ones: {ok}"
+                      + ("" if ok else f" (differ: {diff[:8]})"))
+                results.append((case, "identical", None, {"ok": ok}))
+            if args.keep:
+                for state, out in outs.items():
+                    if out.exists():
+                        shutil.copytree(out, args.keep / f"{case}-{state}", dirs_exist_ok=True)
+    failed = []
+    for case, state, target, res in results:
+        if state == "identical":
+            if not res["ok"]:
+                failed.append(f"{case}: warm files differ")
+            continue
+        if res["code"] != 0:
+            failed.append(f"{case} {state}: exit {res['code']}")
+            continue
+        if target is not None and res["wall_s"] > target:
+            failed.append(f"{case} {state}: {res['wall_s']:.2f} s > {target:g} s")
+        if res["peak_bytes"] > PEAK_TARGET_BYTES:
+            failed.append(f"{case} {state}: peak {res['peak_bytes'] / GB:.2f} GB > 1 GB")
+    print("PASS: every target met" if not failed else "FAIL: " + "; ".join(failed))
+    return 0 if not failed else 1
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -232,21 +232,36 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
         notes=notes, support=support, contact=contact)
 
 
-def verify_job(job_design, options: VerifyOptions = VerifyOptions(), progress=_noop
-               ) -> JobVerification:
+def _verify_cached(design, options: VerifyOptions, progress, cache) -> SpringVerification:
+    """:func:`verify_spring`, through the cache when there is one; the result carries its
+    cache key (``cache_key``) so its output files can be cached too."""
+    if cache is None:
+        return verify_spring(design, options, progress)
+    key = cache.key("fea-spring", design, options)
+    result = cache.fetch(key, lambda: verify_spring(design, options, progress),
+                         lambda: progress(f"spring {design.name}: FEA of this design and "
+                                          "options from the cache", None))
+    result.cache_key = key
+    return result
+
+
+def verify_job(job_design, options: VerifyOptions = VerifyOptions(), progress=_noop,
+               cache=None) -> JobVerification:
     """Verify (and correct) every spring of a :class:`~springcad.design.job.JobDesign`.
 
     Returns a :class:`JobVerification` with ``.to_dict()`` (the ``fea.json``
     document), ``.ok``, ``.failures()``, ``.raise_for_failures()`` and
     ``.corrected_designs()``. Springs used several times in the stack are
-    verified once.
+    verified once. With a :class:`springcad.cache.Cache`, a spring whose design and
+    options were verified before (by this code) is read from it: a stack that changes
+    only its sequence or hardware reuses its springs' FEA.
     """
     t0 = time.perf_counter()
     springs = {}
     names = list(job_design.springs)
     for i, name in enumerate(names):
         progress(f"verifying spring {name} ({i + 1}/{len(names)})", i / len(names))
-        springs[name] = verify_spring(job_design.springs[name], options, progress)
+        springs[name] = _verify_cached(job_design.springs[name], options, progress, cache)
     progress("stack", 1.0)
     sf = job_design.job.material.safety_factor
     stack = verify_stack(job_design.stack.sequence, springs, sf)

@@ -89,6 +89,27 @@ class BenchDefaults:
 
 BENCH = BenchDefaults()
 
+# ----------------------------------------------------------------------------- cache
+@dataclass(frozen=True)
+class CacheDefaults:
+    """Defaults of the result cache (:mod:`springcad.cache`; ``cache=`` of the API,
+    ``--no-cache`` of the CLI).
+
+    Attributes:
+        enabled: reuse stored designs, FEA results, checks and files of equal inputs.
+        max_mb: size bound of the cache folder (MB); least recently used entries go first.
+    """
+
+    enabled: bool = True
+    max_mb: float = 2048.0
+
+
+CACHE = CacheDefaults()
+
+#: run a build's independent export steps in a second process (the FEA outputs' renders
+#: beside the part exports; :mod:`springcad.parallel`; ``$SPRINGCAD_PARALLEL=0`` turns it off)
+PARALLEL = True
+
 # ----------------------------------------------------------------------------- export
 #: drawing revision of a build (``sc.export_build``, ``springcad build --revision``)
 REVISION = "A"

@@ -2,9 +2,22 @@
 
 from __future__ import annotations
 
+import atexit
+import os
+import shutil
+import tempfile
 from pathlib import Path
 
 import pytest
+
+# the suite computes every result (tests patch the stages they break, which a cached result
+# would skip); tests of the cache turn it on explicitly (cache=True) in their own folders.
+# Subprocesses (the CLI tests) inherit both settings; nothing is written to ~/.cache.
+os.environ.setdefault("SPRINGCAD_CACHE", "off")
+if "SPRINGCAD_CACHE_DIR" not in os.environ:
+    _CACHE = tempfile.mkdtemp(prefix="springcad-test-cache-")
+    os.environ["SPRINGCAD_CACHE_DIR"] = _CACHE
+    atexit.register(shutil.rmtree, _CACHE, True)
 
 ROOT = Path(__file__).resolve().parents[1]
 TEMPLATES = ROOT / "templates"

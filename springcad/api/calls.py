@@ -30,6 +30,7 @@ import math
 from pathlib import Path
 
 from springcad.api.results import Design, Fit, Verification
+from springcad.cache import memo, open_cache
 from springcad.errors import ConfigError, DataError
 from springcad.options import BENCH, VERIFY, api_door, check_number
 from springcad.progress import Tracker
@@ -67,11 +68,13 @@ def _job(job_or_design):
 
 
 @api_door
-def design_job(job) -> Design:
+def design_job(job, cache: bool | None = None) -> Design:
     """Design every spring of a job and the stack (beam theory and the stress model).
 
     Args:
         job: a :class:`~springcad.config.Job`, a TOML path or a config dict.
+        cache: reuse the design of an equal job from the result cache
+            (:mod:`springcad.cache`; None: the default, :data:`springcad.options.CACHE`).
 
     Returns:
         The :class:`Design`.
@@ -84,12 +87,14 @@ def design_job(job) -> Design:
 
     job = _job(job)
     with stage("design", lambda: f"job {job.name}"):
-        return Design(_design.design_job(job))
+        return Design(memo(open_cache(cache), "design", (job,),
+                           lambda: _design.design_job(job)))
 
 
-def _design_of(job_or_design) -> Design:
+def _design_of(job_or_design, cache: bool | None = None) -> Design:
     """A :class:`Design` as given, or designed from a Job, a TOML path or a config dict."""
-    return job_or_design if isinstance(job_or_design, Design) else design_job(job_or_design)
+    return (job_or_design if isinstance(job_or_design, Design)
+            else design_job(job_or_design, cache))
 
 
 @api_door
@@ -97,7 +102,8 @@ def verify(job_or_design, model: str = VERIFY.model, levels: int = VERIFY.levels
            tolerance_pct: float = VERIFY.tolerance_pct, correct: bool = VERIFY.correct,
            contact: bool = VERIFY.contact, keep_fields: bool = False,
            mesher: str = VERIFY.mesher, load: str = VERIFY.load,
-           support_study: bool = VERIFY.support_study, progress=None) -> Verification:
+           support_study: bool = VERIFY.support_study, progress=None,
+           cache: bool | None = None) -> Verification:
     """FEA-verify (and correct the widths of) every spring.
 
     The defaults are :data:`springcad.options.VERIFY`, the same as ``springcad verify``'s
@@ -120,6 +126,8 @@ def verify(job_or_design, model: str = VERIFY.model, levels: int = VERIFY.levels
         support_study: also compare the rim held at its outer face with it held at
             its rim holes (full ring, ~10 s per spring).
         progress: optional ``callable(message, fraction)``.
+        cache: reuse the FEA of a spring verified before with the same design and
+            options (:mod:`springcad.cache`; None: :data:`springcad.options.CACHE`).
 
     Returns:
         The :class:`Verification`; ``.design`` is the corrected design.
@@ -138,9 +146,9 @@ def verify(job_or_design, model: str = VERIFY.model, levels: int = VERIFY.levels
     track = Tracker(progress)
     if not isinstance(job_or_design, Design):
         track("designing")
-    d = _design_of(job_or_design)
+    d = _design_of(job_or_design, cache)
     with stage("verify", track.subject("verify")):
-        return Verification(fea.verify.verify_job(d.raw, options, track), d)
+        return Verification(fea.verify.verify_job(d.raw, options, track, open_cache(cache)), d)
 
 
 def _is_design_dict(value) -> bool:

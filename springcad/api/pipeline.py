@@ -14,6 +14,7 @@ Units: lengths mm, stiffness N*m/rad, angles rad, masses kg.
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import datetime
 import time
@@ -21,6 +22,7 @@ from pathlib import Path
 
 from springcad.api import calls
 from springcad.api.results import Design, Verification
+from springcad.cache import open_cache
 from springcad.errors import ConfigError
 from springcad.options import REVISION, api_door, check_revision
 from springcad.progress import Tracker
@@ -159,14 +161,15 @@ class Build:
         return notebook.build_html(self)
 
 
-def _design_of(design) -> tuple[Design, Verification | None]:
+def _design_of(design, cache: bool | None = None) -> tuple[Design, Verification | None]:
     if isinstance(design, Verification):
         return design.design, design
-    return calls._design_of(design), None
+    return calls._design_of(design, cache), None
 
 
 @api_door
-def build(design, accept_violations: bool = False, progress=None) -> Build:
+def build(design, accept_violations: bool = False, progress=None,
+          cache: bool | None = None) -> Build:
     """Make the solids of every part and run the geometry and wire-EDM checks.
 
     Args:
@@ -176,6 +179,8 @@ def build(design, accept_violations: bool = False, progress=None) -> Build:
         accept_violations: a wire-EDM rule violation does not fail the build
             (it is recorded and stops the release).
         progress: optional ``callable(message, fraction=None)``.
+        cache: reuse the checks of a design checked before (:mod:`springcad.cache`;
+            None: :data:`springcad.options.CACHE`); the solids are always made.
 
     Returns:
         The :class:`Build` (``.ok`` says whether the checks passed; nothing is written).
@@ -185,8 +190,8 @@ def build(design, accept_violations: bool = False, progress=None) -> Build:
     """
     from springcad.geometry.checks import build_and_check
 
-    d, ver = _design_of(design)
-    assembly, report, timings = build_and_check(d.raw, progress)
+    d, ver = _design_of(design, cache)
+    assembly, report, timings = build_and_check(d.raw, progress, open_cache(cache))
     return Build(d, ver, assembly, report, accept_violations, timings)
 
 
@@ -239,10 +244,36 @@ def _drawn_by() -> str:
     return f"springcad {__version__}"
 
 
+@contextlib.contextmanager
+def _fea_outputs(ver, tmp: Path, render: bool, store, track):
+    """The FEA files (``fea/``: fea.json, .vtu fields, PNG renders) of a verified build, written
+    by a second process beside the part exports when there are renders to make
+    (:func:`springcad.parallel.beside`); yields a pending result whose ``.result()`` is the
+    list of files (empty without a verification)."""
+    from springcad.parallel import Pending, beside, enabled
+
+    if ver is None:
+        yield Pending(value=[])
+        return
+    from springcad.report.fea_outputs import write_outputs
+
+    (tmp / "fea").mkdir()
+    if not render:
+        yield Pending(value=write_outputs(ver.raw, tmp / "fea", render=False, progress=track,
+                                          cache=store))
+        return
+    if enabled():
+        track("writing the FEA outputs (.vtu, renders) in a second process")
+    with beside(write_outputs, ver.raw, tmp / "fea", render=True, cache=store,
+                progress=track) as pending:
+        yield pending
+
+
 @api_door
 def export_build(built: Build, out, overwrite: bool = False, render: bool = True,
                  revision: str = REVISION,
-           title_block=None, progress=None, timings_s: dict | None = None) -> Build:
+           title_block=None, progress=None, timings_s: dict | None = None,
+           cache: bool | None = None) -> Build:
     """Write a build folder: design, FEA results, CAD, drawings, BOM, build.json, report.html.
 
     Args:
@@ -254,6 +285,9 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
         title_block: title block template (path or dict; default the packaged one).
         progress: optional ``callable(message, fraction=None)``.
         timings_s: times of earlier stages (s) to record in ``build.json``.
+        cache: reuse the files (and read-back checks) of parts, assembly and FEA exported
+            before with the same inputs (:mod:`springcad.cache`; None:
+            :data:`springcad.options.CACHE`); the files are the same bytes.
 
     Returns:
         A new :class:`Build`, the given one with ``out_dir``, ``files``, ``release`` and
@@ -282,28 +316,28 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
     t0 = time.perf_counter()
     d, ver = built.design, built.verification
     built.options = {"revision": revision, "render": render}
+    store = open_cache(cache)
     inputs = [x for x in (d.job.source, title_block) if isinstance(x, (str, Path)) and x
               and Path(x).is_file()]
     fea_files = []
     with atomic_output_dir(out, overwrite=overwrite, inputs=inputs) as tmp:
         tmp = Path(tmp)
-        with stage("exports", track.subject("exports")):
+        with stage("exports", track.subject("exports")), \
+                _fea_outputs(ver, tmp, render, store, track) as fea_outputs:
             write_json(tmp / "design.json", d.to_dict())
-            if ver is not None:
-                from springcad.report.fea_outputs import write_outputs
-
-                (tmp / "fea").mkdir()
-                fea_files = write_outputs(ver.raw, tmp / "fea", render=render, progress=track)
             built.release = release_status(d.raw, ver.raw if ver is not None else None,
                                            ver is None, built.checks.checks)
             info = {"job": d.job.name, "revision": revision,
                     "date": build_date(), "drawn_by": _drawn_by(),
                     "release": built.release}
-            parts = export_parts(built.assembly, tmp, info, template, progress=track)
+            parts = export_parts(built.assembly, tmp, info, template, progress=track,
+                                 cache=store)
             files = parts + export_stack(built.assembly, tmp, parts, render=render,
                                          progress=track, release=built.release,
-                                         date=info["date"])
-            built.roundtrip = roundtrip_checks(built.assembly, tmp, files, progress=track)
+                                         date=info["date"], cache=store)
+            built.roundtrip = roundtrip_checks(built.assembly, tmp, files, progress=track,
+                                               cache=store)
+            fea_files = fea_outputs.result()
         CheckReport(built.roundtrip).raise_if_failed()
         from springcad.export.bundle import WrittenFile
 

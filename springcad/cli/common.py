@@ -38,3 +38,16 @@ def bounded(lo: float, hi: float, unit: str = "", integer: bool = False, lo_open
         return value
 
     return parse
+
+
+def add_cache_flag(parser) -> None:
+    """``--no-cache``: compute everything again and store nothing (:mod:`springcad.cache`)."""
+    parser.add_argument("--no-cache", action="store_true",
+                        help="compute every result again and store nothing in the result cache "
+                             "(default: reuse designs, FEA, checks and files of equal inputs "
+                             "from $SPRINGCAD_CACHE_DIR or ~/.cache/springcad)")
+
+
+def cache_of(args) -> bool | None:
+    """The API's ``cache`` option for ``--no-cache``: False, else None (the default)."""
+    return False if getattr(args, "no_cache", False) else None

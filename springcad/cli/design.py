@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import springcad.api as sc
-from springcad.cli.common import default_out, warn
+from springcad.cli.common import add_cache_flag, cache_of, default_out, warn
 from springcad.report.jsonio import write_json
 from springcad.report.outdir import atomic_output_dir, check_output_dir
 
@@ -16,6 +16,7 @@ def register(sub):
     p.add_argument("--out", type=Path, default=None,
                    help="output folder (default outputs/<config name>/)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing output folder")
+    add_cache_flag(p)
     p.set_defaults(func=run)
 
 
@@ -23,7 +24,7 @@ def run(args) -> int:
     out = args.out or default_out(args.config)
     job = sc.load(args.config)
     check_output_dir(out, args.overwrite, inputs=[args.config])
-    design = sc.design_job(job)
+    design = sc.design_job(job, cache=cache_of(args))
     warn("design", design.warnings)
     with atomic_output_dir(out, overwrite=args.overwrite, inputs=[args.config]) as tmp:
         write_json(tmp / "design.json", design.to_dict())

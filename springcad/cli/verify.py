@@ -16,7 +16,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import springcad.api as sc
-from springcad.cli.common import bounded, default_out, warn
+from springcad.cache import open_cache
+from springcad.cli.common import add_cache_flag, bounded, cache_of, default_out, warn
 from springcad.cli.progress import console
 from springcad.options import LEVELS_RANGE, LOADS, MESHERS, MODELS, TOLERANCE_PCT_RANGE, VERIFY
 from springcad.report.fea_outputs import write_outputs
@@ -53,6 +54,7 @@ def register(sub):
                    help="skip the cam contact sweep (rigid cam turned to +-max deflection)")
     p.add_argument("--no-render", action="store_true", help="skip .vtu and PNG outputs")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
+    add_cache_flag(p)
     p.set_defaults(func=run, correct=VERIFY.correct, contact=VERIFY.contact)
 
 
@@ -61,14 +63,15 @@ def run(args) -> int:
     job = sc.load(args.config)
     check_output_dir(out, args.overwrite, inputs=[args.config])  # fail before the work
     progress = console(args.quiet)
-    design = sc.design_job(job)
+    design = sc.design_job(job, cache=cache_of(args))
     warn("verify", design.warnings)
     result = sc.verify(design, model=args.model, levels=args.levels, mesher=args.mesher,
                        tolerance_pct=args.tolerance_pct, correct=args.correct, load=args.load,
                        support_study=args.support_study, contact=args.contact,
-                       keep_fields=not args.no_render, progress=progress)
+                       keep_fields=not args.no_render, progress=progress, cache=cache_of(args))
     with atomic_output_dir(out, overwrite=args.overwrite, inputs=[args.config]) as tmp:
-        write_outputs(result.raw, tmp, render=not args.no_render, progress=progress)
+        write_outputs(result.raw, tmp, render=not args.no_render, progress=progress,
+                      cache=open_cache(cache_of(args)))
     print(result.raw.summary())
     for finding in result.raw.release_failures():  # not a verification failure: build's gate
         print(f"  contact: {finding}")

@@ -19,6 +19,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+from springcad.cache import files, memo
 from springcad.geometry.checks import Check
 from springcad.progress import Progress, no_progress
 
@@ -50,44 +51,64 @@ def _record(out_dir: Path, path: Path, kind: str, part: str = "", info: str = ""
                        Path(path).stat().st_size, info)
 
 
+def part_fingerprint(part) -> tuple:
+    """What a part's solid and files are a function of: its info (part number, profile,
+    dimensions, fits ...), its slabs, colour and kind of solid (the cache key's input)."""
+    return (part.info, part.slabs, part.colour, part.exact_prism)
+
+
 def export_parts(assembly, out_dir: Path, drawing_info: dict, template: dict | None = None,
-                 progress: Progress = no_progress) -> list[WrittenFile]:
+                 progress: Progress = no_progress, cache=None) -> list[WrittenFile]:
     """STEP, STL, DXF and drawings of every distinct part.
 
     Args:
         drawing_info: ``job``, ``revision``, ``date`` for the title blocks.
         progress: ``progress(message, fraction=None)``, called per part.
+        cache: a :class:`springcad.cache.Cache` holding the files of parts (and their
+            drawings' title blocks) exported before, or None.
     """
-    from springcad.export.drawing import DrawingInfo, write_drawing
-    from springcad.export.dxf import write_dxf
-    from springcad.export.step import write_part_step, write_part_stl
-
     parts_dir = Path(out_dir) / "parts"
     parts_dir.mkdir(parents=True, exist_ok=True)
     qty = assembly.quantities()
     out = []
     for k, (pn, part) in enumerate(assembly.parts.items()):
         progress(f"exporting {pn}", k / len(assembly.parts))
-        step = write_part_step(part, parts_dir / f"{pn}.step", drawing_info.get("date", ""))
-        out.append(_record(out_dir, step, "step", pn))
-        out.append(_record(out_dir, write_part_stl(part, parts_dir / f"{pn}.stl"), "stl", pn))
-        if part.info.cut_profile is not None:
-            rep = write_dxf(part.info.cut_profile, parts_dir / f"{pn}.dxf", pn,
-                            part.info.thickness_mm)
-            out.append(_record(out_dir, rep.path, "dxf", pn,
-                               f"{rep.n_loops} closed contours as {rep.n_entities} "
-                               f"{rep.entities} entities, {rep.n_biarcs} biarcs, "
-                               f"max deviation {1e3 * rep.max_deviation_mm:.3f} um"))
-        if part.info.process != "purchased":
-            info = DrawingInfo(quantity=qty[pn], **drawing_info)
-            for path in write_drawing(part, info, parts_dir, template):
-                out.append(_record(out_dir, path, path.suffix[1:], pn))
+        info = {**drawing_info, "quantity": qty[pn]}
+        paths, meta = files(cache, "part-files", (part_fingerprint(part), info, template),
+                            out_dir, lambda: _write_part(part, parts_dir, info, template),
+                            lambda: progress(f"{pn}: files from the cache", None))
+        out += [_record(out_dir, path, kind, pn, note) for path, (kind, note) in zip(paths, meta)]
     return out
+
+
+def _write_part(part, parts_dir: Path, info: dict, template) -> tuple[list[Path], list]:
+    """Write a part's STEP, STL, DXF (profile-cut parts) and drawings (made parts);
+    returns their paths and (kind, info) of each."""
+    from springcad.export.drawing import DrawingInfo, write_drawing
+    from springcad.export.dxf import write_dxf
+    from springcad.export.step import write_part_step, write_part_stl
+
+    pn = part.part_number
+    paths = [write_part_step(part, parts_dir / f"{pn}.step", info.get("date", "")),
+             write_part_stl(part, parts_dir / f"{pn}.stl")]
+    meta = [("step", ""), ("stl", "")]
+    if part.info.cut_profile is not None:
+        rep = write_dxf(part.info.cut_profile, parts_dir / f"{pn}.dxf", pn,
+                        part.info.thickness_mm)
+        paths.append(rep.path)
+        meta.append(("dxf", f"{rep.n_loops} closed contours as {rep.n_entities} "
+                            f"{rep.entities} entities, {rep.n_biarcs} biarcs, "
+                            f"max deviation {1e3 * rep.max_deviation_mm:.3f} um"))
+    if part.info.process != "purchased":
+        for path in write_drawing(part, DrawingInfo(**info), parts_dir, template):
+            paths.append(path)
+            meta.append((path.suffix[1:], ""))
+    return paths, meta
 
 
 def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render: bool = True,
                  progress: Progress = no_progress, release=None,
-                 date: str = "") -> list[WrittenFile]:
+                 date: str = "", cache=None) -> list[WrittenFile]:
     """Assembly STEP, bill of materials, (optionally) the PNG render and the vendor bundle.
 
     Args:
@@ -95,23 +116,36 @@ def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render:
         release: the build's :class:`~springcad.export.release.ReleaseStatus` for the
             vendor bundle's README (not assessed if None).
         date: YYYY-MM-DD of the assembly STEP's header (the build's date).
+        cache: a :class:`springcad.cache.Cache` holding the assembly STEP and render of
+            designs exported before (the assembly is a function of its design), or None.
     """
     from springcad.export.bom import write_bom
-    from springcad.export.step import write_assembly_step
 
     out_dir = Path(out_dir)
     progress("exporting assembly STEP", 0.0)
-    out = [_record(out_dir, write_assembly_step(assembly, out_dir / "assembly.step", date),
-                   "step_assembly")]
+
+    def step():
+        from springcad.export.step import write_assembly_step
+
+        return [write_assembly_step(assembly, out_dir / "assembly.step", date)], None
+
+    hit = lambda: progress("assembly STEP from the cache", None)  # noqa: E731
+    (path,), _ = files(cache, "assembly-step", (assembly.design, date), out_dir, step, hit)
+    out = [_record(out_dir, path, "step_assembly")]
     by_part: dict[str, list[str]] = {}
     for f in part_files:
         by_part.setdefault(f.part, []).append(f.path)
     out.append(_record(out_dir, write_bom(assembly, out_dir / "bom.csv", by_part), "bom"))
     if render:
-        from springcad.export.render import render_png
+        def png():
+            from springcad.export.render import render_png
+
+            return [render_png(assembly, out_dir / "assembly.png")], None
 
         progress("rendering assembly.png", 0.5)
-        out.append(_record(out_dir, render_png(assembly, out_dir / "assembly.png"), "png"))
+        hit = lambda: progress("assembly.png from the cache", None)  # noqa: E731
+        (path,), _ = files(cache, "assembly-png", (assembly.design,), out_dir, png, hit)
+        out.append(_record(out_dir, path, "png"))
     from springcad.export.release import UNASSESSED
     from springcad.export.vendor import write_vendor_bundle
 
@@ -122,19 +156,18 @@ def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render:
 
 
 def roundtrip_checks(assembly, out_dir: Path, files: list[WrittenFile],
-                     progress: Progress = no_progress) -> list[Check]:
+                     progress: Progress = no_progress, cache=None) -> list[Check]:
     """Read every part STEP and DXF back and hold it against the part.
 
     STEP: one valid solid, same volume (0.1 %) and bounding box (1 um).
     DXF: the CUT layer's lines, arcs and circles chain into one closed contour per
     loop of the profile, the file audits clean, the enclosed area equals the kernel's area
     of the profile face within the chordal tolerance x the perimeter, and the
-    perimeter the kernel's within :data:`PERIMETER_RTOL`.
+    perimeter the kernel's within :data:`PERIMETER_RTOL`. With a
+    :class:`springcad.cache.Cache`, the check of a file whose bytes were read back before
+    against the same part is taken from it.
     """
-    from springcad.export.dxf import CHORD_TOL_MM, loops_area_mm2, loops_length_mm, read_dxf_loops
-    from springcad.export.step import read_step
-    from springcad.geometry.base import face_area_mm2, solid_volume_mm3
-    from springcad.geometry.profile import profile_face
+    import hashlib
 
     out = []
     for k, f in enumerate(files):
@@ -143,35 +176,44 @@ def roundtrip_checks(assembly, out_dir: Path, files: list[WrittenFile],
             continue
         path = Path(out_dir) / f.path
         progress(f"reading back {f.path}", k / len(files))
-        if f.kind == "step":
-            rb = read_step(path)
-            v = solid_volume_mm3(part.solid)
-            bb = part.solid.bounding_box()
-            ref_lo, ref_hi = (bb.min.X, bb.min.Y, bb.min.Z), (bb.max.X, bb.max.Y, bb.max.Z)
-            box_err = max(abs(a - b) for a, b in zip(rb.bbox_min + rb.bbox_max, ref_lo + ref_hi))
-            ok = (rb.n_solids == 1 and rb.valid and abs(rb.volume_mm3 - v) <= ROUNDTRIP_RTOL * v
-                  and box_err <= BBOX_TOL_MM and part.part_number in rb.names)
-            out.append(Check("step_roundtrip", f.path, ok, value=rb.volume_mm3, limit=v,
-                             unit="mm^3",
-                             message=f"{rb.n_solids} solid(s), valid {rb.valid}, volume "
-                                     f"{100 * (rb.volume_mm3 / v - 1):+.5f} %, bbox off by "
-                                     f"{box_err:.2e} mm, names {list(rb.names)}"))
-        else:
-            try:
-                loops, auditor = read_dxf_loops(path)
-            except ValueError as err:
-                out.append(Check("dxf_roundtrip", f.path, False, message=str(err)))
-                continue
-            area, length = loops_area_mm2(loops), loops_length_mm(loops)
-            face = profile_face(part.info.cut_profile, part.part_number)
-            ref, ref_len = face_area_mm2(face), sum(e.length for e in face.edges())
-            n_loops = len(part.info.cut_profile.loops)
-            ok = (len(loops) == n_loops and not auditor.has_errors
-                  and abs(area - ref) <= CHORD_TOL_MM * ref_len
-                  and abs(length - ref_len) <= PERIMETER_RTOL * ref_len)
-            out.append(Check("dxf_roundtrip", f.path, ok, value=area, limit=ref, unit="mm^2",
-                             message=f"{len(loops)} closed line-and-arc contours (profile has "
-                                     f"{n_loops}), {len(auditor.errors)} audit errors, area "
-                                     f"{area - ref:+.2e} mm^2, perimeter {length - ref_len:+.2e} "
-                                     f"mm against the face; {f.info}"))
+        digest = hashlib.sha256(path.read_bytes()).hexdigest() if cache is not None else ""
+        out.append(memo(cache, "roundtrip", (digest, f, part_fingerprint(part)),
+                        lambda: _read_back(part, path, f)))
     return out
+
+
+def _read_back(part, path: Path, f: WrittenFile) -> Check:
+    """The read-back check of one STEP or DXF file of ``part`` (see :func:`roundtrip_checks`)."""
+    from springcad.export.dxf import CHORD_TOL_MM, loops_area_mm2, loops_length_mm, read_dxf_loops
+    from springcad.export.step import read_step
+    from springcad.geometry.base import face_area_mm2, solid_volume_mm3
+    from springcad.geometry.profile import profile_face
+
+    if f.kind == "step":
+        rb = read_step(path)
+        v = solid_volume_mm3(part.solid)
+        bb = part.solid.bounding_box()
+        ref_lo, ref_hi = (bb.min.X, bb.min.Y, bb.min.Z), (bb.max.X, bb.max.Y, bb.max.Z)
+        box_err = max(abs(a - b) for a, b in zip(rb.bbox_min + rb.bbox_max, ref_lo + ref_hi))
+        ok = (rb.n_solids == 1 and rb.valid and abs(rb.volume_mm3 - v) <= ROUNDTRIP_RTOL * v
+              and box_err <= BBOX_TOL_MM and part.part_number in rb.names)
+        return Check("step_roundtrip", f.path, ok, value=rb.volume_mm3, limit=v, unit="mm^3",
+                     message=f"{rb.n_solids} solid(s), valid {rb.valid}, volume "
+                             f"{100 * (rb.volume_mm3 / v - 1):+.5f} %, bbox off by "
+                             f"{box_err:.2e} mm, names {list(rb.names)}")
+    try:
+        loops, auditor = read_dxf_loops(path)
+    except ValueError as err:
+        return Check("dxf_roundtrip", f.path, False, message=str(err))
+    area, length = loops_area_mm2(loops), loops_length_mm(loops)
+    face = profile_face(part.info.cut_profile, part.part_number)
+    ref, ref_len = face_area_mm2(face), sum(e.length for e in face.edges())
+    n_loops = len(part.info.cut_profile.loops)
+    ok = (len(loops) == n_loops and not auditor.has_errors
+          and abs(area - ref) <= CHORD_TOL_MM * ref_len
+          and abs(length - ref_len) <= PERIMETER_RTOL * ref_len)
+    return Check("dxf_roundtrip", f.path, ok, value=area, limit=ref, unit="mm^2",
+                 message=f"{len(loops)} closed line-and-arc contours (profile has "
+                         f"{n_loops}), {len(auditor.errors)} audit errors, area "
+                         f"{area - ref:+.2e} mm^2, perimeter {length - ref_len:+.2e} "
+                         f"mm against the face; {f.info}")

@@ -34,7 +34,10 @@ from __future__ import annotations
 import hashlib
 from dataclasses import dataclass, field, replace
 
-from build123d import BasePartObject, Color, Solid
+from springcad.geometry import sklearn_deferred
+
+with sklearn_deferred():
+    from build123d import BasePartObject, Color, Solid
 
 from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
 from springcad.errors import GeometryError

@@ -20,6 +20,7 @@ from __future__ import annotations
 import time
 from dataclasses import asdict, dataclass, field
 
+from springcad.cache import memo
 from springcad.design.connections import connection_sequence
 from springcad.errors import CheckFailed, GeometryError
 from springcad.options import spell
@@ -333,7 +334,7 @@ def run_checks(assembly, progress: Progress = no_progress) -> CheckReport:
     return CheckReport(checks)
 
 
-def build_and_check(job_design, progress: Progress | None = None):
+def build_and_check(job_design, progress: Progress | None = None, cache=None):
     """The build stage of every door: the solids of every part, then every check.
 
     ``sc.build`` and the synthesis finalists both run it. A CAD-kernel failure becomes a
@@ -343,6 +344,8 @@ def build_and_check(job_design, progress: Progress | None = None):
     Args:
         job_design: a :class:`~springcad.design.job.JobDesign`.
         progress: optional ``progress(message, fraction=None)``.
+        cache: a :class:`springcad.cache.Cache` holding the checks of designs checked
+            before (the solids are a function of the design, so are their checks), or None.
 
     Returns:
         ``(assembly, report, timings_s)``: the
@@ -358,6 +361,7 @@ def build_and_check(job_design, progress: Progress | None = None):
     t0 = time.perf_counter()
     track.last = ""
     with stage("checks", track.subject("checks")):
-        report = run_checks(assembly, progress=track)
+        report = memo(cache, "checks", (job_design,), lambda: run_checks(assembly, progress=track),
+                      lambda: track("checks of this design from the cache"))
     timings["checks"] = round(time.perf_counter() - t0, 3)
     return assembly, report, timings

@@ -92,7 +92,8 @@ def _strip_text(data: bytes, contents: int) -> bytes:
     old_len = int(len_m.group(1))
     start = head.end()
     content = zlib.decompress(data[start:start + old_len])
-    stripped = re.sub(rb"BT\n.*?\nET\n", b"", content, flags=re.S)
+    # a text object: "BT\n ... \nET\n" (embedded TrueType) or "BT /F1 10 Tf ... Tj ET\n" (core font)
+    stripped = re.sub(rb"(?<![^\n ])BT[\n ].*?[\n ]ET\n", b"", content, flags=re.S)
     new = zlib.compress(stripped, 9)
     assert len(new) <= old_len and len(str(len(new))) <= len(len_m.group(1))
     tail_at = start + old_len

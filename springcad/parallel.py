@@ -1,0 +1,147 @@
+"""Run one step of a build in a second process while this one does another.
+
+:func:`beside` forks a child that runs ``func(*args, progress=..., **kwargs)`` while the
+caller goes on (the FEA outputs' renders beside the part exports: the two use the two
+cores). The child inherits the caller's memory (fork: the verification and the solids
+are not copied or pickled), writes its files, and sends back its result and its
+progress messages, which the caller replays in order when it collects the result, so
+the console never shows two steps' lines interleaved.
+
+Clean on every way out: an exception in the child is raised again in the caller; when
+the caller leaves the block early (an error, Ctrl-C, SIGTERM) the child is terminated
+and reaped before the caller's temporary folder is removed; a child whose parent dies
+(SIGKILL) is sent SIGTERM by the kernel (Linux ``PR_SET_PDEATHSIG``), so no orphan
+writes on. Where fork is not available, or parallel steps are off
+(:data:`springcad.options.PARALLEL` or ``$SPRINGCAD_PARALLEL=0``), the step runs in the
+caller, before the block.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import traceback
+
+from springcad.options import PARALLEL
+
+ENV_SWITCH = "SPRINGCAD_PARALLEL"
+_OFF = ("0", "off", "no", "false")
+
+
+def enabled() -> bool:
+    """Whether steps may run in a second process (fork available, not switched off)."""
+    import multiprocessing
+
+    return (PARALLEL and os.environ.get(ENV_SWITCH, "").strip().lower() not in _OFF
+            and "fork" in multiprocessing.get_all_start_methods())
+
+
+def trim_heap() -> None:
+    """Give the heap memory freed by earlier steps back to the OS (glibc ``malloc_trim``;
+    nothing elsewhere): the FEA's factorisations leave hundreds of MB of free heap that the
+    process would otherwise keep, and a forked child would start from."""
+    with contextlib.suppress(Exception):
+        import ctypes
+
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+
+
+class Pending:
+    """The result of a step run beside the caller (:func:`beside`)."""
+
+    def __init__(self, proc=None, conn=None, value=None, progress=None):
+        self._proc, self._conn, self._value = proc, conn, value
+        self._progress = progress
+        self._done = proc is None
+
+    def result(self):
+        """The step's return value (waits for the child); its progress is replayed first.
+
+        Raises:
+            the child's exception; RuntimeError when the child died without an answer.
+        """
+        if self._done:
+            return self._value
+        try:
+            status, payload, messages = self._conn.recv()
+        except EOFError:
+            self._proc.join()
+            raise RuntimeError(f"the second process of the build ended without a result "
+                               f"(exit code {self._proc.exitcode})") from None
+        finally:
+            self._done = True
+        self._proc.join()
+        for message, fraction in messages:
+            self._progress(message, fraction)
+        if status == "error":
+            raise payload
+        self._value = payload
+        return payload
+
+    def stop(self) -> None:
+        """Terminate and reap the child if it still runs (the caller is leaving early)."""
+        proc = self._proc
+        if proc is None:
+            return
+        if proc.is_alive():
+            proc.terminate()
+            proc.join(10)
+            if proc.is_alive():
+                proc.kill()
+        proc.join()
+        self._conn.close()
+
+
+def _child(conn, func, args, kwargs) -> None:
+    """The child's side: default signal handling, die with the parent, run, send back."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    with contextlib.suppress(Exception):
+        import ctypes
+
+        ctypes.CDLL(None).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
+    messages = []
+    try:
+        from threadpoolctl import threadpool_limits
+
+        with threadpool_limits(1):  # the parent uses the other core; no forked thread pools
+            value = func(*args, progress=lambda m, f=None: messages.append((m, f)), **kwargs)
+        conn.send(("ok", value, messages))
+    except BaseException as err:  # noqa: BLE001 - every failure goes back to the parent
+        try:
+            conn.send(("error", err, messages))
+        except Exception:  # an exception that does not pickle: its text
+            conn.send(("error", RuntimeError("".join(traceback.format_exception(err))),
+                       messages))
+    finally:
+        conn.close()
+
+
+@contextlib.contextmanager
+def beside(func, *args, progress=None, **kwargs):
+    """Run ``func(*args, progress=..., **kwargs)`` in a forked child while the block runs.
+
+    Yields a :class:`Pending`; call ``.result()`` inside the block to wait for the value.
+    Leaving the block without it (an exception, an interrupt) terminates the child.
+    ``func``'s result and exceptions must pickle.
+    """
+    from springcad.progress import no_progress
+
+    progress = progress or no_progress
+    if not enabled():
+        yield Pending(value=func(*args, progress=progress, **kwargs))
+        return
+    import multiprocessing
+
+    trim_heap()
+    ctx = multiprocessing.get_context("fork")
+    recv, send = ctx.Pipe(duplex=False)
+    proc = ctx.Process(target=_child, args=(send, func, args, kwargs), daemon=True)
+    proc.start()
+    send.close()
+    pending = Pending(proc, recv, progress=progress)
+    try:
+        yield pending
+    finally:
+        pending.stop()

@@ -1,0 +1,105 @@
+"""A step run beside the caller in a second process: its result and progress come back in
+order, its exceptions are raised in the caller, and it never outlives the caller's block."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from springcad.errors import GeometryError
+from springcad.parallel import beside, enabled
+
+pytestmark = pytest.mark.skipif(not enabled(), reason="fork not available or switched off")
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _work(path, n, progress):
+    for k in range(n):
+        progress(f"step {k}", k / n)
+    Path(path).write_text(f"pid {os.getpid()}")
+    return [os.getpid(), n * n]
+
+
+def _fail(progress):
+    progress("about to fail")
+    raise GeometryError("the child's own error")
+
+
+def _sleep(path, progress):
+    Path(path).write_text(str(os.getpid()))
+    time.sleep(600)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    try:
+        with open(f"/proc/{pid}/stat") as fh:  # a zombie is not running
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except FileNotFoundError:  # reaped meanwhile
+        return False
+
+
+def test_result_and_progress_come_back_in_order(tmp_path):
+    said = []
+    with beside(_work, tmp_path / "f", 3, progress=lambda m, f=None: said.append((m, f))) as p:
+        said.append(("parent", None))
+        pid, sq = p.result()
+    assert sq == 9 and pid != os.getpid()
+    assert (tmp_path / "f").read_text() == f"pid {pid}"
+    assert said == [("parent", None), ("step 0", 0.0), ("step 1", 1 / 3), ("step 2", 2 / 3)]
+
+
+def test_the_childs_exception_is_raised_in_the_caller():
+    said = []
+    with pytest.raises(GeometryError, match="the child's own error"):
+        with beside(_fail, progress=lambda m, f=None: said.append(m)) as p:
+            p.result()
+    assert said == ["about to fail"]
+
+
+def test_leaving_the_block_early_stops_the_child(tmp_path):
+    flag = tmp_path / "pid"
+    with pytest.raises(KeyboardInterrupt):
+        with beside(_sleep, flag):
+            for _ in range(600):
+                if flag.exists() and flag.read_text():
+                    break
+                time.sleep(0.05)
+            raise KeyboardInterrupt
+    pid = int(flag.read_text())
+    assert not _alive(pid)
+
+
+def test_a_killed_caller_leaves_no_orphan(tmp_path):
+    flag = tmp_path / "pid"
+    code = (f"import sys, time; sys.path.insert(0, {str(ROOT / 'tests')!r})\n"
+            "from test_parallel import _sleep\nfrom springcad.parallel import beside\n"
+            f"with beside(_sleep, {str(flag)!r}):\n    time.sleep(600)\n")
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    parent = subprocess.Popen([sys.executable, "-c", code], env=env)
+    try:
+        for _ in range(1200):
+            if flag.exists() and flag.read_text():
+                break
+            time.sleep(0.05)
+        child = int(flag.read_text())
+        assert _alive(child)
+        parent.send_signal(signal.SIGKILL)
+        parent.wait(60)
+        for _ in range(200):
+            if not _alive(child):
+                break
+            time.sleep(0.05)
+        assert not _alive(child)
+    finally:
+        if parent.poll() is None:
+            parent.kill()
