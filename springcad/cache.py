@@ -66,10 +66,8 @@ def code_digest() -> str:
     """SHA-256 of the code a cached result depends on: the springcad version, every file of
     the ``springcad`` and ``fea`` packages but caches of bytecode, and the versions of
     :data:`LIBRARIES` (~10 ms)."""
-    from importlib import metadata
+    from importlib import metadata, util
 
-    import fea
-    import springcad
     from springcad.version import __version__
 
     h = hashlib.sha256(f"springcad {__version__}\n".encode())
@@ -78,8 +76,9 @@ def code_digest() -> str:
             h.update(f"{name} {metadata.version(name)}\n".encode())
         except metadata.PackageNotFoundError:
             h.update(f"{name} -\n".encode())
-    for pkg in (springcad, fea):
-        root = Path(pkg.__file__).parent
+    # the two packages' folders, found without importing them from below (fea sits
+    # beside springcad on sys.path: find_spec locates it without running it)
+    for root in (Path(__file__).parent, Path(util.find_spec("fea").origin).parent):
         for path in sorted(p for p in root.rglob("*") if p.is_file()
                            and "__pycache__" not in p.parts and p.suffix != ".pyc"):
             h.update(str(path.relative_to(root.parent)).encode() + b"\0")
