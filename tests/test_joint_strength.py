@@ -60,6 +60,7 @@ def test_too_few_pins_are_refused_with_the_change():
         design_job(job_from_dict(job_data(["S1", "S1"], hardware={"fastener_count": 2})))
     msg = str(err.value)
     assert "2 x Ø1.5 dowels" in msg and "equivalent 1205 MPa against 907" in msg, msg
-    assert "use 3 pins of Ø1.5" in msg and "Ø2 dowels" in msg, msg
+    assert ("use hardware.fastener_count = 3 (Ø1.5 dowels)" in msg
+            and "hardware.fastener_diameter_mm = 2 (2 dowels)" in msg), msg
     ok = design_job(job_from_dict(job_data(["S1", "S1"], hardware={"fastener_count": 3})))
     assert 0.8 < ok.stack.to_dict()["rim_pins"][0]["utilisation"] < 1.0

@@ -172,10 +172,10 @@ def _remedy(s: PinJointStrength, inputs: dict, max_count: int) -> str:
     need = math.ceil(s.count * s.utilisation - 1e-9)
     parts = []
     if need <= max_count:
-        parts.append(f"{need} pins of Ø{s.diameter_mm:g} (hardware.fastener_count)")
+        parts.append(f"hardware.fastener_count = {need} (Ø{s.diameter_mm:g} {s.kind}s)")
     for d in _diameters(s.kind):
         if d > s.diameter_mm and pin_strength(**{**inputs, "diameter_mm": d}).ok:
-            parts.append(f"Ø{d:g} {s.kind}s (hardware.fastener_diameter_mm; {s.count} of them)")
+            parts.append(f"hardware.fastener_diameter_mm = {d:g} ({s.count} {s.kind}s)")
             break
     parts.append("a lower stack torque (stiffness x max deflection)")
     return " or ".join(parts)
