@@ -255,10 +255,10 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
     if not material.duty.declared:
         sized = _replace(material, duty=_replace(material.duty, declared=True))
         if duty.fatigue_limited(sized, spec.max_deflection_rad):
-            if _designs(spec, sized, manufacturing, hardware, max_root_radius_mm):
-                d = design_for_margin(spec, sized, manufacturing, hardware, explain=False,
-                                      max_root_radius_mm=max_root_radius_mm,
-                                      candidates=candidates)
+            # the probe's layouts come first in the full search too: its design is the one
+            # the search would return
+            d = _probe(spec, sized, manufacturing, hardware, max_root_radius_mm)
+            if d is not None:
                 return _replace(d, material=material, design_choice=(
                     f"{d.design_choice}; sized for springcad's default duty "
                     f"({duty.describe(material.duty)})"))
@@ -274,16 +274,22 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
                              max_root_radius_mm, candidates)
 
 
-def _designs(spec, material, manufacturing, hardware, max_root_radius_mm) -> bool:
-    """A feasibility probe: the search (:data:`PROBE_CANDIDATES` layouts) designs ``spec``
-    with the yield margin and duty of ``material``."""
+def _probe(spec, material, manufacturing, hardware, max_root_radius_mm) -> SpringDesign | None:
+    """A feasibility probe: the design the search (:data:`PROBE_CANDIDATES` layouts) finds
+    for ``spec`` with the yield margin and duty of ``material``, or None."""
     try:
         d = design_for_margin(spec, material, manufacturing, hardware, explain=False,
                               max_root_radius_mm=max_root_radius_mm,
                               candidates=PROBE_CANDIDATES)
     except DesignError:
-        return False
-    return d.yield_margin >= duty.required_margin(material, spec.max_deflection_rad) * (1.0 - 1e-3)
+        return None
+    ok = d.yield_margin >= duty.required_margin(material, spec.max_deflection_rad) * (1.0 - 1e-3)
+    return d if ok else None
+
+
+def _designs(spec, material, manufacturing, hardware, max_root_radius_mm) -> bool:
+    """Whether :func:`_probe` designs ``spec``."""
+    return _probe(spec, material, manufacturing, hardware, max_root_radius_mm) is not None
 
 
 def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
@@ -509,13 +515,8 @@ def _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm) 
     trials = [[ku] for ku in fixed] + ([fixed] if len(fixed) > 1 else [])
     for keys in trials:
         free = _replace(spec, **{k: None for k, _ in keys})
-        try:
-            d = design_for_margin(free, material, manufacturing, hardware, explain=False,
-                                  max_root_radius_mm=max_root_radius_mm,
-                                  candidates=PROBE_CANDIDATES)
-        except DesignError:
-            continue
-        if d.yield_margin < duty.required_margin(material, spec.max_deflection_rad) * (1 - 1e-3):
+        d = _probe(free, material, manufacturing, hardware, max_root_radius_mm)
+        if d is None:
             continue
         chosen = {"n_flexures": d.n_flexures, "contact_radius_mm": d.contact_radius_mm,
                   "tip_radius_mm": d.tip_radius_mm, "root_radius_mm": d.root_radius_mm}
