@@ -263,17 +263,46 @@ def _end_state(sc: SectorContact, st: State, driving: str, sign: int, ball, mate
                     hertz=c["hertz"] if c else None, clearances_mm=clear)
 
 
-#: the cam dilation grows from 0 in steps of at most this at rest (mm): a cam that
-#: interferes by tens of um pinches the ball between both flanks, which Newton's method
-#: does not reach from the undeformed ring in one step
+#: the cam dilation grows from 0 in steps of at most this (mm): a cam that interferes by
+#: tens of um pinches the ball between both flanks, which Newton's method does not reach
+#: from the undeformed ring in one step
 OFFSET_STEP_MM = 0.005
+#: halvings of a dilation step that fails before the continuation gives up
+OFFSET_HALVINGS = 4
 
 
 def _offset_path(sc: SectorContact, curve: CamCurve, offset_mm: float, sign: int,
-                 theta_max: float, steps: int) -> State:
-    """The converged state at sign * theta_max against the cam dilated by ``offset_mm``:
-    the dilation applied at rest in small steps, then the cam turned to the contact onset
-    and on in ``steps`` steps, like the nominal sweep. Leaves ``sc.cam`` dilated."""
+                 theta_max: float, steps: int, end: State | None = None) -> State:
+    """The converged state at sign * theta_max against the cam dilated by ``offset_mm``.
+
+    From the nominal end state ``end`` the dilation is continued at theta_max in steps of
+    at most :data:`OFFSET_STEP_MM` (each Newton solve starts from the last state), so the
+    ball stays on the flank it is pushed by, as in a part whose profiles deviate: the
+    state a path from rest reaches when it does not lose its way (held-out default at
+    10 deg: from rest against the cam shrunk by 20 um, the ball was found one tooth on,
+    with every gap off by up to 1 mm). Without ``end``, or when the continuation fails,
+    the dilation is applied at rest in small steps and the cam turned to the contact onset
+    and on in ``steps`` steps, like the nominal sweep. Leaves ``sc.cam`` dilated.
+    """
+    theta_end = sign * theta_max
+    if end is not None:
+        st, done = end, 0.0
+        h = math.copysign(OFFSET_STEP_MM, offset_mm)
+        halvings = 0
+        while abs(offset_mm - done) > 1e-12:
+            step = math.copysign(min(abs(h), abs(offset_mm - done)), offset_mm)
+            sc.cam = curve.dilated(done + step)
+            try:
+                st = sc.solve(theta_end, st)
+            except SolverError:
+                halvings += 1
+                if halvings > OFFSET_HALVINGS:
+                    break
+                h *= 0.5
+                continue
+            done += step
+        else:
+            return st
     st = sc.solve(0.0, sc.rest())
     m = max(1, math.ceil(abs(offset_mm) / OFFSET_STEP_MM)) if offset_mm > 0 else 1
     for k in range(1, m + 1):
@@ -283,7 +312,7 @@ def _offset_path(sc: SectorContact, curve: CamCurve, offset_mm: float, sign: int
     on = _onset(sc, sign, theta_max)
     if math.isfinite(on) and on != 0.0:
         path.to(on)
-    return path.to(sign * theta_max)
+    return path.to(theta_end)
 
 
 def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
@@ -304,7 +333,7 @@ def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
         states = [_end_state(sc, final[key], driving, sign, ball, material, groups)]
         for offset in ((-T, T) if T > 0 else ()):
             try:
-                st = _offset_path(sc, curve, offset, sign, theta_max, steps)
+                st = _offset_path(sc, curve, offset, sign, theta_max, steps, end=final[key])
                 states.append(_end_state(sc, st, driving, sign, ball, material, groups))
             except SolverError as err:
                 why = f"no converged contact ({err})"

@@ -218,6 +218,44 @@ def test_at_max_reads_the_sweeps_ends(straight):
     assert doc["ok"] == at.ok and doc["failures"] == at.failures()
 
 
+def test_offset_continuation_reaches_the_state_a_path_from_rest_does(straight, material):
+    """The toleranced end states are continued from the nominal one in the cam dilation at
+    theta_max (fea.contact._offset_path with ``end``). Where the path from rest with the
+    dilated cam converges on the driving flank, the two routes reach the same equilibrium
+    (frictionless elastic contact: one state): every clearance within 0.2 um, the same
+    contact force within 0.1 %; and the gaps move smoothly with E (second difference over
+    the +-20 um offsets under 2 um), as a part whose profiles deviate does."""
+    from fea.contact import _Path, _end_state, _offset_path
+    from fea.contact_solver import CamCurve, SectorContact
+    from fea.contact import _ball, _cam_features, _junction_mm
+
+    d = straight
+    feats = _cam_features(d.cam, d.n_flexures)
+    curve = CamCurve(feats, d.cam.loop("teeth").signed_area() > 0, _junction_mm(feats, d))
+    ball = _ball(d)
+    sc = SectorContact(_sector(d, material), material, curve,
+                       float(np.max(np.hypot(*curve.P.T))) + 2 * ball[1] + 0.5)
+    th = d.max_deflection_rad
+    groups = curve.groups("flank_ccw")
+    end = _Path(sc, 1, th / 8).to(th)
+    gaps = {}
+    for E in (-0.02, 0.02):
+        cont = _end_state(sc, _offset_path(sc, curve, E, 1, th, 8, end=end), "flank_ccw", 1,
+                          ball, material, groups)
+        sc.cam = curve
+        rest = _end_state(sc, _offset_path(sc, curve, E, 1, th, 8), "flank_ccw", 1, ball,
+                          material, groups)
+        sc.cam = curve
+        assert cont.offset_mm == pytest.approx(E) and rest.offset_mm == pytest.approx(E)
+        assert cont.force_N == pytest.approx(rest.force_N, rel=1e-3)
+        for name, g in rest.clearances_mm.items():
+            assert cont.clearances_mm[name] == pytest.approx(g, abs=2e-4), name
+        gaps[E] = cont.clearances_mm
+    nominal = _end_state(sc, end, "flank_ccw", 1, ball, material, groups).clearances_mm
+    for name, g0 in nominal.items():
+        assert abs(gaps[-0.02][name] - 2 * g0 + gaps[0.02][name]) < 2e-3, name
+
+
 def test_a_cam_grown_past_the_clearance_is_named(straight, straight_sweep):
     """Tolerances of 30 um each against a 25 um designed clearance: the cam grown by 60 um
     pinches the ball at rest; that offset is named, the others still judge the gaps."""
