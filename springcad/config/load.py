@@ -166,7 +166,7 @@ def _material(v: dict) -> MaterialSpec:
 def _spring(name: str, v: dict) -> SpringSpec:
     p = f"springs.{name}"
     sec = "springs.<name>"
-    _required(v, sec, p, "target_stiffness_Nm_per_rad", "outer_radius_mm", "thickness_mm")
+    _required(v, sec, p, "target_stiffness_Nm_per_rad", "outer_radius_mm")
     deg, rad = "max_deflection_deg" in v, "max_deflection_rad" in v
     if deg and rad:
         raise ConfigError(f"{p}.max_deflection_deg", v["max_deflection_deg"],
@@ -175,11 +175,16 @@ def _spring(name: str, v: dict) -> SpringSpec:
         raise ConfigError(f"{p}.max_deflection_deg", None,
                           "is required (max_deflection_deg or max_deflection_rad)")
     theta = math.radians(v["max_deflection_deg"]) if deg else float(v["max_deflection_rad"])
+    if "thickness_mm" in v and "max_thickness_mm" in v:
+        raise ConfigError(f"{p}.max_thickness_mm", v["max_thickness_mm"],
+                          "bounds the thickness springcad chooses, so it applies only when "
+                          "thickness_mm is not given; delete one of the two")
     return SpringSpec(
         name, v["target_stiffness_Nm_per_rad"] * NMM_PER_NM, theta, float(v["outer_radius_mm"]),
-        float(v["thickness_mm"]), v.get("contact_radius_mm"),
+        (float(v["thickness_mm"]) if "thickness_mm" in v else None), v.get("contact_radius_mm"),
         v.get("min_tip_radius_mm", SpringSpec.min_tip_radius_mm), v.get("tip_radius_mm"),
-        v.get("n_flexures"), v.get("root_radius_mm"), v.get("flexure", SpringSpec.flexure))
+        v.get("n_flexures"), v.get("root_radius_mm"), v.get("flexure", SpringSpec.flexure),
+        (float(v["max_thickness_mm"]) if "max_thickness_mm" in v else None))
 
 
 def _stack(v: dict, springs: dict[str, SpringSpec]) -> StackSpec:

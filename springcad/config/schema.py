@@ -272,7 +272,10 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
         _f("max_deflection_rad", "rad", 0.000873, 1.553, REQUIRED, "the same in rad (give one of "
            "the two)"),
         _f("outer_radius_mm", "mm", 3.0, 250.0, REQUIRED, "disk outer radius R_o"),
-        _f("thickness_mm", "mm", 0.2, 100.0, REQUIRED, "disk thickness z"),
+        _f("thickness_mm", "mm", 0.2, 100.0, CHOSEN, "disk thickness z (chosen: the thinnest "
+           "stock plate that carries the spring)"),
+        _f("max_thickness_mm", "mm", 0.2, 100.0, CHOSEN, "thickest disk springcad may choose "
+           "when thickness_mm is not given"),
         _f("contact_radius_mm", "mm", 0.5, 200.0, CHOSEN, "cam contact radius r_c (chosen to "
            "maximise the straight-flexure limit)"),
         _f("min_tip_radius_mm", "mm", 0.01, 10.0, 0.3, "smallest tip ball; the ball is sized "

@@ -96,26 +96,29 @@ class SpringSpec:
         stiffness_Nmm_per_rad: target stiffness (N*mm/rad).
         max_deflection_rad: deflection the spring must reach at design stress (rad).
         outer_radius_mm: disk outer radius R_o (mm).
-        thickness_mm: disk thickness z (mm).
+        thickness_mm: disk thickness z (mm), or None to choose it from stock plate.
         contact_radius_mm: r_c, or None to choose it.
         min_tip_radius_mm: smallest tip-ball radius allowed (mm).
         tip_radius_mm: exact tip-ball radius (as built), or None to size it for the peak load.
         n_flexures: N, or None to choose it.
         root_radius_mm: R_r, or None for the rim rule.
         flexure: "auto", "straight" or "serpentine".
+        max_thickness_mm: the thickest disk the chosen thickness may be (mm; None: no
+            bound but the stock list's), when ``thickness_mm`` is None.
     """
 
     name: str
     stiffness_Nmm_per_rad: float
     max_deflection_rad: float
     outer_radius_mm: float
-    thickness_mm: float
+    thickness_mm: float | None
     contact_radius_mm: float | None = None
     min_tip_radius_mm: float = _d("springs.<name>", "min_tip_radius_mm")
     tip_radius_mm: float | None = None
     n_flexures: int | None = None
     root_radius_mm: float | None = None
     flexure: str = _d("springs.<name>", "flexure")
+    max_thickness_mm: float | None = None
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ from springcad.design.connections import RIM, camshaft_indices, connection_seque
 from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware
 from springcad.design.ring import common_hole_pattern
-from springcad.design.search import design_spring
+from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
 from springcad.errors import DesignError
@@ -241,6 +241,9 @@ def design_job(job: Job, explain: bool = True) -> JobDesign:
     springs = {name: design_spring(spec, job.material, job.manufacturing, job.hardware,
                                    explain=explain, max_root_radius_mm=rr_max)
                for name, spec in job.springs.items()}
+    # the thickness springcad chose (stock plate) is the job's from here on
+    job = replace(job, springs={n: replace(s, thickness_mm=springs[n].thickness_mm)
+                                for n, s in job.springs.items()})
     springs = _share_camshafts(job, springs, rr_max)
     springs = common_hole_circle(springs, job)
     stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,

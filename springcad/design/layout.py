@@ -18,7 +18,7 @@ import numpy as np
 from springcad.config import SpringSpec
 from springcad.design import flexure as fx
 from springcad.design.contact_fatigue import allowable_von_mises_MPa
-from springcad.design.contact_stress import tip_radius_for_contact_mm
+from springcad.design.contact_stress import min_tip_radius_for_contact_mm
 from springcad.errors import DesignError, SpecInfeasible
 from springcad.units import NMM_PER_NM
 
@@ -90,9 +90,9 @@ def tip_ball(spec: SpringSpec, sigma, n, rc, contact: ContactLimit | None = None
     load = fx.tip_load_N(spec.stiffness_Nmm_per_rad, spec.max_deflection_rad, n, rc)
     rb_req = fx.tip_ball_required_radius_mm(load, spec.thickness_mm, sigma)
     if contact is not None:
-        rb_req = max(rb_req, float(tip_radius_for_contact_mm(
+        rb_req = max(rb_req, min_tip_radius_for_contact_mm(
             load, rc * spec.max_deflection_rad, spec.thickness_mm, contact.youngs_modulus_MPa,
-            contact.poisson_ratio, contact.allowable_MPa)))
+            contact.poisson_ratio, contact.allowable_MPa))
     rb = spec.tip_radius_mm if spec.tip_radius_mm is not None else max(spec.min_tip_radius_mm, rb_req)
     return load, rb_req, rb
 

@@ -257,7 +257,7 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
         if duty.fatigue_limited(sized, spec.max_deflection_rad):
             # the probe's layouts come first in the full search too: its design is the one
             # the search would return
-            d = _probe(spec, sized, manufacturing, hardware, max_root_radius_mm)
+            d = probe(spec, sized, manufacturing, hardware, max_root_radius_mm)
             if d is not None:
                 return _replace(d, material=material, design_choice=(
                     f"{d.design_choice}; sized for springcad's default duty "
@@ -274,7 +274,7 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
                              max_root_radius_mm, candidates)
 
 
-def _probe(spec, material, manufacturing, hardware, max_root_radius_mm) -> SpringDesign | None:
+def probe(spec, material, manufacturing, hardware, max_root_radius_mm) -> SpringDesign | None:
     """A feasibility probe: the design the search (:data:`PROBE_CANDIDATES` layouts) finds
     for ``spec`` with the yield margin and duty of ``material``, or None."""
     try:
@@ -288,8 +288,8 @@ def _probe(spec, material, manufacturing, hardware, max_root_radius_mm) -> Sprin
 
 
 def _designs(spec, material, manufacturing, hardware, max_root_radius_mm) -> bool:
-    """Whether :func:`_probe` designs ``spec``."""
-    return _probe(spec, material, manufacturing, hardware, max_root_radius_mm) is not None
+    """Whether :func:`probe` designs ``spec``."""
+    return probe(spec, material, manufacturing, hardware, max_root_radius_mm) is not None
 
 
 def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
@@ -515,7 +515,7 @@ def _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm) 
     trials = [[ku] for ku in fixed] + ([fixed] if len(fixed) > 1 else [])
     for keys in trials:
         free = _replace(spec, **{k: None for k, _ in keys})
-        d = _probe(free, material, manufacturing, hardware, max_root_radius_mm)
+        d = probe(free, material, manufacturing, hardware, max_root_radius_mm)
         if d is None:
             continue
         chosen = {"n_flexures": d.n_flexures, "contact_radius_mm": d.contact_radius_mm,

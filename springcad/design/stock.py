@@ -1,0 +1,153 @@
+"""The disk thickness, when the user leaves it to springcad: the thinnest stock plate.
+
+A spring's thickness z sets its stiffness per unit of flexure planform (K grows with z at
+a fixed planform) and not its stress at a given deflection, so a thicker disk lets the
+search use longer, more compliant flexures at a lower stress: the duty or the yield margin
+that a thin disk cannot meet, a thick one can. When ``springs.<name>.thickness_mm`` is not
+given, :func:`design_spring` searches the plate thicknesses of
+``springcad/data/plate_stock.toml`` (up to ``max_thickness_mm``) for the thinnest one at
+which the design search (:func:`springcad.design.search.design_spring`) finds a spring:
+the lightest disk the envelope allows, cut from plate a stockist holds.
+
+The search bisects the sorted list with the design search's feasibility probe
+(:func:`springcad.design.search.probe`): the chosen value designs, and the next thinner
+one was probed and does not. Units: mm.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import tomllib
+from dataclasses import replace as _replace
+
+from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
+from springcad.data import data_path
+from springcad.design import search
+from springcad.design.spring import SpringDesign
+from springcad.errors import DesignError
+
+STOCK_FILE = "plate_stock.toml"
+
+
+@functools.cache
+def plate_thicknesses_mm() -> tuple[float, ...]:
+    """The stock plate thicknesses springcad chooses from, ascending (mm)."""
+    with open(data_path(STOCK_FILE), "rb") as fh:
+        return tuple(sorted(float(t) for t in tomllib.load(fh)["thickness_mm"]))
+
+
+def _sizing_material(material: MaterialSpec) -> MaterialSpec:
+    """The material whose yield margin and duty the thickness is chosen for: the declared
+    duty, or springcad's default duty when the job declares none (as
+    :func:`springcad.design.search.design_spring` sizes a fixed-thickness spring)."""
+    if material.duty.declared:
+        return material
+    return _replace(material, duty=_replace(material.duty, declared=True))
+
+
+def _thinnest(stock: list[float], designs) -> tuple[float | None, float | None]:
+    """(the thinnest of ``stock`` that ``designs``, the next thinner value probed and
+    refused or None): bisection, the last value probed first; (None, None) when it does
+    not design."""
+    if not stock or not designs(stock[-1]):
+        return None, None
+    lo, hi = -1, len(stock) - 1  # stock[lo] refused (or none below), stock[hi] designs
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        lo, hi = (lo, mid) if designs(stock[mid]) else (mid, hi)
+    return stock[hi], (stock[lo] if lo >= 0 else None)
+
+
+def choose_thickness_mm(spec: SpringSpec, material: MaterialSpec,
+                        manufacturing: ManufacturingSpec, hardware: HardwareSpec,
+                        max_root_radius_mm: float = math.inf
+                        ) -> tuple[float | None, float | None, str]:
+    """The thinnest stock thickness up to ``spec.max_thickness_mm`` at which ``spec``
+    designs, for its duty (springcad's default duty when the job declares none), else for
+    the yield margin alone.
+
+    Returns:
+        (thickness or None when none designs, the next thinner stock value probed and
+        refused or None, what the thickness was sized for).
+    """
+    ceiling = spec.max_thickness_mm if spec.max_thickness_mm is not None else math.inf
+    stock = [t for t in plate_thicknesses_mm() if t <= ceiling + 1e-9]
+    sized = _sizing_material(material)
+    tries = [(sized, "its duty" if sized is material else "springcad's default duty")]
+    if sized is not material:
+        tries.append((material, "the yield margin"))
+    for mat, what in tries:
+        t, thinner = _thinnest(stock, _prober(spec, mat, manufacturing, hardware,
+                                              max_root_radius_mm))
+        if t is not None:
+            return t, thinner, what
+    return None, None, ""
+
+
+def _prober(spec, material, manufacturing, hardware, max_root_radius_mm):
+    """``designs(t)``: whether the design search's probe designs ``spec`` at thickness t."""
+    def designs(t: float) -> bool:
+        return search.probe(_replace(spec, thickness_mm=t), material, manufacturing, hardware,
+                            max_root_radius_mm) is not None
+    return designs
+
+
+def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
+                  hardware: HardwareSpec, explain: bool = True,
+                  max_root_radius_mm: float = math.inf) -> SpringDesign:
+    """:func:`springcad.design.search.design_spring`, with the thickness chosen from stock
+    plate when the spec leaves it free (the design's ``spec`` then holds the choice and
+    ``design_choice`` says why).
+
+    Raises:
+        DesignError: no stock thickness up to ``max_thickness_mm`` designs: the refusal
+            names the ``max_thickness_mm`` that would (a thicker stock value that designs),
+            then the design search's own refusal at the thickest allowed.
+    """
+    if spec.thickness_mm is not None:
+        return search.design_spring(spec, material, manufacturing, hardware, explain=explain,
+                                    max_root_radius_mm=max_root_radius_mm)
+    t, thinner, what = choose_thickness_mm(spec, material, manufacturing, hardware,
+                                           max_root_radius_mm)
+    if t is None:  # the full search (more layouts than the probe) at the thickest allowed
+        return _thickest(spec, material, manufacturing, hardware, explain, max_root_radius_mm)
+    d = search.design_spring(_replace(spec, thickness_mm=t), material, manufacturing,
+                             hardware, explain=explain, max_root_radius_mm=max_root_radius_mm)
+    why = (f"thickness {t:g} mm chosen: the thinnest stock plate that carries {what}"
+           + (f" (at {thinner:g} mm the search's probe finds no layout that does)"
+              if thinner is not None else
+              " (the thinnest in the stock list)"))
+    return _replace(d, design_choice=f"{why}; {d.design_choice}")
+
+
+def _thickest(spec, material, manufacturing, hardware, explain, max_root_radius_mm
+              ) -> SpringDesign:
+    """No stock thickness up to the bound passed the probe: the full search at the thickest
+    allowed, or the refusal naming the ``max_thickness_mm`` that would design, and why not.
+
+    Raises:
+        DesignError: the thickest allowed does not design either.
+    """
+    ceiling = spec.max_thickness_mm if spec.max_thickness_mm is not None else math.inf
+    allowed = [t for t in plate_thicknesses_mm() if t <= ceiling + 1e-9]
+    thickest = allowed[-1] if allowed else ceiling
+    change = ""
+    if explain and spec.max_thickness_mm is not None:  # the bound that would design
+        above = [t for t in plate_thicknesses_mm() if t > ceiling + 1e-9]
+        t, _ = _thinnest(above, _prober(spec, _sizing_material(material), manufacturing,
+                                        hardware, max_root_radius_mm))
+        if t is not None:
+            change = (f"feasible with springs.{spec.name}.max_thickness_mm = {t:g} (now "
+                      f"{ceiling:g}; springcad then chooses {t:g} mm plate); or ")
+    try:
+        d = search.design_spring(_replace(spec, thickness_mm=thickest), material,
+                                 manufacturing, hardware, explain=explain,
+                                 max_root_radius_mm=max_root_radius_mm)
+    except DesignError as err:
+        text = str(err).split("': ", 1)[-1]
+        raise DesignError(f"spring '{spec.name}' cannot be made as specified; {change}no "
+                          f"stock plate up to {thickest:g} mm carries it; at {thickest:g} mm: "
+                          f"{text}") from err
+    return _replace(d, design_choice=f"thickness {thickest:g} mm chosen: the thickest stock "
+                    f"plate allowed; {d.design_choice}")

@@ -1,0 +1,68 @@
+"""A thickness left to springcad: the thinnest stock plate at which the design search finds
+a spring (springcad.design.stock), bounded by max_thickness_mm; the job carries the choice."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+from springcad.config import job_from_dict
+from springcad.config.schema import keys
+from springcad.design import search
+from springcad.design.job import design_job
+from springcad.design.stock import plate_thicknesses_mm
+from springcad.errors import ConfigError, DesignError
+
+
+def _job(**spring):
+    s = {"target_stiffness_Nm_per_rad": 20, "max_deflection_deg": 10, "outer_radius_mm": 20}
+    s.update(spring)
+    return job_from_dict({"material": {"name": "420_ht"}, "springs": {"A": s},
+                          "duty": {"preset": "static"}})
+
+
+@pytest.fixture(scope="module")
+def chosen():
+    return design_job(_job())
+
+
+def test_stock_list_is_ascending_and_inside_the_schema_range():
+    t = plate_thicknesses_mm()
+    rng = keys("springs.<name>")["thickness_mm"]
+    assert list(t) == sorted(set(t)) and rng.lo <= t[0] and t[-1] <= rng.hi
+
+
+def test_the_thinnest_stock_plate_that_designs_is_chosen_and_the_job_carries_it(chosen):
+    d = chosen.springs["A"]
+    stock = plate_thicknesses_mm()
+    assert d.thickness_mm in stock and d.spec.thickness_mm == d.thickness_mm
+    assert chosen.job.springs["A"].thickness_mm == d.thickness_mm  # downstream sees it
+    assert f"thickness {d.thickness_mm:g} mm chosen" in d.design_choice
+    # the same spec with that thickness given designs the same spring
+    fixed = design_job(_job(thickness_mm=d.thickness_mm)).springs["A"]
+    assert fixed.n_flexures == d.n_flexures and fixed.width_scale == d.width_scale
+    assert fixed.contact_radius_mm == pytest.approx(d.contact_radius_mm, rel=1e-12)
+    # the next thinner stock plate: the feasibility probe finds nothing there
+    thinner = stock[stock.index(d.thickness_mm) - 1]
+    job = chosen.job
+    spec = dataclasses.replace(job.springs["A"], thickness_mm=thinner)
+    assert search.probe(spec, job.material, job.manufacturing, job.hardware, 1e9) is None
+
+
+def test_a_bound_below_the_need_is_refused_with_the_bound_that_works(chosen):
+    need = chosen.springs["A"].thickness_mm
+    stock = plate_thicknesses_mm()
+    low = stock[stock.index(need) - 2]
+    with pytest.raises(DesignError) as err:
+        design_job(_job(max_thickness_mm=low))
+    text = str(err.value)
+    assert f"springs.A.max_thickness_mm = {need:g} (now {low:g}" in text
+    assert f"no stock plate up to {low:g} mm carries it" in text
+    # the change, applied as written, designs at that plate
+    assert design_job(_job(max_thickness_mm=need)).springs["A"].thickness_mm == need
+
+
+def test_thickness_and_its_bound_together_are_refused():
+    with pytest.raises(ConfigError, match="max_thickness_mm.*delete one of the two"):
+        _job(thickness_mm=3, max_thickness_mm=5)
