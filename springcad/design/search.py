@@ -336,7 +336,7 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
         if d is not None:
             d = _replace(d, design_choice=_choice_text(d, rejected),
                          max_root_radius_mm=max_root_radius_mm)
-            short = _soft_shortfalls(d)
+            short = soft_shortfalls(d)
             if not short:
                 return d
             fallback = fallback or d
@@ -390,7 +390,7 @@ def profile_defect(d: SpringDesign) -> str:
     return ""
 
 
-def _soft_shortfalls(d: SpringDesign) -> list[str]:
+def soft_shortfalls(d: SpringDesign) -> list[str]:
     """Rules a design may break and still be drawn (a warning stops its release), which the
     search tries other layouts to avoid: the tooth tip too close to the ball."""
     return [w for w in d.warnings if w.startswith(TIP_CLEARANCE_SHORT)]

@@ -28,6 +28,11 @@ from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError
 
 STOCK_FILE = "plate_stock.toml"
+#: thicker stock plates tried when the thinnest that designs has a soft shortfall (a
+#: warning that stops the release, e.g. the driving tooth tip within the profile
+#: tolerances of the ball): its layout changes with the thickness, so a thicker plate's
+#: may avoid it (default at 20 deg: 35 mm has one, 40 mm not)
+CLEAN_SCAN = 2
 
 
 @functools.cache
@@ -65,7 +70,7 @@ def choose_thickness_mm(spec: SpringSpec, material: MaterialSpec,
                         ) -> tuple[float | None, float | None, str]:
     """The thinnest stock thickness up to ``spec.max_thickness_mm`` at which ``spec``
     designs, for its duty (springcad's default duty when the job declares none), else for
-    the yield margin alone.
+    the yield margin alone, by bisection (a thicker disk only adds room).
 
     Returns:
         (thickness or None when none designs, the next thinner stock value probed and
@@ -80,8 +85,9 @@ def choose_thickness_mm(spec: SpringSpec, material: MaterialSpec,
     for mat, what in tries:
         t, thinner = _thinnest(stock, _prober(spec, mat, manufacturing, hardware,
                                               max_root_radius_mm))
-        if t is not None:
-            return t, thinner, what
+        if t is None:
+            continue
+        return t, thinner, what
     return None, None, ""
 
 
@@ -116,8 +122,23 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
                              hardware, explain=explain, max_root_radius_mm=max_root_radius_mm)
     why = (f"thickness {t:g} mm chosen: the thinnest stock plate that carries {what}"
            + (f" (at {thinner:g} mm the search's probe finds no layout that does)"
-              if thinner is not None else
-              " (the thinnest in the stock list)"))
+              if thinner is not None else " (the thinnest in the stock list)"))
+    short = search.soft_shortfalls(d)
+    if short:  # a thicker plate whose layout avoids it, if one is near
+        ceiling = spec.max_thickness_mm if spec.max_thickness_mm is not None else math.inf
+        for u in [v for v in plate_thicknesses_mm() if t < v <= ceiling + 1e-9][:CLEAN_SCAN]:
+            try:
+                du = search.design_spring(_replace(spec, thickness_mm=u), material,
+                                          manufacturing, hardware, explain=False,
+                                          max_root_radius_mm=max_root_radius_mm)
+            except DesignError:
+                continue
+            if not search.soft_shortfalls(du):
+                d = du
+                why = (f"thickness {u:g} mm chosen: the thinnest stock plate that carries "
+                       f"{what} without a soft shortfall ({t:g} mm carries it with one: "
+                       f"{short[0].split(':')[0]})")
+                break
     return _replace(d, design_choice=f"{why}; {d.design_choice}")
 
 
