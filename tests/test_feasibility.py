@@ -103,7 +103,7 @@ def test_contact_correction_redesigns_with_balls_at_least_the_floor():
 
 
 def test_a_fixed_flexure_count_that_cannot_work_is_named_with_the_count_that_does():
-    """70 flexures on the default disk leave no room to lower the stress to its duty; the refusal
+    """70 flexures on the default (12 mm) disk leave no room to lower the stress to its duty; the refusal
     names removing n_flexures and the count the search then chooses, and that count
     designs."""
     from pathlib import Path
@@ -112,7 +112,7 @@ def test_a_fixed_flexure_count_that_cannot_work_is_named_with_the_count_that_doe
     from springcad.design.search import _freed_choices
 
     job = load_job(Path(__file__).parents[1] / "templates" / "default.toml")  # its duty
-    spec = replace(job.springs["S1"], n_flexures=70)
+    spec = replace(job.springs["S1"], n_flexures=70, thickness_mm=12.0)  # the plate it chooses
     mat, mfg, hw = job.material, job.manufacturing, job.hardware
     with pytest.raises(DesignError):
         design_spring(spec, mat, mfg, hw, explain=False)
