@@ -11,10 +11,11 @@ records are listed in bench/heldout_fit_c_cases.py.
 
 Usage:
     python bench/heldout_fit_c.py --seed N [--out DIR] [--only NAME ...] [--no-fit] [--jobs 1]
+                                  [--timeout 180] [--code CHECKOUT]
 
 For every record: DIR/records/<name>.csv and DIR/truth/<name>.json, then
-`python -m springcad fit` (the checkout in the current folder) into DIR/fits/<name>/, and
-the score: the named effect set against the truth's groups, the `unexplained` flag, K
+`python -m springcad fit` (the checkout in the current folder, or --code) into
+DIR/fits/<name>/, and the score: the named effect set against the truth's groups, the `unexplained` flag, K
 within 2 % where all effects are in the library, final NRMSE not above the baseline, no
 crash; with the wall time per record. DIR/score.json and a table on stdout.
 """
@@ -62,7 +63,7 @@ def generate(seed: int, out: Path, only: list[str] | None) -> list[dict]:
             continue
         sim_rng = np.random.default_rng([seed, zlib.crc32(case.name.encode())])
         parts = simulate(case.rig, case.proto, sim_rng)
-        csv = out / "records" / f"{case.name}.csv"
+        csv = (out / "records" / f"{case.name}.csv").resolve()
         io = write_csv(csv, parts, case.angle_unit, case.torque_unit)
         truth = decide(case.rig, case.proto, parts)
         truth.update(name=case.name, note=case.note, csv=str(csv), seed=seed,
@@ -79,15 +80,15 @@ def generate(seed: int, out: Path, only: list[str] | None) -> list[dict]:
     return truths
 
 
-def run_fit(truth: dict, out: Path, timeout_s: float) -> dict:
-    """Fit one record with the CLI of the checkout in the current folder."""
-    fit_dir = out / "fits" / truth["name"]
+def run_fit(truth: dict, out: Path, timeout_s: float, code: Path) -> dict:
+    """Fit one record with the CLI of the checkout `code` (on PYTHONPATH, run from there)."""
+    fit_dir = (out / "fits" / truth["name"]).resolve()
     cmd = [sys.executable, "-m", "springcad", "fit", truth["csv"], "--out", str(fit_dir),
            "--no-plots", "--overwrite", *truth["cli_options"]]
-    env = dict(os.environ, PYTHONPATH=os.getcwd())
+    env = dict(os.environ, PYTHONPATH=str(code))
     t0 = time.perf_counter()
     try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout_s, env=env)
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout_s, env=env, cwd=code)
         rc, err = p.returncode, (p.stderr or "")[-600:]
     except subprocess.TimeoutExpired:
         rc, err = "timeout", f"over {timeout_s} s"
@@ -104,6 +105,7 @@ def main(argv=None) -> int:
     ap.add_argument("--no-fit", action="store_true", help="write records and truths only")
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--timeout", type=float, default=180.0, help="seconds per fit")
+    ap.add_argument("--code", type=Path, default=Path.cwd(), help="checkout whose springcad fits")
     a = ap.parse_args(argv)
     out = a.out or Path("outputs") / f"heldout_fit_c_seed{a.seed}"
     t0 = time.perf_counter()
@@ -112,12 +114,14 @@ def main(argv=None) -> int:
     if a.no_fit:
         return 0
     with ThreadPoolExecutor(max_workers=a.jobs) as ex:
-        runs = list(ex.map(lambda tr: run_fit(tr, out, a.timeout), truths))
+        runs = list(ex.map(lambda tr: run_fit(tr, out, a.timeout, a.code.resolve()), truths))
     rows = [score_record(tr, run) for tr, run in zip(truths, runs)]
     n_ok = sum(r["ok"] for r in rows)
     for r in rows:
         mark = "ok  " if r["ok"] else "MISS"
         print(f"{mark} {r['name']:<48} {r['wall_s']:6.1f}s  {'; '.join(r['misses'])}")
+        if not r["ok"]:
+            print(f"       truth {r['truth']}\n       fit   {r['said']}")
     summary = {"seed": a.seed, "records": len(rows), "all_right": n_ok,
                "effects_right": sum(r["checks"]["effects"] for r in rows),
                "unexplained_right": sum(r["checks"]["unexplained"] for r in rows),

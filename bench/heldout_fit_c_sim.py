@@ -320,7 +320,6 @@ def simulate(rig: Rig, proto: Protocol, rng: np.random.Generator) -> Parts:
     """Simulate one record; returns the noiseless parts and the measured channels."""
     t, th = proto.t_s, proto.theta_rad
     dt = float(t[1] - t[0])
-    fs = 1.0 / dt
     v = np.diff(th, prepend=th[0]) / dt     # backward difference: constant on a linear ramp
     spring = spring_torque(rig, th, t)
     if rig.stop_rad > 0:
