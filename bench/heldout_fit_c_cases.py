@@ -1,4 +1,4 @@
-"""Held-out generator C: the seeded record list (49 records).
+"""Held-out generator C: the seeded record list (52 records).
 
 Written from /work/wt/FIT_PHYSICS.md alone. Magnitudes are drawn per seed and stated
 against the torque noise std (sigma = noise fraction x K x amplitude), so each effect sits
@@ -237,4 +237,20 @@ def build_cases(rng: np.random.Generator) -> list[Case]:
     C.append(Case("O17_encoder_counts_delay_chirp_deg", chirp(1000, A, 0.05, 1.2, 14.0),
                   Rig(K, fr, delay_s=u(0.01, 0.025), noise_theta_rad=0.0,
                       counts_per_rev=2 ** math.ceil(math.log2(2 * math.pi / q))), angle_unit="deg"))
+    K, A, fr = _K(rng), _A(rng), _frac(rng)
+    p = staircase(500, [A / 2, A, A / 2, A], A / 1.0, 0.8)
+    C.append(Case("O18_thermal_K_staircase_deg_Nmm", p,
+                  Rig(K, fr, K_thermal=(-u(0.08, 0.12), 0.25 * float(p.t_s[-1]))),
+                  angle_unit="deg", torque_unit="Nmm", note="K falls 8-12 % as the spring warms"))
+    K, A, fr = _K(rng, True), _A(rng, True), _frac(rng)
+    v = A / 2.0
+    C.append(Case("O19_stack_tanh_delay_backlash_2rates_holds", ramps(1000, A, [v, 3 * v], 2, 0.6),
+                  Rig(K, fr, gap_rad=u(0.03, 0.05), delay_s=0.03,
+                      friction={"law": "tanh", "Fc": fr * K * A * u(20, 28), "v0": 0.02 * v}),
+                  note="class 1 with a friction that lets go at rest"))
+    K, A, fr = _K(rng), _A(rng), _frac(rng)
+    Fc = fr * K * A * u(10, 16)
+    C.append(Case("O20_clip_dahl_delay_2rates", ramps(500, A, [A / 1.5, A / 0.5], 2, 0.4),
+                  Rig(K, fr, clip_frac=0.85, delay_s=u(0.015, 0.03),
+                      friction={"law": "dahl", "Fc": Fc, "sigma": Fc / 0.003})))
     return C

@@ -249,6 +249,7 @@ class Rig:
     stop_rad: float = 0.0
     stop_K_factor: float = 0.0
     K_step: tuple | None = None          # (time_s, factor)
+    K_thermal: tuple | None = None       # (fractional change at the end, settling tau_s)
     friction: dict | None = None
     maxwell: tuple | None = None         # (k1, tau_s)
     stickslip: tuple | None = None       # (amp_pp_Nm, period_rad)
@@ -295,7 +296,14 @@ def spring_torque(rig: Rig, theta_rad: np.ndarray, t_s: np.ndarray) -> np.ndarra
         T = K * th + rig.k3 * th ** 3
     if rig.K_step is not None:
         T = np.where(t_s >= rig.K_step[0], T * rig.K_step[1], T)
+    if rig.K_thermal is not None:
+        T = T * (1 + thermal_K_factor(t_s, *rig.K_thermal))
     return T
+
+
+def thermal_K_factor(t_s: np.ndarray, frac: float, tau_s: float) -> np.ndarray:
+    """Fractional change of K as the spring warms: frac·(1 - exp(-t/τ)) (steel softens)."""
+    return frac * (1 - np.exp(-t_s / tau_s))
 
 
 def friction_torque(rig: Rig, theta_rad: np.ndarray, v_rad_s: np.ndarray, dt_s: float) -> np.ndarray:

@@ -24,7 +24,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import least_squares, minimize_scalar
 
-from heldout_fit_c_sim import Parts, Protocol, Rig, dahl, dead_zone, delayed, smooth_peak
+from heldout_fit_c_sim import (Parts, Protocol, Rig, dahl, dead_zone, delayed, smooth_peak,
+                               thermal_K_factor)
 
 TRUE_AT, FALSE_BELOW = 4.0, 1.5
 
@@ -233,6 +234,9 @@ def decide(rig: Rig, proto: Protocol, parts: Parts) -> dict:
     if rig.K_step:
         comps["stiffness_step"] = parts.spring_Nm - parts.spring_Nm / np.where(
             parts.t_s >= rig.K_step[0], rig.K_step[1], 1.0)
+    if rig.K_thermal:
+        g = thermal_K_factor(parts.t_s, *rig.K_thermal)
+        comps["thermal_K"] = parts.spring_Nm * g / (1 + g)
     if rig.hum:
         comps["hum"] = parts.other_Nm["hum"]
     if "maxwell" in comps:
