@@ -390,22 +390,28 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
             if not f.applicable(set(minus.effects), sig):
                 continue
             score_minus = search.cv_score(minus.model, minus.x, minus.mask, f_scale)[0]
-            # the family's law that does e's job best (see Search.try_torque_effect)
-            m_swap, x_swap, score_swap, _ = search.try_torque_effect(minus, f, f_scale)
-            law = next(g for g in m_swap.effects if g.name == f.name)
-            fx = x_swap[m_swap.slice_of(f.name)]
-            if (score_minus - score_swap <= s.gain_threshold
-                    or law.physical_problem(fx, float(x_swap[0]), m_swap.scales) is not None):
-                continue  # f cannot do e's job
-            # judged where the record puts the pair: both fitted together, f with that law
-            joint = state.model.with_effect(law)
-            xj = joint.fit(sig, idx, joint.transfer(state.model, state.x, {f.name: fx}),
-                           f_scale)
-            rho, v = pair_vif(joint, xj, sig, idx, e.name, f.name)
-            if v >= s.vif_confounded:
+            # each law of the family that can do e's job, judged where the record puts
+            # the pair: both fitted together; the pair is confounded when one law reads
+            # like e (a damper like a friction that lets go at rest, on one speed)
+            found = []
+            for law in (f,) + OTHER_LAWS.get(f.name, ()):
+                m_swap, x_swap, score_swap, _ = search.try_law(minus, law, f_scale)
+                fx = x_swap[m_swap.slice_of(f.name)]
+                if (score_minus - score_swap <= s.gain_threshold
+                        or law.physical_problem(fx, float(x_swap[0]), m_swap.scales) is not None):
+                    continue  # this law cannot do e's job
+                joint = state.model.with_effect(law)
+                xj = joint.fit(sig, idx, joint.transfer(state.model, state.x, {f.name: fx}),
+                               f_scale)
+                rho, v = pair_vif(joint, xj, sig, idx, e.name, f.name)
+                if v >= s.vif_confounded:
+                    found.append((v, rho, joint, xj, m_swap, x_swap))
+            if found:
+                v, rho, joint, xj, _, _ = max(found, key=lambda c: c[0])
                 groups.append((e.name, f.name, rho, v, joint, xj))
                 grouped |= {e.name, f.name}
-                # the record read with f in e's place (for the unexplained test: a law
-                # outside the library that a law within it describes as well is not flagged)
-                search.swaps[e.name] = (m_swap, x_swap)
+                # the record read with f in e's place, with each law that reads like e (for
+                # the unexplained test: a law outside the library that a law within it
+                # describes as well is not flagged)
+                search.swaps[e.name] = [(c[4], c[5]) for c in found]
     return groups

@@ -336,11 +336,9 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
         # by the same residual tests; and when the family is confounded with another
         # family whose law is within the library's meaning (a damper for a friction that
         # lets go at rest, on one speed), the record read with that one in its place
-        swap = lp.swaps.get(family)
-        if swap is not None and not any(e.law in BEYOND_LIBRARY for e in swap[0].effects):
-            model, x_swap = swap
-            if not structure_left(model, lp.refit(model, x_swap, state.mask,
-                                                  lp.f_scale(state))):
+        for model, x_swap in lp.swaps.get(family, ()):
+            if not any(e.law in BEYOND_LIBRARY for e in model.effects) and not structure_left(
+                    model, lp.refit(model, x_swap, state.mask, lp.f_scale(state))):
                 return False
         found = fitted_in_place(state, lp, family, law, lp.f_scale(state))
         if found is None:

@@ -176,9 +176,10 @@ class Search:
         #: per named family, each law's model and fitted parameters from the last
         #: :func:`springcad.fit.laws.choose_laws` (for :func:`springcad.fit.laws.beyond_library`)
         self.law_fits: dict[str, dict] = {}
-        #: per model effect confounded with a family outside the model, that family's
-        #: model (in its place) and parameters, from :func:`springcad.fit.identify.find_confounded`
-        self.swaps: dict[str, tuple] = {}
+        #: per model effect confounded with a family outside the model, ``(model, x)`` with
+        #: each of that family's laws that reads like it in its place (from
+        #: :func:`springcad.fit.identify.find_confounded`)
+        self.swaps: dict[str, list] = {}
 
     @property
     def n_eff(self) -> float:
@@ -259,7 +260,7 @@ class Search:
         gives way to the family's best possible law, which enters on its criterion plus
         the gain threshold.
         """
-        best = self._try_law(state, effect, f_scale)
+        best = self.try_law(state, effect, f_scale)
         m1, x1 = best[0], best[1]
         # whether ``best`` is physically possible: a library law fitted to impossible values
         # (a presliding angle on its bound, a friction that never settles) is no reading of
@@ -269,7 +270,7 @@ class Search:
                                           m1.scales) is None
         score = best[2] if best_ok else math.inf
         for law in OTHER_LAWS.get(effect.name, ()):
-            m2, x2, s2, heldout = self._try_law(state, law, f_scale)
+            m2, x2, s2, heldout = self.try_law(state, law, f_scale)
             if law.physical_problem(x2[m2.slice_of(law.name)], float(x2[0]), m2.scales):
                 continue
             score = min(score, s2 + self.s.gain_threshold)
@@ -279,7 +280,9 @@ class Search:
             score = best[2]  # no law is possible: the library law's note says why
         return best[0], best[1], score, best[3]
 
-    def _try_law(self, state: State, effect: Effect, f_scale: float):
+    def try_law(self, state: State, effect: Effect, f_scale: float):
+        """``state`` plus ``effect`` (one law of a family) from its best start: the model,
+        its held-out fit, criterion and held-out RMSE (N·m)."""
         m2 = state.model.with_effect(effect)
         idx = state.inliers(self.cv)
         best_x, best_sse = None, np.inf
