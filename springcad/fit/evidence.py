@@ -25,6 +25,11 @@ each part. For every effect the split applies to, its size parameter must
    part values is at least ``support_z`` standard errors away from the value
    at which the effect vanishes.
 
+An effect no split applies to (a short record: too few runs in a part) must
+still be supported, on the whole record with its clustered standard error: a
+friction that a thermal loss of stiffness fakes on a staircase (unloading
+later, at a lower K) is not one a run-by-run jackknife can tell from zero.
+
 A patch over structure outside the library fails one of the two: a stiffness
 that changes mid-test is "explained" by a crossover or an asymmetry only
 because the stiffness is shared between early and late cycles; with its own
@@ -50,6 +55,10 @@ from springcad.fit.signals import Signals
 from springcad.fit.torque_model import TorqueModel
 
 SPLITS = ("time", "amplitude", "direction")
+
+#: the check of an effect no split applies to: its support on the whole record
+WHOLE = "whole"
+WHOLE_LABEL = "the whole record (too few runs to split)"
 
 #: how strongly a patch fails (:attr:`EffectEvidence.strength`): below any disagreement
 #: (-log10 p >= 3) or lack of support (10 - |z| > 7)
@@ -118,7 +127,8 @@ class SplitCheck:
     """One effect on one split.
 
     Attributes:
-        split: ``"time"``, ``"amplitude"`` or ``"direction"``.
+        split: ``"time"``, ``"amplitude"``, ``"direction"``, or ``"whole"`` (no split
+            applies: support on the whole record, nothing compared).
         parts: labels of the two parts.
         parameter: name of the size parameter compared.
         values: its value on each part.
@@ -201,6 +211,9 @@ class EffectEvidence:
                 out.append(f"{c.parameter} differs between {c.parts[0]} ({c.values[0]:.4g} ± "
                            f"{c.se[0]:.2g}) and {c.parts[1]} ({c.values[1]:.4g} ± {c.se[1]:.2g}), "
                            f"p = {c.agreement_p:.2g}")
+            elif not c.supported and c.split == WHOLE:
+                out.append(f"{c.parameter} is {c.values[0]:.4g} ± {c.se[0]:.2g} on "
+                           f"{c.parts[0]}: only {abs(c.support_z):.2g} standard errors from zero")
             elif not c.supported:
                 out.append(f"with the rest of the model fitted separately on {c.parts[0]} and "
                            f"{c.parts[1]}, {c.parameter} is {c.values[0]:.4g} ± {c.se[0]:.2g} and "
@@ -218,6 +231,9 @@ class EffectEvidence:
             if not c.agrees:
                 return (f"{c.parameter} differs between {c.parts[0]} and {c.parts[1]} "
                         f"({c.values[0]:.3g} vs {c.values[1]:.3g}, p = {c.agreement_p:.2g})")
+            if not c.supported and c.split == WHOLE:
+                return (f"not supported on {c.parts[0]} ({c.parameter} {c.values[0]:.3g} ± "
+                        f"{c.se[0]:.2g})")
             if not c.supported:
                 return (f"not supported once the rest of the model is fitted separately on "
                         f"{c.parts[0]} and {c.parts[1]} ({c.parameter} {c.values[0]:.3g} ± "
@@ -305,6 +321,18 @@ def audit(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, f_sc
                 xp = model.fit(signals, sub, x, f_scale, max_nfev=max_nfev, free=free)
                 fits.append((xp, uncertainty(model, xp, signals, sub, sample_rate_hz=rate)))
             _compare(checks, model, group, split, parts, fits, agreement_p, support_z)
+    unsplit = [e for e in full.effects if not checks[e.name]]
+    if unsplit:
+        # a record too short to split (too few runs in a part) still asks the same support
+        # of each effect: on the whole record, with its clustered standard error
+        unc = uncertainty(full, x_full, sig, idx, sample_rate_hz=rate)
+        for e in unsplit:
+            j = full.slice_of(e.name).start + e.primary
+            q = e.params(full.scales)[e.primary]
+            v, se = float(x_full[j]), float(unc.se[j])
+            z = (v - q.null) / se if se > 0 else math.inf
+            checks[e.name].append(SplitCheck(WHOLE, (WHOLE_LABEL, WHOLE_LABEL), q.name, (v, v),
+                                             (se, se), 1.0, z, True, abs(z) >= support_z))
     for name, cs in checks.items():
         out.effects[name] = EffectEvidence(name, tuple(cs), out.effects[name].problem,
                                            patches.get(name))

@@ -42,6 +42,7 @@ from scipy import ndimage
 
 from springcad.fit.data import make_record
 from springcad.fit.inference import Uncertainty, jacobian, report_intervals
+from springcad.fit.other_laws import OTHER_LAWS
 from springcad.fit.protocols import Protocol, SineSweep
 from springcad.fit.segment import segment
 from springcad.fit.signals import Signals, make_signals
@@ -363,36 +364,54 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
     base = state.model.predict(state.x, sig, idx)
     signatures = {}
     for f in outside:
-        joint = state.model.with_effect(f)
-        signatures[f.name] = joint.predict(joint.transfer(state.model, state.x), sig, idx) - base
+        # every law of the family (a friction that lets go at rest reads like a damper
+        # where a presliding one does not)
+        signatures[f.name] = []
+        for law in (f,) + OTHER_LAWS.get(f.name, ()):
+            joint = state.model.with_effect(law)
+            signatures[f.name].append(
+                joint.predict(joint.transfer(state.model, state.x), sig, idx) - base)
     for e in state.model.effects:
         col = primary_index(state.model, e.name)
         for f in outside:
             if f.name in grouped:
                 continue
-            rho = pair_correlation(np.column_stack([J, signatures[f.name]]), col, J.shape[1])
+            rho = max((pair_correlation(np.column_stack([J, g]), col, J.shape[1])
+                       for g in signatures[f.name]), key=abs)
             if e.needs_any or vif(rho) < 0.5 * s.vif_confounded:
                 continue
             rest = active - {e.name}
             if any(not o.applicable(rest - {o.name}, sig) for o in state.model.effects
                    if o.name != e.name):
                 continue  # another effect needs e: no swap
-            joint = state.model.with_effect(f)
             m_minus = state.model.without(e.name)
             minus = State(m_minus, m_minus.transfer(state.model, state.x), state.mask,
                           state.series)
             if not f.applicable(set(minus.effects), sig):
                 continue
             score_minus = search.cv_score(minus.model, minus.x, minus.mask, f_scale)[0]
-            m_swap, x_swap, score_swap, _ = search.try_torque_effect(minus, f, f_scale)
-            fx = x_swap[m_swap.slice_of(f.name)]
-            if (score_minus - score_swap <= s.gain_threshold
-                    or f.physical_problem(fx, float(x_swap[0]), m_swap.scales) is not None):
-                continue  # f cannot do e's job
-            # judged where the record puts the pair: both fitted together
-            xj = joint.fit(sig, idx, joint.transfer(state.model, state.x), f_scale)
-            rho, v = pair_vif(joint, xj, sig, idx, e.name, f.name)
-            if v >= s.vif_confounded:
+            # each law of the family that can do e's job, judged where the record puts
+            # the pair: both fitted together; the pair is confounded when one law reads
+            # like e (a damper like a friction that lets go at rest, on one speed)
+            found = []
+            for law in (f,) + OTHER_LAWS.get(f.name, ()):
+                m_swap, x_swap, score_swap, _ = search.try_law(minus, law, f_scale)
+                fx = x_swap[m_swap.slice_of(f.name)]
+                if (score_minus - score_swap <= s.gain_threshold
+                        or law.physical_problem(fx, float(x_swap[0]), m_swap.scales) is not None):
+                    continue  # this law cannot do e's job
+                joint = state.model.with_effect(law)
+                xj = joint.fit(sig, idx, joint.transfer(state.model, state.x, {f.name: fx}),
+                               f_scale)
+                rho, v = pair_vif(joint, xj, sig, idx, e.name, f.name)
+                if v >= s.vif_confounded:
+                    found.append((v, rho, joint, xj, m_swap, x_swap))
+            if found:
+                v, rho, joint, xj, _, _ = max(found, key=lambda c: c[0])
                 groups.append((e.name, f.name, rho, v, joint, xj))
                 grouped |= {e.name, f.name}
+                # the record read with f in e's place, with each law that reads like e (for
+                # the unexplained test: a law outside the library that a law within it
+                # describes as well is not flagged)
+                search.swaps[e.name] = [(c[4], c[5]) for c in found]
     return groups

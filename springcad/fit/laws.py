@@ -18,9 +18,15 @@ with: the record is flagged ``unexplained`` with a finding that names the law
 that describes it (:func:`beyond_library`), so the report says both what fits and
 that it is not the library's physics. The bar is the one ``unexplained`` itself
 uses: the library's law, fitted in the kept law's place, must leave structure the
-residual tests find clearly above noise. A viscous damper reads as a late channel
-(``K·θ(t + c/K) ≈ K·θ + c·dθ/dt``) on slow, smooth motion and is not flagged there;
-where starts, stops and sharp turns part the two beyond the noise, it is.
+residual tests find clearly above noise. A viscous damper is within the time lag's
+meaning (the library's lag names its negative values a damping, ``K·θ(t + c/K) ≈ K·θ +
+c·dθ/dt``) and is never flagged: at starts, stops and sharp turns the damper's torque
+follows the speed at once where a delayed channel's is shifted in time, which tells the
+laws apart, not the library from physics outside it. A law outside the library's meaning
+that another family's law within it describes as well (a friction that lets go at rest
+and a damper, on ramps at one speed: ``F·tanh(v/v0) = c·v`` wherever ``|v|`` takes one
+value) is not flagged either: the two are named as one confounded group
+(:func:`springcad.fit.identify.find_confounded`).
 
 A friction that fades at rest read with the library's presliding law (which
 holds its torque through a hold) leaves structure in every hold and turn, and
@@ -55,9 +61,6 @@ BEYOND_LIBRARY = {
                               "clamped or press-fitted joint creeping): the torque overshoots "
                               "while moving and relaxes toward K·θ in holds, which no library "
                               "effect does"),
-    "viscous": ("rate-proportional damping (grease, eddy currents, a bushing at one rate), "
-                "whose torque follows the speed at once where a late channel's is the spring "
-                "torque shifted in time: they part at every start, stop and sharp turn"),
     "regularised_coulomb": ("friction that fades with speed and lets go at rest (lubricated or "
                             "rolling contact, a velocity-regularised law), where the library's "
                             "presliding friction holds its torque through holds and turns"),

@@ -358,8 +358,10 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
                        **extra, "significant": bool(significant)}
         return significant
 
+    key_phase, since = phase_key(idx, sig)
     for name, key, centre in (("by_deflection_and_direction", key_theta, theta),
-                              ("by_time", key_time, t)):
+                              ("by_time", key_time, t),
+                              ("by_protocol_phase", key_phase, since)):
         cnt = np.bincount(key)
         tot = np.bincount(key, weights=r)
         ok = cnt >= 20
@@ -375,7 +377,8 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
         at = float(np.mean(centre[key == where])) if dof else 0.0
         unexplained |= verdict(name, chi2, dof, excess, {
             "largest_bin_mean_Nm": float(means[worst]) if dof else 0.0,
-            ("largest_at_rad" if "deflection" in name else "largest_at_s"): at})
+            {"by_deflection_and_direction": "largest_at_rad", "by_time": "largest_at_s",
+             "by_protocol_phase": "largest_after_event_s"}[name]: at})
 
     feats = run_features(r, idx, sig)
     n_run, sxx = feats["n"], feats["sxx_rad2"]
@@ -421,16 +424,10 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
 PHASE_BINS = 24
 
 
-def _phase_means(r: np.ndarray, idx: np.ndarray, sig: Signals) -> np.ndarray:
-    """The residual's means by phase of the protocol: holding or moving, direction, and the
-    time since the motion last started, stopped or turned (log-spaced bins); then by the
-    speed.
-
-    What the bench does after every start, stop and turn alike, or at every speed alike (a
-    torque relaxing in each hold, a friction law's breakaway) repeats with the protocol and is taken out with
-    these means before the noise's 1/f law is measured; flicker noise is not locked to
-    the protocol and averages out of them.
-    """
+def phase_key(idx: np.ndarray, sig: Signals) -> tuple[np.ndarray, np.ndarray]:
+    """Bin of each sample by phase of the protocol (holding or moving, direction of motion,
+    and the time since the motion last started, stopped or turned, log-spaced), and that
+    time (s)."""
     hold = sig.in_hold[idx]
     runs = sig.runs[idx]
     change = np.ones(idx.size, dtype=bool)
@@ -441,7 +438,20 @@ def _phase_means(r: np.ndarray, idx: np.ndarray, sig: Signals) -> np.ndarray:
     dt = 1.0 / sig.scales.sample_rate_hz
     edges = np.geomspace(dt, max(float(elapsed.max()), 2.0 * dt), PHASE_BINS)
     b = np.searchsorted(edges, elapsed)
-    key = (b * 2 + hold) * 2 + (sig.direction[idx] > 0)
+    return (b * 2 + hold) * 2 + (sig.direction[idx] > 0), elapsed
+
+
+def _phase_means(r: np.ndarray, idx: np.ndarray, sig: Signals) -> np.ndarray:
+    """The residual's means by phase of the protocol: holding or moving, direction, and the
+    time since the motion last started, stopped or turned (log-spaced bins); then by the
+    speed.
+
+    What the bench does after every start, stop and turn alike, or at every speed alike (a
+    torque relaxing in each hold, a friction law's breakaway) repeats with the protocol and is taken out with
+    these means before the noise's 1/f law is measured; flicker noise is not locked to
+    the protocol and averages out of them.
+    """
+    key = phase_key(idx, sig)[0]
     cnt = np.bincount(key)
     phase = (np.bincount(key, weights=r) / np.maximum(cnt, 1))[key]
     # and by the speed (signed, log-spaced): a friction law's breakaway and Stribeck dip

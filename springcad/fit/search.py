@@ -176,6 +176,10 @@ class Search:
         #: per named family, each law's model and fitted parameters from the last
         #: :func:`springcad.fit.laws.choose_laws` (for :func:`springcad.fit.laws.beyond_library`)
         self.law_fits: dict[str, dict] = {}
+        #: per model effect confounded with a family outside the model, ``(model, x)`` with
+        #: each of that family's laws that reads like it in its place (from
+        #: :func:`springcad.fit.identify.find_confounded`)
+        self.swaps: dict[str, list] = {}
 
     @property
     def n_eff(self) -> float:
@@ -252,20 +256,33 @@ class Search:
         the model. Whether the family enters at all is judged on the library's law,
         or on another law's criterion plus the gain threshold: a law's extra freedom
         does not carry in an effect the library's law would not add (a 0.5 ms filter
-        fitted to a friction's shape).
+        fitted to a friction's shape). A library law whose fitted values are impossible
+        gives way to the family's best possible law, which enters on its criterion plus
+        the gain threshold.
         """
-        best = self._try_law(state, effect, f_scale)
-        score = best[2]
+        best = self.try_law(state, effect, f_scale)
+        m1, x1 = best[0], best[1]
+        # whether ``best`` is physically possible: a library law fitted to impossible values
+        # (a presliding angle on its bound, a friction that never settles) is no reading of
+        # the family, its criterion does not stand, and the family is proposed with its
+        # best law that is possible
+        best_ok = effect.physical_problem(x1[m1.slice_of(effect.name)], float(x1[0]),
+                                          m1.scales) is None
+        score = best[2] if best_ok else math.inf
         for law in OTHER_LAWS.get(effect.name, ()):
-            m2, x2, s2, heldout = self._try_law(state, law, f_scale)
+            m2, x2, s2, heldout = self.try_law(state, law, f_scale)
             if law.physical_problem(x2[m2.slice_of(law.name)], float(x2[0]), m2.scales):
                 continue
             score = min(score, s2 + self.s.gain_threshold)
-            if s2 < best[2] - LAW_MARGIN:
-                best = (m2, x2, s2, heldout)
+            if not best_ok or s2 < best[2] - LAW_MARGIN:
+                best, best_ok = (m2, x2, s2, heldout), True
+        if not math.isfinite(score):
+            score = best[2]  # no law is possible: the library law's note says why
         return best[0], best[1], score, best[3]
 
-    def _try_law(self, state: State, effect: Effect, f_scale: float):
+    def try_law(self, state: State, effect: Effect, f_scale: float):
+        """``state`` plus ``effect`` (one law of a family) from its best start: the model,
+        its held-out fit, criterion and held-out RMSE (N·m)."""
         m2 = state.model.with_effect(effect)
         idx = state.inliers(self.cv)
         best_x, best_sse = None, np.inf
@@ -417,8 +434,8 @@ class Search:
         if abs(z) < self.s.screen_z:
             return None
         m2, x_start, score, heldout = self.try_torque_effect(state, effect, f_scale)
-        sl = m2.slice_of(effect.name)
-        note = effect.physical_problem(x_start[sl], float(x_start[0]), m2.scales)
+        law = next(e for e in m2.effects if e.name == effect.name)  # the law proposed
+        note = law.physical_problem(x_start[m2.slice_of(law.name)], float(x_start[0]), m2.scales)
         return score_now - score, z, m2, x_start, heldout, note
 
     def view(self, sig: Signals) -> "Search":
