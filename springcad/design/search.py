@@ -421,7 +421,9 @@ def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign
     prediction, the design's own stress passes (:func:`design_spring`) run against a
     required margin raised by that factor, so the new geometry is judged by the same
     model that missed, corrected by what the FEA measured. Rim holes stay on the
-    design's hole circle.
+    design's hole circle. When the new layout has a soft shortfall the old one had not
+    (its cam's tooth tip near the ball), the old layout is kept if it carries the lower
+    stress (default at 18 and 20 deg).
 
     Raises:
         DesignError: no beam stress fits the envelope with that margin.
@@ -430,6 +432,19 @@ def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign
     biased = duty.biased(mat, max(model_bias, 1.0))
     d = design_spring(design.spec, biased, design.manufacturing, design.hardware, explain=False,
                       max_root_radius_mm=design.max_root_radius_mm)
+    if soft_shortfalls(d) and not soft_shortfalls(design):
+        # the new layout's cam brings the tooth tip near the ball where the old one did not:
+        # the old layout (its N, r_c and ball, so its cam) at the lower stress, if it carries it
+        same = _replace(design.spec, n_flexures=design.n_flexures,
+                        contact_radius_mm=design.contact_radius_mm,
+                        tip_radius_mm=design.tip_radius_mm)
+        try:
+            kept = design_spring(same, biased, design.manufacturing, design.hardware,
+                                 explain=False, max_root_radius_mm=design.max_root_radius_mm)
+        except DesignError:
+            kept = None
+        if kept is not None and not soft_shortfalls(kept):
+            d = _replace(kept, spec=design.spec)
     d = _replace(d, material=mat, warnings=tuple(dict.fromkeys(d.warnings + (
         f"redesigned by the FEA stress correction (FEA peak {model_bias:.3f} x the design "
         f"prediction): beam stress {d.beam_stress_MPa:.0f} MPa",))))
