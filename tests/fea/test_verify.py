@@ -76,7 +76,7 @@ def test_fea_stress_correction_redesigns_an_overstressed_spring(s2_job, monkeypa
     honest = stress.calibration()
     fooled = dataclasses.replace(honest, flank_factor=0.85 * honest.flank_factor,
                                  root_coefficient=0.85 * honest.root_coefficient)
-    monkeypatch.setattr(stress, "calibration", lambda: fooled)
+    monkeypatch.setattr(stress, "calibration", lambda shape=None: fooled)
     data = {"material": {"name": "420_ht", "design_stress_MPa": 912, "safety_factor": 1.2},
             "springs": {"S2": {"stiffness_Nm_per_rad": 75, "max_deflection_deg": 20,
                                "outer_radius_mm": 33.5, "thickness_mm": 4.5,
