@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from fea.fatigue import region_peaks_MPa
 from fea.problem import LoadCase
 from fea.study import ModelRun, VerifyOptions
 from springcad.design import contact_fatigue, duty, fatigue
@@ -88,14 +89,13 @@ class SpringVerification:
                              d.surface, d.reliability)
 
     def duty_points_MPa(self) -> dict[str, float]:
-        """Von Mises at theta_max at the critical points of the verified field (MPa): the
-        converged peak at its region, the finest level's peak in every other region of the
-        cut faces (the sector's artificial cut faces are left out)."""
-        run = self.run
-        out = {r: v for r, v in run.study.finest.peak_by_region_MPa.items()
-               if "sector cut" not in r}
-        out[run.peak_result.peak_region] = self.peak_von_mises_MPa
-        return out
+        """Von Mises at theta_max at the critical points of the verified field (MPa): per
+        region of the cut faces, its 2D Richardson extrapolation times its own 3D factor
+        (:func:`fea.fatigue.region_peaks_MPa`; the sector's artificial cut faces are left
+        out). The verified peak (:attr:`peak_von_mises_MPa`, the yield check's) is the 2D
+        peak times the 3D factor of the peaks, which mixes two regions when the 2D and 3D
+        peaks sit in different ones."""
+        return region_peaks_MPa(self.run)
 
     @property
     def duty_check(self):

@@ -149,8 +149,11 @@ def test_width_hooks_follow_beam_theory(paper_designs):
     for scale in (0.98, 1.02):
         e = with_width(s, scale)
         assert e.stiffness_beam_Nmm_per_rad / k0 == pytest.approx(scale ** 3, rel=2e-3)
-        # sigma ~ F / w^2 ~ scale; the tip web (min_web_mm) does not scale, hence 2e-4
-        assert e.peak_stress_MPa / s.peak_stress_MPa == pytest.approx(scale, rel=2e-4)
+        # the stresses are at the spring's own load, K_target theta_max / (N r_c), whatever
+        # the beam stiffness of the scaled widths (the FEA correction scales the widths so
+        # the real K meets the target): sigma ~ F / w^2 ~ scale^-2; the tip web
+        # (min_web_mm) does not scale, hence 2e-4
+        assert e.peak_stress_MPa / s.peak_stress_MPa == pytest.approx(scale ** -2, rel=2e-4)
         assert e.ring.area_mm2() != s.ring.area_mm2()
     off = with_width(s, 1.0, 0.02)
     assert off.stiffness_beam_Nmm_per_rad / k0 == pytest.approx(

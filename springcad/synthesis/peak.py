@@ -16,7 +16,10 @@ same model on many screened disks at once, on the centreline stations of
    curvature on both edges (:func:`springcad.design.stress.winkler_factors`);
 3. the root-fillet and neck-fillet tangent stations on each edge (fillet circle
    tangent to the edge and to the rim circle or the tip ball), the root model
-   a (w / r_f)^b k^c there, the flank maximum below the root station, the neck nominal;
+   a (w / r_f)^b k^c there, the flank maximum below the root station times the flexure
+   shape's own factor and (z / w_root)^e term (straight or curved rows), the neck nominal;
+   all at the target stiffness's load K theta / (N r_c), as the design
+   (:func:`springcad.design.stress.tip_load_N`);
 4. the flare with the lowest peak, a larger flare only when it gains more than
    :data:`springcad.design.search.FLARE_GAIN`.
 
@@ -143,8 +146,12 @@ def _one_flare(flare, g, cal):
     place the fillets (``predicted``) and whether the profile is buildable (``buildable``:
     the neighbouring root fillets do not overlap and, for curved flexures, the clearance
     to the neighbour and the concave edge radius keep the wire's rules, as
-    :func:`springcad.design.spring.with_width` and the ring profile check)."""
+    :func:`springcad.design.spring.with_width` and the ring profile check).
+    ``cal``: the (straight, curved) rows' :class:`~springcad.design.stress.StressCalibration`
+    (the fillet and neck coefficients are shared).
+    """
     x, y, slope, kappa, arm, yn = (g[k] for k in ("x", "y", "slope", "kappa", "arm", "yn"))
+    straight_cal, curved_cal = cal
     factor = fx.root_flare_factor(yn, 1.0, flare, 1.0)
     g["flare"] = flare
     scale = _scale_onto(g["scale0"], factor, g["c_target"], _FLARE_PASSES, g)
@@ -152,6 +159,7 @@ def _one_flare(flare, g, cal):
     nominal = 6.0 * g["load"] * arm / (g["z"] * w ** 2)
     rc, rr, rf, rn, rb = (g[k][:, 0] for k in ("rc", "rr", "rf", "rn", "rb"))
     flank = root = neck = np.zeros(len(y))
+    loaded, w_root = np.full(len(y), -np.inf), np.ones(len(y))  # the more loaded root's width
     ok = np.ones(len(y), dtype=bool)
     rim_angle = {}
     if g["straight"]:
@@ -176,9 +184,12 @@ def _one_flare(flare, g, cal):
         past = y >= y_t[:, None]
         window = past & (y <= (y_t + rf)[:, None])
         k_root = np.maximum(np.max(np.where(window, k_edge, 0.0), axis=1), edge_t / nom_t)
-        r_edge = (nom_t * cal.root_coefficient * (w_t / rf) ** cal.root_width_exponent
-                  * np.maximum(k_root, 1e-9) ** cal.root_curvature_exponent)
+        r_edge = (nom_t * curved_cal.root_coefficient
+                  * (w_t / rf) ** curved_cal.root_width_exponent
+                  * np.maximum(k_root, 1e-9) ** curved_cal.root_curvature_exponent)
         f_edge = np.maximum(np.max(np.where(past, 0.0, edge), axis=1), edge_t)
+        more = nom_t * k_root > loaded
+        loaded, w_root = np.where(more, nom_t * k_root, loaded), np.where(more, w_t, w_root)
         # neck fillet: tangent to the edge and to the tip ball; bracketed on the stations,
         # then solved on a fine grid inside the bracket (the width grows like the square
         # root of the arm there: a straight-line interpolation misses the nominal by 1 %)
@@ -200,8 +211,14 @@ def _one_flare(flare, g, cal):
         cos_b = np.abs(slope * x + y) / (r * np.sqrt(1.0 + slope ** 2))
         gap = np.where(arm > 2 * g["rb"], r * g["pitch"][:, None] * cos_b - w, np.inf)
         buildable &= ~curved | ((edge_r >= g["min_edge"]) & (np.min(gap, axis=1) >= g["min_slot"]))
-    return (cal.flank_factor * flank, root, cal.neck_factor * neck, area, scale[:, 0],
-            compliance, ok, buildable)
+    # the design's flank model per shape (straight rows: the straight flexure's, curved:
+    # the serpentine's), with its thickness-over-root-width term
+    f_factor = np.where(curved, curved_cal.flank_factor, straight_cal.flank_factor)
+    f_exp = np.where(curved, curved_cal.flank_aspect_exponent,
+                     straight_cal.flank_aspect_exponent)
+    flank = f_factor * flank * (g["z"][:, 0] / w_root) ** f_exp
+    return (flank, root, curved_cal.neck_factor * neck, area, scale[:, 0], compliance, ok,
+            buildable)
 
 
 def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coef, rb,
@@ -229,7 +246,8 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
         cannot be placed, neighbouring root fillets overlap, or the flared flexures break
         the clearance or edge radius).
     """
-    cal = stress.calibration()
+    # the fillet coefficients are shared; the flank's are the shape's (design/stress.py)
+    cal = (stress.calibration("straight"), stress.calibration("serpentine"))
     m = len(rc)
     cols = {k: np.full(m, np.nan) for k in ("flank_MPa", "root_MPa", "neck_MPa", "peak_MPa",
                                            "flare", "width_scale", "flexure_area_mm2",
@@ -285,8 +303,9 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
         pick = np.argmin(order, axis=1)
         rows = np.arange(b.stop - b.start)
         compliance = np.column_stack([r[5] for r in runs])[rows, pick]
-        # the built spring's load follows its own beam stiffness (stresses are linear in it)
-        gain = g["c_target"] / compliance
+        # stresses are linear in the load: the design's is the target stiffness's, ``load``
+        # (springcad.design.stress.tip_load_N), not the built widths' beam stiffness's
+        gain = np.broadcast_to(g["c_target"] / c_k, compliance.shape)
         for name, k in (("flank_MPa", 0), ("root_MPa", 1), ("neck_MPa", 2)):
             cols[name][b] = np.column_stack([r[k] for r in runs])[rows, pick] * gain
         for name, k in (("flexure_area_mm2", 3), ("width_scale", 4)):

@@ -240,14 +240,13 @@ def test_build_verifies_before_exporting(tmp_path):
     contact_reasons += fea["duty_failures"]
     assert release["reasons"] == contact_reasons
     # the duty (issue 21): declared, met on the verified field, and design.json and fea.json
-    # agree on the damage. Issue 21 asks 10 %; the S-N slope (1/0.103) turns 1 % of stress
-    # into 10 % of damage, and neither side is that close: the 12 mm default measures design
-    # 0.131 vs FEA 0.146 (peak 669 vs 676 MPa; the FEA's 3D factor is +1.9 %, the design has
-    # none), paper S1 29 %, the default at 9 mm / 10 deg 3.5 % (2026-11-26). This holds the
-    # default's 11 % with room, not the target
+    # agree on the damage within 10 % (the S-N slope, 1/0.103, turns 1 % of stress into
+    # 10 % of damage: the design's stress model is calibrated to the verification's own
+    # per-region stresses, at the spring's own load; tests/fea/test_duty_verdict.py holds
+    # paper S1 to it too)
     fd, dd = s1["duty"], design["springs"]["S1"]["duty"]
     assert fd["declared"] and fd["met"] and fea["duty_failures"] == []
-    assert fd["miner_sum"] == pytest.approx(dd["miner_sum"], rel=0.15)
+    assert 0.9 <= dd["miner_sum"] / fd["miner_sum"] <= 1.1
     assert release["ratings"] == fea["duty_ratings"]
     assert release["released"] == (not contact_reasons)
     assert release["status"] == ("RELEASED" if not contact_reasons else "NOT FOR MANUFACTURE")
@@ -278,7 +277,7 @@ def test_failed_verification_stops_the_build(tmp_path, capsys, monkeypatch):
     honest = stress.calibration()
     fooled = dataclasses.replace(honest, flank_factor=0.85 * honest.flank_factor,
                                  root_coefficient=0.85 * honest.root_coefficient)
-    monkeypatch.setattr(stress, "calibration", lambda: fooled)
+    monkeypatch.setattr(stress, "calibration", lambda shape=None: fooled)
 
     def no_redesign(design, model_bias):
         raise DesignError("no flexure fits (test)")

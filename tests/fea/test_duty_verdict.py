@@ -28,9 +28,10 @@ def _design(name="paper_S1", thickness_mm=None, **duty_table):
 def _verified(jd, regions: dict, peak_region: str):
     """A SpringVerification over a stand-in FEA run with these regional peaks (MPa)."""
     d = jd.springs["S1"]
+    finest = SimpleNamespace(peak_by_region_MPa=dict(regions))
     run = SimpleNamespace(peak_stress_MPa=regions[peak_region],
-                          study=SimpleNamespace(finest=SimpleNamespace(
-                              peak_by_region_MPa=dict(regions))),
+                          study=SimpleNamespace(finest=finest, results=(finest,)),
+                          check3d=(), base2d=(), faces=(),
                           peak_result=SimpleNamespace(peak_region=peak_region))
     return SpringVerification(name="S1", design=d, original=d, run=run, model="2d", tolerance=0.01,
                               iterations=[], required_safety_factor=1.0,
@@ -76,6 +77,30 @@ def test_the_critical_point_is_the_region_with_the_lowest_factor_and_gates_the_r
     assert ok.duty_failures() == []
     status = release_status(jd, Job(ok))
     assert status.released and "duty met" in status.ratings[0]
+
+
+def test_region_peaks_extrapolate_each_region_with_its_own_3d_factor():
+    """Each region: Richardson over the 2D levels (changes shrinking 4x per level: the
+    exact limit of a + b h^2) times its own 3D/2D ratio on the finer 3D level. The
+    verification's single peak would mix the flank's 3D factor into the root's 2D peak."""
+    from fea.fatigue import region_peaks_MPa
+
+    def level(flank, root, cut=50.0):
+        return SimpleNamespace(peak_by_region_MPa={"flexure flank": flank, "root fillet": root,
+                                                   "rim (sector cut)": cut})
+
+    base2d = (level(1160.0, 900.0), level(1040.0, 950.0), level(1010.0, 962.5),
+              level(1002.5, 965.625))
+    check3d = (level(1200.0, 890.0), level(1040.0 * 1.03, 950.0 * 0.99))
+    run = SimpleNamespace(study=SimpleNamespace(finest=base2d[-1], results=base2d[1:]),
+                          base2d=base2d, check3d=check3d, faces=("nested",))
+    peaks = region_peaks_MPa(run)
+    assert set(peaks) == {"flexure flank", "root fillet"}
+    assert peaks["flexure flank"] == pytest.approx(1000.0 * 1.03, rel=1e-12)
+    assert peaks["root fillet"] == pytest.approx((965.625 + 3.125 / 3.0) * 0.99, rel=1e-12)
+    # without a 3D check: the 2D extrapolation alone
+    run2d = SimpleNamespace(study=run.study, base2d=(), check3d=(), faces=("nested",))
+    assert region_peaks_MPa(run2d)["flexure flank"] == pytest.approx(1000.0, rel=1e-12)
 
 
 def test_a_static_prototype_duty_releases_rated_for_its_cycles():
@@ -159,3 +184,25 @@ def test_contact_fatigue_of_the_ball_gates_the_release_with_the_change_in_number
                        100.0, 0.5, 1.8)
     assert ok.contact_fatigue.met and ok.duty_failures() == []
     assert contact_fatigue.contact_check(d.material.duty, "420_ht", 1000.0, 0.2).met
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["default", "paper_S1"])
+def test_design_json_and_fea_json_agree_on_the_damage(name):
+    """Issue 21: design.json (the FEA-corrected design's own stress prediction, as a build
+    writes it) and fea.json (the verified stress field's critical point) state Miner sums
+    within 10 % of each other. The S-N slope (about 1/0.1) makes that a 1 % test of the
+    design-side stress model against the verification."""
+    import springcad as sc
+
+    ver = sc.verify(template(name), cache=False)
+    design_doc, fea_doc = ver.design.to_dict(), ver.to_dict()
+    for spring, entry in fea_doc["springs"].items():
+        fd, dd = entry["duty"], design_doc["springs"][spring]["duty"]
+        # the same design: the verified widths are the ones design.json states
+        assert design_doc["springs"][spring]["width_scale"] == pytest.approx(
+            entry["correction_iterations"][-1]["width_scale"], rel=1e-9)
+        assert fd["miner_sum"] > 0.0
+        ratio = dd["miner_sum"] / fd["miner_sum"]
+        assert 0.9 <= ratio <= 1.1, (spring, dd["peak_at_max_deflection_MPa"],
+                                     fd["peak_at_max_deflection_MPa"], ratio)

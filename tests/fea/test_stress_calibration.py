@@ -22,9 +22,17 @@ def shipped():
 def test_shipped_coefficients_are_the_fit_of_the_shipped_rows(shipped):
     from springcad.design.stress import calibration, fit_calibration
 
+    from springcad.design.stress import flank_by_shape
+
     refit = fit_calibration(shipped["rows"]).to_dict()
     for key, value in shipped["coefficients"].items():
         assert refit[key] == pytest.approx(value, rel=1e-9, abs=1e-12), key
+    by_shape = flank_by_shape(shipped["rows"])
+    assert set(by_shape) == set(shipped["flank_by_shape"]) == {"straight", "serpentine"}
+    for shape, coefficients in shipped["flank_by_shape"].items():
+        for key, value in coefficients.items():
+            assert by_shape[shape][key] == pytest.approx(value, rel=1e-9, abs=1e-12), key
+            assert getattr(calibration(shape), key) == value
     assert calibration().cases == len(shipped["rows"]) >= 15
     assert calibration().max_error_pct < 6.0
     # the set spans the flares the design chooses from and more than one geometry

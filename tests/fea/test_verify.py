@@ -76,7 +76,7 @@ def test_fea_stress_correction_redesigns_an_overstressed_spring(s2_job, monkeypa
     honest = stress.calibration()
     fooled = dataclasses.replace(honest, flank_factor=0.85 * honest.flank_factor,
                                  root_coefficient=0.85 * honest.root_coefficient)
-    monkeypatch.setattr(stress, "calibration", lambda: fooled)
+    monkeypatch.setattr(stress, "calibration", lambda shape=None: fooled)
     data = {"material": {"name": "420_ht", "design_stress_MPa": 912, "safety_factor": 1.2},
             "springs": {"S2": {"stiffness_Nm_per_rad": 75, "max_deflection_deg": 20,
                                "outer_radius_mm": 33.5, "thickness_mm": 4.5,
@@ -126,12 +126,14 @@ def test_stack_from_verified_springs(s1_verified, s2_verified):
 def test_no_correction_mode(s2):
     from fea.verify import VerifyOptions, verify_spring
 
+    # a tolerance below the design's own 2D error, so there is something to leave uncorrected
+    # (2D alone, as designed: +0.02 % since the 2026-11-26 stress calibration, -0.43 % before)
     v = verify_spring(s2, VerifyOptions(model="2d", correct=False, keep_fields=False,
-                                        tolerance=0.001))
+                                        tolerance=1e-5))
     assert len(v.iterations) == 1 and v.iterations[0]["action"] == "not corrected"
     assert v.design is s2
     assert v.run.factor_K == 1.0
-    assert not v.stiffness_ok and abs(v.error_vs_target) > 0.001  # 2D alone, as designed: -0.43 %
+    assert not v.stiffness_ok and abs(v.error_vs_target) > 1e-5
 
 
 def test_options_are_validated():

@@ -168,6 +168,6 @@ class FlexureShape:
 
     def calibration(self) -> stress.StressCalibration:
         """The stress-concentration coefficients of this shape's peak prediction: the
-        shipped FEA fit (``springcad/data/stress_calibration.json``) unless a shape brings
-        its own."""
-        return stress.calibration()
+        shipped FEA fit (``springcad/data/stress_calibration.json``) with the flank factor
+        of this shape's rows when it has some, unless a shape brings its own."""
+        return stress.calibration(self.name)
