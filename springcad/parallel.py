@@ -47,6 +47,23 @@ def trim_heap() -> None:
         ctypes.CDLL("libc.so.6").malloc_trim(0)
 
 
+@contextlib.contextmanager
+def single_threaded_blas():
+    """Run the block with one BLAS thread (``threadpoolctl``; unchanged without it).
+
+    For work made of many small dense products and solves (the contact sweep's Newton
+    iterations on a ~1400-DOF sector): a multi-threaded BLAS gains nothing there, and on a
+    busy 2-core machine its spinning threads made the paper S1 contact sweep 3x slower
+    (measured: 9.6 s CPU with OpenBLAS's threads, 3.2 s with one)."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # optional: only a speed-up
+        yield
+        return
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield
+
+
 class Pending:
     """The result of a step run beside the caller (:func:`beside`)."""
 
