@@ -32,6 +32,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from springcad.design.numeric import minimize_bounded
+
 
 # ============================================================ the field
 def _mn(x_over_b, z_over_b):
@@ -76,16 +78,13 @@ def von_mises(sx, sy, sz, txz):
 
 def _axis_maximum(f) -> tuple[float, float]:
     """(max f(z), z) over z in [0, 3] (units of b): grid, then a bounded refinement."""
-    from scipy.optimize import minimize_scalar
-
     z = np.linspace(0.0, 3.0, 301)
     i = int(np.argmax(f(z)))
     lo, hi = z[max(i - 1, 0)], z[min(i + 1, len(z) - 1)]
     if hi <= lo:
         return float(f(np.array([z[i]]))[0]), float(z[i])
-    r = minimize_scalar(lambda t: -float(f(np.array([t]))[0]), bounds=(lo, hi),
-                        method="bounded", options={"xatol": 1e-10})
-    return -float(r.fun), float(r.x)
+    x, fx = minimize_bounded(lambda t: -float(f(np.array([t]))[0]), lo, hi, xatol=1e-10)
+    return -float(fx), float(x)
 
 
 @functools.lru_cache(maxsize=32)
