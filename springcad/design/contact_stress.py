@@ -261,8 +261,11 @@ def tip_radius_for_contact_mm(force_N, flank_radius_mm, thickness_mm, E_MPa, nu,
     force = np.asarray(force_N, dtype=float)
     P = force / np.asarray(thickness_mm, dtype=float)
     nu = np.asarray(nu, dtype=float)
-    uniq, where = np.unique(np.round(nu, 6), return_inverse=True)
-    c_vm = np.array([von_mises_peak(float(v))[0] for v in uniq])[where].reshape(nu.shape)
+    if nu.ndim == 0:  # the design search's one material (15000 calls for the default job)
+        c_vm = np.array(von_mises_peak(float(np.round(nu, 6)))[0])
+    else:
+        uniq, where = np.unique(np.round(nu, 6), return_inverse=True)
+        c_vm = np.array([von_mises_peak(float(v))[0] for v in uniq])[where].reshape(nu.shape)
     E = np.asarray(E_MPa, dtype=float) / (2.0 * (1.0 - nu ** 2))  # same material both sides
     with np.errstate(divide="ignore", invalid="ignore"):
         k_allowed = math.pi * (np.asarray(allowable_MPa, dtype=float) / c_vm) ** 2 / (P * E)
