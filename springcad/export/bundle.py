@@ -22,6 +22,7 @@ from pathlib import Path
 from springcad.cache import files, memo
 from springcad.export.skeleton import built_part, with_solids
 from springcad.geometry.checks import Check
+from springcad.parallel import trim_heap
 from springcad.progress import Progress, no_progress
 
 #: read-back tolerances: volume and area (relative), bounding box (mm)
@@ -139,6 +140,8 @@ def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render:
         by_part.setdefault(f.part, []).append(f.path)
     out.append(_record(out_dir, write_bom(assembly, out_dir / "bom.csv", by_part), "bom"))
     if render:
+        trim_heap()  # the part exports' freed heap, before VTK's buffers (the build's peak)
+
         def png():
             from springcad.export.render import render_png
 
