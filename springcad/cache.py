@@ -21,12 +21,14 @@ A cache that cannot be written (read-only, full disk) is skipped, never an error
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import io
 import os
 import pickle
 import tempfile
+import weakref
 from pathlib import Path
 
 from springcad.options import CACHE
@@ -104,8 +106,8 @@ def canonical_bytes(obj) -> bytes:
 
 #: types whose values may change after they were hashed: never remembered by identity
 _MUTABLE = (dict, list, set, bytearray)
-#: id -> (object, digest) of the key inputs hashed in this process (bounded)
-_DIGESTS: dict[int, tuple[object, bytes]] = {}
+#: id -> (weak reference to the object, digest) of the key inputs hashed in this process
+_DIGESTS: dict[int, tuple[weakref.ref, bytes]] = {}
 _DIGESTS_MAX = 256
 
 
@@ -130,12 +132,13 @@ def input_digest(x) -> bytes:
     if isinstance(x, _MUTABLE) or x is None or isinstance(x, (str, int, float, bool)):
         return hashlib.sha256(b"pickle\0" + canonical_bytes(x)).digest()
     hit = _DIGESTS.get(id(x))
-    if hit is not None and hit[0] is x:
+    if hit is not None and hit[0]() is x:  # the same object (a dead one's id may be reused)
         return hit[1]
     digest = hashlib.sha256(b"pickle\0" + canonical_bytes(x)).digest()
     if len(_DIGESTS) >= _DIGESTS_MAX:
         _DIGESTS.clear()
-    _DIGESTS[id(x)] = (x, digest)  # the reference keeps the id from being reused
+    with contextlib.suppress(TypeError):  # not weakly referable: not remembered
+        _DIGESTS[id(x)] = (weakref.ref(x), digest)  # weak: keeps no design alive
     return digest
 
 
