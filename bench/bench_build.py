@@ -5,8 +5,9 @@ Usage: ``python bench/bench_build.py [--only default,4xS1,verify,design] [--keep
 Each case runs ``python -m springcad ...`` in a fresh process (interpreter start and imports
 included, as a user sees it) with every export and verification: cold with an empty result
 cache (``SPRINGCAD_CACHE_DIR`` a new temporary folder), then warm (the same command again on
-that cache). It prints the wall time, each stage's time (``build.json``), the peak memory of
-the process tree (psutil: the unique pages of every process alive together plus the largest
+that cache). It prints the wall time, the CPU time of the process tree (user + sys: on a
+machine shared with other work the wall time says more about the load than about the
+build), each stage's time (``build.json``), the peak memory of the process tree (psutil: the unique pages of every process alive together plus the largest
 process's shared pages, so what a forked child shares with the build counts once; else the
 largest process's ``ru_maxrss``), the load average, whether the warm files equal the cold ones byte
 for byte (``build.json`` and ``report.html`` carry the run's own timings and start time and
@@ -69,6 +70,9 @@ def run(args: list[str], env: dict) -> dict:
         import psutil
     except ImportError:
         psutil = None
+    import resource
+
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     proc = subprocess.Popen([sys.executable, "-m", "springcad", *args], env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
@@ -103,11 +107,11 @@ def run(args: list[str], env: dict) -> dict:
     wall = time.perf_counter() - t0
     if psutil is not None:
         watcher.join(1.0)
-    import resource
-
-    maxrss = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * 1024  # KB on Linux
-    return {"wall_s": wall, "code": proc.returncode, "peak_bytes": max(peak, 0) or maxrss,
-            "stdout": out, "stderr": err}
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    maxrss = after.ru_maxrss * 1024  # KB on Linux
+    cpu = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+    return {"wall_s": wall, "cpu_s": cpu, "code": proc.returncode,
+            "peak_bytes": max(peak, 0) or maxrss, "stdout": out, "stderr": err}
 
 
 def _content(path: Path):
@@ -170,7 +174,7 @@ def main() -> int:
                 target = TARGETS_S.get((case, state))
                 verdict = ("" if target is None else
                            ("PASS" if res["wall_s"] <= target else "FAIL") + f" (<= {target:g} s)")
-                print(f"{case:8s} {state}: {res['wall_s']:6.2f} s wall  peak "
+                print(f"{case:8s} {state}: {res['wall_s']:6.2f} s wall  {res['cpu_s']:6.2f} s CPU  peak "
                       f"{res['peak_bytes'] / GB:.2f} GB  load {load:.1f}  {verdict}"
                       + (f"\n          stages s: {line}" if line else ""))
                 results.append((case, state, target, res))

@@ -49,6 +49,7 @@ from fea.contact_result import ContactOptions, ContactStep, ContactSweep, direct
 from fea.contact_solver import CamCurve, SectorContact, State, hertz_line_contact, rot
 from fea.contact_tolerance import RING_TO_RING, ContactMaterial, EndState, assess
 from springcad.errors import SolverError
+from springcad.parallel import single_threaded_blas
 
 #: the small-angle stiffness is the secant T / (theta - theta_onset) this far past the onset
 #: (fraction of theta_max)
@@ -271,48 +272,79 @@ OFFSET_STEP_MM = 0.005
 OFFSET_HALVINGS = 4
 
 
-def _offset_path(sc: SectorContact, curve: CamCurve, offset_mm: float, sign: int,
-                 theta_max: float, steps: int, end: State | None = None) -> State:
-    """The converged state at sign * theta_max against the cam dilated by ``offset_mm``.
-
-    From the nominal end state ``end`` the dilation is continued at theta_max in steps of
-    at most :data:`OFFSET_STEP_MM` (each Newton solve starts from the last state), so the
-    ball stays on the flank it is pushed by, as in a part whose profiles deviate: the
-    state a path from rest reaches when it does not lose its way (held-out default at
-    10 deg: from rest against the cam shrunk by 20 um, the ball was found one tooth on,
-    with every gap off by up to 1 mm). Without ``end``, or when the continuation fails,
-    the dilation is applied at rest in small steps and the cam turned to the contact onset
-    and on in ``steps`` steps, like the nominal sweep. Leaves ``sc.cam`` dilated.
-    """
-    theta_end = sign * theta_max
-    if end is not None:
-        st, done = end, 0.0
-        h = math.copysign(OFFSET_STEP_MM, offset_mm)
-        halvings = 0
-        while abs(offset_mm - done) > 1e-12:
-            step = math.copysign(min(abs(h), abs(offset_mm - done)), offset_mm)
-            sc.cam = curve.dilated(done + step)
-            try:
-                st = sc.solve(theta_end, st)
-            except SolverError:
-                halvings += 1
-                if halvings > OFFSET_HALVINGS:
-                    break
-                h *= 0.5
-                continue
-            done += step
-        else:
-            return st
+def _dilated_rest(sc: SectorContact, curve: CamCurve, offset_mm: float) -> State:
+    """The converged state at rest against the cam dilated by ``offset_mm``, the dilation
+    applied in steps of at most :data:`OFFSET_STEP_MM`. Leaves ``sc.cam`` dilated."""
     st = sc.solve(0.0, sc.rest())
     m = max(1, math.ceil(abs(offset_mm) / OFFSET_STEP_MM)) if offset_mm > 0 else 1
     for k in range(1, m + 1):
         sc.cam = curve.dilated(offset_mm * k / m)
         st = sc.solve(0.0, st)
+    return st
+
+
+def _continued(sc: SectorContact, curve: CamCurve, offset_mm: float, theta: float,
+               end: State) -> State | None:
+    """The state at cam angle ``theta`` against the cam dilated by ``offset_mm``, continued
+    from ``end`` (the nominal state there) in dilation steps of at most
+    :data:`OFFSET_STEP_MM`, each Newton solve from the last state; None when a step fails
+    :data:`OFFSET_HALVINGS` halvings in a row. Leaves ``sc.cam`` dilated."""
+    st, done = end, 0.0
+    h = math.copysign(OFFSET_STEP_MM, offset_mm)
+    halvings = 0
+    while abs(offset_mm - done) > 1e-12:
+        step = math.copysign(min(abs(h), abs(offset_mm - done)), offset_mm)
+        sc.cam = curve.dilated(done + step)
+        try:
+            st = sc.solve(theta, st)
+        except SolverError:
+            halvings += 1
+            if halvings > OFFSET_HALVINGS:
+                return None
+            h *= 0.5
+            continue
+        done += step
+    return st
+
+
+def _offset_path(sc: SectorContact, curve: CamCurve, offset_mm: float, sign: int,
+                 theta_max: float, steps: int, end: State | None = None,
+                 rest: dict | None = None) -> State:
+    """The converged state at sign * theta_max against the cam dilated by ``offset_mm``.
+
+    From the nominal end state ``end`` the dilation is continued at theta_max
+    (:func:`_continued`), so the ball stays on the flank it is pushed by, as in a part
+    whose profiles deviate: the state a path from rest reaches when it does not lose its
+    way (default at 10 deg: from rest against the cam shrunk by 20 um, the ball was found
+    one tooth on, with every gap off by up to 1 mm). Without ``end``, or when the
+    continuation fails, the dilation is applied at rest (:func:`_dilated_rest`) and the
+    cam turned to the contact onset and on in ``steps`` steps, like the nominal sweep.
+    Leaves ``sc.cam`` dilated.
+
+    ``rest``: the states at rest by offset (or the SolverError their ramp raised) of the
+    paths solved before: the ramp does not depend on the direction, so the two directions
+    of one offset share it."""
+    if end is not None:
+        st = _continued(sc, curve, offset_mm, sign * theta_max, end)
+        if st is not None:
+            return st
+    if rest is None:
+        rest = {}
+    if offset_mm not in rest:
+        try:
+            rest[offset_mm] = _dilated_rest(sc, curve, offset_mm)
+        except SolverError as err:
+            rest[offset_mm] = err
+            raise
+    st = rest[offset_mm]
+    if isinstance(st, SolverError):
+        raise st
+    sc.cam = curve.dilated(offset_mm)
     path = _Path(sc, sign, theta_max / steps, start=st)
     on = _onset(sc, sign, theta_max)
     if math.isfinite(on) and on != 0.0:
         path.to(on)
-    return path.to(theta_end)
+    return path.to(sign * theta_max)
 
 
 def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
@@ -322,7 +354,7 @@ def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
     + t_shaft, the largest deviation of ball and flank together)."""
     m = design.manufacturing
     T = float(m.t_spring_mm + m.t_shaft_mm)
-    ends = {}
+    ends, rest = {}, {}
     for sign, key in ((1, "+"), (-1, "-")):
         driving = "flank_ccw" if sign > 0 else "flank_cw"
         groups = curve.groups(driving)
@@ -333,7 +365,8 @@ def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
         states = [_end_state(sc, final[key], driving, sign, ball, material, groups)]
         for offset in ((-T, T) if T > 0 else ()):
             try:
-                st = _offset_path(sc, curve, offset, sign, theta_max, steps, end=final[key])
+                st = _offset_path(sc, curve, offset, sign, theta_max, steps, end=final[key],
+                                  rest=rest)
                 states.append(_end_state(sc, st, driving, sign, ball, material, groups))
             except SolverError as err:
                 why = f"no converged contact ({err})"
@@ -443,9 +476,19 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
             design's (to check a different cam against this ring).
         progress: callable ``(message, fraction or None)``.
 
+    Runs with one BLAS thread: its Newton iterations are many small dense products, which
+    a thread pool only slows (:func:`springcad.parallel.single_threaded_blas`).
+
     Raises:
         SolverError: the contact problem cannot be set up or does not converge.
     """
+    with single_threaded_blas():
+        return _contact_sweep(design, material, run, options, cam, progress)
+
+
+def _contact_sweep(design, material=None, run=None, options: ContactOptions = ContactOptions(),
+                   cam=None, progress=_noop) -> ContactSweep:
+    """The sweep of :func:`contact_sweep`."""
     from fea.problem import LoadCase, solver_material
 
     t0 = time.perf_counter()

@@ -40,3 +40,23 @@ def test_find_root_needs_bracket():
 def test_cumtrapz_matches_scipy():
     x = np.sort(np.random.default_rng(3).uniform(0, 5, 50))
     assert np.allclose(cumtrapz(np.exp(x), x), cumulative_trapezoid(np.exp(x), x, initial=0))
+
+
+@pytest.mark.parametrize("nu", [0.25, 0.28, 0.3, 0.33])
+def test_minimize_bounded_is_scipys_bounded_brent_bit_for_bit(nu):
+    from scipy.optimize import minimize_scalar
+
+    from springcad.design.contact_stress import subsurface_stress, von_mises
+    from springcad.design.numeric import minimize_bounded
+
+    def f(t):  # the contact stress's use: the subsurface von Mises peak on the load axis
+        return -float(von_mises(*subsurface_stress(0.0, np.array([t]), nu))[0])
+
+    cases = [(f, 0.69, 0.71, 1e-10), (f, 0.0, 3.0, 1e-10),
+             (lambda t: (t - 0.3) ** 2 + nu, -1.0, 2.0, 1e-5),
+             (lambda t: abs(np.sin(5 * t)) - t * nu, 0.1, 0.9, 1e-8),
+             (lambda t: t, 0.0, 1.0, 1e-10)]  # the minimum at a bound
+    for g, lo, hi, tol in cases:
+        ref = minimize_scalar(g, bounds=(lo, hi), method="bounded", options={"xatol": tol})
+        x, fx = minimize_bounded(g, lo, hi, xatol=tol)
+        assert (x, fx) == (ref.x, ref.fun)

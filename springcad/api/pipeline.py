@@ -188,11 +188,44 @@ def build(design, accept_violations: bool = False, progress=None,
     Raises:
         StageError: the CAD kernel failed on a part (names the part and what to change).
     """
+    d, ver = _design_of(design, cache)
+    store = open_cache(cache)
+    cached = _cached_build(d.raw, store, progress)
+    if cached is not None:
+        return Build(d, ver, *cached[:2], accept_violations, cached[2])
+    from springcad.export import skeleton
     from springcad.geometry.checks import build_and_check
 
-    d, ver = _design_of(design, cache)
-    assembly, report, timings = build_and_check(d.raw, progress, open_cache(cache))
+    assembly, report, timings = build_and_check(d.raw, progress, store)
+    skeleton.store(store, d.raw, assembly)
     return Build(d, ver, assembly, report, accept_violations, timings)
+
+
+def _cached_build(job_design, store, progress):
+    """``(assembly, checks, timings_s)`` of a design built and checked before: its
+    :class:`~springcad.export.skeleton.LazyAssembly` (solids built only if asked for) and
+    its stored checks; None when either is not cached (or no cache)."""
+    if store is None:
+        return None
+    from springcad.cache import MISSING
+    from springcad.export import skeleton
+
+    t0 = time.perf_counter()
+    assembly = skeleton.load(store, job_design)
+    if assembly is None:
+        return None
+    t1 = time.perf_counter()
+    report = store.load(store.key("checks", job_design))
+    if report is MISSING:
+        return None
+    track = Tracker(progress)
+    with stage("solids", track.subject("solids")):
+        track("parts of this design from the cache (solids built only if an export needs them)")
+    track.last = ""
+    with stage("checks", track.subject("checks")):
+        track("checks of this design from the cache")
+    return assembly, report, {"solids": round(t1 - t0, 3),
+                              "checks": round(time.perf_counter() - t1, 3)}
 
 
 @api_door

@@ -23,7 +23,7 @@ from springcad.cli.common import add_cache_flag, cache_of, default_out, warn
 from springcad.cli.progress import console
 from springcad.errors import ConfigError
 from springcad.options import REVISION, check_revision
-from springcad.parallel import trim_heap
+from springcad.parallel import return_freed_memory, trim_heap
 from springcad.report.outdir import check_output_dir
 
 #: the stages, in order: the FEA verification (and correction) comes before any solid is
@@ -80,6 +80,7 @@ def run(args) -> int:
     template = sc.load_title_block(args.title_block)
     check_output_dir(out, args.overwrite, inputs=[args.config, args.title_block])
     timings = {}
+    return_freed_memory()  # the FEA's large arrays go back to the OS when freed
 
     t0 = _announce("design")
     cache = cache_of(args)

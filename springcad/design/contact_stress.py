@@ -32,6 +32,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from springcad.design.numeric import minimize_bounded
+
 
 # ============================================================ the field
 def _mn(x_over_b, z_over_b):
@@ -76,16 +78,13 @@ def von_mises(sx, sy, sz, txz):
 
 def _axis_maximum(f) -> tuple[float, float]:
     """(max f(z), z) over z in [0, 3] (units of b): grid, then a bounded refinement."""
-    from scipy.optimize import minimize_scalar
-
     z = np.linspace(0.0, 3.0, 301)
     i = int(np.argmax(f(z)))
     lo, hi = z[max(i - 1, 0)], z[min(i + 1, len(z) - 1)]
     if hi <= lo:
         return float(f(np.array([z[i]]))[0]), float(z[i])
-    r = minimize_scalar(lambda t: -float(f(np.array([t]))[0]), bounds=(lo, hi),
-                        method="bounded", options={"xatol": 1e-10})
-    return -float(r.fun), float(r.x)
+    x, fx = minimize_bounded(lambda t: -float(f(np.array([t]))[0]), lo, hi, xatol=1e-10)
+    return -float(fx), float(x)
 
 
 @functools.lru_cache(maxsize=32)
@@ -262,8 +261,11 @@ def tip_radius_for_contact_mm(force_N, flank_radius_mm, thickness_mm, E_MPa, nu,
     force = np.asarray(force_N, dtype=float)
     P = force / np.asarray(thickness_mm, dtype=float)
     nu = np.asarray(nu, dtype=float)
-    uniq, where = np.unique(np.round(nu, 6), return_inverse=True)
-    c_vm = np.array([von_mises_peak(float(v))[0] for v in uniq])[where].reshape(nu.shape)
+    if nu.ndim == 0:  # the design search's one material (15000 calls for the default job)
+        c_vm = np.array(von_mises_peak(float(np.round(nu, 6)))[0])
+    else:
+        uniq, where = np.unique(np.round(nu, 6), return_inverse=True)
+        c_vm = np.array([von_mises_peak(float(v))[0] for v in uniq])[where].reshape(nu.shape)
     E = np.asarray(E_MPa, dtype=float) / (2.0 * (1.0 - nu ** 2))  # same material both sides
     with np.errstate(divide="ignore", invalid="ignore"):
         k_allowed = math.pi * (np.asarray(allowable_MPa, dtype=float) / c_vm) ** 2 / (P * E)

@@ -11,6 +11,7 @@ from pathlib import Path
 
 from springcad.design.processes import process_chain_text
 from springcad.export.sheet import fmt
+from springcad.export.skeleton import part_volume_mm3
 from springcad.units import G_PER_KG, KG_PER_MM3_PER_KG_PER_M3
 
 COLUMNS = ("item", "part_number", "name", "title", "kind", "quantity", "make_or_buy", "process",
@@ -20,8 +21,6 @@ COLUMNS = ("item", "part_number", "name", "title", "kind", "quantity", "make_or_
 
 def bom_rows(assembly, files_by_part: dict | None = None) -> list[dict]:
     """BOM rows, input side first (order of first appearance in the stack)."""
-    from springcad.geometry.base import solid_volume_mm3
-
     files_by_part = files_by_part or {}
     qty = assembly.quantities()
     names: dict[str, list[str]] = {}
@@ -31,7 +30,7 @@ def bom_rows(assembly, files_by_part: dict | None = None) -> list[dict]:
     for item, pn in enumerate(names, 1):
         part = assembly.parts[pn]
         info = part.info
-        mass = (solid_volume_mm3(part.solid) * info.density_kg_per_m3
+        mass = (part_volume_mm3(part) * info.density_kg_per_m3
                 * KG_PER_MM3_PER_KG_PER_M3 * G_PER_KG)  # g
         rows.append({
             "item": item, "part_number": pn, "name": info.name, "title": info.title, "kind": info.kind,

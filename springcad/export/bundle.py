@@ -20,7 +20,9 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from springcad.cache import files, memo
+from springcad.export.skeleton import built_part, with_solids
 from springcad.geometry.checks import Check
+from springcad.parallel import trim_heap
 from springcad.progress import Progress, no_progress
 
 #: read-back tolerances: volume and area (relative), bounding box (mm)
@@ -75,7 +77,8 @@ def export_parts(assembly, out_dir: Path, drawing_info: dict, template: dict | N
         progress(f"exporting {pn}", k / len(assembly.parts))
         info = {**drawing_info, "quantity": qty[pn]}
         paths, meta = files(cache, "part-files", (part_fingerprint(part), info, template),
-                            out_dir, lambda: _write_part(part, parts_dir, info, template),
+                            out_dir, lambda: _write_part(built_part(assembly, pn), parts_dir,
+                                                         info, template),
                             lambda: progress(f"{pn}: files from the cache", None))
         out += [_record(out_dir, path, kind, pn, note) for path, (kind, note) in zip(paths, meta)]
     return out
@@ -127,7 +130,7 @@ def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render:
     def step():
         from springcad.export.step import write_assembly_step
 
-        return [write_assembly_step(assembly, out_dir / "assembly.step", date)], None
+        return [write_assembly_step(with_solids(assembly), out_dir / "assembly.step", date)], None
 
     hit = lambda: progress("assembly STEP from the cache", None)  # noqa: E731
     (path,), _ = files(cache, "assembly-step", (assembly.design, date), out_dir, step, hit)
@@ -137,10 +140,12 @@ def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render:
         by_part.setdefault(f.part, []).append(f.path)
     out.append(_record(out_dir, write_bom(assembly, out_dir / "bom.csv", by_part), "bom"))
     if render:
+        trim_heap()  # the part exports' freed heap, before VTK's buffers (the build's peak)
+
         def png():
             from springcad.export.render import render_png
 
-            return [render_png(assembly, out_dir / "assembly.png")], None
+            return [render_png(with_solids(assembly), out_dir / "assembly.png")], None
 
         progress("rendering assembly.png", 0.5)
         hit = lambda: progress("assembly.png from the cache", None)  # noqa: E731
@@ -178,7 +183,7 @@ def roundtrip_checks(assembly, out_dir: Path, files: list[WrittenFile],
         progress(f"reading back {f.path}", k / len(files))
         digest = hashlib.sha256(path.read_bytes()).hexdigest() if cache is not None else ""
         out.append(memo(cache, "roundtrip", (digest, f, part_fingerprint(part)),
-                        lambda: _read_back(part, path, f)))
+                        lambda: _read_back(built_part(assembly, f.part), path, f)))
     return out
 
 

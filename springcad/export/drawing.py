@@ -24,7 +24,6 @@ from springcad.design.processes import process_chain_text, process_text, process
 from springcad.export.release import UNASSESSED, ReleaseStatus
 from springcad.export.sheet import (A3, FRAME_MM, LABEL_FONT, NOTE_FONT, TEXT_FONT, THICK, Sheet,
                                     fmt, scale_text)
-from springcad.geometry.disk import FlexureRing
 
 TITLE_BLOCK_NAME = "drawing_title_block.toml"
 #: sheet parts this thin or thinner get the template's ``thin_sheet`` notes (mm)
@@ -138,6 +137,8 @@ def note_lines(part, values: dict, template: dict) -> list[str]:
                            [])
     if p.cut_profile is not None:
         lines += notes.get("cut", [])
+    from springcad.geometry.disk import FlexureRing  # the CAD kernel: a drawing is made
+
     spring = getattr(part, "spring", None)
     if isinstance(part, FlexureRing):
         # the flexures' cut faces: the note of the surface the fatigue check assumed

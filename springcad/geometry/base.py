@@ -32,7 +32,7 @@ header show it next to the number.
 from __future__ import annotations
 
 import hashlib
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 from springcad.geometry import sklearn_deferred
 
@@ -41,6 +41,7 @@ with sklearn_deferred():
 
 from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
 from springcad.errors import GeometryError
+from springcad.geometry.part_info import PartInfo, Slab  # noqa: F401  (their home before)
 
 #: display colours (RGB 0-1) by material family
 COLOURS = {
@@ -62,72 +63,6 @@ PN_HASH_DIGITS = 8
 #: decimals (of a mm, of a unit tangent) to which the identity rounds coordinates:
 #: 1e-6 mm, far below any tolerance, far above floating-point noise between jobs
 IDENTITY_DIGITS = 6
-
-
-@dataclass(frozen=True)
-class Slab:
-    """A planar region swept along z from ``z0_mm`` to ``z1_mm`` (part frame, mm)."""
-
-    z0_mm: float
-    z1_mm: float
-    region: Profile
-
-    @property
-    def length_mm(self) -> float:
-        return self.z1_mm - self.z0_mm
-
-    def volume_mm3(self) -> float:
-        return self.region.area_mm2() * self.length_mm
-
-
-@dataclass(frozen=True)
-class PartInfo:
-    """What a drawing, a DXF and the bill of materials need to know about a part.
-
-    Attributes:
-        name: the job-local label of the part (``"S1-RING"``, ``"RIM-SPACER-2"``),
-            used in messages and shown beside the part number.
-        title: human-readable name, e.g. ``"Flexure ring, 28 flexures"``.
-        kind: Component kind (flexure_ring, camshaft, ...).
-        material: material name.
-        heat_treatment: as written on the drawing ("" if none).
-        density_kg_per_m3: density for the mass (kg/m^3).
-        process: "wire_edm", "turned", "laser", "purchased".
-        thickness_mm: plate thickness of a planar part, or its length (mm).
-        cut_profile: the 2D contour the shop cuts (wire EDM / laser), or None.
-        dimensions: key dimensions for the drawing, ``{label: value_mm}``.
-        notes: drawing notes specific to this part.
-        standard: catalogue designation for purchased parts.
-        code: the family code that starts the part number (``"RING"``, ``"CAM"``).
-        hardness: hardness to order, as written on the drawing (``"48-52 HRC"``).
-        heat_treatment_sequence: when the heat treatment happens (``"before EDM"``).
-        fits: ISO fits and purposes of features: ``"outer"``, ``"bore"``, ``"holes"``
-            (e.g. ``"g6"``, ``"H7"``) and ``"hole_purpose"`` (``"(dowel pins)"``).
-        part_number: ``CODE-HASH`` of the part's identity (module docstring); set by
-            :class:`SpringcadPart`, never by hand.
-        secondary_processes: processes that finish features after the main one (keys of
-            ``springcad/data/processes.toml``: ``("ground",)`` for the fits of a turned
-            and hardened shaft, ``("sinker_edm",)`` for a blind socket).
-    """
-
-    name: str
-    title: str
-    kind: str
-    material: str
-    heat_treatment: str
-    density_kg_per_m3: float
-    process: str
-    thickness_mm: float
-    cut_profile: Profile | None = None
-    dimensions: dict = field(default_factory=dict)
-    notes: tuple[str, ...] = ()
-    standard: str = ""
-    code: str = ""
-    hardness: str = ""
-    heat_treatment_sequence: str = ""
-    fits: dict = field(default_factory=dict)
-    part_number: str = ""
-    secondary_processes: tuple[str, ...] = ()
 
 
 def _num(x: float) -> str:

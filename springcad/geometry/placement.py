@@ -7,11 +7,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from springcad.design.hardware import Component
-from springcad.geometry.base import SpringcadPart
+
+if TYPE_CHECKING:  # a placed part needs no CAD kernel to be read (export/skeleton.py)
+    from springcad.geometry.base import SpringcadPart
 
 
 @dataclass(frozen=True)

@@ -11,11 +11,13 @@ Units: mm, rad.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from springcad.geometry.base import SpringcadPart
-from springcad.geometry.families import BuildContext, PartCache, build_component
 from springcad.geometry.placement import Instance, Placement
 from springcad.progress import Progress, no_progress
+
+if TYPE_CHECKING:  # an assembly is read (export/skeleton.py) without the CAD kernel
+    from springcad.geometry.base import SpringcadPart
 
 __all__ = ["Instance", "Placement", "StackAssembly", "build_stack"]
 
@@ -88,6 +90,8 @@ def build_stack(job_design, progress: Progress = no_progress) -> StackAssembly:
     Raises:
         GeometryError: a part cannot be made (the message names it and the cause).
     """
+    from springcad.geometry.families import BuildContext, PartCache, build_component
+
     stack = job_design.stack
     comps = stack.components
     ctx = BuildContext(stack.springs, PartCache(progress))

@@ -65,13 +65,19 @@ def test_cached_build_files_equal_fresh_ones(tmp_path):
     env.pop("SPRINGCAD_CACHE", None)  # the default: on
     outs, logs = {}, {}
     for run, flags in (("stored", []), ("cached", []), ("fresh", ["--no-cache"])):
-        res = subprocess.run([sys.executable, "-m", "springcad", "build",
+        # the cached run lists its imports: it never loads the CAD kernel (export/skeleton.py)
+        imports = ["-X", "importtime"] if run == "cached" else []
+        res = subprocess.run([sys.executable, *imports, "-m", "springcad", "build",
                               str(ROOT / "templates" / "paper_S1.toml"), "--out",
                               str(tmp_path / run), "--no-verify", "--accept-violations", *flags],
                              env=env, capture_output=True, text=True, cwd=tmp_path)
         assert res.returncode == 0, res.stderr[-3000:]
         outs[run], logs[run] = _files(tmp_path / run), res.stderr
     assert "from the cache" not in logs["stored"] + logs["fresh"]
+    loaded = {line.rsplit("|", 1)[1].strip() for line in logs["cached"].splitlines()
+              if line.startswith("import time:")}
+    assert "springcad.geometry.stack" in loaded  # the skeleton was read
+    assert not {"build123d", "OCP", "springcad.geometry.base"} & loaded
     hits = [line for line in logs["cached"].splitlines() if "from the cache" in line]
     assert any("checks" in m for m in hits) and any("assembly STEP" in m for m in hits), hits
     assert sum("files from the cache" in m for m in hits) >= 4, hits
