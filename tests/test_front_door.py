@@ -94,6 +94,26 @@ def test_bench_csv_with_bom_in_deg_and_Nmm_fits_the_same_through_api_and_cli(tmp
     assert api.stiffness_Nm_per_rad == pytest.approx(40.0, rel=0.03)
 
 
+def test_fit_holds_its_summary_as_fields_equal_to_its_document(tmp_path, monkeypatch):
+    f = sc.fit_record(sc.simulate(40.0, backlash_rad=0.03, seed=5, friction_torque_Nm=0.1))
+    doc = as_json(f.to_dict())
+    # the fields, read without the document (a fit that would write its JSON fails here)
+    monkeypatch.setattr(type(f.raw), "to_dict", lambda self: pytest.fail("read its own JSON"))
+    held = {k: vars(f)[k] for k in ("model", "stiffness_Nm_per_rad", "backlash_rad", "nrmse_pct")}
+    effects, text = f.effects(), repr(f)
+    monkeypatch.undo()
+    # ... equal the document fit.json holds (the second reader)
+    final = doc["final"]
+    assert held == {"model": final["model"],
+                    "stiffness_Nm_per_rad": final["intervals"]["stiffness_Nm_per_rad"]["value"],
+                    "backlash_rad": doc["paper_models"]["deadband"]["backlash_rad"],
+                    "nrmse_pct": final["nrmse_pct"]}
+    assert effects == [{k: s.get(k) for k in ("effect", "action", "nrmse_before_pct",
+                                              "nrmse_after_pct")} for s in doc["steps"]]
+    assert effects and f.model.startswith("linear + ")
+    assert f"K={held['stiffness_Nm_per_rad']:.4g} N*m/rad" in text
+
+
 def test_bench_reader_refuses_the_same_way_through_both_doors(tmp_path, capsys):
     _, _, odd = _bench_files(tmp_path)
     # read as rad, a column named in degrees: both doors refuse, each naming its option

@@ -113,6 +113,18 @@ class FitResult:
     def half_range_Nm(self) -> float:
         return self.signals.scales.torque_ref
 
+    @property
+    def final_model(self) -> str:
+        """The final model in words (see :func:`final_label`)."""
+        return final_label(self.loop)
+
+    @property
+    def stiffness_Nm_per_rad(self) -> float:
+        """The final model's stiffness (N·m/rad); the deadband fit's when no spring was found
+        (the loop then reports no interval for it)."""
+        ci = self.loop.intervals.get("stiffness_Nm_per_rad")
+        return ci["value"] if ci else self.paper_models["deadband"].stiffness_Nm_per_rad
+
     def nrmse_pct(self, state: State) -> float:
         """NRMSE (%) of a loop state over its non-glitch samples."""
         return self.loop.nrmse_pct(state, self.signals)
@@ -148,7 +160,7 @@ class FitResult:
             "baseline": {"model": loop.baseline.label, "params": loop.baseline.params(),
                          "nrmse_pct": self.nrmse_pct(loop.baseline)},
             "steps": [s.to_dict() for s in loop.steps],
-            "final": {"model": final_label(loop), "effects": list(loop.identified),
+            "final": {"model": self.final_model, "effects": list(loop.identified),
                       "terms": list(final.effects),
                       "confounded": [g.to_dict() for g in loop.confounded],
                       "no_spring": loop.no_spring,
