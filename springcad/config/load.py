@@ -18,6 +18,7 @@ from springcad.config import consistency
 from springcad.config.schema import MAX_SPRINGS, REMOVED, RENAMED, REQUIRED, Key, _toml_type, keys
 from springcad.config.specs import (AnalysisSpec, DutyBlock, DutySpec, HardwareSpec, Job,
                                     ManufacturingSpec, MaterialSpec, SpringSpec, StackSpec)
+from springcad.connections import output_connection
 from springcad.errors import ConfigError, ConfigFileError
 from springcad.materials import DEFAULT_MATERIAL, Material, material_table
 from springcad.textio import decode_utf8
@@ -199,7 +200,7 @@ def _stack(v: dict, springs: dict[str, SpringSpec]) -> StackSpec:
                               f"is not a defined spring; defined: {', '.join(springs)}")
     if "output" in v:
         n = len(seq)
-        expected = inp if n % 2 == 0 else ("rim" if inp == "shaft" else "shaft")
+        expected = output_connection(n, inp)
         if v["output"] != expected:
             raise ConfigError(f"{p}.output", v["output"],
                               f"must be '{expected}' for {n} spring(s) with input '{inp}' "

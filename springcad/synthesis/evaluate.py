@@ -24,7 +24,8 @@ import numpy as np
 from springcad.config import MaterialSpec
 from springcad.design.catalogue import MIN_ENGAGEMENT_PER_DIAMETER
 from springcad.design.hardware import BUSHING_CLEARANCE_MM, stack_layout
-from springcad.design.stack import camshaft_indices, connection_sequence
+from springcad.connections import connection_sequence
+from springcad.design.connections import camshaft_indices
 from springcad.design.tolerance import backlash_rad, gap_range_mm
 from springcad.errors import DesignError
 from springcad.synthesis.screening import REASONS, screen_disks
