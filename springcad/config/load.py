@@ -22,7 +22,7 @@ from springcad.connections import output_connection
 from springcad.errors import ConfigError, ConfigFileError
 from springcad.materials import DEFAULT_MATERIAL, Material, material_table
 from springcad.textio import decode_utf8
-from springcad.units import MPA_PER_GPA, NMM_PER_NM
+from springcad.units import MPA_PER_GPA, NMM_PER_NM, RAD_PER_DEG
 
 #: a job config is a few hundred bytes; refuse anything absurdly large before parsing
 MAX_CONFIG_BYTES = 1_000_000
@@ -275,7 +275,7 @@ def _series(path: Path, unit: str, springs: dict[str, SpringSpec]) -> tuple[floa
     if len(values) < 2:
         raise ConfigError(full, str(path), "needs at least two deflection samples (one a line, "
                           "last column)")
-    scale = {"deg": math.pi / 180.0, "rad": 1.0, "fraction": 1.0}[unit]
+    scale = {"deg": RAD_PER_DEG, "rad": 1.0, "fraction": 1.0}[unit]
     series = tuple(x * scale for x in values)
     peak = max(abs(x) for x in series)
     limits = {"": 1.0} if unit == "fraction" else {
