@@ -206,3 +206,43 @@ def test_build_through_api_and_cli_gives_the_same_json(tmp_path, monkeypatch):
     design_cli = json.loads((tmp_path / "cli" / "design.json").read_text())
     design_api = json.loads((tmp_path / "api" / "design.json").read_text())
     assert stable(design_cli) == stable(design_api)
+
+
+def test_paper_through_api_and_cli_gives_the_same_json(tmp_path):
+    assert main(["paper", "--out", str(tmp_path / "cli"), "--no-fea"]) == 0
+    cli = json.loads((tmp_path / "cli" / "validation.json").read_text())
+    api = sc.validate_paper(use_fea=False)
+    assert len(cli["configurations"]) == 7
+    assert stable(cli) == stable(as_json(api.to_dict()))
+
+
+def test_explore_through_api_and_cli_gives_the_same_json(tmp_path):
+    grid = dict(stiffness_Nm_per_rad="10:300:3", deflection_rad="0.1:2.5:3", max_disks=2,
+                thickness_mm=[4.5], contact_radius_mm=[6.0])
+    assert main(["explore", "--out", str(tmp_path / "cli"), "--workers", "1",
+                 "--stiffness-Nm-per-rad", grid["stiffness_Nm_per_rad"], "--deflection-rad",
+                 grid["deflection_rad"], "--max-disks", "2", "--thickness-mm", "4.5",
+                 "--contact-radius-mm", "6"]) == 0
+    cli = json.loads((tmp_path / "cli" / "explore.json").read_text())
+    api = sc.explore(tmp_path / "api", workers=1, **grid)
+    assert cli["n_candidates"] == 3 * 3 * 2
+    # the sweep's rate is a wall-clock figure too
+    assert stable(cli, drop={"candidates_per_s"}) == stable(as_json(api),
+                                                            drop={"candidates_per_s"})
+
+
+def test_synthesize_through_api_and_cli_gives_the_same_json(tmp_path):
+    from tests.synthesis.synth_fixtures import requirements_toml, small
+
+    req = tmp_path / "req.toml"
+    req.write_text(requirements_toml(small()))
+    options = ["--workers", "1", "--batch-size", "300", "--no-verify", "--finalists", "2"]
+    assert main(["synthesize", str(req), "--out", str(tmp_path / "cli"), *options]) == 0
+    cli = json.loads((tmp_path / "cli" / "synthesis.json").read_text())
+    api = sc.synthesize(req, tmp_path / "api", workers=1, batch_size=300, verify=False,
+                        finalists=2)
+    assert cli["winner"] is not None and api.winner is not None
+    # the sweep's rate is a wall-clock figure too
+    assert stable(cli, drop={"candidates_per_s"}) == stable(as_json(api.to_dict()),
+                                                            drop={"candidates_per_s"})
+    assert (tmp_path / "cli" / "winner.toml").read_text() == api.winner_toml()
