@@ -24,7 +24,8 @@ def other(connection: str) -> str:
 
 
 def output_connection(n_springs: int, input_connection: str) -> str:
-    """The alternation rule: the output of n springs is the input's kind for even n, else the other."""
+    """The alternation rule: the output of n springs is the input's kind for even n, else
+    the other."""
     return input_connection if n_springs % 2 == 0 else other(input_connection)
 
 

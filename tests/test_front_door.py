@@ -164,6 +164,23 @@ def test_verify_options_are_checked_once_with_the_public_names(tmp_path):
     assert math.isclose(core.tolerance, VERIFY.tolerance_pct / 100)
 
 
+def test_output_refusals_name_the_option_as_the_door_spells_it(tmp_path, capsys):
+    """The output-folder checks live below the API: from Python they name the parameters
+    (out, overwrite=True), from the command line the flags (--out, --overwrite)."""
+    taken = tmp_path / "taken"
+    taken.mkdir()
+    (taken / "x.txt").write_text("kept")
+    from springcad.errors import OutputExistsError
+
+    built = sc.build(sc.design_job(template("paper_S1")))
+    with pytest.raises(OutputExistsError, match=r"choose another out or pass overwrite=True$"):
+        sc.export_build(built, taken, render=False)
+    assert (taken / "x.txt").read_text() == "kept"
+    assert main(["design", str(template("paper_S1")), "--out", str(taken)]) == 2
+    err = capsys.readouterr().err
+    assert "choose another --out or pass --overwrite" in err
+
+
 # ----------------------------------------------------------------------------- one door per stage
 def test_design_through_api_and_cli_gives_the_same_json(tmp_path):
     cfg = template("paper_S1_2xS2")

@@ -112,7 +112,8 @@ def test_the_config_checks_the_rule_the_design_builds(n, inp):
     rim_joints = sum(j == "rim" for j in st.joints)
     fastenerless = {**data, "hardware": {**data.get("hardware", {}), "fastener_count": 0}}
     if rim_joints:
-        with pytest.raises(ConfigError, match=rf"at least 1: this stack has {rim_joints} rim-to-rim"):
+        with pytest.raises(ConfigError,
+                           match=rf"at least 1: this stack has {rim_joints} rim-to-rim"):
             job_from_dict(fastenerless)
     else:
         assert job_from_dict(fastenerless).hardware.fastener_count == 0
