@@ -13,7 +13,9 @@ Public API (:mod:`springcad.api`; results in N*m/rad, rad, MPa, kg)::
     rec = sc.simulate(v, seed=1)                  # a simulated bench record
     f = sc.fit_record(rec, design=v.design)       # Fit: model, K, backlash, effects
     b = sc.build(v)                               # Build: solids and checks, in memory
-    b = sc.export_build(b, "out/S1")                    # CAD, drawings, BOM, out/S1/report.html
+    b = sc.export_build(b, "out/S1")              # CAD, drawings, BOM, out/S1/report.html
+    ring = sc.FlexureRing(d.springs["S1"])        # build123d parts: the ring, a camshaft,
+    cam = sc.Camshaft(d.springs["S1"])            # and b.compound(), the placed stack
 
 ``import springcad`` stays light: CAD, meshing and plotting libraries
 are imported by the modules that use them.
@@ -21,8 +23,10 @@ are imported by the modules that use them.
 
 from springcad.api import (
     Build,
+    Camshaft,
     Design,
     Fit,
+    FlexureRing,
     Spring,
     Stack,
     Verification,
@@ -42,6 +46,6 @@ from springcad.design.shapes import registry as _shapes  # noqa: F401  the confi
 from springcad.errors import SpringcadError
 from springcad.version import __version__
 
-__all__ = ["Build", "Design", "Fit", "Spring", "SpringcadError", "Stack", "Verification",
+__all__ = ["Build", "Camshaft", "Design", "Fit", "FlexureRing", "Spring", "SpringcadError", "Stack", "Verification",
            "__version__", "bench_protocol", "build", "design_job", "explore", "export_build",
            "fit_record", "load", "simulate", "synthesize", "validate_paper", "verify"]

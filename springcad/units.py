@@ -15,14 +15,20 @@ J_PER_NMM = 1e-3
 G_PER_KG = 1000.0
 M_PER_MM = 1e-3
 """A length unit of 1 mm in metres (CAD files declare their unit in metres)."""
+UM_PER_MM = 1000.0
+"""Micrometres in one mm (tolerances, gaps and deviations are written in um)."""
+RAD_PER_DEG = math.pi / 180.0
+DEG_PER_RAD = 180.0 / math.pi
 
 
-def deg_to_rad(deg: float) -> float:
-    return math.radians(deg)
+def deg_to_rad(deg):
+    """Degrees to rad, a float or a numpy array (the same bits as ``math.radians``)."""
+    return deg * RAD_PER_DEG
 
 
-def rad_to_deg(rad: float) -> float:
-    return math.degrees(rad)
+def rad_to_deg(rad):
+    """Rad to degrees, a float or a numpy array (the same bits as ``math.degrees``)."""
+    return rad * DEG_PER_RAD
 
 
 def nmm_to_nm(torque_Nmm: float) -> float:

@@ -94,6 +94,26 @@ def test_bench_csv_with_bom_in_deg_and_Nmm_fits_the_same_through_api_and_cli(tmp
     assert api.stiffness_Nm_per_rad == pytest.approx(40.0, rel=0.03)
 
 
+def test_fit_holds_its_summary_as_fields_equal_to_its_document(tmp_path, monkeypatch):
+    f = sc.fit_record(sc.simulate(40.0, backlash_rad=0.03, seed=5, friction_torque_Nm=0.1))
+    doc = as_json(f.to_dict())
+    # the fields, read without the document (a fit that would write its JSON fails here)
+    monkeypatch.setattr(type(f.raw), "to_dict", lambda self: pytest.fail("read its own JSON"))
+    held = {k: vars(f)[k] for k in ("model", "stiffness_Nm_per_rad", "backlash_rad", "nrmse_pct")}
+    effects, text = f.effects(), repr(f)
+    monkeypatch.undo()
+    # ... equal the document fit.json holds (the second reader)
+    final = doc["final"]
+    assert held == {"model": final["model"],
+                    "stiffness_Nm_per_rad": final["intervals"]["stiffness_Nm_per_rad"]["value"],
+                    "backlash_rad": doc["paper_models"]["deadband"]["backlash_rad"],
+                    "nrmse_pct": final["nrmse_pct"]}
+    assert effects == [{k: s.get(k) for k in ("effect", "action", "nrmse_before_pct",
+                                              "nrmse_after_pct")} for s in doc["steps"]]
+    assert effects and f.model.startswith("linear + ")
+    assert f"K={held['stiffness_Nm_per_rad']:.4g} N*m/rad" in text
+
+
 def test_bench_reader_refuses_the_same_way_through_both_doors(tmp_path, capsys):
     _, _, odd = _bench_files(tmp_path)
     # read as rad, a column named in degrees: both doors refuse, each naming its option
@@ -144,6 +164,23 @@ def test_verify_options_are_checked_once_with_the_public_names(tmp_path):
     assert math.isclose(core.tolerance, VERIFY.tolerance_pct / 100)
 
 
+def test_output_refusals_name_the_option_as_the_door_spells_it(tmp_path, capsys):
+    """The output-folder checks live below the API: from Python they name the parameters
+    (out, overwrite=True), from the command line the flags (--out, --overwrite)."""
+    taken = tmp_path / "taken"
+    taken.mkdir()
+    (taken / "x.txt").write_text("kept")
+    from springcad.errors import OutputExistsError
+
+    built = sc.build(sc.design_job(template("paper_S1")))
+    with pytest.raises(OutputExistsError, match=r"choose another out or pass overwrite=True$"):
+        sc.export_build(built, taken, render=False)
+    assert (taken / "x.txt").read_text() == "kept"
+    assert main(["design", str(template("paper_S1")), "--out", str(taken)]) == 2
+    err = capsys.readouterr().err
+    assert "choose another --out or pass --overwrite" in err
+
+
 # ----------------------------------------------------------------------------- one door per stage
 def test_design_through_api_and_cli_gives_the_same_json(tmp_path):
     cfg = template("paper_S1_2xS2")
@@ -186,3 +223,43 @@ def test_build_through_api_and_cli_gives_the_same_json(tmp_path, monkeypatch):
     design_cli = json.loads((tmp_path / "cli" / "design.json").read_text())
     design_api = json.loads((tmp_path / "api" / "design.json").read_text())
     assert stable(design_cli) == stable(design_api)
+
+
+def test_paper_through_api_and_cli_gives_the_same_json(tmp_path):
+    assert main(["paper", "--out", str(tmp_path / "cli"), "--no-fea"]) == 0
+    cli = json.loads((tmp_path / "cli" / "validation.json").read_text())
+    api = sc.validate_paper(use_fea=False)
+    assert len(cli["configurations"]) == 7
+    assert stable(cli) == stable(as_json(api.to_dict()))
+
+
+def test_explore_through_api_and_cli_gives_the_same_json(tmp_path):
+    grid = dict(stiffness_Nm_per_rad="10:300:3", deflection_rad="0.1:2.5:3", max_disks=2,
+                thickness_mm=[4.5], contact_radius_mm=[6.0])
+    assert main(["explore", "--out", str(tmp_path / "cli"), "--workers", "1",
+                 "--stiffness-Nm-per-rad", grid["stiffness_Nm_per_rad"], "--deflection-rad",
+                 grid["deflection_rad"], "--max-disks", "2", "--thickness-mm", "4.5",
+                 "--contact-radius-mm", "6"]) == 0
+    cli = json.loads((tmp_path / "cli" / "explore.json").read_text())
+    api = sc.explore(tmp_path / "api", workers=1, **grid)
+    assert cli["n_candidates"] == 3 * 3 * 2
+    # the sweep's rate is a wall-clock figure too
+    assert stable(cli, drop={"candidates_per_s"}) == stable(as_json(api),
+                                                            drop={"candidates_per_s"})
+
+
+def test_synthesize_through_api_and_cli_gives_the_same_json(tmp_path):
+    from tests.synthesis.synth_fixtures import requirements_toml, small
+
+    req = tmp_path / "req.toml"
+    req.write_text(requirements_toml(small()))
+    options = ["--workers", "1", "--batch-size", "300", "--no-verify", "--finalists", "2"]
+    assert main(["synthesize", str(req), "--out", str(tmp_path / "cli"), *options]) == 0
+    cli = json.loads((tmp_path / "cli" / "synthesis.json").read_text())
+    api = sc.synthesize(req, tmp_path / "api", workers=1, batch_size=300, verify=False,
+                        finalists=2)
+    assert cli["winner"] is not None and api.winner is not None
+    # the sweep's rate is a wall-clock figure too
+    assert stable(cli, drop={"candidates_per_s"}) == stable(as_json(api.to_dict()),
+                                                            drop={"candidates_per_s"})
+    assert (tmp_path / "cli" / "winner.toml").read_text() == api.winner_toml()

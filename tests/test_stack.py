@@ -88,3 +88,32 @@ def test_stack_mass_counts_hardware(paper_designs):
     assert st.energy_J == pytest.approx(4 * st.springs[0].energy_J, rel=2e-3)
     two = paper_designs["paper_2xS1"].stack
     assert {c.kind for c in two.components}.isdisjoint({"bushing", "alignment_shaft"})
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+@pytest.mark.parametrize("inp", ["shaft", "rim"])
+def test_the_config_checks_the_rule_the_design_builds(n, inp):
+    """The config's output check and its fasteners-for-rim-joints check read the same rule
+    as the stack design: the output the design gives loads, the other is refused, and a
+    fastener-less stack is refused exactly when the design has a rim-to-rim joint."""
+    import tomllib
+
+    import springcad as sc
+    from springcad.config import ConfigError, job_from_dict
+    from tests.conftest import template
+
+    data = tomllib.loads(template("paper_S1").read_text())
+    data["stack"] = {"sequence": ["S1"] * n, "input": inp}
+    st = sc.design_job(data).raw.stack
+    other = {"shaft": "rim", "rim": "shaft"}[st.output]
+    assert job_from_dict({**data, "stack": {**data["stack"], "output": st.output}}).stack
+    with pytest.raises(ConfigError, match=rf"stack\.output.*must be '{st.output}' for {n} spring"):
+        job_from_dict({**data, "stack": {**data["stack"], "output": other}})
+    rim_joints = sum(j == "rim" for j in st.joints)
+    fastenerless = {**data, "hardware": {**data.get("hardware", {}), "fastener_count": 0}}
+    if rim_joints:
+        with pytest.raises(ConfigError,
+                           match=rf"at least 1: this stack has {rim_joints} rim-to-rim"):
+            job_from_dict(fastenerless)
+    else:
+        assert job_from_dict(fastenerless).hardware.fastener_count == 0

@@ -3,7 +3,9 @@
 The stages are ``load``, ``design_job``, ``verify``, ``build``, ``export_build``,
 ``simulate`` (with ``bench_protocol``), ``fit_record``, ``validate_paper``,
 ``synthesize`` and ``explore``; each ``springcad`` subcommand is one of them and a
-printout. The defaults are declared once, in :mod:`springcad.options` (``design_job``
+printout. For build123d users, ``FlexureRing`` and ``Camshaft`` make a designed spring's
+parts, and ``Build.compound()`` the placed stack (:mod:`springcad.api.parts`). The
+defaults are declared once, in :mod:`springcad.options` (``design_job``
 and ``fit_record``, not ``design`` and ``fit``: ``springcad.design``, ``.export`` and ``.fit`` are
 subpackages, whose import would rebind those names on the package).
 
@@ -23,11 +25,12 @@ Example:
 """
 
 from springcad.api.calls import bench_protocol, design_job, fit_record, load, simulate, verify
+from springcad.api.parts import Camshaft, FlexureRing
 from springcad.api.pipeline import Build, build, export_build, load_title_block
 from springcad.api.results import Design, Fit, Spring, Stack, Verification
 from springcad.api.studies import explore, synthesize, validate_paper
 from springcad.report.notebook import profile_svg
 
-__all__ = ["Build", "Design", "Fit", "Spring", "Stack", "Verification", "bench_protocol", "build",
+__all__ = ["Build", "Camshaft", "Design", "FlexureRing", "Fit", "Spring", "Stack", "Verification", "bench_protocol", "build",
            "design_job", "explore", "export_build", "fit_record", "load", "load_title_block",
            "profile_svg", "simulate", "synthesize", "validate_paper", "verify"]

@@ -103,6 +103,12 @@ class Build:
                  "kind": p.info.kind, "quantity": qty[pn], "process": p.info.process}
                 for pn, p in self.assembly.parts.items()]
 
+    def compound(self):
+        """The stack as one build123d ``Compound``: every placed part a child, named
+        (``label``, e.g. ``spring_1_S1``) and coloured, in the stack frame (mm; z the axis,
+        the input side at the lowest z), as the assembly STEP holds it."""
+        return self.assembly.compound()
+
     def failures(self) -> list[str]:
         """The failed checks, one line each (geometry errors; violations unless accepted)."""
         bad = self.checks.errors + ([] if self.accept_violations else self.checks.violations)

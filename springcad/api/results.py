@@ -237,15 +237,26 @@ class Verification:
 class Fit:
     """A fitted bench record (wraps :class:`springcad.fit.analysis.FitResult`).
 
+    The summary is held as fields, taken once from the fit (not read back from its
+    ``fit.json`` document, which :meth:`to_dict` writes).
+
     Attributes:
         raw: the internal result.
         design_warnings: plausibility warnings of the design the fit was compared with.
+        model: the final model in words (``"linear + backlash + ..."``).
+        stiffness_Nm_per_rad: final-model stiffness (N*m/rad); the deadband fit's when no
+            spring was found.
+        backlash_rad: the paper's deadband-model backlash (rad).
+        nrmse_pct: the final model's NRMSE (% of half the measured torque range).
     """
 
     def __init__(self, raw, design_warnings: tuple[str, ...] = ()):
         self.raw = raw
         self.design_warnings = tuple(design_warnings)
-        self._dict = None
+        self.model = raw.final_model
+        self.stiffness_Nm_per_rad = raw.stiffness_Nm_per_rad
+        self.backlash_rad = raw.paper_models["deadband"].backlash_rad
+        self.nrmse_pct = raw.nrmse_pct(raw.loop.final)
 
     @property
     def warnings(self) -> tuple[str, ...]:
@@ -254,35 +265,12 @@ class Fit:
 
     def to_dict(self) -> dict:
         """The ``fit.json`` document."""
-        if self._dict is None:
-            self._dict = self.raw.to_dict()
-        return self._dict
-
-    @property
-    def model(self) -> str:
-        return self.to_dict()["final"]["model"]
-
-    @property
-    def stiffness_Nm_per_rad(self) -> float:
-        """Final-model stiffness (N*m/rad); the deadband fit's when no spring was found."""
-        d = self.to_dict()
-        ci = d["final"].get("intervals", {}).get("stiffness_Nm_per_rad")
-        return ci["value"] if ci else d["paper_models"]["deadband"]["stiffness_Nm_per_rad"]
-
-    @property
-    def backlash_rad(self) -> float:
-        """The paper's deadband-model backlash (rad)."""
-        return self.to_dict()["paper_models"]["deadband"]["backlash_rad"]
-
-    @property
-    def nrmse_pct(self) -> float:
-        return self.to_dict()["final"]["nrmse_pct"]
+        return self.raw.to_dict()
 
     def effects(self) -> list[dict]:
         """The residual loop's steps: effect, action, NRMSE before and after (%)."""
-        return [{"effect": s["effect"], "action": s["action"],
-                 "nrmse_before_pct": s.get("nrmse_before_pct"),
-                 "nrmse_after_pct": s["nrmse_after_pct"]} for s in self.to_dict()["steps"]]
+        return [{"effect": s.effect, "action": s.action, "nrmse_before_pct": s.nrmse_before_pct,
+                 "nrmse_after_pct": s.nrmse_after_pct} for s in self.raw.loop.steps]
 
     def __repr__(self) -> str:
         chain = " ".join(f"{'+' if e['action'] == 'add' else '-' if e['action'] == 'remove' else 'x'}"
@@ -294,5 +282,6 @@ class Fit:
     def plot_png(self) -> bytes:
         """The torque-deflection plot (data and models) as PNG bytes."""
         return notebook.fit_png(self)
+
     def _repr_html_(self) -> str:
         return notebook.fit_html(self)

@@ -55,6 +55,11 @@ def _announce(say, space, store) -> None:
             f"({len(store.pending_batches())} to evaluate)")
 
 
+def _given(**callbacks) -> dict:
+    """The callbacks the caller gave (the library's quiet defaults stand for the others)."""
+    return {k: v for k, v in callbacks.items() if v is not None}
+
+
 def _check_cluster(workers, batch_size) -> None:
     check_number("batch_size", batch_size, 1, float("inf"), integer=True)
     if workers is not None:
@@ -113,8 +118,7 @@ def synthesize(requirements, out=None, *, scheduler: str | None = None,
     with dask_client(scheduler, workers) as client:
         result = _synthesize(req, space, store, client, finalists=finalists,
                              max_finalists=max_finalists, verify_top=verify_top, verify=verify,
-                             fea_model=fea_model, say=say,
-                             **({"progress": progress} if progress is not None else {}))
+                             fea_model=fea_model, **_given(progress=progress, say=say))
     write_json(out / "synthesis.json", result.to_dict())
     if result.winner is not None:
         (out / "winner.toml").write_text(result.winner_toml())
@@ -186,8 +190,7 @@ def explore(out=Path("outputs") / "explore", *, stiffness_Nm_per_rad=None, defle
                         resume=not restart)
     _announce(say, space, store)
     with dask_client(scheduler, workers) as client:
-        stats = run_sweep(space, store, client,
-                          **({"progress": progress} if progress is not None else {}))
+        stats = run_sweep(space, store, client, **_given(progress=progress))
     cols = store.read()
     region = reachable_region(cols)
     fronts = mass_fronts(cols)

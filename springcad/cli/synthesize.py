@@ -74,8 +74,7 @@ def say(message: str) -> None:
 
 
 def run(args) -> int:
-    from springcad.synthesis.pipeline import summary_table
-    from springcad.synthesis.ranking import format_family_report
+    from springcad.report.synthesis_text import format_family_report, summary_table
 
     out = args.out or default_out(args.requirements)
     result = sc.synthesize(args.requirements, out, **dask_options(args),

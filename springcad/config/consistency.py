@@ -14,6 +14,7 @@ from dataclasses import replace
 
 from springcad.config.schema import BOLT_DIAMETERS_MM
 from springcad.config.specs import HardwareSpec, Job, ManufacturingSpec, SpringSpec
+from springcad.connections import rim_joint_count
 from springcad.errors import ConfigError
 
 #: Monte Carlo stacks below which the 1 %/99 % percentiles are not worth quoting
@@ -140,15 +141,10 @@ def check(job: Job, spring_values: dict[str, dict]) -> Job:
                         f"{mat.safety_factor:g} exceeds the yield strength "
                         f"{mat.material.yield_strength_MPa:g} MPa; the FEA yield check will fail "
                         "unless the peak stress stays below the design stress")
-    rim_joints = _rim_joints(len(job.stack.sequence), job.stack.input)
+    rim_joints = rim_joint_count(len(job.stack.sequence), job.stack.input)
     if hw.fastener_count == 0 and rim_joints:
         raise ConfigError("hardware.fastener_count", 0,
                           f"must be at least 1: this stack has {rim_joints} rim-to-rim joint(s), "
                           "pinned or bolted through the rim holes")
     return replace(job, springs=springs, warnings=tuple(warnings))
 
-
-def _rim_joints(n: int, input_connection: str) -> int:
-    """Number of rim-to-rim joints in a stack of n springs (they alternate, see design.stack)."""
-    first_rim = input_connection == "shaft"
-    return sum(1 for j in range(n - 1) if (j % 2 == 0) == first_rim)

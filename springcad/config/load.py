@@ -18,10 +18,11 @@ from springcad.config import consistency
 from springcad.config.schema import MAX_SPRINGS, REMOVED, RENAMED, REQUIRED, Key, _toml_type, keys
 from springcad.config.specs import (AnalysisSpec, DutyBlock, DutySpec, HardwareSpec, Job,
                                     ManufacturingSpec, MaterialSpec, SpringSpec, StackSpec)
+from springcad.connections import output_connection
 from springcad.errors import ConfigError, ConfigFileError
 from springcad.materials import DEFAULT_MATERIAL, Material, material_table
 from springcad.textio import decode_utf8
-from springcad.units import MPA_PER_GPA, NMM_PER_NM
+from springcad.units import MPA_PER_GPA, NMM_PER_NM, RAD_PER_DEG
 
 #: a job config is a few hundred bytes; refuse anything absurdly large before parsing
 MAX_CONFIG_BYTES = 1_000_000
@@ -204,7 +205,7 @@ def _stack(v: dict, springs: dict[str, SpringSpec]) -> StackSpec:
                               f"is not a defined spring; defined: {', '.join(springs)}")
     if "output" in v:
         n = len(seq)
-        expected = inp if n % 2 == 0 else ("rim" if inp == "shaft" else "shaft")
+        expected = output_connection(n, inp)
         if v["output"] != expected:
             raise ConfigError(f"{p}.output", v["output"],
                               f"must be '{expected}' for {n} spring(s) with input '{inp}' "
@@ -279,7 +280,7 @@ def _series(path: Path, unit: str, springs: dict[str, SpringSpec]) -> tuple[floa
     if len(values) < 2:
         raise ConfigError(full, str(path), "needs at least two deflection samples (one a line, "
                           "last column)")
-    scale = {"deg": math.pi / 180.0, "rad": 1.0, "fraction": 1.0}[unit]
+    scale = {"deg": RAD_PER_DEG, "rad": 1.0, "fraction": 1.0}[unit]
     series = tuple(x * scale for x in values)
     peak = max(abs(x) for x in series)
     limits = {"": 1.0} if unit == "fraction" else {

@@ -19,6 +19,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from springcad.connections import CONNECTIONS
 from springcad.errors import ConfigError, show
 
 #: marker of a key that must be given
@@ -226,7 +227,6 @@ class Registered(Sequence):
 
 #: "auto" and every flexure shape of the registry (:mod:`springcad.design.shapes`)
 FLEXURE_SHAPES = Registered(("auto",))
-CONNECTIONS = ("shaft", "rim")
 PROCESSES = ("wire_edm",)
 FASTENER_KINDS = ("bolt", "dowel")
 TOLERANCE_DISTRIBUTIONS = ("uniform", "normal")

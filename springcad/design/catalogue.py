@@ -28,6 +28,7 @@ from pathlib import Path
 
 from springcad.data import data_path
 from springcad.errors import DesignError
+from springcad.units import UM_PER_MM
 
 DOWEL_FILE = "iso8734_dowels.csv"
 #: a dowel engages each part it locates by at least this x its diameter
@@ -54,7 +55,7 @@ def dowel_lengths() -> dict[float, tuple[float, ...]]:
 def _deviation_mm(table, diameter_mm: float, what: str) -> tuple[float, float]:
     for upper_mm, lo_um, hi_um in table:
         if diameter_mm <= upper_mm + 1e-9:
-            return lo_um / 1000.0, hi_um / 1000.0
+            return lo_um / UM_PER_MM, hi_um / UM_PER_MM
     raise DesignError(f"{what} Ø{diameter_mm:g}: above the {table[-1][0]:g} mm of springcad's "
                       "ISO 286 table")
 

@@ -13,10 +13,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from springcad.connections import RIM, SHAFT
 from springcad.design import plans as pl
 from springcad.design.cam import d_bore
 from springcad.design.catalogue import bolt_set, m6_deviation_mm, rim_dowel_length, rim_pin_fit
-from springcad.design.connections import RIM, SHAFT, camshaft_indices
+from springcad.design.connections import camshaft_indices
 from springcad.design.processes import process
 from springcad.design.tolerance import DJoint, RimPinJoint, d_half_chord_mm
 from springcad.errors import DesignError

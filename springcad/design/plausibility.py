@@ -20,7 +20,7 @@ from springcad.config.consistency import MIN_RIM_FRACTION
 from springcad.design.fastener_room import check_fastener_room
 from springcad.design.joint_strength import check_pin_strength
 from springcad.errors import DesignError
-from springcad.units import NMM_PER_NM
+from springcad.units import NMM_PER_NM, UM_PER_MM
 
 #: beam-theory stiffness further than this from the target is reported (fraction)
 STIFFNESS_WARN_FRACTION = 0.01
@@ -103,7 +103,7 @@ def design_warnings(job_design) -> list[str]:
         root_w = float(s.width_mm(s.root_radius_mm))
         if root_w < mfg.wire_diameter_mm:
             out.append(
-                f"spring {s.name}: flexure root width {root_w * 1000:.3g} um is thinner than the "
+                f"spring {s.name}: flexure root width {root_w * UM_PER_MM:.3g} um is thinner than the "
                 f"EDM wire ({mfg.wire_diameter_mm:g} mm): the target stiffness "
                 f"{s.target_stiffness_Nmm_per_rad / NMM_PER_NM:.3g} N*m/rad is too low for this "
                 "disk; use a thinner or smaller disk, or fewer flexures")

@@ -1,7 +1,7 @@
 """Series stacks: series stiffness, eq. 10, backlash and the hardware layout.
 
 The connection sequence (the paper's alternation rule) is
-:mod:`springcad.design.connections`; the parts and their places are
+:mod:`springcad.connections`; the parts and their places are
 :mod:`springcad.design.hardware`. Units: mm, N*mm, rad, kg.
 """
 
@@ -10,7 +10,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from springcad.design.connections import camshaft_indices, connection_sequence
+from springcad.connections import connection_sequence
+from springcad.design.connections import camshaft_indices
 from springcad.design.hardware import (Component, StackLayout, bolt_circle_limit_mm, d_joints,
                                       stack_layout)
 from springcad.design.joint_strength import stack_pin_strengths

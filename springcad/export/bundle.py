@@ -24,6 +24,7 @@ from springcad.export.skeleton import built_part, with_solids
 from springcad.geometry.checks import Check
 from springcad.parallel import trim_heap
 from springcad.progress import Progress, no_progress
+from springcad.units import UM_PER_MM
 
 #: read-back tolerances: volume and area (relative), bounding box (mm)
 ROUNDTRIP_RTOL = 1e-3
@@ -101,7 +102,7 @@ def _write_part(part, parts_dir: Path, info: dict, template) -> tuple[list[Path]
         paths.append(rep.path)
         meta.append(("dxf", f"{rep.n_loops} closed contours as {rep.n_entities} "
                             f"{rep.entities} entities, {rep.n_biarcs} biarcs, "
-                            f"max deviation {1e3 * rep.max_deviation_mm:.3f} um"))
+                            f"max deviation {UM_PER_MM * rep.max_deviation_mm:.3f} um"))
     if part.info.process != "purchased":
         for path in write_drawing(part, DrawingInfo(**info), parts_dir, template):
             paths.append(path)

@@ -38,6 +38,7 @@ from springcad.fit.segment import CycleEnergy, Segmentation, cycle_energies, seg
 from springcad.fit.signals import Signals, make_signals
 from springcad.fit.torque_model import single_threaded_blas
 from springcad.options import spell
+from springcad.units import DEG_PER_RAD, NMM_PER_NM, RAD_PER_DEG
 from springcad.version import stamp
 
 SCHEMA = "springcad.fit/2"
@@ -45,12 +46,12 @@ SCHEMA = "springcad.fit/2"
 #: unit factors a stiffness can be off by when a unit is misread:
 #: (factor, the factor in words, what happened, the fix: pass or drop an option's value)
 UNIT_FACTORS = (
-    (180.0 / math.pi, "57.3 (180/pi)", "angles in rad were read as degrees",
+    (DEG_PER_RAD, "57.3 (180/pi)", "angles in rad were read as degrees",
      ("drop", "angle_unit", "deg")),
-    (math.pi / 180.0, "1/57.3 (pi/180)", "angles in degrees were read as rad",
+    (RAD_PER_DEG, "1/57.3 (pi/180)", "angles in degrees were read as rad",
      ("pass", "angle_unit", "deg")),
-    (1000.0, "1000", "torque in N·mm was read as N·m", ("pass", "torque_unit", "Nmm")),
-    (1e-3, "1/1000", "torque in N·m was read as N·mm", ("drop", "torque_unit", "Nmm")))
+    (NMM_PER_NM, "1000", "torque in N·mm was read as N·m", ("pass", "torque_unit", "Nmm")),
+    (1 / NMM_PER_NM, "1/1000", "torque in N·m was read as N·mm", ("drop", "torque_unit", "Nmm")))
 #: a stiffness within this factor of a unit factor times the target reads as a unit mistake
 #: (a real spring misses its target by tens of percent, not by 38 to 86 times)
 UNIT_FACTOR_TOLERANCE = 1.5
@@ -113,6 +114,18 @@ class FitResult:
     def half_range_Nm(self) -> float:
         return self.signals.scales.torque_ref
 
+    @property
+    def final_model(self) -> str:
+        """The final model in words (see :func:`final_label`)."""
+        return final_label(self.loop)
+
+    @property
+    def stiffness_Nm_per_rad(self) -> float:
+        """The final model's stiffness (N·m/rad); the deadband fit's when no spring was found
+        (the loop then reports no interval for it)."""
+        ci = self.loop.intervals.get("stiffness_Nm_per_rad")
+        return ci["value"] if ci else self.paper_models["deadband"].stiffness_Nm_per_rad
+
     def nrmse_pct(self, state: State) -> float:
         """NRMSE (%) of a loop state over its non-glitch samples."""
         return self.loop.nrmse_pct(state, self.signals)
@@ -148,7 +161,7 @@ class FitResult:
             "baseline": {"model": loop.baseline.label, "params": loop.baseline.params(),
                          "nrmse_pct": self.nrmse_pct(loop.baseline)},
             "steps": [s.to_dict() for s in loop.steps],
-            "final": {"model": final_label(loop), "effects": list(loop.identified),
+            "final": {"model": self.final_model, "effects": list(loop.identified),
                       "terms": list(final.effects),
                       "confounded": [g.to_dict() for g in loop.confounded],
                       "no_spring": loop.no_spring,

@@ -344,7 +344,7 @@ def _numeric_column(name: str, col: int, rows: list[list[str]], line_numbers: np
 #: a flexure torsion spring of this kind deflects far less than a full turn
 MAX_DEFLECTION_RAD = 2.0 * np.pi
 #: angles read as degrees that never reach one degree are angles in rad (rad)
-MIN_DEFLECTION_DEG_RAD = float(np.radians(1.0))
+MIN_DEFLECTION_DEG_RAD = units.deg_to_rad(1.0)
 #: torque range over deflection range of compact torsion springs (N·m/rad)
 IMPLIED_STIFFNESS_RANGE_NM_PER_RAD = (0.05, 1e5)
 #: read as N·mm, a spring softer than this (N·m/rad) is worth a question: the springs
@@ -439,17 +439,17 @@ def _unit_warnings(arrays: dict, names: dict, angle_unit: str, source: str,
     ptp_theta = float(np.ptp(arrays["deflection"]))
     implied = float(np.ptp(arrays["torque"])) / ptp_theta
     low, high = IMPLIED_STIFFNESS_RANGE_NM_PER_RAD
-    if torque_unit == "Nmm" and implied < low <= 1000.0 * implied <= high:
+    if torque_unit == "Nmm" and implied < low <= units.NMM_PER_NM * implied <= high:
         # read as N*mm the spring is implausibly soft, read as N*m it is an ordinary one
         out.append(unit_contradiction(
             f"read with {spell('torque_unit', 'Nmm')}, torque range over deflection range is "
             f"{implied:.3g} N·m/rad, softer than any torsion spring bench measures, and "
-            f"{1000.0 * implied:.3g} N·m/rad read as N·m (a factor 1000): the torque column is "
+            f"{units.NMM_PER_NM * implied:.3g} N·m/rad read as N·m (a factor 1000): the torque column is "
             f"in N·m; drop {spell('torque_unit', 'Nmm')}", source, trust_units))
-    elif torque_unit == "Nmm" and low <= implied < SOFT_IN_NMM_NM_PER_RAD <= 1000.0 * implied <= high:
+    elif torque_unit == "Nmm" and low <= implied < SOFT_IN_NMM_NM_PER_RAD <= units.NMM_PER_NM * implied <= high:
         out.append(f"read with {spell('torque_unit', 'Nmm')}, torque range over deflection "
                    f"range is {implied:.3g} N·m/rad, a very soft spring, and "
-                   f"{1000.0 * implied:.3g} N·m/rad read as N·m: is the column in N·m? If so, "
+                   f"{units.NMM_PER_NM * implied:.3g} N·m/rad read as N·m: is the column in N·m? If so, "
                    f"drop {spell('torque_unit', 'Nmm')} "
                    "(with a target stiffness, the fit checks this against it)")
     elif implied < low or implied > high:

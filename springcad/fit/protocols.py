@@ -29,8 +29,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from springcad.units import deg_to_rad
+
 #: the paper's ramp targets: 4° to 24° in 4° steps (rad)
-PAPER_AMPLITUDES_RAD = tuple(float(np.radians(a)) for a in range(4, 25, 4))
+PAPER_AMPLITUDES_RAD = tuple(deg_to_rad(float(a)) for a in range(4, 25, 4))
 
 PROFILES = ("cosine", "linear")
 
@@ -152,7 +154,7 @@ class SineSweep:
         rest_s: rest before and after (s).
     """
 
-    amplitudes_rad: tuple[float, ...] = (float(np.radians(20.0)),)
+    amplitudes_rad: tuple[float, ...] = (deg_to_rad(20.0),)
     frequencies_hz: tuple[float, ...] = (0.1, 0.3, 1.0)
     cycles: int = 3
     sample_rate_hz: float = 500.0

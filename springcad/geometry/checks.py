@@ -21,7 +21,7 @@ import time
 from dataclasses import asdict, dataclass, field
 
 from springcad.cache import memo
-from springcad.design.connections import connection_sequence
+from springcad.connections import connection_sequence
 from springcad.errors import CheckFailed, GeometryError
 from springcad.options import spell
 from springcad.geometry.stack import build_stack

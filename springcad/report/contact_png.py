@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from springcad.units import NMM_PER_NM
+from springcad.units import NMM_PER_NM, rad_to_deg
 
 _COLOURS = {"+": "tab:blue", "-": "tab:red"}
 
@@ -27,7 +27,7 @@ def _curve_axes(ax, sweep):
         if math.isfinite(on):
             end = steps[-1].angle_rad
             ref = np.linspace(on, end, 50)
-            ax.plot(np.degrees(ref),
+            ax.plot(rad_to_deg(ref),
                     sweep.stiffness_linear_Nmm_per_rad * (ref - on) / NMM_PER_NM, "--",
                     color="0.4", lw=1)
             ax.axvspan(0, deg(on), color="0.85", lw=0)

@@ -185,9 +185,8 @@ def fit_png(obj) -> bytes:
 
 def fit_html(obj) -> str:
     """A fit: the plot, the paper models and the residual loop's steps (an API ``Fit``)."""
-    d = obj.to_dict()
-    rows = [(name, g(m["stiffness_Nm_per_rad"]), g(m["backlash_rad"]), f"{m['nrmse_pct']:.3g}")
-            for name, m in d["paper_models"].items()]
+    rows = [(name, g(m.stiffness_Nm_per_rad), g(m.backlash_rad), f"{m.nrmse_pct:.3g}")
+            for name, m in obj.raw.paper_models.items()]
     eff = [(e["effect"], e["action"], g(e["nrmse_before_pct"], 3), g(e["nrmse_after_pct"], 3))
            for e in obj.effects()]
     img = base64.b64encode(fit_png(obj)).decode("ascii")

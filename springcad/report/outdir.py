@@ -41,6 +41,7 @@ import tempfile
 from pathlib import Path
 
 from springcad.errors import NoSpaceError, OutputExistsError, OutputPathError
+from springcad.options import spell
 
 TMP_TAG = "springcad-tmp-"
 OLD_TAG = "springcad-old-"
@@ -73,7 +74,7 @@ def require_free_space(folder: Path | str, needed_bytes: int, what: str) -> None
         raise NoSpaceError(f"not enough free space to write {what}: it needs about "
                            f"{_mb(need)} (with a {_mb(SPACE_RESERVE_BYTES)} reserve) and the "
                            f"disk holding '{folder}' has {_mb(free)} free; free at least "
-                           f"{_mb(need - free)} or write the output elsewhere with --out")
+                           f"{_mb(need - free)} or write the output elsewhere with {spell('out')}")
 
 
 def _no_space(err: BaseException) -> OSError | None:
@@ -161,7 +162,7 @@ def _raise_if_no_space(err: BaseException, out: Path, written_bytes: int) -> Non
         f"the disk holding '{base}' is full: the output stopped after {_mb(written_bytes)} "
         f"({full.strerror or full}) and was removed, {now}; free more than "
         f"{_mb(written_bytes + SPACE_RESERVE_BYTES)} (the whole output is larger than what "
-        "was written) or write it elsewhere with --out") from err
+        f"was written) or write it elsewhere with {spell('out')}") from err
 
 
 def _size(path: Path) -> int:
@@ -205,12 +206,12 @@ def _check_common(out: Path, what: str, inputs) -> Path:
     """Checks shared by folders and files; returns the nearest existing ancestor folder."""
     if str(out) in ("", "."):
         raise OutputPathError(f"output {what} '{out}' is the current folder; give a new "
-                              f"{what} name with --out")
+                              f"{what} name with {spell('out')}")
     target = _abs(out)
     cwd = _abs(Path.cwd())
     if target == cwd or target in cwd.parents:
         raise OutputPathError(f"output {what} '{out}' is or contains the current folder; give a "
-                              f"new {what} with --out")
+                              f"new {what} with {spell('out')}")
     for inp in inputs:
         if inp is None:
             continue
@@ -259,10 +260,11 @@ def check_output_dir(out_dir: Path | str, overwrite: bool = False, inputs=()) ->
         raise OutputPathError(f"output folder '{out}' is a symbolic link; give the folder itself")
     if out.exists():
         if not out.is_dir():
-            raise OutputPathError(f"output folder '{out}' is a file; --out names a folder")
+            raise OutputPathError(f"output folder '{out}' is a file; {spell('out')} names a folder")
         if any(out.iterdir()) and not overwrite:
             raise OutputExistsError(f"output folder '{out}' already exists and is not empty; "
-                                    "choose another --out or pass --overwrite")
+                                    f"choose another {spell('out')} or pass "
+                                    f"{spell('overwrite', True)}")
     _probe(base, out, "folder")
     return out
 
@@ -279,11 +281,11 @@ def check_output_file(out_file: Path | str, overwrite: bool = False, inputs=()) 
     base = _check_common(out, "file", inputs)
     if out.is_dir():
         raise OutputPathError(f"output file '{out}' is a folder; give a file name "
-                              "(e.g. record.csv) with --out")
+                              f"(e.g. record.csv) with {spell('out')}")
     if out.exists() or out.is_symlink():
         if not overwrite:
-            raise OutputExistsError(f"'{out}' already exists; choose another --out or pass "
-                                    "--overwrite")
+            raise OutputExistsError(f"'{out}' already exists; choose another {spell('out')} or "
+                                    f"pass {spell('overwrite', True)}")
     _probe(base, out, "file")
     return out
 

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from springcad.report.mpl import pyplot
+from springcad.units import G_PER_KG
 
 
 def write_parquet(path: Path | str, columns: dict) -> Path:
@@ -80,9 +81,9 @@ def plot_mass_fronts(fronts: dict, path: Path | str, max_curves: int = 7) -> Pat
         sel = fronts["stiffness_Nm_per_rad"] == k
         th, m, n = (fronts["deflection_rad"][sel], fronts["mass_kg"][sel],
                     fronts["n_disks"][sel])
-        ax.plot(th, 1000 * m, "-o", color=cmap(j), ms=3, lw=1.2, label=f"K = {k:.3g} N·m/rad")
+        ax.plot(th, G_PER_KG * m, "-o", color=cmap(j), ms=3, lw=1.2, label=f"K = {k:.3g} N·m/rad")
         for t, mm, nn in zip(th, m, n):
-            ax.annotate(str(nn), (t, 1000 * mm), fontsize=6, xytext=(2, 2),
+            ax.annotate(str(nn), (t, G_PER_KG * mm), fontsize=6, xytext=(2, 2),
                         textcoords="offset points", color=cmap(j))
     ax.set_xscale("log")
     ax.set_yscale("log")

@@ -24,11 +24,12 @@ import numpy as np
 from springcad.config import MaterialSpec
 from springcad.design.catalogue import MIN_ENGAGEMENT_PER_DIAMETER
 from springcad.design.hardware import BUSHING_CLEARANCE_MM, stack_layout
-from springcad.design.stack import camshaft_indices, connection_sequence
+from springcad.connections import connection_sequence
+from springcad.design.connections import camshaft_indices
 from springcad.design.tolerance import backlash_rad, gap_range_mm
 from springcad.errors import DesignError
 from springcad.synthesis.screening import REASONS, screen_disks
-from springcad.units import MM3_PER_CM3, NMM_PER_NM
+from springcad.units import J_PER_NMM, MM3_PER_CM3, NMM_PER_NM
 
 #: stack-level constraints after the disk ones
 HOLES, AXIAL, RADIAL, STIFFNESS = "rim_holes", "axial_length", "envelope_radius", "stiffness"
@@ -252,7 +253,7 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
     violation[feasible] = 0.0
 
     K, th = cols["stiffness_Nmm_per_rad"], cols["deflection_rad"]
-    energy = 0.5 * K * th ** 2 * 1e-3
+    energy = 0.5 * K * th ** 2 * J_PER_NMM
     volume_cm3 = np.pi * r_env ** 2 * height / MM3_PER_CM3
     w_gap = mfg.w_gap_mm
     d_max = gap_range_mm(w_gap, mfg.t_spring_mm, mfg.t_shaft_mm)[2]

@@ -230,27 +230,3 @@ def synthesize(req, space, store, client, *, finalists: int = SYNTHESIS.finalist
     result.winner_job = job_document(req, winner)
     result.timings_s = t
     return result
-
-
-def summary_table(result: SynthesisResult, n: int = 10) -> str:
-    """The best screened stacks (every finalist, at least ``n``) as plain text, with the
-    full design's mass and predicted peak, or why it failed."""
-    req = result.requirements
-    col = req.objective_column
-    full = {f["cid"]: f for f in result.finalists}
-    rows = [("rank", "cid", "family", "input", "z mm", "r_c", "R_o", "N", "mass g", "h mm",
-             "peak MPa", col, "full design")]
-    for k, r in enumerate(result.top[:max(n, len(result.finalists))], 1):
-        f = full.get(int(r["cid"]))
-        fd = ("-" if f is None else
-              f"{G_PER_KG * f['mass_kg']:.1f} g, {f['peak_stress_MPa']:.0f} MPa" if f["ok"]
-              else f"FAIL ({f['failure']})")
-        z = f"{r['thickness_a_mm']:g}" + (f"/{r['thickness_b_mm']:g}" if r["n_b"] else "")
-        n_fl = f"{r['n_flexures_a']}" + (f"/{r['n_flexures_b']}" if r["n_b"] else "")
-        rows.append((str(k), str(r["cid"]), r["family"], r["input"], z,
-                     f"{r['contact_radius_mm']:g}", f"{r['outer_radius_mm']:.2f}", n_fl,
-                     f"{G_PER_KG * r['mass_kg']:.1f}", f"{r['axial_length_mm']:.1f}",
-                     f"{r['peak_stress_MPa']:.0f}", f"{r[col]:.4g}", fd))
-    w = [max(len(x[i]) for x in rows) for i in range(len(rows[0]))]
-    return "\n".join("  ".join(c.rjust(k) for c, k in zip(x, w)) for x in rows)
-

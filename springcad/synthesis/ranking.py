@@ -10,7 +10,6 @@ from collections import Counter
 import numpy as np
 
 from springcad.synthesis.evaluate import detail
-from springcad.units import G_PER_KG
 
 #: columns shown for a candidate (what a person needs to recognise the stack)
 KEY_COLUMNS = ("cid", "family", "input", "material", "thickness_a_mm", "thickness_b_mm",
@@ -97,24 +96,3 @@ def family_report(cols: dict, objective_column: str, minimise: bool = True) -> l
             entry["binding"] = binding
         out.append(entry)
     return out
-
-
-def format_family_report(report: list[dict], objective_column: str) -> str:
-    """The family report as plain text lines."""
-    lines = []
-    for e in report:
-        head = f"{e['family']:>14s}: {e['feasible']:6d} / {e['candidates']:6d} feasible"
-        if e["feasible"]:
-            b = e["best"]
-            lines.append(f"{head}; best {objective_column} {b[objective_column]:.4g} "
-                         f"(mass {G_PER_KG * b['mass_kg']:.1f} g, {b['axial_length_mm']:.1f} mm)")
-            continue
-        lines.append(f"{head}; fails on:")
-        for c in e["binding"][:3]:
-            cand = c["candidate"]
-            where = (f"z {cand['thickness_a_mm']:g}"
-                     + (f"/{cand['thickness_b_mm']:g}" if cand["thickness_b_mm"] else "")
-                     + f" mm, r_c {cand['contact_radius_mm']:g} mm, R_o {cand['outer_radius_mm']:.2f} mm")
-            lines.append(f"{'':16s}{c['constraint']} ({c['candidates']} candidates); nearest miss "
-                         f"[{where}]: {c['nearest_miss']}")
-    return "\n".join(lines)

@@ -54,6 +54,7 @@ from springcad.design.search import STRESS_PASSES
 from springcad.design.shapes.screen import ScreenRows, ScreenSizing, rim_root_radius_rows
 from springcad.design.shapes.serpentine_screen import U
 from springcad.synthesis.peak import predict_peaks
+from springcad.units import J_PER_NMM
 
 __all__ = ["REASONS", "cam_tooth_width_mm", "screen_disks", "screened_shapes"]
 
@@ -253,7 +254,7 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
 
     # 1. energy bound (J): the annulus between the row's contact radius and the largest
     # root radius the rim allows, as the design's with that contact radius
-    need = 0.5 * K * theta ** 2 * 1e-3
+    need = 0.5 * K * theta ** 2 * J_PER_NMM
     bound = fx.energy_bound_J_per_mm3(sigma, E) * np.pi * np.maximum(
         (ro - rim_min) ** 2 - rc ** 2, 0.0) * z
     fail(need > bound, ENERGY, need, bound)

@@ -7,7 +7,8 @@ from springcad.cli import main
 from springcad.synthesis.candidates import CandidateSpace
 from springcad.synthesis.evaluate import evaluate_batch
 from springcad.synthesis.explore import pareto_front
-from springcad.synthesis.ranking import distinct, family_report, format_family_report, rank
+from springcad.report.synthesis_text import format_family_report
+from springcad.synthesis.ranking import distinct, family_report, rank
 from springcad.synthesis.requirements import requirements_from_dict
 from synth_fixtures import requirements_toml, small
 
