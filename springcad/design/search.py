@@ -445,9 +445,10 @@ def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign
             kept = None
         if kept is not None and not soft_shortfalls(kept):
             d = _replace(kept, spec=design.spec)
-    d = _replace(d, material=mat, warnings=tuple(dict.fromkeys(d.warnings + (
-        f"redesigned by the FEA stress correction (FEA peak {model_bias:.3f} x the design "
-        f"prediction): beam stress {d.beam_stress_MPa:.0f} MPa",))))
+    # a note, not a warning: the redesign is verified again, and its verdict gates the release
+    d = _replace(d, material=mat, design_choice=(
+        f"{d.design_choice}; redesigned by the FEA stress correction (FEA peak "
+        f"{model_bias:.3f} x the design prediction): beam stress {d.beam_stress_MPa:.0f} MPa"))
     return _on_holes_of(design, d)
 
 
