@@ -54,7 +54,8 @@ def single_threaded_blas():
     For work made of many small dense products and solves (the contact sweep's Newton
     iterations on a ~1400-DOF sector): a multi-threaded BLAS gains nothing there, and on a
     busy 2-core machine its spinning threads made the paper S1 contact sweep 3x slower
-    (measured: 9.6 s CPU with OpenBLAS's threads, 3.2 s with one)."""
+    (measured: 9.6 s CPU with OpenBLAS's threads, 3.2 s with one); and the fits, which
+    factor tall, thin Jacobians (thousands x a few), several times slower."""
     try:
         from threadpoolctl import threadpool_limits
     except ImportError:  # optional: only a speed-up

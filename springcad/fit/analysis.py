@@ -36,7 +36,7 @@ from springcad.fit.loop import LoopResult, LoopSettings, State, run_loop
 from springcad.fit.models import PaperModelFit, fit_paper_models, rmse, stiffness_error_pct
 from springcad.fit.segment import CycleEnergy, Segmentation, cycle_energies, segment
 from springcad.fit.signals import Signals, make_signals
-from springcad.fit.torque_model import single_threaded_blas
+from springcad.parallel import single_threaded_blas
 from springcad.options import spell
 from springcad.units import DEG_PER_RAD, NMM_PER_NM, RAD_PER_DEG
 from springcad.version import stamp

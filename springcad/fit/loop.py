@@ -63,7 +63,8 @@ from springcad.fit.residual import residual_structure
 from springcad.fit.search import (BESIDE_STRUCTURE, Candidate, LoopSettings, Search,  # noqa: F401
                                   State, line_fit, turn_guard)
 from springcad.fit.signals import Signals, find_glitches
-from springcad.fit.torque_model import TorqueModel, single_threaded_blas
+from springcad.fit.torque_model import TorqueModel
+from springcad.parallel import single_threaded_blas
 
 __all__ = ["Candidate", "LoopResult", "LoopSettings", "State", "Step", "run_loop"]
 

@@ -11,7 +11,6 @@ Torque in N·m, angles in rad, time in s, K in N·m/rad.
 
 from __future__ import annotations
 
-import contextlib
 
 import numpy as np
 from scipy import optimize
@@ -20,24 +19,6 @@ from springcad.fit.effects import STAGES, Effect
 from springcad.fit.signals import Scales, Signals
 
 _TORQUE_STAGES = ("angle", "map", "factor", "torque")
-
-
-@contextlib.contextmanager
-def single_threaded_blas():
-    """Run the block with one BLAS thread, when ``threadpoolctl`` is installed.
-
-    The fits factor tall, thin Jacobians (thousands × a few): a multi-threaded
-    BLAS gains nothing there and, on a busy 2-core machine, its spinning
-    threads made each fit several times slower in our measurements. Without
-    ``threadpoolctl`` the block runs unchanged.
-    """
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:  # optional: only a speed-up
-        yield
-        return
-    with threadpool_limits(limits=1, user_api="blas"):
-        yield
 
 
 class TorqueModel:
