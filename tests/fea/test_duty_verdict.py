@@ -122,6 +122,7 @@ def test_a_declared_duty_sizes_the_design_and_the_default_duty_does_not():
     def springs(declared):
         data = tomllib.loads(template("default").read_text())
         data["duty"] = {"preset": "robot_joint", "reliability": 0.9999}
+        data["springs"]["S1"]["thickness_mm"] = 12.0  # the plate the template's duty gets
         job = job_from_dict(data)
         if not declared:
             job = replace(job, material=replace(job.material, duty=replace(job.material.duty,
