@@ -59,6 +59,8 @@ def flank_point(psi: float, contact_radius_mm: float, offset_mm: float) -> np.nd
 
 #: the start of the warning a too-close tooth tip gives (the design search reads it)
 TIP_CLEARANCE_SHORT = "driving tooth tip passes close to the ball"
+#: the warning when the flank covers less than the nominal overtravel beyond theta_max
+OVERTRAVEL_REDUCED = "cam flank overtravel reduced"
 
 
 def tip_clearance_mm(contact_radius_mm: float, tip_radius_mm: float, gap_mm: float,
@@ -211,7 +213,7 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
             f"needs at least min_web_mm = {min_web:g} mm")
     warnings = ()
     if f < OVERTRAVELS[0]:
-        warnings = (f"cam flank overtravel reduced to {f:g} x max deflection to fit the tooth",)
+        warnings = (f"{OVERTRAVEL_REDUCED} to {f:g} x max deflection to fit the tooth",)
     tip_gap = tip_clearance_mm(rc, rb, g, theta, f)
     if f not in clearing:
         warnings += (f"{TIP_CLEARANCE_SHORT}: {tip_gap * 1e3:.0f} um at full deflection "

@@ -23,6 +23,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from springcad.design.cam import OVERTRAVEL_REDUCED, TIP_CLEARANCE_SHORT
+
+#: design-time estimates of the contact at +-theta_max that the contact FEA with the profile
+#: tolerances checks on the real geometry: where it ran, they are notes, not reasons
+CONTACT_ESTIMATES = (TIP_CLEARANCE_SHORT, OVERTRAVEL_REDUCED)
+
 RELEASED = "RELEASED"
 NOT_FOR_MANUFACTURE = "NOT FOR MANUFACTURE"
 #: reason of a drawing made outside ``springcad build`` (nobody assessed it)
@@ -93,6 +99,17 @@ def contact_notes(verification) -> list[str]:
     return out
 
 
+def _contact_assessed(verification) -> set[str]:
+    """Springs whose contact at +-theta_max the FEA assessed with the profile tolerances
+    (both ends with their clearances); its own failures are release reasons already."""
+    out = set()
+    for n, v in getattr(verification, "springs", {}).items():
+        at_max = getattr(getattr(v, "contact", None), "at_max", None)
+        if at_max is not None and at_max.ends and all(e.clearances for e in at_max.ends.values()):
+            out.add(n)
+    return out
+
+
 def release_status(job_design, verification=None, verify_skipped: bool = False,
                    checks=()) -> ReleaseStatus:
     """Judge a build.
@@ -130,7 +147,13 @@ def release_status(job_design, verification=None, verify_skipped: bool = False,
         ratings += list(getattr(verification, "ratings", list)())
         notes += [f"contact fatigue, {n}"
                   for n in getattr(verification, "contact_fatigue_notes", list)()]
-    reasons += [f"design warning: {w}" for w in job_design.release_warnings()]
+    assessed = _contact_assessed(verification) if not verify_skipped else set()
+    for w in job_design.release_warnings():
+        name, _, text = w.partition(": ")
+        if name.removeprefix("spring ") in assessed and text.startswith(CONTACT_ESTIMATES):
+            notes.append(f"design estimate, checked by the contact FEA with the tolerances: {w}")
+        else:
+            reasons.append(f"design warning: {w}")
     reasons += [_check_reason(c) for c in checks if not c.passed]
     return ReleaseStatus(tuple(dict.fromkeys(reasons)), tuple(dict.fromkeys(notes)),
                          tuple(ratings))

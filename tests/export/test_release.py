@@ -108,3 +108,26 @@ def test_contact_sweep_findings_are_listed_not_blocking(designs):
                             "FEA contact sweep, spring S1: -: second contact: ball:0 touches "
                             "pocket:0")
     assert [f"  note: {n}" for n in status.notes] == status.summary_lines()[1:]
+
+
+def test_tooth_tip_estimates_give_way_to_the_contact_fea(designs):
+    """A design-time estimate of the tooth tip near the ball stops the release unless the
+    contact FEA assessed the clearances at +-theta_max with the tolerances (its failures are
+    reasons of their own): then it is a note."""
+    from dataclasses import replace
+    from types import SimpleNamespace
+
+    from springcad.design.cam import OVERTRAVEL_REDUCED, TIP_CLEARANCE_SHORT
+
+    d = designs["default"]
+    s1 = replace(d.springs["S1"], warnings=(f"{TIP_CLEARANCE_SHORT}: 21 um (estimate)",
+                                            f"{OVERTRAVEL_REDUCED} to 1.2 x max deflection"))
+    warned = replace(d, springs={"S1": s1})
+    ver = FakeVerification()
+    assert not release_status(warned, ver).released  # no contact assessment
+    end = SimpleNamespace(clearances=["driving_tooth_tip/ball"])
+    ver.springs = {"S1": SimpleNamespace(contact=SimpleNamespace(
+        flags=[], at_max=SimpleNamespace(ends={"+": end, "-": end})))}
+    status = release_status(warned, ver)
+    assert status.released
+    assert sum("checked by the contact FEA" in n for n in status.notes) == 2
