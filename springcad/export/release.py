@@ -105,7 +105,8 @@ def _contact_assessed(verification) -> set[str]:
     out = set()
     for n, v in getattr(verification, "springs", {}).items():
         at_max = getattr(getattr(v, "contact", None), "at_max", None)
-        if at_max is not None and at_max.ends and all(e.clearances for e in at_max.ends.values()):
+        ends = getattr(at_max, "ends", None) or {}
+        if ends and all(getattr(e, "clearances", None) for e in ends.values()):
             out.add(n)
     return out
 
