@@ -252,8 +252,8 @@ class ContactMargin:
 
 def tip_radius_for_contact_mm(force_N, flank_radius_mm, thickness_mm, E_MPa, nu, allowable_MPa):
     """:func:`min_tip_radius_for_contact_mm` on arrays (numpy broadcasting; ``nu`` may be an
-    array too), for the design
-    search and the synthesis screen (mm; ``inf`` where no ball is enough, 0 without load).
+    array too), for the synthesis screen (the design search's one layout at a time uses the
+    scalar function) (mm; ``inf`` where no ball is enough, 0 without load).
 
     ``flank_radius_mm`` > 0 convex (the cam flank at the contact; r_c x theta at full
     deflection for the involute flank of :mod:`springcad.design.cam`), ``inf`` flat.
@@ -261,11 +261,8 @@ def tip_radius_for_contact_mm(force_N, flank_radius_mm, thickness_mm, E_MPa, nu,
     force = np.asarray(force_N, dtype=float)
     P = force / np.asarray(thickness_mm, dtype=float)
     nu = np.asarray(nu, dtype=float)
-    if nu.ndim == 0:  # the design search's one material (15000 calls for the default job)
-        c_vm = np.array(von_mises_peak(float(np.round(nu, 6)))[0])
-    else:
-        uniq, where = np.unique(np.round(nu, 6), return_inverse=True)
-        c_vm = np.array([von_mises_peak(float(v))[0] for v in uniq])[where].reshape(nu.shape)
+    uniq, where = np.unique(np.round(nu, 6), return_inverse=True)
+    c_vm = np.array([von_mises_peak(float(v))[0] for v in uniq])[where].reshape(nu.shape)
     E = np.asarray(E_MPa, dtype=float) / (2.0 * (1.0 - nu ** 2))  # same material both sides
     with np.errstate(divide="ignore", invalid="ignore"):
         k_allowed = math.pi * (np.asarray(allowable_MPa, dtype=float) / c_vm) ** 2 / (P * E)

@@ -51,6 +51,16 @@ def _sizing_material(material: MaterialSpec) -> MaterialSpec:
     return _replace(material, duty=_replace(material.duty, declared=True))
 
 
+def _ceiling_mm(spec: SpringSpec) -> float:
+    """The thickest plate the spec allows (mm): its ``max_thickness_mm``, else no bound."""
+    return spec.max_thickness_mm if spec.max_thickness_mm is not None else math.inf
+
+
+def _allowed_mm(spec: SpringSpec) -> list[float]:
+    """The stock plates up to the spec's bound, ascending (mm)."""
+    return [t for t in plate_thicknesses_mm() if t <= _ceiling_mm(spec) + 1e-9]
+
+
 def _thinnest(stock: list[float], designs) -> tuple[float | None, float | None]:
     """(the thinnest of ``stock`` that ``designs``, the next thinner value probed and
     refused or None): bisection, the last value probed first; (None, None) when it does
@@ -76,8 +86,7 @@ def choose_thickness_mm(spec: SpringSpec, material: MaterialSpec,
         (thickness or None when none designs, the next thinner stock value probed and
         refused or None, what the thickness was sized for).
     """
-    ceiling = spec.max_thickness_mm if spec.max_thickness_mm is not None else math.inf
-    stock = [t for t in plate_thicknesses_mm() if t <= ceiling + 1e-9]
+    stock = _allowed_mm(spec)
     sized = _sizing_material(material)
     tries = [(sized, "its duty" if sized is material else "springcad's default duty")]
     if sized is not material:
@@ -125,8 +134,7 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
               if thinner is not None else " (the thinnest in the stock list)"))
     short = search.soft_shortfalls(d)
     if short:  # a thicker plate whose layout avoids it, if one is near
-        ceiling = spec.max_thickness_mm if spec.max_thickness_mm is not None else math.inf
-        for u in [v for v in plate_thicknesses_mm() if t < v <= ceiling + 1e-9][:CLEAN_SCAN]:
+        for u in [v for v in _allowed_mm(spec) if v > t][:CLEAN_SCAN]:
             try:
                 du = search.design_spring(_replace(spec, thickness_mm=u), material,
                                           manufacturing, hardware, explain=False,
@@ -150,8 +158,7 @@ def _thickest(spec, material, manufacturing, hardware, explain, max_root_radius_
     Raises:
         DesignError: the thickest allowed does not design either.
     """
-    ceiling = spec.max_thickness_mm if spec.max_thickness_mm is not None else math.inf
-    allowed = [t for t in plate_thicknesses_mm() if t <= ceiling + 1e-9]
+    ceiling, allowed = _ceiling_mm(spec), _allowed_mm(spec)
     thickest = allowed[-1] if allowed else ceiling
     change = ""
     if explain and spec.max_thickness_mm is not None:  # the bound that would design

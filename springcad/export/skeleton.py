@@ -18,13 +18,14 @@ Units: mm, mm^3.
 from __future__ import annotations
 
 from springcad.cache import MISSING
+from springcad.geometry.part_info import NamedByInfo
 from springcad.geometry.stack import Instance, StackAssembly
 
 #: the cache kind of a skeleton (key inputs: the job design)
 KIND = "assembly-skeleton"
 
 
-class PartRecord:
+class PartRecord(NamedByInfo):
     """A part of a :class:`LazyAssembly`: what the exports read without the solid.
 
     Attributes:
@@ -40,14 +41,6 @@ class PartRecord:
         self.info, self.slabs, self.colour = info, slabs, colour
         self.exact_prism, self.volume_mm3 = exact_prism, volume_mm3
         self._owner = None
-
-    @property
-    def part_number(self) -> str:
-        return self.info.part_number
-
-    @property
-    def name(self) -> str:
-        return self.info.name
 
     def built(self):
         """The part with its solid (builds the assembly's solids the first time)."""

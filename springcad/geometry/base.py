@@ -41,7 +41,7 @@ with sklearn_deferred():
 
 from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
 from springcad.errors import GeometryError
-from springcad.geometry.part_info import PartInfo, Slab  # noqa: F401  (their home before)
+from springcad.geometry.part_info import NamedByInfo, PartInfo, Slab  # noqa: F401  (their home before)
 
 #: display colours (RGB 0-1) by material family
 COLOURS = {
@@ -111,7 +111,7 @@ def part_number_of(info: PartInfo, slabs, tolerance_mm: float) -> str:
     return f"{code}-{digest[:PN_HASH_DIGITS].upper()}"
 
 
-class SpringcadPart(BasePartObject):
+class SpringcadPart(NamedByInfo, BasePartObject):
     """A build123d part made of z-prism slabs, with its design values as attributes.
 
     Subclasses compute their slabs from the design and call this initialiser.
@@ -137,15 +137,6 @@ class SpringcadPart(BasePartObject):
         super().__init__(solid)
         self.label = self.part_number
         self.color = Color(*self.colour)
-
-    @property
-    def part_number(self) -> str:
-        return self.info.part_number
-
-    @property
-    def name(self) -> str:
-        """The job-local label (``"S1-RING"``)."""
-        return self.info.name
 
     @property
     def tolerance_mm(self) -> float:

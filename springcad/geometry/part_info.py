@@ -76,3 +76,19 @@ class PartInfo:
     fits: dict = field(default_factory=dict)
     part_number: str = ""
     secondary_processes: tuple[str, ...] = ()
+
+
+class NamedByInfo:
+    """``part_number`` and ``name`` read from the object's ``info`` (:class:`PartInfo`):
+    a built part and its cached record answer them alike."""
+
+    info: PartInfo
+
+    @property
+    def part_number(self) -> str:
+        return self.info.part_number
+
+    @property
+    def name(self) -> str:
+        """The job-local label (``"S1-RING"``)."""
+        return self.info.name
