@@ -162,6 +162,8 @@ def _spec_rows(design: dict, fea: dict | None) -> str:
         row("fatigue-rated deflection (°)", duty_value("fatigue_rated_deflection_deg"), 3),
         row("deflection limit (rad)", lambda s, f: s.get("max_deflection_rad")),
         row("flexures", lambda s, f: s.get("n_flexures")),
+        row("disk thickness (mm)", lambda s, f: s.get("thickness_mm")),
+        row("contact radius r_c (mm)", lambda s, f: s.get("contact_radius_mm"), 4),
         row("mass (kg)", lambda s, f: s.get("mass_kg")),
         row("energy density (J/cm³)", lambda s, f: s.get("energy_density_J_per_cm3")),
     ]

@@ -70,6 +70,8 @@ def test_report_is_written_listed_and_self_contained(built):
     design = json.loads((built / "design.json").read_text())
     k = design["springs"]["S1"]["stiffness_Nm_per_rad"]
     assert f"{k:.4g}" in text
+    z = design["springs"]["S1"]["thickness_mm"]  # the plate (chosen or given) is shown
+    assert f"<td>disk thickness (mm)</td><td class='n'>{z:.4g}</td>" in text
     import csv
 
     rows = list(csv.DictReader((built / "bom.csv").open()))
