@@ -47,7 +47,7 @@ import numpy as np
 
 from fea.contact_result import ContactOptions, ContactStep, ContactSweep, direction_flags
 from fea.contact_solver import CamCurve, SectorContact, State, hertz_line_contact, rot
-from fea.contact_tolerance import RING_TO_RING, ContactMaterial, EndState, assess
+from fea.contact_tolerance import RING_TO_RING, BallLayout, ContactMaterial, EndState, assess
 from springcad.errors import SolverError
 from springcad.parallel import single_threaded_blas
 
@@ -382,8 +382,12 @@ def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
         ends[key] = (sign * theta_max, states)
     props = ContactMaterial(material.youngs_modulus_MPa, material.poisson_ratio,
                             material.yield_strength_MPa, design.material.safety_factor)
+    layout = BallLayout(float(design.contact_radius_mm), float(m.w_gap_mm),
+                        float(design.thickness_mm), material.youngs_modulus_MPa,
+                        material.poisson_ratio)
     return assess(design.name, ends, ball[1], float(design.thickness_mm), props,
-                  float(m.t_spring_mm), float(m.t_shaft_mm), m.tolerance_distribution, seed)
+                  float(m.t_spring_mm), float(m.t_shaft_mm), m.tolerance_distribution, seed,
+                  layout)
 
 
 # ============================================================ the sweep

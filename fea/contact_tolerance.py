@@ -54,7 +54,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from springcad.design.contact_stress import ContactMargin, min_tip_radius_for_contact_mm
+from springcad.design.contact_stress import ContactMargin, ball_advice, min_tip_radius_for_contact_mm
 from springcad.design.tolerance import deviations
 
 #: ring-to-ring gaps (the others are ring to cam)
@@ -142,6 +142,25 @@ class EndCheck:
                 "clearances_ok": all(c.ok for c in self.clearances), "notes": list(self.notes)}
 
 
+@dataclass(frozen=True)
+class BallLayout:
+    """The layout the ball advice needs: r_c, the design gap w_gap, the disk thickness (mm)
+    and the material (MPa, -)."""
+
+    contact_radius_mm: float
+    gap_mm: float
+    thickness_mm: float
+    youngs_modulus_MPa: float
+    poisson_ratio: float
+
+    def advice(self, force_N: float, angle_rad: float, allowable_MPa: float,
+               min_flank_position_mm: float, tip_radius_mm: float) -> str:
+        """:func:`springcad.design.contact_stress.ball_advice` at this layout."""
+        return ball_advice(force_N, self.contact_radius_mm, self.gap_mm, angle_rad,
+                           self.thickness_mm, self.youngs_modulus_MPa, self.poisson_ratio,
+                           allowable_MPa, min_flank_position_mm, tip_radius_mm)
+
+
 @dataclass
 class ContactAtMax:
     """The contact rules at +-theta_max (see the module docstring)."""
@@ -154,6 +173,9 @@ class ContactAtMax:
     seed: int
     ends: dict
     """"+" and "-": :class:`EndCheck`."""
+    layout: "BallLayout | None" = None
+    """with it, the ball advice follows the flank radius the ball leaves
+    (:func:`springcad.design.contact_stress.ball_advice`)."""
 
     @property
     def ok(self) -> bool:
@@ -175,6 +197,10 @@ class ContactAtMax:
                        "the same force on the same flank" if math.isfinite(r_min) else
                        "no tip ball is enough on this flank: lower the contact force (more "
                        "flexures, a larger contact radius) or the deflection")
+                if self.layout is not None and c.get("force_N", 0.0) > 0:
+                    fix = self.layout.advice(c["force_N"], abs(end.angle_rad),
+                                             m.yield_strength_MPa / m.required_safety_factor,
+                                             tol, c["ball_radius_mm"])
                 out.append(
                     f"{at}: tip ball Hertz contact von Mises {m.von_mises_MPa:.0f} MPa "
                     f"(p0 {c['p0_MPa']:.0f} MPa, {c['force_N']:.0f} N on a ball of radius "
@@ -336,7 +362,8 @@ class ContactMaterial:
 
 def assess(name: str, ends: dict, r_tip_mm: float, thickness_mm: float,
            material: ContactMaterial, t_spring_mm: float, t_shaft_mm: float,
-           distribution: str = "uniform", seed: int = 1) -> ContactAtMax:
+           distribution: str = "uniform", seed: int = 1,
+           layout: BallLayout | None = None) -> ContactAtMax:
     """Judge the ends of a contact sweep.
 
     Args:
@@ -348,6 +375,7 @@ def assess(name: str, ends: dict, r_tip_mm: float, thickness_mm: float,
         t_spring_mm, t_shaft_mm: profile tolerances of ring and cam (mm).
         distribution: "uniform" or "normal" (t = 3 sigma) for the Monte Carlo.
         seed: Monte Carlo seed.
+        layout: :class:`BallLayout` for the ball advice of a failed contact.
     """
     rng = np.random.default_rng(seed)
     checks, offsets = {}, ()
@@ -375,4 +403,5 @@ def assess(name: str, ends: dict, r_tip_mm: float, thickness_mm: float,
                       for gap in nominal.clearances_mm]
         checks[key] = EndCheck(key, angle, contact, margin, clearances, notes)
     return ContactAtMax(name=name, t_spring_mm=t_spring_mm, t_shaft_mm=t_shaft_mm,
-                        offsets_mm=offsets, distribution=distribution, seed=seed, ends=checks)
+                        offsets_mm=offsets, distribution=distribution, seed=seed, ends=checks,
+                        layout=layout)

@@ -136,8 +136,12 @@ class SpringVerification:
         if c is None or not c.judged or c.met:
             return []
         h, m = self._hardest_contact(), self.design.material.material
-        change = c.changes(h["force_N"], h["ball_radius_mm"], h["flank_radius_mm"],
-                           self.design.thickness_mm, m.youngs_modulus_MPa, m.poisson_ratio)
+        d = self.design
+        mfg = d.manufacturing
+        change = c.changes(h["force_N"], h["ball_radius_mm"], d.thickness_mm,
+                           m.youngs_modulus_MPa, m.poisson_ratio, d.contact_radius_mm,
+                           mfg.w_gap_mm, d.max_deflection_rad,
+                           mfg.t_spring_mm + mfg.t_shaft_mm)
         return [f"spring {self.name}: tip-ball contact fatigue over the duty not met: "
                 f"{c.text()}; {change}"]
 

@@ -124,3 +124,76 @@ def test_margin():
     assert m.margin == pytest.approx(1344 / 1420) and not m.ok
     assert cs.ContactMargin(1000.0, 1344.0, 1.2).ok
     assert cs.ContactMargin(0.0, 1344.0, 1.2).margin == math.inf
+
+
+# ------------------------------------------------ the flank radius the ball leaves
+def _flank_points(rc, rho, psi):
+    """The cam flank p(psi) = R(psi) (r_c psi - rho, r_c) of springcad.design.cam's docstring,
+    written out here (mm)."""
+    x, y = rc * psi - rho, rc
+    return np.array([x * np.cos(psi) - y * np.sin(psi), x * np.sin(psi) + y * np.cos(psi)])
+
+
+def test_the_rigid_contact_lies_where_the_ball_touches_the_flank():
+    """At cam rotation theta the ball (radius r_b, its centre r_c theta - gap along the
+    flexure's normal, as cam.py's kinematics place it) is r_b from the flank point p(theta)
+    and farther from every other flank point; the flank's radius of curvature there, from
+    three points, is r_c theta - r_b - gap."""
+    rc, rb, gap, theta = 6.0, 0.3, 0.04, 0.2
+    rho = rb + gap
+    psi = np.linspace(rho / rc, rho / rc + 1.5 * theta, 200001)
+    flank = _flank_points(rc, rho, psi)
+    c, s = math.cos(theta), math.sin(theta)
+    u = rc * theta - gap
+    centre = np.array([u * c - rc * s, u * s + rc * c])
+    d = np.hypot(*(flank - centre[:, None]))
+    i = int(np.argmin(d))
+    assert d[i] == pytest.approx(rb, abs=1e-7)
+    assert psi[i] == pytest.approx(theta, abs=2e-5)
+    a, b, q = (_flank_points(rc, rho, theta + e) for e in (-1e-4, 0.0, 1e-4))
+    cross = (b[0] - a[0]) * (q[1] - b[1]) - (b[1] - a[1]) * (q[0] - b[0])
+    radius = np.linalg.norm(b - a) * np.linalg.norm(q - b) * np.linalg.norm(q - a) / (2 * abs(cross))
+    assert radius == pytest.approx(cs.flank_radius_at_contact_mm(rc, rb, gap, theta), rel=1e-6)
+    assert cs.flank_position_at_contact_mm(rc, rb, gap, theta) == pytest.approx(
+        0.5 * rc * (theta - rho / rc) ** 2, rel=1e-12)
+
+
+def test_the_ball_window_meets_the_allowable_at_both_ends_and_is_best_in_the_middle():
+    """The window's ends give exactly the allowable on the flank radius each leaves; the
+    middle r_b = (r_c theta - gap)/2 is the least stressed ball; outside, the stress exceeds
+    it; a layout that leaves no window gives none."""
+    kw = dict(force_N=150.0, thickness_mm=5.0, E_MPa=200e3, nu=0.3)
+    rc, gap, theta, allow = 7.0, 0.04, 0.2, 1100.0
+    lo, hi = cs.tip_radius_window_mm(kw["force_N"], rc, gap, theta, kw["thickness_mm"],
+                                     kw["E_MPa"], kw["nu"], allow)
+
+    def vm(r):
+        return cs.tip_contact_von_mises_MPa(r_tip_mm=r, flank_radius_mm=cs.flank_radius_at_contact_mm(
+            rc, r, gap, theta), **kw)
+
+    assert 0 < lo < hi
+    assert vm(lo) == pytest.approx(allow, rel=1e-9) and vm(hi) == pytest.approx(allow, rel=1e-9)
+    mid = 0.5 * (rc * theta - gap)
+    assert vm(mid) < allow and vm(0.9 * lo) > allow and vm(1.05 * hi) > allow
+    assert vm(mid) < min(vm(0.95 * mid), vm(1.05 * mid))
+    # the cusp rule: the contact at least s_min along the flank caps the ball
+    s_min = 0.02
+    _, capped = cs.tip_radius_window_mm(kw["force_N"], rc, gap, theta, kw["thickness_mm"],
+                                        kw["E_MPa"], kw["nu"], allow, s_min)
+    assert cs.flank_position_at_contact_mm(rc, capped, gap, theta) == pytest.approx(s_min)
+    assert cs.tip_radius_window_mm(kw["force_N"], 2.0, gap, 0.1, kw["thickness_mm"],
+                                   kw["E_MPa"], kw["nu"], allow) == (math.inf, -math.inf)
+
+
+def test_ball_advice_names_a_window_that_works_or_a_reach_that_opens_one():
+    kw = dict(thickness_mm=2.0, E_MPa=190e3, nu=0.3, allowable_MPa=880.0,
+              min_flank_position_mm=0.02, tip_radius_mm=0.41)
+    text = cs.ball_advice(58.3, 5.4068, 0.04, 0.1222, **kw)
+    assert "no tip ball at this layout" in text
+    rc_new = float(text.split("contact_radius_mm >= ")[1].split(",")[0])
+    lo, hi = cs.tip_radius_window_mm(58.3, rc_new * 1.001, 0.04, 0.1222, 2.0, 190e3, 0.3, 880.0,
+                                     0.02)
+    assert lo <= hi
+    ok = cs.ball_advice(58.3, 14.0, 0.04, 0.1222, **kw)
+    lo_t, hi_t = (float(v) for v in ok.split("between ")[1].split(" (now")[0].split(" and "))
+    assert 0 < lo_t < hi_t

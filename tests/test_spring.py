@@ -7,6 +7,7 @@ import pytest
 
 from springcad.config import job_from_dict
 from springcad.design import flexure as fx
+from springcad.design.contact_stress import tip_contact_von_mises_MPa
 from springcad.design.search import design_spring
 from springcad.errors import DesignError
 
@@ -107,12 +108,20 @@ def test_deviation_tip_ball_sized_for_peak_load():
     with pytest.raises(DesignError, match=r"torque cap 37\.5 N\*m"):
         design(tip_radius_mm=None, n_flexures=None, min_tip_radius_mm=0.3)
     as_built = design()  # N and ball fixed as the paper built them: a warning, not an error
-    # bending alone needs 0.344 mm; the ball's Hertz contact on the flank (r_c theta_max)
-    # at yield / safety factor needs 0.487 mm, the larger is required
+    # bending alone needs 0.344 mm; the ball's Hertz contact on the flank radius it leaves
+    # at theta_max (r_c theta - r_b - w_gap) at yield / safety factor needs more: the
+    # required ball gives exactly the allowed von Mises there (Hertz evaluated forwards)
     bending = fx.tip_ball_required_radius_mm(as_built.tip_load_N, 4.5, 912)
     assert bending == pytest.approx(0.344, abs=1e-3)
-    assert as_built.tip_radius_required_mm == pytest.approx(0.487, abs=1e-3)
-    assert any("0.487" in w and "torque cap" in w for w in as_built.warnings)
+    r_req = as_built.tip_radius_required_mm
+    m = as_built.material.material
+    flank = (as_built.contact_radius_mm * as_built.max_deflection_rad - r_req
+             - as_built.manufacturing.w_gap_mm)
+    vm = tip_contact_von_mises_MPa(as_built.tip_load_N, r_req, flank, 4.5,
+                                   m.youngs_modulus_MPa, m.poisson_ratio)
+    assert r_req > bending
+    assert vm == pytest.approx(m.yield_strength_MPa / as_built.material.safety_factor, rel=1e-6)
+    assert any(f"{r_req:.3f}" in w and "torque cap" in w for w in as_built.warnings)
     # the reference rule (load at theta_s) would have accepted 0.300 mm
     load_s = 150e3 * as_built.straight_limit_rad / (28 * 5.5)
     assert fx.tip_ball_required_radius_mm(load_s, 4.5, 912) < 0.300

@@ -1,7 +1,8 @@
 """Contact fatigue (pitting) of the flexure's tip ball on the cam flank over the duty.
 
 The tip ball is a cylinder as long as the disk is thick, the cam flank at the contact a
-convex cylinder of radius r_c theta: a Hertz *line* contact
+convex cylinder of radius r_c theta - r_b - w_gap (the involute flank offset by the ball and
+gap, :func:`~springcad.design.contact_stress.flank_radius_at_contact_mm`): a Hertz *line* contact
 (:mod:`springcad.design.contact_stress`, p0 = sqrt(P E* / (pi R)), P = force / thickness).
 Its peak pressure p0 at +-theta_max (from the FEA contact sweep; at design time from the
 tip load and the flank radius) is judged against the repeatedly applied contact strength
@@ -28,7 +29,7 @@ from importlib import resources
 
 from springcad.config.specs import DutySpec
 from springcad.design import duty
-from springcad.design.contact_stress import min_tip_radius_for_contact_mm, von_mises_peak
+from springcad.design.contact_stress import ball_advice, von_mises_peak
 
 
 @functools.cache
@@ -169,19 +170,19 @@ class ContactFatigueCheck:
                 f"{self.safety_factor:.2f} (required {self.required_safety_factor:g}), "
                 f"allowable {self.allowable_MPa:.0f} MPa; life at +-theta_max {life_text}")
 
-    def changes(self, force_N: float, r_tip_mm: float, flank_radius_mm: float,
-                thickness_mm: float, E_MPa: float, nu: float) -> str:
+    def changes(self, force_N: float, r_tip_mm: float, thickness_mm: float, E_MPa: float,
+                nu: float, contact_radius_mm: float, gap_mm: float, theta_max_rad: float,
+                min_flank_position_mm: float) -> str:
         """The changes that would meet the duty, in numbers, for a ball pressed by
-        ``force_N`` on a flank of radius ``flank_radius_mm`` (mm; inf flat): the smallest
-        tip ball at this layout, and the disk thickness at the same force (p0 ~
-        thickness^-1/2)."""
+        ``force_N`` at full deflection ``theta_max_rad`` of a layout with contact radius
+        ``contact_radius_mm`` and design gap ``gap_mm`` (mm): the tip balls whose contact
+        meets the allowable on the flank radius they leave
+        (:func:`~springcad.design.contact_stress.ball_advice`), and the disk thickness at
+        the same force (p0 ~ thickness^-1/2)."""
         vm = von_mises_peak(round(float(nu), 6))[0] * self.allowable_MPa
-        r_min = min_tip_radius_for_contact_mm(force_N, flank_radius_mm, thickness_mm, E_MPa,
-                                              nu, vm)
+        ball = ball_advice(force_N, contact_radius_mm, gap_mm, theta_max_rad, thickness_mm,
+                           E_MPa, nu, vm, min_flank_position_mm, r_tip_mm)
         z_min = thickness_mm * (self.p0_max_MPa / self.allowable_MPa) ** 2
-        ball = (f"tip_radius_mm >= {r_min:.3f} (now {r_tip_mm:.3f}) at this layout, if the cam "
-                "teeth leave room" if math.isfinite(r_min) else
-                "no tip ball on this flank alone (its curvature exceeds the allowed one)")
         return (f"p0 must fall to {self.allowable_MPa:.0f} MPa: {ball}; or thickness_mm >= "
                 f"{z_min:.3g} (now {thickness_mm:g}) at the same force; or a harder material "
                 "(springcad/data/contact_fatigue.csv) or a duty with fewer full-deflection "

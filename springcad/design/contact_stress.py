@@ -227,6 +227,92 @@ def min_tip_radius_for_contact_mm(force_N: float, flank_radius_mm: float, thickn
     return 1.0 / k_ball if k_ball > 0 else math.inf
 
 
+# ============================================================ where the ball touches
+def flank_radius_at_contact_mm(contact_radius_mm, tip_radius_mm, gap_mm, deflection_rad):
+    """Radius of curvature of the cam flank where the ball touches it at ``deflection_rad``
+    (mm; numpy broadcasting).
+
+    Rigid kinematics of :mod:`springcad.design.cam`: at a cam rotation theta the ball centre
+    sits on the involute at psi = theta, ``gap_mm`` off it towards the flank, so the contact
+    is the flank point p(theta), whose radius is the involute's r_c theta less the offset
+    rho = r_b + gap: ``r_c theta - r_b - gap``. Zero or less: the ball still rides the
+    flank's start (its cusp on the pocket arc, radius 0), where no Hertz law holds. A ball
+    larger than about half of r_c theta therefore presses a sharper flank, not a gentler
+    one. The contact FEA (``fea.contact``) finds the contact a little further along on
+    straight flexures (the tip's own rotation; 60 of 62 verified springs, 0.4-2.7 x this
+    radius) and nearer the cusp only where this rigid contact lies within 20 um of it.
+    """
+    return contact_radius_mm * deflection_rad - tip_radius_mm - gap_mm
+
+
+def flank_position_at_contact_mm(contact_radius_mm, tip_radius_mm, gap_mm, deflection_rad):
+    """Arc length from the flank's cusp to the contact at ``deflection_rad`` (mm; 0 on the
+    pocket): the involute flank's radius grows as sqrt(2 r_c s), so s = R^2 / (2 r_c)."""
+    r = np.maximum(flank_radius_at_contact_mm(contact_radius_mm, tip_radius_mm, gap_mm,
+                                              deflection_rad), 0.0)
+    return r * r / (2.0 * contact_radius_mm)
+
+
+def _c_vm(nu):
+    """c_vm of :func:`von_mises_peak` for a Poisson's ratio or an array of them."""
+    nu = np.asarray(nu, dtype=float)
+    uniq, where = np.unique(np.round(nu, 6), return_inverse=True)
+    return np.array([von_mises_peak(float(v))[0] for v in uniq])[where].reshape(nu.shape)
+
+
+def _ball_window(reach_mm, k_allowed, max_ball_mm):
+    """(smallest, largest) ball radius r with 1/r + 1/(reach - r) <= k_allowed and
+    r <= max_ball_mm (mm; numpy broadcasting): the roots of k r^2 - k reach r + reach = 0;
+    (inf, -inf) where none."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        disc = reach_mm * reach_mm - 4.0 * reach_mm / k_allowed
+        root = np.sqrt(np.where(disc >= 0, disc, np.nan))
+        lo = 0.5 * (reach_mm - root)
+        hi = np.minimum(0.5 * (reach_mm + root), max_ball_mm)
+        ok = (reach_mm > 0) & (disc >= 0) & (hi >= lo)
+    return np.where(ok, lo, np.inf), np.where(ok, hi, -np.inf)
+
+
+def tip_radius_window_mm(force_N, contact_radius_mm, gap_mm, deflection_rad, thickness_mm,
+                         E_MPa, nu, allowable_MPa, min_flank_position_mm=0.0):
+    """The tip ball radii whose Hertz contact at full deflection stays within
+    ``allowable_MPa`` on the flank radius those balls leave (mm; numpy broadcasting).
+
+    The flank radius at the contact is r_c theta - r_b - gap
+    (:func:`flank_radius_at_contact_mm`), so the curvature sum
+    1/r_b + 1/(r_c theta - gap - r_b) is least at r_b = (r_c theta - gap) / 2 and the
+    allowed balls form a window around it. ``min_flank_position_mm`` keeps the contact that
+    far along the flank from its cusp (the profile tolerances: nearer, the toleranced parts
+    can meet on the cusp): r_b <= r_c theta - gap - sqrt(2 r_c s_min).
+
+    Args:
+        force_N: normal contact force at full deflection (N); contact_radius_mm,
+        gap_mm: r_c and the design gap w_gap (mm); deflection_rad: theta_max (rad);
+        thickness_mm: contact length (mm); E_MPa, nu: material of ball and cam;
+        allowable_MPa: allowed von Mises (MPa); min_flank_position_mm: s_min (mm).
+
+    Returns:
+        (smallest, largest) radius (mm): ``(inf, -inf)`` where no ball is enough; a smallest
+        of 0 without load.
+    """
+    c_vm = _c_vm(nu)
+    reach = np.asarray(contact_radius_mm, float) * deflection_rad - gap_mm
+    max_ball = reach - np.sqrt(2.0 * np.asarray(contact_radius_mm, float)
+                               * min_flank_position_mm)
+    force = np.asarray(force_N, float)
+    with np.errstate(divide="ignore"):
+        k = np.pi * (np.asarray(allowable_MPa, float) / c_vm) ** 2 / (
+            np.maximum(force, 1e-300) / thickness_mm
+            * (np.asarray(E_MPa, float) / (2.0 * (1.0 - np.asarray(nu, float) ** 2))))
+    lo, hi = _ball_window(reach, k, max_ball)
+    unloaded = force <= 0
+    lo = np.where(unloaded, 0.0, lo)
+    hi = np.where(unloaded, np.where(max_ball > 0, max_ball, -np.inf), hi)
+    if lo.ndim == 0:
+        return float(lo), float(hi)
+    return lo, hi
+
+
 @dataclass(frozen=True)
 class ContactMargin:
     """A contact von Mises stress against yield (MPa, -)."""
@@ -250,22 +336,38 @@ class ContactMargin:
         return self.yield_strength_MPa / self.required_safety_factor
 
 
-def tip_radius_for_contact_mm(force_N, flank_radius_mm, thickness_mm, E_MPa, nu, allowable_MPa):
-    """:func:`min_tip_radius_for_contact_mm` on arrays (numpy broadcasting; ``nu`` may be an
-    array too), for the synthesis screen (the design search's one layout at a time uses the
-    scalar function) (mm; ``inf`` where no ball is enough, 0 without load).
+def ball_advice(force_N: float, contact_radius_mm: float, gap_mm: float, deflection_rad: float,
+                thickness_mm: float, E_MPa: float, nu: float, allowable_MPa: float,
+                min_flank_position_mm: float, tip_radius_mm: float) -> str:
+    """What tip ball meets ``allowable_MPa`` at this layout, in words with numbers: the window
+    of :func:`tip_radius_window_mm` at this force, or, when it is empty, the reach
+    r_c theta - w_gap a layout needs (the ball is then the window's middle).
 
-    ``flank_radius_mm`` > 0 convex (the cam flank at the contact; r_c x theta at full
-    deflection for the involute flank of :mod:`springcad.design.cam`), ``inf`` flat.
+    Args: as :func:`tip_radius_window_mm`; ``tip_radius_mm``: the ball now (mm).
     """
-    force = np.asarray(force_N, dtype=float)
-    P = force / np.asarray(thickness_mm, dtype=float)
-    nu = np.asarray(nu, dtype=float)
-    uniq, where = np.unique(np.round(nu, 6), return_inverse=True)
-    c_vm = np.array([von_mises_peak(float(v))[0] for v in uniq])[where].reshape(nu.shape)
-    E = np.asarray(E_MPa, dtype=float) / (2.0 * (1.0 - nu ** 2))  # same material both sides
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k_allowed = math.pi * (np.asarray(allowable_MPa, dtype=float) / c_vm) ** 2 / (P * E)
-        k_ball = k_allowed - 1.0 / np.asarray(flank_radius_mm, dtype=float)
-        r = np.where(k_ball > 0, 1.0 / k_ball, np.inf)
-    return np.where(force > 0, r, 0.0)
+    lo, hi = tip_radius_window_mm(force_N, contact_radius_mm, gap_mm, deflection_rad,
+                                  thickness_mm, E_MPa, nu, allowable_MPa, min_flank_position_mm)
+    if lo <= hi:
+        return (f"tip_radius_mm between {lo:.3f} and {hi:.3f} (now {tip_radius_mm:.3f}) at "
+                f"this layout (the flank radius at the contact, r_c theta - r_b - w_gap, falls "
+                "as the ball grows)")
+    reach = contact_radius_mm * deflection_rad - gap_mm
+
+    def opens(reach_mm: float) -> bool:
+        return tip_radius_window_mm(force_N, (reach_mm + gap_mm) / deflection_rad, gap_mm,
+                                    deflection_rad, thickness_mm, E_MPa, nu, allowable_MPa,
+                                    min_flank_position_mm)[0] < math.inf
+
+    short, need = reach, max(2.0 * reach, 1e-3)
+    while not opens(need):
+        short, need = need, 2.0 * need
+        if need > 1e4:
+            return ("no tip ball at any contact radius carries this force: lower it (more "
+                    "flexures, a thicker disk)")
+    for _ in range(40):  # bisection on the reach r_c theta - w_gap
+        mid = 0.5 * (short + need)
+        short, need = (short, mid) if opens(mid) else (mid, need)
+    return (f"no tip ball at this layout: r_c theta - w_gap = {reach:.3f} mm must reach "
+            f"{need:.3f} mm at this force (contact_radius_mm >= "
+            f"{(need + gap_mm) / deflection_rad:.2f}, or fewer flexures, a larger contact "
+            "radius or a larger deflection per disk)")

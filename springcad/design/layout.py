@@ -18,7 +18,7 @@ import numpy as np
 from springcad.config import SpringSpec
 from springcad.design import flexure as fx
 from springcad.design.contact_fatigue import allowable_von_mises_MPa
-from springcad.design.contact_stress import min_tip_radius_for_contact_mm
+from springcad.design.contact_stress import tip_radius_window_mm
 from springcad.errors import DesignError, SpecInfeasible
 from springcad.units import NMM_PER_NM
 
@@ -60,40 +60,66 @@ class Layout:
 @dataclass(frozen=True)
 class ContactLimit:
     """What the tip ball's Hertz contact on the cam flank may reach at full deflection:
-    Young's modulus (MPa), Poisson's ratio (-) and the allowed von Mises stress, yield /
-    required safety factor (MPa)."""
+    Young's modulus (MPa), Poisson's ratio (-), the allowed von Mises stress, yield /
+    required safety factor (MPa), the design gap w_gap between ball and flank (mm) and how
+    far along the flank from its cusp the contact must lie, the profile tolerances
+    t_spring + t_shaft (mm)."""
 
     youngs_modulus_MPa: float
     poisson_ratio: float
     allowable_MPa: float
+    gap_mm: float = 0.0
+    min_flank_position_mm: float = 0.0
 
     @classmethod
-    def of(cls, material, theta_max_rad: float | None = None) -> "ContactLimit":
+    def of(cls, material, theta_max_rad: float | None = None,
+           manufacturing=None) -> "ContactLimit":
         """The limit of a :class:`~springcad.config.MaterialSpec`: yield / safety factor,
         and with ``theta_max_rad`` the contact fatigue of a declared duty too
-        (:func:`springcad.design.contact_fatigue.allowable_von_mises_MPa`)."""
+        (:func:`springcad.design.contact_fatigue.allowable_von_mises_MPa`); the gap and the
+        tolerances from a :class:`~springcad.config.ManufacturingSpec`."""
         m = material.material
         allowed = m.yield_strength_MPa / material.safety_factor
         if theta_max_rad is not None:
             allowed = min(allowed, allowable_von_mises_MPa(material, theta_max_rad))
-        return cls(m.youngs_modulus_MPa, m.poisson_ratio, allowed)
+        if manufacturing is None:
+            return cls(m.youngs_modulus_MPa, m.poisson_ratio, allowed)
+        return cls(m.youngs_modulus_MPa, m.poisson_ratio, allowed, manufacturing.w_gap_mm,
+                   manufacturing.t_spring_mm + manufacturing.t_shaft_mm)
+
+    def ball_window_mm(self, load_N: float, contact_radius_mm: float, deflection_rad: float,
+                       thickness_mm: float) -> tuple[float, float]:
+        """(smallest, largest) tip ball radius whose contact holds at full deflection (mm;
+        :func:`springcad.design.contact_stress.tip_radius_window_mm`)."""
+        return tip_radius_window_mm(load_N, contact_radius_mm, self.gap_mm, deflection_rad,
+                                    thickness_mm, self.youngs_modulus_MPa, self.poisson_ratio,
+                                    self.allowable_MPa, self.min_flank_position_mm)
 
 
 def tip_ball(spec: SpringSpec, sigma, n, rc, contact: ContactLimit | None = None):
     """(tip load N, required ball radius mm, ball radius mm) at beam stress ``sigma`` (MPa).
 
     The ball carries the peak tip load in bending at the neck (eq. 5) and, with
-    ``contact``, in Hertz contact on the cam flank at full deflection (the involute
-    flank's radius there is r_c theta_max, convex): the larger of the two radii is
-    required (``inf`` when no ball is enough for the contact).
+    ``contact``, in Hertz contact on the cam flank at full deflection, whose radius there
+    is r_c theta_max - r_b - w_gap (:func:`~springcad.design.contact_stress.
+    flank_radius_at_contact_mm`): the ball must lie in the window of radii that contact
+    allows. Required radius ``inf``: no ball is enough in contact, or the smallest ball
+    bending needs lies beyond the window (a fixed ``tip_radius_mm`` outside the window
+    too); then the free ball is ``inf`` as well.
     """
     load = fx.tip_load_N(spec.stiffness_Nmm_per_rad, spec.max_deflection_rad, n, rc)
     rb_req = fx.tip_ball_required_radius_mm(load, spec.thickness_mm, sigma)
+    largest = math.inf
     if contact is not None:
-        rb_req = max(rb_req, min_tip_radius_for_contact_mm(
-            load, rc * spec.max_deflection_rad, spec.thickness_mm, contact.youngs_modulus_MPa,
-            contact.poisson_ratio, contact.allowable_MPa))
-    rb = spec.tip_radius_mm if spec.tip_radius_mm is not None else max(spec.min_tip_radius_mm, rb_req)
+        lo, largest = contact.ball_window_mm(load, rc, spec.max_deflection_rad,
+                                             spec.thickness_mm)
+        rb_req = max(rb_req, lo)
+    if spec.tip_radius_mm is not None:
+        rb = spec.tip_radius_mm
+        return load, (rb_req if rb <= largest * (1 + 1e-9) else math.inf), rb
+    rb = max(spec.min_tip_radius_mm, rb_req)
+    if rb > largest * (1 + 1e-9):
+        return load, math.inf, math.inf
     return load, rb_req, rb
 
 

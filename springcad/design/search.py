@@ -90,7 +90,8 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
             "or thicken the disk, or put springs in series")
 
     layouts = candidate_layouts(spec, sigma, E, max_root_radius_mm=rr_max,
-                                contact=ContactLimit.of(material, spec.max_deflection_rad))
+                                contact=ContactLimit.of(material, spec.max_deflection_rad,
+                                                              manufacturing))
     if rank >= len(layouts):
         raise _NoMoreLayouts(rank)
     lay = layouts[rank]
@@ -100,8 +101,9 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
                 f"{lay.load:.1f} N needs in bending at the neck and in Hertz contact (yield; "
                 "a declared duty's contact fatigue)" if math.isfinite(lay.rb_req) else
                 f"no tip ball carries the peak load {lay.load:.1f} N in Hertz contact on this "
-                "flank (its own curvature r_c theta exceeds what yield or a declared duty's "
-                f"contact fatigue allows; the ball is {rb:.3f} mm)")
+                "flank (the flank radius at full deflection, r_c theta - r_b - w_gap, is too "
+                "small for yield or a declared duty's contact fatigue, or leaves the contact "
+                f"within the profile tolerances of the flank's cusp; the ball is {rb:.3f} mm)")
         warnings.append(
             f"{need}; torque cap at r_c = {rc:g} mm is "
             f"{fx.torque_cap_Nmm(rc, z, sigma) / NMM_PER_NM:.2f} N*m vs peak "

@@ -49,7 +49,7 @@ from springcad.design import shapes
 from springcad.design.cam import OVERTRAVELS
 from springcad.design.ring import hole_diameter_mm
 from springcad.config.consistency import MIN_RIM_FRACTION, min_rim_mm
-from springcad.design.contact_stress import tip_radius_for_contact_mm
+from springcad.design.contact_stress import tip_radius_window_mm
 from springcad.design.search import STRESS_PASSES
 from springcad.design.shapes.screen import ScreenRows, ScreenSizing, rim_root_radius_rows
 from springcad.design.shapes.serpentine_screen import U
@@ -233,15 +233,18 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
 
     def ball(load, z_, sigma_, rows=slice(None)):
         """Tip-ball radius (mm) of disks with these tip loads (N): bending and, with
-        ``contact``, Hertz contact on the flank r_c theta at full deflection."""
+        ``contact``, Hertz contact at full deflection on the flank radius the ball leaves
+        (the design's window, :func:`tip_radius_window_mm`); ``inf`` outside the window."""
         if tip_radius_mm is not None:
             return np.full(np.shape(load), float(tip_radius_mm))
-        r = fx.tip_ball_required_radius_mm(load, z_, sigma_)
-        if contact is not None:
-            r = np.maximum(r, tip_radius_for_contact_mm(load, rc[rows] * theta[rows], z_,
-                                                        E[rows], contact[0][rows],
-                                                        contact[1][rows]))
-        return np.maximum(min_tip_radius_mm, r)
+        r = np.maximum(min_tip_radius_mm, fx.tip_ball_required_radius_mm(load, z_, sigma_))
+        if contact is None:
+            return r
+        lo, hi = tip_radius_window_mm(load, rc[rows], mfg.w_gap_mm, theta[rows], z_, E[rows],
+                                      contact[0][rows], contact[1][rows],
+                                      mfg.t_spring_mm + mfg.t_shaft_mm)
+        r = np.maximum(r, lo)
+        return np.where(r <= hi * (1 + 1e-9), r, np.inf)
 
     capped = tip_radius_mm is None
     rim_min = np.maximum(min_rim_mm(0.0, manufacturing, hardware), MIN_RIM_FRACTION * ro)

@@ -169,7 +169,7 @@ def test_verify_asks_the_redesign_for_the_ball_the_contact_fea_names():
     from types import SimpleNamespace
 
     from fea.verify import _ball_needed_mm
-    from springcad.design.contact_stress import tip_radius_for_contact_mm
+    from springcad.design.contact_stress import min_tip_radius_for_contact_mm
 
     def at_max(force_plus, force_minus):
         ends = {}
@@ -185,8 +185,8 @@ def test_verify_asks_the_redesign_for_the_ball_the_contact_fea_names():
     high = at_max(400.0, 300.0)
     need = _ball_needed_mm(SimpleNamespace(at_max=high))
     allow = MAT.yield_strength_MPa / MAT.safety_factor
-    expect = max(float(tip_radius_for_contact_mm(f, 1 / 0.8, 5.0, MAT.youngs_modulus_MPa,
-                                                 MAT.poisson_ratio, allow)) for f in (400, 300))
+    expect = max(min_tip_radius_for_contact_mm(f, 1 / 0.8, 5.0, MAT.youngs_modulus_MPa,
+                                               MAT.poisson_ratio, allow) for f in (400, 300))
     assert need == pytest.approx(expect, rel=1e-6) and need > 0.3
     assert _ball_needed_mm(SimpleNamespace(at_max=at_max(20.0, 20.0))) is None
     assert _ball_needed_mm(SimpleNamespace(at_max=None)) is None
