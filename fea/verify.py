@@ -40,6 +40,7 @@ from __future__ import annotations
 import math
 import time
 
+from fea.fatigue import region_peaks_MPa
 from fea.problem import Material, solver_material
 from fea.study import ModelRun, VerifyOptions, _noop, add_3d_factor, run_model, support_study
 from fea.verdict import JobVerification, SpringVerification, verify_stack
@@ -92,6 +93,16 @@ def _ball_needed_mm(contact) -> float | None:
     return max(need) if need else None
 
 
+def _same_layout(a, b) -> bool:
+    """Two designs of one spring with the same layout and beam stress (the widths may
+    differ by the stiffness correction's scale)."""
+    return (a.n_flexures == b.n_flexures and a.thickness_mm == b.thickness_mm
+            and math.isclose(a.contact_radius_mm, b.contact_radius_mm, rel_tol=1e-9)
+            and math.isclose(a.tip_radius_mm, b.tip_radius_mm, rel_tol=1e-9)
+            and math.isclose(a.root_radius_mm, b.root_radius_mm, rel_tol=1e-9)
+            and math.isclose(a.beam_stress_MPa, b.beam_stress_MPa, rel_tol=1e-9))
+
+
 def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_noop,
                   material: Material | None = None, _contact_pass: int = 0,
                   _original=None) -> SpringVerification:
@@ -136,22 +147,33 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
         if with_3d and run.check3d:
             previous = run
         err = K / target - 1.0
-        margin = material.yield_strength_MPa / run.peak_stress_MPa
+        # the duty is judged per region (each region's 2D peak x its own 3D factor,
+        # fea.fatigue.region_peaks_MPa): the correction answers to the highest of them too
+        peak = max(run.peak_stress_MPa, *region_peaks_MPa(run).values())
+        margin = material.yield_strength_MPa / peak
         required = design.required_yield_margin  # yield and a declared duty
         if (done and options.correct and margin < required
                 and stress_passes < options.max_stress_passes):
             # K is right but the real geometry is over-stressed: redesign at a lower beam
             # stress (the raisers scale with it), then correct K again
             stress_passes += 1
-            bias = run.peak_stress_MPa / design.predicted_peak_stress_MPa
+            bias = peak / design.predicted_peak_stress_MPa
             iterations.append(_iteration_record(
                 k, design, run, target, f"redesign for the FEA peak ({bias:.3f} x the design's "
                 f"prediction; yield margin {margin:.3f} < {required:g})"))
             try:
-                design = spring_design.redesign_for_margin(design, bias * (1.0 + 0.01 * stress_passes))
+                redesigned = spring_design.redesign_for_margin(
+                    design, bias * (1.0 + 0.01 * stress_passes))
             except DesignError as exc:
                 notes.append(f"stress correction stopped: {exc}")
                 break
+            if _same_layout(redesigned, design):
+                # the search returns the spring it had (it cannot meet the margin in this
+                # envelope at any stress it may use): correcting again would only cycle
+                notes.append(f"stress correction stopped: the redesign for the FEA peak gives "
+                             f"the same spring (yield margin {margin:.3f} < {required:g})")
+                break
+            design = redesigned
             previous = None
             k += 1
             continue
