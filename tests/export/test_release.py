@@ -68,7 +68,7 @@ def test_design_warnings_stop_the_release(designs):
     status = release_status(d, FakeVerification())
     assert not status.released
     text = "\n".join(status.reasons)
-    assert "tip ball 0.300 mm is below" in text
+    assert "tip ball 0.300 mm is below" in text or "no tip ball carries the peak load" in text
     frac = 100 * d.stack.backlash.mc_interference_fraction
     assert f"{frac:.1f} % of Monte Carlo stacks" in text
     lines = status.summary_lines()

@@ -62,7 +62,9 @@ CASES = np.vstack([_cases(0, 60)[[10, 16, 18, 19, 22, 1, 4, 5, 7]],
                    [[150e3, math.radians(14), 33.5, 4.5, 6.0],
                     # a serpentine the contact-sized ball still allows (the seeded sample's
                     # serpentines at r_c 5.5-6 mm now need balls that do not fit)
-                    [120e3, math.radians(16), 33.5, 4.5, 6.5]]])
+                    [120e3, math.radians(16), 33.5, 4.5, 6.5],
+                    # a straight disk whose contact radius leaves its ball a flank to press
+                    [150e3, math.radians(14), 33.5, 6.0, 7.5]]])
 
 
 def test_screening_matches_full_design():
