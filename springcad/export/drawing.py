@@ -214,6 +214,10 @@ def title_block(sheet: Sheet, template: dict, values: dict, y_page: float = 0.0,
     return x0, top
 
 
+#: words a cut title-block value does not end on
+_DANGLING = frozenset(("and", "or", "of", "from", "with", "to", "the", "a", "/", "-"))
+
+
 def cell_value(sheet: Sheet, text: str, width_mm: float, notes=()) -> str:
     """``text`` as a title-block cell of ``width_mm`` shows it at NOTE_FONT (never smaller:
     a shrunk value fell under the 2.5 mm capital height): whole, or cut after the last
@@ -228,8 +232,8 @@ def cell_value(sheet: Sheet, text: str, width_mm: float, notes=()) -> str:
     n = next((k for k, note in enumerate(notes, 1) if text in note), None)
     tail = " ..." + (f" note {n}" if n else "")
     words = text.split(" ")
-    cuts = ([" ".join(words[:k]).rstrip(",;/ ") for k in range(len(words) - 1, 0, -1)]
-            if len(words) > 1 else [])
+    cuts = [" ".join(words[:k]).rstrip(",;/ ") for k in range(len(words) - 1, 0, -1)
+            if words[k - 1] not in _DANGLING]
     cuts += [text[:k] for k in range(len(text) - 1, 0, -1)]
     return next((c + tail for c in cuts if c and fits(c + tail)), tail.strip())
 
