@@ -221,9 +221,9 @@ _DANGLING = frozenset(("and", "or", "of", "from", "with", "to", "the", "a", "/",
 def cell_value(sheet: Sheet, text: str, width_mm: float, notes=()) -> str:
     """``text`` as a title-block cell of ``width_mm`` shows it at NOTE_FONT (never smaller:
     a shrunk value fell under the 2.5 mm capital height): whole, or cut after the last
-    word (a name without spaces: character) that leaves room for " ... note N", N the
-    first of ``notes`` that holds the whole text, else for " ..." (a job's name is whole in
-    the header line)."""
+    word (not inside brackets, not on "and" or the like; a name without spaces: after a
+    character) that leaves room for " ... note N", N the first of ``notes`` that holds the
+    whole text, else for " ..." (a job's name is whole in the header line)."""
     def fits(s: str) -> bool:
         return sheet.text_size(s, size=NOTE_FONT)[0] <= width_mm
 
@@ -232,8 +232,9 @@ def cell_value(sheet: Sheet, text: str, width_mm: float, notes=()) -> str:
     n = next((k for k, note in enumerate(notes, 1) if text in note), None)
     tail = " ..." + (f" note {n}" if n else "")
     words = text.split(" ")
-    cuts = [" ".join(words[:k]).rstrip(",;/ ") for k in range(len(words) - 1, 0, -1)
-            if words[k - 1] not in _DANGLING]
+    heads = (" ".join(words[:k]).rstrip(",;/ ") for k in range(len(words) - 1, 0, -1)
+             if words[k - 1] not in _DANGLING)
+    cuts = [c for c in heads if c.count("(") == c.count(")")]
     cuts += [text[:k] for k in range(len(text) - 1, 0, -1)]
     return next((c + tail for c in cuts if c and fits(c + tail)), tail.strip())
 
