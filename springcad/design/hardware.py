@@ -160,13 +160,18 @@ def _camshaft_volume_mm3(spring, toothed_mm: float, hub_mm: float, hub_radius_mm
     """Volume (mm^3) of a camshaft as built (:class:`~springcad.geometry.disk.Camshaft`):
     the spring's tooth profile over the toothed length and the hub, a D (its flat drives
     the torque shaft) or round, less the bore, the spring's D bore or a round one on the
-    alignment shaft. ``spring.cam_area_mm2`` is the tooth profile less the D bore."""
-    d_area = abs(spring.cam.loop("bore").signed_area()) if spring.cam is not None else 0.0
-    bore = math.pi * (0.5 * bore_diameter_mm) ** 2 if round_bore else d_area
-    hub = (abs(d_bore(hub_radius_mm, FLAT_RATIO,
-                      spring.manufacturing.min_inside_radius_mm).signed_area())
-           if d_hub else math.pi * hub_radius_mm ** 2)
-    return (spring.cam_area_mm2 + d_area - bore) * toothed_mm + (hub - bore) * hub_mm
+    alignment shaft. ``spring.cam_area_mm2`` is the tooth profile less the spring's D bore
+    (a synthesis screening's stand-in without a profile: less a round bore)."""
+    corner = spring.manufacturing.min_inside_radius_mm
+    round_area = math.pi * (0.5 * bore_diameter_mm) ** 2
+    d_area = abs(d_bore(0.5 * bore_diameter_mm, FLAT_RATIO, corner).signed_area())
+    cam = getattr(spring, "cam", None)
+    teeth = spring.cam_area_mm2 + (abs(cam.loop("bore").signed_area()) if cam is not None
+                                   else round_area)
+    bore = round_area if round_bore else d_area
+    hub = (abs(d_bore(hub_radius_mm, FLAT_RATIO, corner).signed_area()) if d_hub
+           else math.pi * hub_radius_mm ** 2)
+    return (teeth - bore) * toothed_mm + (hub - bore) * hub_mm
 
 
 def rim_spacer_rim_mm(hardware, manufacturing) -> float:
