@@ -155,6 +155,25 @@ class RimSpacerFit:
     rejected: tuple[str, ...] = ()
 
 
+def _camshaft_volume_mm3(spring, toothed_mm: float, hub_mm: float, hub_radius_mm: float,
+                         bore_diameter_mm: float, round_bore: bool, d_hub: bool) -> float:
+    """Volume (mm^3) of a camshaft as built (:class:`~springcad.geometry.disk.Camshaft`):
+    the spring's tooth profile over the toothed length and the hub, a D (its flat drives
+    the torque shaft) or round, less the bore, the spring's D bore or a round one on the
+    alignment shaft. ``spring.cam_area_mm2`` is the tooth profile less the spring's D bore
+    (a synthesis screening's stand-in without a profile: less a round bore)."""
+    corner = spring.manufacturing.min_inside_radius_mm
+    round_area = math.pi * (0.5 * bore_diameter_mm) ** 2
+    d_area = abs(d_bore(0.5 * bore_diameter_mm, FLAT_RATIO, corner).signed_area())
+    cam = getattr(spring, "cam", None)
+    teeth = spring.cam_area_mm2 + (abs(cam.loop("bore").signed_area()) if cam is not None
+                                   else round_area)
+    bore = round_area if round_bore else d_area
+    hub = (abs(d_bore(hub_radius_mm, FLAT_RATIO, corner).signed_area()) if d_hub
+           else math.pi * hub_radius_mm ** 2)
+    return (teeth - bore) * toothed_mm + (hub - bore) * hub_mm
+
+
 def rim_spacer_rim_mm(hardware, manufacturing) -> float:
     """Thinnest spring rim (R_o - R_r, mm) on which a wire-EDM rim spacer fits its pin holes
     with the rules of :func:`rim_spacer_fit`, the holes on the circle midway in the rim: the
@@ -329,12 +348,12 @@ class _Layout:
             hub = hw.camshaft_hub_length_mm if role else 0.0
             # the wire cutting the pockets runs the full length: keep the turned hub inside it
             r_hub = s.cam_root_radius_mm - HUB_WIRE_CLEARANCE_MM
-            bore = 0.5 * hw.shaft_diameter_mm
-            vol = s.cam_area_mm2 * (end - start) + math.pi * (r_hub ** 2 - bore ** 2) * hub
             # With an alignment shaft every camshaft runs on it (round bore) and an end
             # camshaft takes its torque through a flat on its hub; otherwise the D bore
             # takes a D shaft.
             drive = "" if not role else "hub_flat" if self.floating else "bore_flat"
+            vol = _camshaft_volume_mm3(s, end - start, hub, r_hub, hw.shaft_diameter_mm,
+                                       self.floating, drive == "hub_flat")
             plan = pl.CamshaftPlan(
                 springs=members, profile_spring=s.name, toothed_start_mm=start,
                 toothed_end_mm=end, hub_length_mm=hub, hub_radius_mm=r_hub,

@@ -43,8 +43,6 @@ NOTE_LINE_MM = 4.6
 TABLE_ROW_MM = 5.6
 #: release reasons written out on the drawing (the rest: report.html, build.json)
 RELEASE_LINES = 2
-#: smallest font (pt) a title-block value is shrunk to when it does not fit its cell
-MIN_VALUE_FONT = 7.0
 
 
 def default_title_block() -> Path:
@@ -184,10 +182,12 @@ def _projection_symbol(sheet: Sheet, x: float, y: float, h: float) -> None:
     sheet.polyline([(x0 - 1.0, cy), (c[0] + 0.5 * d + 1.0, cy)], style="-.")
 
 
-def title_block(sheet: Sheet, template: dict, values: dict,
-                y_page: float = 0.0) -> tuple[float, float]:
+def title_block(sheet: Sheet, template: dict, values: dict, y_page: float = 0.0,
+                notes: tuple[str, ...] = ()) -> tuple[float, float]:
     """Draw the title block at the bottom right of the sheet page starting at ``y_page``;
-    returns (left x, top y) in sheet mm."""
+    returns (left x, top y) in sheet mm. Values are written at the notes' size; one too
+    long for its cell is cut (:func:`cell_value`) and points to the note of ``notes``
+    (numbered from 1) that states it in full."""
     block = template["block"]
     w, h = block["width_mm"], block["row_height_mm"]
     x0 = sheet.width - FRAME_MM - w
@@ -205,19 +205,38 @@ def title_block(sheet: Sheet, template: dict, values: dict,
             if cell["value"] == "{projection}":
                 _projection_symbol(sheet, x + 0.5 * cell["width_mm"] - 6.0, y - h, h - 2.5)
             else:
-                value = cell["value"].format(**values)
-                sheet.text(x + 1, y - h + 2.6, value, ha="left", role="title block",
-                           size=_fitting_font(sheet, value, cell["width_mm"] - 2.0))
+                value = cell_value(sheet, cell["value"].format(**values),
+                                   cell["width_mm"] - 2.0, notes)
+                sheet.text(x + 1, y - h + 2.6, value, ha="left", role="title block value",
+                           size=NOTE_FONT)
             x += cell["width_mm"]
         y -= h
     return x0, top
 
 
-def _fitting_font(sheet: Sheet, text: str, width_mm: float) -> float:
-    """NOTE_FONT, or the largest smaller size (down to MIN_VALUE_FONT) at which ``text``
-    fits ``width_mm`` (pt)."""
-    w, _ = sheet.text_size(text, size=NOTE_FONT)
-    return max(MIN_VALUE_FONT, min(NOTE_FONT, NOTE_FONT * width_mm / w)) if w > 0 else NOTE_FONT
+#: words a cut title-block value does not end on
+_DANGLING = frozenset(("and", "or", "of", "from", "with", "to", "the", "a", "/", "-"))
+
+
+def cell_value(sheet: Sheet, text: str, width_mm: float, notes=()) -> str:
+    """``text`` as a title-block cell of ``width_mm`` shows it at NOTE_FONT (never smaller:
+    a shrunk value fell under the 2.5 mm capital height): whole, or cut after the last
+    word (not inside brackets, not on "and" or the like; a name without spaces: after a
+    character) that leaves room for " ... note N", N the first of ``notes`` that holds the
+    whole text, else for " ..." (a job's name is whole in the header line)."""
+    def fits(s: str) -> bool:
+        return sheet.text_size(s, size=NOTE_FONT)[0] <= width_mm
+
+    if not text or fits(text):
+        return text
+    n = next((k for k, note in enumerate(notes, 1) if text in note), None)
+    tail = " ..." + (f" note {n}" if n else "")
+    words = text.split(" ")
+    heads = (" ".join(words[:k]).rstrip(",;/ ") for k in range(len(words) - 1, 0, -1)
+             if words[k - 1] not in _DANGLING)
+    cuts = [c for c in heads if c.count("(") == c.count(")")]
+    cuts += [text[:k] for k in range(len(text) - 1, 0, -1)]
+    return next((c + tail for c in cuts if c and fits(c + tail)), tail.strip())
 
 
 def chars_per_line(sheet: Sheet, width_mm: float, size: float = NOTES_FONT) -> int:
@@ -269,11 +288,11 @@ def release_box(sheet: Sheet, x0: float, y0: float, width: float,
 def notes_block(sheet: Sheet, x0: float, y0: float, lines: list[str], width: float) -> float:
     """Numbered notes ``width`` mm wide, bottom at ``y0``; returns the top (sheet mm)."""
     wrapped = _wrap(lines, chars_per_line(sheet, width) - 4, lambda i: f"{i}. ")
-    y = y0 + 2.0
-    for line in reversed(wrapped):
-        sheet.text(x0, y, line, size=NOTES_FONT, ha="left", va="bottom")
-        y += NOTE_LINE_MM
+    y = y0 + 2.0 + NOTE_LINE_MM * len(wrapped)
+    # written top down, so the SVG's text reads in the notes' order
     sheet.text(x0, y + 0.5, "NOTES", size=NOTE_FONT, ha="left", va="bottom", weight="bold")
+    for k, line in enumerate(wrapped, 1):
+        sheet.text(x0, y - NOTE_LINE_MM * k, line, size=NOTES_FONT, ha="left", va="bottom")
     return y + 5.0
 
 
@@ -323,7 +342,7 @@ def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
     rows = hole_rows(part.slabs[-1].region, part.info.fits.get("holes", ""))
     width = template["block"]["width_mm"]
     probe = Sheet()
-    x0, top = title_block(probe, template, values)
+    x0, top = title_block(probe, template, values, notes=tuple(notes))
     top = release_box(probe, x0, top, width, info.release)
     two = VIEWS_TOP - (top + _column_height(probe, notes, rows, width - 2.0)) < MIN_VIEW_ZONE_MM
     probe.fig.clear()
@@ -335,7 +354,7 @@ def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
                    PAGE[1] - 2 * FRAME_MM, lw=THICK)
         header(sheet, part, info, y_page)
         x0, top = title_block(sheet, template, {**values, "sheet": f"{k + 1}/2" if two
-                                                else "1/1"}, y_page)
+                                                else "1/1"}, y_page, tuple(notes))
         if k == 0:
             top = release_box(sheet, x0, top, width, info.release)
         if k == 1 or not two:

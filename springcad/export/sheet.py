@@ -147,6 +147,7 @@ class Sheet:
         sizes: (font size in pt, role) of every text, in the same order.
         boxes: the sheet-mm box (x0, y0, x1, y1) of every text.
         dims: the dimension list (:class:`Dimension`).
+        frames: every tolerance frame row drawn (symbol key, then its cells' texts).
         conflicts: labels that found no free place (drawn at their first
             candidate); a good layout leaves it empty.
     """
@@ -169,6 +170,7 @@ class Sheet:
         self.sizes: list[tuple[float, str]] = []
         self.boxes: list[tuple] = []
         self.dims: list[Dimension] = []
+        self.frames: list[tuple[str, ...]] = []
         self.conflicts: list[str] = []
         self._segs: list[np.ndarray] = []
         self._seg_cache: np.ndarray | None = None
@@ -353,6 +355,7 @@ class Sheet:
         (two rows: a composite frame, its lower row the pattern's own tolerance). Their
         outline is kept free like a text box."""
         w, h = self.frames_size(rows)
+        self.frames.extend(tuple(row) for row in rows)
         self.boxes.append((x, y_top - h, x + w, y_top))
         y = y_top
         for row in rows:

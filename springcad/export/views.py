@@ -85,8 +85,20 @@ def is_cut(part) -> bool:
 
 def profile_frames(part) -> tuple:
     """The profile frame of a cut part: every point of a cut contour within +-tolerance
-    of the DXF, a zone 2 x tolerance wide."""
-    return (("profile", fmt(2 * part.tolerance_mm)),) if is_cut(part) else ()
+    of the DXF, a zone 2 x tolerance wide; a camshaft's teeth located to its bore (datum
+    A: bore and teeth are cut in one setup, and the bore centres the cam on its shaft)."""
+    if not is_cut(part):
+        return ()
+    datum = ("A",) if _bore_is_datum(part) else ()
+    return (("profile", fmt(2 * part.tolerance_mm)) + datum,)
+
+
+def _bore_is_datum(part) -> bool:
+    """A camshaft's bore with an ISO fit is datum A when no hole pattern takes A (its outer
+    diameter then); :func:`dim_profile` draws it."""
+    prof = part.info.cut_profile
+    return (part.info.kind == "camshaft" and bool(part.info.fits.get("bore"))
+            and not (prof is not None and hole_groups(prof)))
 
 
 def hole_frames(part) -> tuple:
@@ -130,8 +142,9 @@ def flat_deviations(tol: float, outer: bool) -> str:
 
 
 def dim_d_loop(sheet: Sheet, view: View, loop: Loop, feature: str, fit: str, tol: float,
-               outer: bool, clear_mm: float = 0.0, boxed: bool = False) -> None:
-    """A D loop: diameter of its arc, distance of its flat from the axis, corner radii.
+               outer: bool, clear_mm: float = 0.0, boxed: bool = False, frames=()) -> None:
+    """A D loop: diameter of its arc (with the tolerance ``frames`` under it), distance of
+    its flat from the axis, corner radii.
 
     The flat's dimension line goes beside the D, or beyond ``clear_mm`` (model mm from the
     axis: the outline of the part around a D bore) when the space beside it is taken.
@@ -140,7 +153,7 @@ def dim_d_loop(sheet: Sheet, view: View, loop: Loop, feature: str, fit: str, tol
     flat, = loop.named("flat")
     y_flat = flat.start[1]
     d_label = f"Ø{fmt(2 * arc.radius)} {fit}".strip()
-    dim_circle(sheet, view, arc.radius, d_label, feature, 60 if outer else 120)
+    dim_circle(sheet, view, arc.radius, d_label, feature, 60 if outer else 120, frames=frames)
     label = f"{fmt(abs(y_flat))} {flat_deviations(tol, outer)}"
     c = view((0.0, 0.0))
     # dimension line candidates beside the D, then beyond the outline; never one lying on
@@ -156,7 +169,11 @@ def dim_d_loop(sheet: Sheet, view: View, loop: Loop, feature: str, fit: str, tol
     except KeyError:
         return
     r = corners[0].radius
-    label = f"{len(corners)}× R{fmt(r)}"
+    # a corner radius under 0.5 mm has no ISO 2768-1 general tolerance: boxed (the DXF's
+    # profile governs it) on a cut part, else a limit that lets the D fit its mate: a
+    # shaft's rounded corner at least, a socket's fillet at most the mate's radius
+    limit = "" if boxed else (" min" if outer else " max")
+    label = f"{len(corners)}× R{fmt(r)}{limit}"
     mid = corners[-1].mid
     direction = np.asarray(mid) - np.asarray(corners[-1].center)
     sheet.callout(view(mid), label, direction / np.linalg.norm(direction),
@@ -250,10 +267,11 @@ def dim_profile(sheet: Sheet, view: View, profile: Profile, part, skip_outer: bo
                 sheet.datum_feature(view((0.0, 0.0)) + r * view.scale * _out(200), _out(200),
                                     "A")
         elif is_d_loop(loop):
+            # a D hub (the flat drives the torque shaft) is as coaxial to the bore as a
+            # round one
             dim_d_loop(sheet, view, loop, feature, fit, part.tolerance_mm, outer, clear,
-                       boxed=cut)
-        if (not outer and not prefix and not frames and part.info.kind == "camshaft"
-                and fit):
+                       boxed=cut, frames=hub_frames(part, prefix) if outer else ())
+        if not outer and not prefix and not frames and _bore_is_datum(part):
             p = max((seg for seg in loop.segments if isinstance(seg, Arc | Circle)),
                     key=lambda seg: seg.radius)
             r = p.radius

@@ -160,10 +160,11 @@ def part_checks(part, manufacturing=None) -> list[Check]:
     Wire-EDM profiles: the ``[manufacturing]`` rules (:mod:`springcad.geometry.edm`), from
     the part's own spring or else ``manufacturing``. Laser-cut and milled sheet profiles:
     the process's web, hole-edge and hole-size rules (:mod:`springcad.geometry.sheet_cut`).
+    Turned parts: the wall between bore or socket and outer diameter (``turned.min_wall``).
     """
     from springcad.geometry.base import solid_volume_mm3
     from springcad.geometry.edm import edm_rules
-    from springcad.geometry.sheet_cut import fit_rule, sheet_rules
+    from springcad.geometry.sheet_cut import fit_rule, sheet_rules, wall_rule
 
     pn = part.part_number
     out = [Check("solid_valid", pn, bool(part.solid.is_valid), unit="",
@@ -189,6 +190,8 @@ def part_checks(part, manufacturing=None) -> list[Check]:
         else:
             results += sheet_rules(info.cut_profile, info.process, info.thickness_mm,
                                    part.describe)
+    elif info.process == "turned":
+        results.append(wall_rule(part.slabs, "turned", part.describe))
     prefix = "edm" if info.process == "wire_edm" else info.process
     return out + _rule_checks(prefix, pn, results)
 

@@ -10,6 +10,9 @@ pair search and hole distances (:mod:`springcad.geometry.edm`):
   process distorts or tears a thinner web);
 * ``hole_edge``: the same web from every round hole to every other contour;
 * ``min_hole``: every round hole at least ``factor x sheet thickness`` across;
+* ``min_wall`` (turned parts): the wall between a bore or socket and the outer diameter
+  of every section at least the process's minimum web (a thinner wall chatters, deforms
+  in the chuck or breaks through);
 * ``fits`` (every made part, any process): each ISO fit on the part is one its process
   finishes without a second operation (no H7 on a laser-cut hole).
 
@@ -43,6 +46,17 @@ def sheet_rules(profile, process_key: str, thickness_mm: float,
     webs, _slots = gap_rules(profile, web, 0.0, describe)
     return [webs, hole_edge_rule(profile, web, describe),
             min_hole_rule(profile, proc.min_hole_per_thickness * thickness_mm, describe)]
+
+
+def wall_rule(slabs, process_key: str, describe=lambda x, y: "") -> RuleResult:
+    """Thinnest wall (mm) between the outer contour and a bore or socket over every slab of
+    a turned part, against the process's minimum web."""
+    web = process(process_key).min_web(0.0)
+    results = [gap_rules(s.region, web, 0.0, describe)[0] for s in slabs if s.region.holes]
+    values = [r.value_mm for r in results if r.value_mm is not None]
+    return RuleResult("min_wall", web, min(values) if values else None,
+                      2.0 * web if results else None,
+                      tuple(v for r in results for v in r.violations))
 
 
 def iso_fits(info) -> dict[str, str]:

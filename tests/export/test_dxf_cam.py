@@ -150,10 +150,14 @@ def _dxf2gcode_python() -> str | None:
     return py if ok else None
 
 
-@pytest.mark.parametrize("name", ["S1-RING", "S1-CAM-L4.5-H6-R", "RIM-SPACER"])
-def test_dxf2gcode_reads_the_design(tmp_path, name):
+@pytest.mark.parametrize("stack,name", [("4xS1", "S1-RING"), ("4xS1", "S1-CAM-L4.5-H6-R"),
+                                        ("4xS1", "RIM-SPACER"), ("4xS1", "RIM-WASHER"),
+                                        ("default", "S1-RING"), ("default", "S1-CAM-L12-H6"),
+                                        ("default", "CENTRE-SPACER")])
+def test_dxf2gcode_reads_the_design(tmp_path, stack, name):
     """A real CAM program's importer (dxf2gcode) reads the default DXF within the
-    contour tolerance of the design, every contour closed."""
+    contour tolerance of the design, every contour closed (the 4xS1 and the default
+    package: every kind of cut part)."""
     import json
     import subprocess
     from pathlib import Path
@@ -161,7 +165,7 @@ def test_dxf2gcode_reads_the_design(tmp_path, name):
     py = _dxf2gcode_python()
     if py is None:
         pytest.skip("dxf2gcode (Debian package) not installed")
-    part = assembly("4xS1").part_named(name)
+    part = assembly(stack).part_named(name)
     prof = part.info.cut_profile
     rep = write_dxf(prof, tmp_path / "p.dxf", part.part_number, part.info.thickness_mm)
     script = Path(__file__).with_name("dxf2gcode_read.py")

@@ -124,6 +124,38 @@ def test_freecad_reads_the_volume(ring_steps, tmp_path):
         assert r["volume"] == pytest.approx(ring.slab_volume_mm3(), rel=1e-4), job
 
 
+@pytest.mark.skipif(shutil.which("freecadcmd") is None, reason="FreeCAD (freecadcmd) not installed")
+def test_freecad_reads_every_part_as_one_valid_solid(tmp_path):
+    """Issue 26's acceptance: every STEP of the default and the 4xS1 package (made and
+    bought parts) imports in FreeCAD as one valid solid whose volume x density is the
+    BOM's mass (the BOM's from springcad's own divergence-theorem volume)."""
+    from springcad.export.bom import bom_rows
+
+    rows = {}
+    for job in JOBS:
+        a = assembly(job)
+        for r in bom_rows(a):
+            part = a.parts[r["part_number"]]
+            rows[str(write_part_step(part, tmp_path / f"{job}-{r['part_number']}.step"))] = (
+                job, r, part.info.density_kg_per_m3)
+    script = tmp_path / "measure.py"
+    script.write_text(FREECAD_SCRIPT % list(rows))
+    run = subprocess.run(["freecadcmd", str(script)], capture_output=True, text=True,
+                         timeout=900)
+    line = next(x for x in run.stdout.splitlines() if x.startswith("RESULT "))
+    got = json.loads(line[len("RESULT "):])
+    kinds = set()
+    for path, (job, r, density) in rows.items():
+        f = got[path]
+        assert f["valid"] and f["solids"] == 1, (job, r["part_number"], f)
+        mass_g = f["volume"] * density * 1e-6
+        # the BOM writes grams to 3 decimals
+        assert mass_g == pytest.approx(float(r["mass_each_g"]), rel=1e-4, abs=6e-4), (
+            job, r["part_number"], mass_g, r["mass_each_g"])
+        kinds.add(r["kind"])
+    assert {"flexure_ring", "camshaft", "torque_shaft", "fastener", "bushing"} <= kinds
+
+
 def _gmsh_mesh_volume_mm3(path, size_mm: float) -> float:
     """Volume enclosed by gmsh's surface mesh of a STEP (sum of signed tetrahedra from
     the origin over every triangle; gmsh orients the boundary outwards)."""
