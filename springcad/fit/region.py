@@ -8,6 +8,14 @@ judges what is left on every sample, so the structure stays flagged and
 localised. ``LoopResult.region`` (fit.json ``final.fitted_region``) says what
 was left out and why.
 
+Two patches hide such a band. A cubic fitted over a structure at large
+deflection spreads it over the whole range (a clipping sensor read as a
+softening spring): the structure is localised again on the model without the
+cubic. And a cubic beside structure near zero that the crossover does not
+describe (a Hertzian take-up) bends the line to patch it: the model is fitted
+outside the band near zero, the crossover read from the offsets of the lines on
+either side of it (``fitted_region.inside``: the band left out is the inner one).
+
 Units: N·m, rad, s.
 """
 

@@ -83,15 +83,28 @@ class Signals:
         across the cut between two: a hold's trace is its mean and the ramp's cubic
         after it starts a fraction of a mrad away, so a difference across the cut read
         as a speed of 0.2 rad/s for two samples at every start from rest (a damper put
-        8 noise levels there, taken for two glitches on cosine ramps). Zero in holds.
+        8 noise levels there, taken for two glitches on cosine ramps). Zero in holds
+        but for the sample beside a cut, which with its neighbour across it reads the
+        mean of the rates about it.
         """
         out = np.zeros(self.n)
         trace = self.theta_trace
+        cuts = []
         for block in self._trace_blocks:
             c0, d0 = block[0][0], block[-1][1]
+            cuts.append(c0)
             if block[0][2] or d0 - c0 < 2:
                 continue
             out[c0:d0] = np.gradient(trace[c0:d0], self.t[c0:d0])
+        # the two samples either side of a cut read the mean of their neighbours' rates (the
+        # central difference a continuous trace gives): a motion that starts at a corner
+        # reaches its speed over a sample, not at once, and a law of the speed fitted with
+        # a time shift stays smooth in it
+        c = np.array([k for k in cuts if 2 <= k <= self.n - 2], dtype=int)
+        if c.size:
+            left = 0.25 * out[c - 2] + 0.5 * out[c - 1] + 0.25 * out[c]
+            right = 0.25 * out[c - 1] + 0.5 * out[c] + 0.25 * out[c + 1]
+            out[c - 1], out[c] = left, right
         return out
 
     @functools.cached_property

@@ -49,7 +49,9 @@ def test_the_rate_a_damper_sees_has_no_spike_where_a_cosine_ramp_leaves_a_hold()
     err = np.abs(sig.rate_trace - v)
     peak = float(np.max(np.abs(v)))
     assert np.max(err) < 0.05 * peak
-    assert np.all(sig.rate_trace[sig.in_hold] == 0.0)
+    # zero in holds, but for the sample next to a corner (the speed reached over a sample)
+    inner = sig.in_hold & np.roll(sig.in_hold, 1) & np.roll(sig.in_hold, -1)
+    assert np.all(sig.rate_trace[inner] == 0.0)
 
 
 def test_a_parameter_on_its_null_bound_with_no_standard_error_is_not_supported():
