@@ -79,32 +79,38 @@ class Signals:
         """Deflection rate (rad/s) of :attr:`theta_trace`: the speed a damper or a
         velocity-regularised friction sees.
 
-        Differentiated within each block of the trace (one-sided at its ends), never
-        across the cut between two: a hold's trace is its mean and the ramp's cubic
-        after it starts a fraction of a mrad away, so a difference across the cut read
-        as a speed of 0.2 rad/s for two samples at every start from rest (a damper put
-        8 noise levels there, taken for two glitches on cosine ramps). Zero in holds
-        but for the sample beside a cut, which with its neighbour across it reads the
-        mean of the rates about it.
+        Central differences of the trace, but never across a cut where the trace
+        jumps: a hold's trace is its mean and the cubic of a cosine ramp after it starts
+        a fraction of a mrad away, so a difference across that cut read as a speed of
+        0.2 rad/s for two samples at every start from rest (a damper put 8 noise levels
+        there, taken for two glitches on cosine ramps). There each piece is
+        differentiated on its own and the two samples beside the cut read the mean of
+        the rates about them (a step there made a fading friction delayed by a lag a
+        step in the lag).
         """
-        out = np.zeros(self.n)
         trace = self.theta_trace
+        out = np.gradient(trace, self.t)
+        own = np.zeros(self.n)
         cuts = []
         for block in self._trace_blocks:
             c0, d0 = block[0][0], block[-1][1]
             cuts.append(c0)
-            if block[0][2] or d0 - c0 < 2:
-                continue
-            out[c0:d0] = np.gradient(trace[c0:d0], self.t[c0:d0])
-        # the two samples either side of a cut read the mean of their neighbours' rates (the
-        # central difference a continuous trace gives): a motion that starts at a corner
-        # reaches its speed over a sample, not at once, and a law of the speed fitted with
-        # a time shift stays smooth in it
+            if not block[0][2] and d0 - c0 >= 2:
+                own[c0:d0] = np.gradient(trace[c0:d0], self.t[c0:d0])
         c = np.array([k for k in cuts if 2 <= k <= self.n - 2], dtype=int)
         if c.size:
-            left = 0.25 * out[c - 2] + 0.5 * out[c - 1] + 0.25 * out[c]
-            right = 0.25 * out[c - 1] + 0.5 * out[c] + 0.25 * out[c + 1]
-            out[c - 1], out[c] = left, right
+            # a cut the trace jumps across: it moves there by more than twice what the
+            # rates about it carry over a sample (a continuous trace, a V turn, a linear
+            # ramp leaving a hold, keeps its central differences)
+            dt = self.t[c] - self.t[c - 1]
+            near = np.max(np.abs(np.stack([own[c - 2], own[c - 1], own[c], own[c + 1]])), axis=0)
+            c = c[np.abs(trace[c] - trace[c - 1]) > 2.0 * near * dt]
+        if c.size:
+            # the two samples either side read the mean of their neighbours' rates within
+            # their own pieces (the central difference a continuous trace would give)
+            out[c - 2], out[c + 1] = own[c - 2], own[c + 1]
+            out[c - 1] = 0.25 * own[c - 2] + 0.5 * own[c - 1] + 0.25 * own[c]
+            out[c] = 0.25 * own[c - 1] + 0.5 * own[c] + 0.25 * own[c + 1]
         return out
 
     @functools.cached_property
