@@ -3,8 +3,8 @@
 An effect family (friction, a late torque channel) is searched for with the
 library's law (:data:`springcad.fit.effects.LIBRARY`). Once the loop has named
 it, its other laws (:data:`springcad.fit.other_laws.OTHER_LAWS`: viscous damping,
-a first-order filter and a relaxing standard-linear-solid branch for the lag
-family, velocity-regularised Coulomb friction for the friction family) are fitted in its place, with the rest of
+a first-order filter on the deflection or on the torque itself and a relaxing
+standard-linear-solid branch for the lag family, velocity-regularised Coulomb friction for the friction family) are fitted in its place, with the rest of
 the model free, and scored with the same held-out criterion. The law with the
 lowest criterion is kept when it beats the one in the model by more than
 ``LAW_MARGIN``; the record tells the laws apart when the best beats every
@@ -18,7 +18,10 @@ with: the record is flagged ``unexplained`` with a finding that names the law
 that describes it (:func:`beyond_library`), so the report says both what fits and
 that it is not the library's physics. The bar is the one ``unexplained`` itself
 uses: the library's law, fitted in the kept law's place, must leave structure the
-residual tests find clearly above noise. A viscous damper is within the time lag's
+residual tests find clearly above noise, or depart from the kept law somewhere by
+more than the noise's own moving averages reach anywhere in the record
+(:func:`springcad.fit.residual.local_departure`; a filter in the torque sensor
+differs from a delay only where a crossover is taken up at speed). A viscous damper is within the time lag's
 meaning (the library's lag names its negative values a damping, ``K·θ(t + c/K) ≈ K·θ +
 c·dθ/dt``) and is never flagged: at starts, stops and sharp turns the damper's torque
 follows the speed at once where a delayed channel's is shifted in time, which tells the

@@ -70,6 +70,10 @@ class FirstOrderLag(TimeLag):
         return {"filter_time_constant_s": float(p[0]), "lag_s": float(p[0])}
 
 
+#: shortest torque-filter time constant a record can resolve, in sample periods
+MIN_FILTER_SAMPLES = 2.0
+
+
 class TorqueFilter(TimeLag):
     """The torque channel's reading through a first-order low-pass of time constant T (s):
     the whole torque the bench sees (spring, crossover, friction) is filtered, where
@@ -91,6 +95,15 @@ class TorqueFilter(TimeLag):
 
     def starts(self, sc):
         return FirstOrderLag.starts(self, sc)
+
+    def physical_problem(self, p, stiffness, sc):
+        # a filter within two sample periods rounds a step by what its sampling does
+        # already: a fading friction's step at every start, read on the deflection trace,
+        # took a 2.3 ms filter at 500 Hz beside it (the record cannot tell them apart)
+        if p[0] < MIN_FILTER_SAMPLES / sc.sample_rate_hz:
+            return (f"torque filter time constant {p[0]:.3g} s is within {MIN_FILTER_SAMPLES:g} "
+                    "sample periods: no filter the sampling can tell from the steps it rounds")
+        return Effect.physical_problem(self, p, stiffness, sc)
 
     def time_shift_s(self, p):
         return 0.0
