@@ -35,7 +35,7 @@ from springcad.fit.models import spring_angle
 from springcad.fit.signals import Scales, Signals
 
 #: evaluation order of the stages of the torque model
-STAGES = ("angle", "map", "factor", "torque", "mask", "encoder")
+STAGES = ("angle", "map", "factor", "torque", "output", "mask", "encoder")
 
 
 @dataclass(frozen=True)
@@ -147,6 +147,11 @@ class Effect:
         """Additive torque (N·m) at samples ``idx`` of an ``on_spring`` term, from the
         spring's deflection ``spring`` (rad) on every sample."""
         return np.zeros(idx.size)
+
+    def output(self, torque: np.ndarray, p: np.ndarray, sig: Signals) -> np.ndarray:
+        """The torque channel's reading (N·m, every sample) of the model torque ``torque``
+        (every sample) for an ``output``-stage term (a filter in the sensor)."""
+        return torque
 
 
 #: widest logit transition of a crossover, as a fraction of the largest deflection

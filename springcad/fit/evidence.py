@@ -330,7 +330,7 @@ def audit(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, f_sc
             j = full.slice_of(e.name).start + e.primary
             q = e.params(full.scales)[e.primary]
             v, se = float(x_full[j]), float(unc.se[j])
-            z = (v - q.null) / se if se > 0 else math.inf
+            z = _support_z(((v, se),), q.null)
             checks[e.name].append(SplitCheck(WHOLE, (WHOLE_LABEL, WHOLE_LABEL), q.name, (v, v),
                                              (se, se), 1.0, z, True, abs(z) >= support_z))
     for name, cs in checks.items():
@@ -350,13 +350,25 @@ def _compare(checks: dict, model: TorqueModel, tested: list, split: str, parts, 
         sa, sb = float(ua.se[j]), float(ub.se[j])
         p = wald_p(np.array([va - vb]), np.array([[sa * sa + sb * sb]]),
                    min(ua.dof, ub.dof))
-        wa, wb = 1.0 / max(sa * sa, 1e-300), 1.0 / max(sb * sb, 1e-300)
-        pooled = (wa * va + wb * vb) / (wa + wb)
-        z = (pooled - null) * math.sqrt(wa + wb)
+        z = _support_z(((va, sa), (vb, sb)), null)
         checks[e.name].append(SplitCheck(
             split, (parts[0].label, parts[1].label),
             e.params(model.scales)[e.primary].name, (va, vb), (sa, sb), p, z,
             p >= agreement_p, abs(z) >= support_z))
+
+
+def _support_z(parts: tuple[tuple[float, float], ...], null: float) -> float:
+    """Inverse-variance mean of ``(value, standard error)`` parts, in standard errors from
+    ``null``. A part with no standard error carries no information on the effect (its
+    parameter rests on a bound, where the fit cannot move it: a filter time constant of
+    zero, a relaxing branch of no stiffness) and does not count; with none left the
+    effect is not supported (z = 0): a value nothing measures is no evidence."""
+    w = [(v, 1.0 / (se * se)) for v, se in parts if se > 0 and math.isfinite(se)]
+    if not w:
+        return 0.0
+    total = sum(wi for _, wi in w)
+    pooled = sum(v * wi for v, wi in w) / total
+    return (pooled - null) * math.sqrt(total)
 
 
 def time_check(model: TorqueModel, slow: np.ndarray | None, idx: np.ndarray,

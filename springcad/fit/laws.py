@@ -3,8 +3,8 @@
 An effect family (friction, a late torque channel) is searched for with the
 library's law (:data:`springcad.fit.effects.LIBRARY`). Once the loop has named
 it, its other laws (:data:`springcad.fit.other_laws.OTHER_LAWS`: viscous damping,
-a first-order filter and a relaxing standard-linear-solid branch for the lag
-family, velocity-regularised Coulomb friction for the friction family) are fitted in its place, with the rest of
+a first-order filter on the deflection or on the torque itself and a relaxing
+standard-linear-solid branch for the lag family, velocity-regularised Coulomb friction for the friction family) are fitted in its place, with the rest of
 the model free, and scored with the same held-out criterion. The law with the
 lowest criterion is kept when it beats the one in the model by more than
 ``LAW_MARGIN``; the record tells the laws apart when the best beats every
@@ -18,7 +18,10 @@ with: the record is flagged ``unexplained`` with a finding that names the law
 that describes it (:func:`beyond_library`), so the report says both what fits and
 that it is not the library's physics. The bar is the one ``unexplained`` itself
 uses: the library's law, fitted in the kept law's place, must leave structure the
-residual tests find clearly above noise. A viscous damper is within the time lag's
+residual tests find clearly above noise, or depart from the kept law somewhere by
+more than the noise's own moving averages reach anywhere in the record
+(:func:`springcad.fit.residual.local_departure`; a filter in the torque sensor
+differs from a delay only where a crossover is taken up at speed). A viscous damper is within the time lag's
 meaning (the library's lag names its negative values a damping, ``K·θ(t + c/K) ≈ K·θ +
 c·dθ/dt``) and is never flagged: at starts, stops and sharp turns the damper's torque
 follows the speed at once where a delayed channel's is shifted in time, which tells the
@@ -46,6 +49,7 @@ import numpy as np
 
 from springcad.fit.effects import Effect, get_effect
 from springcad.fit.other_laws import OTHER_LAWS
+from springcad.fit.residual import local_departure, residual_structure
 from springcad.fit.search import LAW_MARGIN, Search, State
 from springcad.fit.torque_model import TorqueModel
 
@@ -57,6 +61,9 @@ BEYOND_LIBRARY = {
     "first_order_filter": ("a low-pass filter in the torque channel (sensor, amplifier or "
                            "acquisition anti-alias filter), which rounds turns and attenuates "
                            "fast motion where a pure delay only shifts it"),
+    "torque_filter": ("a low-pass filter in the torque sensor or its amplifier, which rounds "
+                      "the corners of the torque itself (a crossover taken up, a friction's "
+                      "turn) where a pure delay only shifts them"),
     "standard_linear_solid": ("viscoelastic relaxation (a polymer bushing or pad, a glued, "
                               "clamped or press-fitted joint creeping): the torque overshoots "
                               "while moving and relaxes toward K·θ in holds, which no library "
@@ -98,6 +105,44 @@ def beyond_library(laws: dict, threshold: float,
                              "fitted with it"),
                     "causes": BEYOND_LIBRARY[law]})
     return out
+
+
+def flag_outside(state: State, search: Search, laws: dict, idx: np.ndarray, noise: float,
+                 tau: float) -> list[dict]:
+    """Findings of :func:`beyond_library` for the final ``state`` (judged on samples
+    ``idx``, noise ``noise`` N·m correlated over ``tau`` samples).
+
+    A law within the library's meaning, fitted in the kept law's place on all fitted
+    samples, leaves structure when the residual tests find it (the bar of
+    ``unexplained`` itself) or when it departs from the kept law, somewhere in the
+    record, by more than the noise can (:func:`springcad.fit.residual.local_departure`:
+    a sensor filter read as a delay differs only where a crossover is taken up at
+    speed, too briefly for the binned tests). When the family is confounded with
+    another family whose law is within the library's meaning (a damper for a friction
+    that lets go at rest, on one speed), the record read with that one in its place
+    is judged alike.
+    """
+    sig, s = search.sig, search.s
+    f_scale = search.f_scale(state)
+    kept = state.model.predict(state.x, sig, idx)
+
+    def left(model: TorqueModel, x: np.ndarray) -> bool:
+        if residual_structure(model.residual(x, sig, idx), idx, sig, bins=s.structure_bins,
+                              min_rms=s.structure_min_rms, p_level=s.structure_p,
+                              excess_ratio=s.excess_ratio)[1]:
+            return True
+        d = model.predict(x, sig, idx) - kept
+        return local_departure(d, noise, tau, s.structure_p)["significant"]
+
+    def leaves_structure(family: str, law: str) -> bool:
+        for model, x_swap in search.swaps.get(family, ()):
+            if not any(e.law in BEYOND_LIBRARY for e in model.effects) and not left(
+                    model, search.refit(model, x_swap, state.mask, f_scale)):
+                return False
+        found = fitted_in_place(state, search, family, law, f_scale)
+        return True if found is None else left(*found)
+
+    return beyond_library(laws, s.gain_threshold, leaves_structure)
 
 
 def fitted_in_place(state: State, search: Search, family: str, law: str,

@@ -53,7 +53,7 @@ from springcad.fit.evidence import EffectEvidence, audit
 from springcad.fit.identify import (Confounded, contribution, find_confounded,
                                     recommend_protocol)
 from springcad.fit.joint import joint_sets
-from springcad.fit.laws import BEYOND_LIBRARY, beyond_library, choose_laws, fitted_in_place
+from springcad.fit.laws import choose_laws, flag_outside
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
 from springcad.fit.localise import localise
 from springcad.fit.region import outside_structure
@@ -326,27 +326,7 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
         r, idx, sig, bins=settings.structure_bins, min_rms=settings.structure_min_rms,
         p_level=settings.structure_p, excess_ratio=settings.excess_ratio)
     tau = structure["noise_correlation_samples"]
-    def structure_left(model: TorqueModel, x: np.ndarray) -> bool:
-        return residual_structure(
-            model.residual(x, sig, idx), idx, sig, bins=settings.structure_bins,
-            min_rms=settings.structure_min_rms, p_level=settings.structure_p,
-            excess_ratio=settings.excess_ratio)[1]
-
-    def leaves_structure(family: str, law: str) -> bool:
-        # the library's law fitted in the kept one's place, on all fitted samples, judged
-        # by the same residual tests; and when the family is confounded with another
-        # family whose law is within the library's meaning (a damper for a friction that
-        # lets go at rest, on one speed), the record read with that one in its place
-        for model, x_swap in lp.swaps.get(family, ()):
-            if not any(e.law in BEYOND_LIBRARY for e in model.effects) and not structure_left(
-                    model, lp.refit(model, x_swap, state.mask, lp.f_scale(state))):
-                return False
-        found = fitted_in_place(state, lp, family, law, lp.f_scale(state))
-        if found is None:
-            return True
-        return structure_left(*found)
-
-    outside = beyond_library(laws or {}, settings.gain_threshold, leaves_structure)
+    outside = flag_outside(state, lp, laws or {}, idx, noise, tau)
     if outside:
         structure = {**structure, "laws_outside_library": outside}
         unexplained = True

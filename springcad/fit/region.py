@@ -8,6 +8,14 @@ judges what is left on every sample, so the structure stays flagged and
 localised. ``LoopResult.region`` (fit.json ``final.fitted_region``) says what
 was left out and why.
 
+Two patches hide such a band. A cubic fitted over a structure at large
+deflection spreads it over the whole range (a clipping sensor read as a
+softening spring): the structure is localised again on the model without the
+cubic. And a cubic beside structure near zero that the crossover does not
+describe (a Hertzian take-up) bends the line to patch it: the model is fitted
+outside the band near zero, the crossover read from the offsets of the lines on
+either side of it (``fitted_region.inside``: the band left out is the inner one).
+
 Units: N·m, rad, s.
 """
 
@@ -17,7 +25,7 @@ import dataclasses
 
 import numpy as np
 
-from springcad.fit.localise import structure_onset
+from springcad.fit.localise import localise, structure_onset
 from springcad.fit.search import LoopSettings
 from springcad.fit.signals import Signals
 
@@ -49,24 +57,41 @@ def outside_structure(sig: Signals, settings: LoopSettings, first, run):
     if not first.unexplained or first.no_spring or not loc or not loc["findings"]:
         return None
     top = loc["findings"][0]
-    if top["kind"] != "large_deflection" or top["share"] < REGION_SHARE:
-        return None
-    theta = sig.theta_smooth
     idx = first.final.inliers(np.arange(sig.n))
-    r = first.final.model.residual(first.final.x, sig, idx)
-    lo, hi = structure_onset(r, idx, sig, first.noise_Nm,
-                             first.structure["noise_correlation_samples"])
-    keep = (theta > lo) & (theta < hi)
+    model, x = first.final.model, first.final.x
+    if top["kind"] == "deflection_shape" and top["share"] >= REGION_SHARE:
+        # a shape spread over the range may be a term shaped at large deflection (a cubic)
+        # fitted over a structure there, which spreads it: localised again without that term
+        model, x, top = _without_large_shapes(first, sig, idx) or (model, x, top)
+    theta = sig.theta_smooth
+    if top["share"] < REGION_SHARE:
+        return None
+    if top["kind"] == "large_deflection":
+        r = model.residual(x, sig, idx)
+        lo, hi = structure_onset(r, idx, sig, first.noise_Nm,
+                                 first.structure["noise_correlation_samples"])
+        keep = (theta > lo) & (theta < hi)
+        sides = [f"deflection beyond {hi:.4g} rad" if np.isfinite(hi) else None,
+                 f"deflection below {lo:.4g} rad" if np.isfinite(lo) else None]
+        bounds = {"low_rad": None if not np.isfinite(lo) else float(lo),
+                  "high_rad": None if not np.isfinite(hi) else float(hi)}
+    elif top["kind"] == "near_zero" and _large_shapes(model, x):
+        # a term shaped at large deflection (a cubic) beside structure near zero that the
+        # crossover does not describe (a smooth take-up) bends the line to patch it: the
+        # model is fitted where the structure is not, the crossover read from the lines'
+        # offsets on either side
+        cut = float(top["within_rad"])
+        keep = np.abs(theta) > cut
+        sides = [f"|deflection| below {cut:.4g} rad"]
+        bounds = {"low_rad": -cut, "high_rad": cut, "inside": True}
+    else:
+        return None
     if keep.mean() < 1.0 - REGION_MAX_SAMPLES or keep.all():
         return None
     out = run(sig, settings, keep)
     if out.no_spring:
         return None
-    sides = [f"deflection beyond {hi:.4g} rad" if np.isfinite(hi) else None,
-             f"deflection below {lo:.4g} rad" if np.isfinite(lo) else None]
-    region = {"left_out": " and ".join(x for x in sides if x),
-              "low_rad": None if not np.isfinite(lo) else float(lo),
-              "high_rad": None if not np.isfinite(hi) else float(hi),
+    region = {"left_out": " and ".join(x for x in sides if x), **bounds,
               "samples_left_out": int((~keep).sum()),
               "fraction_left_out": float((~keep).mean()),
               "reason": (f"fitted on every sample, the residual held structure the effect "
@@ -75,3 +100,35 @@ def outside_structure(sig: Signals, settings: LoopSettings, first, run):
                          "structure is not, and the structure is judged on every sample"),
               "first_pass_model": first.final.label}
     return dataclasses.replace(out, region=region)
+
+
+def _large_shapes(model, x: np.ndarray) -> list[str]:
+    """The model's terms shaped at large deflection (a cubic): acting beyond some |θ|."""
+    return [e.name for e in model.effects
+            if (band := e.acts_within(x[model.slice_of(e.name)], model.scales)) is not None
+            and np.isinf(band[1])]
+
+
+def _without_large_shapes(first, sig: Signals, idx: np.ndarray):
+    """The first pass's model without its terms shaped at large deflection (refitted) and
+    the top finding of its residual's localisation, or ``None`` without such terms."""
+    model, x = first.final.model, first.final.x
+    names = _large_shapes(model, x)
+    if not names:
+        return None
+    inner = model
+    for name in names:
+        inner = inner.without(name)
+    x_in = inner.transfer(model, x)
+    r = inner.residual(x_in, sig, idx)
+    f_scale = 3.0 * max(1.4826 * float(np.median(np.abs(r - np.median(r)))), 1e-12)
+    x_in = inner.fit(sig, idx, x_in, f_scale, max_nfev=200)
+    r = inner.residual(x_in, sig, idx)
+    x1, x0 = x_in.copy(), x_in.copy()
+    x1[0], x0[0] = 1.0, 0.0
+    shape = inner.predict(x1, sig, idx) - inner.predict(x0, sig, idx)
+    loc = localise(r, idx, sig, first.noise_Nm, first.structure["noise_correlation_samples"],
+                   shape, p_level=first.settings.structure_p)
+    if not loc["findings"]:
+        return None
+    return inner, x_in, loc["findings"][0]

@@ -420,6 +420,46 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     return evidence, bool(unexplained), sigma
 
 
+#: windows (in noise correlation times) over which a local departure is averaged
+LOCAL_WINDOWS = (4, 16, 64)
+
+
+def local_departure(d: np.ndarray, sigma: float, tau: float, p_level: float) -> dict:
+    """Whether a difference between two models (N·m, every sample) stands out of the noise
+    somewhere in the record, though too brief to count in the binned tests.
+
+    A law that departs from another only at a few events (a sensor filter rounding the
+    corners where a crossover is taken up at speed) leaves a difference whose RMS over the
+    record is a small share of the noise, while at those events it stands several noise
+    levels tall. Its moving average over ``w`` samples (``w`` = ``LOCAL_WINDOWS`` times
+    the noise correlation ``tau``) is compared with what the noise's own moving average
+    reaches anywhere in the record: ``σ·√(τ/w)`` times the normal quantile of
+    ``p_level`` shared out over every window position and width (Bonferroni), and at
+    least one noise level ``σ`` (a structure as tall as one sample's noise, not one that
+    only a long record resolves).
+
+    Returns:
+        ``significant``, the ``peak_Nm`` of the moving average, its ``window_samples``,
+        and the ``threshold_Nm`` it was judged against.
+    """
+    n = d.size
+    best = {"significant": False, "peak_Nm": 0.0, "window_samples": 0, "threshold_Nm": math.inf}
+    if sigma <= 0.0 or n == 0:
+        return best
+    widths = sorted({max(1, int(round(k * max(tau, 1.0)))) for k in LOCAL_WINDOWS})
+    widths = [w for w in widths if w <= n]
+    tries = sum(n / w for w in widths)
+    z = float(stats.norm.isf(p_level / (2.0 * max(tries, 1.0))))
+    for w in widths:
+        mean = ndimage.uniform_filter1d(d, w, mode="nearest")
+        peak = float(np.max(np.abs(mean)))
+        bar = max(z * sigma * math.sqrt(max(tau, 1.0) / w), sigma)
+        if peak / bar > best["peak_Nm"] / best["threshold_Nm"] or not best["window_samples"]:
+            best = {"significant": peak > bar, "peak_Nm": peak, "window_samples": w,
+                    "threshold_Nm": bar}
+    return best
+
+
 #: bins of the time since the motion last started, stopped or turned (log-spaced)
 PHASE_BINS = 24
 

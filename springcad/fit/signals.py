@@ -8,6 +8,7 @@ fold of each sample. Units: s, rad, N·m.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from dataclasses import dataclass
@@ -76,8 +77,52 @@ class Signals:
     @functools.cached_property
     def rate_trace(self) -> np.ndarray:
         """Deflection rate (rad/s) of :attr:`theta_trace`: the speed a damper or a
-        velocity-regularised friction sees."""
-        return np.gradient(self.theta_trace, self.t)
+        velocity-regularised friction sees.
+
+        Central differences of the trace, but never across a cut where the trace
+        jumps: a hold's trace is its mean and the cubic of a cosine ramp after it starts
+        a fraction of a mrad away, so a difference across that cut read as a speed of
+        0.2 rad/s for two samples at every start from rest (a damper put 8 noise levels
+        there, taken for two glitches on cosine ramps). There each piece is
+        differentiated on its own and the two samples beside the cut read the mean of
+        the rates about them (a step there made a fading friction delayed by a lag a
+        step in the lag).
+        """
+        trace = self.theta_trace
+        out = np.gradient(trace, self.t)
+        own = np.zeros(self.n)
+        cuts = []
+        for block in self._trace_blocks:
+            c0, d0 = block[0][0], block[-1][1]
+            cuts.append(c0)
+            if not block[0][2] and d0 - c0 >= 2:
+                own[c0:d0] = np.gradient(trace[c0:d0], self.t[c0:d0])
+        c = np.array([k for k in cuts if 2 <= k <= self.n - 2], dtype=int)
+        if c.size:
+            # a cut the trace jumps across: it moves there by more than twice what the
+            # rates about it carry over a sample (a continuous trace, a V turn, a linear
+            # ramp leaving a hold, keeps its central differences)
+            dt = self.t[c] - self.t[c - 1]
+            near = np.max(np.abs(np.stack([own[c - 2], own[c - 1], own[c], own[c + 1]])), axis=0)
+            c = c[np.abs(trace[c] - trace[c - 1]) > 2.0 * near * dt]
+        if c.size:
+            # the two samples either side read the mean of their neighbours' rates within
+            # their own pieces (the central difference a continuous trace would give)
+            out[c - 2], out[c + 1] = own[c - 2], own[c + 1]
+            out[c - 1] = 0.25 * own[c - 2] + 0.5 * own[c - 1] + 0.25 * own[c]
+            out[c] = 0.25 * own[c - 1] + 0.5 * own[c] + 0.25 * own[c + 1]
+        return out
+
+    @functools.cached_property
+    def on_trace(self) -> "Signals":
+        """These signals with the measured deflection replaced by its trace (the smooth
+        motion), every derived signal shared: what a filter in the torque channel acts
+        on. The noise of each sample's deflection is the encoder's, not the bench's
+        torque: a model that filtered it would gain from averaging it away."""
+        out = dataclasses.replace(self, theta=self.theta_trace)
+        for name in _DERIVED:
+            out.__dict__[name] = getattr(self, name)
+        return out
 
     @functools.cached_property
     def theta_trace(self) -> np.ndarray:
@@ -342,6 +387,9 @@ TRACE_WINDOW_S = (0.06, 0.3)
 TRACE_PIECE_FRACTION = 0.5
 #: window of the smoothed deflection (``springcad.fit.segment.smooth``'s default), s
 SMOOTH_WINDOW_S = 0.02
+#: the signals derived from the measured deflection (cached), shared by :attr:`Signals.on_trace`
+_DERIVED = ("theta_trace", "rate_trace", "_trace_blocks", "in_hold", "from_reversal",
+            "since_turn_s", "swing", "near_turn")
 #: the motion has left a turn's angle where the smoothed deflection is this many
 #: deflection noise levels away from it (see ``Signals._pieces``)
 HOLD_BAND_NOISE = 5.0

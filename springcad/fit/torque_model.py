@@ -18,7 +18,7 @@ from scipy import optimize
 from springcad.fit.effects import STAGES, Effect
 from springcad.fit.signals import Scales, Signals
 
-_TORQUE_STAGES = ("angle", "map", "factor", "torque")
+_TORQUE_STAGES = ("angle", "map", "factor", "torque", "output")
 
 
 class TorqueModel:
@@ -47,6 +47,7 @@ class TorqueModel:
         hi = [np.inf] + [p.upper for e in self.effects for p in self._params[e.name]]
         self.bounds = (np.array(lo, float), np.array(hi, float))
         self._trace_cache = None
+        self._output_cache = None
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -160,7 +161,39 @@ class TorqueModel:
         for e in self.effects:
             if e.stage == "factor":
                 stiff = stiff * e.factor(spring, parts[e.name], self.scales)
-        return stiff * spring + self.torque_terms(x, sig, idx)
+        out = stiff * spring + self.torque_terms(x, sig, idx)
+        if any(e.stage == "output" for e in self.effects):
+            out = out + self._output_change(x, sig, idx)
+        return out
+
+    def _output_change(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
+        """What the output stage (a filter in the torque sensor) changes in the model
+        torque at samples ``idx`` (N·m).
+
+        The torque of the rest of the model is computed on every sample of the smooth
+        motion (:attr:`Signals.on_trace`; a filter's output depends on the whole past)
+        and passed through each output term; the change is added to the torque at
+        ``idx``, so a sample's own deflection noise stays its own, as in
+        :class:`~springcad.fit.other_laws.FirstOrderLag`. The inner torque is kept for
+        the last inner parameters (a finite-difference Jacobian moves one parameter at
+        a time).
+        """
+        outer = [e for e in self.effects if e.stage == "output"]
+        inner = TorqueModel(tuple(e for e in self.effects if e.stage != "output"), self.scales)
+        x_in = inner.transfer(self, x)
+        key = (id(sig), tuple(float(v) for v in x_in), inner.label,
+               tuple(e.law for e in inner.effects))
+        cached = self._output_cache
+        if cached is not None and cached[0] == key and cached[1] is sig:
+            every = cached[2]
+        else:
+            every = inner.predict(x_in, sig.on_trace, np.arange(sig.n))
+            self._output_cache = (key, sig, every)
+        parts = self._parts(x)
+        read = every
+        for e in outer:
+            read = e.output(read, parts[e.name], sig)
+        return read[idx] - every[idx]
 
     def residual(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
         """Measured minus model torque (N·m) at samples ``idx``."""

@@ -56,12 +56,14 @@ def test_a_torque_filter_read_as_a_delay_leaves_structure_after_every_start_stop
     loop = fit_record(make_record(t, tau + rng.normal(0, 0.004, t.size),
                                   th + rng.normal(0, 1e-4, t.size))).loop
     assert set(loop.final.effects) == {"backlash", "time_lag"}
-    assert loop.laws["time_lag"]["law"] == "first_order_filter"
+    # the record's filter acts on the torque (after the crossover): that law, not the
+    # deflection filter put through the crossover
+    assert loop.laws["time_lag"]["law"] == "torque_filter"
     p = loop.final.params()
-    assert p["filter_time_constant_s"] == pytest.approx(0.02, rel=0.05)
+    assert p["torque_filter_time_constant_s"] == pytest.approx(0.02, rel=0.05)
     assert p["backlash_rad"] == pytest.approx(0.04, rel=0.05)
     assert loop.unexplained
     found = [f for f in loop.localisation["findings"] if f["kind"] == "law_outside_library"]
-    assert [(f["family"], f["law"]) for f in found] == [("time_lag", "first_order_filter")]
+    assert [(f["family"], f["law"]) for f in found] == [("time_lag", "torque_filter")]
     # the filter itself leaves nothing locked to the events
     assert not loop.structure["tests"]["by_protocol_phase"]["significant"]
