@@ -263,3 +263,19 @@ def test_synthesize_through_api_and_cli_gives_the_same_json(tmp_path):
     assert stable(cli, drop={"candidates_per_s"}) == stable(as_json(api.to_dict()),
                                                             drop={"candidates_per_s"})
     assert (tmp_path / "cli" / "winner.toml").read_text() == api.winner_toml()
+
+
+def test_verification_files_through_api_and_cli_are_the_same(tmp_path):
+    """``springcad verify`` writes its folder through ``sc.export_verification``: the API
+    writes the same fea.json, lists what it wrote, and refuses what is not a Verification."""
+    cfg = template("paper_S1")
+    assert main(["verify", str(cfg), "--out", str(tmp_path / "cli"), "--model", "2d",
+                 "--no-contact", "--no-render", "--quiet"]) == 0
+    v = sc.verify(cfg, model="2d", contact=False)
+    files = sc.export_verification(v, tmp_path / "api", render=False)
+    assert files == [tmp_path / "api" / "fea.json"] and files[0].is_file()
+    assert (stable(json.loads(files[0].read_text()))
+            == stable(json.loads((tmp_path / "cli" / "fea.json").read_text())))
+    with pytest.raises(sc.SpringcadError, match="takes the Verification that sc.verify returned"):
+        sc.export_verification(v.design, tmp_path / "other")
+    assert not (tmp_path / "other").exists()

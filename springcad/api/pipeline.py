@@ -27,13 +27,15 @@ from springcad.errors import ConfigError
 from springcad.options import REVISION, api_door, check_revision
 from springcad.progress import Tracker
 from springcad.report import notebook
+from springcad.report.fea_outputs import write_outputs
+from springcad.report.outdir import atomic_output_dir
 from springcad.stages import stage
 from springcad.version import stamp
 
 #: schema of ``build.json``
 SCHEMA = "springcad.build/1"
 
-__all__ = ["Build", "build", "export_build", "load_title_block"]
+__all__ = ["Build", "build", "export_build", "export_verification", "load_title_block"]
 
 
 class Build:
@@ -235,6 +237,40 @@ def _cached_build(job_design, store, progress):
 
 
 @api_door
+def export_verification(verification: Verification, out, overwrite: bool = False,
+                        render: bool = True, progress=None,
+                        cache: bool | None = None) -> list[Path]:
+    """Write a verification folder: ``fea.json`` and, per spring, the ``.vtu`` fields and
+    PNG renders (von Mises, cam contact, duty), what ``springcad verify`` writes.
+
+    Args:
+        verification: the :class:`Verification` (``keep_fields=True`` for the fields).
+        out: the output folder; it appears only when everything was written.
+        overwrite: replace an existing folder.
+        render: write the ``.vtu`` fields and PNG renders (else ``fea.json`` only).
+        progress: optional ``callable(message, fraction=None)``.
+        cache: reuse the files of springs written before (:mod:`springcad.cache`; None:
+            :data:`springcad.options.CACHE`).
+
+    Returns:
+        The files written, under ``out``.
+
+    Raises:
+        OutputExistsError, OutputPathError: the folder cannot be written.
+    """
+    if not isinstance(verification, Verification):
+        raise ConfigError("export_verification", type(verification).__name__,
+                          "takes the Verification that sc.verify returned")
+    out = Path(out)
+    inputs = [x for x in (verification.design.job.source,)
+              if isinstance(x, (str, Path)) and x and Path(x).is_file()]
+    with atomic_output_dir(out, overwrite=overwrite, inputs=inputs) as tmp:
+        written = write_outputs(verification.raw, Path(tmp), render=render,
+                                progress=Tracker(progress), cache=open_cache(cache))
+    return [out / Path(f).relative_to(tmp) for f in written]
+
+
+@api_door
 def load_title_block(source=None) -> dict:
     """The drawing title block: a TOML path, a dict, or None for the default template.
 
@@ -294,8 +330,6 @@ def _fea_outputs(ver, tmp: Path, render: bool, store, track):
     if ver is None:
         yield Pending(value=[])
         return
-    from springcad.report.fea_outputs import write_outputs
-
     (tmp / "fea").mkdir()
     if not render:
         yield Pending(value=write_outputs(ver.raw, tmp / "fea", render=False, progress=track,
@@ -342,7 +376,6 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
     from springcad.geometry.checks import CheckReport
     from springcad.report.html_build import write_build_report
     from springcad.report.jsonio import write_json
-    from springcad.report.outdir import atomic_output_dir
 
     if not isinstance(built, Build):
         raise ConfigError("export_build", type(built).__name__, "takes the Build that sc.build returned")

@@ -15,7 +15,7 @@ import hashlib
 import json
 from pathlib import Path
 
-from springcad.options import SYNTHESIS, api_door, check_choice, check_number, refuse
+from springcad.options import EXPLORE, SYNTHESIS, api_door, check_choice, check_number, refuse
 from springcad.progress import Tracker
 from springcad.stages import stage
 
@@ -126,9 +126,14 @@ def synthesize(requirements, out=None, *, scheduler: str | None = None,
 
 
 @api_door
-def explore(out=Path("outputs") / "explore", *, stiffness_Nm_per_rad=None, deflection_rad=None,
-            max_disks=None, envelope_radius_mm=None, thickness_mm=None, contact_radius_mm=None,
-            material=None, stress_concentration=None, scheduler: str | None = None,
+def explore(out=Path("outputs") / "explore", *,
+            stiffness_Nm_per_rad=EXPLORE.stiffness_Nm_per_rad,
+            deflection_rad=EXPLORE.deflection_rad, max_disks: int = EXPLORE.max_disks,
+            envelope_radius_mm: float = EXPLORE.envelope_radius_mm,
+            thickness_mm=EXPLORE.thickness_mm, contact_radius_mm=EXPLORE.contact_radius_mm,
+            material: str = EXPLORE.material,
+            stress_concentration: float = EXPLORE.stress_concentration,
+            scheduler: str | None = None,
             workers: int | None = None, batch_size: int = SYNTHESIS.batch_size,
             restart: bool = False, progress=None, say=None) -> dict:
     """Map the reachable peak torque against deflection for stacks of 1 ... N disks.
@@ -149,7 +154,8 @@ def explore(out=Path("outputs") / "explore", *, stiffness_Nm_per_rad=None, defle
         progress: sweep counter, as in :func:`synthesize`.
         say: ``say(message)`` for one-line status messages.
 
-    Options left None take :class:`springcad.synthesis.explore.ExploreGrid`'s defaults.
+    The defaults are :data:`springcad.options.EXPLORE` (``springcad explore``'s); an option
+    given as None takes its default.
 
     Returns:
         The ``explore.json`` summary (grid, sweep statistics, per number of disks).

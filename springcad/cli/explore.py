@@ -16,11 +16,11 @@ from pathlib import Path
 import springcad.api as sc
 from springcad.cli.progress import ProgressBar
 from springcad.cli.synthesize import add_dask_options, dask_options, say
-from springcad.synthesis.explore import ExploreGrid
+from springcad.options import EXPLORE
 
 
 def register(sub):
-    g = ExploreGrid()
+    g = EXPLORE
     p = sub.add_parser("explore", help="map reachable peak torque vs deflection for one disk "
                                        "and stacks (Fig. 8); Pareto fronts; Parquet + PNG")
     p.add_argument("--out", type=Path, default=Path("outputs") / "explore",

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.config import HardwareSpec, ManufacturingSpec
+from springcad.options import EXPLORE
 from springcad.synthesis.candidates import CandidateSpace
 from springcad.units import NMM_PER_NM
 
@@ -42,15 +43,15 @@ class ExploreGrid:
             yield / (margin x concentration) and lowered where the peak needs it.
     """
 
-    stiffness_Nm_per_rad: tuple[float, float, int] = (5.0, 500.0, 24)
-    deflection_rad: tuple[float, float, int] = (0.05, 3.0, 24)
-    max_disks: int = 6
-    envelope_radius_mm: float = 35.05
-    thickness_mm: tuple[float, ...] = (3.0, 4.5, 6.0)
-    contact_radius_mm: tuple[float, ...] = (4.5, 5.5, 6.5, 7.5, 9.0)
-    material: str = "420_ht"
+    stiffness_Nm_per_rad: tuple[float, float, int] = EXPLORE.stiffness_Nm_per_rad
+    deflection_rad: tuple[float, float, int] = EXPLORE.deflection_rad
+    max_disks: int = EXPLORE.max_disks
+    envelope_radius_mm: float = EXPLORE.envelope_radius_mm
+    thickness_mm: tuple[float, ...] = EXPLORE.thickness_mm
+    contact_radius_mm: tuple[float, ...] = EXPLORE.contact_radius_mm
+    material: str = EXPLORE.material
     yield_margin: float = 1.0
-    stress_concentration: float = 1344.0 / 912.0
+    stress_concentration: float = EXPLORE.stress_concentration
 
     @property
     def stiffnesses_Nm_per_rad(self) -> np.ndarray:
