@@ -83,10 +83,10 @@ def calibration_rows(designs: dict, flares=FLARES, progress=None) -> list[dict]:
 
     Args:
         designs: label -> :class:`~springcad.design.spring.SpringDesign` (flare 0).
-        flares: root flares to impose (:func:`springcad.design.spring.with_root`).
+        flares: root flares to impose (:func:`springcad.design.resize.with_root`).
         progress: optional ``progress(message, fraction)`` callable.
     """
-    from springcad.design.spring import with_root
+    from springcad.design.resize import with_root
 
     rows = []
     total = len(designs) * len(flares)

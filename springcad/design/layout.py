@@ -87,7 +87,7 @@ def tip_ball(spec: SpringSpec, sigma, n, rc, contact: ContactLimit | None = None
     flank's radius there is r_c theta_max, convex): the larger of the two radii is
     required (``inf`` when no ball is enough for the contact).
     """
-    load = fx.tip_load_N(spec.stiffness_Nmm_per_rad, spec.max_deflection_rad, n, rc)
+    load = fx.tip_load_N(spec.target_stiffness_Nmm_per_rad, spec.max_deflection_rad, n, rc)
     rb_req = fx.tip_ball_required_radius_mm(load, spec.thickness_mm, sigma)
     if contact is not None:
         rb_req = max(rb_req, min_tip_radius_for_contact_mm(
@@ -123,7 +123,7 @@ def layout_at(spec: SpringSpec, sigma, E, n, rc, max_root_radius_mm: float = mat
         if rr <= rc:
             raise DesignError(f"spring '{spec.name}': the rim leaves no room for flexures "
                               f"beyond r_c = {rc:.3g} mm")
-    theta_s = fx.straight_limit_rad(n, z, sigma, rr - rc, E, spec.stiffness_Nmm_per_rad, rc)
+    theta_s = fx.straight_limit_rad(n, z, sigma, rr - rc, E, spec.target_stiffness_Nmm_per_rad, rc)
     return Layout(n, rc, rb, rb_req, rr, theta_s, load)
 
 
@@ -158,7 +158,7 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
     """
     z = spec.thickness_mm
     cap = fx.torque_cap_Nmm
-    peak = spec.stiffness_Nmm_per_rad * spec.max_deflection_rad
+    peak = spec.target_stiffness_Nmm_per_rad * spec.max_deflection_rad
     ro = spec.outer_radius_mm
 
     def cap_error(rc):

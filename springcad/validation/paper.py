@@ -112,11 +112,11 @@ class SpringModel:
 class ConfigResult:
     configuration: str
     sequence: tuple[str, ...]
-    measured_stiffness: float
-    target_stiffness: float
-    beam_stiffness: float
-    geometry_stiffness: float
-    predicted_stiffness_after: float
+    measured_stiffness_Nm_per_rad: float
+    target_stiffness_Nm_per_rad: float
+    beam_stiffness_Nm_per_rad: float
+    geometry_stiffness_Nm_per_rad: float
+    predicted_stiffness_after_Nm_per_rad: float
     width_offset_mm: float
     deflection_limit_rad: float
     table_deflection_limit_rad: float
@@ -128,11 +128,12 @@ class ConfigResult:
 
     @property
     def error_before_pct(self) -> float:
-        return 100 * (self.target_stiffness / self.measured_stiffness - 1)
+        return 100 * (self.target_stiffness_Nm_per_rad / self.measured_stiffness_Nm_per_rad - 1)
 
     @property
     def error_after_pct(self) -> float:
-        return 100 * (self.predicted_stiffness_after / self.measured_stiffness - 1)
+        return 100 * (self.predicted_stiffness_after_Nm_per_rad
+                      / self.measured_stiffness_Nm_per_rad - 1)
 
     @property
     def backlash_position(self) -> str:
@@ -147,12 +148,12 @@ class ConfigResult:
         return {
             "configuration": self.configuration,
             "sequence": list(self.sequence),
-            "measured_stiffness": self.measured_stiffness,
-            "target_stiffness": self.target_stiffness,
-            "beam_stiffness": self.beam_stiffness,
-            "geometry_stiffness": self.geometry_stiffness,
-            "predicted_stiffness_before": self.target_stiffness,
-            "predicted_stiffness_after": self.predicted_stiffness_after,
+            "measured_stiffness": self.measured_stiffness_Nm_per_rad,
+            "target_stiffness": self.target_stiffness_Nm_per_rad,
+            "beam_stiffness": self.beam_stiffness_Nm_per_rad,
+            "geometry_stiffness": self.geometry_stiffness_Nm_per_rad,
+            "predicted_stiffness_before": self.target_stiffness_Nm_per_rad,
+            "predicted_stiffness_after": self.predicted_stiffness_after_Nm_per_rad,
             "error_before_pct": self.error_before_pct,
             "error_after_pct": self.error_after_pct,
             "width_offset_mm_fitted_on_others": self.width_offset_mm,
@@ -219,7 +220,7 @@ def fea_spring_effects(designs: dict, progress: Progress = no_progress) -> dict:
     """
     from fea.study import verify_options
     from fea.verify import verify_spring
-    from springcad.design.spring import with_width
+    from springcad.design.resize import with_width
 
     out = {}
     seen = {}
@@ -264,7 +265,7 @@ def geometry_changes(designs: dict, use_fea: bool = False, progress=lambda messa
     a 2D FEA solve of each (stiffness and peak von Mises at the max deflection).
     """
     from springcad.design.search import _design_at
-    from springcad.design.spring import with_root
+    from springcad.design.resize import with_root
 
     out = []
     seen = {}
@@ -384,11 +385,11 @@ def validate_paper(data_dir: Path | None = None, templates_dir: Path | None = No
         b = st.backlash
         results.append(ConfigResult(
             configuration=cfg, sequence=seq,
-            measured_stiffness=t1[cfg]["measured_stiffness_Nm_per_rad"],
-            target_stiffness=st.target_stiffness_Nmm_per_rad / NMM_PER_NM,
-            beam_stiffness=st.stiffness_Nmm_per_rad / NMM_PER_NM,
-            geometry_stiffness=series([springs[s].stiffness(0.0) for s in seq]),
-            predicted_stiffness_after=series([springs[s].stiffness(off) for s in seq]),
+            measured_stiffness_Nm_per_rad=t1[cfg]["measured_stiffness_Nm_per_rad"],
+            target_stiffness_Nm_per_rad=st.target_stiffness_Nmm_per_rad / NMM_PER_NM,
+            beam_stiffness_Nm_per_rad=st.stiffness_Nmm_per_rad / NMM_PER_NM,
+            geometry_stiffness_Nm_per_rad=series([springs[s].stiffness(0.0) for s in seq]),
+            predicted_stiffness_after_Nm_per_rad=series([springs[s].stiffness(off) for s in seq]),
             width_offset_mm=off, deflection_limit_rad=st.max_deflection_rad,
             table_deflection_limit_rad=t1[cfg]["max_deflection_limit_rad"],
             predicted_backlash_range_rad=(b.worst_min, b.worst_max),
