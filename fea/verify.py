@@ -40,6 +40,7 @@ from __future__ import annotations
 import math
 import time
 
+from fea.contact import contact_sweep
 from fea.problem import Material, solver_material
 from fea.study import ModelRun, VerifyOptions, _noop, add_3d_factor, run_model, support_study
 from fea.verdict import JobVerification, SpringVerification, verify_stack
@@ -70,8 +71,6 @@ CONTACT_BALL_MARGIN = 1.05
 
 def _contact(design, material, run, progress, notes):
     """The cam contact sweep, or None with a note when it fails (never fatal)."""
-    from fea.contact import contact_sweep
-
     progress(f"spring {design.name}: cam contact sweep", None)
     try:
         return contact_sweep(design, material, run, progress=progress)

@@ -22,15 +22,19 @@ from pathlib import Path
 
 from springcad.api import calls
 from springcad.api.results import Design, Verification
-from springcad.cache import open_cache
+from springcad.cache import MISSING, open_cache
+from springcad.config import read_toml
 from springcad.errors import ConfigError
 from springcad.options import REVISION, api_door, check_revision
+from springcad.parallel import Pending, beside, enabled
 from springcad.progress import Tracker
 from springcad.report import notebook
 from springcad.report.fea_outputs import write_outputs
+from springcad.report.html_build import write_build_report
+from springcad.report.jsonio import write_json
 from springcad.report.outdir import atomic_output_dir
 from springcad.stages import stage
-from springcad.version import stamp
+from springcad.version import __version__, stamp
 
 #: schema of ``build.json``
 SCHEMA = "springcad.build/1"
@@ -215,7 +219,6 @@ def _cached_build(job_design, store, progress):
     its stored checks; None when either is not cached (or no cache)."""
     if store is None:
         return None
-    from springcad.cache import MISSING
     from springcad.export import skeleton
 
     t0 = time.perf_counter()
@@ -277,7 +280,6 @@ def load_title_block(source=None) -> dict:
     Raises:
         ConfigError: a table the drawings need is missing.
     """
-    from springcad.config import read_toml
     from springcad.export.drawing import load_title_block as _default
 
     if isinstance(source, dict):
@@ -314,8 +316,6 @@ def build_date() -> str:
 
 
 def _drawn_by() -> str:
-    from springcad.version import __version__
-
     return f"springcad {__version__}"
 
 
@@ -325,8 +325,6 @@ def _fea_outputs(ver, tmp: Path, render: bool, store, track):
     by a second process beside the part exports when there are renders to make
     (:func:`springcad.parallel.beside`); yields a pending result whose ``.result()`` is the
     list of files (empty without a verification)."""
-    from springcad.parallel import Pending, beside, enabled
-
     if ver is None:
         yield Pending(value=[])
         return
@@ -374,8 +372,6 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
     from springcad.export.bundle import export_parts, export_stack, roundtrip_checks
     from springcad.export.release import release_status
     from springcad.geometry.checks import CheckReport
-    from springcad.report.html_build import write_build_report
-    from springcad.report.jsonio import write_json
 
     if not isinstance(built, Build):
         raise ConfigError("export_build", type(built).__name__, "takes the Build that sc.build returned")

@@ -17,9 +17,14 @@ from pathlib import Path
 
 from springcad.options import EXPLORE, SYNTHESIS, api_door, check_choice, check_number, refuse
 from springcad.progress import Tracker, no_progress
+from springcad.report.jsonio import write_json
 from springcad.stages import stage
+from springcad.version import stamp
 
 __all__ = ["explore", "synthesize", "validate_paper"]
+
+#: schema of ``explore.json``
+EXPLORE_SCHEMA = "springcad.explore/1"
 
 
 @api_door
@@ -91,7 +96,6 @@ def synthesize(requirements, out=None, *, scheduler: str | None = None,
     Returns:
         The :class:`springcad.synthesis.pipeline.SynthesisResult` (``.ok``, ``.winner``).
     """
-    from springcad.report.jsonio import write_json
     from springcad.synthesis.candidates import CandidateSpace
     from springcad.synthesis.pipeline import synthesize as _synthesize
     from springcad.synthesis.requirements import load_requirements
@@ -154,7 +158,6 @@ def explore(out=Path("outputs") / "explore", *,
     Returns:
         The ``explore.json`` summary (grid, sweep statistics, per number of disks).
     """
-    from springcad.report.jsonio import write_json
     from springcad.report.synthesis_plots import (plot_energy_front, plot_mass_fronts,
                                                   plot_region, write_parquet)
     from springcad.synthesis.explore import (ExploreGrid, energy_front, mass_fronts,
@@ -212,7 +215,7 @@ def explore(out=Path("outputs") / "explore", *,
                 "max_peak_torque_Nm": float(region["max_peak_torque_Nm"][here].max())
                 if here.any() else None}
 
-    summary = {"schema": "springcad.explore/1", "grid": grid.__dict__, "sweep": stats.to_dict(),
+    summary = {**stamp(EXPLORE_SCHEMA), "grid": grid.__dict__, "sweep": stats.to_dict(),
                "n_candidates": len(cols["cid"]), "n_feasible": int(cols["feasible"].sum()),
                "per_n_disks": [per_disks(n) for n in range(1, grid.max_disks + 1)]}
     write_json(out / "explore.json", summary)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from springcad.report.html_page import markdown_html, page
 from springcad.report.jsonio import write_json
 
 
@@ -302,8 +303,6 @@ def write_paper_report(v, out_dir: Path) -> list[Path]:
 
     ``report.html`` is the Markdown report as one self-contained page (the plot inlined).
     """
-    from springcad.report.html_page import markdown_html, page
-
     out_dir = Path(out_dir)
     write_json(out_dir / "validation.json", v.to_dict())
     plot_predicted_vs_measured(v, out_dir / "predicted_vs_measured.png")

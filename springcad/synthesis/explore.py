@@ -22,6 +22,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.config import HardwareSpec, ManufacturingSpec
+from springcad.design import fatigue
+from springcad.errors import ConfigError
+from springcad.materials import material_table
 from springcad.options import EXPLORE
 from springcad.synthesis.candidates import CandidateSpace
 from springcad.units import NMM_PER_NM
@@ -65,14 +68,10 @@ class ExploreGrid:
 
     def space(self, manufacturing: ManufacturingSpec | None = None,
               hardware: HardwareSpec | None = None) -> CandidateSpace:
-        from springcad.errors import ConfigError
-        from springcad.materials import material_table
-
         known = material_table()
         if self.material not in known:
             raise ConfigError("material", self.material,
                               f"is not a built-in material ({', '.join(known)})")
-        from springcad.design import fatigue
 
         mat = known[self.material]
         sigma = mat.yield_strength_MPa / (self.yield_margin * self.stress_concentration)

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 
+from springcad.config import job_from_dict
 from springcad.errors import SpringcadError
 from springcad.options import VERIFY
 from springcad.progress import no_progress
@@ -100,7 +101,6 @@ def design_candidate(req, cand: dict):
     Raises:
         DesignError: the exact design fails a check the screening does not make.
     """
-    from springcad.config import job_from_dict
     from springcad.design.job import design_job
 
     job = job_from_dict(job_document(req, cand), name="synthesized")

@@ -38,6 +38,7 @@ from springcad.design import contact_fatigue, duty, fatigue
 from springcad.design.contact_stress import von_mises_peak
 from springcad.errors import ConfigError
 from springcad.materials import Material, material_table
+from springcad.synthesis.candidates import SCREENING_MODEL
 from springcad.units import NMM_PER_NM
 
 
@@ -241,8 +242,6 @@ class Requirements:
 
     def fingerprint(self) -> str:
         """A hash of everything that changes the candidate table (for resuming runs)."""
-        from springcad.synthesis.candidates import SCREENING_MODEL
-
         d = asdict(self)
         d["screening_model"] = SCREENING_MODEL
         d.pop("source")

@@ -18,6 +18,7 @@ import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 
+from springcad.errors import SpringcadError
 from springcad.progress import Count, Progress, no_progress
 from springcad.synthesis.evaluate import evaluate_batch
 
@@ -53,8 +54,6 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None,
         processes: local workers as processes (default) or threads.
     """
     from distributed import Client, LocalCluster
-
-    from springcad.errors import SpringcadError
 
     if scheduler:
         try:
