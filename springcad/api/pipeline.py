@@ -265,7 +265,7 @@ def export_verification(verification: Verification, out, overwrite: bool = False
         raise ConfigError("export_verification", type(verification).__name__,
                           "takes the Verification that sc.verify returned")
     out = Path(out)
-    inputs = [x for x in (verification.design.job.source,)
+    inputs = [x for x in (verification.job.source,)
               if isinstance(x, (str, Path)) and x and Path(x).is_file()]
     with atomic_output_dir(out, overwrite=overwrite, inputs=inputs) as tmp:
         written = write_outputs(verification.raw, Path(tmp), render=render,
