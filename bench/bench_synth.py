@@ -127,7 +127,7 @@ def full_design_rate() -> None:
     k = refused = 0
     for K, th in ((150e3, math.radians(16)), (120e3, math.radians(12)), (200e3, math.radians(10))):
         try:
-            design_spring(replace(base, stiffness_Nmm_per_rad=K, max_deflection_rad=th),
+            design_spring(replace(base, target_stiffness_Nmm_per_rad=K, max_deflection_rad=th),
                           job.material, job.manufacturing, job.hardware)
         except DesignError:  # a refusal costs the same search; it is counted, not hidden
             refused += 1

@@ -36,7 +36,7 @@ def calibration_designs(flare_free: bool = True) -> dict:
     """label -> SpringDesign of every calibration geometry (root flare 0)."""
     from springcad.config import job_from_dict
     from springcad.design.job import design_job
-    from springcad.design.spring import with_root
+    from springcad.design.resize import with_root
 
     out = {}
     # the default's 5 mm layout as first calibrated (2026-11-23), pinned: a serpentine

@@ -41,7 +41,7 @@ def main(paths) -> None:
     from fea.study import VerifyOptions, run_model
     from springcad.config import load_job
     from springcad.design.job import design_job
-    from springcad.design.spring import with_width_scale
+    from springcad.design.resize import with_width_scale
 
     options = VerifyOptions(keep_fields=False)
     for path in paths:

@@ -27,6 +27,9 @@ from pathlib import Path
 import numpy as np
 
 from fea.mesh import to_rows
+from fea.problem import assemble
+from fea.results import _excluded_mask, evaluate, stiffness
+from fea.solve import solve
 from springcad.errors import SolverError
 from springcad.units import NMM_PER_NM
 
@@ -193,10 +196,6 @@ def cross_check(fm, material, case, max_deflection_rad: float, threads: int = 2)
     (scikit-fem: assembly, factorisation, stress recovery; CalculiX: the ``ccx``
     process).
     """
-    from fea.problem import assemble
-    from fea.results import _excluded_mask, evaluate, stiffness
-    from fea.solve import solve
-
     t0 = time.perf_counter()
     system = assemble(fm, material, case)
     u, info = solve(system)

@@ -17,12 +17,15 @@ Units: mm, N, MPa.
 
 from __future__ import annotations
 
+from fea.fatigue import region_peaks_MPa
 from fea.geometry import sector_geometry
 from fea.mesh import fea_mesh_2d, mesh_face_levels
 from fea.mesh_size import DEFAULT_SIZE
 from fea.problem import LoadCase, solver_material
-from fea.fatigue import region_peaks_MPa
 from fea.study import run_model, solve_mesh, verify_options
+from springcad.design import stress
+from springcad.design.resize import with_root
+from springcad.design.stress import fit_calibration
 
 #: root flares of the calibration set (the design chooses within this range)
 FLARES = (0.0, 0.1, 0.2, 0.3)
@@ -47,8 +50,6 @@ REGIONS = ("flexure flank", "root fillet", "tip-neck fillet")
 
 def calibration_row(design, label: str = "") -> dict:
     """FEA peaks and model terms of one spring geometry (see the module docstring)."""
-    from springcad.design import stress
-
     options = verify_options(contact=False, keep_fields=False, correct=False)
     run = run_model(design, solver_material(design.material), options,
                     options.model == "2d3d")
@@ -83,11 +84,9 @@ def calibration_rows(designs: dict, flares=FLARES, progress=None) -> list[dict]:
 
     Args:
         designs: label -> :class:`~springcad.design.spring.SpringDesign` (flare 0).
-        flares: root flares to impose (:func:`springcad.design.spring.with_root`).
+        flares: root flares to impose (:func:`springcad.design.resize.with_root`).
         progress: optional ``progress(message, fraction)`` callable.
     """
-    from springcad.design.spring import with_root
-
     rows = []
     total = len(designs) * len(flares)
     for i, (label, design) in enumerate(designs.items()):
@@ -101,6 +100,4 @@ def calibration_rows(designs: dict, flares=FLARES, progress=None) -> list[dict]:
 
 def calibrate(rows: list[dict]):
     """Fitted :class:`~springcad.design.stress.StressCalibration` of the rows."""
-    from springcad.design.stress import fit_calibration
-
     return fit_calibration(rows)

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fea.geometry import check_profile
 from fea.mesh_quality import MeshQuality, check_mesh
 from fea.mesh_size import MeshSize, SizeField
 from springcad.design.curves import Arc, Circle, Line, Spline
@@ -326,8 +327,6 @@ def mesh_face_levels(geometry, size: MeshSize = MeshSize(), levels: int = 3,
     Raises:
         MeshingError: gmsh failed or returned an unusable mesh.
     """
-    from fea.geometry import check_profile
-
     if patch_half_width_mm is None:
         patch_half_width_mm = 0.5 * geometry.tip_radius_mm
     check_profile(geometry.profile, step_mm=min(0.05, 0.2 * geometry.tip_radius_mm),

@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from fea.results import _grad, _stress
+
 
 def _voigt(dim: int):
     """Voigt rows: normal components, then shear pairs (engineering shear)."""
@@ -112,8 +114,6 @@ def nodal_von_mises_green(system, u: np.ndarray) -> np.ndarray:
     von Mises value is rotation invariant.
     """
     from skfem import CellBasis
-
-    from fea.results import _grad, _stress
 
     mesh = system.basis.mesh
     scalar = mesh.elem()

@@ -18,12 +18,14 @@ import time
 from dataclasses import dataclass
 
 from fea import convergence as cv
-from fea.geometry import sector_geometry
+from fea.geometry import ring_geometry, sector_geometry
 from fea.mesh import fea_mesh_2d, fea_mesh_3d, mesh_face_levels
 from fea.mesh_size import DEFAULT_SIZE, MeshSize
+from fea.mesh_solid import mesh_solid
 from fea.problem import LoadCase, Material, assemble, solver_material
 from fea.results import StaticResult, evaluate
 from fea.solve import solve
+from springcad.geometry.profile import extrude_profile
 from springcad.options import VERIFY, check_verify
 from springcad.units import NMM_PER_NM
 
@@ -200,10 +202,6 @@ def run_model(design, material: Material, options: VerifyOptions, with_3d: bool,
 
 def _run_pytetwild(design, geometry, material, options, progress) -> ModelRun:
     """3D study on fTetWild meshes of the build123d sector solid (not nested)."""
-    from springcad.geometry.profile import extrude_profile
-
-    from fea.mesh_solid import mesh_solid
-
     solid = extrude_profile(geometry.profile, geometry.thickness_mm, f"{design.name} sector")
     res, mesh_time = [], 0.0
     facs = list(options.pytetwild_edge_fac)
@@ -254,8 +252,6 @@ def support_study(design, material: Material | None = None, size: MeshSize = DEF
     the verification default; this ratio says how far a dowel-held rim sits
     from it.
     """
-    from fea.geometry import ring_geometry
-
     material = material or solver_material(design.material)
     g = ring_geometry(design, holes=True)
     if not g.hole_centres_mm:

@@ -19,6 +19,7 @@ from fea.fatigue import region_peaks_MPa
 from fea.problem import LoadCase
 from fea.study import ModelRun, VerifyOptions
 from springcad.design import contact_fatigue, duty, fatigue
+from springcad.design.stack import eq10_limit, series_stiffness
 from springcad.errors import CheckFailed
 from springcad.units import NMM_PER_NM
 from springcad.version import stamp
@@ -360,8 +361,6 @@ def verify_stack(sequence, verified: dict, required_safety_factor: float) -> Sta
     a spring's peak stress scales linearly from its own verified value at its
     maximum deflection: sigma_i = sigma_i(theta_max,i) * T / (K_i theta_max,i).
     """
-    from springcad.design.stack import eq10_limit, series_stiffness
-
     ks = [verified[n].stiffness_fea_Nmm_per_rad for n in sequence]
     limits = [verified[n].design.max_deflection_rad for n in sequence]
     limit, torque, shares = eq10_limit(limits, ks)

@@ -21,7 +21,7 @@ For each spring (:func:`verify_spring`):
    ``"2d"``: plane stress only.
 3. Correction: while |K_fea / K_target - 1| > tolerance, every flexure width is
    scaled by (K_target / K_fea)^(1/3) (K ~ w^3 on the same centreline,
-   :func:`springcad.design.spring.with_width_scale`) and the spring is
+   :func:`springcad.design.resize.with_width_scale`) and the spring is
    re-verified. Each iteration is reported. Stress cannot be corrected this
    way at a fixed target stiffness (sigma ~ w): a spring whose yield margin is
    below the required factor is reported as failing, with the reason.
@@ -40,12 +40,13 @@ from __future__ import annotations
 import math
 import time
 
+from fea.contact import contact_sweep
 from fea.fatigue import region_peaks_MPa
 from fea.problem import Material, solver_material
 from fea.study import ModelRun, VerifyOptions, _noop, add_3d_factor, run_model, support_study
 from fea.verdict import JobVerification, SpringVerification, verify_stack
 from springcad.design import search as spring_design
-from springcad.design.spring import with_width_scale
+from springcad.design.resize import with_width_scale
 from springcad.errors import DesignError, SpringcadError
 from springcad.units import NMM_PER_NM
 
@@ -71,8 +72,6 @@ CONTACT_BALL_MARGIN = 1.05
 
 def _contact(design, material, run, progress, notes):
     """The cam contact sweep, or None with a note when it fails (never fatal)."""
-    from fea.contact import contact_sweep
-
     progress(f"spring {design.name}: cam contact sweep", None)
     try:
         return contact_sweep(design, material, run, progress=progress)

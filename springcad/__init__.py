@@ -35,6 +35,7 @@ from springcad.api import (
     design_job,
     explore,
     export_build,
+    export_verification,
     fit_record,
     load,
     simulate,
@@ -48,4 +49,5 @@ from springcad.version import __version__
 
 __all__ = ["Build", "Camshaft", "Design", "Fit", "FlexureRing", "Spring", "SpringcadError", "Stack", "Verification",
            "__version__", "bench_protocol", "build", "design_job", "explore", "export_build",
+           "export_verification",
            "fit_record", "load", "simulate", "synthesize", "validate_paper", "verify"]

@@ -32,6 +32,7 @@ import weakref
 from pathlib import Path
 
 from springcad.options import CACHE
+from springcad.version import __version__
 
 ENV_DIR = "SPRINGCAD_CACHE_DIR"
 ENV_SWITCH = "SPRINGCAD_CACHE"
@@ -69,8 +70,6 @@ def code_digest() -> str:
     the ``springcad`` and ``fea`` packages but caches of bytecode, and the versions of
     :data:`LIBRARIES` (~10 ms)."""
     from importlib import metadata, util
-
-    from springcad.version import __version__
 
     h = hashlib.sha256(f"springcad {__version__}\n".encode())
     for name in LIBRARIES:

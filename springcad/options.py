@@ -148,6 +148,34 @@ class SynthesisDefaults:
 
 SYNTHESIS = SynthesisDefaults()
 
+
+@dataclass(frozen=True)
+class ExploreDefaults:
+    """Defaults of ``sc.explore``/``springcad explore``: the design-space map's grid
+    (:class:`springcad.synthesis.explore.ExploreGrid` takes them from here).
+
+    Attributes:
+        stiffness_Nm_per_rad: (min, max, count), log-spaced stack stiffnesses (N*m/rad).
+        deflection_rad: (min, max, count), log-spaced stack deflections (rad).
+        max_disks: stacks of 1 ... max_disks identical disks.
+        envelope_radius_mm: envelope radius, bushing included (mm; 4xS1's).
+        thickness_mm, contact_radius_mm: disk parameters tried at every target (mm).
+        material: built-in material name.
+        stress_concentration: first beam stress = yield / this (the paper's 912 MPa).
+    """
+
+    stiffness_Nm_per_rad: tuple[float, float, int] = (5.0, 500.0, 24)
+    deflection_rad: tuple[float, float, int] = (0.05, 3.0, 24)
+    max_disks: int = 6
+    envelope_radius_mm: float = 35.05
+    thickness_mm: tuple[float, ...] = (3.0, 4.5, 6.0)
+    contact_radius_mm: tuple[float, ...] = (4.5, 5.5, 6.5, 7.5, 9.0)
+    material: str = "420_ht"
+    stress_concentration: float = 1344.0 / 912.0
+
+
+EXPLORE = ExploreDefaults()
+
 # ----------------------------------------------------------------------------- spelling
 #: flags whose name is not the parameter's with dashes
 _FLAG_NAMES = {"target_stiffness_Nm_per_rad": "--target-stiffness",

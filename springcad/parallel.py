@@ -24,6 +24,7 @@ import signal
 import traceback
 
 from springcad.options import PARALLEL
+from springcad.progress import no_progress
 
 ENV_SWITCH = "SPRINGCAD_PARALLEL"
 _OFF = ("0", "off", "no", "false")
@@ -165,8 +166,6 @@ def beside(func, *args, progress=None, **kwargs):
     Leaving the block without it (an exception, an interrupt) terminates the child.
     ``func``'s result and exceptions must pickle.
     """
-    from springcad.progress import no_progress
-
     progress = progress or no_progress
     if not enabled():
         yield Pending(value=func(*args, progress=progress, **kwargs))

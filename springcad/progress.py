@@ -1,13 +1,17 @@
 """The one progress protocol of every long library step.
 
-A step that takes long (building a stack, checking it, exporting, FEA) accepts
-``progress``: a callable ``progress(message, fraction=None)`` that it calls
-with a short message and, where it knows it, the share of the step done
-(0-1). Library code never prints; the CLI decides what to show.
+A step that takes long (building a stack, checking it, exporting, FEA, a synthesis
+sweep) accepts ``progress``: a callable ``progress(message, fraction=None)`` that it
+calls with a short message and, where it knows it, the share of the step done
+(0-1). A step that counts items (a sweep's candidates) says so in the message's
+:class:`Count` form, which a progress bar reads back. Library code never prints; the
+CLI decides what to show (:mod:`springcad.cli.progress`).
 """
 
 from __future__ import annotations
 
+import re
+from dataclasses import dataclass
 from typing import Protocol
 
 
@@ -52,3 +56,38 @@ class Tracker:
                         else "the first part")
             return f"the step after '{self.last}'" if self.last else ""
         return subject
+
+
+@dataclass(frozen=True)
+class Count:
+    """How far a counting step is: ``done`` of ``total`` items, ``done_before`` of them
+    finished by an earlier run (a resumed sweep).
+
+    A counting step reports ``progress(count.message(), count.fraction)``; a renderer
+    that wants the numbers reads them back with :meth:`parse` (the message is the one
+    protocol's plain text, so any progress callable can print it).
+    """
+
+    done: int
+    total: int
+    label: str = "items"
+    done_before: int = 0
+
+    _FORM = re.compile(r"^(\d+)/(\d+) (\S+)(?: \((\d+) from an earlier run\))?$")
+
+    @property
+    def fraction(self) -> float:
+        return self.done / self.total if self.total else 1.0
+
+    def message(self) -> str:
+        """``"600/1000 candidates (200 from an earlier run)"``."""
+        resumed = f" ({self.done_before} from an earlier run)" if self.done_before else ""
+        return f"{self.done}/{self.total} {self.label}{resumed}"
+
+    @classmethod
+    def parse(cls, message: str) -> "Count | None":
+        """The count a :meth:`message` holds, or None for any other message."""
+        m = cls._FORM.match(message)
+        if m is None:
+            return None
+        return cls(int(m[1]), int(m[2]), m[3], int(m[4] or 0))

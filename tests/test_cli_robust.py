@@ -146,13 +146,17 @@ def test_failed_verification_is_exit_1_from_verify_and_the_report_is_written(tmp
                                                                             monkeypatch):
     """verify and build agree: a failed verification is exit 1 (it was 1 and 2), not 3."""
     import fea.verify
-    import springcad.cli.verify as verify_cli
+    import springcad.api.pipeline as pipeline  # the CLI writes through sc.export_verification
 
     monkeypatch.setattr(fea.verify, "verify_job", lambda *a, **k: _FailedVerification())
     written = []
-    monkeypatch.setattr(verify_cli, "write_outputs",
-                        lambda result, folder, **k: written.append(folder) or
-                        (folder / "fea.json").write_text("{}"))
+
+    def write_outputs(result, folder, **k):
+        written.append(folder)
+        (folder / "fea.json").write_text("{}")
+        return [folder / "fea.json"]
+
+    monkeypatch.setattr(pipeline, "write_outputs", write_outputs)
     out = tmp_path / "o"
     assert main(["verify", str(template("paper_S1")), "--out", str(out), "--quiet"]) == \
         EXIT_CHECK_FAILED

@@ -73,7 +73,7 @@ def test_bad_config_message_exit_status_and_nothing_written(tmp_path, capsys, ca
 def test_units_are_converted_once():
     job = load_job(template("paper_S1"))
     s = job.springs["S1"]
-    assert s.stiffness_Nmm_per_rad == 150_000
+    assert s.target_stiffness_Nmm_per_rad == 150_000
     assert s.max_deflection_rad == pytest.approx(math.radians(16))
     d = paper_s1()
     d["springs"]["S1"].pop("max_deflection_deg")

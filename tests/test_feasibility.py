@@ -69,7 +69,7 @@ def test_a_past_deadline_still_gives_every_key_two_steps_and_a_value_that_design
 
 def test_series_and_materials_are_named_only_when_they_design():
     spec = _spec()
-    assert in_series(spec, 3).stiffness_Nmm_per_rad == pytest.approx(3 * spec.stiffness_Nmm_per_rad)
+    assert in_series(spec, 3).target_stiffness_Nmm_per_rad == pytest.approx(3 * spec.target_stiffness_Nmm_per_rad)
     assert in_series(spec, 3).max_deflection_rad == pytest.approx(spec.max_deflection_rad / 3)
     assert series_change(spec, lambda s: s.max_deflection_rad < spec.max_deflection_rad / 2.5) == 3
     assert series_change(spec, lambda s: False) is None

@@ -263,3 +263,59 @@ def test_synthesize_through_api_and_cli_gives_the_same_json(tmp_path):
     assert stable(cli, drop={"candidates_per_s"}) == stable(as_json(api.to_dict()),
                                                             drop={"candidates_per_s"})
     assert (tmp_path / "cli" / "winner.toml").read_text() == api.winner_toml()
+
+
+def test_verification_files_through_api_and_cli_are_the_same(tmp_path):
+    """``springcad verify`` writes its folder through ``sc.export_verification``: the API
+    writes the same fea.json, lists what it wrote, and refuses what is not a Verification."""
+    cfg = template("paper_S1")
+    assert main(["verify", str(cfg), "--out", str(tmp_path / "cli"), "--model", "2d",
+                 "--no-contact", "--no-render", "--quiet"]) == 0
+    v = sc.verify(cfg, model="2d", contact=False)
+    files = sc.export_verification(v, tmp_path / "api", render=False)
+    assert files == [tmp_path / "api" / "fea.json"] and files[0].is_file()
+    assert (stable(json.loads(files[0].read_text()))
+            == stable(json.loads((tmp_path / "cli" / "fea.json").read_text())))
+    with pytest.raises(sc.SpringcadError, match="takes the Verification that sc.verify returned"):
+        sc.export_verification(v.design, tmp_path / "other")
+    assert not (tmp_path / "other").exists()
+
+
+def test_export_build_leaves_the_build_it_was_given(tmp_path):
+    """``export_build`` returns a new Build with the folder, files and release; the Build it
+    was given is left as it was (as build123d's ``export_step`` leaves its shape)."""
+    built = sc.build(sc.design_job(template("paper_S1")))
+    before = (built.out_dir, list(built.files), built.release, dict(built.timings_s),
+              dict(built.options), list(built.roundtrip))
+    exported = sc.export_build(built, tmp_path / "out", render=False)
+    assert exported is not built
+    assert (built.out_dir, built.files, built.release, built.timings_s, built.options,
+            built.roundtrip) == before
+    assert built.out_dir is None and built.released is None and built.report_html is None
+    assert exported.out_dir == tmp_path / "out" and exported.report_html.is_file()
+    assert {f.path for f in exported.files} >= {"design.json", "report.html"}
+    assert (tmp_path / "out" / "build.json").is_file()
+    assert exported.release is not None and exported.roundtrip
+
+
+def test_every_result_document_is_stamped_by_the_one_writer():
+    """Each document's head (schema, version) comes from ``springcad.version.stamp`` and
+    from nowhere else in the package."""
+    import re
+    from pathlib import Path
+
+    from springcad.version import __version__
+
+    docs = {"design": sc.design_job(template("paper_S1")).to_dict(),
+            "fit": sc.fit_record(sc.simulate(40.0, seed=5)).to_dict(),
+            "validation": sc.validate_paper(use_fea=False).to_dict()}
+    for name, doc in docs.items():
+        assert list(doc)[:2] == ["schema", "springcad_version"], name
+        assert doc["schema"].startswith(f"springcad.{name}/") and \
+            doc["springcad_version"] == __version__
+    root = Path(sc.__file__).parent
+    literal = re.compile(r"""["']schema["']\s*:""")
+    writers = sorted(str(p.relative_to(root)) for p in root.rglob("*.py")
+                     if literal.search(p.read_text()))
+    # the writer, and the sweep's resume manifest (not a result document)
+    assert writers == ["synthesis/store.py", "version.py"]

@@ -20,7 +20,7 @@ from springcad.design import flexure as fx
 from springcad.design import shapes, stress
 from springcad.design.search import design_spring
 from springcad.design.shapes.base import FlexureRecord, FlexureShape, Sizing, SizingContext
-from springcad.design.spring import with_root
+from springcad.design.resize import with_root
 from springcad.errors import DesignError
 
 #: tip width over root width of the toy shape
@@ -46,7 +46,7 @@ class Tapered(FlexureShape):
     def size(self, ctx: SizingContext) -> Sizing | None:
         lay, spec = ctx.layout, ctx.spec
         L, z = lay.rr - lay.rc, spec.thickness_mm
-        w_r = (12 * L ** 3 * taper_integral(TAU) * ctx.stiffness_Nmm_per_rad
+        w_r = (12 * L ** 3 * taper_integral(TAU) * ctx.target_stiffness_Nmm_per_rad
                / (lay.n * lay.rc ** 2 * ctx.youngs_modulus_MPa * z)) ** (1 / 3)
         # bending stress 6 F xi / (z w(xi)^2) peaks at xi = tau L / (1 - tau) for tau < 1/2
         peak_MPa = 6 * lay.load * L / (z * w_r ** 2) / (4 * TAU * (1 - TAU) if TAU < 0.5 else 1.0)

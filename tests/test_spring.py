@@ -31,7 +31,7 @@ def straight():
 
 
 def test_straight_flexure_meets_closed_form(straight):
-    from springcad.design.spring import with_root
+    from springcad.design.resize import with_root
 
     s = with_root(straight, 0.0)  # the closed form holds for the plain width law (no root flare)
     assert s.flexure == "straight" and s.width_law == "stiffness"
@@ -151,7 +151,7 @@ def test_straight_forced_but_too_far():
 
 def test_width_hooks_follow_beam_theory(paper_designs):
     """with_width: K scales as scale^3 (beam theory) and an edge offset matches the beam model."""
-    from springcad.design.spring import with_width
+    from springcad.design.resize import with_width
 
     s = paper_designs["paper_S1"].springs["S1"]
     k0 = s.stiffness_beam_Nmm_per_rad

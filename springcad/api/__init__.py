@@ -1,7 +1,7 @@
 """The public Python API: every stage a user can run, with every option; SI results.
 
 The stages are ``load``, ``design_job``, ``verify``, ``build``, ``export_build``,
-``simulate`` (with ``bench_protocol``), ``fit_record``, ``validate_paper``,
+``export_verification``, ``simulate`` (with ``bench_protocol``), ``fit_record``, ``validate_paper``,
 ``synthesize`` and ``explore``; each ``springcad`` subcommand is one of them and a
 printout. For build123d users, ``FlexureRing`` and ``Camshaft`` make a designed spring's
 parts, and ``Build.compound()`` the placed stack (:mod:`springcad.api.parts`). The
@@ -26,11 +26,12 @@ Example:
 
 from springcad.api.calls import bench_protocol, design_job, fit_record, load, simulate, verify
 from springcad.api.parts import Camshaft, FlexureRing
-from springcad.api.pipeline import Build, build, export_build, load_title_block
+from springcad.api.pipeline import (Build, build, export_build, export_verification,
+                                    load_title_block)
 from springcad.api.results import Design, Fit, Spring, Stack, Verification
 from springcad.api.studies import explore, synthesize, validate_paper
 from springcad.report.notebook import profile_svg
 
 __all__ = ["Build", "Camshaft", "Design", "FlexureRing", "Fit", "Spring", "Stack", "Verification", "bench_protocol", "build",
-           "design_job", "explore", "export_build", "fit_record", "load", "load_title_block",
+           "design_job", "explore", "export_build", "export_verification", "fit_record", "load", "load_title_block",
            "profile_svg", "simulate", "synthesize", "validate_paper", "verify"]

@@ -31,8 +31,9 @@ from pathlib import Path
 
 from springcad.api.results import Design, Fit, Verification
 from springcad.cache import memo, open_cache
+from springcad.config import Job, job_from_dict, load_job
 from springcad.errors import ConfigError, DataError
-from springcad.options import BENCH, VERIFY, api_door, check_number
+from springcad.options import BENCH, VERIFY, api_door, check_choice, check_number
 from springcad.progress import Tracker
 from springcad.stages import stage
 
@@ -50,8 +51,6 @@ def load(source):
     Raises:
         ConfigError: unreadable file or a disallowed value (names the key).
     """
-    from springcad.config import job_from_dict, load_job
-
     if isinstance(source, dict):
         return job_from_dict(source, name=str(source.get("name", "job")), source="<dict>")
     if isinstance(source, (str, Path)):
@@ -173,7 +172,6 @@ def bench_protocol(kind: str = "staircase", **options):
         DataError: the protocol cannot be run (names what is wrong).
     """
     from springcad.fit.protocols import Protocol, SineSweep
-    from springcad.options import check_choice
 
     check_choice("kind", kind, ("staircase", "sine"))
     given = {k: v for k, v in options.items() if v is not None}
@@ -205,7 +203,6 @@ def simulate(spring, protocol=None, noise=None, seed: int = 0, backlash_rad: flo
     Returns:
         A :class:`springcad.fit.bench.SimulatedRecord` (``.record`` is what ``fit`` reads).
     """
-    from springcad.config import Job
     from springcad.fit.bench import BenchNoise, BenchSpring
     from springcad.fit.bench import simulate as _simulate
     from springcad.fit.protocols import Protocol

@@ -22,18 +22,24 @@ from pathlib import Path
 
 from springcad.api import calls
 from springcad.api.results import Design, Verification
-from springcad.cache import open_cache
+from springcad.cache import MISSING, open_cache
+from springcad.config import read_toml
 from springcad.errors import ConfigError
 from springcad.options import REVISION, api_door, check_revision
+from springcad.parallel import Pending, beside, enabled
 from springcad.progress import Tracker
 from springcad.report import notebook
+from springcad.report.fea_outputs import write_outputs
+from springcad.report.html_build import write_build_report
+from springcad.report.jsonio import write_json
+from springcad.report.outdir import atomic_output_dir
 from springcad.stages import stage
-from springcad.version import stamp
+from springcad.version import __version__, stamp
 
 #: schema of ``build.json``
 SCHEMA = "springcad.build/1"
 
-__all__ = ["Build", "build", "export_build", "load_title_block"]
+__all__ = ["Build", "build", "export_build", "export_verification", "load_title_block"]
 
 
 class Build:
@@ -213,7 +219,6 @@ def _cached_build(job_design, store, progress):
     its stored checks; None when either is not cached (or no cache)."""
     if store is None:
         return None
-    from springcad.cache import MISSING
     from springcad.export import skeleton
 
     t0 = time.perf_counter()
@@ -235,13 +240,46 @@ def _cached_build(job_design, store, progress):
 
 
 @api_door
+def export_verification(verification: Verification, out, overwrite: bool = False,
+                        render: bool = True, progress=None,
+                        cache: bool | None = None) -> list[Path]:
+    """Write a verification folder: ``fea.json`` and, per spring, the ``.vtu`` fields and
+    PNG renders (von Mises, cam contact, duty), what ``springcad verify`` writes.
+
+    Args:
+        verification: the :class:`Verification` (``keep_fields=True`` for the fields).
+        out: the output folder; it appears only when everything was written.
+        overwrite: replace an existing folder.
+        render: write the ``.vtu`` fields and PNG renders (else ``fea.json`` only).
+        progress: optional ``callable(message, fraction=None)``.
+        cache: reuse the files of springs written before (:mod:`springcad.cache`; None:
+            :data:`springcad.options.CACHE`).
+
+    Returns:
+        The files written, under ``out``.
+
+    Raises:
+        OutputExistsError, OutputPathError: the folder cannot be written.
+    """
+    if not isinstance(verification, Verification):
+        raise ConfigError("export_verification", type(verification).__name__,
+                          "takes the Verification that sc.verify returned")
+    out = Path(out)
+    inputs = [x for x in (verification.job.source,)
+              if isinstance(x, (str, Path)) and x and Path(x).is_file()]
+    with atomic_output_dir(out, overwrite=overwrite, inputs=inputs) as tmp:
+        written = write_outputs(verification.raw, Path(tmp), render=render,
+                                progress=Tracker(progress), cache=open_cache(cache))
+    return [out / Path(f).relative_to(tmp) for f in written]
+
+
+@api_door
 def load_title_block(source=None) -> dict:
     """The drawing title block: a TOML path, a dict, or None for the default template.
 
     Raises:
         ConfigError: a table the drawings need is missing.
     """
-    from springcad.config import read_toml
     from springcad.export.drawing import load_title_block as _default
 
     if isinstance(source, dict):
@@ -278,8 +316,6 @@ def build_date() -> str:
 
 
 def _drawn_by() -> str:
-    from springcad.version import __version__
-
     return f"springcad {__version__}"
 
 
@@ -289,13 +325,9 @@ def _fea_outputs(ver, tmp: Path, render: bool, store, track):
     by a second process beside the part exports when there are renders to make
     (:func:`springcad.parallel.beside`); yields a pending result whose ``.result()`` is the
     list of files (empty without a verification)."""
-    from springcad.parallel import Pending, beside, enabled
-
     if ver is None:
         yield Pending(value=[])
         return
-    from springcad.report.fea_outputs import write_outputs
-
     (tmp / "fea").mkdir()
     if not render:
         yield Pending(value=write_outputs(ver.raw, tmp / "fea", render=False, progress=track,
@@ -340,9 +372,6 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
     from springcad.export.bundle import export_parts, export_stack, roundtrip_checks
     from springcad.export.release import release_status
     from springcad.geometry.checks import CheckReport
-    from springcad.report.html_build import write_build_report
-    from springcad.report.jsonio import write_json
-    from springcad.report.outdir import atomic_output_dir
 
     if not isinstance(built, Build):
         raise ConfigError("export_build", type(built).__name__, "takes the Build that sc.build returned")

@@ -155,6 +155,11 @@ class Verification:
         self._design = None
 
     @property
+    def job(self):
+        """The :class:`~springcad.config.Job` that was verified."""
+        return self._input.job
+
+    @property
     def design(self) -> Design:
         """The verified design: the input with the FEA-corrected springs (made on first use)."""
         if self._design is None:

@@ -15,11 +15,16 @@ import hashlib
 import json
 from pathlib import Path
 
-from springcad.options import SYNTHESIS, api_door, check_choice, check_number, refuse
-from springcad.progress import Tracker
+from springcad.options import EXPLORE, SYNTHESIS, api_door, check_choice, check_number, refuse
+from springcad.progress import Tracker, no_progress
+from springcad.report.jsonio import write_json
 from springcad.stages import stage
+from springcad.version import stamp
 
 __all__ = ["explore", "synthesize", "validate_paper"]
+
+#: schema of ``explore.json``
+EXPLORE_SCHEMA = "springcad.explore/1"
 
 
 @api_door
@@ -49,15 +54,9 @@ def validate_paper(data_dir=None, templates_dir=None, use_fea: bool = True, prog
         return _validate(data_dir, templates_dir, use_fea=use_fea, progress=track)
 
 
-def _announce(say, space, store) -> None:
-    if say is not None:
-        say(f"{space.total} candidate stacks in {store.n_batches} batches "
-            f"({len(store.pending_batches())} to evaluate)")
-
-
-def _given(**callbacks) -> dict:
-    """The callbacks the caller gave (the library's quiet defaults stand for the others)."""
-    return {k: v for k, v in callbacks.items() if v is not None}
+def _announce(progress, space, store) -> None:
+    progress(f"{space.total} candidate stacks in {store.n_batches} batches "
+             f"({len(store.pending_batches())} to evaluate)")
 
 
 def _check_cluster(workers, batch_size) -> None:
@@ -72,7 +71,7 @@ def synthesize(requirements, out=None, *, scheduler: str | None = None,
                restart: bool = False, finalists: int = SYNTHESIS.finalists,
                max_finalists: int = SYNTHESIS.max_finalists,
                verify_top: int = SYNTHESIS.verify_top, verify: bool = True,
-               fea_model: str = SYNTHESIS.fea_model, progress=None, say=None):
+               fea_model: str = SYNTHESIS.fea_model, progress=None):
     """The best stack meeting a requirement: sweep, rank, full design, FEA and checks.
 
     Writes ``out/parts/*.parquet`` (every candidate; a rerun resumes), ``out/synthesis.json``
@@ -90,14 +89,13 @@ def synthesize(requirements, out=None, *, scheduler: str | None = None,
         verify_top: full-design-feasible finalists given build's FEA and checks.
         verify: run the FEA and checks at all.
         fea_model: FEA model of the finalists, ``"2d3d"`` (build's) or ``"2d"``.
-        progress: sweep counter ``progress(done, total, elapsed_s, done_before)``
-            (:func:`springcad.synthesis.runner.run_sweep`).
-        say: ``say(message)`` for one-line status messages.
+        progress: optional ``callable(message, fraction=None)``: one-line status
+            messages and the sweep's counts (a :class:`springcad.progress.Count` message
+            with its fraction).
 
     Returns:
         The :class:`springcad.synthesis.pipeline.SynthesisResult` (``.ok``, ``.winner``).
     """
-    from springcad.report.jsonio import write_json
     from springcad.synthesis.candidates import CandidateSpace
     from springcad.synthesis.pipeline import synthesize as _synthesize
     from springcad.synthesis.requirements import load_requirements
@@ -114,11 +112,12 @@ def synthesize(requirements, out=None, *, scheduler: str | None = None,
     out = Path(out) if out is not None else Path("outputs") / Path(requirements).stem
     store = ResultStore(out, req.fingerprint(), space.total, batch_size, overwrite=restart,
                         resume=not restart)
-    _announce(say, space, store)
+    progress = progress or no_progress
+    _announce(progress, space, store)
     with dask_client(scheduler, workers) as client:
         result = _synthesize(req, space, store, client, finalists=finalists,
                              max_finalists=max_finalists, verify_top=verify_top, verify=verify,
-                             fea_model=fea_model, **_given(progress=progress, say=say))
+                             fea_model=fea_model, progress=progress)
     write_json(out / "synthesis.json", result.to_dict())
     if result.winner is not None:
         (out / "winner.toml").write_text(result.winner_toml())
@@ -126,11 +125,16 @@ def synthesize(requirements, out=None, *, scheduler: str | None = None,
 
 
 @api_door
-def explore(out=Path("outputs") / "explore", *, stiffness_Nm_per_rad=None, deflection_rad=None,
-            max_disks=None, envelope_radius_mm=None, thickness_mm=None, contact_radius_mm=None,
-            material=None, stress_concentration=None, scheduler: str | None = None,
+def explore(out=Path("outputs") / "explore", *,
+            stiffness_Nm_per_rad=EXPLORE.stiffness_Nm_per_rad,
+            deflection_rad=EXPLORE.deflection_rad, max_disks: int = EXPLORE.max_disks,
+            envelope_radius_mm: float = EXPLORE.envelope_radius_mm,
+            thickness_mm=EXPLORE.thickness_mm, contact_radius_mm=EXPLORE.contact_radius_mm,
+            material: str = EXPLORE.material,
+            stress_concentration: float = EXPLORE.stress_concentration,
+            scheduler: str | None = None,
             workers: int | None = None, batch_size: int = SYNTHESIS.batch_size,
-            restart: bool = False, progress=None, say=None) -> dict:
+            restart: bool = False, progress=None) -> dict:
     """Map the reachable peak torque against deflection for stacks of 1 ... N disks.
 
     Writes ``out/parts/*.parquet`` (every candidate; resumable), ``region.parquet``,
@@ -146,15 +150,14 @@ def explore(out=Path("outputs") / "explore", *, stiffness_Nm_per_rad=None, defle
         material: built-in material name.
         stress_concentration: first beam stress = yield / this (>= 1).
         scheduler, workers, batch_size, restart: the Dask run, as in :func:`synthesize`.
-        progress: sweep counter, as in :func:`synthesize`.
-        say: ``say(message)`` for one-line status messages.
+        progress: status messages and the sweep's counts, as in :func:`synthesize`.
 
-    Options left None take :class:`springcad.synthesis.explore.ExploreGrid`'s defaults.
+    The defaults are :data:`springcad.options.EXPLORE` (``springcad explore``'s); an option
+    given as None takes its default.
 
     Returns:
         The ``explore.json`` summary (grid, sweep statistics, per number of disks).
     """
-    from springcad.report.jsonio import write_json
     from springcad.report.synthesis_plots import (plot_energy_front, plot_mass_fronts,
                                                   plot_region, write_parquet)
     from springcad.synthesis.explore import (ExploreGrid, energy_front, mass_fronts,
@@ -188,9 +191,10 @@ def explore(out=Path("outputs") / "explore", *, stiffness_Nm_per_rad=None, defle
     out = Path(out)
     store = ResultStore(out, fingerprint, space.total, batch_size, overwrite=restart,
                         resume=not restart)
-    _announce(say, space, store)
+    progress = progress or no_progress
+    _announce(progress, space, store)
     with dask_client(scheduler, workers) as client:
-        stats = run_sweep(space, store, client, **_given(progress=progress))
+        stats = run_sweep(space, store, client, progress)
     cols = store.read()
     region = reachable_region(cols)
     fronts = mass_fronts(cols)
@@ -211,7 +215,7 @@ def explore(out=Path("outputs") / "explore", *, stiffness_Nm_per_rad=None, defle
                 "max_peak_torque_Nm": float(region["max_peak_torque_Nm"][here].max())
                 if here.any() else None}
 
-    summary = {"schema": "springcad.explore/1", "grid": grid.__dict__, "sweep": stats.to_dict(),
+    summary = {**stamp(EXPLORE_SCHEMA), "grid": grid.__dict__, "sweep": stats.to_dict(),
                "n_candidates": len(cols["cid"]), "n_feasible": int(cols["feasible"].sum()),
                "per_n_disks": [per_disks(n) for n in range(1, grid.max_disks + 1)]}
     write_json(out / "explore.json", summary)

@@ -24,6 +24,7 @@ from pathlib import Path
 from springcad.errors import (EXIT_BAD_INPUT, EXIT_CHECK_FAILED, EXIT_INTERNAL, CheckFailed,
                               Interrupted, SpringcadError, StageError, one_line)
 from springcad.options import spelled
+from springcad.version import __version__
 
 #: subcommand modules, in the order ``--help`` lists them
 SUBCOMMANDS = ("design", "build", "verify", "simulate", "fit", "paper", "synthesize", "explore")
@@ -41,8 +42,6 @@ EXIT_SIGINT, EXIT_SIGTERM = 128 + signal.SIGINT, 128 + signal.SIGTERM
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from springcad.version import __version__
-
     parser = argparse.ArgumentParser(
         prog="springcad",
         description="Design, build, FEA-verify and bench-check series torsion springs.",
@@ -87,8 +86,6 @@ def crash_log(command: str, text: str) -> Path | None:
 
 
 def _internal_error(command: str, err: BaseException, debug: bool) -> int:
-    from springcad.version import __version__
-
     text = "".join(traceback.format_exception(err))
     if debug:
         print(text, file=sys.stderr, end="")

@@ -15,12 +15,12 @@ from pathlib import Path
 
 import springcad.api as sc
 from springcad.cli.progress import ProgressBar
-from springcad.cli.synthesize import add_dask_options, dask_options, say
-from springcad.synthesis.explore import ExploreGrid
+from springcad.cli.synthesize import add_dask_options, dask_options
+from springcad.options import EXPLORE
 
 
 def register(sub):
-    g = ExploreGrid()
+    g = EXPLORE
     p = sub.add_parser("explore", help="map reachable peak torque vs deflection for one disk "
                                        "and stacks (Fig. 8); Pareto fronts; Parquet + PNG")
     p.add_argument("--out", type=Path, default=Path("outputs") / "explore",
@@ -48,7 +48,7 @@ def run(args) -> int:
                          envelope_radius_mm=args.envelope_radius_mm,
                          thickness_mm=args.thickness_mm, contact_radius_mm=args.contact_radius_mm,
                          material=args.material, stress_concentration=args.stress_concentration,
-                         **dask_options(args), progress=ProgressBar(), say=say)
+                         **dask_options(args), progress=ProgressBar())
     rows = [("disks", "feasible", "max deflection rad", "max peak torque N*m")]
     for e in summary["per_n_disks"]:
         rows.append((str(e["n_disks"]), str(e["feasible"]),

@@ -26,7 +26,8 @@ def register(subparsers) -> None:
     p.add_argument("--out", type=Path, default=None,
                    help="output folder (default outputs/<data file name>/; must not exist or be empty)")
     p.add_argument("--config", type=Path, help="job config: compare with the designed stack")
-    p.add_argument("--target-stiffness", type=bounded(0, 1e6, " N*m/rad", lo_open=True), metavar="K",
+    p.add_argument("--target-stiffness", dest="target_stiffness_Nm_per_rad",
+                   type=bounded(0, 1e6, " N*m/rad", lo_open=True), metavar="K",
                    help="target stiffness (N·m/rad) for the stiffness error")
     p.add_argument("--time-col", default=BENCH.time_col, help="time column (s) [%(default)s]")
     p.add_argument("--torque-col", default=BENCH.torque_col, help="torque column [%(default)s]")
@@ -56,7 +57,7 @@ def run(args) -> int:
     out = args.out or default_out(args.data)
     inputs = [args.data, args.config]
     check_output_dir(out, args.overwrite, inputs=inputs)  # before the fit
-    fit = sc.fit_record(args.data, args.target_stiffness, args.config,
+    fit = sc.fit_record(args.data, args.target_stiffness_Nm_per_rad, args.config,
                         time_col=args.time_col, torque_col=args.torque_col,
                         deflection_col=args.deflection_col, encoder_cols=args.encoder_cols,
                         angle_unit=args.angle_unit, torque_unit=args.torque_unit,

@@ -2,14 +2,16 @@
 
 :func:`console` renders the one progress protocol of the library
 (:class:`springcad.progress.Progress`: ``progress(message, fraction=None)``);
-:class:`ProgressBar` renders a candidate sweep's counter
-(:func:`springcad.synthesis.runner.run_sweep`).
+:class:`ProgressBar` renders the same protocol for a sweep: its counts
+(:class:`springcad.progress.Count` messages) as a bar, other messages as lines.
 """
 
 from __future__ import annotations
 
 import sys
 import time
+
+from springcad.progress import Count
 
 
 def console(quiet: bool = False, indent: str | None = None, stream=None):
@@ -45,17 +47,21 @@ def _clock(seconds: float) -> str:
 
 
 class ProgressBar:
-    """Callable as ``bar(done, total, elapsed_s, done_before)`` (the runner's progress hook).
+    """A :class:`~springcad.progress.Progress` for sweeps: ``bar(message, fraction=None)``.
 
-    The rate counts only this run's candidates (a resumed run does not look
-    faster than it is). On a terminal the line is redrawn in place; otherwise a
-    line is printed every ``every_s`` seconds and at the end.
+    A :class:`~springcad.progress.Count` message (the sweep's candidates) draws the bar;
+    any other message is printed on its own line. The elapsed time runs from the first
+    count; the rate counts only this run's candidates (a resumed run does not look
+    faster than it is). On a terminal the bar is redrawn in place; otherwise a line is
+    printed every ``every_s`` seconds and at the end.
     """
 
     def __init__(self, label: str = "candidates", stream=None, width: int = 28,
                  every_s: float = 5.0):
         self.label, self.stream, self.width, self.every_s = label, stream or sys.stderr, width, every_s
         self._last = -1e9
+        self._t0: float | None = None
+        self._open = False  # a bar drawn in place, not yet ended by a newline
         self._tty = hasattr(self.stream, "isatty") and self.stream.isatty()
 
     def line(self, done: int, total: int, elapsed_s: float, done_before: int) -> str:
@@ -68,15 +74,24 @@ class ProgressBar:
         return (f"[{'#' * fill}{'.' * (self.width - fill)}] {done}/{total} {self.label}"
                 f"{resumed}  {rate:,.0f}/s  elapsed {_clock(elapsed_s)}  left {_clock(left)}")
 
-    def __call__(self, done: int, total: int, elapsed_s: float, done_before: int = 0) -> None:
+    def __call__(self, message: str, fraction: float | None = None) -> None:
+        count = Count.parse(message)
+        if count is None:
+            self.stream.write(("\n" if self._open else "") + message + "\n")
+            self._open = False
+            self.stream.flush()
+            return
         now = time.monotonic()
-        final = done >= total
+        if self._t0 is None:
+            self._t0 = now
+        final = count.done >= count.total
         if not self._tty and not final and now - self._last < self.every_s:
             return
         self._last = now
-        text = self.line(done, total, elapsed_s, done_before)
+        text = self.line(count.done, count.total, now - self._t0, count.done_before)
         if self._tty:
             self.stream.write("\r" + text + ("\n" if final else ""))
+            self._open = not final
         else:
             self.stream.write(text + "\n")
         self.stream.flush()

@@ -15,7 +15,6 @@ still written), 2 bad input.
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import springcad.api as sc
@@ -69,10 +68,6 @@ def register(sub):
     p.set_defaults(func=run)
 
 
-def say(message: str) -> None:
-    print(message, file=sys.stderr, flush=True)
-
-
 def run(args) -> int:
     from springcad.report.synthesis_text import format_family_report, summary_table
 
@@ -80,7 +75,7 @@ def run(args) -> int:
     result = sc.synthesize(args.requirements, out, **dask_options(args),
                            finalists=args.finalists, max_finalists=args.max_finalists,
                            verify_top=args.verify_top, verify=not args.no_verify,
-                           fea_model=args.fea_model, progress=ProgressBar(), say=say)
+                           fea_model=args.fea_model, progress=ProgressBar())
     print(summary_table(result))
     failed = [f for f in result.finalists if not f["ok"]]
     if failed:

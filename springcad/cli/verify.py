@@ -16,12 +16,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import springcad.api as sc
-from springcad.cache import open_cache
 from springcad.cli.common import add_cache_flag, bounded, cache_of, default_out, warn
 from springcad.cli.progress import console
 from springcad.options import LEVELS_RANGE, LOADS, MESHERS, MODELS, TOLERANCE_PCT_RANGE, VERIFY
-from springcad.report.fea_outputs import write_outputs
-from springcad.report.outdir import atomic_output_dir, check_output_dir
+from springcad.report.outdir import check_output_dir
 
 
 def register(sub):
@@ -69,9 +67,8 @@ def run(args) -> int:
                        tolerance_pct=args.tolerance_pct, correct=args.correct, load=args.load,
                        support_study=args.support_study, contact=args.contact,
                        keep_fields=not args.no_render, progress=progress, cache=cache_of(args))
-    with atomic_output_dir(out, overwrite=args.overwrite, inputs=[args.config]) as tmp:
-        write_outputs(result.raw, tmp, render=not args.no_render, progress=progress,
-                      cache=open_cache(cache_of(args)))
+    sc.export_verification(result, out, overwrite=args.overwrite, render=not args.no_render,
+                           progress=progress, cache=cache_of(args))
     print(result.raw.summary())
     for finding in result.raw.release_failures():  # not a verification failure: build's gate
         print(f"  contact: {finding}")

@@ -21,6 +21,7 @@ from typing import Any
 
 from springcad.connections import CONNECTIONS
 from springcad.errors import ConfigError, show
+from springcad.materials import material_table
 
 #: marker of a key that must be given
 REQUIRED = object()
@@ -390,8 +391,6 @@ def default(section: str, name: str):
     """Default value of a key (material-table names resolve to their density)."""
     value = keys(section)[name].default
     if isinstance(value, str) and name.endswith("_kg_per_m3"):
-        from springcad.materials import material_table
-
         return material_table()[value].density_kg_per_m3
     return value
 

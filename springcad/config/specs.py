@@ -93,7 +93,7 @@ class SpringSpec:
 
     Attributes:
         name: spring name used in the stack sequence.
-        stiffness_Nmm_per_rad: target stiffness (N*mm/rad).
+        target_stiffness_Nmm_per_rad: target stiffness (N*mm/rad).
         max_deflection_rad: deflection the spring must reach at design stress (rad).
         outer_radius_mm: disk outer radius R_o (mm).
         thickness_mm: disk thickness z (mm), or None to choose it from stock plate.
@@ -108,7 +108,7 @@ class SpringSpec:
     """
 
     name: str
-    stiffness_Nmm_per_rad: float
+    target_stiffness_Nmm_per_rad: float
     max_deflection_rad: float
     outer_radius_mm: float
     thickness_mm: float | None

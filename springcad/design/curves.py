@@ -23,6 +23,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from springcad.design.numeric import ClampedCubic
+
 Point = tuple[float, float]
 
 #: Two segment ends closer than this (mm) are the same point.
@@ -173,8 +175,6 @@ class Spline:
 
     @functools.cached_property
     def _spline(self):
-        from springcad.design.numeric import ClampedCubic
-
         p = np.asarray(self.points, dtype=float)
         u = self.parameters()
         if self.start_tangent is None or self.end_tangent is None:

@@ -39,6 +39,8 @@ from springcad.config.specs import DutyBlock, DutySpec, MaterialSpec
 from springcad.design import fatigue
 from springcad.design.feasibility import describe as feasibility_text
 from springcad.design.feasibility import nearest_changes
+from springcad.materials import material_table
+from springcad.units import NMM_PER_NM
 
 #: named duties: (blocks as fractions of theta_max, basis, static/prototype)
 PRESETS: dict[str, tuple[tuple[DutyBlock, ...], str, bool]] = {
@@ -428,8 +430,6 @@ def alternatives(spec, material: MaterialSpec, designs, deadline: float | None =
         with fatigue data, or the spring split into two disks in series (each twice the
         stiffness at half the deflection; a stack of n such disks needs n+1).
     """
-    from springcad.materials import material_table
-
     if not fatigue_limited(material, spec.max_deflection_rad):
         return ""
     found = []
@@ -453,11 +453,11 @@ def alternatives(spec, material: MaterialSpec, designs, deadline: float | None =
             continue
         if designs(spec, other):
             found.append(f'material.name = "{name}" (now "{material.material.name}")')
-    split = replace(spec, stiffness_Nmm_per_rad=2 * spec.stiffness_Nmm_per_rad,
+    split = replace(spec, target_stiffness_Nmm_per_rad=2 * spec.target_stiffness_Nmm_per_rad,
                     max_deflection_rad=0.5 * spec.max_deflection_rad)
     if designs(split, material):
         found.append(f"one more disk in series: this spring as two disks of "
-                     f"{2 * spec.stiffness_Nmm_per_rad / 1000:.4g} N*m/rad at "
+                     f"{2 * spec.target_stiffness_Nmm_per_rad / NMM_PER_NM:.4g} N*m/rad at "
                      f"{math.degrees(split.max_deflection_rad):.2f} deg each")
     allowed = allowed_peak_MPa(material, spec.max_deflection_rad)
     head = (f"; the duty ({describe(material.duty)}) allows a peak of {allowed:.0f} MPa at "

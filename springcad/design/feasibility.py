@@ -62,8 +62,8 @@ def _keys() -> tuple[KeyRange, ...]:
                  lambda s, v: _replace(s, outer_radius_mm=v), 1.8, 0.5),
         KeyRange("max_deflection_deg", lambda s: math.degrees(s.max_deflection_rad),
                  lambda s, v: _replace(s, max_deflection_rad=math.radians(v)), 0.3, 0.1),
-        KeyRange("target_stiffness_Nm_per_rad", lambda s: s.stiffness_Nmm_per_rad / NMM_PER_NM,
-                 lambda s, v: _replace(s, stiffness_Nmm_per_rad=v * NMM_PER_NM), 0.3, 0.0),
+        KeyRange("target_stiffness_Nm_per_rad", lambda s: s.target_stiffness_Nmm_per_rad / NMM_PER_NM,
+                 lambda s, v: _replace(s, target_stiffness_Nmm_per_rad=v * NMM_PER_NM), 0.3, 0.0),
     )
 
 
@@ -123,7 +123,7 @@ def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
 def in_series(spec: SpringSpec, m: int) -> SpringSpec:
     """``spec`` as one of ``m`` equal disks in series replacing it: m x the stiffness over
     1/m of the deflection (same peak torque, 1/m of the energy each)."""
-    return _replace(spec, stiffness_Nmm_per_rad=spec.stiffness_Nmm_per_rad * m,
+    return _replace(spec, target_stiffness_Nmm_per_rad=spec.target_stiffness_Nmm_per_rad * m,
                     max_deflection_rad=spec.max_deflection_rad / m)
 
 
@@ -169,7 +169,7 @@ def describe(spring_name: str, changes: list[tuple[str, float, float]],
         one = in_series(spec, series)
         clauses.append(
             f"{series} disks in series in its place (each springs.{spring_name}."
-            f"target_stiffness_Nm_per_rad = {one.stiffness_Nmm_per_rad / NMM_PER_NM:.4g}, "
+            f"target_stiffness_Nm_per_rad = {one.target_stiffness_Nmm_per_rad / NMM_PER_NM:.4g}, "
             f"max_deflection_deg = {math.degrees(one.max_deflection_rad):.4g}, and "
             f"'{spring_name}' {series} times in stack.sequence where it is once)")
     if not clauses:

@@ -14,9 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from springcad.design.numeric import cumtrapz_last, trapz_last
+from springcad.design.numeric import ClampedCubic, cumtrapz, cumtrapz_last, find_root, trapz_last
 
 from springcad.errors import DesignError
+from springcad.units import J_PER_NMM
 
 
 # ----------------------------------------------------------------- closed forms
@@ -97,7 +98,7 @@ def min_contact_radius_mm(peak_torque_Nmm: float, thickness_mm: float, stress_MP
 
 def energy_bound_J_per_mm3(stress_MPa: float, youngs_modulus_MPa: float) -> float:
     """Bending energy per unit volume at uniform outer-fibre stress: sigma^2/(6E) (J/mm^3)."""
-    return stress_MPa ** 2 / (6.0 * youngs_modulus_MPa) * 1e-3
+    return stress_MPa ** 2 / (6.0 * youngs_modulus_MPa) * J_PER_NMM  # MPa = N*mm/mm^3
 
 
 # ----------------------------------------------------------------- centreline
@@ -128,8 +129,6 @@ class Centreline:
 
     @functools.cached_property
     def _cs(self):
-        from springcad.design.numeric import ClampedCubic
-
         return ClampedCubic(self.y_mm, self.x_mm, *self.end_slopes)
 
     def evaluate(self, y):
@@ -380,8 +379,6 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
     Raises:
         DesignError: no candidate meets all constraints.
     """
-    from springcad.design.numeric import cumtrapz, find_root
-
     rc, rr = contact_radius_mm, root_radius_mm
     L = rr - rc
     u = np.linspace(0.0, 1.0, 241) ** 1.3

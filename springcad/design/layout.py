@@ -107,7 +107,7 @@ def tip_ball(spec: SpringSpec, sigma, n, rc, contact: ContactLimit | None = None
     bending needs lies beyond the window (a fixed ``tip_radius_mm`` outside the window
     too); then the free ball is ``inf`` as well.
     """
-    load = fx.tip_load_N(spec.stiffness_Nmm_per_rad, spec.max_deflection_rad, n, rc)
+    load = fx.tip_load_N(spec.target_stiffness_Nmm_per_rad, spec.max_deflection_rad, n, rc)
     rb_req = fx.tip_ball_required_radius_mm(load, spec.thickness_mm, sigma)
     largest = math.inf
     if contact is not None:
@@ -149,7 +149,7 @@ def layout_at(spec: SpringSpec, sigma, E, n, rc, max_root_radius_mm: float = mat
         if rr <= rc:
             raise DesignError(f"spring '{spec.name}': the rim leaves no room for flexures "
                               f"beyond r_c = {rc:.3g} mm")
-    theta_s = fx.straight_limit_rad(n, z, sigma, rr - rc, E, spec.stiffness_Nmm_per_rad, rc)
+    theta_s = fx.straight_limit_rad(n, z, sigma, rr - rc, E, spec.target_stiffness_Nmm_per_rad, rc)
     return Layout(n, rc, rb, rb_req, rr, theta_s, load)
 
 
@@ -184,7 +184,7 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
     """
     z = spec.thickness_mm
     cap = fx.torque_cap_Nmm
-    peak = spec.stiffness_Nmm_per_rad * spec.max_deflection_rad
+    peak = spec.target_stiffness_Nmm_per_rad * spec.max_deflection_rad
     ro = spec.outer_radius_mm
 
     def cap_error(rc):

@@ -1,7 +1,7 @@
 """The design search: from a :class:`~springcad.config.SpringSpec` to a :class:`SpringDesign`.
 
 Every parameter the user did not fix is searched, every rule that can fail later is
-checked on the design's own exact profiles (:func:`springcad.design.spring.with_width`
+checked on the design's own exact profiles (:func:`springcad.design.resize.with_width`
 builds the ring and cam), and the choice is deterministic and explained:
 
 1. Layouts (N, r_c, tip ball, root radius) come ranked from
@@ -35,7 +35,8 @@ from springcad.design.feasibility import (describe, material_changes, nearest_ch
 from springcad.design.layout import MAX_CANDIDATES, ContactLimit, Layout, candidate_layouts
 from springcad.design.ring import with_hole_circle
 from springcad.design.shapes.base import SizingContext
-from springcad.design.spring import SpringDesign, with_width
+from springcad.design.resize import with_width
+from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError, SpecInfeasible
 from springcad.units import J_PER_NMM, NMM_PER_NM
 
@@ -64,7 +65,7 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
     """
     sigma = material.design_stress_MPa * derating
     E = material.material.youngs_modulus_MPa
-    z, K, theta_d = spec.thickness_mm, spec.stiffness_Nmm_per_rad, spec.max_deflection_rad
+    z, K, theta_d = spec.thickness_mm, spec.target_stiffness_Nmm_per_rad, spec.max_deflection_rad
     warnings: list[str] = []
 
     # energy bound: the flexures are bending beams between the contact circle and the root
@@ -468,7 +469,7 @@ def redesign_for_stiffness(design: SpringDesign, k_ratio: float) -> SpringDesign
         DesignError: no layout carries that stiffness in the envelope.
     """
     spec = design.spec
-    biased = _replace(spec, stiffness_Nmm_per_rad=spec.stiffness_Nmm_per_rad * k_ratio)
+    biased = _replace(spec, target_stiffness_Nmm_per_rad=spec.target_stiffness_Nmm_per_rad * k_ratio)
     d = design_spring(biased, design.material, design.manufacturing, design.hardware,
                       explain=False, max_root_radius_mm=design.max_root_radius_mm)
     d = _replace(d, spec=spec, warnings=d.warnings, design_choice=(

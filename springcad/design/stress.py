@@ -43,6 +43,8 @@ from importlib import resources
 
 import numpy as np
 
+from springcad.design.ring import neck_tangent_stations_mm, root_tangent_stations_mm
+
 
 @dataclass(frozen=True)
 class StressCalibration:
@@ -215,8 +217,6 @@ def tip_load_N(design) -> float:
 
 def neck_nominal_MPa(design, load_N: float) -> float:
     """Beam stress 6 F (y_n - r_c) / (z w^2) where the neck fillets meet the edges (MPa)."""
-    from springcad.design.ring import neck_tangent_stations_mm
-
     y_n = np.asarray(neck_tangent_stations_mm(design))
     w_n = np.asarray(design.width_mm(y_n))
     return float(np.max(6.0 * load_N * (y_n - design.contact_radius_mm)
@@ -225,8 +225,6 @@ def neck_nominal_MPa(design, load_N: float) -> float:
 
 def root_terms(design, load_N: float) -> list[dict]:
     """Per edge: the nominal stress, width and curvature factor at the root tangent station."""
-    from springcad.design.ring import root_tangent_stations_mm
-
     y, nominal, right, left = edge_stress_MPa(design, load_N)
     out = []
     for y_t, edge in zip(root_tangent_stations_mm(design), (right, left)):

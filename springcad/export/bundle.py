@@ -20,8 +20,17 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from springcad.cache import files, memo
+from springcad.export.bom import write_bom
+from springcad.export.drawing import DrawingInfo, write_drawing
+from springcad.export.dxf import (CHORD_TOL_MM, loops_area_mm2, loops_length_mm, read_dxf_loops,
+                                  write_dxf)
+from springcad.export.release import UNASSESSED
+from springcad.export.render import render_png
 from springcad.export.skeleton import built_part, with_solids
+from springcad.export.step import read_step, write_assembly_step, write_part_step, write_part_stl
+from springcad.export.vendor import write_vendor_bundle
 from springcad.geometry.checks import Check
+from springcad.geometry.profile import profile_face
 from springcad.parallel import trim_heap
 from springcad.progress import Progress, no_progress
 from springcad.units import UM_PER_MM
@@ -88,10 +97,6 @@ def export_parts(assembly, out_dir: Path, drawing_info: dict, template: dict | N
 def _write_part(part, parts_dir: Path, info: dict, template) -> tuple[list[Path], list]:
     """Write a part's STEP, STL, DXF (profile-cut parts) and drawings (made parts);
     returns their paths and (kind, info) of each."""
-    from springcad.export.drawing import DrawingInfo, write_drawing
-    from springcad.export.dxf import write_dxf
-    from springcad.export.step import write_part_step, write_part_stl
-
     pn = part.part_number
     paths = [write_part_step(part, parts_dir / f"{pn}.step", info.get("date", "")),
              write_part_stl(part, parts_dir / f"{pn}.stl")]
@@ -123,14 +128,10 @@ def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render:
         cache: a :class:`springcad.cache.Cache` holding the assembly STEP and render of
             designs exported before (the assembly is a function of its design), or None.
     """
-    from springcad.export.bom import write_bom
-
     out_dir = Path(out_dir)
     progress("exporting assembly STEP", 0.0)
 
     def step():
-        from springcad.export.step import write_assembly_step
-
         return [write_assembly_step(with_solids(assembly), out_dir / "assembly.step", date)], None
 
     hit = lambda: progress("assembly STEP from the cache", None)  # noqa: E731
@@ -144,16 +145,12 @@ def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render:
         trim_heap()  # the part exports' freed heap, before VTK's buffers (the build's peak)
 
         def png():
-            from springcad.export.render import render_png
-
             return [render_png(with_solids(assembly), out_dir / "assembly.png")], None
 
         progress("rendering assembly.png", 0.5)
         hit = lambda: progress("assembly.png from the cache", None)  # noqa: E731
         (path,), _ = files(cache, "assembly-png", (assembly.design,), out_dir, png, hit)
         out.append(_record(out_dir, path, "png"))
-    from springcad.export.release import UNASSESSED
-    from springcad.export.vendor import write_vendor_bundle
 
     progress("writing vendor.zip", 0.9)
     out.append(_record(out_dir, write_vendor_bundle(assembly, out_dir, release or UNASSESSED,
@@ -190,10 +187,7 @@ def roundtrip_checks(assembly, out_dir: Path, files: list[WrittenFile],
 
 def _read_back(part, path: Path, f: WrittenFile) -> Check:
     """The read-back check of one STEP or DXF file of ``part`` (see :func:`roundtrip_checks`)."""
-    from springcad.export.dxf import CHORD_TOL_MM, loops_area_mm2, loops_length_mm, read_dxf_loops
-    from springcad.export.step import read_step
     from springcad.geometry.base import face_area_mm2, solid_volume_mm3
-    from springcad.geometry.profile import profile_face
 
     if f.kind == "step":
         rb = read_step(path)

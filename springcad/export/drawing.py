@@ -24,6 +24,7 @@ from springcad.design.processes import process_chain_text, process_text, process
 from springcad.export.release import UNASSESSED, ReleaseStatus
 from springcad.export.sheet import (A3, FRAME_MM, LABEL_FONT, NOTE_FONT, TEXT_FONT, THICK, Sheet,
                                     fmt, scale_text)
+from springcad.geometry.sheet_cut import iso_fits
 
 TITLE_BLOCK_NAME = "drawing_title_block.toml"
 #: sheet parts this thin or thinner get the template's ``thin_sheet`` notes (mm)
@@ -85,8 +86,6 @@ def _finisher(info, fit: str) -> str:
 
 def fields(part, info: DrawingInfo, scale: float, template: dict) -> dict:
     """The values the template's ``{field}`` placeholders take."""
-    from springcad.geometry.sheet_cut import iso_fits
-
     p = part.info
     flat = template.get("flatness_mm", {}).get(p.kind)
     fits = iso_fits(p)

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from springcad.cache import MISSING
 from springcad.geometry.part_info import NamedByInfo
-from springcad.geometry.stack import Instance, StackAssembly
+from springcad.geometry.stack import Instance, StackAssembly, build_stack
 
 #: the cache kind of a skeleton (key inputs: the job design)
 KIND = "assembly-skeleton"
@@ -68,8 +68,6 @@ class LazyAssembly(StackAssembly):
     def solid_assembly(self) -> StackAssembly:
         """The assembly with its solids, built from the design the first time."""
         if self._solids is None:
-            from springcad.geometry.stack import build_stack
-
             self._solids = build_stack(self.design)
         return self._solids
 

@@ -48,6 +48,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import stats
 
+from springcad.fit.effects import get_effect
+from springcad.fit.identify import turn_window_s
 from springcad.fit.inference import uncertainty, wald_p
 from springcad.fit.nuisance import (common_profile, nuisance_kind, nuisance_parts,
                                      views_without)
@@ -289,7 +291,6 @@ def audit(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, f_sc
     if "drift" in model.names and "torque_offset" not in model.names:
         # a drift is anchored at the record's start; on a part of the record it is
         # judged by its rate, with the part's own torque zero
-        from springcad.fit.effects import get_effect
 
         model = model.with_effect(get_effect("torque_offset"))
         x = model.transfer(full, x_full, use_null=True)
@@ -432,8 +433,6 @@ def steady_check(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarra
     Returns:
         ``{"time_lag": reason}`` when it fails, else ``{}``.
     """
-    from springcad.fit.identify import turn_window_s
-
     if "time_lag" not in model.names or "hysteresis" not in model.names:
         return {}
     steady = sig.since_turn_s[idx] >= turn_window_s(model, x, sig)

@@ -41,9 +41,11 @@ import numpy as np
 from scipy import ndimage
 
 from springcad.fit.data import make_record
+from springcad.fit.effects import LIBRARY, get_effect
 from springcad.fit.inference import Uncertainty, jacobian, report_intervals
 from springcad.fit.other_laws import OTHER_LAWS
 from springcad.fit.protocols import Protocol, SineSweep
+from springcad.fit.search import State
 from springcad.fit.segment import segment
 from springcad.fit.signals import Signals, make_signals
 from springcad.fit.torque_model import TorqueModel
@@ -327,9 +329,6 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
     Returns:
         A list of ``(carrier, other, rho, vif, joint_model, joint_x)``.
     """
-    from springcad.fit.effects import LIBRARY, get_effect
-    from springcad.fit.search import State
-
     sig, s = search.sig, search.s
     groups = []
     idx = state.inliers(search.cv)

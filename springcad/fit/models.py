@@ -134,16 +134,18 @@ class PaperModelFit:
             return logit(theta, self.stiffness_Nm_per_rad, h, self.transition_rad)
         return deadband(theta, self.stiffness_Nm_per_rad, h)
 
-    def to_dict(self, target_stiffness: float | None = None) -> dict:
+    def to_dict(self, target_stiffness_Nm_per_rad: float | None = None) -> dict:
+        """The model's numbers, with the stiffness error against
+        ``target_stiffness_Nm_per_rad`` (N*m/rad) when one is given."""
         out = {"stiffness_Nm_per_rad": self.stiffness_Nm_per_rad,
                "backlash_rad": self.backlash_rad,
                "nrmse_pct": self.nrmse_pct,
                "rmse_Nm": self.rmse_Nm}
         if self.transition_rad is not None:
             out["transition_rad"] = self.transition_rad
-        if target_stiffness:
+        if target_stiffness_Nm_per_rad:
             out["stiffness_error_pct"] = stiffness_error_pct(self.stiffness_Nm_per_rad,
-                                                             target_stiffness)
+                                                             target_stiffness_Nm_per_rad)
         return out
 
 

@@ -34,6 +34,7 @@ from __future__ import annotations
 import hashlib
 from dataclasses import replace
 
+from springcad.design.cam import d_bore
 from springcad.geometry import sklearn_deferred
 
 with sklearn_deferred():
@@ -42,6 +43,7 @@ with sklearn_deferred():
 from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
 from springcad.errors import GeometryError
 from springcad.geometry.part_info import NamedByInfo, PartInfo, Slab  # noqa: F401  (their home before)
+from springcad.geometry.profile import extrude_profile
 
 #: display colours (RGB 0-1) by material family
 COLOURS = {
@@ -179,8 +181,6 @@ def d_loop(radius_mm: float, flat_ratio: float, corner_radius_mm: float) -> Loop
     corners rounded by ``corner_radius_mm`` (what the wire leaves in the bore), so
     a D shaft or D hub built from it fits that bore line to line.
     """
-    from springcad.design.cam import d_bore
-
     return d_bore(radius_mm, flat_ratio, corner_radius_mm)
 
 
@@ -190,8 +190,6 @@ def prism_solid(slabs, part: str) -> Solid:
     Raises:
         GeometryError: a slab cannot be made or the result is not one valid solid.
     """
-    from springcad.geometry.profile import extrude_profile
-
     pieces = [extrude_profile(s.region, s.length_mm, part, s.z0_mm) for s in slabs]
     solid = pieces[0]
     if len(pieces) > 1:

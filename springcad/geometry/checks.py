@@ -23,8 +23,11 @@ from dataclasses import asdict, dataclass, field
 from springcad.cache import memo
 from springcad.connections import connection_sequence
 from springcad.errors import CheckFailed, GeometryError
-from springcad.options import spell
+from springcad.geometry.edm import edm_rules
+from springcad.geometry.interference import InterferenceChecker, cam_clearance
+from springcad.geometry.sheet_cut import fit_rule, sheet_rules, wall_rule
 from springcad.geometry.stack import build_stack
+from springcad.options import spell
 from springcad.progress import Progress, Tracker, no_progress
 from springcad.stages import stage
 
@@ -163,8 +166,6 @@ def part_checks(part, manufacturing=None) -> list[Check]:
     Turned parts: the wall between bore or socket and outer diameter (``turned.min_wall``).
     """
     from springcad.geometry.base import solid_volume_mm3
-    from springcad.geometry.edm import edm_rules
-    from springcad.geometry.sheet_cut import fit_rule, sheet_rules, wall_rule
 
     pn = part.part_number
     out = [Check("solid_valid", pn, bool(part.solid.is_valid), unit="",
@@ -199,8 +200,6 @@ def part_checks(part, manufacturing=None) -> list[Check]:
 # ----------------------------------------------------------------------- assembly checks
 def interference_checks(assembly) -> list[Check]:
     """Every pair that overlaps, or touches although not meant to, fails."""
-    from springcad.geometry.interference import InterferenceChecker
-
     out = []
     kinds = {i.name: i.component.kind for i in assembly.instances}
     contacts = 0
@@ -234,8 +233,6 @@ def _shares_z(a, b, tol=1e-6) -> bool:
 
 def clearance_checks(assembly) -> list[Check]:
     """Measured cam-to-tip gap of every ring against its camshaft equals the design gap."""
-    from springcad.geometry.interference import cam_clearance
-
     rings = [i for i in assembly.instances if i.component.kind == "flexure_ring"]
     cams = [i for i in assembly.instances if i.component.kind == "camshaft"]
     cache: dict = {}

@@ -17,6 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
+from springcad.report.fea_vtu import result_grid
+
 #: the part fills this fraction of the framed view; the rest is margin
 _MARGIN = 0.06
 
@@ -40,8 +42,6 @@ def peak_title(title: str, peak_MPa: float, region: str = "") -> str:
 def _field_image(result, clim, window, zoom_mm, peak):
     """The field rendered top-down; (RGB image, (x0, x1, y0, y1) world extent in mm)."""
     import pyvista as pv
-
-    from springcad.report.fea_vtu import result_grid
 
     pv.OFF_SCREEN = True
     _quiet_vtk()

@@ -15,6 +15,8 @@ import numpy as np
 
 from springcad.fit.analysis import FitResult
 from springcad.report.fit_plots import plot_all
+from springcad.report.html_page import markdown_html, page
+from springcad.report.jsonio import write_json
 from springcad.units import fmt_interval
 
 
@@ -34,7 +36,6 @@ def write_fit_outputs(result: FitResult, out_dir: Path | str, fmt: str = "md",
     """
     if fmt not in ("md", "html"):
         raise ValueError(f"report format {fmt!r} is not 'md' or 'html'")
-    from springcad.report.jsonio import write_json
 
     out_dir = Path(out_dir)
     written = [out_dir / "fit.json"]
@@ -351,8 +352,6 @@ def render_html(blocks: list[tuple], image_dir: Path | str | None = None) -> str
         blocks: see :func:`report_blocks`.
         image_dir: folder of the plots (an image not found there shows its alt text).
     """
-    from springcad.report.html_page import markdown_html, page
-
     title = next((blk[1] for blk in blocks if blk[0] == "h1"), "springcad fit")
     return page(title, markdown_html(render_markdown(blocks), image_dir))
 

@@ -13,6 +13,7 @@ import html
 from pathlib import Path
 
 from springcad.report.html_page import img_tag
+from springcad.report.mpl import pyplot
 from springcad.units import NMM_PER_NM
 
 
@@ -175,7 +176,6 @@ def fit_png(obj) -> bytes:
 
     # matplotlib (behind these) only when a plot is drawn: ``import springcad`` stays light
     from springcad.report.fit_plots import _plot_models
-    from springcad.report.mpl import pyplot
 
     plt = pyplot()
     with tempfile.TemporaryDirectory() as tmp:

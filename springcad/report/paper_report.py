@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from springcad.report.html_page import markdown_html, page
 from springcad.report.jsonio import write_json
 
 
@@ -26,8 +27,8 @@ def predicted_vs_measured_figure(configurations):
     """The figure of :func:`plot_predicted_vs_measured` (matplotlib, Agg).
 
     Args:
-        configurations: objects with ``configuration``, ``measured_stiffness``,
-            ``target_stiffness`` and ``predicted_stiffness_after`` (N*m/rad).
+        configurations: objects with ``configuration``, ``measured_stiffness_Nm_per_rad``,
+            ``target_stiffness_Nm_per_rad`` and ``predicted_stiffness_after_Nm_per_rad``.
 
     Returns:
         The figure; its axes carry the configuration labels as ``ax.texts``
@@ -40,9 +41,9 @@ def predicted_vs_measured_figure(configurations):
     from matplotlib.ticker import NullFormatter, ScalarFormatter
 
     fig, ax = plt.subplots(figsize=(6, 5.5), dpi=130)
-    meas = [c.measured_stiffness for c in configurations]
-    before = [c.target_stiffness for c in configurations]
-    after = [c.predicted_stiffness_after for c in configurations]
+    meas = [c.measured_stiffness_Nm_per_rad for c in configurations]
+    before = [c.target_stiffness_Nm_per_rad for c in configurations]
+    after = [c.predicted_stiffness_after_Nm_per_rad for c in configurations]
     ax.plot(meas, before, "o", mfc="none", label="before: design target", zorder=3)
     ax.plot(meas, after, "s", label="after: enriched model (leave-one-out)", zorder=3)
     values = meas + before + after
@@ -180,9 +181,11 @@ def markdown(v) -> str:
         "|---|---|---|---|---|---|---|---|",
     ]
     for c in v.configurations:
-        lines.append(f"| {c.configuration} | {c.measured_stiffness:.2f} | {c.target_stiffness:.2f} "
-                     f"| {c.beam_stiffness:.2f} | {c.geometry_stiffness:.2f} "
-                     f"| {c.predicted_stiffness_after:.2f} | {c.error_before_pct:+.2f} % "
+        lines.append(f"| {c.configuration} | {c.measured_stiffness_Nm_per_rad:.2f} "
+                     f"| {c.target_stiffness_Nm_per_rad:.2f} "
+                     f"| {c.beam_stiffness_Nm_per_rad:.2f} | {c.geometry_stiffness_Nm_per_rad:.2f} "
+                     f"| {c.predicted_stiffness_after_Nm_per_rad:.2f} "
+                     f"| {c.error_before_pct:+.2f} % "
                      f"| {c.error_after_pct:+.2f} % |")
     lines += [
         "",
@@ -300,8 +303,6 @@ def write_paper_report(v, out_dir: Path) -> list[Path]:
 
     ``report.html`` is the Markdown report as one self-contained page (the plot inlined).
     """
-    from springcad.report.html_page import markdown_html, page
-
     out_dir = Path(out_dir)
     write_json(out_dir / "validation.json", v.to_dict())
     plot_predicted_vs_measured(v, out_dir / "predicted_vs_measured.png")

@@ -16,14 +16,13 @@ from pathlib import Path
 import numpy as np
 
 from springcad.report.mpl import pyplot
+from springcad.synthesis.store import to_table
 from springcad.units import G_PER_KG
 
 
 def write_parquet(path: Path | str, columns: dict) -> Path:
     """Write numpy columns as one Parquet file."""
     import pyarrow.parquet as pq
-
-    from springcad.synthesis.store import to_table
 
     pq.write_table(to_table(columns), Path(path))
     return Path(path)

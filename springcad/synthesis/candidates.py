@@ -114,7 +114,7 @@ class CandidateSpace:
         """The space of a :class:`~springcad.synthesis.requirements.Requirements`."""
         s = req.search
         return cls(
-            targets=((req.stiffness_Nmm_per_rad, req.deflection_rad),),
+            targets=((req.target_stiffness_Nmm_per_rad, req.deflection_rad),),
             materials=req.materials,
             design_stress_MPa=tuple(req.design_stress_MPa(m) for m in req.materials),
             max_outer_radius_mm=req.max_outer_radius_mm,

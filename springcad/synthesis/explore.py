@@ -22,6 +22,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.config import HardwareSpec, ManufacturingSpec
+from springcad.design import fatigue
+from springcad.errors import ConfigError
+from springcad.materials import material_table
+from springcad.options import EXPLORE
 from springcad.synthesis.candidates import CandidateSpace
 from springcad.units import NMM_PER_NM
 
@@ -42,15 +46,15 @@ class ExploreGrid:
             yield / (margin x concentration) and lowered where the peak needs it.
     """
 
-    stiffness_Nm_per_rad: tuple[float, float, int] = (5.0, 500.0, 24)
-    deflection_rad: tuple[float, float, int] = (0.05, 3.0, 24)
-    max_disks: int = 6
-    envelope_radius_mm: float = 35.05
-    thickness_mm: tuple[float, ...] = (3.0, 4.5, 6.0)
-    contact_radius_mm: tuple[float, ...] = (4.5, 5.5, 6.5, 7.5, 9.0)
-    material: str = "420_ht"
+    stiffness_Nm_per_rad: tuple[float, float, int] = EXPLORE.stiffness_Nm_per_rad
+    deflection_rad: tuple[float, float, int] = EXPLORE.deflection_rad
+    max_disks: int = EXPLORE.max_disks
+    envelope_radius_mm: float = EXPLORE.envelope_radius_mm
+    thickness_mm: tuple[float, ...] = EXPLORE.thickness_mm
+    contact_radius_mm: tuple[float, ...] = EXPLORE.contact_radius_mm
+    material: str = EXPLORE.material
     yield_margin: float = 1.0
-    stress_concentration: float = 1344.0 / 912.0
+    stress_concentration: float = EXPLORE.stress_concentration
 
     @property
     def stiffnesses_Nm_per_rad(self) -> np.ndarray:
@@ -64,14 +68,10 @@ class ExploreGrid:
 
     def space(self, manufacturing: ManufacturingSpec | None = None,
               hardware: HardwareSpec | None = None) -> CandidateSpace:
-        from springcad.errors import ConfigError
-        from springcad.materials import material_table
-
         known = material_table()
         if self.material not in known:
             raise ConfigError("material", self.material,
                               f"is not a built-in material ({', '.join(known)})")
-        from springcad.design import fatigue
 
         mat = known[self.material]
         sigma = mat.yield_strength_MPa / (self.yield_margin * self.stress_concentration)

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 
+from springcad.config import job_from_dict
 from springcad.errors import SpringcadError
 from springcad.options import VERIFY
 from springcad.progress import no_progress
@@ -51,7 +52,7 @@ def job_document(req, cand: dict) -> dict:
     return {
         "job": {"name": f"{req.name}_winner" if req.name else "synthesized",
                 "description": (f"synthesized by springcad: {fam}, candidate {int(cand['cid'])}, "
-                                f"{req.stiffness_Nmm_per_rad / NMM_PER_NM:g} N*m/rad over "
+                                f"{req.target_stiffness_Nmm_per_rad / NMM_PER_NM:g} N*m/rad over "
                                 f"+-{math.degrees(req.deflection_rad):.4g} deg")},
         "material": {"name": mat.name, "design_stress_MPa": round(req.design_stress_MPa(mat), 6),
                      "safety_factor": round(req.required_yield_margin(mat), 9)},
@@ -100,7 +101,6 @@ def design_candidate(req, cand: dict):
     Raises:
         DesignError: the exact design fails a check the screening does not make.
     """
-    from springcad.config import job_from_dict
     from springcad.design.job import design_job
 
     job = job_from_dict(job_document(req, cand), name="synthesized")
@@ -157,7 +157,7 @@ def full_design_summary(req, cand: dict) -> dict:
     if st.envelope_radius_mm > req.max_outer_radius_mm + 1e-9:
         fails.append(f"envelope radius {st.envelope_radius_mm:.2f} mm > "
                      f"{req.max_outer_radius_mm:g} mm")
-    k_err = st.stiffness_Nmm_per_rad / req.stiffness_Nmm_per_rad - 1
+    k_err = st.stiffness_Nmm_per_rad / req.target_stiffness_Nmm_per_rad - 1
     if abs(k_err) > req.stiffness_tolerance:
         fails.append(f"beam stiffness {100 * k_err:+.2f} % off target")
     if st.max_deflection_rad < req.deflection_rad * (1 - 1e-6):

@@ -146,7 +146,7 @@ def _one_flare(flare, g, cal):
     place the fillets (``predicted``) and whether the profile is buildable (``buildable``:
     the neighbouring root fillets do not overlap and, for curved flexures, the clearance
     to the neighbour and the concave edge radius keep the wire's rules, as
-    :func:`springcad.design.spring.with_width` and the ring profile check).
+    :func:`springcad.design.resize.with_width` and the ring profile check).
     ``cal``: the (straight, curved) rows' :class:`~springcad.design.stress.StressCalibration`
     (the fillet and neck coefficients are shared).
     """

@@ -1,6 +1,6 @@
 """``synthesize``: sweep -> rank -> full design of the finalists -> FEA and build checks -> winner.
 
-Library code: it never prints (messages go to ``say``) and writes nothing but
+Library code: it never prints (messages go to ``progress``) and writes nothing but
 the sweep's part files through the store; the CLI writes the report and the
 winner's job TOML.
 """
@@ -17,14 +17,11 @@ from springcad.synthesis import ranking
 from springcad.synthesis.finalists import (build_checks, full_design_summary, job_document,
                                            toml_text, verify_candidate)
 from springcad.synthesis.runner import run_sweep
+from springcad.progress import Progress, no_progress
 from springcad.units import G_PER_KG, NMM_PER_NM
 from springcad.version import stamp
 
 SCHEMA = "springcad.synthesis/1"
-
-
-def _quiet(*args, **kwargs) -> None:
-    return None
 
 
 @dataclass
@@ -68,7 +65,7 @@ class SynthesisResult:
             **stamp(SCHEMA),
             "requirements": {
                 "name": req.name, "source": req.source,
-                "stiffness_Nm_per_rad": req.stiffness_Nmm_per_rad / NMM_PER_NM,
+                "stiffness_Nm_per_rad": req.target_stiffness_Nmm_per_rad / NMM_PER_NM,
                 "stiffness_tolerance_pct": 100 * req.stiffness_tolerance,
                 "deflection_rad": req.deflection_rad,
                 "deflection_deg": math.degrees(req.deflection_rad),
@@ -145,7 +142,7 @@ def synthesize(req, space, store, client, *, finalists: int = SYNTHESIS.finalist
                max_finalists: int = SYNTHESIS.max_finalists,
                verify_top: int = SYNTHESIS.verify_top, verify: bool = True,
                fea_model: str = SYNTHESIS.fea_model,
-               progress=_quiet, say=_quiet) -> SynthesisResult:
+               progress: Progress = no_progress) -> SynthesisResult:
     """Run the whole synthesis for requirements ``req``.
 
     Args:
@@ -160,8 +157,8 @@ def synthesize(req, space, store, client, *, finalists: int = SYNTHESIS.finalist
         verify: run the FEA and build checks at all.
         fea_model: :class:`fea.study.VerifyOptions` model for the finalists ("2d3d":
             ``springcad build``'s; "2d": faster, without the 3D factor).
-        progress: sweep progress callback (see :func:`run_sweep`).
-        say: one-line status messages.
+        progress: ``progress(message, fraction=None)``: the sweep's counts
+            (:func:`run_sweep`) and one-line status messages.
     """
     t = {}
     t0 = time.perf_counter()
@@ -174,7 +171,7 @@ def synthesize(req, space, store, client, *, finalists: int = SYNTHESIS.finalist
     top = ranking.distinct(cols, order, max(20, max_finalists))
     result = SynthesisResult(req, stats, len(cols["cid"]), int(cols["feasible"].sum()), top,
                              families, [])  # top: distinct stacks, best first
-    say(f"{result.n_feasible} of {result.n_candidates} candidates feasible after screening")
+    progress(f"{result.n_feasible} of {result.n_candidates} candidates feasible after screening")
     if not top:
         result.winner_status = "no feasible stack"
         result.timings_s = t
@@ -185,7 +182,7 @@ def synthesize(req, space, store, client, *, finalists: int = SYNTHESIS.finalist
     limit = min(len(top), max(max_finalists, 1))
     while len(rows) < limit and not any(s["ok"] for s in summaries):
         batch = top[len(rows):min(len(rows) + max(finalists, 1), limit)]
-        say(f"full design of screened stacks {len(rows) + 1}-{len(rows) + len(batch)} "
+        progress(f"full design of screened stacks {len(rows) + 1}-{len(rows) + len(batch)} "
             f"of {len(top)}")
         futures = client.map(full_design_summary, [req] * len(batch), batch, pure=False)
         summaries += client.gather(futures)
@@ -211,11 +208,11 @@ def synthesize(req, space, store, client, *, finalists: int = SYNTHESIS.finalist
         t0 = time.perf_counter()
         status = None
         for r, s in good[:verify_top]:
-            say(f"FEA ({fea_model}) and build checks of candidate {int(r['cid'])} "
+            progress(f"FEA ({fea_model}) and build checks of candidate {int(r['cid'])} "
                 f"({r['family']}, {G_PER_KG * s['mass_kg']:.1f} g)")
             entry = verification_entry(req, r, fea_model)
             result.verifications[int(r["cid"])] = entry
-            say(entry["summary"] or "; ".join(entry["failures"]))
+            progress(entry["summary"] or "; ".join(entry["failures"]))
             if entry["ok"]:
                 winner, status = r, f"FEA ({fea_model}) and build checks passed"
                 break

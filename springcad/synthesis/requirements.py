@@ -38,6 +38,7 @@ from springcad.design import contact_fatigue, duty, fatigue
 from springcad.design.contact_stress import von_mises_peak
 from springcad.errors import ConfigError
 from springcad.materials import Material, material_table
+from springcad.synthesis.candidates import SCREENING_MODEL
 from springcad.units import NMM_PER_NM
 
 
@@ -138,7 +139,7 @@ class Requirements:
     """A validated synthesis request in internal units (N*mm, mm, rad, MPa).
 
     Attributes:
-        stiffness_Nmm_per_rad: target stack stiffness (N*mm/rad).
+        target_stiffness_Nmm_per_rad: target stack stiffness (N*mm/rad).
         stiffness_tolerance: accepted |K / K_target - 1| (-), used by the FEA check.
         deflection_rad: deflection the stack must reach in each direction (rad).
         max_outer_radius_mm: largest envelope radius, bushing included (mm).
@@ -160,7 +161,7 @@ class Requirements:
 
     name: str
     description: str
-    stiffness_Nmm_per_rad: float
+    target_stiffness_Nmm_per_rad: float
     stiffness_tolerance: float
     deflection_rad: float
     max_outer_radius_mm: float
@@ -184,7 +185,7 @@ class Requirements:
 
     @property
     def peak_torque_Nmm(self) -> float:
-        return self.stiffness_Nmm_per_rad * self.deflection_rad
+        return self.target_stiffness_Nmm_per_rad * self.deflection_rad
 
     def design_stress_MPa(self, material: Material) -> float:
         """Stress every flexure of ``material`` is designed to (MPa)."""
@@ -241,8 +242,6 @@ class Requirements:
 
     def fingerprint(self) -> str:
         """A hash of everything that changes the candidate table (for resuming runs)."""
-        from springcad.synthesis.candidates import SCREENING_MODEL
-
         d = asdict(self)
         d["screening_model"] = SCREENING_MODEL
         d.pop("source")
@@ -411,7 +410,7 @@ def requirements_from_dict(data: dict, name: str = "requirements",
                               f"{probe.manufacturing.min_inside_radius_mm:g} mm")
     return Requirements(
         name=str(req.get("name", name)), description=str(req.get("description", "")),
-        stiffness_Nmm_per_rad=float(k) * NMM_PER_NM, stiffness_tolerance=float(tol) / 100.0,
+        target_stiffness_Nmm_per_rad=float(k) * NMM_PER_NM, stiffness_tolerance=float(tol) / 100.0,
         deflection_rad=float(theta), max_outer_radius_mm=float(r_max),
         max_axial_length_mm=float(h_max), materials=materials, yield_margin=margin,
         stress_concentration=kt, objective=value, search=search,

@@ -18,6 +18,8 @@ import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 
+from springcad.errors import SpringcadError
+from springcad.progress import Count, Progress, no_progress
 from springcad.synthesis.evaluate import evaluate_batch
 
 
@@ -41,10 +43,6 @@ class SweepStats:
         return {**self.__dict__, "candidates_per_s": self.candidates_per_s}
 
 
-def _noop(done: int, total: int, elapsed_s: float, done_before: int) -> None:
-    return None
-
-
 @contextmanager
 def dask_client(scheduler: str | None = None, n_workers: int | None = None,
                 processes: bool = True):
@@ -56,8 +54,6 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None,
         processes: local workers as processes (default) or threads.
     """
     from distributed import Client, LocalCluster
-
-    from springcad.errors import SpringcadError
 
     if scheduler:
         try:
@@ -80,16 +76,18 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None,
         cluster.close()
 
 
-def run_sweep(space, store, client, progress=_noop, in_flight_per_worker: int = 3) -> SweepStats:
+def run_sweep(space, store, client, progress: Progress = no_progress,
+              in_flight_per_worker: int = 3) -> SweepStats:
     """Evaluate every batch of ``store`` not yet written, on ``client``'s workers.
 
     Args:
         space: the :class:`~springcad.synthesis.candidates.CandidateSpace`.
         store: the :class:`~springcad.synthesis.store.ResultStore` (decides the batches).
         client: a :class:`distributed.Client`.
-        progress: called as ``progress(done, total, elapsed_s, done_before)`` with
-            candidate counts after every batch (``done_before``: finished by an
-            earlier run).
+        progress: ``progress(message, fraction)`` (:class:`springcad.progress.Progress`)
+            at the start and after every batch, the message a
+            :class:`~springcad.progress.Count` of candidates (``done_before``: finished by
+            an earlier run).
     """
     from distributed import as_completed
 
@@ -120,7 +118,12 @@ def run_sweep(space, store, client, progress=_noop, in_flight_per_worker: int = 
             break
     done = done_before
     evaluated = 0
-    progress(done, store.total, 0.0, done_before)
+
+    def report(done: int) -> None:
+        count = Count(done, store.total, "candidates", done_before)
+        progress(count.message(), count.fraction)
+
+    report(done)
     ac = as_completed(list(futures))
     for fut in ac:
         b = futures.pop(fut)
@@ -129,7 +132,7 @@ def run_sweep(space, store, client, progress=_noop, in_flight_per_worker: int = 
         n = store.batch_range(b)[1] - store.batch_range(b)[0]
         done += n
         evaluated += n
-        progress(done, store.total, time.perf_counter() - t0, done_before)
+        report(done)
         submit_next(ac)
     return SweepStats(total=store.total, batches=store.n_batches, skipped_batches=skipped,
                       evaluated_batches=len(pending), evaluated_candidates=evaluated,

@@ -31,14 +31,25 @@ from pathlib import Path
 
 import numpy as np
 
-from springcad.design.stack import series_stiffness as series
+from fea.calibrate import solve_2d
+from fea.study import verify_options
+from fea.verify import verify_spring
+from springcad.config import load_job
 from springcad.data import data_path
+from springcad.design.job import design_job
+from springcad.design.resize import with_root, with_width
+from springcad.design.search import _design_at
+from springcad.design.stack import series_stiffness as series
 from springcad.errors import ConfigError
 from springcad.options import spell
 from springcad.progress import Progress, no_progress
 from springcad.units import G_PER_KG, MM3_PER_CM3, NMM_PER_NM
+from springcad.version import stamp
 
 #: Table I configuration -> template name
+#: schema of ``validation.json``
+SCHEMA = "springcad.validation/1"
+
 CONFIGURATIONS = (("S1", "paper_S1"), ("S2", "paper_S2"), ("2xS1", "paper_2xS1"),
                   ("2xS2", "paper_2xS2"), ("4xS1", "paper_4xS1"),
                   ("S1+2xS2", "paper_S1_2xS2"), ("S2+3xS1", "paper_S2_3xS1"))
@@ -112,11 +123,11 @@ class SpringModel:
 class ConfigResult:
     configuration: str
     sequence: tuple[str, ...]
-    measured_stiffness: float
-    target_stiffness: float
-    beam_stiffness: float
-    geometry_stiffness: float
-    predicted_stiffness_after: float
+    measured_stiffness_Nm_per_rad: float
+    target_stiffness_Nm_per_rad: float
+    beam_stiffness_Nm_per_rad: float
+    geometry_stiffness_Nm_per_rad: float
+    predicted_stiffness_after_Nm_per_rad: float
     width_offset_mm: float
     deflection_limit_rad: float
     table_deflection_limit_rad: float
@@ -128,11 +139,12 @@ class ConfigResult:
 
     @property
     def error_before_pct(self) -> float:
-        return 100 * (self.target_stiffness / self.measured_stiffness - 1)
+        return 100 * (self.target_stiffness_Nm_per_rad / self.measured_stiffness_Nm_per_rad - 1)
 
     @property
     def error_after_pct(self) -> float:
-        return 100 * (self.predicted_stiffness_after / self.measured_stiffness - 1)
+        return 100 * (self.predicted_stiffness_after_Nm_per_rad
+                      / self.measured_stiffness_Nm_per_rad - 1)
 
     @property
     def backlash_position(self) -> str:
@@ -147,12 +159,12 @@ class ConfigResult:
         return {
             "configuration": self.configuration,
             "sequence": list(self.sequence),
-            "measured_stiffness": self.measured_stiffness,
-            "target_stiffness": self.target_stiffness,
-            "beam_stiffness": self.beam_stiffness,
-            "geometry_stiffness": self.geometry_stiffness,
-            "predicted_stiffness_before": self.target_stiffness,
-            "predicted_stiffness_after": self.predicted_stiffness_after,
+            "measured_stiffness": self.measured_stiffness_Nm_per_rad,
+            "target_stiffness": self.target_stiffness_Nm_per_rad,
+            "beam_stiffness": self.beam_stiffness_Nm_per_rad,
+            "geometry_stiffness": self.geometry_stiffness_Nm_per_rad,
+            "predicted_stiffness_before": self.target_stiffness_Nm_per_rad,
+            "predicted_stiffness_after": self.predicted_stiffness_after_Nm_per_rad,
             "error_before_pct": self.error_before_pct,
             "error_after_pct": self.error_after_pct,
             "width_offset_mm_fitted_on_others": self.width_offset_mm,
@@ -188,6 +200,7 @@ class Validation:
         mb, wb = self.errors("before")
         ma, wa = self.errors("after")
         return {
+            **stamp(SCHEMA),
             "configurations": [c.to_dict() for c in self.configurations],
             "summary": {"mean_abs_error_before_pct": mb, "worst_abs_error_before_pct": wb,
                         "mean_abs_error_after_pct": ma, "worst_abs_error_after_pct": wa,
@@ -217,10 +230,6 @@ def fea_spring_effects(designs: dict, progress: Progress = no_progress) -> dict:
     ``width_fn`` = beam K times the FEA's relative change of K with an edge
     offset, from solves at -0.025, 0 and +0.025 mm (quadratic in log K).
     """
-    from fea.study import verify_options
-    from fea.verify import verify_spring
-    from springcad.design.spring import with_width
-
     out = {}
     seen = {}
     for d in designs.values():
@@ -263,9 +272,6 @@ def geometry_changes(designs: dict, use_fea: bool = False, progress=lambda messa
     stiffness, predicted peak stress, yield margin and mass; with ``use_fea`` also on
     a 2D FEA solve of each (stiffness and peak von Mises at the max deflection).
     """
-    from springcad.design.search import _design_at
-    from springcad.design.spring import with_root
-
     out = []
     seen = {}
     for d in designs.values():
@@ -286,8 +292,6 @@ def geometry_changes(designs: dict, use_fea: bool = False, progress=lambda messa
                         "predicted_region": g.stress.region,
                         "yield_margin_predicted": g.yield_margin, "mass_g": G_PER_KG * g.mass_kg}
             if use_fea:
-                from fea.calibrate import solve_2d
-
                 progress(f"FEA of {name}: {tag} geometry (2D)")
                 res = solve_2d(g)
                 row[tag].update({"stiffness_fea_2d_Nm_per_rad": res.stiffness_Nmm_per_rad / NMM_PER_NM,
@@ -344,9 +348,6 @@ def validate_paper(data_dir: Path | None = None, templates_dir: Path | None = No
             (:func:`fea_spring_effects`); otherwise beam theory only.
         progress: ``progress(message, fraction=None)`` for long steps.
     """
-    from springcad.config import load_job
-    from springcad.design.job import design_job
-
     data_dir = Path(data_dir or default_data_dir())
     templates_dir = Path(templates_dir or default_templates_dir())
     t1, t2 = load_tables(data_dir)
@@ -384,11 +385,11 @@ def validate_paper(data_dir: Path | None = None, templates_dir: Path | None = No
         b = st.backlash
         results.append(ConfigResult(
             configuration=cfg, sequence=seq,
-            measured_stiffness=t1[cfg]["measured_stiffness_Nm_per_rad"],
-            target_stiffness=st.target_stiffness_Nmm_per_rad / NMM_PER_NM,
-            beam_stiffness=st.stiffness_Nmm_per_rad / NMM_PER_NM,
-            geometry_stiffness=series([springs[s].stiffness(0.0) for s in seq]),
-            predicted_stiffness_after=series([springs[s].stiffness(off) for s in seq]),
+            measured_stiffness_Nm_per_rad=t1[cfg]["measured_stiffness_Nm_per_rad"],
+            target_stiffness_Nm_per_rad=st.target_stiffness_Nmm_per_rad / NMM_PER_NM,
+            beam_stiffness_Nm_per_rad=st.stiffness_Nmm_per_rad / NMM_PER_NM,
+            geometry_stiffness_Nm_per_rad=series([springs[s].stiffness(0.0) for s in seq]),
+            predicted_stiffness_after_Nm_per_rad=series([springs[s].stiffness(off) for s in seq]),
             width_offset_mm=off, deflection_limit_rad=st.max_deflection_rad,
             table_deflection_limit_rad=t1[cfg]["max_deflection_limit_rad"],
             predicted_backlash_range_rad=(b.worst_min, b.worst_max),

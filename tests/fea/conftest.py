@@ -57,7 +57,7 @@ def s2(s2_job):
 @pytest.fixture(scope="session")
 def straight():
     """The plain parabolic flexure (no root flare): the closed-form beam of check (a)."""
-    from springcad.design.spring import with_root
+    from springcad.design.resize import with_root
 
     return with_root(_design(STRAIGHT).springs["F"], 0.0)
 

@@ -46,7 +46,7 @@ def test_fresh_fea_reproduces_the_calibration(shipped, case, flare):
     import importlib.util
     from pathlib import Path
 
-    from springcad.design.spring import with_root
+    from springcad.design.resize import with_root
     from springcad.design.stress import calibration, predict_row
 
     from fea.calibrate import calibration_row

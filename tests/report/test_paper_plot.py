@@ -26,8 +26,9 @@ def configs(scale: float = 1.0, coincide: bool = False):
                  ("S2+3xS1", 31.87, 30)]
     if coincide:  # worst case for labels: three configurations on one point
         pairs += [("X1", 50.0, 48.0), ("X2", 50.0, 48.0), ("long name X3", 50.0, 48.0)]
-    return [SimpleNamespace(configuration=n, measured_stiffness=m * scale,
-                            target_stiffness=t * scale, predicted_stiffness_after=1.04 * m * scale)
+    return [SimpleNamespace(configuration=n, measured_stiffness_Nm_per_rad=m * scale,
+                            target_stiffness_Nm_per_rad=t * scale,
+                            predicted_stiffness_after_Nm_per_rad=1.04 * m * scale)
             for n, m, t in pairs]
 
 
@@ -78,9 +79,10 @@ def test_wide_range_is_log_with_plain_ticks():
     import matplotlib.pyplot as plt
 
     cs = configs()
-    cs.append(SimpleNamespace(configuration="big", measured_stiffness=LOG_AXES_RATIO * 200,
-                              target_stiffness=LOG_AXES_RATIO * 190,
-                              predicted_stiffness_after=LOG_AXES_RATIO * 205))
+    cs.append(SimpleNamespace(configuration="big",
+                              measured_stiffness_Nm_per_rad=LOG_AXES_RATIO * 200,
+                              target_stiffness_Nm_per_rad=LOG_AXES_RATIO * 190,
+                              predicted_stiffness_after_Nm_per_rad=LOG_AXES_RATIO * 205))
     fig = predicted_vs_measured_figure(cs)
     ax = fig.axes[0]
     fig.canvas.draw()

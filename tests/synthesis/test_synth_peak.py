@@ -25,7 +25,7 @@ import pytest
 from springcad.config import load_job
 from springcad.design import flexure as fx
 from springcad.design.search import FLARE_GAIN, design_spring
-from springcad.design.spring import with_root
+from springcad.design.resize import with_root
 from springcad.errors import DesignError
 from springcad.synthesis import peak
 from springcad.synthesis.screening import (ENERGY, FLEXURE_FIT, OK, REASONS, RIM_RULE,
@@ -112,7 +112,7 @@ def _compare(cases, res):
         # a disk that fails before that N is known is not compared
         if n_rule < 0 and code in LAYOUT:
             continue
-        spec = replace(BASE, stiffness_Nmm_per_rad=K, max_deflection_rad=th, outer_radius_mm=ro,
+        spec = replace(BASE, target_stiffness_Nmm_per_rad=K, max_deflection_rad=th, outer_radius_mm=ro,
                        thickness_mm=z, contact_radius_mm=rc,
                        n_flexures=int(res["n"][j]) if n_rule < 0 else None)
         mat = replace(JOB.material, safety_factor=float(margin), design_stress_MPa=float(sigma))

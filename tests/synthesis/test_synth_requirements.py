@@ -12,14 +12,14 @@ from synth_fixtures import TEMPLATES, small
 @pytest.mark.parametrize("path", sorted(TEMPLATES.glob("requirements_*.toml")), ids=lambda p: p.stem)
 def test_templates_load(path):
     req = load_requirements(path)
-    assert req.stiffness_Nmm_per_rad > 0 and req.deflection_rad > 0
+    assert req.target_stiffness_Nmm_per_rad > 0 and req.deflection_rad > 0
     for m in req.materials:
         assert req.design_stress_MPa(m) < m.yield_strength_MPa
 
 
 def test_paper_template_reproduces_the_paper_design_stress():
     req = load_requirements(TEMPLATES / "requirements_4xS1.toml")
-    assert req.stiffness_Nmm_per_rad == pytest.approx(37.5e3)
+    assert req.target_stiffness_Nmm_per_rad == pytest.approx(37.5e3)
     assert req.deflection_rad == pytest.approx(4 * math.radians(16))  # 4 x S1's 16 deg
     assert req.design_stress_MPa(req.materials[0]) == pytest.approx(912.0, abs=0.05)
 
@@ -101,7 +101,7 @@ def test_fixed_tip_balls_reach_the_winner_job():
             "n_flexures_a": 28, "family": "4 identical", "cid": 1, "input": "rim"}
     job = job_from_dict(job_document(req, cand))
     assert job.springs["A"].tip_radius_mm == 0.3
-    assert job.springs["A"].stiffness_Nmm_per_rad == pytest.approx(150e3)
+    assert job.springs["A"].target_stiffness_Nmm_per_rad == pytest.approx(150e3)
 
 
 def test_a_duty_in_the_requirements_is_a_peak_stress_limit_passed_to_the_winner():

@@ -13,6 +13,7 @@ import pytest
 from springcad.synthesis.candidates import CandidateSpace
 from springcad.synthesis.evaluate import evaluate_batch
 from springcad.synthesis.requirements import requirements_from_dict
+from springcad.progress import Count
 from springcad.synthesis.runner import run_sweep
 from springcad.synthesis.store import ResultStore
 from synth_fixtures import ROOT, small
@@ -38,7 +39,8 @@ def test_sweep_on_a_local_cluster_equals_in_process(tmp_path):
     seen = []
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                       dashboard_address=None) as cluster, Client(cluster) as client:
-        stats = run_sweep(space, store, client, lambda d, t, e, b: seen.append(d))
+        stats = run_sweep(space, store, client,
+                          lambda m, f=None: seen.append(Count.parse(m).done))
     assert stats.workers == 2
     assert stats.evaluated_batches == store.n_batches == -(-space.total // 97)
     assert stats.evaluated_candidates == space.total
@@ -137,3 +139,25 @@ def test_progress_bar_line():
     # 400 candidates in 2 s this run: 200/s, 400 left: 2 s
     assert "600/1000 candidates (200 from an earlier run)" in line
     assert "200/s" in line and "left 00:02" in line and "[######....]" in line
+
+
+def test_progress_bar_is_the_one_progress_protocol():
+    """The sweep reports through ``progress(message, fraction)`` like every other step: a
+    Count message draws the bar (read back to its numbers), any other message is a line."""
+    import io
+
+    from springcad.cli.progress import ProgressBar
+
+    stream = io.StringIO()
+    bar = ProgressBar(width=10, stream=stream, every_s=0.0)
+    bar("12 candidate stacks in 2 batches (2 to evaluate)")
+    for done in (200, 600, 1000):
+        count = Count(done, 1000, "candidates", 200)
+        bar(count.message(), count.fraction)
+    lines = stream.getvalue().splitlines()
+    assert lines[0] == "12 candidate stacks in 2 batches (2 to evaluate)"
+    assert "[##........] 200/1000 candidates (200 from an earlier run)" in lines[1]
+    assert "[######....] 600/1000 candidates" in lines[2]
+    assert "[##########] 1000/1000 candidates" in lines[3] and len(lines) == 4
+    assert Count.parse("600/1000 candidates") == Count(600, 1000, "candidates", 0)
+    assert Count.parse("FEA of S1: rigid-cam load") is None

@@ -49,7 +49,7 @@ def _screen(cases, n_fixed=None, tip_radius_mm=None):
 
 def _full(case, n=None, tip_radius_mm=None):
     K, th, ro, z, rc = case
-    spec = replace(BASE, stiffness_Nmm_per_rad=K, max_deflection_rad=th, outer_radius_mm=ro,
+    spec = replace(BASE, target_stiffness_Nmm_per_rad=K, max_deflection_rad=th, outer_radius_mm=ro,
                    thickness_mm=z, contact_radius_mm=rc, n_flexures=n, tip_radius_mm=tip_radius_mm)
     # the screen is the twin of the design's first (reference) layout; the design search
     # tries further layouts when a rule rejects it (tests/test_design_search.py)

@@ -79,8 +79,8 @@ class SizingContext:
     balances: tuple[str, ...] = ()
 
     @property
-    def stiffness_Nmm_per_rad(self) -> float:
-        return self.spec.stiffness_Nmm_per_rad
+    def target_stiffness_Nmm_per_rad(self) -> float:
+        return self.spec.target_stiffness_Nmm_per_rad
 
     @property
     def deflection_rad(self) -> float:

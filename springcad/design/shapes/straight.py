@@ -35,7 +35,7 @@ class Straight(FlexureShape):
 
     def size(self, ctx: SizingContext) -> Sizing | None:
         lay, spec, E = ctx.layout, ctx.spec, ctx.youngs_modulus_MPa
-        K, z, n, rc = ctx.stiffness_Nmm_per_rad, spec.thickness_mm, lay.n, lay.rc
+        K, z, n, rc = ctx.target_stiffness_Nmm_per_rad, spec.thickness_mm, lay.n, lay.rc
         if lay.theta_s < ctx.deflection_rad:
             return None
 

@@ -1,0 +1,112 @@
+"""A designed spring with other flexure widths or another root: profiles and predictions
+rebuilt.
+
+The design search (:mod:`springcad.design.search`) sizes the widths; the FEA stiffness
+correction scales them (:func:`with_width_scale`), the tolerance study offsets their
+edges (:func:`with_width`), and the stress passes and calibration change the root
+(:func:`with_root`). Each returns a new :class:`~springcad.design.spring.SpringDesign`
+(the record) with its beam stiffness, stress prediction, ring and cam profiles rebuilt
+and the wire-EDM rules of the new flexures checked.
+
+Units: mm, N, MPa, N*mm, rad.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace as _replace
+
+import numpy as np
+
+from springcad.design import flexure as fx
+from springcad.design import stress
+from springcad.design.cam import cam_profile
+from springcad.design.ring import ring_profile
+from springcad.design.spring import SpringDesign
+from springcad.errors import DesignError
+
+
+def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0) -> SpringDesign:
+    """The same spring with its flexure widths scaled and/or offset, profiles rebuilt.
+
+    ``scale`` multiplies the current widths (K grows as scale^3 in beam theory,
+    up to the fixed tip web): the FEA stiffness correction. ``offset_mm`` moves
+    every flexure edge and the tip ball outward (a wire-EDM profile error): the
+    tolerance study.
+
+    Raises:
+        DesignError: the new flexures break the neighbour clearance or the
+            concave edge radius the wire can cut.
+    """
+    d = _replace(design, width_scale=design.width_scale * scale, width_offset_mm=offset_mm,
+                 tip_radius_mm=design.tip_radius_mm - design.width_offset_mm + offset_mm)
+    y = np.linspace(d.contact_radius_mm, d.root_station_mm, 1201)
+    mfg = d.manufacturing
+    clearance = None
+    # straight flexures too (many of them close together at the tips), on the nominal
+    # profile; the tolerance study's offsets of a curved flexure are held to it as before
+    if not d.centreline.is_straight or offset_mm == 0.0:
+        clearance = fx.neighbour_clearance_mm(d.centreline, y, d.width_mm(y), d.n_flexures,
+                                              d.tip_radius_mm)
+        if clearance < mfg.min_slot_width_mm:
+            wider = "" if scale == 1.0 else f" {scale:.4f} x wider"
+            raise DesignError(
+                f"spring '{d.name}': flexures{wider} leave {clearance:.3f} mm to their "
+                f"neighbours (min_slot_width_mm {mfg.min_slot_width_mm:g}): fewer flexures")
+    if not d.centreline.is_straight:
+        edge = fx.concave_edge_radius_mm(d.centreline, y, d.width_mm(y))
+        if edge < mfg.min_inside_radius_mm:
+            raise DesignError(
+                f"spring '{d.name}': flexures {scale:.4f} x wider have a concave edge radius "
+                f"{edge:.3f} mm < wire radius + spark gap {mfg.min_inside_radius_mm:g} mm")
+    return _predictions_and_profiles(_replace(d, min_neighbour_clearance_mm=clearance))
+
+
+def _predictions_and_profiles(d: SpringDesign) -> SpringDesign:
+    """Beam stiffness and stresses of the current widths, then the ring and cam profiles.
+
+    The nominal (beam) stress 6 M / (z w^2) is uniform along a constant-stress flexure;
+    the predicted peak of the real geometry adds curvature and the root fillet
+    (:func:`springcad.design.stress.predict`). The cam is built last: it checks its gap
+    against the ring.
+    """
+    k = d.beam_stiffness_Nmm_per_rad()
+    d = _replace(d, stiffness_beam_Nmm_per_rad=k)
+    prediction = stress.predict(d)
+    d = _replace(d, peak_stress_MPa=prediction.nominal_MPa, stress=prediction)
+    ring, holes, hole_d = ring_profile(d)
+    d = _replace(d, ring=ring, hole_centres_mm=holes, hole_diameter_mm=hole_d)
+    cam, info = cam_profile(d)
+    return _replace(d, cam=cam, cam_tip_radius_mm=info.tip_radius_mm,
+                    cam_root_radius_mm=info.root_radius_mm, cam_overtravel=info.overtravel,
+                    cam_tip_clearance_mm=info.tip_clearance_mm,
+                    warnings=tuple(dict.fromkeys(d.warnings + info.warnings)))
+
+
+def with_root(design: SpringDesign, flare: float, flare_length_mm: float | None = None,
+              root_fillet_radius_mm: float | None = None) -> SpringDesign:
+    """The spring with another root shape, its widths rescaled back onto the beam stiffness.
+
+    Args:
+        flare: relative width added at the root (:func:`flexure.root_flare_factor`).
+        flare_length_mm: length of the flare zone (mm); default: the design's, or the
+            root zone (twice the rim thickness) when it has none.
+        root_fillet_radius_mm: root fillet radius (mm); default: unchanged.
+
+    Raises:
+        DesignError: the new flexures break the neighbour clearance or the concave
+            edge radius (:func:`with_width`).
+    """
+    length = (flare_length_mm if flare_length_mm is not None
+              else design.root_flare_length_mm or 2.0 * design.rim_thickness_mm)
+    d = _replace(design, root_flare=flare, root_flare_length_mm=length,
+                 root_fillet_radius_mm=(root_fillet_radius_mm if root_fillet_radius_mm is not None
+                                        else design.root_fillet_radius_mm))
+    target = design.beam_stiffness_Nmm_per_rad()
+    for _ in range(3):  # K ~ scale^3 away from the fixed tip web
+        d = _replace(d, width_scale=d.width_scale * (target / d.beam_stiffness_Nmm_per_rad()) ** (1 / 3))
+    return with_width(d, 1.0, d.width_offset_mm)
+
+
+def with_width_scale(design: SpringDesign, scale: float) -> SpringDesign:
+    """The spring with ``width_scale`` set to ``scale`` (absolute): :func:`with_width`."""
+    return with_width(design, scale / design.width_scale, design.width_offset_mm)
