@@ -197,3 +197,19 @@ def test_ball_advice_names_a_window_that_works_or_a_reach_that_opens_one():
     ok = cs.ball_advice(58.3, 14.0, 0.04, 0.1222, **kw)
     lo_t, hi_t = (float(v) for v in ok.split("between ")[1].split(" (now")[0].split(" and "))
     assert 0 < lo_t < hi_t
+
+
+def test_the_ball_window_on_floats_is_the_window_on_arrays():
+    """The design search's float path and the synthesis screen's array path agree (random
+    layouts, loads and materials, feasible and not, with and without load)."""
+    rng = np.random.default_rng(7)
+    n = 400
+    args = (rng.uniform(0, 400, n) * (rng.random(n) > 0.05), rng.uniform(2, 20, n),
+            rng.uniform(0.01, 0.06, n), rng.uniform(0.03, 0.4, n), rng.uniform(1, 12, n),
+            rng.uniform(110e3, 210e3, n), rng.uniform(0.28, 0.34, n), rng.uniform(500, 1800, n),
+            rng.uniform(0, 0.05, n))
+    lo, hi = cs.tip_radius_window_mm(*args[:-1], args[-1])
+    for i in range(n):
+        lo_i, hi_i = cs.tip_radius_window_mm(*(float(a[i]) for a in args))
+        assert lo_i == pytest.approx(lo[i], rel=1e-12) and hi_i == pytest.approx(hi[i], rel=1e-12)
+    assert np.isinf(lo).any() and np.isfinite(lo).any() and (lo == 0).any()

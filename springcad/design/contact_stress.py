@@ -273,6 +273,24 @@ def _ball_window(reach_mm, k_allowed, max_ball_mm):
     return np.where(ok, lo, np.inf), np.where(ok, hi, -np.inf)
 
 
+def _window_scalar(force_N, contact_radius_mm, gap_mm, deflection_rad, thickness_mm, E_MPa,
+                   nu, allowable_MPa, min_flank_position_mm) -> tuple[float, float]:
+    """:func:`tip_radius_window_mm` on floats (math, no arrays: a tenth of the time)."""
+    reach = contact_radius_mm * deflection_rad - gap_mm
+    max_ball = reach - math.sqrt(2.0 * contact_radius_mm * min_flank_position_mm)
+    if force_N <= 0:
+        return 0.0, (max_ball if max_ball > 0 else -math.inf)
+    c_vm = von_mises_peak(round(nu, 6))[0]
+    k = math.pi * (allowable_MPa / c_vm) ** 2 / (force_N / thickness_mm
+                                                 * (E_MPa / (2.0 * (1.0 - nu * nu))))
+    disc = reach * reach - 4.0 * reach / k
+    if reach <= 0 or disc < 0:
+        return math.inf, -math.inf
+    root = math.sqrt(disc)
+    lo, hi = 0.5 * (reach - root), min(0.5 * (reach + root), max_ball)
+    return (lo, hi) if hi >= lo else (math.inf, -math.inf)
+
+
 def tip_radius_window_mm(force_N, contact_radius_mm, gap_mm, deflection_rad, thickness_mm,
                          E_MPa, nu, allowable_MPa, min_flank_position_mm=0.0):
     """The tip ball radii whose Hertz contact at full deflection stays within
@@ -295,6 +313,10 @@ def tip_radius_window_mm(force_N, contact_radius_mm, gap_mm, deflection_rad, thi
         (smallest, largest) radius (mm): ``(inf, -inf)`` where no ball is enough; a smallest
         of 0 without load.
     """
+    scalars = (force_N, contact_radius_mm, gap_mm, deflection_rad, thickness_mm, E_MPa, nu,
+               allowable_MPa)
+    if all(isinstance(v, (float, int)) for v in scalars):  # the design search: ~1e5 calls
+        return _window_scalar(*scalars, min_flank_position_mm)
     c_vm = _c_vm(nu)
     reach = np.asarray(contact_radius_mm, float) * deflection_rad - gap_mm
     max_ball = reach - np.sqrt(2.0 * np.asarray(contact_radius_mm, float)
