@@ -37,8 +37,8 @@ from dataclasses import dataclass, replace
 
 from springcad.config.specs import DutyBlock, DutySpec, MaterialSpec
 from springcad.design import fatigue
+from springcad.design.feasibility import MAX_SCALE, larger_disk, nearest_changes
 from springcad.design.feasibility import describe as feasibility_text
-from springcad.design.feasibility import nearest_changes
 from springcad.materials import material_table
 from springcad.units import NMM_PER_NM
 
@@ -414,6 +414,10 @@ def biased(material: MaterialSpec, bias: float) -> MaterialSpec:
 
 
 # ====================================================================== refusals
+#: how :func:`alternatives` ends when no change it probes meets the duty
+NOTHING_MEETS = ": relax the duty"
+
+
 def alternatives(spec, material: MaterialSpec, designs, deadline: float | None = None) -> str:
     """When a declared duty sets the allowed peak and the envelope cannot meet it: the
     changes beyond the spring's own keys that would, each checked with ``designs``.
@@ -428,7 +432,10 @@ def alternatives(spec, material: MaterialSpec, designs, deadline: float | None =
     Returns:
         "" or text to append to the refusal: a better surface finish, another material
         with fatigue data, or the spring split into two disks in series (each twice the
-        stiffness at half the deflection; a stack of n such disks needs n+1).
+        stiffness at half the deflection; a stack of n such disks needs n+1); when none
+        alone: the best surface with the nearest thickness, outer radius or deflection,
+        else with the whole disk scaled up (thickness and outer radius together, the
+        user's fixed layout keys left free when that is what it takes).
     """
     if not fatigue_limited(material, spec.max_deflection_rad):
         return ""
@@ -473,5 +480,10 @@ def alternatives(spec, material: MaterialSpec, designs, deadline: float | None =
         return (head + f'; no surface finish, material or extra disk alone meets it; with '
                 f'manufacturing.surface = "{best.name}" it is '
                 + feasibility_text(spec.name, changes))
-    return head + ("; no surface finish, material or extra disk alone meets it, nor the best "
-                   "surface with another thickness, outer radius or deflection: relax the duty")
+    head += ("; no surface finish, material or extra disk alone meets it, nor the best surface "
+             "with another thickness, outer radius or deflection")
+    # several keys: the whole disk larger (the user's fixed layout keys left free too)
+    big = larger_disk(spec, lambda s: designs(s, better), deadline=deadline)
+    if big:
+        return head + f'; it is met with manufacturing.surface = "{best.name}" and {big}'
+    return head + f", nor a disk up to {MAX_SCALE:g}x larger with the best surface" + NOTHING_MEETS

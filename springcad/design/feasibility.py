@@ -40,6 +40,11 @@ MIN_STEPS = 2
 SERIES_COUNTS = (2, 3, 4)
 #: the design stress of a suggested material is rounded down to this step (MPa)
 STRESS_STEP_MPA = 10.0
+#: layout keys a user may fix that the design search otherwise chooses, with their units
+FREE_CHOICES = (("n_flexures", ""), ("contact_radius_mm", " mm"), ("tip_radius_mm", " mm"),
+                ("root_radius_mm", " mm"))
+#: the largest factor a whole disk (thickness and outer radius together) is scaled by
+MAX_SCALE = 2.5
 
 
 @dataclass(frozen=True)
@@ -118,6 +123,73 @@ def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
             if designs(kr.set(spec, value)):
                 span[1] = value
     return [(kr.key, v0, span[1]) for (kr, v0, _, _), span in zip(open_keys, spans)]
+
+
+def fixed_choices(spec: SpringSpec) -> list[tuple[str, str]]:
+    """The layout keys of :data:`FREE_CHOICES` the user fixed on ``spec`` (key, unit)."""
+    return [(k, u) for k, u in FREE_CHOICES if getattr(spec, k) is not None]
+
+
+def freed(spec: SpringSpec) -> SpringSpec:
+    """``spec`` with every fixed layout key left to the design search."""
+    return _replace(spec, **{k: None for k, _ in fixed_choices(spec)})
+
+
+def _scaled(spec: SpringSpec, s: float) -> SpringSpec:
+    """The disk's envelope scaled by ``s``: thickness and outer radius, each rounded up to
+    its key's step (0.1 mm, 0.5 mm)."""
+    z, ro = _keys()[0], _keys()[1]
+    return _replace(spec, thickness_mm=_rounded(spec.thickness_mm * s, z.step, True),
+                    outer_radius_mm=_rounded(spec.outer_radius_mm * s, ro.step, True))
+
+
+def scaled_envelope(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
+                    deadline: float | None = None) -> SpringSpec | None:
+    """The smallest disk of the same proportions that designs: thickness and outer
+    radius scaled together by s (energy capacity ~ s^3 at the same stress, the tip balls'
+    Hertz capacity ~ s^2), up to :data:`MAX_SCALE` and the schema's ranges, by bisection
+    on s like :func:`nearest_changes`; the printed values are the ones checked.
+
+    Returns:
+        The scaled spec whose envelope designs, or None when the largest does not.
+    """
+    hi = MAX_SCALE
+    for kr in _keys()[:2]:
+        hi = min(hi, schema_keys("springs.<name>")[kr.key].hi / kr.get(spec))
+    if hi <= 1.0 or not designs(_scaled(spec, hi)):
+        return None
+    span = [1.0, hi]  # [fails, designs]
+    for step in range(STEPS):
+        if step >= MIN_STEPS and deadline is not None and time.monotonic() > deadline:
+            break
+        mid = 0.5 * (span[0] + span[1])
+        span[designs(_scaled(spec, mid))] = mid
+    return _scaled(spec, span[1])
+
+
+def larger_disk(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
+                deadline: float | None = None) -> str:
+    """A change of several keys when none alone works: the whole disk scaled up
+    (:func:`scaled_envelope`), with the user's fixed layout keys left free when that is
+    what it takes.
+
+    Returns:
+        "the disk scaled by 1.76: springs.A.thickness_mm = 7.9 (now 4.5) and ..., all
+        together", or "" when no disk up to :data:`MAX_SCALE` x larger designs.
+    """
+    fixed = fixed_choices(spec)
+    for trial in ([spec, freed(spec)] if fixed else [spec]):
+        big = scaled_envelope(trial, designs, deadline=deadline)
+        if big is None:
+            continue
+        name = f"springs.{spec.name}"
+        left = ("" if trial is spec else " and " + ", ".join(
+            f"{name}.{k} removed (now {getattr(spec, k):g}{u})" for k, u in fixed))
+        return (f"the disk scaled by {big.thickness_mm / spec.thickness_mm:.2f}: "
+                f"{name}.thickness_mm = {big.thickness_mm:g} (now {spec.thickness_mm:g}) and "
+                f"{name}.outer_radius_mm = {big.outer_radius_mm:g} (now "
+                f"{spec.outer_radius_mm:g}){left}, all together")
+    return ""
 
 
 def in_series(spec: SpringSpec, m: int) -> SpringSpec:

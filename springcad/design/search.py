@@ -30,8 +30,8 @@ from springcad.design import duty, shapes
 from springcad.design import flexure as fx
 from springcad.design.cam import TIP_CLEARANCE_SHORT
 from springcad.design.planar import find_defect
-from springcad.design.feasibility import (describe, material_changes, nearest_changes,
-                                          series_change)
+from springcad.design.feasibility import (describe, fixed_choices, larger_disk,
+                                          material_changes, nearest_changes, series_change)
 from springcad.design.layout import MAX_CANDIDATES, ContactLimit, Layout, candidate_layouts
 from springcad.design.ring import with_hole_circle
 from springcad.design.shapes.base import SizingContext
@@ -287,7 +287,10 @@ def probe(spec, material, manufacturing, hardware, max_root_radius_mm) -> Spring
     except DesignError:
         return None
     ok = d.yield_margin >= duty.required_margin(material, spec.max_deflection_rad) * (1.0 - 1e-3)
-    return d if ok else None
+    # a fixed ball outside its contact window designs with a warning; a probe's suggestion
+    # must give a spring whose ball carries the contact too
+    ball_ok = d.tip_radius_mm >= d.tip_radius_required_mm * (1.0 - 1e-6)
+    return d if ok and ball_ok else None
 
 
 def _designs(spec, material, manufacturing, hardware, max_root_radius_mm) -> bool:
@@ -521,16 +524,11 @@ REFUSAL_BUDGET_S = 30.0
 PROBE_CANDIDATES = 4
 
 
-#: layout keys a user may fix that the design search otherwise chooses, with their units
-FREE_CHOICES = (("n_flexures", ""), ("contact_radius_mm", " mm"), ("tip_radius_mm", " mm"),
-                ("root_radius_mm", " mm"))
-
-
 def _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm) -> str:
     """When the user fixed layout keys springcad would otherwise choose: the smallest set
     of them (one at a time, then all) whose removal lets the search design the spring,
     with the values it then chooses, or ""."""
-    fixed = [(k, u) for k, u in FREE_CHOICES if getattr(spec, k) is not None]
+    fixed = fixed_choices(spec)
     trials = [[ku] for ku in fixed] + ([fixed] if len(fixed) > 1 else [])
     for keys in trials:
         free = _replace(spec, **{k: None for k, _ in keys})
@@ -545,11 +543,14 @@ def _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm) 
     return ""
 
 
-def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
-             tried: str = "") -> DesignError:
-    """The refusal: the nearest values of the user's own keys that design (numbers) first,
-    then why (the binding rule of the reference layout), so a console line cut at its
-    length limit keeps the change."""
+def _changes(spec, material, manufacturing, hardware, max_root_radius_mm) -> tuple[str, bool]:
+    """The changes that design ``spec`` with ``material``'s yield margin and duty: the
+    user's fixed layout keys left free, the nearest values of the user's own keys, a
+    stronger material or disks in series, and a declared duty's own alternatives.
+
+    Returns:
+        (text, found): the clause, and whether it names a change that designs.
+    """
     def designs(s, m=material) -> bool:
         return _designs(s, m, manufacturing, hardware, max_root_radius_mm)
 
@@ -565,7 +566,34 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     changes = describe(spec.name, nearest, materials, series, spec)
     if freed:
         changes = freed + ("; or " + changes if not changes.startswith("no change") else "")
-    changes += duty.alternatives(spec, material, designs,
-                                 deadline=time.monotonic() + REFUSAL_BUDGET_S)  # "" unless the duty binds
+    alternatives = duty.alternatives(spec, material, designs,
+                                     deadline=time.monotonic() + REFUSAL_BUDGET_S)
+    found = bool(freed or nearest or materials or series is not None) or (
+        bool(alternatives) and not alternatives.endswith(duty.NOTHING_MEETS))
+    if not found and not alternatives:  # several keys: the whole disk larger
+        big = larger_disk(spec, designs, deadline=time.monotonic() + REFUSAL_BUDGET_S)
+        if big:
+            return f"{changes}; it designs with {big}", True
+    return changes + alternatives, found
+
+
+def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
+             tried: str = "") -> DesignError:
+    """The refusal: the nearest values of the user's own keys that design (numbers) first,
+    then why (the binding rule of the reference layout), so a console line cut at its
+    length limit keeps the change.
+
+    A job without a ``[duty]`` gets springcad's default duty, which gates its release:
+    the changes named are those that meet it too when any does, else those that meet the
+    yield margin, with the default duty's shortfall said.
+    """
+    args = (manufacturing, hardware, max_root_radius_mm)
+    changes, _ = _changes(spec, material, *args)
+    sized = _replace(material, duty=_replace(material.duty, declared=True))
+    if not material.duty.declared and duty.fatigue_limited(sized, spec.max_deflection_rad):
+        for_duty, found = _changes(spec, sized, *args)
+        changes += (f"; for springcad's default duty ({duty.describe(material.duty)}) as well, "
+                    + (for_duty if found else "no change springcad probes meets it: declare "
+                       "the duty the spring will see in [duty]"))
     return DesignError(f"spring '{spec.name}' cannot be made as specified; {changes}. "
                        f"Why{tried}: {_short(text)}")
