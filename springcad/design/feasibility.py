@@ -199,6 +199,30 @@ def in_series(spec: SpringSpec, m: int) -> SpringSpec:
                     max_deflection_rad=spec.max_deflection_rad / m)
 
 
+def fewer_disks(spec: SpringSpec, copies: int,
+                designs: Callable[[SpringSpec], bool]) -> str:
+    """When a stack holds ``copies`` of a disk that cannot be made: the same stack with
+    fewer of them, each deflecting more (m of them as one: K / m over m theta, the same
+    torque and energy), for the fewest merges m dividing ``copies`` that design. A small
+    deflection per disk leaves the tip ball a short, sharp flank (radius r_c theta - r_b -
+    w_gap), which fewer disks lengthen.
+
+    Returns:
+        "'A' 3 times in stack.sequence where it is 6 times, each springs.A.target_..."
+        or "" when no merge designs.
+    """
+    for m in range(2, copies + 1):
+        if copies % m:
+            continue
+        one = in_series(spec, 1.0 / m)
+        if designs(one):
+            return (f"'{spec.name}' {copies // m} times in stack.sequence where it is {copies} "
+                    f"times, each springs.{spec.name}.target_stiffness_Nm_per_rad = "
+                    f"{one.target_stiffness_Nmm_per_rad / NMM_PER_NM:.4g}, max_deflection_deg = "
+                    f"{math.degrees(one.max_deflection_rad):.4g}")
+    return ""
+
+
 def series_change(spec: SpringSpec, designs: Callable[[SpringSpec], bool]) -> int | None:
     """The fewest disks in series (of :data:`SERIES_COUNTS`) whose each designs, or None."""
     return next((m for m in SERIES_COUNTS if designs(in_series(spec, m))), None)

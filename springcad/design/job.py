@@ -10,9 +10,11 @@ from springcad.config import Job
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty
 from springcad.design.connections import RIM, camshaft_indices, connection_sequence
+from springcad.design.feasibility import fewer_disks
 from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware
 from springcad.design.ring import common_hole_pattern
+from springcad.design.search import probe
 from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
@@ -227,6 +229,36 @@ def _share_camshafts(job: Job, springs: dict[str, SpringDesign],
     return out
 
 
+#: how a refusal of a spring starts (``springcad.design.search``)
+REFUSAL_HEAD = "cannot be made as specified; "
+
+
+def _design_or_refuse(job: Job, name: str, explain: bool, rr_max: float) -> SpringDesign:
+    """The spring ``name`` of ``job``; a refusal of a disk the stack holds several times
+    names the stack with fewer of them first (:func:`~springcad.design.feasibility.
+    fewer_disks`), each checked with the design search."""
+    spec = job.springs[name]
+    try:
+        return design_spring(spec, job.material, job.manufacturing, job.hardware,
+                             explain=explain, max_root_radius_mm=rr_max)
+    except DesignError as err:
+        copies = job.stack.sequence.count(name)
+        if not explain or copies < 2 or spec.thickness_mm is None:
+            raise
+
+        def designs(s) -> bool:
+            return probe(s, job.material, job.manufacturing, job.hardware, rr_max) is not None
+
+        fewer = fewer_disks(spec, copies, designs)
+        if not fewer:
+            raise
+        text = str(err)
+        at = text.find(REFUSAL_HEAD)
+        head, rest = (text[:at + len(REFUSAL_HEAD)], text[at + len(REFUSAL_HEAD):]) if at >= 0 \
+            else (f"spring '{name}' {REFUSAL_HEAD}", text)
+        raise DesignError(f"{head}feasible with fewer disks: {fewer}; or {rest}") from err
+
+
 def design_job(job: Job, explain: bool = True) -> JobDesign:
     """Design every spring named in the job and the stack.
 
@@ -238,9 +270,7 @@ def design_job(job: Job, explain: bool = True) -> JobDesign:
         DesignError: a spring or a hardware part cannot be made as specified.
     """
     rr_max = shared_rim_limit_mm(job)
-    springs = {name: design_spring(spec, job.material, job.manufacturing, job.hardware,
-                                   explain=explain, max_root_radius_mm=rr_max)
-               for name, spec in job.springs.items()}
+    springs = {name: _design_or_refuse(job, name, explain, rr_max) for name in job.springs}
     # the thickness springcad chose (stock plate) is the job's from here on
     job = replace(job, springs={n: replace(s, thickness_mm=springs[n].thickness_mm)
                                 for n, s in job.springs.items()})

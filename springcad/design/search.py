@@ -270,7 +270,7 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
             if not explain:
                 return d
             advice = duty.alternatives(spec, sized, lambda s, m: _designs(
-                s, m, manufacturing, hardware, max_root_radius_mm),
+                s, m, manufacturing, hardware, max_root_radius_mm, base=spec),
                 deadline=time.monotonic() + REFUSAL_BUDGET_S)
             return _replace(d, duty_advice=advice.lstrip("; "))
     return design_for_margin(spec, material, manufacturing, hardware, explain,
@@ -293,8 +293,16 @@ def probe(spec, material, manufacturing, hardware, max_root_radius_mm) -> Spring
     return d if ok and ball_ok else None
 
 
-def _designs(spec, material, manufacturing, hardware, max_root_radius_mm) -> bool:
-    """Whether :func:`probe` designs ``spec``."""
+def _designs(spec, material, manufacturing, hardware, max_root_radius_mm, base=None) -> bool:
+    """Whether :func:`probe` designs ``spec``; with ``base`` (the refused spec) a stack's
+    root radius cap (the rim holes' circle, mm) moves with the rim when ``spec`` changes
+    the outer radius: by the change of R_o minus the change of the rim it needs."""
+    if base is not None and math.isfinite(max_root_radius_mm) and \
+            spec.outer_radius_mm != base.outer_radius_mm:
+        def inner(ro: float) -> float:
+            return ro - min_rim_mm(ro, manufacturing, hardware)
+
+        max_root_radius_mm += inner(spec.outer_radius_mm) - inner(base.outer_radius_mm)
     return probe(spec, material, manufacturing, hardware, max_root_radius_mm) is not None
 
 
@@ -552,7 +560,7 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm) -> tup
         (text, found): the clause, and whether it names a change that designs.
     """
     def designs(s, m=material) -> bool:
-        return _designs(s, m, manufacturing, hardware, max_root_radius_mm)
+        return _designs(s, m, manufacturing, hardware, max_root_radius_mm, base=spec)
 
     if duty.fatigue_limited(material, spec.max_deflection_rad):
         # the duty sets the allowed peak: its own alternatives (surface, materials with
