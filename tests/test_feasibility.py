@@ -11,8 +11,9 @@ import pytest
 
 from springcad.config.load import job_from_dict
 from springcad.config.schema import keys
-from springcad.design.feasibility import (as_material, describe, in_series, material_changes,
-                                          nearest_changes, series_change)
+from springcad.design.feasibility import (as_material, describe, fewer_disks, in_series,
+                                          larger_disk, material_changes, nearest_changes,
+                                          series_change)
 from springcad.design.search import design_spring, redesign_for_contact
 from springcad.errors import DesignError
 
@@ -65,6 +66,45 @@ def test_a_past_deadline_still_gives_every_key_two_steps_and_a_value_that_design
     # two steps of the span 5 -> 12.5 mm: within 1/4 of it, on the feasible side
     assert 6.23 <= changes["thickness_mm"] <= 6.23 + 7.5 / 4
     assert 11.1 - 9.8 / 4 <= changes["max_deflection_deg"] <= 11.1
+
+
+def test_larger_disk_is_the_smallest_scale_that_designs_and_frees_fixed_layout_keys():
+    """Feasible exactly when thickness x outer radius >= 400 mm^2 (scale s: 180 s^2 at
+    5 x 36): the scale found is within 1/32 of the span (1 -> 2.5) above sqrt(400/180) =
+    1.491, both values rounded up to their steps and checked; a spec whose fixed contact
+    radius forbids every size gets the scale with that key removed; one that no size up
+    to 2.5x designs gets nothing."""
+    def designs(s):
+        return s.thickness_mm * s.outer_radius_mm >= 400.0
+
+    text = larger_disk(_spec(), designs)
+    z = float(text.split("thickness_mm = ")[1].split(" ")[0])
+    ro = float(text.split("outer_radius_mm = ")[1].split(" ")[0])
+    assert z * ro >= 400.0 and z / 5.0 <= 1.491 + 1.5 / 32 + 0.02, text
+    assert "all together" in text and "removed" not in text
+
+    def free_only(s):
+        return s.contact_radius_mm is None and designs(s)
+
+    text = larger_disk(_spec(contact_radius_mm=7.0), free_only)
+    assert "springs.A.contact_radius_mm removed (now 7 mm)" in text, text
+    assert larger_disk(_spec(), lambda s: False) == ""
+
+
+def test_fewer_disks_merges_the_fewest_that_design_and_keeps_the_torque():
+    """Six disks of 342 N*m/rad at 4 deg, feasible exactly from 10 deg per disk: two merges
+    (8 deg) do not design, three (12 deg: two disks of 114 N*m/rad) do; the torque
+    K theta is the same; a count with no divisor that designs gives nothing."""
+    spec = _spec(stiffness_Nm_per_rad=342, max_deflection_deg=4)
+
+    def designs(s):
+        return math.degrees(s.max_deflection_rad) >= 10.0 - 1e-9
+
+    text = fewer_disks(spec, 6, designs)
+    assert text.startswith("'A' 2 times in stack.sequence where it is 6 times"), text
+    assert "target_stiffness_Nm_per_rad = 114," in text and "max_deflection_deg = 12" in text
+    assert fewer_disks(spec, 2, designs) == ""  # 8 deg does not design
+    assert fewer_disks(spec, 1, designs) == ""
 
 
 def test_series_and_materials_are_named_only_when_they_design():
