@@ -50,6 +50,7 @@ from fea.contact_solver import CamCurve, SectorContact, State, hertz_line_contac
 from fea.contact_tolerance import RING_TO_RING, BallLayout, ContactMaterial, EndState, assess
 from springcad.errors import SolverError
 from springcad.parallel import single_threaded_blas
+from springcad.units import UM_PER_MM
 
 #: the small-angle stiffness is the secant T / (theta - theta_onset) this far past the onset
 #: (fraction of theta_max)
@@ -371,9 +372,9 @@ def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
             except SolverError as err:
                 why = f"no converged contact ({err})"
                 if offset > rest_clearance_mm:
-                    why = (f"the cam grown by {1000 * offset:.0f} um overlaps the ball at rest "
-                           f"by {1000 * (offset - rest_clearance_mm):.0f} um (designed clearance "
-                           f"{1000 * rest_clearance_mm:.0f} um < t_spring + t_shaft): the ball "
+                    why = (f"the cam grown by {UM_PER_MM * offset:.0f} um overlaps the ball at rest "
+                           f"by {UM_PER_MM * (offset - rest_clearance_mm):.0f} um (designed clearance "
+                           f"{UM_PER_MM * rest_clearance_mm:.0f} um < t_spring + t_shaft): the ball "
                            f"is pinched between both flanks and no contact state converges "
                            f"({err})")
                 states.append(EndState(offset, False, reason=why))
@@ -572,7 +573,7 @@ def _contact_sweep(design, material=None, run=None, options: ContactOptions = Co
                 "the clearance is below the designed gap")
         flags.append({"code": "gap", "message":
                       f"at rest {what}: smallest flexure-cam clearance "
-                      f"{1000 * rest_clearance:.1f} um against w_gap_mm = {w_gap:g} "
+                      f"{UM_PER_MM * rest_clearance:.1f} um against w_gap_mm = {w_gap:g} "
                       f"(tolerance {100 * options.gap_tolerance:g} %)"})
     notes = ["geometrically nonlinear (total Lagrangian, St Venant-Kirchhoff): the flexure's "
              "large rotation and foreshortening are in the contact kinematics" if options.nonlinear
