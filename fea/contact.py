@@ -48,6 +48,11 @@ import numpy as np
 from fea.contact_result import ContactOptions, ContactStep, ContactSweep, direction_flags
 from fea.contact_solver import CamCurve, SectorContact, State, hertz_line_contact, rot
 from fea.contact_tolerance import RING_TO_RING, BallLayout, ContactMaterial, EndState, assess
+from fea.geometry import sector_geometry
+from fea.mesh import fea_mesh_2d, mesh_face_levels
+from fea.mesh_size import DEFAULT_SIZE
+from fea.problem import LoadCase, solver_material
+from fea.results import _region, evaluate
 from springcad.errors import SolverError
 from springcad.parallel import single_threaded_blas
 from springcad.units import UM_PER_MM
@@ -188,8 +193,6 @@ def _surface_gaps(sc: SectorContact, groups: dict, st: State, part: str | None =
 def _stress(sc: SectorContact, st: State, exclusion_mm: float):
     """Peak nodal von Mises outside the held zone and the contact zone, its region, the
     largest value inside the contact zone (MPa), and the nodal field."""
-    from fea.results import _region
-
     vm = sc.von_mises(st.u)
     zone = np.zeros(vm.shape, bool)
     for p in sc.pX[st.active]:
@@ -400,11 +403,6 @@ def _mesh(design, run, level: int):
         res = run.base2d[k]
         if res.mesh is not None and res.mesh.dim == 2:
             return res.mesh, res.stiffness_Nmm_per_rad
-    from fea.geometry import sector_geometry
-    from fea.mesh import fea_mesh_2d, mesh_face_levels
-    from fea.mesh_size import DEFAULT_SIZE
-    from fea.problem import LoadCase
-
     faces = tuple(getattr(run, "faces", ()) or ()) if run is not None else ()
     g = getattr(run, "geometry", None)
     if not faces or g is None:
@@ -494,8 +492,6 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
 def _contact_sweep(design, material=None, run=None, options: ContactOptions = ContactOptions(),
                    cam=None, progress=_noop) -> ContactSweep:
     """The sweep of :func:`contact_sweep`."""
-    from fea.problem import LoadCase, solver_material
-
     t0 = time.perf_counter()
     material = material or solver_material(design.material)
     cam_profile = cam if cam is not None else _cam_of(design)
@@ -514,8 +510,6 @@ def _contact_sweep(design, material=None, run=None, options: ContactOptions = Co
                           "N*mm/rad)")
     # flexure stresses of this (coarse) mesh scaled to the verified peak: the linear FEA of
     # the same mesh at theta_max is the common reference, so its discretisation error cancels
-    from fea.results import evaluate
-
     peak_linear = evaluate(fm, sc.system, sc.u_traction, LoadCase(), theta_max, {},
                            None).peak_von_mises_MPa
     peak_verified = getattr(run, "peak_stress_MPa", None)

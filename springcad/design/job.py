@@ -11,7 +11,7 @@ from springcad.config.consistency import min_rim_mm
 from springcad.design import duty
 from springcad.design.connections import RIM, camshaft_indices, connection_sequence
 from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
-from springcad.design.plausibility import check_hardware
+from springcad.design.plausibility import check_hardware, design_warnings
 from springcad.design.ring import common_hole_pattern
 from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
@@ -42,8 +42,6 @@ class JobDesign:
     @property
     def warnings(self) -> tuple[str, ...]:
         """Plausibility warnings: the config's and the designed geometry's."""
-        from springcad.design.plausibility import design_warnings
-
         return tuple(self.job.warnings) + tuple(design_warnings(self))
 
     def notes(self) -> list[str]:

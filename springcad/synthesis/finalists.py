@@ -20,10 +20,13 @@ import math
 
 import numpy as np
 
+from fea.study import verify_options
+from fea.verify import verify_job
 from springcad.config import job_from_dict
 from springcad.design.flexure import concave_edge_radius_mm
 from springcad.design.job import design_job
 from springcad.errors import SpringcadError
+from springcad.geometry.checks import build_and_check
 from springcad.options import VERIFY
 from springcad.progress import no_progress
 from springcad.units import MM3_PER_CM3, NMM_PER_NM
@@ -210,12 +213,10 @@ def verify_candidate(req, cand: dict, model: str = "2d3d", levels: int = 3, prog
 
     Returns:
         ``(verification, corrected)``: the :class:`fea.verdict.JobVerification` (``.ok``,
-        ``.failures()``; :func:`springcad.report.tables.verification_table` prints it) and the job design with the FEA-corrected springs
-        (what ``springcad build`` makes its solids from).
+        ``.failures()``; :func:`springcad.report.tables.verification_table` prints it) and
+        the job design with the FEA-corrected springs (what ``springcad build`` makes its
+        solids from).
     """
-    from fea.study import verify_options
-    from fea.verify import verify_job
-
     jd = design_candidate(req, cand)
     opts = verify_options(model=model, levels=levels, keep_fields=False,
                           tolerance_pct=min(VERIFY.tolerance_pct, 100.0 * req.stiffness_tolerance))
@@ -234,8 +235,6 @@ def build_checks(job_design, progress=None) -> dict:
     Raises:
         GeometryError, StageError: a part cannot be made (as ``build`` would stop).
     """
-    from springcad.geometry.checks import build_and_check
-
     _, report, _ = build_and_check(job_design, progress)
     return {"ok": report.passed(), "summary": report.summary(),
             "failures": [f"{c.subject}: {c.name}: {c.message}"
