@@ -48,8 +48,14 @@ import numpy as np
 from fea.contact_result import ContactOptions, ContactStep, ContactSweep, direction_flags
 from fea.contact_solver import CamCurve, SectorContact, State, hertz_line_contact, rot
 from fea.contact_tolerance import RING_TO_RING, BallLayout, ContactMaterial, EndState, assess
+from fea.geometry import sector_geometry
+from fea.mesh import fea_mesh_2d, mesh_face_levels
+from fea.mesh_size import DEFAULT_SIZE
+from fea.problem import LoadCase, solver_material
+from fea.results import _region, evaluate
 from springcad.errors import SolverError
 from springcad.parallel import single_threaded_blas
+from springcad.units import UM_PER_MM
 
 #: the small-angle stiffness is the secant T / (theta - theta_onset) this far past the onset
 #: (fraction of theta_max)
@@ -187,8 +193,6 @@ def _surface_gaps(sc: SectorContact, groups: dict, st: State, part: str | None =
 def _stress(sc: SectorContact, st: State, exclusion_mm: float):
     """Peak nodal von Mises outside the held zone and the contact zone, its region, the
     largest value inside the contact zone (MPa), and the nodal field."""
-    from fea.results import _region
-
     vm = sc.von_mises(st.u)
     zone = np.zeros(vm.shape, bool)
     for p in sc.pX[st.active]:
@@ -371,9 +375,9 @@ def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
             except SolverError as err:
                 why = f"no converged contact ({err})"
                 if offset > rest_clearance_mm:
-                    why = (f"the cam grown by {1000 * offset:.0f} um overlaps the ball at rest "
-                           f"by {1000 * (offset - rest_clearance_mm):.0f} um (designed clearance "
-                           f"{1000 * rest_clearance_mm:.0f} um < t_spring + t_shaft): the ball "
+                    why = (f"the cam grown by {UM_PER_MM * offset:.0f} um overlaps the ball at rest "
+                           f"by {UM_PER_MM * (offset - rest_clearance_mm):.0f} um (designed clearance "
+                           f"{UM_PER_MM * rest_clearance_mm:.0f} um < t_spring + t_shaft): the ball "
                            f"is pinched between both flanks and no contact state converges "
                            f"({err})")
                 states.append(EndState(offset, False, reason=why))
@@ -399,11 +403,6 @@ def _mesh(design, run, level: int):
         res = run.base2d[k]
         if res.mesh is not None and res.mesh.dim == 2:
             return res.mesh, res.stiffness_Nmm_per_rad
-    from fea.geometry import sector_geometry
-    from fea.mesh import fea_mesh_2d, mesh_face_levels
-    from fea.mesh_size import DEFAULT_SIZE
-    from fea.problem import LoadCase
-
     faces = tuple(getattr(run, "faces", ()) or ()) if run is not None else ()
     g = getattr(run, "geometry", None)
     if not faces or g is None:
@@ -493,8 +492,6 @@ def contact_sweep(design, material=None, run=None, options: ContactOptions = Con
 def _contact_sweep(design, material=None, run=None, options: ContactOptions = ContactOptions(),
                    cam=None, progress=_noop) -> ContactSweep:
     """The sweep of :func:`contact_sweep`."""
-    from fea.problem import LoadCase, solver_material
-
     t0 = time.perf_counter()
     material = material or solver_material(design.material)
     cam_profile = cam if cam is not None else _cam_of(design)
@@ -513,8 +510,6 @@ def _contact_sweep(design, material=None, run=None, options: ContactOptions = Co
                           "N*mm/rad)")
     # flexure stresses of this (coarse) mesh scaled to the verified peak: the linear FEA of
     # the same mesh at theta_max is the common reference, so its discretisation error cancels
-    from fea.results import evaluate
-
     peak_linear = evaluate(fm, sc.system, sc.u_traction, LoadCase(), theta_max, {},
                            None).peak_von_mises_MPa
     peak_verified = getattr(run, "peak_stress_MPa", None)
@@ -572,7 +567,7 @@ def _contact_sweep(design, material=None, run=None, options: ContactOptions = Co
                 "the clearance is below the designed gap")
         flags.append({"code": "gap", "message":
                       f"at rest {what}: smallest flexure-cam clearance "
-                      f"{1000 * rest_clearance:.1f} um against w_gap_mm = {w_gap:g} "
+                      f"{UM_PER_MM * rest_clearance:.1f} um against w_gap_mm = {w_gap:g} "
                       f"(tolerance {100 * options.gap_tolerance:g} %)"})
     notes = ["geometrically nonlinear (total Lagrangian, St Venant-Kirchhoff): the flexure's "
              "large rotation and foreshortening are in the contact kinematics" if options.nonlinear

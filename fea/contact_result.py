@@ -46,6 +46,7 @@ import math
 from dataclasses import dataclass, field
 
 from springcad.errors import SolverError
+from springcad.units import NMM_PER_NM, UM_PER_MM
 
 #: a gap to a surface other than the driving flank at or below this counts as closed (mm)
 CLOSED_GAP_MM = 1e-4
@@ -117,9 +118,9 @@ class ContactStep:
     equilibrium_error: float
 
     def to_dict(self) -> dict:
-        nm = lambda v: None if v is None else v / 1000.0
+        nm = lambda v: None if v is None else v / NMM_PER_NM
         return {"angle_rad": self.angle_rad, "angle_deg": math.degrees(self.angle_rad),
-                "torque_Nm": self.torque_Nmm / 1000.0,
+                "torque_Nm": self.torque_Nmm / NMM_PER_NM,
                 "secant_stiffness_Nm_per_rad": nm(self.secant_Nmm_per_rad),
                 "engaged_secant_stiffness_Nm_per_rad": nm(self.engaged_secant_Nmm_per_rad),
                 "tangent_stiffness_Nm_per_rad": nm(self.tangent_Nmm_per_rad),
@@ -188,11 +189,11 @@ class ContactSweep:
             "level": self.level, "dofs": self.dofs, "candidate_nodes": self.candidates,
             "steps_per_direction": o.steps,
             "max_deflection_rad": self.max_deflection_rad,
-            "stiffness_linear_fea_Nm_per_rad": self.stiffness_linear_Nmm_per_rad / 1000.0,
+            "stiffness_linear_fea_Nm_per_rad": self.stiffness_linear_Nmm_per_rad / NMM_PER_NM,
             "stiffness_linear_fea_note": "2D linear FEA (traction patch) on the same mesh",
             "stiffness_verified_Nm_per_rad": None if self.stiffness_verified_Nmm_per_rad is None
-            else self.stiffness_verified_Nmm_per_rad / 1000.0,
-            "small_angle_stiffness_Nm_per_rad": {k: v / 1000.0 for k, v in
+            else self.stiffness_verified_Nmm_per_rad / NMM_PER_NM,
+            "small_angle_stiffness_Nm_per_rad": {k: v / NMM_PER_NM for k, v in
                                                  self.small_angle_Nmm_per_rad.items()},
             "small_angle_vs_linear_pct": {k: 100.0 * self.small_angle_error(k)
                                           for k in self.small_angle_Nmm_per_rad},
@@ -226,8 +227,9 @@ def direction_flags(key, steps, th_on, k_small, k_lin, options, theta_max, stuck
     flags = []
     if k_small is not None and abs(k_small / k_lin - 1) > options.small_angle_tolerance:
         flags.append({"code": "small_angle", "message":
-                      f"{key}: stiffness just after contact onset {k_small / 1000:.3f} N*m/rad "
-                      f"differs from the linear FEA {k_lin / 1000:.3f} by "
+                      f"{key}: stiffness just after contact onset "
+                      f"{k_small / NMM_PER_NM:.3f} N*m/rad "
+                      f"differs from the linear FEA {k_lin / NMM_PER_NM:.3f} by "
                       f"{100 * (k_small / k_lin - 1):+.2f} % (tolerance "
                       f"{100 * options.small_angle_tolerance:g} %)"})
     off, second, nonlin = [], [], []
@@ -255,13 +257,13 @@ def direction_flags(key, steps, th_on, k_small, k_lin, options, theta_max, stuck
             if name == "driving_flank" or (on_tip and name == "driving_tooth_tip"):
                 continue
             if gap <= CLOSED_GAP_MM:
-                second.append(f"{a}: {name.replace('_', ' ')} gap {1000 * gap:.2f} um")
+                second.append(f"{a}: {name.replace('_', ' ')} gap {UM_PER_MM * gap:.2f} um")
         if abs(s.angle_rad - th_on) > 0.99 * step:  # one step past the onset
             for what, k, tol in (("tangent", s.tangent_Nmm_per_rad, options.tangent_tolerance),
                                  ("engaged secant", s.engaged_secant_Nmm_per_rad,
                                   options.linearity_tolerance)):
                 if k is not None and abs(k / k_lin - 1) > tol:
-                    nonlin.append(f"{a}: {what} {k / 1000:.2f} N*m/rad "
+                    nonlin.append(f"{a}: {what} {k / NMM_PER_NM:.2f} N*m/rad "
                                   f"({100 * (k / k_lin - 1):+.1f} %)")
     more = lambda lst: "; ".join(lst[:4]) + (" ..." if len(lst) > 4 else "")
     off += [f"{deg(j):+.2f} deg: the ball snaps to a new position (no continuous "
@@ -276,7 +278,8 @@ def direction_flags(key, steps, th_on, k_small, k_lin, options, theta_max, stuck
                       "message": f"{key}: second contact: {more(second)}"})
     if nonlin:
         flags.append({"code": "nonlinear", "message":
-                      f"{key}: stiffness departs from the linear FEA {k_lin / 1000:.2f} N*m/rad "
+                      f"{key}: stiffness departs from the linear FEA "
+                      f"{k_lin / NMM_PER_NM:.2f} N*m/rad "
                       f"by more than {100 * options.linearity_tolerance:g} % (secant from the "
                       f"onset) or {100 * options.tangent_tolerance:g} % (tangent): "
                       f"{more(nonlin)}"})

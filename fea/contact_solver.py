@@ -23,6 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fea.nonlinear import internal_force, nodal_von_mises_green
+from fea.problem import LoadCase, assemble
+from fea.results import nodal_von_mises
 from springcad.design.contact_stress import line_contact
 from springcad.errors import SolverError
 
@@ -307,8 +310,6 @@ class SectorContact:
     def __init__(self, fm, material, cam: CamCurve, reach_mm: float, nonlinear: bool = True):
         from scipy.spatial import cKDTree
 
-        from fea.problem import LoadCase, assemble
-
         self.fm, self.cam, self.nonlinear = fm, cam, nonlinear
         self.system = system = assemble(fm, material, LoadCase())
         self.basis = basis = system.basis
@@ -409,8 +410,6 @@ class SectorContact:
         A = self.system.A
         if not self.nonlinear:
             return (A @ u)[self.free], self._lu_linear
-        from fea.nonlinear import internal_force
-
         s = self.system
         stale = self._lu is None or float(np.max(np.abs(u - self._u_lu))) > REFACTOR_MM
         f, K = internal_force(self.basis, u, s.lam, s.mu, s.thickness_mm,
@@ -425,19 +424,13 @@ class SectorContact:
         """Internal force on every DOF (N): the reactions at the held DOFs."""
         if not self.nonlinear:
             return self.system.A @ u
-        from fea.nonlinear import internal_force
-
         s = self.system
         return internal_force(self.basis, u, s.lam, s.mu, s.thickness_mm, tangent=False)[0]
 
     def von_mises(self, u: np.ndarray) -> np.ndarray:
         """Nodal von Mises stress (MPa): of the Green-Lagrange strain when nonlinear."""
         if self.nonlinear:
-            from fea.nonlinear import nodal_von_mises_green
-
             return nodal_von_mises_green(self.system, u)
-        from fea.results import nodal_von_mises
-
         return nodal_von_mises(self.system, u)[0]
 
     # ------------------------------------------------------------ contact

@@ -56,6 +56,7 @@ import numpy as np
 
 from springcad.design.contact_stress import ContactMargin, ball_advice, min_tip_radius_for_contact_mm
 from springcad.design.tolerance import deviations
+from springcad.units import UM_PER_MM
 
 #: ring-to-ring gaps (the others are ring to cam)
 RING_TO_RING = ("neighbour_flexure",)
@@ -220,9 +221,9 @@ class ContactAtMax:
                 else:
                     fix = "the nominal geometry itself touches: more clearance in the design"
                 out.append(
-                    f"{at}: clearance {what} {1000 * g.nominal_mm:.1f} um nominal, "
-                    f"{1000 * g.worst_case_mm:.1f} um worst case with the profile tolerances "
-                    f"(stack {1000 * g.stack_mm:.0f} um, contact offsets +-{1000 * tol:.0f} "
+                    f"{at}: clearance {what} {UM_PER_MM * g.nominal_mm:.1f} um nominal, "
+                    f"{UM_PER_MM * g.worst_case_mm:.1f} um worst case with the profile tolerances "
+                    f"(stack {UM_PER_MM * g.stack_mm:.0f} um, contact offsets +-{UM_PER_MM * tol:.0f} "
                     f"um), closed in {100 * g.mc_closed_fraction:.2g} % of Monte Carlo "
                     f"parts: {fix}")
         return out
@@ -386,7 +387,7 @@ def assess(name: str, ends: dict, r_tip_mm: float, thickness_mm: float,
             checks[key] = EndCheck(key, angle, {}, None, [], [nominal.reason])
             continue
         used = [s for s in states if s.converged]
-        notes += [f"offset {1000 * s.offset_mm:+.0f} um: {s.reason}; the worst case uses the "
+        notes += [f"offset {UM_PER_MM * s.offset_mm:+.0f} um: {s.reason}; the worst case uses the "
                   "other offsets" for s in states if not s.converged]
         used.sort(key=lambda s: s.offset_mm)
         offsets = tuple(s.offset_mm for s in used)

@@ -210,25 +210,6 @@ class SpringVerification:
         at_max = getattr(self.contact, "at_max", None)
         return at_max.failures() if at_max is not None else []
 
-    def contact_summary(self) -> str | None:
-        """One line: the ball's contact von Mises and the smallest worst-case clearance."""
-        at_max = getattr(self.contact, "at_max", None)
-        if at_max is None:
-            return None
-        ends = [e for e in at_max.ends.values() if e.clearances]
-        worst = min((c for e in ends for c in e.clearances), key=lambda c: c.worst_case_mm,
-                    default=None)
-        vm = at_max.contact_von_mises_MPa
-        text = (f"contact {self.name} at +-theta_max: tip ball von Mises {vm:.0f} MPa (yield "
-                f"margin {self.yield_strength_MPa / vm:.3f}, required "
-                f"{self.required_safety_factor:.3g})")
-        if worst is not None:
-            text += (f"; smallest worst-case clearance {1000 * worst.worst_case_mm:.1f} um "
-                     f"({worst.name.replace('/', ' to ').replace('_', ' ')}, nominal "
-                     f"{1000 * worst.nominal_mm:.1f} um, tolerances t_spring + t_shaft "
-                     f"{1000 * (at_max.t_spring_mm + at_max.t_shaft_mm):.0f} um)")
-        return text
-
     def to_dict(self) -> dict:
         run, d = self.run, self.design
         st = run.study
@@ -484,41 +465,3 @@ class JobVerification:
                 "contact_fatigue": self.contact_fatigue_notes(),
                 "notes": self.notes(), "timings_s": dict(self.timings_s)}
 
-    def summary(self) -> str:
-        rows = [("spring", "K_fea", "K_beam", "target", "err %", "disc %", "sigma MPa", "design",
-                 "where", "margin", "req", "duty", "iters", "ok alone")]
-        for n, v in self.springs.items():
-            r = v.run.peak_result
-            dc = v.duty_check
-            fat_txt = "-" if dc is None else f"D {dc.miner_sum:.2g} n {dc.safety_factor:.2f}"
-            rows.append((n, f"{v.stiffness_fea_Nmm_per_rad / NMM_PER_NM:.2f}",
-                         f"{v.design.stiffness_beam_Nmm_per_rad / NMM_PER_NM:.2f}",
-                         f"{v.stiffness_target_Nmm_per_rad / NMM_PER_NM:.2f}",
-                         f"{100 * v.error_vs_target:+.2f}", f"{100 * v.run.stiffness_error:.3f}",
-                         f"{v.peak_von_mises_MPa:.0f}", f"{v.design.predicted_peak_stress_MPa:.0f}",
-                         r.peak_region, f"{v.yield_margin:.3f}", f"{v.required_safety_factor:.2f}",
-                         fat_txt, str(len(v.iterations) - 1), "yes" if v.ok else "NO"))
-        widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
-        lines = ["  ".join(c.rjust(w) for c, w in zip(r, widths)) for r in rows]
-        st = self.stack
-        lines.append(f"stack {' + '.join(st.sequence)}: K_fea "
-                     f"{st.stiffness_Nmm_per_rad / NMM_PER_NM:.2f} N*m/rad (target "
-                     f"{st.target_Nmm_per_rad / NMM_PER_NM:.2f}), limit "
-                     f"{st.max_deflection_rad:.3f} rad at "
-                     f"{st.torque_at_limit_Nmm / NMM_PER_NM:.2f} N*m")
-        lines.append("sigma: FEA peak von Mises at the max deflection; design: the design's "
-                     "prediction for the same geometry; duty: Miner sum D and fatigue safety "
-                     "factor n of the duty at the critical point of the FEA field")
-        lines += [f"duty: {r}" for r in self.ratings()]
-        lines += [f"contact fatigue: {r}" for r in self.contact_fatigue_notes()]
-        lines += [f"FAIL: {f}" for f in self.failures()]
-        lines += [f"note: {n}" for n in self.notes()]
-        lines += [f"contact {n}: {f['message']}" for n, v in self.springs.items()
-                  if v.contact is not None for f in v.contact.flags]
-        lines += [t for t in (v.contact_summary() for v in self.springs.values()) if t]
-        stops = self.release_failures()
-        if stops:
-            lines.append(f"contact at full deflection: {len(stops)} finding"
-                         f"{'s' if len(stops) != 1 else ''} stop a release (the release gate "
-                         "lists them; fea.json release_failures)")
-        return "\n".join(lines)

@@ -180,7 +180,8 @@ EXPLORE = ExploreDefaults()
 #: flags whose name is not the parameter's with dashes
 _FLAG_NAMES = {"target_stiffness_Nm_per_rad": "--target-stiffness",
                "stiffness_Nm_per_rad": "--stiffness", "design": "--config",
-               "data_dir": "--data", "templates_dir": "--templates", "verify": "--no-verify"}
+               "data_dir": "--data", "templates_dir": "--templates", "verify": "--no-verify",
+               "render": "--no-render"}
 _SPELLING = contextvars.ContextVar("springcad_option_spelling", default=None)
 
 
@@ -222,8 +223,28 @@ def spell(name: str, value=None) -> str:
     """
     if _SPELLING.get() == "parameter":
         return name if value is None else f"{name}={value!r}"
+    return _flag(name, value)
+
+
+def _flag(name: str, value=None) -> str:
+    """The command line's spelling of option ``name`` set to ``value``: a switch whose flag
+    turns it off (``--no-verify``) is its bare flag for ``False``."""
     flag = _FLAG_NAMES.get(name, "--" + name.replace("_", "-"))
-    return flag if value is None or value is True else f"{flag} {value}"
+    if flag.startswith("--no-") and isinstance(value, bool):
+        return flag if value is False else f"without {flag}"
+    if value is None or value is True:
+        return flag
+    return f"{flag} {value}"
+
+
+def written(name: str, value) -> str:
+    """An option as a written document (build.json, report.html, a drawing) names it:
+    the parameter, then the flag, ``verify=False / --no-verify``.
+
+    A document is read by users of either door, and the API and the CLI write the same
+    document for the same job, so it does not depend on the caller's spelling.
+    """
+    return f"{name}={value!r} / {_flag(name, value)}"
 
 
 # ----------------------------------------------------------------------------- checks

@@ -17,6 +17,10 @@ M_PER_MM = 1e-3
 """A length unit of 1 mm in metres (CAD files declare their unit in metres)."""
 UM_PER_MM = 1000.0
 """Micrometres in one mm (tolerances, gaps and deviations are written in um)."""
+BYTES_PER_KB = 1000
+"""Bytes in one kB (file size limits in messages)."""
+BYTES_PER_MB = 1_000_000
+"""Bytes in one MB."""
 RAD_PER_DEG = math.pi / 180.0
 DEG_PER_RAD = 180.0 / math.pi
 

@@ -130,10 +130,19 @@ class _FailedVerification:
         raise VerificationFailed("FEA verification failed: S1 stiffness 5 % off target")
 
 
+def _fake_table(monkeypatch):
+    """The console table of the fake verification is its own summary (the report layer
+    renders the real ones)."""
+    from springcad.report import tables
+
+    monkeypatch.setattr(tables, "verification_table", lambda v: v.summary())
+
+
 def test_failed_verification_is_exit_1_from_build(tmp_path, capsys, monkeypatch):
     import fea.verify
 
     monkeypatch.setattr(fea.verify, "verify_job", lambda *a, **k: _FailedVerification())
+    _fake_table(monkeypatch)
     out = tmp_path / "o"
     assert main(["build", str(template("paper_S1")), "--out", str(out), "--no-render"]) == \
         EXIT_CHECK_FAILED
@@ -149,6 +158,7 @@ def test_failed_verification_is_exit_1_from_verify_and_the_report_is_written(tmp
     import springcad.api.pipeline as pipeline  # the CLI writes through sc.export_verification
 
     monkeypatch.setattr(fea.verify, "verify_job", lambda *a, **k: _FailedVerification())
+    _fake_table(monkeypatch)
     written = []
 
     def write_outputs(result, folder, **k):

@@ -319,3 +319,72 @@ def test_every_result_document_is_stamped_by_the_one_writer():
                      if literal.search(p.read_text()))
     # the writer, and the sweep's resume manifest (not a result document)
     assert writers == ["synthesis/store.py", "version.py"]
+
+
+# ----------------------------------------------------------------------------- leftovers of issue 23
+def test_results_hold_data_and_report_renders_their_tables():
+    """The terminal tables are made in report/ (as the notebook views are): the internal
+    results have no text renderer, and the API results hand over to report.tables."""
+    from fea.verdict import JobVerification, SpringVerification
+    from springcad.design.job import JobDesign
+    from springcad.report import tables
+
+    assert not any(hasattr(cls, name) for cls in (JobDesign, JobVerification, SpringVerification)
+                   for name in ("summary", "contact_summary"))
+    d = sc.design_job(template("paper_S1_2xS2"))
+    text = d.summary()
+    assert text == tables.design_table(d.raw)
+    # the table's numbers are the design's (a second reader: design.json)
+    doc = as_json(d.to_dict())
+    for name, s in doc["springs"].items():
+        row = next(r for r in text.splitlines() if r.split()[:1] == [name])
+        assert row.split()[1] == f"{s['stiffness_Nm_per_rad']:.2f}"
+    assert f"K = {doc['stack']['stiffness_Nm_per_rad']:.2f} N*m/rad" in text
+
+
+def test_documents_name_a_skipped_verification_the_same_from_both_doors():
+    """A skipped FEA is written as the parameter and the flag, whichever door built it, so
+    build.json is the same through the API and the CLI; messages still follow the door."""
+    from springcad.export.release import release_status
+    from springcad.options import spell, spelled
+
+    d = sc.design_job(template("paper_S1")).raw
+    with spelled("parameter"):
+        from_api = release_status(d, None, verify_skipped=True).reasons[0]
+        assert spell("verify", False) == "verify=False"
+    with spelled("flag"):
+        from_cli = release_status(d, None, verify_skipped=True).reasons[0]
+        assert spell("verify", False) == "--no-verify"
+    assert from_api == from_cli
+    assert "verify=False" in from_api and "--no-verify" in from_api
+
+
+def test_sweep_columns_name_the_target_stiffness_and_carry_units(tmp_path):
+    """The sweep's Parquet says which stiffness it holds: the target of the requirement
+    (target_stiffness_Nm_per_rad, as the job configs name it), while the finalists'
+    stiffness_Nm_per_rad in synthesis.json is the designed stack's."""
+    import pyarrow.parquet as pq
+
+    from tests.synthesis.synth_fixtures import SMALL, requirements_toml, small
+
+    req = tmp_path / "req.toml"
+    req.write_text(requirements_toml(small()))
+    result = sc.synthesize(req, tmp_path / "run", workers=1, batch_size=300, verify=False,
+                           finalists=2)
+    cols = pq.read_table(sorted((tmp_path / "run" / "parts").glob("*.parquet"))[0]).to_pydict()
+    target = SMALL["requirement"]["stiffness_Nm_per_rad"]
+    assert "stiffness_Nm_per_rad" not in cols
+    assert cols["target_stiffness_Nm_per_rad"] == pytest.approx(
+        [target] * len(cols["cid"]), rel=1e-12)
+    physical = ("radius", "thickness", "stress", "torque", "mass", "length", "energy",
+                "deflection", "backlash")
+    unitless = {"stress_derating_a", "stress_derating_b", "stiffness_built_error"}
+    for name in cols:
+        if any(p in name for p in physical) and name not in unitless:
+            assert name.rsplit("_", 1)[-1] in {"mm", "MPa", "Nm", "kg", "J", "rad", "cm3"} \
+                or name.endswith(("_per_rad", "_per_cm3", "_per_kg")), name
+    doc = json.loads((tmp_path / "run" / "synthesis.json").read_text())
+    assert all("target_stiffness_Nm_per_rad" in r for r in doc["top_screened"])
+    done = [f for f in result.finalists if f["ok"]]
+    assert done and all(f["stiffness_Nm_per_rad"] == pytest.approx(target, rel=0.05)
+                        for f in done)

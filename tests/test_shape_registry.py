@@ -159,3 +159,37 @@ def test_config_knows_the_builtin_shapes_before_any_design_module():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          env={"PYTHONPATH": str(root), "PATH": "/usr/bin:/bin"})
     assert out.stdout.split() == ["serpentine", "False"]
+
+
+@pytest.mark.slow
+def test_tapered_spring_goes_through_every_stage_of_the_api(tapered):
+    """The registered toy shape, and nothing else, carries a job through the public API:
+    design (design.json names it), the FEA verification of the uncorrected design (2D
+    plane stress against the design's beam theory, i.e. the tapered cantilever) and the
+    CAD build with its checks."""
+    import springcad as sc
+    from springcad.export.skeleton import part_volume_mm3
+
+    doc = {"material": {"design_stress_MPa": 912}, "springs": {"A": {
+        "target_stiffness_Nm_per_rad": 150, "max_deflection_deg": 6, "outer_radius_mm": 33.5,
+        "thickness_mm": 4.5, "contact_radius_mm": 5.5, "tip_radius_mm": 0.5, "n_flexures": 16,
+        "flexure": "tapered_toy"}}}
+    d = sc.design_job(doc)
+    entry = d.to_dict()["springs"]["A"]
+    assert entry["flexure"] == "tapered_toy" and entry["flexure_params"] == {"tip_width_ratio": TAU}
+    assert "tapered_toy" in d.summary()
+    v = sc.verify(d, model="2d", levels=3, contact=False, correct=False)
+    row = v.spring_table()[0]
+    # 2D FEA of the tapered ring against beam theory (measured +1.6 %: the rim and the
+    # root and tip ends, which beam theory leaves out); converged to < 0.01 %
+    assert row["discretisation_error_pct"] < 0.01
+    assert row["stiffness_fea_Nm_per_rad"] == pytest.approx(row["stiffness_beam_Nm_per_rad"],
+                                                            rel=0.03)
+    assert v.design.springs["A"].raw.flexure == "tapered_toy"
+    built = sc.build(d, accept_violations=True)
+    assert built.checks.passed(accept_violations=True), built.checks.summary()
+    assert "0 geometry errors" in built.checks.summary()
+    # the CAD ring is the design's tapered profile extruded: volume = area x thickness
+    ring = next(p for p in built.assembly.parts.values() if p.info.kind == "flexure_ring")
+    s = d.springs["A"].raw
+    assert part_volume_mm3(ring) == pytest.approx(s.ring.area_mm2() * s.thickness_mm, rel=1e-6)

@@ -25,7 +25,7 @@ from springcad.api.results import Design, Verification
 from springcad.cache import MISSING, open_cache
 from springcad.config import read_toml
 from springcad.errors import ConfigError
-from springcad.options import REVISION, api_door, check_revision
+from springcad.options import REVISION, api_door, check_revision, written
 from springcad.parallel import Pending, beside, enabled
 from springcad.progress import Tracker
 from springcad.report import notebook
@@ -138,7 +138,7 @@ class Build:
                               "springs": {r["spring"]: {
                                   "stiffness_fea_Nm_per_rad": r["stiffness_fea_Nm_per_rad"],
                                   "yield_margin": r["yield_margin"]} for r in ver.spring_table()}}
-                             if ver is not None else "skipped (--no-verify)"),
+                             if ver is not None else f"skipped ({written('verify', False)})"),
             "options": {"accept_violations": self.accept_violations, "verify": ver is not None,
                         **self.options},
             "timings_s": self.timings_s,

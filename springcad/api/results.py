@@ -4,13 +4,14 @@ Each wraps an internal design/analysis type (which works in N*mm and mm) and
 exposes the field's units in its names: stiffness in N*m/rad, angles in rad,
 stresses in MPa, masses in kg, lengths in mm. ``repr`` is one short line;
 ``_repr_html_`` (and ``_repr_svg_`` where a drawing says more), what Jupyter shows,
-hands over to :mod:`springcad.report.notebook`: the results hold data, not HTML.
+hands over to :mod:`springcad.report.notebook`, and ``summary()``, the terminal's table,
+to :mod:`springcad.report.tables`: the results hold data, not HTML or text tables.
 """
 
 from __future__ import annotations
 
 from springcad.options import api_door, check_choice, refuse
-from springcad.report import notebook
+from springcad.report import notebook, tables
 from springcad.units import NMM_PER_NM as _NMM_PER_NM
 
 __all__ = ["Design", "Fit", "Spring", "Stack", "Verification"]
@@ -133,6 +134,11 @@ class Design:
         """The ``design.json`` document."""
         return self.raw.to_dict()
 
+    def summary(self) -> str:
+        """A short plain-text table: the springs, the stack, the duty and the notes
+        (what ``springcad design`` prints; :func:`springcad.report.tables.design_table`)."""
+        return tables.design_table(self.raw)
+
     def __repr__(self) -> str:
         return (f"Design({self.job.name!r}: {len(self.springs)} spring(s) "
                 f"{', '.join(self.springs)}; {self.stack!r})")
@@ -227,6 +233,12 @@ class Verification:
     def to_dict(self) -> dict:
         """The ``fea.json`` document."""
         return self.raw.to_dict()
+
+    def summary(self) -> str:
+        """A short plain-text table: per spring FEA vs beam stiffness, stresses and margins,
+        the stack, ratings, failures and contact findings (what ``springcad verify``
+        prints; :func:`springcad.report.tables.verification_table`)."""
+        return tables.verification_table(self.raw)
 
     def __repr__(self) -> str:
         parts = ", ".join(f"{r['spring']}: K_fea {r['stiffness_fea_Nm_per_rad']:.4g} N*m/rad "

@@ -18,6 +18,7 @@ from pathlib import Path
 from springcad.options import EXPLORE, SYNTHESIS, api_door, check_choice, check_number, refuse
 from springcad.progress import Tracker, no_progress
 from springcad.report.jsonio import write_json
+from springcad.report.tables import verification_table
 from springcad.stages import stage
 from springcad.version import stamp
 
@@ -117,7 +118,8 @@ def synthesize(requirements, out=None, *, scheduler: str | None = None,
     with dask_client(scheduler, workers) as client:
         result = _synthesize(req, space, store, client, finalists=finalists,
                              max_finalists=max_finalists, verify_top=verify_top, verify=verify,
-                             fea_model=fea_model, progress=progress)
+                             fea_model=fea_model, progress=progress,
+                             describe=verification_table)
     write_json(out / "synthesis.json", result.to_dict())
     if result.winner is not None:
         (out / "winner.toml").write_text(result.winner_toml())

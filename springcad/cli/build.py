@@ -95,7 +95,7 @@ def run(args) -> int:
     else:
         verification = sc.verify(design, keep_fields=not args.no_render, progress=say,
                                  cache=cache)
-        say(verification.raw.summary().replace("\n", "\n  "))
+        say(verification.summary().replace("\n", "\n  "))
         if not verification.ok:
             verification.raise_for_failures()
         trim_heap()  # the FEA's freed factorisations: ~200 MB less for the CAD steps

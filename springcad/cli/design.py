@@ -28,6 +28,6 @@ def run(args) -> int:
     warn("design", design.warnings)
     with atomic_output_dir(out, overwrite=args.overwrite, inputs=[args.config]) as tmp:
         write_json(tmp / "design.json", design.to_dict())
-    print(design.raw.summary())
+    print(design.summary())
     print(f"\nwrote {out / 'design.json'}")
     return 0

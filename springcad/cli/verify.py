@@ -69,7 +69,7 @@ def run(args) -> int:
                        keep_fields=not args.no_render, progress=progress, cache=cache_of(args))
     sc.export_verification(result, out, overwrite=args.overwrite, render=not args.no_render,
                            progress=progress, cache=cache_of(args))
-    print(result.raw.summary())
+    print(result.summary())
     for finding in result.raw.release_failures():  # not a verification failure: build's gate
         print(f"  contact: {finding}")
     print(f"\nwrote {out / 'fea.json'}")

@@ -22,7 +22,7 @@ from springcad.connections import output_connection
 from springcad.errors import ConfigError, ConfigFileError
 from springcad.materials import DEFAULT_MATERIAL, Material, material_table
 from springcad.textio import decode_utf8
-from springcad.units import MPA_PER_GPA, NMM_PER_NM, RAD_PER_DEG
+from springcad.units import BYTES_PER_KB, BYTES_PER_MB, MPA_PER_GPA, NMM_PER_NM, RAD_PER_DEG
 
 #: a job config is a few hundred bytes; refuse anything absurdly large before parsing
 MAX_CONFIG_BYTES = 1_000_000
@@ -46,7 +46,7 @@ def read_toml(path: Path | str) -> dict:
     except OSError as err:
         raise ConfigFileError(path, f"cannot be read: {err.strerror or err}") from None
     if len(raw) > MAX_CONFIG_BYTES:
-        raise ConfigFileError(path, f"is larger than {MAX_CONFIG_BYTES // 1000} kB; a job "
+        raise ConfigFileError(path, f"is larger than {MAX_CONFIG_BYTES // BYTES_PER_KB} kB; a job "
                                     "config is a few hundred bytes")
     text, problem = decode_utf8(raw)
     if text is None:
@@ -254,7 +254,7 @@ def _series(path: Path, unit: str, springs: dict[str, SpringSpec]) -> tuple[floa
     except OSError as err:
         raise ConfigError(full, str(path), f"cannot be read: {err.strerror or err}") from None
     if len(raw) > MAX_SERIES_BYTES:
-        raise ConfigError(full, str(path), f"is larger than {MAX_SERIES_BYTES // 1_000_000} MB")
+        raise ConfigError(full, str(path), f"is larger than {MAX_SERIES_BYTES // BYTES_PER_MB} MB")
     text, problem = decode_utf8(raw)
     if text is None:
         raise ConfigError(full, str(path), problem)

@@ -25,6 +25,7 @@ import numpy as np
 
 from springcad.design.curves import Arc, Feature, Line, Loop, Profile, Spline, named
 from springcad.errors import DesignError
+from springcad.units import UM_PER_MM
 
 OVERTRAVELS = (1.25, 1.2, 1.15, 1.1, 1.05, 1.0)
 #: longer flanks tried when the tooth tip would pass the ball closer than the tolerances allow
@@ -226,10 +227,10 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
         warnings = (f"{OVERTRAVEL_REDUCED} to {f:g} x max deflection to fit the tooth",)
     tip_gap = tip_clearance_mm(rc, rb, g, theta, f)
     if f not in clearing:
-        warnings += (f"{TIP_CLEARANCE_SHORT}: {tip_gap * 1e3:.0f} um at full deflection "
+        warnings += (f"{TIP_CLEARANCE_SHORT}: {UM_PER_MM * tip_gap:.0f} um at full deflection "
                      f"(estimate), below {TIP_CLEARANCE_FACTOR:g} x the profile tolerances "
-                     f"t_spring_mm + t_shaft_mm = {need * 1e3:.0f} um: the toleranced parts can "
-                     "touch there; fewer flexures or a larger contact radius give a longer "
+                     f"t_spring_mm + t_shaft_mm = {UM_PER_MM * need:.0f} um: the toleranced parts "
+                     "can touch there; fewer flexures or a larger contact radius give a longer "
                      "flank, or tighten the tolerances",)
     info = CamInfo(tip.radius, root, f, tip_w, clearance, warnings, tip_gap)
     corner = d.manufacturing.min_inside_radius_mm

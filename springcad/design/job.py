@@ -12,14 +12,13 @@ from springcad.design import duty
 from springcad.design.connections import RIM, camshaft_indices, connection_sequence
 from springcad.design.feasibility import fewer_disks
 from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
-from springcad.design.plausibility import check_hardware
+from springcad.design.plausibility import check_hardware, design_warnings
 from springcad.design.ring import common_hole_pattern
 from springcad.design.search import probe
 from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
 from springcad.errors import DesignError
-from springcad.units import G_PER_KG, MM3_PER_CM3, NMM_PER_NM
 
 SCHEMA = "springcad.design/1"
 
@@ -45,8 +44,6 @@ class JobDesign:
     @property
     def warnings(self) -> tuple[str, ...]:
         """Plausibility warnings: the config's and the designed geometry's."""
-        from springcad.design.plausibility import design_warnings
-
         return tuple(self.job.warnings) + tuple(design_warnings(self))
 
     def notes(self) -> list[str]:
@@ -88,50 +85,6 @@ class JobDesign:
             "notes": self.notes(),
             "warnings": list(self.warnings),
         }
-
-    def summary(self) -> str:
-        """A short plain-text table for the terminal."""
-        rows = [("spring", "K N*m/rad", "target", "theta_max deg", "N", "r_c mm", "R_r mm",
-                 "tip mm", "flexure", "J/cm3", "J/kg")]
-        for s in self.springs.values():
-            rows.append((s.name, f"{s.stiffness_beam_Nmm_per_rad / NMM_PER_NM:.2f}",
-                         f"{s.target_stiffness_Nmm_per_rad / NMM_PER_NM:.2f}",
-                         f"{math.degrees(s.max_deflection_rad):.2f}", str(s.n_flexures),
-                         f"{s.contact_radius_mm:.3f}", f"{s.root_radius_mm:.3f}",
-                         f"{s.tip_radius_mm:.3f}", s.flexure,
-                         f"{s.energy_density_J_per_cm3:.3f}", f"{s.specific_energy_J_per_kg:.1f}"))
-        widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
-        lines = ["  ".join(c.rjust(w) for c, w in zip(r, widths)) for r in rows]
-        st = self.stack
-        b = st.backlash
-        lines += [
-            "",
-            f"stack {' + '.join(st.sequence)}: input {st.input}, output {st.output}, joints "
-            f"{', '.join(j + '-to-' + j for j in st.joints) or 'none'}",
-            f"  K = {st.stiffness_Nmm_per_rad / NMM_PER_NM:.2f} N*m/rad "
-            f"(target {st.target_stiffness_Nmm_per_rad / NMM_PER_NM:.2f}), max deflection "
-            f"{st.max_deflection_rad:.3f} rad ({math.degrees(st.max_deflection_rad):.1f} deg, eq. 10)",
-            f"  backlash rad: nominal {b.nominal:.4f}, worst [{b.worst_min:.4f}, {b.worst_max:.4f}], "
-            f"RSS [{b.rss_min:.4f}, {b.rss_max:.4f}], MC p1-p99 [{b.mc_p01:.4f}, {b.mc_p99:.4f}]",
-            f"  energy {st.energy_J:.2f} J, mass {st.mass_kg * G_PER_KG:.1f} g, "
-            f"{st.energy_J / (st.envelope_volume_mm3 / MM3_PER_CM3):.3f} J/cm3, "
-            f"{st.energy_J / st.mass_kg:.1f} J/kg",
-        ]
-        lines.append(f"duty: {duty.describe(self.job.material.duty)}")
-        for s in self.springs.values():
-            check = s.duty_check
-            lines.append(
-                f"{s.name}: beam stress {s.peak_stress_MPa:.0f} MPa, predicted peak "
-                f"{s.predicted_peak_stress_MPa:.0f} MPa at the {s.stress.region if s.stress else '-'}, "
-                f"yield margin {s.yield_margin:.3f} (required {s.material.safety_factor:g}; "
-                f"{s.required_yield_margin:.3g} with the duty), root flare {s.root_flare:g}")
-            lines.append(f"  {s.name} " + ("duty not checked: no fatigue data for "
-                                           f"{s.material.material.name}" if check is None
-                                           else check.rating_text()))
-            if s.duty_advice:
-                lines.append(f"  {s.name}: sized for yield alone: {s.duty_advice}")
-        lines += [f"note: {n}" for n in self.notes()]
-        return "\n".join(lines)
 
 
 def common_hole_circle(springs: dict[str, SpringDesign], job: Job) -> dict[str, SpringDesign]:

@@ -19,6 +19,7 @@ from springcad.config import SpringSpec
 from springcad.design import flexure as fx
 from springcad.design.contact_fatigue import allowable_von_mises_MPa
 from springcad.design.contact_stress import tip_radius_window_mm
+from springcad.design.numeric import find_root
 from springcad.errors import DesignError, SpecInfeasible
 from springcad.units import NMM_PER_NM
 
@@ -28,8 +29,6 @@ RIM_GAP_RATIO = 1.5
 
 def rim_root_radius(outer_radius_mm, n, contact_radius_mm, root_width_fn) -> float:
     """Solve R_o - R_r = (2 pi R_r / N - w0(R_r)) / 1.5 for R_r by bracketing (eq. 8)."""
-    from springcad.design.numeric import find_root
-
     def f(rr):
         return (outer_radius_mm - rr
                 - (2 * math.pi * rr / n - root_width_fn(rr - contact_radius_mm)) / RIM_GAP_RATIO)

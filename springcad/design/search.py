@@ -26,7 +26,7 @@ from dataclasses import replace as _replace
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.config.consistency import min_rim_mm
-from springcad.design import duty, shapes
+from springcad.design import duty, shapes, stress
 from springcad.design import flexure as fx
 from springcad.design.cam import TIP_CLEARANCE_SHORT
 from springcad.design.planar import find_defect
@@ -170,8 +170,6 @@ def _choose_root(d: SpringDesign) -> SpringDesign:
     breaks a wire-EDM rule (neighbour clearance, fillets) fall back to the next best.
     Deterministic; about 0.1 s per candidate.
     """
-    from springcad.design import stress
-
     scored = []
     for flare in ROOT_FLARES:
         c = _with_flare(d, flare)

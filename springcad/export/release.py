@@ -24,6 +24,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from springcad.design.cam import OVERTRAVEL_REDUCED, TIP_CLEARANCE_SHORT
+from springcad.options import written
 
 #: design-time estimates of the contact at +-theta_max that the contact FEA with the profile
 #: tolerances checks on the real geometry: where it ran, they are notes, not reasons
@@ -119,7 +120,7 @@ def release_status(job_design, verification=None, verify_skipped: bool = False,
         job_design: the :class:`~springcad.design.job.JobDesign` that was built
             (after any FEA correction).
         verification: the FEA result (``.ok``, ``.failures()``, ``.notes()``), or None.
-        verify_skipped: the user skipped the verification (``--no-verify``).
+        verify_skipped: the user skipped the verification (``verify=False``).
         checks: every :class:`~springcad.geometry.checks.Check` of the build
             (geometry, manufacturability rules, export read-backs).
 
@@ -131,8 +132,8 @@ def release_status(job_design, verification=None, verify_skipped: bool = False,
     notes: list[str] = []
     ratings: list[str] = []
     if verify_skipped:
-        reasons.append("FEA verification skipped (--no-verify): beam-theory design, "
-                       "stiffness and stress not verified")
+        reasons.append(f"FEA verification skipped ({written('verify', False)}): beam-theory "
+                       "design, stiffness and stress not verified")
     elif verification is None:
         reasons.append("no FEA verification result")
     else:

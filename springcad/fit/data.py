@@ -136,7 +136,7 @@ def read_bench_csv(path: Path | str, columns: ColumnMap = ColumnMap(),
             raise DataError(f"bench data file '{path}' does not exist or is not a file")
         if path.stat().st_size > MAX_CSV_BYTES:
             raise DataError(f"bench data file '{path}' is larger than "
-                            f"{MAX_CSV_BYTES // 1_000_000} MB; split the record")
+                            f"{MAX_CSV_BYTES // units.BYTES_PER_MB} MB; split the record")
         raw = path.read_bytes()
     except OSError as err:
         raise DataError(f"bench data file '{path}' cannot be read: {err.strerror or err}") from None

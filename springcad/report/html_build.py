@@ -18,6 +18,7 @@ import json
 import math
 from pathlib import Path
 
+from springcad.options import written
 from springcad.report.html_page import img_tag as _img
 from springcad.report.html_page import page
 
@@ -68,8 +69,8 @@ def verdict(build: dict, fea: dict | None) -> tuple[bool, list[str]]:
     reasons = []
     ver = build.get("verification")
     if not isinstance(ver, dict):
-        reasons.append("not FEA-verified (built with --no-verify): the parts are beam-theory "
-                       "designs")
+        reasons.append(f"not FEA-verified (built with {written('verify', False)}): the parts "
+                       "are beam-theory designs")
     elif not ver.get("ok", False):
         reasons.append("FEA verification failed")
     if fea is not None:
@@ -78,7 +79,8 @@ def verdict(build: dict, fea: dict | None) -> tuple[bool, list[str]]:
     if not checks.get("passed", True):
         reasons.append(f"{checks.get('n_failed', '?')} check(s) failed")
     if checks.get("violations_accepted"):
-        reasons.append("manufacturability violations were accepted (--accept-violations)")
+        reasons.append("manufacturability violations were accepted "
+                       f"({written('accept_violations', True)})")
     return not reasons, reasons
 
 
@@ -252,7 +254,8 @@ def _fea_html(out: Path, design: dict) -> str:
     contact = [(out / "fea" / f"{n}_contact.png", f"{n}: cam contact sweep over ±θmax")
                for n in design.get("springs", {})]
     if not any(p.is_file() for p, _ in imgs + contact):
-        return "<h2>FEA</h2><p>no FEA images in this build (not verified, or --no-render)</p>"
+        return ("<h2>FEA</h2><p>no FEA images in this build (not verified, or "
+                f"{written('render', False)})</p>")
     has_contact = any(p.is_file() for p, _ in contact)  # no contact sweep: no empty block
     return "<h2>FEA</h2>" + _figures(imgs, 520) + (_figures(contact, 1050) if has_contact else "")
 

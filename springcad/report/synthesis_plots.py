@@ -72,12 +72,12 @@ def plot_mass_fronts(fronts: dict, path: Path | str, max_curves: int = 7) -> Pat
     """Lightest stack vs deflection, one curve per stiffness (a spread of the grid's values)."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 5.2))
-    ks = np.unique(fronts["stiffness_Nm_per_rad"])
+    ks = np.unique(fronts["target_stiffness_Nm_per_rad"])
     if len(ks) > max_curves:
         ks = ks[np.unique(np.round(np.linspace(0, len(ks) - 1, max_curves)).astype(int))]
     cmap = plt.get_cmap("plasma", max(len(ks), 2))
     for j, k in enumerate(ks):
-        sel = fronts["stiffness_Nm_per_rad"] == k
+        sel = fronts["target_stiffness_Nm_per_rad"] == k
         th, m, n = (fronts["deflection_rad"][sel], fronts["mass_kg"][sel],
                     fronts["n_disks"][sel])
         ax.plot(th, G_PER_KG * m, "-o", color=cmap(j), ms=3, lw=1.2, label=f"K = {k:.3g} N·m/rad")

@@ -214,7 +214,7 @@ class CandidateSpace:
         fraction = np.array(self.outer_radius_fractions)[cols["fraction"]]
         return {
             "cid": cols["cid"], "family": cols["family"], "n_a": n_a, "n_b": n_b,
-            "stiffness_Nmm_per_rad": tg[:, 0], "deflection_rad": tg[:, 1],
+            "target_stiffness_Nmm_per_rad": tg[:, 0], "deflection_rad": tg[:, 1],
             "material": cols["material"], "input": cols["input"],
             "outer_radius_mm": self.disk_outer_radius_mm(n_a + n_b, fraction),
             "z_a": z[cols["z_a"]], "z_b": np.where(mixed, z[cols["z_b"]], 0.0),

@@ -117,7 +117,7 @@ def describe(binding: str, value: float, limit: float, disk: str = "") -> str:
 def _screen_groups(space, cols):
     """Screen disks A (every row) and B (mixed rows), each distinct disk once."""
     n_a, n_b, split = cols["n_a"], cols["n_b"], cols["split"]
-    K, th = cols["stiffness_Nmm_per_rad"], cols["deflection_rad"]
+    K, th = cols["target_stiffness_Nmm_per_rad"], cols["deflection_rad"]
     mixed = n_b > 0
     rows = np.flatnonzero(mixed)
     spec = np.concatenate([
@@ -220,7 +220,7 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
     # beam stiffness of the built widths, in series (design.stack), against the target
     k_built = 1.0 / (n_a / a["stiffness_Nmm_per_rad"]
                      + np.where(mixed, n_b / b["stiffness_Nmm_per_rad"], 0.0))
-    k_error = k_built / cols["stiffness_Nmm_per_rad"] - 1.0
+    k_error = k_built / cols["target_stiffness_Nmm_per_rad"] - 1.0
     for name, val, lim, bad in (
             (STIFFNESS, k_error, space.stiffness_tolerance,
              np.abs(k_error) > space.stiffness_tolerance),
@@ -252,7 +252,7 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
     violation[binding == "rim_rule"] = np.nan
     violation[feasible] = 0.0
 
-    K, th = cols["stiffness_Nmm_per_rad"], cols["deflection_rad"]
+    K, th = cols["target_stiffness_Nmm_per_rad"], cols["deflection_rad"]
     energy = 0.5 * K * th ** 2 * J_PER_NMM
     volume_cm3 = np.pi * r_env ** 2 * height / MM3_PER_CM3
     w_gap = mfg.w_gap_mm
@@ -268,7 +268,7 @@ def evaluate_batch(space, start: int, stop: int) -> dict[str, np.ndarray]:
         "n_disks": n, "n_a": n_a, "n_b": n_b,
         "material": np.array([space.materials[j].name for j in cols["material"]], dtype=object),
         "input": np.array([space.inputs[j] for j in cols["input"]], dtype=object),
-        "stiffness_Nm_per_rad": K / NMM_PER_NM, "stiffness_built_error": k_error,
+        "target_stiffness_Nm_per_rad": K / NMM_PER_NM, "stiffness_built_error": k_error,
         "deflection_rad": th, "peak_torque_Nm": K * th / NMM_PER_NM,
         "outer_radius_mm": ro, "thickness_a_mm": cols["z_a"], "thickness_b_mm": cols["z_b"],
         "contact_radius_mm": cols["rc"], "split": cols["split"],

@@ -138,16 +138,17 @@ def pareto_front(x, y, maximise_x: bool = True, maximise_y: bool = True) -> np.n
 
 def mass_fronts(cols: dict) -> dict[str, np.ndarray]:
     """At each stiffness of the grid: the lightest stacks vs deflection (Pareto: more
-    deflection and less mass). Columns stiffness_Nm_per_rad, deflection_rad, mass_kg,
+    deflection and less mass). Columns target_stiffness_Nm_per_rad, deflection_rad, mass_kg,
     n_disks, cid."""
     f = np.flatnonzero(cols["feasible"])
-    out = {k: [] for k in ("stiffness_Nm_per_rad", "deflection_rad", "mass_kg", "n_disks", "cid")}
-    for k in np.unique(cols["stiffness_Nm_per_rad"][f]):
-        sel = f[cols["stiffness_Nm_per_rad"][f] == k]
+    out = {k: [] for k in ("target_stiffness_Nm_per_rad", "deflection_rad", "mass_kg", "n_disks",
+                           "cid")}
+    for k in np.unique(cols["target_stiffness_Nm_per_rad"][f]):
+        sel = f[cols["target_stiffness_Nm_per_rad"][f] == k]
         front = sel[pareto_front(cols["deflection_rad"][sel], cols["mass_kg"][sel],
                                  maximise_x=True, maximise_y=False)]
         for i in front:
-            out["stiffness_Nm_per_rad"].append(float(k))
+            out["target_stiffness_Nm_per_rad"].append(float(k))
             out["deflection_rad"].append(float(cols["deflection_rad"][i]))
             out["mass_kg"].append(float(cols["mass_kg"][i]))
             out["n_disks"].append(int(cols["n_disks"][i]))
@@ -160,5 +161,5 @@ def energy_front(cols: dict) -> dict[str, np.ndarray]:
     f = np.flatnonzero(cols["feasible"])
     front = f[pareto_front(cols["deflection_rad"][f], cols["energy_density_J_per_cm3"][f])]
     return {k: cols[k][front] for k in ("cid", "n_disks", "deflection_rad", "peak_torque_Nm",
-                                         "stiffness_Nm_per_rad", "energy_density_J_per_cm3",
+                                         "target_stiffness_Nm_per_rad", "energy_density_J_per_cm3",
                                          "specific_energy_J_per_kg", "mass_kg")}

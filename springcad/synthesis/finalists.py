@@ -18,8 +18,15 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
+from fea.study import verify_options
+from fea.verify import verify_job
 from springcad.config import job_from_dict
+from springcad.design.flexure import concave_edge_radius_mm
+from springcad.design.job import design_job
 from springcad.errors import SpringcadError
+from springcad.geometry.checks import build_and_check
 from springcad.options import VERIFY
 from springcad.progress import no_progress
 from springcad.units import MM3_PER_CM3, NMM_PER_NM
@@ -28,7 +35,7 @@ from springcad.units import MM3_PER_CM3, NMM_PER_NM
 def job_document(req, cand: dict) -> dict:
     """The job config (as a TOML-ready dict) of a candidate row of the sweep."""
     n_a, n_b, split = int(cand["n_a"]), int(cand["n_b"]), float(cand["split"])
-    K, th = cand["stiffness_Nm_per_rad"], cand["deflection_rad"]
+    K, th = cand["target_stiffness_Nm_per_rad"], cand["deflection_rad"]
     mat = next(m for m in req.materials if m.name == cand["material"])
     ball = ({"tip_radius_mm": req.search.tip_radius_mm} if req.search.tip_radius_mm is not None
             else {"min_tip_radius_mm": req.search.min_tip_radius_mm})
@@ -101,8 +108,6 @@ def design_candidate(req, cand: dict):
     Raises:
         DesignError: the exact design fails a check the screening does not make.
     """
-    from springcad.design.job import design_job
-
     job = job_from_dict(job_document(req, cand), name="synthesized")
     return design_job(job, explain=False)
 
@@ -192,10 +197,6 @@ def full_design_summary(req, cand: dict) -> dict:
 def _edge_radius_mm(design) -> float | None:
     """Smallest concave flexure-edge radius (mm; None for straight flexures): the FEA finds
     the peak stress of tight serpentine turns there, far above the beam stress."""
-    import numpy as np
-
-    from springcad.design.flexure import concave_edge_radius_mm
-
     if design.centreline.is_straight:
         return None
     y = np.linspace(design.contact_radius_mm, design.root_station_mm, 1201)
@@ -212,12 +213,10 @@ def verify_candidate(req, cand: dict, model: str = "2d3d", levels: int = 3, prog
 
     Returns:
         ``(verification, corrected)``: the :class:`fea.verdict.JobVerification` (``.ok``,
-        ``.failures()``, ``.summary()``) and the job design with the FEA-corrected springs
-        (what ``springcad build`` makes its solids from).
+        ``.failures()``; :func:`springcad.report.tables.verification_table` prints it) and
+        the job design with the FEA-corrected springs (what ``springcad build`` makes its
+        solids from).
     """
-    from fea.study import verify_options
-    from fea.verify import verify_job
-
     jd = design_candidate(req, cand)
     opts = verify_options(model=model, levels=levels, keep_fields=False,
                           tolerance_pct=min(VERIFY.tolerance_pct, 100.0 * req.stiffness_tolerance))
@@ -236,8 +235,6 @@ def build_checks(job_design, progress=None) -> dict:
     Raises:
         GeometryError, StageError: a part cannot be made (as ``build`` would stop).
     """
-    from springcad.geometry.checks import build_and_check
-
     _, report, _ = build_and_check(job_design, progress)
     return {"ok": report.passed(), "summary": report.summary(),
             "failures": [f"{c.subject}: {c.name}: {c.message}"

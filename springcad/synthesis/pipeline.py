@@ -92,7 +92,7 @@ class SynthesisResult:
         }
 
 
-def verification_entry(req, cand: dict, fea_model: str) -> dict:
+def verification_entry(req, cand: dict, fea_model: str, describe=None) -> dict:
     """What ``springcad build`` would decide about a candidate, as a report entry.
 
     The FEA (:func:`verify_candidate`, build's options) and then, if it passed, build's
@@ -100,13 +100,19 @@ def verification_entry(req, cand: dict, fea_model: str) -> dict:
     both pass and, with a duty in the requirements, build's release gate would stamp it
     RELEASED (the duty and the contact at full deflection hold). A failed solve or solid is a
     finding (``failures``), not a crash.
+
+    Args:
+        describe: ``describe(job_verification) -> str``, the entry's ``summary`` text
+            (the API passes :func:`springcad.report.tables.verification_table`; rendering
+            lives in the report layer); None: no text.
     """
     try:
         v, corrected = verify_candidate(req, cand, model=fea_model)
     except Exception as err:  # noqa: BLE001 - a failed solve is a finding, not a crash
         return {"ok": False, "failures": [f"FEA: {type(err).__name__}: {err}"], "notes": [],
                 "summary": "", "springs": {}, "build_checks": None}
-    entry = {"ok": v.ok, "failures": v.failures(), "notes": v.notes(), "summary": v.summary(),
+    entry = {"ok": v.ok, "failures": v.failures(), "notes": v.notes(),
+             "summary": describe(v) if describe else "",
              "springs": {n: {"stiffness_fea_Nm_per_rad": sv.stiffness_fea_Nmm_per_rad / NMM_PER_NM,
                              "peak_von_mises_MPa": sv.peak_von_mises_MPa,
                              "peak_region": sv.run.peak_result.peak_region,
@@ -142,7 +148,7 @@ def synthesize(req, space, store, client, *, finalists: int = SYNTHESIS.finalist
                max_finalists: int = SYNTHESIS.max_finalists,
                verify_top: int = SYNTHESIS.verify_top, verify: bool = True,
                fea_model: str = SYNTHESIS.fea_model,
-               progress: Progress = no_progress) -> SynthesisResult:
+               progress: Progress = no_progress, describe=None) -> SynthesisResult:
     """Run the whole synthesis for requirements ``req``.
 
     Args:
@@ -159,6 +165,8 @@ def synthesize(req, space, store, client, *, finalists: int = SYNTHESIS.finalist
             ``springcad build``'s; "2d": faster, without the 3D factor).
         progress: ``progress(message, fraction=None)``: the sweep's counts
             (:func:`run_sweep`) and one-line status messages.
+        describe: ``describe(job_verification) -> str``, the text kept (and shown) for
+            each verified finalist (:func:`verification_entry`); None: none.
     """
     t = {}
     t0 = time.perf_counter()
@@ -210,7 +218,7 @@ def synthesize(req, space, store, client, *, finalists: int = SYNTHESIS.finalist
         for r, s in good[:verify_top]:
             progress(f"FEA ({fea_model}) and build checks of candidate {int(r['cid'])} "
                 f"({r['family']}, {G_PER_KG * s['mass_kg']:.1f} g)")
-            entry = verification_entry(req, r, fea_model)
+            entry = verification_entry(req, r, fea_model, describe)
             result.verifications[int(r["cid"])] = entry
             progress(entry["summary"] or "; ".join(entry["failures"]))
             if entry["ok"]:

@@ -29,7 +29,7 @@ def stack_signature(r: dict) -> tuple:
     """What makes two candidate rows the same stack (a mixed row whose A and B disks are
     equal is an identical stack): input, material, R_o, r_c and the disks in order."""
     n_a, n_b, split = int(r["n_a"]), int(r["n_b"]), float(r["split"])
-    K = r["stiffness_Nm_per_rad"]
+    K = r["target_stiffness_Nm_per_rad"]
     disks = [(r["thickness_a_mm"], round(n_a * K / split, 6), int(r["n_flexures_a"]))] * n_a
     if n_b:
         disks += [(r["thickness_b_mm"], round(n_b * K / (1 - split), 6),

@@ -27,7 +27,7 @@ def test_ids_are_a_partition(space):
 def test_every_disk_carries_the_stack_peak_torque(space):
     """Series stiffness and eq. 10 (design.stack) of the decoded disks give the targets back."""
     c = space.decode(0, space.total)
-    K, th = c["stiffness_Nmm_per_rad"], c["deflection_rad"]
+    K, th = c["target_stiffness_Nmm_per_rad"], c["deflection_rad"]
     for i in np.flatnonzero(c["n_b"] > 0)[::50]:
         n_a, n_b, f = c["n_a"][i], c["n_b"][i], c["split"][i]
         ks = [n_a * K[i] / f] * n_a + [n_b * K[i] / (1 - f)] * n_b

@@ -95,7 +95,7 @@ def test_fixed_tip_balls_reach_the_winner_job():
 
     req = load_requirements(TEMPLATES / "requirements_4xS1.toml")
     assert req.search.tip_radius_mm == 0.3
-    cand = {"n_a": 4, "n_b": 0, "split": 1.0, "stiffness_Nm_per_rad": 37.5,
+    cand = {"n_a": 4, "n_b": 0, "split": 1.0, "target_stiffness_Nm_per_rad": 37.5,
             "deflection_rad": req.deflection_rad, "material": req.materials[0].name,
             "outer_radius_mm": 33.5, "thickness_a_mm": 4.5, "contact_radius_mm": 5.5,
             "n_flexures_a": 28, "family": "4 identical", "cid": 1, "input": "rim"}
@@ -117,7 +117,7 @@ def test_a_duty_in_the_requirements_is_a_peak_stress_limit_passed_to_the_winner(
     assert req.duty.surface == "polished" and req.duty.declared
     assert req.allowed_peak_MPa(m) == pytest.approx(min(allowed, 1344.0 / req.yield_margin))
     assert req.fatigue_limited(m)
-    cand = {"n_a": 2, "n_b": 0, "split": 1.0, "stiffness_Nm_per_rad": 75.0,
+    cand = {"n_a": 2, "n_b": 0, "split": 1.0, "target_stiffness_Nm_per_rad": 75.0,
             "deflection_rad": 0.5, "material": m.name, "outer_radius_mm": 30.0,
             "thickness_a_mm": 5.0, "n_flexures_a": 30, "contact_radius_mm": 6.0,
             "family": "2xA", "cid": 1, "input": "shaft"}
