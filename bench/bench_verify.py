@@ -58,7 +58,7 @@ def bench_cold_verify(config: Path) -> dict:
     for name, s in doc["springs"].items():
         springs[name] = {k: s[k] for k in (
             "stiffness_fea_Nm_per_rad", "stiffness_beam_original_Nm_per_rad",
-            "stiffness_target_Nm_per_rad", "error_vs_target_pct", "discretisation_error_pct",
+            "target_stiffness_Nm_per_rad", "error_vs_target_pct", "discretisation_error_pct",
             "peak_von_mises_MPa", "peak_von_mises_error_pct", "peak_region", "yield_margin",
             "dofs", "dofs_3d", "timings_s")}
         springs[name]["iterations"] = len(s["correction_iterations"])
@@ -133,7 +133,7 @@ def main(argv=None) -> int:
     for name, s in cold["springs"].items():
         print(f"  {name}: K_fea {s['stiffness_fea_Nm_per_rad']:.2f} (beam "
               f"{s['stiffness_beam_original_Nm_per_rad']:.2f}, target "
-              f"{s['stiffness_target_Nm_per_rad']:.2f}) N*m/rad, first error "
+              f"{s['target_stiffness_Nm_per_rad']:.2f}) N*m/rad, first error "
               f"{s['first_error_vs_target_pct']:+.2f} %, final {s['error_vs_target_pct']:+.3f} %, "
               f"disc. error {s['discretisation_error_pct']:.3f} %, {s['iterations']} iteration(s); "
               f"peak {s['peak_von_mises_MPa']:.0f} MPa +-{s['peak_von_mises_error_pct']:.2f} % "

@@ -66,12 +66,12 @@ class SpringVerification:
         return self.run.stiffness_Nmm_per_rad
 
     @property
-    def stiffness_target_Nmm_per_rad(self) -> float:
+    def target_stiffness_Nmm_per_rad(self) -> float:
         return self.design.target_stiffness_Nmm_per_rad
 
     @property
     def error_vs_target(self) -> float:
-        return self.stiffness_fea_Nmm_per_rad / self.stiffness_target_Nmm_per_rad - 1.0
+        return self.stiffness_fea_Nmm_per_rad / self.target_stiffness_Nmm_per_rad - 1.0
 
     @property
     def peak_von_mises_MPa(self) -> float:
@@ -186,7 +186,7 @@ class SpringVerification:
         if not self.stiffness_ok:
             out.append(f"spring {self.name}: FEA stiffness "
                        f"{self.stiffness_fea_Nmm_per_rad / NMM_PER_NM:.2f} N*m/rad misses the "
-                       f"target {self.stiffness_target_Nmm_per_rad / NMM_PER_NM:.2f} by "
+                       f"target {self.target_stiffness_Nmm_per_rad / NMM_PER_NM:.2f} by "
                        f"{100 * self.error_vs_target:+.2f} % "
                        f"(tolerance {100 * self.tolerance:.2g} %)"
                        + "".join(f"; {n}" for n in self.notes if "correction stopped" in n))
@@ -221,7 +221,7 @@ class SpringVerification:
             "stiffness_beam_Nm_per_rad": d.stiffness_beam_Nmm_per_rad / NMM_PER_NM,
             "stiffness_beam_original_Nm_per_rad":
                 self.original.stiffness_beam_Nmm_per_rad / NMM_PER_NM,
-            "stiffness_target_Nm_per_rad": self.stiffness_target_Nmm_per_rad / NMM_PER_NM,
+            "target_stiffness_Nm_per_rad": self.target_stiffness_Nmm_per_rad / NMM_PER_NM,
             "error_vs_target_pct": 100.0 * self.error_vs_target,
             "fea_vs_beam_pct": 100.0 * (self.stiffness_fea_Nmm_per_rad
                                         / d.stiffness_beam_Nmm_per_rad - 1.0),
@@ -326,7 +326,7 @@ class StackVerification:
     def to_dict(self) -> dict:
         return {"sequence": list(self.sequence),
                 "stiffness_fea_Nm_per_rad": self.stiffness_Nmm_per_rad / NMM_PER_NM,
-                "stiffness_target_Nm_per_rad": self.target_Nmm_per_rad / NMM_PER_NM,
+                "target_stiffness_Nm_per_rad": self.target_Nmm_per_rad / NMM_PER_NM,
                 "error_vs_target_pct": 100 * (self.stiffness_Nmm_per_rad / self.target_Nmm_per_rad
                                               - 1),
                 "max_deflection_rad": self.max_deflection_rad,
@@ -355,7 +355,7 @@ def verify_stack(sequence, verified: dict, required_safety_factor: float) -> Sta
     t = [th * k for th, k in zip(limits, ks)]
     return StackVerification(
         sequence=tuple(sequence), stiffness_Nmm_per_rad=series_stiffness(ks),
-        target_Nmm_per_rad=series_stiffness([verified[n].stiffness_target_Nmm_per_rad
+        target_Nmm_per_rad=series_stiffness([verified[n].target_stiffness_Nmm_per_rad
                                              for n in sequence]),
         max_deflection_rad=limit, torque_at_limit_Nmm=torque,
         limiting_spring=sequence[t.index(min(t))], springs=springs,

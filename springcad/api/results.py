@@ -191,7 +191,7 @@ class Verification:
             out.append({"spring": n,
                         "stiffness_fea_Nm_per_rad": v.stiffness_fea_Nmm_per_rad / _NMM_PER_NM,
                         "stiffness_beam_Nm_per_rad": v.design.stiffness_beam_Nmm_per_rad / _NMM_PER_NM,
-                        "stiffness_target_Nm_per_rad": v.stiffness_target_Nmm_per_rad / _NMM_PER_NM,
+                        "target_stiffness_Nm_per_rad": v.target_stiffness_Nmm_per_rad / _NMM_PER_NM,
                         "error_vs_target_pct": 100 * v.error_vs_target,
                         "discretisation_error_pct": 100 * v.run.stiffness_error,
                         "peak_von_mises_MPa": v.peak_von_mises_MPa,

@@ -245,7 +245,7 @@ def fit_record(record: BenchRecord, target_stiffness_Nm_per_rad: float | None = 
         dead = paper["deadband"]
         comparison = compare_with_design(design, dead.stiffness_Nm_per_rad, dead.backlash_rad)
         if target_stiffness_Nm_per_rad is None:
-            target_stiffness_Nm_per_rad = comparison["stiffness"]["target_Nm_per_rad"]
+            target_stiffness_Nm_per_rad = comparison["stiffness"]["target_stiffness_Nm_per_rad"]
         final = loop.final.params()
         if "backlash_rad" in final and not loop.no_spring:
             comparison["residual_loop"] = compare_with_design(

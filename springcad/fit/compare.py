@@ -80,7 +80,7 @@ def compare_with_design(design: dict, stiffness_Nm_per_rad: float, backlash_rad:
     beam = float(_get(design, "stack.stiffness_Nm_per_rad"))
     fea = stack_fea_stiffness(design)
     stiffness = {
-        "target_Nm_per_rad": target,
+        "target_stiffness_Nm_per_rad": target,
         "error_vs_target_pct": stiffness_error_pct(stiffness_Nm_per_rad, target),
         "beam_Nm_per_rad": beam,
         "error_vs_beam_pct": stiffness_error_pct(stiffness_Nm_per_rad, beam),

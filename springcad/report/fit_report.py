@@ -313,7 +313,7 @@ def _design_blocks(data: dict) -> list[tuple]:
             b.append(("p", f"**{label}**: K = {_f(c['measured']['stiffness_Nm_per_rad'])} N·m/rad, "
                            f"b = {_f(c['measured']['backlash_rad'])} rad."))
             b.append(("table", ["reference", "K (N·m/rad)", "fitted error (%)"], [
-                ["target", _f(st["target_Nm_per_rad"]), _f(st["error_vs_target_pct"], 3)],
+                ["target", _f(st["target_stiffness_Nm_per_rad"]), _f(st["error_vs_target_pct"], 3)],
                 ["beam theory", _f(st["beam_Nm_per_rad"]), _f(st["error_vs_beam_pct"], 3)],
                 ["FEA", _f(st["fea_Nm_per_rad"]), _f(st["error_vs_fea_pct"], 3)]]))
             bl = c["backlash"]

@@ -158,7 +158,7 @@ def design_html(obj) -> str:
 def verification_html(obj) -> str:
     """The FEA verification table and its failures (an API ``Verification``)."""
     rows = [(r["spring"], g(r["stiffness_fea_Nm_per_rad"]), g(r["stiffness_beam_Nm_per_rad"]),
-             g(r["stiffness_target_Nm_per_rad"]), f"{r['error_vs_target_pct']:+.2f}",
+             g(r["target_stiffness_Nm_per_rad"]), f"{r['error_vs_target_pct']:+.2f}",
              f"{r['discretisation_error_pct']:.3f}", f"{r['peak_von_mises_MPa']:.0f}",
              f"{r['peak_stress_design_MPa']:.0f}", f"{r['yield_margin']:.3f}",
              "yes" if r["ok"] else "NO") for r in obj.spring_table()]

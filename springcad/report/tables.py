@@ -113,7 +113,7 @@ def verification_table(job_verification) -> str:
         fat_txt = "-" if dc is None else f"D {dc.miner_sum:.2g} n {dc.safety_factor:.2f}"
         rows.append((n, f"{v.stiffness_fea_Nmm_per_rad / NMM_PER_NM:.2f}",
                      f"{v.design.stiffness_beam_Nmm_per_rad / NMM_PER_NM:.2f}",
-                     f"{v.stiffness_target_Nmm_per_rad / NMM_PER_NM:.2f}",
+                     f"{v.target_stiffness_Nmm_per_rad / NMM_PER_NM:.2f}",
                      f"{100 * v.error_vs_target:+.2f}", f"{100 * v.run.stiffness_error:.3f}",
                      f"{v.peak_von_mises_MPa:.0f}", f"{v.design.predicted_peak_stress_MPa:.0f}",
                      r.peak_region, f"{v.yield_margin:.3f}", f"{v.required_safety_factor:.2f}",

@@ -24,7 +24,7 @@ def test_verify_writes_fea_json_vtu_and_png(s2_out):
     doc = json.loads((out / "fea.json").read_text())
     s = doc["springs"]["S2"]
     for key in ("stiffness_fea_Nm_per_rad", "stiffness_beam_Nm_per_rad",
-                "stiffness_target_Nm_per_rad", "error_vs_target_pct", "discretisation_error_pct",
+                "target_stiffness_Nm_per_rad", "error_vs_target_pct", "discretisation_error_pct",
                 "peak_von_mises_MPa", "peak_location_mm", "yield_margin", "dofs", "n_elements",
                 "mesh_quality", "convergence", "correction_iterations", "timings_s"):
         assert key in s, key

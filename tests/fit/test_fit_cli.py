@@ -240,7 +240,7 @@ def test_config_compares_with_the_design(bench_csv, tmp_path, monkeypatch):
     assert [str(p) for p in calls] == [str(cfg)]
     d = json.loads((out / "fit.json").read_text())
     comp = d["design_comparison"]
-    assert comp["stiffness"]["target_Nm_per_rad"] == 37.5
+    assert comp["stiffness"]["target_stiffness_Nm_per_rad"] == 37.5
     assert set(comp["backlash"]["ranges"]) == {"worst_case", "rss", "monte_carlo_p01_p99"}
     assert "## Comparison with the design" in (out / "report.md").read_text()
 
