@@ -21,18 +21,25 @@ STL_ANGULAR_RAD = 0.2
 #: date of a STEP header when none is given (the zip format's epoch, as in vendor.zip)
 STEP_EPOCH_DATE = "1980-01-01"
 _FILE_NAME_STAMP = re.compile(r"(FILE_NAME\s*\(\s*'(?:[^']|'')*'\s*,\s*')[^']*(')")
+#: a negative zero as OCCT writes a real in a STEP data list: "-0." between "(" or "," and
+#: "," or ")" (not "-0.5", not "-0.E+00" which OCCT does not write)
+_NEGATIVE_ZERO = re.compile(r"(?<=[(,])-0\.(?=[,)])")
 
 
 def set_step_date(path: Path, date: str = "") -> Path:
-    """Put ``date`` (YYYY-MM-DD, midnight) in the time stamp of a STEP file's header.
+    """Put ``date`` (YYYY-MM-DD, midnight) in the time stamp of a STEP file's header, and
+    write every zero of the data section unsigned.
 
     OCCT writes the clock time of the export there, so two exports of one solid
     would differ; with the build's date the file is a function of the geometry and
-    the date only (vendor.zip of two builds on one day is byte-identical).
+    the date only (vendor.zip of two builds on one day is byte-identical). OCCT also
+    writes one zero coordinate as ``0.`` in one process and ``-0.`` in the next (measured:
+    the torque shaft's and the cam's STEP, the assembly STEP), the same number.
     """
     path = Path(path)
     text = path.read_bytes().decode("latin-1")
     head, sep, rest = text.partition("ENDSEC;")
+    rest = _NEGATIVE_ZERO.sub("0.", rest)
     stamp = f"{date or STEP_EPOCH_DATE}T00:00:00"
     new_head, n = _FILE_NAME_STAMP.subn(lambda m: m.group(1) + stamp + m.group(2), head,
                                         count=1)
@@ -81,7 +88,29 @@ def write_part_stl(part, path: Path) -> Path:
     writer.ASCIIMode = False
     if not writer.Write(copy, str(path)):
         raise OSError(f"could not write the STL {path}")
-    return Path(path)
+    return unsigned_stl_zeros(path)
+
+
+def unsigned_stl_zeros(path: Path) -> Path:
+    """Rewrite the negative zeros of a binary STL's normals and vertices as zeros (the
+    same numbers: OCCT writes a zero as -0.0 in one process and 0.0 in the next, so two
+    builds' files differed); other bytes are kept."""
+    import numpy as np
+
+    path = Path(path)
+    data = bytearray(path.read_bytes())
+    n = int.from_bytes(data[80:84], "little")
+    if len(data) != 84 + 50 * n:
+        raise OSError(f"{path}: not a binary STL of {n} triangles ({len(data)} bytes)")
+    records = np.frombuffer(data, dtype=np.uint8, offset=84).reshape(n, 50)
+    words = records[:, :48].copy().view("<u4")  # 12 float32 per triangle
+    negative_zero = words == 0x80000000
+    if negative_zero.any():
+        words[negative_zero] = 0
+        out = records.copy()
+        out[:, :48] = words.view(np.uint8).reshape(n, 48)
+        path.write_bytes(bytes(data[:84]) + out.tobytes())
+    return path
 
 
 def _quiet_occt():
