@@ -103,3 +103,39 @@ def test_a_killed_caller_leaves_no_orphan(tmp_path):
     finally:
         if parent.poll() is None:
             parent.kill()
+
+
+def test_work_started_ahead_is_used_or_dropped(tmp_path, monkeypatch):
+    """``ahead``: a child whose result is asked for gives it (progress replayed then); one
+    not asked for is terminated when stopped or when its stack closes, its progress dropped.
+    Switched off, the work runs in the caller at ``.result()`` only, never when not asked."""
+    import contextlib
+
+    from springcad import parallel
+
+    said = []
+    say = lambda m, f=None: said.append(m)  # noqa: E731
+    with contextlib.ExitStack() as stack:
+        used = parallel.ahead(stack, _work, tmp_path / "used", 2, progress=say)
+        flag = tmp_path / "dropped"
+        dropped = parallel.ahead(stack, _sleep, flag, progress=say)
+        said.append("parent")
+        pid, sq = used.result()
+        assert sq == 4 and pid != os.getpid()
+        for _ in range(600):
+            if flag.exists() and flag.read_text():
+                break
+            time.sleep(0.05)
+    assert not _alive(int(flag.read_text())) and dropped._done is False
+    assert said == ["parent", "step 0", "step 1"]
+    # switched off: deferred to .result(), in this process
+    monkeypatch.setenv("SPRINGCAD_PARALLEL", "0")
+    said.clear()
+    with contextlib.ExitStack() as stack:
+        used = parallel.ahead(stack, _work, tmp_path / "serial", 2, progress=say)
+        never = parallel.ahead(stack, _work, tmp_path / "never", 2, progress=say)
+        said.append("parent")
+        assert not (tmp_path / "serial").exists()
+        assert used.result()[0] == os.getpid()
+        never.stop()
+    assert said == ["parent", "step 0", "step 1"] and not (tmp_path / "never").exists()

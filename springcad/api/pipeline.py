@@ -340,6 +340,26 @@ def _fea_outputs(ver, tmp: Path, render: bool, store, track):
         yield pending
 
 
+@contextlib.contextmanager
+def _part_sheets(assembly, tmp: Path, info: dict, template, store, track):
+    """The parts' DXFs and drawings (:func:`springcad.export.bundle.export_part_sheets`: no
+    CAD kernel), written by a second process beside the STEP/STL exports, the assembly and
+    the read-backs when the solids are built (a cached, lazy assembly's are cached too, or
+    would be built in the child); yields a pending result whose ``.result()`` is the list of
+    files."""
+    from springcad.export.bundle import export_part_sheets
+    from springcad.export.skeleton import LazyAssembly
+
+    if not enabled() or isinstance(assembly, LazyAssembly):
+        yield Pending(value=export_part_sheets(assembly, tmp, info, template, progress=track,
+                                               cache=store))
+        return
+    track("writing the DXFs and drawings in a second process")
+    with beside(export_part_sheets, assembly, tmp, info, template, cache=store,
+                progress=track) as pending:
+        yield pending
+
+
 @api_door
 def export_build(built: Build, out, overwrite: bool = False, render: bool = True,
                  revision: str = REVISION,
@@ -369,7 +389,8 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
         CheckFailed: the build's checks, or an export read-back, failed (nothing written).
         OutputExistsError, OutputPathError: the folder cannot be written.
     """
-    from springcad.export.bundle import export_parts, export_stack, roundtrip_checks
+    from springcad.export.bundle import (export_assembly, export_bundle, export_part_cad,
+                                         part_file_order, roundtrip_checks, stack_file_order)
     from springcad.export.release import release_status
     from springcad.geometry.checks import CheckReport
 
@@ -388,6 +409,7 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
     inputs = [x for x in (d.job.source, title_block) if isinstance(x, (str, Path)) and x
               and Path(x).is_file()]
     fea_files = []
+    asm = built.assembly
     with atomic_output_dir(out, overwrite=overwrite, inputs=inputs) as tmp:
         tmp = Path(tmp)
         with stage("exports", track.subject("exports")), \
@@ -398,13 +420,18 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
             info = {"job": d.job.name, "revision": revision,
                     "date": build_date(), "drawn_by": _drawn_by(),
                     "release": built.release}
-            parts = export_parts(built.assembly, tmp, info, template, progress=track,
-                                 cache=store)
-            files = parts + export_stack(built.assembly, tmp, parts, render=render,
-                                         progress=track, release=built.release,
-                                         date=info["date"], cache=store)
-            built.roundtrip = roundtrip_checks(built.assembly, tmp, files, progress=track,
-                                               cache=store)
+            with _part_sheets(asm, tmp, info, template, store, track) as sheets:
+                cad = export_part_cad(asm, tmp, info["date"], progress=track, cache=store)
+                stack = export_assembly(asm, tmp, render=render, progress=track,
+                                        date=info["date"], cache=store)
+                checks = roundtrip_checks(asm, tmp, cad, progress=track, cache=store)
+                sheet_files = sheets.result()
+            parts = part_file_order(asm, cad + sheet_files)
+            files = parts + stack_file_order(stack + export_bundle(
+                asm, tmp, parts, progress=track, release=built.release))
+            checks += roundtrip_checks(asm, tmp, sheet_files, progress=track, cache=store)
+            order = {f.path: k for k, f in enumerate(files)}
+            built.roundtrip = sorted(checks, key=lambda c: order[c.subject])
             fea_files = fea_outputs.result()
         CheckReport(built.roundtrip).raise_if_failed()
         from springcad.export.bundle import WrittenFile
