@@ -203,8 +203,9 @@ def stack_file_order(written: list[WrittenFile]) -> list[WrittenFile]:
 def export_assembly(assembly, out_dir: Path, render: bool = True,
                     progress: Progress = no_progress, date: str = "",
                     cache=None) -> list[WrittenFile]:
-    """The assembly STEP (dated ``date``) and, with ``render``, the PNG render: the CAD
-    kernel's files of the stack (see :func:`export_stack` for the arguments)."""
+    """The assembly STEP (dated ``date``) and, with ``render``, the PNG render
+    (:func:`export_render`): the files of the stack made from its solids (see
+    :func:`export_stack` for the arguments)."""
     out_dir = Path(out_dir)
     progress("exporting assembly STEP", 0.0)
 
@@ -215,16 +216,42 @@ def export_assembly(assembly, out_dir: Path, render: bool = True,
     (path,), _ = files(cache, "assembly-step", (assembly.design, date), out_dir, step, hit)
     out = [_record(out_dir, path, "step_assembly")]
     if render:
+        out += export_render(assembly, out_dir, progress, cache)
+    return out
+
+
+#: the cache kind of the assembly render (key inputs: the design)
+_RENDER_KIND = "assembly-png"
+
+
+def cached_render(assembly, out_dir: Path, cache) -> list[WrittenFile] | None:
+    """``assembly.png`` written from the cache (the render of this design), or None."""
+    if cache is None:
+        return None
+    hit = cache.load_files(cache.key(_RENDER_KIND, assembly.design), Path(out_dir))
+    return None if hit is None else [_record(Path(out_dir), hit[0][0], "png")]
+
+
+def export_render(assembly, out_dir: Path, progress: Progress = no_progress, cache=None,
+                  triangles=None) -> list[WrittenFile]:
+    """``assembly.png`` (:func:`springcad.export.render.render_png`), through the cache.
+
+    Args:
+        triangles: the parts' tessellation (:func:`springcad.export.render.part_triangles`)
+            when it was made elsewhere (the render then needs no solid), else None.
+    """
+    out_dir = Path(out_dir)
+    if triangles is None:
         trim_heap()  # the part exports' freed heap, before VTK's buffers (the build's peak)
 
-        def png():
-            return [render_png(with_solids(assembly), out_dir / "assembly.png")], None
+    def png():
+        return [render_png(assembly if triangles is not None else with_solids(assembly),
+                           out_dir / "assembly.png", triangles=triangles)], None
 
-        progress("rendering assembly.png", 0.5)
-        hit = lambda: progress("assembly.png from the cache", None)  # noqa: E731
-        (path,), _ = files(cache, "assembly-png", (assembly.design,), out_dir, png, hit)
-        out.append(_record(out_dir, path, "png"))
-    return out
+    progress("rendering assembly.png", 0.5)
+    hit = lambda: progress("assembly.png from the cache", None)  # noqa: E731
+    (path,), _ = files(cache, _RENDER_KIND, (assembly.design,), out_dir, png, hit)
+    return [_record(out_dir, path, "png")]
 
 
 def export_bundle(assembly, out_dir: Path, part_files: list[WrittenFile],
@@ -270,11 +297,11 @@ def roundtrip_checks(assembly, out_dir: Path, files: list[WrittenFile],
 
 def _read_back(part, path: Path, f: WrittenFile) -> Check:
     """The read-back check of one STEP or DXF file of ``part`` (see :func:`roundtrip_checks`)."""
-    from springcad.geometry.base import face_area_mm2, solid_volume_mm3
+    from springcad.geometry.base import face_area_mm2
 
     if f.kind == "step":
         rb = read_step(path)
-        v = solid_volume_mm3(part.solid)
+        v = part.volume_mm3()
         bb = part.solid.bounding_box()
         ref_lo, ref_hi = (bb.min.X, bb.min.Y, bb.min.Z), (bb.max.X, bb.max.Y, bb.max.Z)
         box_err = max(abs(a - b) for a, b in zip(rb.bbox_min + rb.bbox_max, ref_lo + ref_hi))
@@ -289,7 +316,8 @@ def _read_back(part, path: Path, f: WrittenFile) -> Check:
     except ValueError as err:
         return Check("dxf_roundtrip", f.path, False, message=str(err))
     area, length = loops_area_mm2(loops), loops_length_mm(loops)
-    face = profile_face(part.info.cut_profile, part.part_number)
+    # the profile's loops were checked when the part's solid was made from them
+    face = profile_face(part.info.cut_profile, part.part_number, check=False)
     ref, ref_len = face_area_mm2(face), sum(e.length for e in face.edges())
     n_loops = len(part.info.cut_profile.loops)
     ok = (len(loops) == n_loops and not auditor.has_errors
