@@ -177,7 +177,84 @@ def write_assembly_step(assembly, path: Path, date: str = "") -> Path:
     writer.Transfer(doc, STEPControl_StepModelType.STEPControl_AsIs)
     if writer.Write(str(path)) != IFSelect_ReturnStatus.IFSelect_RetDone:
         raise OSError(f"could not write the assembly STEP {path}")
+    path = Path(path)
+    path.write_bytes(canonical_styles(path.read_bytes().decode("latin-1")).encode("latin-1"))
     return set_step_date(path, date)
+
+
+_RECORD = re.compile(r"#(\d+) = (.*?);\n", re.S)
+_REF = re.compile(r"#(\d+)")
+_STYLES_START = "MECHANICAL_DESIGN_GEOMETRIC_PRESENTATION_REPRESENTATION("
+
+
+def canonical_styles(text: str) -> str:
+    """A STEP file with its presentation styles (the colours: the records from the first
+    ``MECHANICAL_DESIGN_GEOMETRIC_PRESENTATION_REPRESENTATION`` to the end of the data
+    section) in an order of their content, numbered in that order.
+
+    OCCT writes the styles of an assembly from a map ordered by memory addresses, so two
+    processes wrote the same styles in different orders (measured: the default job's
+    assembly STEP); here each representation's items are sorted, the representations sorted,
+    and the records numbered depth first from them (the numbers they had, reused), so the
+    file is a function of the geometry and colours. The text is returned unchanged when the
+    section is not of that form (a record not reached from a representation, a number used
+    outside it, numbers not consecutive).
+    """
+    data = text.find("\nDATA;\n")
+    start = text.find(f"= {_STYLES_START}", data)
+    end = text.find("ENDSEC;", start)
+    if data < 0 or start < 0 or end < 0:
+        return text
+    start = text.rfind("\n", 0, start) + 1
+    records = {int(m.group(1)): m.group(2) for m in _RECORD.finditer(text, start, end)}
+    ids = sorted(records)
+    if (not ids or ids != list(range(ids[0], ids[0] + len(ids)))
+            or _RECORD.sub("", text[start:end]).strip()
+            or any(int(r) in records for r in _REF.findall(text[data:start]))):
+        return text
+    inner = lambda body: [int(r) for r in _REF.findall(body) if int(r) in records]  # noqa: E731
+    keys: dict[int, str] = {}
+
+    def key(i: int) -> str:  # the record's content, its references replaced by theirs
+        if i not in keys:
+            keys[i] = _REF.sub(lambda m: f"{{{key(int(m.group(1)))}}}" if int(m.group(1))
+                               in records else m.group(0), records[i])
+        return keys[i]
+
+    roots = [i for i in ids if records[i].startswith(_STYLES_START)]
+    for i in roots:  # each representation's items (its first list) in the order of content
+        body = records[i]
+        lo, hi = body.index("("), body.index(")")
+        listed = [int(r) for r in _REF.findall(body[lo:hi])]
+        if any(r not in records for r in listed):
+            return text
+        # a styled item before the items that override it, each kind by content
+        ordered = iter(sorted(listed, key=lambda r: (records[r].startswith("OVER_RIDING"),
+                                                     key(r))))
+        records[i] = body[:lo] + _REF.sub(lambda m: f"#{next(ordered)}", body[lo:hi]) + body[hi:]
+    keys.clear()
+    order: list[int] = []
+    seen: set[int] = set()
+
+    def visit(i: int) -> None:
+        stack = [i]
+        while stack:
+            j = stack.pop()
+            if j in seen:
+                continue
+            seen.add(j)
+            order.append(j)
+            stack.extend(reversed(inner(records[j])))
+
+    for i in sorted(roots, key=key):
+        visit(i)
+    if len(order) != len(ids):
+        return text
+    new = {old: ids[0] + k for k, old in enumerate(order)}
+    out = "".join(f"#{new[i]} = " + _REF.sub(lambda m: f"#{new[int(m.group(1))]}"
+                                             if int(m.group(1)) in new else m.group(0),
+                                             records[i]) + ";\n" for i in order)
+    return text[:start] + out + text[end:]
 
 
 @dataclass(frozen=True)
