@@ -19,6 +19,7 @@ caller, before the block.
 from __future__ import annotations
 
 import contextlib
+import gc
 import os
 import signal
 import traceback
@@ -171,7 +172,14 @@ def _fork(func, args, kwargs, progress) -> Pending:
     ctx = multiprocessing.get_context("fork")
     recv, send = ctx.Pipe(duplex=False)
     proc = ctx.Process(target=_child, args=(send, func, args, kwargs), daemon=True)
-    proc.start()
+    # the objects alive at the fork are left out of the child's garbage collections: a
+    # collection touches every object it scans, which copies the parent's pages into the
+    # child (copy on write) and counted them twice in the build's memory
+    gc.freeze()
+    try:
+        proc.start()
+    finally:
+        gc.unfreeze()
     send.close()
     return Pending(proc, recv, progress=progress)
 

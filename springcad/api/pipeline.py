@@ -26,7 +26,7 @@ from springcad.cache import MISSING, open_cache
 from springcad.config import read_toml
 from springcad.errors import ConfigError
 from springcad.options import REVISION, api_door, check_revision
-from springcad.parallel import Pending, beside, enabled, single_threaded_blas
+from springcad.parallel import Pending, beside, enabled, single_threaded_blas, trim_heap
 from springcad.progress import Tracker
 from springcad.report import notebook
 from springcad.report.fea_outputs import write_outputs
@@ -366,6 +366,7 @@ def _write_fea_and_render(ver_raw, assembly, tmp: Path, png, triangles, cache=No
     fea = ([] if ver_raw is None else
            write_outputs(ver_raw, tmp / "fea", render=True, cache=cache, progress=progress))
     if png is None:
+        trim_heap()  # the FEA renders' freed buffers, before the assembly render's
         png = export_render(assembly, tmp, progress=progress, cache=cache, triangles=triangles)
     return fea, png
 
