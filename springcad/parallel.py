@@ -28,6 +28,8 @@ from springcad.options import PARALLEL
 from springcad.progress import no_progress
 
 ENV_SWITCH = "SPRINGCAD_PARALLEL"
+#: the signals that stop a build (Ctrl-C, SIGTERM)
+_STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 _OFF = ("0", "off", "no", "false")
 
 
@@ -143,6 +145,7 @@ def _child(conn, func, args, kwargs) -> None:
     """The child's side: default signal handling, die with the parent, run, send back."""
     signal.signal(signal.SIGINT, signal.SIG_DFL)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOP_SIGNALS)  # blocked by _fork until now
     with contextlib.suppress(Exception):
         import ctypes
 
@@ -176,9 +179,15 @@ def _fork(func, args, kwargs, progress) -> Pending:
     # collection touches every object it scans, which copies the parent's pages into the
     # child (copy on write) and counted them twice in the build's memory
     gc.freeze()
+    # the child starts with SIGINT and SIGTERM blocked, until it has set their default
+    # actions (_child): a signal in between would run the handler it inherited from the
+    # CLI, which raises in the child and prints a traceback (the parent stopping a child it
+    # had just started, on Ctrl-C, did exactly that)
+    blocked = signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS)
     try:
         proc.start()
     finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
         gc.unfreeze()
     send.close()
     return Pending(proc, recv, progress=progress)

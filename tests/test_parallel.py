@@ -139,3 +139,20 @@ def test_work_started_ahead_is_used_or_dropped(tmp_path, monkeypatch):
         assert used.result()[0] == os.getpid()
         never.stop()
     assert said == ["parent", "step 0", "step 1"] and not (tmp_path / "never").exists()
+
+
+def test_a_child_stopped_as_it_starts_prints_nothing(tmp_path):
+    """The CLI's SIGTERM handler raises; a child stopped right after the fork (Ctrl-C as the
+    exports begin) used to run it before setting its own and print a traceback. 30 children
+    started and stopped at once: the child keeps the signals blocked until it is ready."""
+    code = (f"import signal, sys; sys.path.insert(0, {str(ROOT / 'tests')!r})\n"
+            "from test_parallel import _sleep\nfrom springcad.parallel import beside\n"
+            "def handler(*a):\n    raise SystemExit('the inherited handler ran')\n"
+            "signal.signal(signal.SIGTERM, handler)\n"
+            f"for k in range(30):\n    with beside(_sleep, {str(tmp_path / 'f')!r}):\n"
+            "        pass\nprint('done')\n")
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    res = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         timeout=600)
+    assert res.returncode == 0 and res.stdout.strip() == "done", res.stderr
+    assert "Traceback" not in res.stderr and "inherited" not in res.stderr, res.stderr
