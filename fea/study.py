@@ -13,6 +13,7 @@ at its rim holes. The correction loop that drives these studies is
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 from dataclasses import dataclass
@@ -25,8 +26,10 @@ from fea.mesh_solid import mesh_solid
 from fea.problem import LoadCase, Material, assemble, solver_material
 from fea.results import StaticResult, evaluate
 from fea.solve import solve
+from springcad import parallel
 from springcad.geometry.profile import extrude_profile
 from springcad.options import VERIFY, check_verify
+from springcad.parallel import single_threaded_blas
 from springcad.units import NMM_PER_NM
 
 
@@ -130,6 +133,8 @@ class ModelRun:
     check3d: tuple = ()
     base2d: tuple = ()
     mesh_time_s: float = 0.0
+    #: the 3D factor's solves of this geometry started ahead (a Pending), or None
+    factor_ahead: object = None
 
     @property
     def stiffness_Nmm_per_rad(self) -> float:
@@ -163,8 +168,16 @@ class ModelRun:
 
 
 def run_model(design, material: Material, options: VerifyOptions, with_3d: bool,
-              progress=_noop) -> ModelRun:
-    """Mesh and solve one spring geometry on all levels of the chosen model."""
+              progress=_noop, ahead: contextlib.ExitStack | None = None) -> ModelRun:
+    """Mesh and solve one spring geometry on all levels of the chosen model.
+
+    Model ``"2d3d"``: the 3D factor's solves (:func:`solve_3d_factor_levels`) run in a second
+    process beside the 2D levels (:func:`springcad.parallel.ahead`; in the caller after them
+    where steps do not run in a second process), applied when ``with_3d``. With ``ahead``
+    (an ExitStack that stops the second process when it closes) they are started even when
+    ``with_3d`` is False, and left pending as ``run.factor_ahead`` for the caller to apply
+    (:func:`apply_3d_factor`) if the correction loop needs the factor of this geometry.
+    """
     geometry = sector_geometry(design)
     theta = design.max_deflection_rad
     case = options.case
@@ -186,17 +199,25 @@ def run_model(design, material: Material, options: VerifyOptions, with_3d: bool,
             res.append(solve_mesh(fm, material, case, theta, keep and k == n - 1))
         return ModelRun(study=cv.study(res, "3d"), geometry=geometry, faces=faces,
                         mesh_time_s=mesh_time)
-    res2 = []
-    for k in range(0, n + 1):
-        progress(f"2D level {k}", None)
-        t = time.perf_counter()
-        fm = fea_mesh_2d(faces[k], geometry, k)
-        mesh_time += time.perf_counter() - t
-        res2.append(solve_mesh(fm, material, case, theta, keep and k == n))
-    run = ModelRun(study=cv.study(res2[1:], "2d"), geometry=geometry, faces=faces,
-                   base2d=tuple(res2), mesh_time_s=mesh_time)
-    if with_3d:
-        add_3d_factor(run, design, material, options, progress)
+    with contextlib.ExitStack() as own:
+        factor = None
+        if with_3d or ahead is not None:
+            factor = parallel.ahead(ahead if ahead is not None else own, solve_3d_factor_levels,
+                                    faces, geometry, design, material, options,
+                                    progress=progress)
+        res2 = []
+        for k in range(0, n + 1):
+            progress(f"2D level {k}", None)
+            t = time.perf_counter()
+            fm = fea_mesh_2d(faces[k], geometry, k)
+            mesh_time += time.perf_counter() - t
+            res2.append(solve_mesh(fm, material, case, theta, keep and k == n))
+        run = ModelRun(study=cv.study(res2[1:], "2d"), geometry=geometry, faces=faces,
+                       base2d=tuple(res2), mesh_time_s=mesh_time)
+        if with_3d:
+            apply_3d_factor(run, factor.result())
+        elif factor is not None:
+            run.factor_ahead = factor
     return run
 
 
@@ -217,21 +238,33 @@ def _run_pytetwild(design, geometry, material, options, progress) -> ModelRun:
                     mesh_time_s=mesh_time)
 
 
-def add_3d_factor(run: ModelRun, design, material: Material, options: VerifyOptions,
-                  progress=_noop) -> ModelRun:
-    """3D/2D factors on levels 0 and 1 (extruded quadratic tets, layers doubling).
+def solve_3d_factor_levels(faces, geometry, design, material: Material, options: VerifyOptions,
+                           progress=_noop) -> tuple[list[StaticResult], float]:
+    """The 3D factor's solves: levels 0 and 1 of ``faces`` extruded into quadratic tets (layers
+    doubling), with one BLAS thread (so the factor is the same number whether it is solved
+    here or in a second process beside the 2D levels, :func:`run_model`); returns the results
+    and the meshing time (s)."""
+    res3, mesh_time = [], 0.0
+    with single_threaded_blas():
+        for k in (0, 1):
+            progress(f"3D factor, level {k}", None)
+            t = time.perf_counter()
+            fm = fea_mesh_3d(faces[k], geometry, options.size.layers * 2 ** k, k)
+            mesh_time += time.perf_counter() - t
+            res3.append(solve_mesh(fm, material, options.case, design.max_deflection_rad,
+                                   options.keep_fields and k == 1))
+    return res3, mesh_time
+
+
+def apply_3d_factor(run: ModelRun, solved: tuple[list[StaticResult], float]) -> ModelRun:
+    """Set the 3D/2D factors of ``run`` from the 3D factor's solves
+    (:func:`solve_3d_factor_levels` on ``run``'s faces and geometry).
 
     The factor's error is its change between the two levels, taken as a
     second-order change with the GCI safety factor: 1.25 |r1 - r0| / 3.
     """
-    res3 = []
-    for k in (0, 1):
-        progress(f"3D factor, level {k}", None)
-        t = time.perf_counter()
-        fm = fea_mesh_3d(run.faces[k], run.geometry, options.size.layers * 2 ** k, k)
-        run.mesh_time_s += time.perf_counter() - t
-        res3.append(solve_mesh(fm, material, options.case, design.max_deflection_rad,
-                               options.keep_fields and k == 1))
+    res3, mesh_time = solved
+    run.mesh_time_s += mesh_time
     res2 = run.base2d
     rk = [r3.stiffness_Nmm_per_rad / r2.stiffness_Nmm_per_rad for r3, r2 in zip(res3, res2)]
     rs = [r3.peak_von_mises_MPa / r2.peak_von_mises_MPa for r3, r2 in zip(res3, res2)]
@@ -240,6 +273,14 @@ def add_3d_factor(run: ModelRun, design, material: Material, options: VerifyOpti
     run.factor_stress_error = cv.SAFETY_FACTOR * abs(rs[1] - rs[0]) / 3.0 / rs[1]
     run.check3d = tuple(res3)
     return run
+
+
+def add_3d_factor(run: ModelRun, design, material: Material, options: VerifyOptions,
+                  progress=_noop) -> ModelRun:
+    """3D/2D factors on levels 0 and 1 (extruded quadratic tets, layers doubling), solved
+    here (:func:`solve_3d_factor_levels`, :func:`apply_3d_factor`)."""
+    return apply_3d_factor(run, solve_3d_factor_levels(run.faces, run.geometry, design,
+                                                       material, options, progress))
 
 
 def support_study(design, material: Material | None = None, size: MeshSize = DEFAULT_SIZE,

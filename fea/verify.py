@@ -37,13 +37,14 @@ Units: mm, N, MPa, N*mm, rad; JSON keys carry N*m where they say so.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 
 from fea.contact import contact_sweep
 from fea.fatigue import region_peaks_MPa
 from fea.problem import Material, solver_material
-from fea.study import ModelRun, VerifyOptions, _noop, add_3d_factor, run_model, support_study
+from fea.study import ModelRun, VerifyOptions, _noop, apply_3d_factor, run_model, support_study
 from fea.verdict import JobVerification, SpringVerification, verify_stack
 from springcad.design import search as spring_design
 from springcad.design.resize import with_width_scale
@@ -107,6 +108,11 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
                   _original=None) -> SpringVerification:
     """Verify one designed spring and correct its widths until K meets the target.
 
+    With the 2D + 3D model, each corrected geometry's 3D factor is solved in a second
+    process beside its 2D levels (:func:`fea.study.run_model`): used when the iteration
+    meets the target (the factor at the corrected geometry), dropped when another correction
+    follows (the factor is carried); the results are those of solving it after the 2D levels.
+
     Args:
         design: :class:`~springcad.design.spring.SpringDesign` with its ring profile.
         options: :class:`VerifyOptions`.
@@ -117,6 +123,14 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
         SolverError, MeshingError: the model cannot be built or solved (no number
             is produced from a failed solve).
     """
+    with contextlib.ExitStack() as ahead:  # a 3D factor started ahead is stopped on leaving
+        return _verify_spring(design, options, progress, material, _contact_pass, _original,
+                              ahead)
+
+
+def _verify_spring(design, options: VerifyOptions, progress, material: Material | None,
+                   _contact_pass: int, _original, ahead) -> SpringVerification:
+    """:func:`verify_spring` (``ahead``: the ExitStack of the 3D factors started ahead)."""
     t_start = time.perf_counter()
     material = material or solver_material(design.material)
     target = design.target_stiffness_Nmm_per_rad
@@ -133,16 +147,20 @@ def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_no
         progress(f"spring {design.name}: iteration {k} (width scale {design.width_scale:.5f})",
                  None)
         need_3d = with_3d and previous is None
-        run = run_model(design, material, options, need_3d, progress)
+        run = run_model(design, material, options, need_3d, progress,
+                        ahead=ahead if with_3d and not need_3d else None)
         if with_3d and not need_3d:
             run.carry_factor(previous)
         K = run.stiffness_Nmm_per_rad
         done = abs(K / target - 1.0) <= options.tolerance
+        factor, run.factor_ahead = run.factor_ahead, None
         if done and with_3d and not need_3d:
             progress(f"spring {design.name}: 3D factor at the corrected geometry", None)
-            add_3d_factor(run, design, material, options, progress)
+            apply_3d_factor(run, factor.result())
             K = run.stiffness_Nmm_per_rad
             done = abs(K / target - 1.0) <= options.tolerance
+        elif factor is not None:  # the factor is carried to the next geometry
+            factor.stop()
         if with_3d and run.check3d:
             previous = run
         err = K / target - 1.0

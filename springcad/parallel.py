@@ -19,6 +19,7 @@ caller, before the block.
 from __future__ import annotations
 
 import contextlib
+import gc
 import os
 import signal
 import traceback
@@ -27,6 +28,8 @@ from springcad.options import PARALLEL
 from springcad.progress import no_progress
 
 ENV_SWITCH = "SPRINGCAD_PARALLEL"
+#: the signals that stop a build (Ctrl-C, SIGTERM)
+_STOP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 _OFF = ("0", "off", "no", "false")
 
 
@@ -90,10 +93,11 @@ def return_freed_memory() -> None:
 class Pending:
     """The result of a step run beside the caller (:func:`beside`)."""
 
-    def __init__(self, proc=None, conn=None, value=None, progress=None):
+    def __init__(self, proc=None, conn=None, value=None, progress=None, deferred=None):
         self._proc, self._conn, self._value = proc, conn, value
         self._progress = progress
-        self._done = proc is None
+        self._deferred = deferred  # run in the caller by the first .result()
+        self._done = proc is None and deferred is None
 
     def result(self):
         """The step's return value (waits for the child); its progress is replayed first.
@@ -102,6 +106,9 @@ class Pending:
             the child's exception; RuntimeError when the child died without an answer.
         """
         if self._done:
+            return self._value
+        if self._deferred is not None:
+            self._value, self._deferred, self._done = self._deferred(), None, True
             return self._value
         try:
             status, payload, messages = self._conn.recv()
@@ -122,6 +129,7 @@ class Pending:
     def stop(self) -> None:
         """Terminate and reap the child if it still runs (the caller is leaving early)."""
         proc = self._proc
+        self._deferred = None
         if proc is None:
             return
         if proc.is_alive():
@@ -137,6 +145,7 @@ def _child(conn, func, args, kwargs) -> None:
     """The child's side: default signal handling, die with the parent, run, send back."""
     signal.signal(signal.SIGINT, signal.SIG_DFL)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOP_SIGNALS)  # blocked by _fork until now
     with contextlib.suppress(Exception):
         import ctypes
 
@@ -158,28 +167,65 @@ def _child(conn, func, args, kwargs) -> None:
         conn.close()
 
 
-@contextlib.contextmanager
-def beside(func, *args, progress=None, **kwargs):
-    """Run ``func(*args, progress=..., **kwargs)`` in a forked child while the block runs.
-
-    Yields a :class:`Pending`; call ``.result()`` inside the block to wait for the value.
-    Leaving the block without it (an exception, an interrupt) terminates the child.
-    ``func``'s result and exceptions must pickle.
-    """
-    progress = progress or no_progress
-    if not enabled():
-        yield Pending(value=func(*args, progress=progress, **kwargs))
-        return
+def _fork(func, args, kwargs, progress) -> Pending:
+    """Start ``func`` in a forked child (see :func:`beside`)."""
     import multiprocessing
 
     trim_heap()
     ctx = multiprocessing.get_context("fork")
     recv, send = ctx.Pipe(duplex=False)
     proc = ctx.Process(target=_child, args=(send, func, args, kwargs), daemon=True)
-    proc.start()
+    # the objects alive at the fork are left out of the child's garbage collections: a
+    # collection touches every object it scans, which copies the parent's pages into the
+    # child (copy on write) and counted them twice in the build's memory
+    gc.freeze()
+    # the child starts with SIGINT and SIGTERM blocked, until it has set their default
+    # actions (_child): a signal in between would run the handler it inherited from the
+    # CLI, which raises in the child and prints a traceback (the parent stopping a child it
+    # had just started, on Ctrl-C, did exactly that)
+    blocked = signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS)
+    try:
+        proc.start()
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
+        gc.unfreeze()
     send.close()
-    pending = Pending(proc, recv, progress=progress)
+    return Pending(proc, recv, progress=progress)
+
+
+@contextlib.contextmanager
+def beside(func, *args, progress=None, **kwargs):
+    """Run ``func(*args, progress=..., **kwargs)`` in a forked child while the block runs.
+
+    Yields a :class:`Pending`; call ``.result()`` inside the block to wait for the value.
+    Leaving the block without it (an exception, an interrupt) terminates the child.
+    ``func``'s result and exceptions must pickle. Where steps do not run in a second
+    process (:func:`enabled`), ``func`` runs before the block.
+    """
+    progress = progress or no_progress
+    if not enabled():
+        yield Pending(value=func(*args, progress=progress, **kwargs))
+        return
+    pending = _fork(func, args, kwargs, progress)
     try:
         yield pending
     finally:
         pending.stop()
+
+
+def ahead(stack: contextlib.ExitStack, func, *args, progress=None, **kwargs) -> Pending:
+    """Start ``func(*args, progress=..., **kwargs)`` in a forked child whose result may or
+    may not be asked for (work done ahead on the other core: a 3D factor that the correction
+    loop needs only if its iteration meets the target).
+
+    The child is stopped (terminated if it still runs, its result and progress dropped) by
+    ``.stop()`` or when ``stack`` closes. Where steps do not run in a second process
+    (:func:`enabled`), ``func`` runs in the caller when ``.result()`` is first called, and
+    never when it is not: the same results, in the same order, without the second core.
+    """
+    progress = progress or no_progress
+    if not enabled():
+        return Pending(deferred=lambda: func(*args, progress=progress, **kwargs))
+    pending = _fork(func, args, kwargs, progress)
+    stack.callback(pending.stop)
+    return pending

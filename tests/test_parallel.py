@@ -103,3 +103,56 @@ def test_a_killed_caller_leaves_no_orphan(tmp_path):
     finally:
         if parent.poll() is None:
             parent.kill()
+
+
+def test_work_started_ahead_is_used_or_dropped(tmp_path, monkeypatch):
+    """``ahead``: a child whose result is asked for gives it (progress replayed then); one
+    not asked for is terminated when stopped or when its stack closes, its progress dropped.
+    Switched off, the work runs in the caller at ``.result()`` only, never when not asked."""
+    import contextlib
+
+    from springcad import parallel
+
+    said = []
+    say = lambda m, f=None: said.append(m)  # noqa: E731
+    with contextlib.ExitStack() as stack:
+        used = parallel.ahead(stack, _work, tmp_path / "used", 2, progress=say)
+        flag = tmp_path / "dropped"
+        dropped = parallel.ahead(stack, _sleep, flag, progress=say)
+        said.append("parent")
+        pid, sq = used.result()
+        assert sq == 4 and pid != os.getpid()
+        for _ in range(600):
+            if flag.exists() and flag.read_text():
+                break
+            time.sleep(0.05)
+    assert not _alive(int(flag.read_text())) and dropped._done is False
+    assert said == ["parent", "step 0", "step 1"]
+    # switched off: deferred to .result(), in this process
+    monkeypatch.setenv("SPRINGCAD_PARALLEL", "0")
+    said.clear()
+    with contextlib.ExitStack() as stack:
+        used = parallel.ahead(stack, _work, tmp_path / "serial", 2, progress=say)
+        never = parallel.ahead(stack, _work, tmp_path / "never", 2, progress=say)
+        said.append("parent")
+        assert not (tmp_path / "serial").exists()
+        assert used.result()[0] == os.getpid()
+        never.stop()
+    assert said == ["parent", "step 0", "step 1"] and not (tmp_path / "never").exists()
+
+
+def test_a_child_stopped_as_it_starts_prints_nothing(tmp_path):
+    """The CLI's SIGTERM handler raises; a child stopped right after the fork (Ctrl-C as the
+    exports begin) used to run it before setting its own and print a traceback. 30 children
+    started and stopped at once: the child keeps the signals blocked until it is ready."""
+    code = (f"import signal, sys; sys.path.insert(0, {str(ROOT / 'tests')!r})\n"
+            "from test_parallel import _sleep\nfrom springcad.parallel import beside\n"
+            "def handler(*a):\n    raise SystemExit('the inherited handler ran')\n"
+            "signal.signal(signal.SIGTERM, handler)\n"
+            f"for k in range(30):\n    with beside(_sleep, {str(tmp_path / 'f')!r}):\n"
+            "        pass\nprint('done')\n")
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    res = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         timeout=600)
+    assert res.returncode == 0 and res.stdout.strip() == "done", res.stderr
+    assert "Traceback" not in res.stderr and "inherited" not in res.stderr, res.stderr

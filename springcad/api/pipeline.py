@@ -26,7 +26,7 @@ from springcad.cache import MISSING, open_cache
 from springcad.config import read_toml
 from springcad.errors import ConfigError
 from springcad.options import REVISION, api_door, check_revision, written
-from springcad.parallel import Pending, beside, enabled
+from springcad.parallel import Pending, beside, enabled, single_threaded_blas, trim_heap
 from springcad.progress import Tracker
 from springcad.report import notebook
 from springcad.report.fea_outputs import write_outputs
@@ -208,7 +208,8 @@ def build(design, accept_violations: bool = False, progress=None,
     from springcad.export import skeleton
     from springcad.geometry.checks import build_and_check
 
-    assembly, report, timings = build_and_check(d.raw, progress, store)
+    with single_threaded_blas():  # see export_build
+        assembly, report, timings = build_and_check(d.raw, progress, store)
     skeleton.store(store, d.raw, assembly)
     return Build(d, ver, assembly, report, accept_violations, timings)
 
@@ -320,22 +321,72 @@ def _drawn_by() -> str:
 
 
 @contextlib.contextmanager
-def _fea_outputs(ver, tmp: Path, render: bool, store, track):
-    """The FEA files (``fea/``: fea.json, .vtu fields, PNG renders) of a verified build, written
-    by a second process beside the part exports when there are renders to make
-    (:func:`springcad.parallel.beside`); yields a pending result whose ``.result()`` is the
-    list of files (empty without a verification)."""
-    if ver is None:
-        yield Pending(value=[])
+def _fea_and_render(ver, assembly, tmp: Path, render: bool, store, track):
+    """The FEA files (``fea/``: fea.json, .vtu fields, PNG renders) of a verified build and the
+    assembly render, written by a second process beside the part exports
+    (:func:`springcad.parallel.beside`); the parts are tessellated here first (the CAD kernel
+    stays in this process), unless the render is cached. Yields a pending result whose
+    ``.result()`` is (FEA files, render files)."""
+    from springcad.export.bundle import cached_render
+    from springcad.export.render import part_triangles
+    from springcad.export.skeleton import with_solids
+
+    png, triangles = [], None
+    if render:
+        png = cached_render(assembly, tmp, store)
+        if png is not None:
+            track("assembly.png from the cache")
+        else:
+            triangles = part_triangles(with_solids(assembly))
+    if ver is not None:
+        (tmp / "fea").mkdir()
+    if ver is None and png is not None:
+        yield Pending(value=([], png))
         return
-    (tmp / "fea").mkdir()
-    if not render:
-        yield Pending(value=write_outputs(ver.raw, tmp / "fea", render=False, progress=track,
-                                          cache=store))
+    if ver is not None and not render:
+        yield Pending(value=(write_outputs(ver.raw, tmp / "fea", render=False, progress=track,
+                                           cache=store), []))
         return
     if enabled():
-        track("writing the FEA outputs (.vtu, renders) in a second process")
-    with beside(write_outputs, ver.raw, tmp / "fea", render=True, cache=store,
+        track("writing the " + " and ".join(
+            (["FEA outputs (.vtu, renders)"] if ver is not None else [])
+            + (["assembly render"] if png is None else [])) + " in a second process")
+    with beside(_write_fea_and_render, None if ver is None else ver.raw, assembly, tmp, png,
+                triangles, cache=store, progress=track) as pending:
+        yield pending
+
+
+def _write_fea_and_render(ver_raw, assembly, tmp: Path, png, triangles, cache=None,
+                          progress=None) -> tuple[list, list]:
+    """The second process's share of the exports (:func:`_fea_and_render`): the FEA outputs
+    (when verified), then the assembly render from ``triangles`` (unless ``png`` holds the
+    cached one)."""
+    from springcad.export.bundle import export_render
+
+    fea = ([] if ver_raw is None else
+           write_outputs(ver_raw, tmp / "fea", render=True, cache=cache, progress=progress))
+    if png is None:
+        trim_heap()  # the FEA renders' freed buffers, before the assembly render's
+        png = export_render(assembly, tmp, progress=progress, cache=cache, triangles=triangles)
+    return fea, png
+
+
+@contextlib.contextmanager
+def _part_sheets(assembly, tmp: Path, info: dict, template, store, track):
+    """The parts' DXFs and drawings (:func:`springcad.export.bundle.export_part_sheets`: no
+    CAD kernel), written by a second process beside the STEP/STL exports, the assembly and
+    the read-backs when the solids are built (a cached, lazy assembly's are cached too, or
+    would be built in the child); yields a pending result whose ``.result()`` is the list of
+    files."""
+    from springcad.export.bundle import export_part_sheets
+    from springcad.export.skeleton import LazyAssembly
+
+    if not enabled() or isinstance(assembly, LazyAssembly):
+        yield Pending(value=export_part_sheets(assembly, tmp, info, template, progress=track,
+                                               cache=store))
+        return
+    track("writing the DXFs and drawings in a second process")
+    with beside(export_part_sheets, assembly, tmp, info, template, cache=store,
                 progress=track) as pending:
         yield pending
 
@@ -369,7 +420,8 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
         CheckFailed: the build's checks, or an export read-back, failed (nothing written).
         OutputExistsError, OutputPathError: the folder cannot be written.
     """
-    from springcad.export.bundle import export_parts, export_stack, roundtrip_checks
+    from springcad.export.bundle import (export_assembly, export_bundle, export_part_cad,
+                                         part_file_order, roundtrip_checks, stack_file_order)
     from springcad.export.release import release_status
     from springcad.geometry.checks import CheckReport
 
@@ -388,24 +440,35 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
     inputs = [x for x in (d.job.source, title_block) if isinstance(x, (str, Path)) and x
               and Path(x).is_file()]
     fea_files = []
-    with atomic_output_dir(out, overwrite=overwrite, inputs=inputs) as tmp:
+    asm = built.assembly
+    # one BLAS thread, as in the second processes: the CAD steps' BLAS work is tall, thin
+    # products (placing 10^6 profile points), which OpenBLAS's second thread made 3-7x
+    # slower on a busy machine (measured: 1e6 x 2 points placed, 0.63 s wall with two
+    # threads, 0.09 s with one, the same numbers)
+    with atomic_output_dir(out, overwrite=overwrite, inputs=inputs) as tmp, \
+            single_threaded_blas():
         tmp = Path(tmp)
         with stage("exports", track.subject("exports")), \
-                _fea_outputs(ver, tmp, render, store, track) as fea_outputs:
+                _fea_and_render(ver, asm, tmp, render, store, track) as fea_and_render:
             write_json(tmp / "design.json", d.to_dict())
             built.release = release_status(d.raw, ver.raw if ver is not None else None,
                                            ver is None, built.checks.checks)
             info = {"job": d.job.name, "revision": revision,
                     "date": build_date(), "drawn_by": _drawn_by(),
                     "release": built.release}
-            parts = export_parts(built.assembly, tmp, info, template, progress=track,
-                                 cache=store)
-            files = parts + export_stack(built.assembly, tmp, parts, render=render,
-                                         progress=track, release=built.release,
-                                         date=info["date"], cache=store)
-            built.roundtrip = roundtrip_checks(built.assembly, tmp, files, progress=track,
-                                               cache=store)
-            fea_files = fea_outputs.result()
+            with _part_sheets(asm, tmp, info, template, store, track) as sheets:
+                cad = export_part_cad(asm, tmp, info["date"], progress=track, cache=store)
+                stack = export_assembly(asm, tmp, render=False, progress=track,
+                                        date=info["date"], cache=store)
+                checks = roundtrip_checks(asm, tmp, cad, progress=track, cache=store)
+                sheet_files = sheets.result()
+            parts = part_file_order(asm, cad + sheet_files)
+            stack += export_bundle(asm, tmp, parts, progress=track, release=built.release)
+            checks += roundtrip_checks(asm, tmp, sheet_files, progress=track, cache=store)
+            fea_files, png = fea_and_render.result()
+            files = parts + stack_file_order(stack + png)
+            order = {f.path: k for k, f in enumerate(files)}
+            built.roundtrip = sorted(checks, key=lambda c: order[c.subject])
         CheckReport(built.roundtrip).raise_if_failed()
         from springcad.export.bundle import WrittenFile
 

@@ -71,7 +71,8 @@ def part_fingerprint(part) -> tuple:
 
 def export_parts(assembly, out_dir: Path, drawing_info: dict, template: dict | None = None,
                  progress: Progress = no_progress, cache=None) -> list[WrittenFile]:
-    """STEP, STL, DXF and drawings of every distinct part.
+    """STEP, STL, DXF and drawings of every distinct part (:func:`export_part_sheets`, then
+    :func:`export_part_cad`; in :func:`part_file_order`).
 
     Args:
         drawing_info: ``job``, ``revision``, ``date`` for the title blocks.
@@ -79,28 +80,83 @@ def export_parts(assembly, out_dir: Path, drawing_info: dict, template: dict | N
         cache: a :class:`springcad.cache.Cache` holding the files of parts (and their
             drawings' title blocks) exported before, or None.
     """
-    parts_dir = Path(out_dir) / "parts"
-    parts_dir.mkdir(parents=True, exist_ok=True)
-    qty = assembly.quantities()
+    sheets = export_part_sheets(assembly, out_dir, drawing_info, template, progress, cache)
+    cad = export_part_cad(assembly, out_dir, drawing_info.get("date", ""), progress, cache)
+    return part_file_order(assembly, cad + sheets)
+
+
+#: the order of a part's files in a build's file list
+PART_FILE_KINDS = ("step", "stl", "dxf", "svg", "pdf", "png")
+
+
+def part_file_order(assembly, written: list[WrittenFile]) -> list[WrittenFile]:
+    """The part files in the assembly's part order, each part's in :data:`PART_FILE_KINDS`
+    order: the same list whichever process wrote which file first."""
+    parts = list(assembly.parts)
+    return sorted(written, key=lambda f: (parts.index(f.part), PART_FILE_KINDS.index(f.kind)))
+
+
+def _each_part(assembly, out_dir: Path, kind: str, inputs, write, what: str,
+               progress: Progress, cache) -> list[WrittenFile]:
+    """Files of every distinct part, through the cache: ``write(pn)`` returns (paths,
+    [(kind, note)]) and ``inputs(pn)`` the cache key's inputs beside the part's fingerprint;
+    ``what`` (e.g. "STEP, STL") names them in the progress lines."""
     out = []
     for k, (pn, part) in enumerate(assembly.parts.items()):
-        progress(f"exporting {pn}", k / len(assembly.parts))
-        info = {**drawing_info, "quantity": qty[pn]}
-        paths, meta = files(cache, "part-files", (part_fingerprint(part), info, template),
-                            out_dir, lambda: _write_part(built_part(assembly, pn), parts_dir,
-                                                         info, template),
-                            lambda: progress(f"{pn}: files from the cache", None))
-        out += [_record(out_dir, path, kind, pn, note) for path, (kind, note) in zip(paths, meta)]
+        progress(f"exporting {pn} ({what})", k / len(assembly.parts))
+        paths, meta = files(cache, kind, (part_fingerprint(part), *inputs(pn)), out_dir,
+                            lambda: write(pn),
+                            lambda: progress(f"{pn}: {what} files from the cache", None))
+        out += [_record(out_dir, path, kind_, pn, note) for path, (kind_, note) in zip(paths, meta)]
     return out
 
 
-def _write_part(part, parts_dir: Path, info: dict, template) -> tuple[list[Path], list]:
-    """Write a part's STEP, STL, DXF (profile-cut parts) and drawings (made parts);
-    returns their paths and (kind, info) of each."""
+def export_part_cad(assembly, out_dir: Path, date: str = "", progress: Progress = no_progress,
+                    cache=None) -> list[WrittenFile]:
+    """STEP and STL of every distinct part (the CAD kernel's files), the STEP dated ``date``
+    (YYYY-MM-DD); through ``cache`` (:class:`springcad.cache.Cache` or None)."""
+    parts_dir = Path(out_dir) / "parts"
+    parts_dir.mkdir(parents=True, exist_ok=True)
+
+    def write(pn):
+        part = built_part(assembly, pn)
+        return ([write_part_step(part, parts_dir / f"{pn}.step", date),
+                 write_part_stl(part, parts_dir / f"{pn}.stl")], [("step", ""), ("stl", "")])
+
+    return _each_part(assembly, out_dir, "part-cad", lambda pn: (date,), write,
+                      "STEP, STL", progress, cache)
+
+
+def export_part_sheets(assembly, out_dir: Path, drawing_info: dict, template: dict | None = None,
+                       progress: Progress = no_progress, cache=None) -> list[WrittenFile]:
+    """DXF (profile-cut parts) and drawings (made parts) of every distinct part: no CAD
+    kernel (the drawings' views and the DXF are drawn from the parts' profiles), so they
+    can be written by a forked process beside the STEP/STL exports.
+
+    Args:
+        drawing_info: ``job``, ``revision``, ``date``, ``drawn_by``, ``release`` for the
+            title blocks (the part's quantity is added).
+        cache: a :class:`springcad.cache.Cache` or None.
+    """
+    parts_dir = Path(out_dir) / "parts"
+    parts_dir.mkdir(parents=True, exist_ok=True)
+    qty = assembly.quantities()
+
+    def info(pn):
+        return {**drawing_info, "quantity": qty[pn]}
+
+    def write(pn):
+        return _write_sheets(built_part(assembly, pn), parts_dir, info(pn), template)
+
+    return _each_part(assembly, out_dir, "part-sheets", lambda pn: (info(pn), template), write,
+                      "DXF, drawings", progress, cache)
+
+
+def _write_sheets(part, parts_dir: Path, info: dict, template) -> tuple[list[Path], list]:
+    """Write a part's DXF (profile-cut parts) and drawings (made parts); returns their
+    paths and (kind, info) of each."""
     pn = part.part_number
-    paths = [write_part_step(part, parts_dir / f"{pn}.step", info.get("date", "")),
-             write_part_stl(part, parts_dir / f"{pn}.stl")]
-    meta = [("step", ""), ("stl", "")]
+    paths, meta = [], []
     if part.info.cut_profile is not None:
         rep = write_dxf(part.info.cut_profile, parts_dir / f"{pn}.dxf", pn,
                         part.info.thickness_mm)
@@ -118,9 +174,11 @@ def _write_part(part, parts_dir: Path, info: dict, template) -> tuple[list[Path]
 def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render: bool = True,
                  progress: Progress = no_progress, release=None,
                  date: str = "", cache=None) -> list[WrittenFile]:
-    """Assembly STEP, bill of materials, (optionally) the PNG render and the vendor bundle.
+    """Assembly STEP, bill of materials, (optionally) the PNG render and the vendor bundle
+    (:func:`export_assembly`, then :func:`export_bundle`; in that order in the list).
 
     Args:
+        part_files: the parts' files (:func:`export_parts`), for the BOM and the bundle.
         progress: ``progress(message, fraction=None)``, called per file.
         release: the build's :class:`~springcad.export.release.ReleaseStatus` for the
             vendor bundle's README (not assessed if None).
@@ -128,6 +186,26 @@ def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render:
         cache: a :class:`springcad.cache.Cache` holding the assembly STEP and render of
             designs exported before (the assembly is a function of its design), or None.
     """
+    cad = export_assembly(assembly, out_dir, render, progress, date, cache)
+    return stack_file_order(cad + export_bundle(assembly, out_dir, part_files, progress,
+                                                release))
+
+
+#: the order of the stack's files in a build's file list
+STACK_FILE_KINDS = ("step_assembly", "bom", "png", "vendor_zip")
+
+
+def stack_file_order(written: list[WrittenFile]) -> list[WrittenFile]:
+    """The stack's files in :data:`STACK_FILE_KINDS` order."""
+    return sorted(written, key=lambda f: STACK_FILE_KINDS.index(f.kind))
+
+
+def export_assembly(assembly, out_dir: Path, render: bool = True,
+                    progress: Progress = no_progress, date: str = "",
+                    cache=None) -> list[WrittenFile]:
+    """The assembly STEP (dated ``date``) and, with ``render``, the PNG render
+    (:func:`export_render`): the files of the stack made from its solids (see
+    :func:`export_stack` for the arguments)."""
     out_dir = Path(out_dir)
     progress("exporting assembly STEP", 0.0)
 
@@ -137,21 +215,53 @@ def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render:
     hit = lambda: progress("assembly STEP from the cache", None)  # noqa: E731
     (path,), _ = files(cache, "assembly-step", (assembly.design, date), out_dir, step, hit)
     out = [_record(out_dir, path, "step_assembly")]
+    if render:
+        out += export_render(assembly, out_dir, progress, cache)
+    return out
+
+
+#: the cache kind of the assembly render (key inputs: the design)
+_RENDER_KIND = "assembly-png"
+
+
+def cached_render(assembly, out_dir: Path, cache) -> list[WrittenFile] | None:
+    """``assembly.png`` written from the cache (the render of this design), or None."""
+    if cache is None:
+        return None
+    hit = cache.load_files(cache.key(_RENDER_KIND, assembly.design), Path(out_dir))
+    return None if hit is None else [_record(Path(out_dir), hit[0][0], "png")]
+
+
+def export_render(assembly, out_dir: Path, progress: Progress = no_progress, cache=None,
+                  triangles=None) -> list[WrittenFile]:
+    """``assembly.png`` (:func:`springcad.export.render.render_png`), through the cache.
+
+    Args:
+        triangles: the parts' tessellation (:func:`springcad.export.render.part_triangles`)
+            when it was made elsewhere (the render then needs no solid), else None.
+    """
+    out_dir = Path(out_dir)
+    if triangles is None:
+        trim_heap()  # the part exports' freed heap, before VTK's buffers (the build's peak)
+
+    def png():
+        return [render_png(assembly if triangles is not None else with_solids(assembly),
+                           out_dir / "assembly.png", triangles=triangles)], None
+
+    progress("rendering assembly.png", 0.5)
+    hit = lambda: progress("assembly.png from the cache", None)  # noqa: E731
+    (path,), _ = files(cache, _RENDER_KIND, (assembly.design,), out_dir, png, hit)
+    return [_record(out_dir, path, "png")]
+
+
+def export_bundle(assembly, out_dir: Path, part_files: list[WrittenFile],
+                  progress: Progress = no_progress, release=None) -> list[WrittenFile]:
+    """The bill of materials and the vendor bundle, from the parts' files (written)."""
+    out_dir = Path(out_dir)
     by_part: dict[str, list[str]] = {}
     for f in part_files:
         by_part.setdefault(f.part, []).append(f.path)
-    out.append(_record(out_dir, write_bom(assembly, out_dir / "bom.csv", by_part), "bom"))
-    if render:
-        trim_heap()  # the part exports' freed heap, before VTK's buffers (the build's peak)
-
-        def png():
-            return [render_png(with_solids(assembly), out_dir / "assembly.png")], None
-
-        progress("rendering assembly.png", 0.5)
-        hit = lambda: progress("assembly.png from the cache", None)  # noqa: E731
-        (path,), _ = files(cache, "assembly-png", (assembly.design,), out_dir, png, hit)
-        out.append(_record(out_dir, path, "png"))
-
+    out = [_record(out_dir, write_bom(assembly, out_dir / "bom.csv", by_part), "bom")]
     progress("writing vendor.zip", 0.9)
     out.append(_record(out_dir, write_vendor_bundle(assembly, out_dir, release or UNASSESSED,
                                                     assembly.design.job.name), "vendor_zip"))
@@ -187,11 +297,11 @@ def roundtrip_checks(assembly, out_dir: Path, files: list[WrittenFile],
 
 def _read_back(part, path: Path, f: WrittenFile) -> Check:
     """The read-back check of one STEP or DXF file of ``part`` (see :func:`roundtrip_checks`)."""
-    from springcad.geometry.base import face_area_mm2, solid_volume_mm3
+    from springcad.geometry.base import face_area_mm2
 
     if f.kind == "step":
         rb = read_step(path)
-        v = solid_volume_mm3(part.solid)
+        v = part.volume_mm3()
         bb = part.solid.bounding_box()
         ref_lo, ref_hi = (bb.min.X, bb.min.Y, bb.min.Z), (bb.max.X, bb.max.Y, bb.max.Z)
         box_err = max(abs(a - b) for a, b in zip(rb.bbox_min + rb.bbox_max, ref_lo + ref_hi))
@@ -206,7 +316,8 @@ def _read_back(part, path: Path, f: WrittenFile) -> Check:
     except ValueError as err:
         return Check("dxf_roundtrip", f.path, False, message=str(err))
     area, length = loops_area_mm2(loops), loops_length_mm(loops)
-    face = profile_face(part.info.cut_profile, part.part_number)
+    # the profile's loops were checked when the part's solid was made from them
+    face = profile_face(part.info.cut_profile, part.part_number, check=False)
     ref, ref_len = face_area_mm2(face), sum(e.length for e in face.edges())
     n_loops = len(part.info.cut_profile.loops)
     ok = (len(loops) == n_loops and not auditor.has_errors

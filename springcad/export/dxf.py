@@ -104,6 +104,15 @@ def _fixed_meta_data():
         ezdxf.options.write_fixed_meta_data_for_testing = before
 
 
+def _sort_classes(doc) -> None:
+    """Register the document's CLASS entries now, in sorted order: ezdxf adds those of the
+    entity types in use in the iteration order of a set of strings, which follows the
+    process's string hash (``PYTHONHASHSEED``), so two processes wrote LAYOUT and
+    ACDBPLACEHOLDER in either order. Saving adds no other class (it skips registered ones)."""
+    doc.classes.add_required_classes(doc.dxfversion)
+    doc.classes.classes = dict(sorted(doc.classes.classes.items()))
+
+
 def _is_circle(loop: BulgeLoop) -> bool:
     """Two half-circle bulges (how :func:`loop_bulges` writes a Circle)."""
     v = loop.vertices
@@ -181,6 +190,8 @@ def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: floa
         box = ezbbox.extents(msp)
         msp.dxf.extmin, msp.dxf.extmax = box.extmin, box.extmax  # -> $EXTMIN/$EXTMAX
         zoom.extents(msp)
+        if version != "R12":
+            _sort_classes(doc)
         doc.saveas(path)
     return DxfReport(Path(path), len(bulged), sum(b.n_biarcs for b in bulged),
                      max(b.max_deviation_mm for b in bulged), entities, n_entities)

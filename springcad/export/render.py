@@ -18,14 +18,34 @@ RENDER_TOLERANCE_MM = 0.02
 RENDER_ANGULAR_RAD = 0.3
 
 
-def _part_mesh(part):
+def quiet_vtk() -> None:
+    """Silence VTK's warnings and log on stderr, through the one VTK module that holds them
+    (``import vtk`` loads every VTK module, ~180 libraries: 0.4 s CPU and up to 4 s on a busy
+    machine, in each process that renders)."""
+    from vtkmodules.vtkCommonCore import vtkLogger, vtkObject
+
+    vtkObject.GlobalWarningDisplayOff()
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+
+
+def part_triangles(assembly) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Each distinct part tessellated in its own frame: part number -> (points (n, 3) mm,
+    triangles (m, 3) point indices). The CAD kernel's share of a render: with these given,
+    :func:`render_png` needs no solid (it can run in a forked process, where OCCT's
+    meshing thread pool would wait forever on the parent's threads)."""
+    out = {}
+    for pn, part in assembly.parts.items():
+        verts, tris = part.solid.tessellate(RENDER_TOLERANCE_MM, RENDER_ANGULAR_RAD)
+        out[pn] = (np.array([(v.X, v.Y, v.Z) for v in verts]), np.asarray(tris))
+    return out
+
+
+def _part_mesh(points, tris):
     """pyvista PolyData of a part in its own frame."""
     import pyvista as pv
 
-    verts, tris = part.solid.tessellate(RENDER_TOLERANCE_MM, RENDER_ANGULAR_RAD)
-    pts = np.array([(v.X, v.Y, v.Z) for v in verts])
-    faces = np.hstack([np.full((len(tris), 1), 3), np.asarray(tris)]).ravel()
-    return pv.PolyData(pts, faces)
+    faces = np.hstack([np.full((len(tris), 1), 3), tris]).ravel()
+    return pv.PolyData(points, faces)
 
 
 def _placed(mesh, placement):
@@ -92,15 +112,14 @@ def _content_box(img, background: float = 0.985, margin: float = 0.015):
             slice(max(0, cols[0] - pad), min(img.shape[1], cols[-1] + 1 + pad)))
 
 
-def _render_model(assembly, size, cutaway: bool):
+def _render_model(assembly, size, cutaway: bool, triangles=None):
     """The stack rendered off-screen, no text; an RGB float image."""
     import pyvista as pv
-    import vtk
 
-    vtk.vtkObject.GlobalWarningDisplayOff()
-    vtk.vtkLogger.SetStderrVerbosity(vtk.vtkLogger.VERBOSITY_OFF)
+    quiet_vtk()
     pv.OFF_SCREEN = True
-    meshes = {pn: _part_mesh(part) for pn, part in assembly.parts.items()}
+    triangles = part_triangles(assembly) if triangles is None else triangles
+    meshes = {pn: _part_mesh(*triangles[pn]) for pn in assembly.parts}
     plotter = pv.Plotter(off_screen=True, window_size=list(size))
     plotter.set_background("white")
     plotter.enable_depth_peeling(8)  # the see-through bushing without sorting streaks
@@ -179,7 +198,8 @@ def _layout(image_aspect: float, size, n_entries: int):
     return below, {"loc": "lower center", "bbox_to_anchor": (0.5, 0.005), "ncol": 3}
 
 
-def render_png(assembly, path: Path, size=(1600, 1200), cutaway: bool = True) -> Path:
+def render_png(assembly, path: Path, size=(1600, 1200), cutaway: bool = True,
+               triangles=None) -> Path:
     """Render the assembly to a PNG: the model framed tight, a title, a legend of part colours.
 
     Args:
@@ -187,6 +207,8 @@ def render_png(assembly, path: Path, size=(1600, 1200), cutaway: bool = True) ->
         path: output file.
         size: image size in pixels.
         cutaway: remove the quarter x > 0, y < 0 to show the inside.
+        triangles: the parts' tessellation (:func:`part_triangles`), made from the solids
+            if None.
     """
     import matplotlib
 
@@ -194,7 +216,7 @@ def render_png(assembly, path: Path, size=(1600, 1200), cutaway: bool = True) ->
     import matplotlib.pyplot as plt
     from matplotlib.patches import Patch
 
-    img = _render_model(assembly, size, cutaway)
+    img = _render_model(assembly, size, cutaway, triangles)
     rows, cols = _content_box(img)
     img = img[rows, cols]
     dpi = size[0] / 16.0  # a 16-inch-wide figure: text keeps its share of any image size

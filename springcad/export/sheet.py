@@ -111,15 +111,25 @@ class View:
 
 def segments_hit_box(segs: np.ndarray, box) -> np.ndarray:
     """Which segments (n, 4: x0, y0, x1, y1) cross or touch the box (x0, y0, x1, y1)."""
-    if len(segs) == 0:
-        return np.zeros(0, dtype=bool)
-    bx0, by0, bx1, by1 = box
+    return segments_hit_boxes(segs, np.asarray([box], dtype=float))[0]
+
+
+def segments_hit_boxes(segs: np.ndarray, boxes: np.ndarray) -> np.ndarray:
+    """Which segments (n, 4: x0, y0, x1, y1) cross or touch which boxes (m, 4: x0, y0, x1,
+    y1): an (m, n) array, each entry :func:`segments_hit_box`'s (the same arithmetic,
+    broadcast over the boxes)."""
+    segs = np.asarray(segs, dtype=float)
+    boxes = np.asarray(boxes, dtype=float)
+    if len(segs) == 0 or len(boxes) == 0:
+        return np.zeros((len(boxes), len(segs)), dtype=bool)
     p = segs[:, :2]
     d = segs[:, 2:] - p
-    t0 = np.zeros(len(segs))
-    t1 = np.ones(len(segs))
-    ok = np.ones(len(segs), dtype=bool)
-    for axis, lo, hi in ((0, bx0, bx1), (1, by0, by1)):  # Liang-Barsky clipping
+    shape = (len(boxes), len(segs))
+    t0 = np.zeros(shape)
+    t1 = np.ones(shape)
+    ok = np.ones(shape, dtype=bool)
+    for axis in (0, 1):  # Liang-Barsky clipping
+        lo, hi = boxes[:, axis, None], boxes[:, axis + 2, None]
         dd, pp = d[:, axis], p[:, axis]
         flat = np.abs(dd) < 1e-12
         ok &= ~flat | ((pp >= lo) & (pp <= hi))
@@ -129,6 +139,11 @@ def segments_hit_box(segs: np.ndarray, box) -> np.ndarray:
         t_out = np.where(flat, np.inf, np.maximum(ta, tb))
         t0, t1 = np.maximum(t0, t_in), np.minimum(t1, t_out)
     return ok & (t0 <= t1)
+
+
+#: the margin (mm) by which a segment's bounding box may miss a box and the segment still be
+#: clipped against it: far above the rounding of the clipping's ratios (~1e-12 mm here)
+_NEAR_MM = 1e-6
 
 
 def _boxes_overlap(a, b) -> bool:
@@ -174,6 +189,7 @@ class Sheet:
         self.conflicts: list[str] = []
         self._segs: list[np.ndarray] = []
         self._seg_cache: np.ndarray | None = None
+        self._seg_bounds: np.ndarray | None = None
 
     @property
     def inner(self) -> tuple[float, float, float, float]:
@@ -186,7 +202,7 @@ class Sheet:
         p = p[~np.isnan(p).any(axis=1)] if np.isnan(p).any() else p
         if len(p) > 1:
             self._segs.append(np.hstack([p[:-1], p[1:]]))
-            self._seg_cache = None
+            self._seg_cache = self._seg_bounds = None
 
     @property
     def segments(self) -> np.ndarray:
@@ -203,13 +219,29 @@ class Sheet:
         grown = _grow(box, pad)
         if any(_boxes_overlap(grown, b) for b in self.boxes):
             return False
-        return not (lines and segments_hit_box(self.segments, grown).any())
+        return not (lines and self._lines_hit(grown))
+
+    def _lines_hit(self, box) -> bool:
+        """Whether a drawn segment crosses or touches ``box``: clipped only against the
+        segments whose bounding box comes within :data:`_NEAR_MM` of it (the others cannot
+        reach it; the answer is the one clipping every segment gives)."""
+        segs = self.segments
+        if self._seg_bounds is None:
+            self._seg_bounds = np.column_stack([np.minimum(segs[:, 0], segs[:, 2]),
+                                                np.minimum(segs[:, 1], segs[:, 3]),
+                                                np.maximum(segs[:, 0], segs[:, 2]),
+                                                np.maximum(segs[:, 1], segs[:, 3])])
+        b = self._seg_bounds
+        near = ((b[:, 2] >= box[0] - _NEAR_MM) & (b[:, 0] <= box[2] + _NEAR_MM)
+                & (b[:, 3] >= box[1] - _NEAR_MM) & (b[:, 1] <= box[3] + _NEAR_MM))
+        return bool(segments_hit_box(segs[near], box).any())
 
     def path_is_free(self, pts, pad: float = 0.3) -> bool:
         """Whether a polyline (sheet mm) keeps ``pad`` from every text box."""
         p = np.asarray(pts, float)
         segs = np.hstack([p[:-1], p[1:]])
-        return not any(segments_hit_box(segs, _grow(b, pad)).any() for b in self.boxes)
+        boxes = np.asarray([_grow(b, pad) for b in self.boxes], dtype=float).reshape(-1, 4)
+        return not segments_hit_boxes(segs, boxes).any()
 
     # ---------------------------------------------------------------- primitives
     def polyline(self, pts, lw=THIN, style="-", closed=False, color="black"):

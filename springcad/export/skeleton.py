@@ -89,9 +89,7 @@ def part_volume_mm3(part) -> float:
     """The exact volume of a part's solid (mm^3): stored for a :class:`PartRecord`."""
     if isinstance(part, PartRecord):
         return part.volume_mm3
-    from springcad.geometry.base import solid_volume_mm3
-
-    return solid_volume_mm3(part.solid)
+    return part.volume_mm3()
 
 
 def skeleton_of(assembly) -> dict:

@@ -21,18 +21,25 @@ STL_ANGULAR_RAD = 0.2
 #: date of a STEP header when none is given (the zip format's epoch, as in vendor.zip)
 STEP_EPOCH_DATE = "1980-01-01"
 _FILE_NAME_STAMP = re.compile(r"(FILE_NAME\s*\(\s*'(?:[^']|'')*'\s*,\s*')[^']*(')")
+#: a negative zero as OCCT writes a real in a STEP data list: "-0." between "(" or "," and
+#: "," or ")" (not "-0.5", not "-0.E+00" which OCCT does not write)
+_NEGATIVE_ZERO = re.compile(r"(?<=[(,])-0\.(?=[,)])")
 
 
 def set_step_date(path: Path, date: str = "") -> Path:
-    """Put ``date`` (YYYY-MM-DD, midnight) in the time stamp of a STEP file's header.
+    """Put ``date`` (YYYY-MM-DD, midnight) in the time stamp of a STEP file's header, and
+    write every zero of the data section unsigned.
 
     OCCT writes the clock time of the export there, so two exports of one solid
     would differ; with the build's date the file is a function of the geometry and
-    the date only (vendor.zip of two builds on one day is byte-identical).
+    the date only (vendor.zip of two builds on one day is byte-identical). OCCT also
+    writes one zero coordinate as ``0.`` in one process and ``-0.`` in the next (measured:
+    the torque shaft's and the cam's STEP, the assembly STEP), the same number.
     """
     path = Path(path)
     text = path.read_bytes().decode("latin-1")
     head, sep, rest = text.partition("ENDSEC;")
+    rest = _NEGATIVE_ZERO.sub("0.", rest)
     stamp = f"{date or STEP_EPOCH_DATE}T00:00:00"
     new_head, n = _FILE_NAME_STAMP.subn(lambda m: m.group(1) + stamp + m.group(2), head,
                                         count=1)
@@ -81,7 +88,29 @@ def write_part_stl(part, path: Path) -> Path:
     writer.ASCIIMode = False
     if not writer.Write(copy, str(path)):
         raise OSError(f"could not write the STL {path}")
-    return Path(path)
+    return unsigned_stl_zeros(path)
+
+
+def unsigned_stl_zeros(path: Path) -> Path:
+    """Rewrite the negative zeros of a binary STL's normals and vertices as zeros (the
+    same numbers: OCCT writes a zero as -0.0 in one process and 0.0 in the next, so two
+    builds' files differed); other bytes are kept."""
+    import numpy as np
+
+    path = Path(path)
+    data = bytearray(path.read_bytes())
+    n = int.from_bytes(data[80:84], "little")
+    if len(data) != 84 + 50 * n:
+        raise OSError(f"{path}: not a binary STL of {n} triangles ({len(data)} bytes)")
+    records = np.frombuffer(data, dtype=np.uint8, offset=84).reshape(n, 50)
+    words = records[:, :48].copy().view("<u4")  # 12 float32 per triangle
+    negative_zero = words == 0x80000000
+    if negative_zero.any():
+        words[negative_zero] = 0
+        out = records.copy()
+        out[:, :48] = words.view(np.uint8).reshape(n, 48)
+        path.write_bytes(bytes(data[:84]) + out.tobytes())
+    return path
 
 
 def _quiet_occt():
@@ -148,7 +177,84 @@ def write_assembly_step(assembly, path: Path, date: str = "") -> Path:
     writer.Transfer(doc, STEPControl_StepModelType.STEPControl_AsIs)
     if writer.Write(str(path)) != IFSelect_ReturnStatus.IFSelect_RetDone:
         raise OSError(f"could not write the assembly STEP {path}")
+    path = Path(path)
+    path.write_bytes(canonical_styles(path.read_bytes().decode("latin-1")).encode("latin-1"))
     return set_step_date(path, date)
+
+
+_RECORD = re.compile(r"#(\d+) = (.*?);\n", re.S)
+_REF = re.compile(r"#(\d+)")
+_STYLES_START = "MECHANICAL_DESIGN_GEOMETRIC_PRESENTATION_REPRESENTATION("
+
+
+def canonical_styles(text: str) -> str:
+    """A STEP file with its presentation styles (the colours: the records from the first
+    ``MECHANICAL_DESIGN_GEOMETRIC_PRESENTATION_REPRESENTATION`` to the end of the data
+    section) in an order of their content, numbered in that order.
+
+    OCCT writes the styles of an assembly from a map ordered by memory addresses, so two
+    processes wrote the same styles in different orders (measured: the default job's
+    assembly STEP); here each representation's items are sorted, the representations sorted,
+    and the records numbered depth first from them (the numbers they had, reused), so the
+    file is a function of the geometry and colours. The text is returned unchanged when the
+    section is not of that form (a record not reached from a representation, a number used
+    outside it, numbers not consecutive).
+    """
+    data = text.find("\nDATA;\n")
+    start = text.find(f"= {_STYLES_START}", data)
+    end = text.find("ENDSEC;", start)
+    if data < 0 or start < 0 or end < 0:
+        return text
+    start = text.rfind("\n", 0, start) + 1
+    records = {int(m.group(1)): m.group(2) for m in _RECORD.finditer(text, start, end)}
+    ids = sorted(records)
+    if (not ids or ids != list(range(ids[0], ids[0] + len(ids)))
+            or _RECORD.sub("", text[start:end]).strip()
+            or any(int(r) in records for r in _REF.findall(text[data:start]))):
+        return text
+    inner = lambda body: [int(r) for r in _REF.findall(body) if int(r) in records]  # noqa: E731
+    keys: dict[int, str] = {}
+
+    def key(i: int) -> str:  # the record's content, its references replaced by theirs
+        if i not in keys:
+            keys[i] = _REF.sub(lambda m: f"{{{key(int(m.group(1)))}}}" if int(m.group(1))
+                               in records else m.group(0), records[i])
+        return keys[i]
+
+    roots = [i for i in ids if records[i].startswith(_STYLES_START)]
+    for i in roots:  # each representation's items (its first list) in the order of content
+        body = records[i]
+        lo, hi = body.index("("), body.index(")")
+        listed = [int(r) for r in _REF.findall(body[lo:hi])]
+        if any(r not in records for r in listed):
+            return text
+        # a styled item before the items that override it, each kind by content
+        ordered = iter(sorted(listed, key=lambda r: (records[r].startswith("OVER_RIDING"),
+                                                     key(r))))
+        records[i] = body[:lo] + _REF.sub(lambda m: f"#{next(ordered)}", body[lo:hi]) + body[hi:]
+    keys.clear()
+    order: list[int] = []
+    seen: set[int] = set()
+
+    def visit(i: int) -> None:
+        stack = [i]
+        while stack:
+            j = stack.pop()
+            if j in seen:
+                continue
+            seen.add(j)
+            order.append(j)
+            stack.extend(reversed(inner(records[j])))
+
+    for i in sorted(roots, key=key):
+        visit(i)
+    if len(order) != len(ids):
+        return text
+    new = {old: ids[0] + k for k, old in enumerate(order)}
+    out = "".join(f"#{new[i]} = " + _REF.sub(lambda m: f"#{new[int(m.group(1))]}"
+                                             if int(m.group(1)) in new else m.group(0),
+                                             records[i]) + ";\n" for i in order)
+    return text[:start] + out + text[end:]
 
 
 @dataclass(frozen=True)

@@ -133,8 +133,13 @@ class SpringcadPart(NamedByInfo, BasePartObject):
         self.info = replace(info, part_number=part_number_of(info, self.slabs, self.tolerance_mm))
         self.colour = tuple(colour)
         self.exact_prism = solid is None
+        #: the kernel's validity of the solid when building it checked it (prism_solid
+        #: raises on an invalid one), else None: the checks stage asks again only then
+        self.solid_valid: bool | None = None
+        self._volume_mm3: float | None = None
         if solid is None:
             solid = prism_solid(self.slabs, info.name)
+            self.solid_valid = True
         solid.label = self.part_number
         super().__init__(solid)
         self.label = self.part_number
@@ -153,6 +158,13 @@ class SpringcadPart(NamedByInfo, BasePartObject):
     def solid(self) -> Solid:
         """The one solid of this part."""
         return self.solids()[0]
+
+    def volume_mm3(self) -> float:
+        """The exact volume of the solid (:func:`solid_volume_mm3`, mm^3), measured once: the
+        checks, the cached skeleton and the STEP read-back all hold files against it."""
+        if getattr(self, "_volume_mm3", None) is None:
+            self._volume_mm3 = solid_volume_mm3(self.solid)
+        return self._volume_mm3
 
     def slab_volume_mm3(self) -> float:
         """Volume from the 2D description: sum of region area x length (mm^3)."""
@@ -202,8 +214,8 @@ def prism_solid(slabs, part: str) -> Solid:
             raise GeometryError(f"{part}: its sections do not join into one solid "
                                 f"({len(solids)} pieces); check the axial layout")
         solid = solids[0]
-    if not solid.is_valid:
-        raise GeometryError(f"{part}: the solid is not valid")
+        if not solid.is_valid:  # one slab: extrude_profile checked this very solid
+            raise GeometryError(f"{part}: the solid is not valid")
     return solid
 
 

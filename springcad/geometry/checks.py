@@ -165,13 +165,13 @@ def part_checks(part, manufacturing=None) -> list[Check]:
     the process's web, hole-edge and hole-size rules (:mod:`springcad.geometry.sheet_cut`).
     Turned parts: the wall between bore or socket and outer diameter (``turned.min_wall``).
     """
-    from springcad.geometry.base import solid_volume_mm3
-
     pn = part.part_number
-    out = [Check("solid_valid", pn, bool(part.solid.is_valid), unit="",
-                 message="valid solid" if part.solid.is_valid else "the kernel reports an invalid solid")]
+    valid = getattr(part, "solid_valid", None)  # the kernel's answer when building asked it
+    valid = bool(part.solid.is_valid) if valid is None else valid
+    out = [Check("solid_valid", pn, valid, unit="",
+                 message="valid solid" if valid else "the kernel reports an invalid solid")]
     if part.exact_prism:
-        v, ref = solid_volume_mm3(part.solid), part.slab_volume_mm3()
+        v, ref = part.volume_mm3(), part.slab_volume_mm3()
         ok = abs(v - ref) <= VOLUME_RTOL * ref
         out.append(Check("volume_matches_profile", pn, ok, value=v, limit=ref, unit="mm^3",
                          message=f"solid {v:.3f} mm^3 vs profile area x length {ref:.3f} mm^3 "

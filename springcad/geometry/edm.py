@@ -195,13 +195,23 @@ def hole_edge_rule(profile: Profile, min_edge_mm: float, describe) -> RuleResult
     if not holes:
         return RuleResult("hole_edge", min_edge_mm, None, None, ())
     pts = [lp.sample(CURVE_STEP_MM) for lp in loops]
+    trees: dict[int, cKDTree] = {}  # one per loop, each built once (not per hole)
     values, xy = [], []
     for i in holes:
-        others = np.vstack([p for j, p in enumerate(pts) if j != i])
-        d, k = cKDTree(others).query(pts[i])
+        # nearest point of every other loop: the nearest of their union
+        d = np.full(len(pts[i]), np.inf)
+        near = np.zeros_like(pts[i])
+        for j, p in enumerate(pts):
+            if j == i:
+                continue
+            if j not in trees:
+                trees[j] = cKDTree(p)
+            dj, kj = trees[j].query(pts[i])
+            closer = dj < d
+            d[closer], near[closer] = dj[closer], p[kj[closer]]
         j = int(np.argmin(d))
         values.append(float(d[j]))
-        xy.append(0.5 * (pts[i][j] + others[k[j]]))
+        xy.append(0.5 * (pts[i][j] + near[j]))
     values, xy = np.asarray(values), np.asarray(xy)
     bad = values < min_edge_mm * (1 - 1e-9)
     viol = tuple({"value_mm": float(v), **_location(*p, describe)}

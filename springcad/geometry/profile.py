@@ -135,11 +135,12 @@ def check_loops(profile: Profile, part: str = "part", step_mm: float = 0.02) -> 
                         f"{_loop_name(lb)}; holes must not nest")
 
 
-def profile_face(profile: Profile, part: str = "part"):
+def profile_face(profile: Profile, part: str = "part", check: bool = True):
     """Planar face (z = 0) with holes for a profile.
 
-    The loops are checked first (:func:`check_loops`), so crossing contours are
-    reported with their place rather than as a kernel failure.
+    The loops are checked first (:func:`check_loops`; ``check=False``: a profile checked
+    before, e.g. the one a part's solid was made from), so crossing contours are reported
+    with their place rather than as a kernel failure.
 
     Raises:
         GeometryError: the contours cross, or the kernel cannot make a valid face
@@ -147,7 +148,8 @@ def profile_face(profile: Profile, part: str = "part"):
     """
     import build123d as bd
 
-    check_loops(profile, part)
+    if check:
+        check_loops(profile, part)
     try:
         outer = loop_wire(profile.outer)
         inner = [loop_wire(h) for h in profile.holes]

@@ -17,20 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
+from springcad.export.render import quiet_vtk
 from springcad.report.fea_vtu import result_grid
 
 #: the part fills this fraction of the framed view; the rest is margin
 _MARGIN = 0.06
-
-
-def _quiet_vtk():
-    try:
-        import vtk
-
-        vtk.vtkLogger.SetStderrVerbosity(vtk.vtkLogger.VERBOSITY_OFF)
-        vtk.vtkObject.GlobalWarningDisplayOff()
-    except Exception:  # pragma: no cover - cosmetic only
-        pass
 
 
 def peak_title(title: str, peak_MPa: float, region: str = "") -> str:
@@ -44,7 +35,7 @@ def _field_image(result, clim, window, zoom_mm, peak):
     import pyvista as pv
 
     pv.OFF_SCREEN = True
-    _quiet_vtk()
+    quiet_vtk()
     grid = result_grid(result)
     surf = grid.extract_surface(nonlinear_subdivision=2, algorithm="dataset_surface")
     p = pv.Plotter(off_screen=True, window_size=list(window))

@@ -45,6 +45,29 @@ def test_s2_is_corrected_to_its_target(s2, s2_verified):
     json.dumps(d, allow_nan=True)
 
 
+def _without_timings(x):
+    if isinstance(x, dict):
+        return {k: _without_timings(v) for k, v in x.items() if k != "timings_s"}
+    return [_without_timings(v) for v in x] if isinstance(x, list) else x
+
+
+def test_3d_factor_beside_the_2d_levels_changes_no_number(s2, s2_verified, monkeypatch):
+    """The 3D factor solved in a second process beside the 2D levels (and, in the correction
+    iterations, ahead of knowing whether it is needed) gives the verification that solving it
+    in this process after the 2D levels gives: every number of fea.json's spring record."""
+    from fea.verify import VerifyOptions, verify_spring
+    from springcad.parallel import enabled
+
+    if not enabled():
+        pytest.skip("fork not available or switched off: both runs would be serial")
+    monkeypatch.setenv("SPRINGCAD_PARALLEL", "0")
+    serial = verify_spring(s2, VerifyOptions(keep_fields=False, tolerance=3e-4))
+    assert len(serial.iterations) >= 2  # the corrected geometry's factor was solved ahead
+    text = [json.dumps(_without_timings(v.to_dict()), sort_keys=True, allow_nan=True)
+            for v in (serial, s2_verified)]  # as text: NaN equals NaN
+    assert text[0] == text[1]
+
+
 def test_s1_passes_at_yield_by_construction(s1, s1_verified):
     """The paper's S1 (fixed N, ball, r_c, R_o, z, 912 MPa) meets K and its yield margin in FEA.
 

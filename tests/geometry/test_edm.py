@@ -117,3 +117,31 @@ def test_violation_locations_name_flexures(ring_s1):
         k = int(v["feature"].split()[1])
         expected = 90.0 + 360.0 * k / ring_s1.n_flexures
         assert abs((v["angle_deg"] - expected + 180) % 360 - 180) < 180 / ring_s1.n_flexures
+
+
+def test_hole_edge_per_hole_equals_the_brute_force_minimum():
+    """Each hole's edge distance (the rule now queries one tree per other loop) equals the
+    smallest distance from its samples to every sample of every other loop (all pairs), and
+    the reported location is the midpoint of that pair; and the closed forms of the holes'
+    distances to the plate edge and to each other."""
+    import numpy as np
+    from scipy.spatial.distance import cdist
+
+    from springcad.geometry.edm import CURVE_STEP_MM, hole_edge_rule
+
+    holes = (Loop((Circle((-6.0, 0.0), 1.0),)), Loop((Circle((-3.5, 0.4), 1.2),)),
+             Loop((Circle((5.0, 6.5), 2.0),)), slot(1.0, 4.0, 2.0, -5.0))
+    profile = Profile(square(10.0), holes)
+    got = hole_edge_rule(profile, 100.0, lambda x, y: "").violations  # every hole reported
+    pts = [lp.sample(CURVE_STEP_MM) for lp in profile.loops]
+    circles = [1, 2, 3]  # the slot (loop 4) is not a round hole
+    assert len(got) == len(circles)
+    for i, v in zip(circles, got):
+        others = np.vstack([p for j, p in enumerate(pts) if j != i])
+        d = cdist(pts[i], others)
+        a, b = np.unravel_index(np.argmin(d), d.shape)
+        assert v["value_mm"] == d[a, b]
+        assert (v["x_mm"], v["y_mm"]) == tuple(0.5 * (pts[i][a] + others[b]))
+    # hole 1 to hole 2: centres sqrt(2.5^2 + 0.4^2) apart; hole 3 to the plate's top edge
+    assert got[0]["value_mm"] == pytest.approx(math.hypot(2.5, 0.4) - 2.2, abs=1e-3)
+    assert got[2]["value_mm"] == pytest.approx(10.0 - 6.5 - 2.0, abs=1e-3)
