@@ -67,6 +67,8 @@ class Effect:
     order: int = 0
     #: applicable only when at least one of these effects is in the model
     needs_any: tuple[str, ...] = ()
+    #: what it reads as beside those effects at their null (an effect of the library)
+    reads_as_alone: str | None = None
     #: index (within this effect's parameters) of the parameter that sets its size
     primary: int = 0
     #: splits of the record across which its parameters must agree (see ``evidence``)
@@ -290,6 +292,7 @@ class AngleOffset(Effect):
     stage = "angle"
     order = 1
     needs_any = ("backlash", "asymmetric_stiffness")
+    reads_as_alone = "torque_offset"
     signature = "a shift of the crossover along the deflection axis"
 
     def params(self, sc):

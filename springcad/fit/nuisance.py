@@ -86,7 +86,8 @@ def cycle_windows(sig: Signals, idx: np.ndarray) -> np.ndarray:
     return lookup[runs]
 
 
-def _significant(means: np.ndarray, counts: np.ndarray, var_noise: float, p_level: float) -> bool:
+def significant_means(means: np.ndarray, counts: np.ndarray, var_noise: float,
+                      p_level: float) -> bool:
     """Whether bin means stand above noise: significant at ``p_level`` and of an RMS
     of ``MIN_RMS`` noise levels at least (the rule that flags a residual unexplained)."""
     ok = counts > 0
@@ -108,7 +109,7 @@ def slow_part(r: np.ndarray, idx: np.ndarray, sig: Signals, var_noise: float,
         return None
     cnt = np.bincount(win, minlength=n_win).astype(float)
     mean = np.bincount(win, weights=r, minlength=n_win) / np.maximum(cnt, 1.0)
-    if not _significant(mean, cnt, var_noise, p_level):
+    if not significant_means(mean, cnt, var_noise, p_level):
         return None
     return np.where(win_all >= 0, mean[np.maximum(win_all, 0)], 0.0)
 
@@ -151,7 +152,7 @@ def profile_part(r: np.ndarray, idx: np.ndarray, sig: Signals, var_noise: float,
     or ``None`` when it is within noise."""
     centre, common, n_eff, _ = common_profile(r, idx, sig, bins, var_noise)
     both = n_eff > 0
-    if not _significant(common, n_eff, var_noise, p_level):
+    if not significant_means(common, n_eff, var_noise, p_level):
         return None
     # piecewise linear through the bin centres: a steep profile (a hard stop) changes a
     # lot within one bin
