@@ -348,7 +348,7 @@ def _undilute(state: State, sig: Signals, idx: np.ndarray) -> tuple[State, float
     x0[0], x1[0] = 0.0, 1.0
     model = state.model
     h = 1e-3 * max(sig.scales.theta_ref, 1e-9)
-    moved = dataclasses.replace(sig, theta=sig.theta + h)
+    moved = sig.shifted(h)
 
     def shape(s):
         return model.predict(x1, s, idx) - model.predict(x0, s, idx)

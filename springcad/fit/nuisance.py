@@ -30,7 +30,6 @@ Torque in N·m, deflection in rad.
 
 from __future__ import annotations
 
-import dataclasses
 
 import numpy as np
 from scipy import stats
@@ -216,8 +215,8 @@ def views_without(sig: Signals, slow: np.ndarray | None,
     """:func:`nuisance_views` from parts already found by :func:`nuisance_parts`."""
     out: dict[str, Signals] = {}
     if slow is not None:
-        out["slow"] = dataclasses.replace(sig, torque=sig.torque - slow)
+        out["slow"] = sig.with_torque(sig.torque - slow)
     if slow is not None or profile is not None:
         total = (0.0 if slow is None else slow) + (0.0 if profile is None else profile)
-        out["direction"] = dataclasses.replace(sig, torque=sig.torque - total)
+        out["direction"] = sig.with_torque(sig.torque - total)
     return out

@@ -124,6 +124,25 @@ class Signals:
             out.__dict__[name] = getattr(self, name)
         return out
 
+    def with_torque(self, torque: np.ndarray) -> "Signals":
+        """These signals with another torque (N·m, every sample): the signals derived from
+        the deflection alone are computed once, here, and shared (the trace's corner search
+        is most of a view's cost; every fit asks for them)."""
+        out = dataclasses.replace(self, torque=torque)
+        for name in _DERIVED:
+            out.__dict__[name] = getattr(self, name)
+        return out
+
+    def shifted(self, h_rad: float) -> "Signals":
+        """These signals with the measured deflection moved by ``h_rad`` (rad): the trace
+        moves with it, every other signal derived from the deflection (turns, holds, travel
+        since a turn) stays; shared, not computed again."""
+        out = dataclasses.replace(self, theta=self.theta + h_rad)
+        for name in _DERIVED:
+            out.__dict__[name] = getattr(self, name)
+        out.__dict__["theta_trace"] = self.theta_trace + h_rad
+        return out
+
     @functools.cached_property
     def theta_trace(self) -> np.ndarray:
         """Deflection smoothed for time shifts (rad): a local cubic over ``TRACE_RUN_FRACTION``
