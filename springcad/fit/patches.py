@@ -12,15 +12,17 @@ profile still holds: a cubic fitted to a stiffening of 15 % describes tens of
 times what a cogging ripple beside it leaves, a crossover fitted to the ripple
 itself describes less than it leaves.
 
-:func:`profile_patches` judges each effect shaped in deflection (``map`` and
-``factor`` stages: backlash, stiffening, asymmetric stiffness) of a final model
+:func:`profile_patches` judges each effect shaped in deflection
+(``Effect.deflection_shape``: backlash, stiffening, asymmetric stiffness, and the offsets
+of the torque and of the angle, which a mean of the structure patches) of a final model
 whose residual's deflection profile (common to both directions of motion, see
 :func:`springcad.fit.nuisance.common_profile`) still stands above noise (chi-squared at
 the loop's ``structure_p``, however small its RMS: the rule is relative): the
 RMS of the effect's own term over that profile must be at least
 ``SHAPE_DOMINANCE`` times the RMS of the structure left in it (its excess over
-noise). An effect that does not is not named; the structure stays flagged
-``unexplained`` and localised. A record the model explains (a profile within
+noise), after the torque zero's motion over whole cycles is taken out (it is no
+shape in deflection, see :mod:`springcad.fit.nuisance`). An effect that does not
+is not named; the structure stays flagged ``unexplained`` and localised. A record the model explains (a profile within
 noise) is judged as before.
 
 Torque in N·m, deflection in rad.
@@ -34,7 +36,7 @@ import numpy as np
 from scipy import stats
 
 from springcad.fit.inference import jacobian
-from springcad.fit.nuisance import common_profile, cycle_windows
+from springcad.fit.nuisance import common_profile, cycle_windows, nuisance_parts
 from springcad.fit.residual import noise_model
 from springcad.fit.signals import Signals
 from springcad.fit.torque_model import TorqueModel
@@ -42,9 +44,6 @@ from springcad.fit.torque_model import TorqueModel
 #: an effect shaped in deflection, named beside structure left in the deflection profile,
 #: must describe at least this many times (RMS over the profile) what is left there
 SHAPE_DOMINANCE = 3.0
-
-#: the stages whose terms are shapes in deflection
-SHAPE_STAGES = ("map", "factor")
 
 
 def profile_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,
@@ -57,10 +56,17 @@ def profile_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.nda
         ``{effect: (ratio, reason)}``, ``ratio`` the RMS of its term over that of the
         structure left (the smallest first is the worst).
     """
-    shaped = [e for e in model.effects if e.stage in SHAPE_STAGES]
+    shaped = [e for e in model.effects if e.deflection_shape]
     if not shaped:
         return {}
-    prof = common_profile(model.residual(x, sig, idx), idx, sig)
+    r = model.residual(x, sig, idx)
+    # the torque zero's motion over whole cycles is no shape in deflection, but it shows in
+    # the profile where late cycles reach further than early ones (a zero that jumps
+    # beside a staircase): taken out first, as the audit does (see fit.nuisance)
+    slow = nuisance_parts(r, idx, sig, p_level)[0]
+    if slow is not None:
+        r = r - slow[idx]
+    prof = common_profile(r, idx, sig)
     if prof is None:
         return {}
     _, common, n_eff, var_noise = prof
