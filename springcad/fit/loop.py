@@ -11,7 +11,10 @@
    ``N'`` the independent samples for noise correlated over ``τ`` samples; the
    best candidate is added if it lowers the criterion by more than
    ``gain_threshold``. A backward pass removes effects later ones made
-   redundant. Friction and a late channel, which flip with the direction of
+   redundant. An effect that is a candidate only beside another (an angle
+   offset beside a crossover) is also tried with it, as one candidate
+   (``Search._pairs``): a crossover off zero is no crossover at zero. Friction
+   and a late channel, which flip with the direction of
    motion, are also judged with the structure they cannot describe taken out
    (:mod:`springcad.fit.nuisance`: the residual's whole-cycle means and its
    deflection profile common to both directions), and proposed that way only
@@ -25,6 +28,13 @@
    (crossover, cubic) must not leave the residual's deflection profile standing
    above noise where it acts (``evidence.shape_check``). The worst failing
    effect is rejected and the search resumes without it, until all pass.
+   Effects the audit rejected one at a time are tried together (:mod:`springcad.fit.joint`).
+   Then effects that patch structure the library cannot describe are not named
+   (:mod:`springcad.fit.patches`): a shape in deflection that describes less than
+   three times what the residual's deflection profile still holds (a crossover
+   fitted to cogging), and an effect that loses most of its size when the
+   stiffness is freed per whole cycle, where it does change between cycles (a
+   cubic fitted to a stiffness that dropped mid-test).
 4. **Identifiability** (:mod:`springcad.fit.identify`). Pairs of effects the
    record cannot separate (variance inflation ≥ ``vif_confounded``, also
    away from the reversals) are
