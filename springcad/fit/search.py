@@ -417,7 +417,9 @@ class Search:
         the gain threshold of the second effect (``n_added`` counts both), when it beats by
         the gain threshold what the second reads as beside the first at its null
         (``Effect.reads_as_alone``: an offset angle beside a vanishing asymmetry is a torque
-        offset). The model of the proposal holds both; the loop names each.
+        offset), and never when that was rejected (a torque zero that moves is no offset,
+        of the torque or of a crossover). The model of the proposal holds both; the loop
+        names each.
         """
         sig = self.sig
         active = set(state.effects)
@@ -451,6 +453,8 @@ class Search:
                 if any(e.physical_problem(x[m2.slice_of(e.name)], float(x[0]), m2.scales)
                        for e in (pre, dep)):
                     continue
+                if dep.reads_as_alone in excluded:
+                    continue  # what it reads as was rejected: the pair would bring it back
                 if dep.reads_as_alone and score > self._twin_score(
                         state, pre, get_effect(dep.reads_as_alone), f_scale) - self.s.gain_threshold:
                     continue

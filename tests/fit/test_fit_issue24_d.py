@@ -9,6 +9,7 @@ each with its truth. Units: N·m, rad, s.
 import math
 
 import numpy as np
+import pytest
 
 from fit_helpers import loop_on_record
 from issue24_records import deadband, ramps
@@ -172,3 +173,30 @@ def test_a_crossover_fitted_over_cogging_is_a_patch_and_a_true_one_beside_it_is_
     sig, lp, model, x = _fitted(_record(t, th, K * deadband(th, 0.015) + cog, seed=10)[0],
                                 "backlash")
     assert profile_patches(model, x, sig, lp.cv) == {}
+
+
+def test_a_standard_error_of_round_off_is_no_support():
+    # a filter time constant resting on its bound has a standard error of round-off
+    # (7.7e-15 s against 5.3e-5 s on generator C O11 seed 3), which read as z = 7e9
+    # and kept a 0.05 ms "filter"; zero and round-off alike carry no information
+    from springcad.fit.evidence import _support_z
+
+    assert _support_z(((5.25e-5, 7.7e-15),), 0.0) == 0.0
+    assert _support_z(((5.25e-5, 0.0),), 0.0) == 0.0
+    assert _support_z(((5.25e-5, 1e-5),), 0.0) == pytest.approx(5.25)
+
+
+def test_a_crossover_off_zero_is_not_proposed_where_a_torque_offset_was_rejected():
+    # an angle offset beside a vanishing or smeared crossover reads as a torque offset:
+    # where the audit rejected the torque offset (the zero moves), the pair would bring
+    # it back in disguise (generator C O11: a settling zero read as a 0.08 rad crossover
+    # off zero)
+    t, th = ramps(AMPS_DEG, (8.0,), hold_s=0.5)
+    rec, _ = _record(t, th, K * deadband(th - 0.026, 0.0135), seed=2, theta_noise=1e-4)
+    sig, lp, model, x = _fitted(rec)
+    state = State(model, model.fit(sig, lp.all, x, 1e9))
+    f_scale = lp.f_scale(state)
+    lp.update_noise(state)
+    score, _ = lp.cv_score(state.model, state.x, None, f_scale)
+    _, proposals = lp.round(state, score, f_scale, excluded=frozenset({"torque_offset"}))
+    assert all("angle_offset" not in p[2].effects for p in proposals)
