@@ -434,16 +434,18 @@ def _corner(theta: np.ndarray, near: int, leaving: bool, half: int, reach: int =
         candidates = range(max(near - reach, lo + 2), hi - 2)
     y = theta[lo:hi]
     i = np.arange(lo, hi, dtype=float)
-    best, where = np.inf, near
-    for j in candidates:
-        x = np.maximum(i - j, 0.0) if leaving else np.minimum(i - j, 0.0)
-        # a motion may start (or stop) at a finite speed (a linear ramp) or from rest
-        # with a finite acceleration (a cosine ramp): a line and a parabola from the break
-        a = np.column_stack([np.ones_like(x), x, x * x])
-        coef, *_ = np.linalg.lstsq(a, y, rcond=None)
-        sse = float(np.sum((y - a @ coef) ** 2))
-        if sse < best:
-            best, where = sse, j
+    js = np.arange(candidates.start, candidates.stop)
+    if js.size == 0:
+        return near if leaving else near + 1
+    # every break at once: a motion may start (or stop) at a finite speed (a linear ramp)
+    # or from rest with a finite acceleration (a cosine ramp): a line and a parabola from
+    # the break, least squares by the pseudo-inverse of each candidate's design
+    x = i[None, :] - js[:, None].astype(float)
+    x = np.maximum(x, 0.0) if leaving else np.minimum(x, 0.0)
+    a = np.stack([np.ones_like(x), x, x * x], axis=2)
+    coef = np.linalg.pinv(a) @ y
+    sse = np.sum((y[None, :] - np.einsum("cnk,ck->cn", a, coef)) ** 2, axis=1)
+    where = int(js[int(np.argmin(sse))])
     return where if leaving else where + 1
 
 
