@@ -67,6 +67,11 @@ class Effect:
     order: int = 0
     #: applicable only when at least one of these effects is in the model
     needs_any: tuple[str, ...] = ()
+    #: what it reads as beside those effects at their null (an effect of the library)
+    reads_as_alone: str | None = None
+    #: its term is a function of the deflection alone, the same in both directions of
+    #: motion (judged against the residual's deflection profile, see ``fit.patches``)
+    deflection_shape: bool = False
     #: index (within this effect's parameters) of the parameter that sets its size
     primary: int = 0
     #: splits of the record across which its parameters must agree (see ``evidence``)
@@ -168,6 +173,7 @@ class Backlash(Effect):
     looks_for = ("residual of the opposite sign to the deflection, stepping across zero "
                  "deflection (torque overestimated near the crossover)")
     stage = "map"
+    deflection_shape = True
     signature = "a torque step across zero deflection"
 
     def physical_problem(self, p, stiffness, sc):
@@ -288,8 +294,10 @@ class AngleOffset(Effect):
     looks_for = ("residual shaped like the model's slope, visible where the crossover or a "
                  "kink sits off zero; indistinguishable from a torque offset without one")
     stage = "angle"
+    deflection_shape = True
     order = 1
     needs_any = ("backlash", "asymmetric_stiffness")
+    reads_as_alone = "torque_offset"
     signature = "a shift of the crossover along the deflection axis"
 
     def params(self, sc):
@@ -311,6 +319,7 @@ class Stiffening(Effect):
                "flexure, large-deflection geometry): stiffening if positive, softening if negative")
     looks_for = "residual odd in deflection and growing faster than linearly (cubic) with it"
     stage = "factor"
+    deflection_shape = True
     signature = "a torque error growing with the cube of the deflection"
 
     def physical_problem(self, p, stiffness, sc):
@@ -342,6 +351,7 @@ class AsymmetricStiffness(Effect):
                "teeth cut unevenly, one-sided contact)")
     looks_for = "residual even in deflection, proportional to |deflection|"
     stage = "factor"
+    deflection_shape = True
     signature = "a torque error even in deflection, proportional to |deflection|"
 
     def params(self, sc):
@@ -362,6 +372,7 @@ class TorqueOffset(Effect):
     meaning = "torque sensor zero not tared: a constant torque added to every sample"
     looks_for = "residual with a non-zero mean"
     stage = "torque"
+    deflection_shape = True
     order = 0
     signature = "a constant torque"
 

@@ -358,13 +358,20 @@ def _compare(checks: dict, model: TorqueModel, tested: list, split: str, parts, 
             p >= agreement_p, abs(z) >= support_z))
 
 
+#: a standard error below this share of its value is round-off about a parameter resting on
+#: a bound (no bench measures a size to a part in a billion): no information, as zero is
+NO_INFORMATION = 1e-9
+
+
 def _support_z(parts: tuple[tuple[float, float], ...], null: float) -> float:
     """Inverse-variance mean of ``(value, standard error)`` parts, in standard errors from
     ``null``. A part with no standard error carries no information on the effect (its
     parameter rests on a bound, where the fit cannot move it: a filter time constant of
-    zero, a relaxing branch of no stiffness) and does not count; with none left the
+    zero, a relaxing branch of no stiffness; a standard error of round-off,
+    ``NO_INFORMATION`` of the value, is none) and does not count; with none left the
     effect is not supported (z = 0): a value nothing measures is no evidence."""
-    w = [(v, 1.0 / (se * se)) for v, se in parts if se > 0 and math.isfinite(se)]
+    w = [(v, 1.0 / (se * se)) for v, se in parts
+         if se > NO_INFORMATION * abs(v) and se > 0 and math.isfinite(se)]
     if not w:
         return 0.0
     total = sum(wi for _, wi in w)

@@ -11,7 +11,10 @@
    ``N'`` the independent samples for noise correlated over ``τ`` samples; the
    best candidate is added if it lowers the criterion by more than
    ``gain_threshold``. A backward pass removes effects later ones made
-   redundant. Friction and a late channel, which flip with the direction of
+   redundant. An effect that is a candidate only beside another (an angle
+   offset beside a crossover) is also tried with it, as one candidate
+   (``Search._pairs``): a crossover off zero is no crossover at zero. Friction
+   and a late channel, which flip with the direction of
    motion, are also judged with the structure they cannot describe taken out
    (:mod:`springcad.fit.nuisance`: the residual's whole-cycle means and its
    deflection profile common to both directions), and proposed that way only
@@ -25,6 +28,13 @@
    (crossover, cubic) must not leave the residual's deflection profile standing
    above noise where it acts (``evidence.shape_check``). The worst failing
    effect is rejected and the search resumes without it, until all pass.
+   Effects the audit rejected one at a time are tried together (:mod:`springcad.fit.joint`).
+   Then effects that patch structure the library cannot describe are not named
+   (:mod:`springcad.fit.patches`): a shape in deflection that describes less than
+   three times what the residual's deflection profile still holds (a crossover
+   fitted to cogging), and an effect that loses most of its size when the
+   stiffness is freed per whole cycle, where it does change between cycles (a
+   cubic fitted to a stiffness that dropped mid-test).
 4. **Identifiability** (:mod:`springcad.fit.identify`). Pairs of effects the
    record cannot separate (variance inflation ≥ ``vif_confounded``, also
    away from the reversals) are
@@ -48,7 +58,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from springcad.fit.effects import LIBRARY, Effect, get_effect
+from springcad.fit.effects import LIBRARY, get_effect
 from springcad.fit.evidence import EffectEvidence, audit
 from springcad.fit.identify import (Confounded, contribution, find_confounded,
                                     recommend_protocol)
@@ -56,61 +66,17 @@ from springcad.fit.joint import joint_sets
 from springcad.fit.laws import choose_laws, flag_outside
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
 from springcad.fit.localise import localise
+from springcad.fit.patches import profile_patches, stiffness_patches
 from springcad.fit.region import outside_structure
-from springcad.fit.models import nrmse_pct
-from springcad.fit.nuisance import nuisance_views
 from springcad.fit.residual import residual_structure
 from springcad.fit.search import (BESIDE_STRUCTURE, Candidate, LoopSettings, Search,  # noqa: F401
-                                  State, line_fit, turn_guard)
+                                  State, line_fit)
+from springcad.fit.steps import Step, backward, drop, forward, nrmse_of
 from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel
 from springcad.parallel import single_threaded_blas
 
 __all__ = ["Candidate", "LoopResult", "LoopSettings", "State", "Step", "run_loop"]
-
-
-@dataclass(frozen=True)
-class Step:
-    """One accepted change of the model.
-
-    Attributes:
-        action: ``"add"``, ``"remove"`` (made redundant by a later effect) or
-            ``"reject"`` (failed the evidence audit).
-        effect: library name.
-        evidence: detector, held-out gain, penalty, runner-up, physical
-            meaning; for a rejection the audit's reason.
-        before: state before the step.
-        after: state after the step.
-        nrmse_before_pct: NRMSE on all (non-glitch) samples before.
-        nrmse_after_pct: same after.
-    """
-
-    action: str
-    effect: str
-    evidence: dict
-    before: State
-    after: State
-    nrmse_before_pct: float
-    nrmse_after_pct: float
-
-    def effect_params(self) -> dict:
-        """The fitted parameters of this step's effect (after the step)."""
-        if self.action != "add":
-            return {}
-        if self.effect == "outliers":
-            return {k: v for k, v in self.after.params().items()
-                    if k in ("n_outliers", "outlier_fraction")}
-        if self.effect == "series_compliance":
-            return {k: v for k, v in self.after.params().items()
-                    if k in ("series_stiffness_Nm_per_rad", "encoder_offset_rad")}
-        return self.after.model.effect_report(self.effect, self.after.x)
-
-    def to_dict(self) -> dict:
-        return {"action": self.action, "effect": self.effect, "evidence": self.evidence,
-                "params": self.effect_params(), "model": self.after.label,
-                "model_params": self.after.params(),
-                "nrmse_before_pct": self.nrmse_before_pct,
-                "nrmse_after_pct": self.nrmse_after_pct}
 
 
 @dataclass(frozen=True, repr=False)
@@ -180,14 +146,7 @@ class LoopResult:
         return tuple(e for e in self.final.effects if e not in grouped)
 
     def nrmse_pct(self, state: State, sig: Signals) -> float:
-        return _nrmse(state, sig, self.half_range_Nm, self.keep)
-
-
-def _nrmse(state: State, sig: Signals, half_range: float,
-           keep: np.ndarray | None = None) -> float:
-    """NRMSE (%) over the non-glitch samples (of the fitted region ``keep``, if given)."""
-    idx = state.inliers(np.arange(sig.n) if keep is None else np.flatnonzero(keep))
-    return nrmse_pct(state.model.residual(state.x, sig, idx), half_range)
+        return nrmse_of(state, sig, self.half_range_Nm, self.keep)
 
 
 def run_loop(sig: Signals, settings: LoopSettings = LoopSettings()) -> LoopResult:
@@ -235,8 +194,8 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
     rounds: list = []
     excluded: set[str] = set()
     rejected: list[dict] = []
-    state, score, f_scale = _forward(baseline, lp, search, rounds, None, excluded)
-    state, score = _backward(state, score, f_scale, lp, search)
+    state, score, f_scale = forward(baseline, lp, search, rounds, None, excluded)
+    state, score = backward(state, score, f_scale, lp, search)
     state, laws = choose_laws(state, lp, f_scale)
     evidence: dict[str, EffectEvidence] = {}
     for attempt in range(settings.max_audits + 1):
@@ -254,12 +213,12 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
             rejected.append({"effect": ev.effect, "reason": ev.reason(),
                              "short_reason": ev.short_reason(), "audit": ev.to_dict()})
             excluded.add(ev.effect)
-            state = _drop(state, ev.effect, lp, f_scale, search,
+            state = drop(state, ev.effect, lp, f_scale, search,
                           {"meaning": get_effect(ev.effect).meaning, "reason": ev.reason(),
                            "audit": ev.to_dict()})
         if attempt < settings.max_audits:
-            state, score, f_scale = _forward(state, lp, search, rounds, None, excluded)
-            state, score = _backward(state, score, f_scale, lp, search)
+            state, score, f_scale = forward(state, lp, search, rounds, None, excluded)
+            state, score = backward(state, score, f_scale, lp, search)
             state, laws = choose_laws(state, lp, f_scale)
     if rejected:
         # effects rejected one at a time may be the record's together (see fit.joint)
@@ -278,8 +237,9 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
                     "added_with": list(names), "reason": (
                         "rejected one at a time, supported together: added as a set, every "
                         "effect of the model passes the evidence audit")}, before, state,
-                    _nrmse(before, sig, lp.half_range, lp.keep),
-                    _nrmse(state, sig, lp.half_range, lp.keep)))
+                    nrmse_of(before, sig, lp.half_range, lp.keep),
+                    nrmse_of(state, sig, lp.half_range, lp.keep)))
+    state = _drop_patches(state, lp, f_scale, search, rejected, excluded)
     evidence = {k: v for k, v in evidence.items() if k in state.model.names}
     pairs = find_confounded(state, lp, f_scale, frozenset(excluded))
     steps = search
@@ -287,7 +247,7 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
         # derive the path again over the surviving effects, so that every reported
         # step belongs to the final model
         derived: list[Step] = []
-        d_state, d_score, d_scale = _forward(baseline, lp, derived, [], set(state.effects),
+        d_state, d_score, d_scale = forward(baseline, lp, derived, [], set(state.effects),
                                              excluded)
         if set(d_state.effects) == set(state.effects):
             steps = derived
@@ -304,6 +264,29 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
         state = baseline
     return _finish(lp, baseline, state, tuple(steps), tuple(rounds), log, spring, evidence,
                    tuple(rejected), pairs, laws)
+
+
+def _drop_patches(state: State, lp: Search, f_scale: float, search: list[Step],
+                  rejected: list[dict], excluded: set[str]) -> State:
+    """Drop, worst first, the effects shaped in deflection that patch structure the library
+    cannot describe (:func:`springcad.fit.patches.profile_patches`), refitting after each."""
+    while True:
+        idx = state.inliers(lp.cv)
+        found = profile_patches(state.model, state.x, lp.sig, idx, lp.s.structure_p)
+        short = "a patch over structure in deflection the library cannot describe"
+        if not found:
+            found = stiffness_patches(state.model, state.x, lp.sig, idx, lp.cv_rate_hz,
+                                      lp.s.structure_p)
+            short = "a patch over a stiffness that changed during the test"
+        if not found:
+            return state
+        name = min(found, key=lambda n: found[n][0])
+        reason = found[name][1]
+        rejected.append({"effect": name, "reason": reason, "short_reason": short,
+                         "audit": None})
+        excluded.add(name)
+        state = drop(state, name, lp, f_scale, search,
+                     {"meaning": get_effect(name).meaning, "reason": reason})
 
 
 def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, spring: dict,
@@ -375,7 +358,7 @@ def _undilute(state: State, sig: Signals, idx: np.ndarray) -> tuple[State, float
     x0[0], x1[0] = 0.0, 1.0
     model = state.model
     h = 1e-3 * max(sig.scales.theta_ref, 1e-9)
-    moved = dataclasses.replace(sig, theta=sig.theta + h)
+    moved = sig.shifted(h)
 
     def shape(s):
         return model.predict(x1, s, idx) - model.predict(x0, s, idx)
@@ -434,151 +417,6 @@ def _series_intervals(state: State, lp: Search) -> dict:
             "encoder_offset_rad": {"value": offset, "ci_low": offset - t * unc.se[1],
                                    "ci_high": offset + t * unc.se[1],
                                    "se": float(unc.se[1]), "at_bound": False}}
-
-
-def _forward(state: State, lp: Search, steps: list[Step], rounds: list,
-             allowed: set[str] | None, excluded: set[str]) -> tuple[State, float, float]:
-    """Add the best candidate while its evidence clears the threshold."""
-    sig, settings = lp.sig, lp.s
-    f_scale = lp.f_scale(state)
-    lp.update_noise(state)
-    score_now, heldout_now = lp.cv_score(state.model, state.x, state.mask, f_scale)
-    added = 0
-    while added < settings.max_steps:
-        cands, proposals = lp.round(state, score_now, f_scale, allowed, frozenset(excluded))
-        rounds.append(tuple(cands))
-        if not proposals or proposals[0][0] <= settings.gain_threshold:
-            break
-        gain, effect, proposal, z, heldout, n_added = proposals[0]
-        runner = ({"effect": proposals[1][1].name, "heldout_gain": proposals[1][0]}
-                  if len(proposals) > 1 else None)
-        before = state
-        if effect.stage == "encoder":
-            after = proposal
-            r0, r1 = heldout
-            evidence = _evidence(effect, z, gain, n_added, lp, runner,
-                                 heldout_before=r0, heldout_after=r1, unit="rad")
-        else:
-            mask = proposal.mask
-            x = lp.refit(proposal.model, proposal.x, mask, f_scale)
-            after = State(proposal.model, x, mask, state.series)
-            if mask is not None and effect.stage != "mask":
-                after = _refresh_mask(after, lp, f_scale)
-            evidence = _evidence(effect, z, gain, n_added, lp, runner,
-                                 heldout_before=heldout_now, heldout_after=heldout, unit="Nm")
-            if effect.stage == "mask":
-                evidence["n_glitches"] = int(mask.sum())
-            if any(c.effect == effect.name and c.note == BESIDE_STRUCTURE for c in cands):
-                evidence["beside_structure"] = (
-                    "found with the residual's structure it cannot describe (its whole-cycle "
-                    "means and its deflection profile common to both directions) taken out: "
-                    "the held-out gain and detector are measured there; on the record as "
-                    "measured that structure dominates the error")
-        steps.append(Step("add", effect.name, evidence, before, after,
-                          _nrmse(before, sig, lp.half_range, lp.keep),
-                          _nrmse(after, sig, lp.half_range, lp.keep)))
-        added += 1
-        state = after
-        f_scale = lp.f_scale(state)
-        lp.update_noise(state)
-        score_now, heldout_now = lp.cv_score(state.model, state.x, state.mask, f_scale)
-    return state, score_now, f_scale
-
-
-def _drop(state: State, name: str, lp: Search, f_scale: float, steps: list[Step],
-          evidence: dict) -> State:
-    """Remove effect ``name`` (and effects that need it), refit, record a rejection."""
-    sig = lp.sig
-    model, mask, series = state.model, state.mask, state.series
-    if name == "outliers":
-        mask = None
-    elif name == "series_compliance":
-        series = None
-    else:
-        model = model.without(name)
-        active = set(model.names)
-        for e in list(model.effects):
-            if not e.applicable(active - {e.name}, sig):
-                model = model.without(e.name)
-    x = lp.refit(model, model.transfer(state.model, state.x), mask, f_scale)
-    after = State(model, x, mask, series)
-    steps.append(Step("reject", name, evidence, state, after,
-                      _nrmse(state, sig, lp.half_range, lp.keep),
-                      _nrmse(after, sig, lp.half_range, lp.keep)))
-    return after
-
-
-def _refresh_mask(state: State, lp: Search, f_scale: float) -> State:
-    """Re-detect glitches on the new residual and refit if they changed."""
-    r = state.model.residual(state.x, lp.sig, np.arange(lp.sig.n))
-    mask = find_glitches(r, lp.s.glitch_threshold,
-                         guard=turn_guard(state.model, state.x, lp.sig),
-                         model=lp.sig.torque - r)
-    if np.array_equal(mask, state.mask):
-        return state
-    x = lp.refit(state.model, state.x, mask, f_scale)
-    return State(state.model, x, mask, state.series)
-
-
-def _evidence(effect: Effect, z: float, gain: float, n_added: int, lp: Search, runner,
-              heldout_before: float, heldout_after: float, unit: str) -> dict:
-    statistic = "glitch_count" if effect.stage == "mask" else "score_test_z"
-    return {
-        "meaning": effect.meaning,
-        "detector": {"statistic": statistic, "value": z, "looks_for": effect.looks_for},
-        "heldout_gain": gain,
-        "gain_threshold": lp.s.gain_threshold,
-        "n_params_added": n_added,
-        "parameter_penalty": n_added * lp.log_n,
-        "n_heldout_samples": lp.n_cv,
-        "noise_correlation_samples": lp.tau,
-        f"heldout_rmse_before_{unit}": heldout_before,
-        f"heldout_rmse_after_{unit}": heldout_after,
-        "runner_up": runner,
-    }
-
-
-def _backward(state: State, score_now: float, f_scale: float, lp: Search,
-              steps: list[Step]) -> tuple[State, float]:
-    """Remove torque-model effects whose removal does not worsen the held-out criterion."""
-    sig = lp.sig
-    while state.model.effects:
-        names = set(state.effects)
-        best = None
-        for e in state.model.effects:
-            rest = names - {e.name}
-            if any(not o.applicable(rest - {o.name}, sig) for o in state.model.effects
-                   if o.name != e.name):
-                continue
-            m_minus = state.model.without(e.name)
-            x_minus = m_minus.transfer(state.model, state.x)
-            score, heldout = lp.cv_score(m_minus, x_minus, state.mask, f_scale)
-            loss = score - score_now
-            if loss < 0.0 and e.direction_signed:
-                # an effect found beside structure it cannot describe is judged as it was
-                # found: with that structure taken out (see springcad.fit.nuisance)
-                idx = state.inliers(lp.cv)
-                views = nuisance_views(state.model.residual(state.x, sig, idx), idx, sig)
-                if "direction" in views:
-                    alt = lp.view(views["direction"])
-                    loss = (alt.cv_score(m_minus, x_minus, state.mask, f_scale)[0]
-                            - alt.cv_score(state.model, state.x, state.mask, f_scale)[0])
-            if best is None or loss < best[0]:
-                best = (loss, e, m_minus, x_minus, score, heldout)
-        if best is None or best[0] >= 0.0:
-            break
-        loss, e, m_minus, x_minus, score, heldout = best
-        x = lp.refit(m_minus, x_minus, state.mask, f_scale)
-        after = State(m_minus, x, state.mask, state.series)
-        evidence = {"meaning": e.meaning, "heldout_loss_when_removed": loss,
-                    "reason": "a later effect explains what this one did; the held-out "
-                              "criterion is better without it"}
-        steps.append(Step("remove", e.name, evidence, state, after,
-                          _nrmse(state, sig, lp.half_range, lp.keep),
-                          _nrmse(after, sig, lp.half_range, lp.keep)))
-        state = after
-        score_now = score
-    return state, score_now
 
 
 #: library effects in their listing order (re-exported for the report)

@@ -30,7 +30,6 @@ Torque in N·m, deflection in rad.
 
 from __future__ import annotations
 
-import dataclasses
 
 import numpy as np
 from scipy import stats
@@ -86,7 +85,8 @@ def cycle_windows(sig: Signals, idx: np.ndarray) -> np.ndarray:
     return lookup[runs]
 
 
-def _significant(means: np.ndarray, counts: np.ndarray, var_noise: float, p_level: float) -> bool:
+def significant_means(means: np.ndarray, counts: np.ndarray, var_noise: float,
+                      p_level: float) -> bool:
     """Whether bin means stand above noise: significant at ``p_level`` and of an RMS
     of ``MIN_RMS`` noise levels at least (the rule that flags a residual unexplained)."""
     ok = counts > 0
@@ -108,7 +108,7 @@ def slow_part(r: np.ndarray, idx: np.ndarray, sig: Signals, var_noise: float,
         return None
     cnt = np.bincount(win, minlength=n_win).astype(float)
     mean = np.bincount(win, weights=r, minlength=n_win) / np.maximum(cnt, 1.0)
-    if not _significant(mean, cnt, var_noise, p_level):
+    if not significant_means(mean, cnt, var_noise, p_level):
         return None
     return np.where(win_all >= 0, mean[np.maximum(win_all, 0)], 0.0)
 
@@ -151,7 +151,7 @@ def profile_part(r: np.ndarray, idx: np.ndarray, sig: Signals, var_noise: float,
     or ``None`` when it is within noise."""
     centre, common, n_eff, _ = common_profile(r, idx, sig, bins, var_noise)
     both = n_eff > 0
-    if not _significant(common, n_eff, var_noise, p_level):
+    if not significant_means(common, n_eff, var_noise, p_level):
         return None
     # piecewise linear through the bin centres: a steep profile (a hard stop) changes a
     # lot within one bin
@@ -215,8 +215,8 @@ def views_without(sig: Signals, slow: np.ndarray | None,
     """:func:`nuisance_views` from parts already found by :func:`nuisance_parts`."""
     out: dict[str, Signals] = {}
     if slow is not None:
-        out["slow"] = dataclasses.replace(sig, torque=sig.torque - slow)
+        out["slow"] = sig.with_torque(sig.torque - slow)
     if slow is not None or profile is not None:
         total = (0.0 if slow is None else slow) + (0.0 if profile is None else profile)
-        out["direction"] = dataclasses.replace(sig, torque=sig.torque - total)
+        out["direction"] = sig.with_torque(sig.torque - total)
     return out

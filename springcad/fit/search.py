@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from springcad.fit.effects import LIBRARY, Effect
+from springcad.fit.effects import LIBRARY, Effect, get_effect
 from springcad.fit.other_laws import OTHER_LAWS
 from springcad.fit.inference import jacobian
 from springcad.fit.models import rmse
@@ -234,7 +234,12 @@ class Search:
     def score_test(self, state: State, effect: Effect, residual: np.ndarray, jac: np.ndarray,
                    idx: np.ndarray) -> float:
         """Score-test z of ``effect``'s signature against the residual."""
-        m2 = state.model.with_effect(effect)
+        return self._score_of(state, state.model.with_effect(effect), residual, jac, idx)
+
+    def _score_of(self, state: State, m2: TorqueModel, residual: np.ndarray, jac: np.ndarray,
+                  idx: np.ndarray) -> float:
+        """Score-test z of the signature of ``m2`` (``state``'s model with effects added, at
+        their probe values) against the residual."""
         x_probe = m2.transfer(state.model, state.x)
         g = m2.predict(x_probe, self.sig, idx) - state.model.predict(state.x, self.sig, idx)
         coef, *_ = np.linalg.lstsq(jac, g, rcond=None)
@@ -389,6 +394,7 @@ class Search:
             if note is None:
                 proposals.append((gain, effect, State(m2, x_start, state.mask, state.series), z,
                                   heldout, m2.size - state.model.size))
+        proposals += self._pairs(state, residual, jac, idx, score_now, f_scale, allowed, excluded)
         proposals.sort(key=lambda p: -p[0])
         if pending and not (proposals and proposals[0][0] > self.s.gain_threshold):
             # nothing the record as measured asks for is left: effects that flip with the
@@ -397,6 +403,81 @@ class Search:
             late = self._beside_structure(state, pending, residual, jac, idx, f_scale, cands)
             proposals = late + proposals
         return cands, proposals
+
+    def _pairs(self, state: State, residual: np.ndarray, jac: np.ndarray, idx: np.ndarray,
+               score_now: float, f_scale: float, allowed: set[str] | None,
+               excluded: frozenset[str]) -> list:
+        """Proposals of an effect together with one that needs it (``Effect.needs_any``).
+
+        An angle offset shifts a crossover off zero, and is a candidate only once a
+        crossover is in the model. When the record's crossover sits off zero, the
+        crossover alone at zero describes little of it (a torque offset describes more,
+        and is taken), and the offset is never proposed: the pair is fitted as one
+        candidate, from every start of the two, and proposed with its held-out gain less
+        the gain threshold of the second effect (``n_added`` counts both), when it beats by
+        the gain threshold what the second reads as beside the first at its null
+        (``Effect.reads_as_alone``: an offset angle beside a vanishing asymmetry is a torque
+        offset), and never when that was rejected (a torque zero that moves is no offset,
+        of the torque or of a crossover). The model of the proposal holds both; the loop
+        names each.
+        """
+        sig = self.sig
+        active = set(state.effects)
+
+        def open_(name: str) -> bool:
+            return name not in excluded and (allowed is None or name in allowed)
+
+        out = []
+        for dep in LIBRARY:
+            if (not dep.needs_any or dep.name in active or dep.applicable(active, sig)
+                    or not open_(dep.name)):
+                continue
+            for pre in LIBRARY:
+                if (pre.name not in dep.needs_any or pre.name in active or not open_(pre.name)
+                        or pre.stage in ("mask", "encoder") or not pre.applicable(active, sig)):
+                    continue
+                m2 = state.model.with_effect(pre).with_effect(dep)
+                z = self._score_of(state, m2, residual, jac, idx)
+                if abs(z) < self.s.screen_z:
+                    continue
+                best_x, best_sse = None, np.inf
+                for s_pre in pre.starts(m2.scales):
+                    for s_dep in dep.starts(m2.scales):
+                        x_s = m2.solve_stiffness(m2.transfer(state.model, state.x, {
+                            pre.name: s_pre, dep.name: s_dep}), sig, idx)
+                        r = m2.residual(x_s, sig, idx)
+                        if float(r @ r) < best_sse:
+                            best_x, best_sse = x_s, float(r @ r)
+                score, heldout = self.cv_score(m2, best_x, state.mask, f_scale)
+                x = self.last_fit
+                if any(e.physical_problem(x[m2.slice_of(e.name)], float(x[0]), m2.scales)
+                       for e in (pre, dep)):
+                    continue
+                if dep.reads_as_alone in excluded:
+                    continue  # what it reads as was rejected: the pair would bring it back
+                if dep.reads_as_alone and score > self._twin_score(
+                        state, pre, get_effect(dep.reads_as_alone), f_scale) - self.s.gain_threshold:
+                    continue
+                out.append((score_now - score - self.s.gain_threshold, pre,
+                            State(m2, x, state.mask, state.series), z, heldout,
+                            m2.size - state.model.size))
+        return out
+
+    def _twin_score(self, state: State, pre: Effect, twin: Effect, f_scale: float) -> float:
+        """Held-out criterion of ``state`` with ``pre`` and ``twin`` (what an effect that
+        needs ``pre`` reads as with ``pre`` at its null: an angle offset beside a vanishing
+        asymmetry is a torque offset), each from its best start."""
+        model, x = state.model, state.x
+        idx = state.inliers(self.cv)
+        for e in (pre, twin):
+            if e.name in model.names:
+                continue
+            m2 = model.with_effect(e)
+            starts = [m2.solve_stiffness(m2.transfer(model, x, {e.name: s}), self.sig, idx)
+                      for s in e.starts(m2.scales)]
+            x = min(starts, key=lambda xs: float(np.sum(m2.residual(xs, self.sig, idx) ** 2)))
+            model = m2
+        return self.cv_score(model, x, state.mask, f_scale)[0]
 
     def _beside_structure(self, state: State, effects: list[Effect], residual: np.ndarray,
                           jac: np.ndarray, idx: np.ndarray, f_scale: float,

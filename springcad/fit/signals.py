@@ -124,6 +124,25 @@ class Signals:
             out.__dict__[name] = getattr(self, name)
         return out
 
+    def with_torque(self, torque: np.ndarray) -> "Signals":
+        """These signals with another torque (N·m, every sample): the signals derived from
+        the deflection alone are computed once, here, and shared (the trace's corner search
+        is most of a view's cost; every fit asks for them)."""
+        out = dataclasses.replace(self, torque=torque)
+        for name in _DERIVED:
+            out.__dict__[name] = getattr(self, name)
+        return out
+
+    def shifted(self, h_rad: float) -> "Signals":
+        """These signals with the measured deflection moved by ``h_rad`` (rad): the trace
+        moves with it, every other signal derived from the deflection (turns, holds, travel
+        since a turn) stays; shared, not computed again."""
+        out = dataclasses.replace(self, theta=self.theta + h_rad)
+        for name in _DERIVED:
+            out.__dict__[name] = getattr(self, name)
+        out.__dict__["theta_trace"] = self.theta_trace + h_rad
+        return out
+
     @functools.cached_property
     def theta_trace(self) -> np.ndarray:
         """Deflection smoothed for time shifts (rad): a local cubic over ``TRACE_RUN_FRACTION``
@@ -415,16 +434,18 @@ def _corner(theta: np.ndarray, near: int, leaving: bool, half: int, reach: int =
         candidates = range(max(near - reach, lo + 2), hi - 2)
     y = theta[lo:hi]
     i = np.arange(lo, hi, dtype=float)
-    best, where = np.inf, near
-    for j in candidates:
-        x = np.maximum(i - j, 0.0) if leaving else np.minimum(i - j, 0.0)
-        # a motion may start (or stop) at a finite speed (a linear ramp) or from rest
-        # with a finite acceleration (a cosine ramp): a line and a parabola from the break
-        a = np.column_stack([np.ones_like(x), x, x * x])
-        coef, *_ = np.linalg.lstsq(a, y, rcond=None)
-        sse = float(np.sum((y - a @ coef) ** 2))
-        if sse < best:
-            best, where = sse, j
+    js = np.arange(candidates.start, candidates.stop)
+    if js.size == 0:
+        return near if leaving else near + 1
+    # every break at once: a motion may start (or stop) at a finite speed (a linear ramp)
+    # or from rest with a finite acceleration (a cosine ramp): a line and a parabola from
+    # the break, least squares by the pseudo-inverse of each candidate's design
+    x = i[None, :] - js[:, None].astype(float)
+    x = np.maximum(x, 0.0) if leaving else np.minimum(x, 0.0)
+    a = np.stack([np.ones_like(x), x, x * x], axis=2)
+    coef = np.linalg.pinv(a) @ y
+    sse = np.sum((y[None, :] - np.einsum("cnk,ck->cn", a, coef)) ** 2, axis=1)
+    where = int(js[int(np.argmin(sse))])
     return where if leaving else where + 1
 
 
