@@ -58,9 +58,9 @@ def test_a_crossover_off_zero_is_named_with_its_angle_offset():
     assert abs(p["backlash_rad"] / (2 * half) - 1) < 0.05
 
 
-def test_the_first_round_proposes_the_crossover_with_its_offset_together():
-    # known truth: crossover of 27 mrad centred at 26 mrad; the pair describes the record
-    # to its noise and beats a torque offset (which describes the line's shift only)
+def _crossover_off_zero_round():
+    """A crossover of 27 mrad centred at 26 mrad on one ramp rate, fitted linear, ready for
+    the first round: (loop, state, score, f_scale)."""
     t, th = ramps(AMPS_DEG, (8.0,), hold_s=0.5)
     rec, _ = _record(t, th, K * deadband(th - 0.026, 0.0135), seed=2, theta_noise=1e-4)
     sig, lp, model, x = _fitted(rec)
@@ -68,6 +68,13 @@ def test_the_first_round_proposes_the_crossover_with_its_offset_together():
     f_scale = lp.f_scale(state)
     lp.update_noise(state)
     score, _ = lp.cv_score(state.model, state.x, None, f_scale)
+    return lp, state, score, f_scale
+
+
+def test_the_first_round_proposes_the_crossover_with_its_offset_together():
+    # known truth: crossover of 27 mrad centred at 26 mrad; the pair describes the record
+    # to its noise and beats a torque offset (which describes the line's shift only)
+    lp, state, score, f_scale = _crossover_off_zero_round()
     _, proposals = lp.round(state, score, f_scale)
     best = proposals[0][2]
     assert set(best.effects) == {"backlash", "angle_offset"}
@@ -191,12 +198,6 @@ def test_a_crossover_off_zero_is_not_proposed_where_a_torque_offset_was_rejected
     # where the audit rejected the torque offset (the zero moves), the pair would bring
     # it back in disguise (generator C O11: a settling zero read as a 0.08 rad crossover
     # off zero)
-    t, th = ramps(AMPS_DEG, (8.0,), hold_s=0.5)
-    rec, _ = _record(t, th, K * deadband(th - 0.026, 0.0135), seed=2, theta_noise=1e-4)
-    sig, lp, model, x = _fitted(rec)
-    state = State(model, model.fit(sig, lp.all, x, 1e9))
-    f_scale = lp.f_scale(state)
-    lp.update_noise(state)
-    score, _ = lp.cv_score(state.model, state.x, None, f_scale)
+    lp, state, score, f_scale = _crossover_off_zero_round()
     _, proposals = lp.round(state, score, f_scale, excluded=frozenset({"torque_offset"}))
     assert all("angle_offset" not in p[2].effects for p in proposals)
