@@ -406,6 +406,12 @@ def fatigue_limited(material: MaterialSpec, theta_max_rad: float) -> bool:
     return required_margin(material, theta_max_rad) > material.safety_factor * (1 + 1e-9)
 
 
+def sized_for(material: MaterialSpec) -> MaterialSpec:
+    """``material`` with its duty declared: a job without ``[duty]`` gets springcad's default
+    duty, which sizes the spring when its envelope can carry it and gates the release."""
+    return replace(material, duty=replace(material.duty, declared=True))
+
+
 def biased(material: MaterialSpec, bias: float) -> MaterialSpec:
     """The material spec with both safety factors (yield and duty) raised by ``bias`` (the
     FEA stress correction: the FEA found the peak ``bias`` x the design's prediction)."""

@@ -254,7 +254,7 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
     (:func:`springcad.design.duty.required_margin`).
     """
     if not material.duty.declared:
-        sized = _replace(material, duty=_replace(material.duty, declared=True))
+        sized = duty.sized_for(material)
         if duty.fatigue_limited(sized, spec.max_deflection_rad):
             # the probe's layouts come first in the full search too: its design is the one
             # the search would return
@@ -595,7 +595,7 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     """
     args = (manufacturing, hardware, max_root_radius_mm)
     changes, _ = _changes(spec, material, *args)
-    sized = _replace(material, duty=_replace(material.duty, declared=True))
+    sized = duty.sized_for(material)
     if not material.duty.declared and duty.fatigue_limited(sized, spec.max_deflection_rad):
         for_duty, found = _changes(spec, sized, *args)
         changes += (f"; for springcad's default duty ({duty.describe(material.duty)}) as well, "

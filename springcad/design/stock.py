@@ -23,7 +23,7 @@ from dataclasses import replace as _replace
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.data import data_path
-from springcad.design import search
+from springcad.design import duty, search
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError
 
@@ -48,7 +48,7 @@ def _sizing_material(material: MaterialSpec) -> MaterialSpec:
     :func:`springcad.design.search.design_spring` sizes a fixed-thickness spring)."""
     if material.duty.declared:
         return material
-    return _replace(material, duty=_replace(material.duty, declared=True))
+    return duty.sized_for(material)
 
 
 def _ceiling_mm(spec: SpringSpec) -> float:
