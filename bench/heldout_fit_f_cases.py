@@ -2,6 +2,8 @@
 
 Truth (decided from physics, see bench/heldout_fit_f.md): ``required`` library names,
 ``optional`` names, ``confusable`` (friction vs delay cannot be told apart on this protocol),
+``offset_pair`` (amendment after the first run, see heldout_fit_f.md: the spring is linear in
+angle, so an angle offset d is exactly a torque offset -K*d and either name is right),
 ``kinds`` of every effect key in the spec ('lib', 'family', 'family_out', 'out', 'invisible'),
 ``k_true`` (acceptable K values, N·m/rad).
 """
@@ -21,6 +23,7 @@ class Case:
     required: frozenset
     optional: frozenset = frozenset()
     confusable: bool = False
+    offset_pair: bool = False
     kinds: dict = field(default_factory=dict)
     k_true: tuple = ()
 
@@ -50,11 +53,12 @@ def build_cases(seed):
     """All cases of generator F for ``seed`` (parameters drawn per case from the seed)."""
     out = []
 
-    def add(name, spec, required, optional=(), confusable=False, kinds=None, k_true=None):
+    def add(name, spec, required, optional=(), confusable=False, kinds=None, k_true=None,
+            offset_pair=False):
         sp = spec["springs"]
         kt = k_true or (series_stiffness(sp),)
         out.append(Case(name, spec, frozenset(required), frozenset(optional), confusable,
-                        kinds or {}, tuple(kt)))
+                        offset_pair, kinds or {}, tuple(kt)))
 
     def R(i):
         return np.random.default_rng([seed, i])
@@ -113,7 +117,8 @@ def build_cases(seed):
          "angle_offset": float(_sign(r) * r.uniform(0.005, 0.012)),
          "protocol": ("ramps", {"amp_rad": 0.25, "rates_rad_s": [0.1, 0.25, 0.6], "hold_s": 0.8,
                                 "cycles": 1, "shape": "cos"})},
-        {"outliers", "angle_offset"}, kinds={"outliers": "lib", "angle_offset": "lib"})
+        {"outliers", "angle_offset"}, kinds={"outliers": "lib", "angle_offset": "lib"},
+        offset_pair=True)
 
     r = R(6)
     sp = _springs([75], r)
@@ -141,7 +146,7 @@ def build_cases(seed):
          "ecc": {"e": 1.5e-3, "G": 1.0, "phi": float(r.uniform(0, 2 * np.pi))},
          "protocol": ("ramps", {"amp_rad": 0.2, "rates_rad_s": [0.1, 0.3], "hold_s": 1.5,
                                 "cycles": 1})},
-        set(), optional={"angle_offset"}, kinds={"ecc": "lib"})
+        set(), optional={"angle_offset"}, kinds={"ecc": "lib"}, offset_pair=True)
 
     r = R(9)
     sp = _springs([150], r)
@@ -306,7 +311,7 @@ def build_cases(seed):
          "angle_offset": float(_sign(r) * 0.004),
          "protocol": ("staircase", {"amps_rad": [0.05, 0.1, 0.15, 0.2, 0.25], "rate_rad_s": 0.1,
                                     "hold_s": 1.5, "shape": "cos"})},
-        {"angle_offset"}, kinds={"tempK": "out", "angle_offset": "lib"})
+        {"angle_offset"}, kinds={"tempK": "out", "angle_offset": "lib"}, offset_pair=True)
 
     r = R(26)
     sp = _springs([150], r)

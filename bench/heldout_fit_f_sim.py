@@ -230,7 +230,7 @@ class Record:
     peak_torque_Nm: float
 
 
-def _motion(spec, rng):
+def _motion(spec):
     fs = spec["fs"]
     m = max(1, math.ceil(FINE_RATE_MIN_HZ / fs))
     name, kw = spec["protocol"]
@@ -247,7 +247,7 @@ def clean_channels(spec, without=()):
     ``without``: names of spec entries switched off (to measure one component's contribution).
     """
     sp = {k: v for k, v in spec.items() if k not in without}
-    t, theta_cmd, m = _motion(sp, None)
+    t, theta_cmd, m = _motion(sp)
     dt = t[1] - t[0]
     theta = theta_cmd
     if sp.get("cogging"):  # the motor's position ripple: the spring follows its true deflection
