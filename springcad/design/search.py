@@ -260,7 +260,7 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
             # the search would return
             d = probe(spec, sized, manufacturing, hardware, max_root_radius_mm)
             if d is not None:
-                return _replace(d, material=material, design_choice=(
+                return _replace(d, material=material, sized_for_default_duty=True, design_choice=(
                     f"{d.design_choice}; sized for springcad's default duty "
                     f"({duty.describe(material.duty)})"))
             d = design_for_margin(spec, material, manufacturing, hardware, explain,
@@ -426,42 +426,74 @@ def _on_holes_of(design: SpringDesign, redesigned: SpringDesign) -> SpringDesign
     return with_hole_circle(redesigned, math.hypot(*design.hole_centres_mm[0]))
 
 
+#: thicker stock plates the FEA stress correction tries when the thickness is springcad's
+MARGIN_PLATES = 3
+
+
+def _meets(d: SpringDesign, material: MaterialSpec, default_sized: bool) -> bool:
+    """Whether ``d``'s predicted peak keeps the margin of ``material`` (with springcad's
+    default duty when the spring is sized for it)."""
+    mat = duty.sized_for(material) if default_sized else material
+    return d.yield_margin >= duty.required_margin(mat, d.max_deflection_rad) * (1.0 - 1e-3)
+
+
 def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign:
     """The spring redesigned so its predicted peak x ``model_bias`` keeps the required margin.
 
     The FEA stress correction: when FEA finds the peak ``model_bias`` times the design's
     prediction, the design's own stress passes (:func:`design_spring`) run against a
     required margin raised by that factor, so the new geometry is judged by the same
-    model that missed, corrected by what the FEA measured. Rim holes stay on the
-    design's hole circle. When the new layout has a soft shortfall the old one had not
-    (its cam's tooth tip near the ball), the old layout is kept if it carries the lower
-    stress (default at 18 and 20 deg).
+    model that missed, corrected by what the FEA measured. Tried in order, the first
+    whose prediction keeps that margin is returned:
+
+    1. the same layout (N, r_c, tip ball, so the cam): a correction is a small move, and
+       the bias measured holds for that layout (another has other 3D factors and stress
+       raisers: on the default at 20 deg a new layout's FEA peak came out higher);
+    2. the full search, unless its layout brings the tooth tip near the ball where the
+       old one did not;
+    3. the same on the next :data:`MARGIN_PLATES` thicker stock plates, when springcad
+       chose the thickness (``thicker_plates_mm``; default at 20 deg: the layout at 40 mm
+       has no longer flexures to lower its stress).
+
+    Rim holes stay on the design's hole circle.
 
     Raises:
-        DesignError: no beam stress fits the envelope with that margin.
+        DesignError: none of them keeps the margin.
     """
     mat = design.material
     biased = duty.biased(mat, max(model_bias, 1.0))
-    d = design_spring(design.spec, biased, design.manufacturing, design.hardware, explain=False,
-                      max_root_radius_mm=design.max_root_radius_mm)
-    if soft_shortfalls(d) and not soft_shortfalls(design):
-        # the new layout's cam brings the tooth tip near the ball where the old one did not:
-        # the old layout (its N, r_c and ball, so its cam) at the lower stress, if it carries it
-        same = _replace(design.spec, n_flexures=design.n_flexures,
+    default_sized = design.sized_for_default_duty
+    tried = []
+    for t in (design.thickness_mm, *design.thicker_plates_mm[:MARGIN_PLATES]):
+        spec = _replace(design.spec, thickness_mm=t)
+        same = _replace(spec, n_flexures=design.n_flexures,
                         contact_radius_mm=design.contact_radius_mm,
                         tip_radius_mm=design.tip_radius_mm)
-        try:
-            kept = design_spring(same, biased, design.manufacturing, design.hardware,
-                                 explain=False, max_root_radius_mm=design.max_root_radius_mm)
-        except DesignError:
-            kept = None
-        if kept is not None and not soft_shortfalls(kept):
-            d = _replace(kept, spec=design.spec)
-    # a note, not a warning: the redesign is verified again, and its verdict gates the release
-    d = _replace(d, material=mat, design_choice=(
-        f"{d.design_choice}; redesigned by the FEA stress correction (FEA peak "
-        f"{model_bias:.3f} x the design prediction): beam stress {d.beam_stress_MPa:.0f} MPa"))
-    return _on_holes_of(design, d)
+        for s, what in ((same, "the same layout"), (spec, "any layout")):
+            try:
+                d = design_spring(s, biased, design.manufacturing, design.hardware,
+                                  explain=False, max_root_radius_mm=design.max_root_radius_mm)
+            except DesignError as err:
+                tried.append(f"{what} at {t:g} mm: {_short(err)}")
+                continue
+            if not _meets(d, biased, default_sized):
+                tried.append(f"{what} at {t:g} mm: predicted yield margin {d.yield_margin:.3f}")
+                continue
+            if soft_shortfalls(d) and not soft_shortfalls(design):
+                tried.append(f"{what} at {t:g} mm: {soft_shortfalls(d)[0].split(':')[0]}")
+                continue
+            thicker = tuple(u for u in design.thicker_plates_mm if u > t)
+            # a note, not a warning: the redesign is verified again, and its verdict gates
+            # the release
+            d = _replace(d, spec=_replace(design.spec, thickness_mm=t), material=mat,
+                         thicker_plates_mm=thicker, design_choice=(
+                             f"{d.design_choice}; redesigned by the FEA stress correction "
+                             f"(FEA peak {model_bias:.3f} x the design prediction; {what} at "
+                             f"{t:g} mm): beam stress {d.beam_stress_MPa:.0f} MPa"))
+            return _on_holes_of(design, d)
+    raise DesignError(f"spring '{design.name}': no redesign keeps the yield margin "
+                      f"{duty.required_margin(biased, design.max_deflection_rad):.3f} for a "
+                      f"peak {model_bias:.3f} x the prediction: " + "; ".join(tried))
 
 
 def redesign_for_stiffness(design: SpringDesign, k_ratio: float) -> SpringDesign:

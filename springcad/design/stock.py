@@ -147,7 +147,8 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
                        f"{what} without a soft shortfall ({t:g} mm carries it with one: "
                        f"{short[0].split(':')[0]})")
                 break
-    return _replace(d, design_choice=f"{why}; {d.design_choice}")
+    return _replace(d, design_choice=f"{why}; {d.design_choice}",
+                    thicker_plates_mm=tuple(u for u in _allowed_mm(spec) if u > d.thickness_mm))
 
 
 def _thickest(spec, material, manufacturing, hardware, explain, max_root_radius_mm
