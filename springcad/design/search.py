@@ -557,6 +557,9 @@ def _stress_text(spec, material, history, err) -> str:
 #: bisection towards the nearest value stops when this has passed; every printed value
 #: is still one the design search accepted)
 REFUSAL_BUDGET_S = 30.0
+#: seconds a whole refusal may spend before it stops starting new kinds of change (the
+#: user's own keys are always probed): held-out refusals took up to 674 s at load 8-12
+REFUSAL_TOTAL_S = 90.0
 #: candidate layouts each feasibility probe tries (a subset of the full search's, in the
 #: same order, so a probe that designs implies the full search designs)
 PROBE_CANDIDATES = 4
@@ -581,10 +584,14 @@ def _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm) 
     return ""
 
 
-def _changes(spec, material, manufacturing, hardware, max_root_radius_mm) -> tuple[str, bool]:
+def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
+             stop: float = math.inf) -> tuple[str, bool]:
     """The changes that design ``spec`` with ``material``'s yield margin and duty: the
     user's fixed layout keys left free, the nearest values of the user's own keys, a
     stronger material or disks in series, and a declared duty's own alternatives.
+
+    ``stop`` (``time.monotonic()`` seconds) is the refusal's time box: the user's own keys
+    are always probed; the other kinds of change are searched only while it lasts.
 
     Returns:
         (text, found): the clause, and whether it names a change that designs.
@@ -592,24 +599,27 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm) -> tup
     def designs(s, m=material) -> bool:
         return _designs(s, m, manufacturing, hardware, max_root_radius_mm, base=spec)
 
-    if duty.fatigue_limited(material, spec.max_deflection_rad):
-        # the duty sets the allowed peak: its own alternatives (surface, materials with
-        # fatigue data, one more disk) replace the yield-limited ones
-        series, materials = None, []
-    else:
-        series = series_change(spec, designs)
-        materials = material_changes(material, lambda m: designs(spec, m))
+    def deadline() -> float:
+        return min(time.monotonic() + REFUSAL_BUDGET_S, stop)
+
     freed = _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm)
-    nearest = nearest_changes(spec, designs, deadline=time.monotonic() + REFUSAL_BUDGET_S)
+    nearest = nearest_changes(spec, designs, deadline=deadline())
+    series, materials, alternatives = None, [], ""
+    if not duty.fatigue_limited(material, spec.max_deflection_rad):
+        # (when the duty sets the allowed peak, its own alternatives, below, replace these)
+        if time.monotonic() < stop:
+            series = series_change(spec, designs)
+        if time.monotonic() < stop:
+            materials = material_changes(material, lambda m: designs(spec, m))
     changes = describe(spec.name, nearest, materials, series, spec)
     if freed:
         changes = freed + ("; or " + changes if not changes.startswith("no change") else "")
-    alternatives = duty.alternatives(spec, material, designs,
-                                     deadline=time.monotonic() + REFUSAL_BUDGET_S)
+    if time.monotonic() < stop:
+        alternatives = duty.alternatives(spec, material, designs, deadline=deadline())
     found = bool(freed or nearest or materials or series is not None) or (
         bool(alternatives) and not alternatives.endswith(duty.NOTHING_MEETS))
     if not found and not alternatives:  # several keys: the whole disk larger
-        big = larger_disk(spec, designs, deadline=time.monotonic() + REFUSAL_BUDGET_S)
+        big = larger_disk(spec, designs, deadline=deadline())
         if big:
             return f"{changes}; it designs with {big}", True
     return changes + alternatives, found
@@ -626,12 +636,19 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     yield margin, with the default duty's shortfall said.
     """
     args = (manufacturing, hardware, max_root_radius_mm)
-    changes, _ = _changes(spec, material, *args)
+    stop = time.monotonic() + REFUSAL_TOTAL_S
+    changes, _ = _changes(spec, material, *args, stop=stop)
     sized = duty.sized_for(material)
     if not material.duty.declared and duty.fatigue_limited(sized, spec.max_deflection_rad):
-        for_duty, found = _changes(spec, sized, *args)
+        if time.monotonic() < stop:
+            for_duty, found = _changes(spec, sized, *args, stop=stop)
+            for_duty = (for_duty if found else "no change springcad probes meets it: declare "
+                        "the duty the spring will see in [duty]")
+        else:
+            for_duty = (f"not searched (the refusal's {REFUSAL_TOTAL_S:.0f} s were spent): "
+                        "declare the duty the spring will see in [duty], or check the change "
+                        "above with it")
         changes += (f"; for springcad's default duty ({duty.describe(material.duty)}) as well, "
-                    + (for_duty if found else "no change springcad probes meets it: declare "
-                       "the duty the spring will see in [duty]"))
+                    + for_duty)
     return DesignError(f"spring '{spec.name}' cannot be made as specified; {changes}. "
                        f"Why{tried}: {_short(text)}")
