@@ -38,6 +38,7 @@ from springcad.design.shapes.base import SizingContext
 from springcad.design.resize import with_width
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError, SpecInfeasible
+from springcad.progress import report
 from springcad.units import J_PER_NMM, NMM_PER_NM
 
 
@@ -229,7 +230,7 @@ def _design_with_margin(spec: SpringSpec, material: MaterialSpec,
             f"{d.torque_cap_Nmm / NMM_PER_NM:.2f} N*m at r_c = {d.contact_radius_mm:.3g} mm",))
     if derating < 1.0:
         d = _replace(d, warnings=d.warnings + (
-            f"beam stress lowered from {material.design_stress_MPa:.0f} to {d.beam_stress_MPa:.0f} "
+            f"{STRESS_DERATED} from {material.design_stress_MPa:.0f} to {d.beam_stress_MPa:.0f} "
             f"MPa so the predicted peak ({d.predicted_peak_stress_MPa:.0f} MPa at the "
             f"{d.stress.region}) keeps the yield margin {required:g}",))
     return d, history, None
@@ -426,6 +427,9 @@ def _on_holes_of(design: SpringDesign, redesigned: SpringDesign) -> SpringDesign
     return with_hole_circle(redesigned, math.hypot(*design.hole_centres_mm[0]))
 
 
+#: the start of the warning that the design lowered its beam stress for the margin (the
+#: FEA's yield margin checks the real geometry: a note where it ran)
+STRESS_DERATED = "beam stress lowered"
 #: thicker stock plates the FEA stress correction tries when the thickness is springcad's
 MARGIN_PLATES = 3
 
@@ -602,23 +606,33 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
     def deadline() -> float:
         return min(time.monotonic() + REFUSAL_BUDGET_S, stop)
 
+    def say(what: str) -> None:
+        report(f"spring {spec.name}: {what}")
+
+    if fixed_choices(spec):
+        say("probing the layout keys you fixed, left free")
     freed = _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm)
+    say("probing the nearest value of each of your keys that designs")
     nearest = nearest_changes(spec, designs, deadline=deadline())
     series, materials, alternatives = None, [], ""
     if not duty.fatigue_limited(material, spec.max_deflection_rad):
         # (when the duty sets the allowed peak, its own alternatives, below, replace these)
         if time.monotonic() < stop:
+            say("probing disks in series")
             series = series_change(spec, designs)
         if time.monotonic() < stop:
+            say("probing other materials")
             materials = material_changes(material, lambda m: designs(spec, m))
     changes = describe(spec.name, nearest, materials, series, spec)
     if freed:
         changes = freed + ("; or " + changes if not changes.startswith("no change") else "")
-    if time.monotonic() < stop:
+    if time.monotonic() < stop and duty.fatigue_limited(material, spec.max_deflection_rad):
+        say("probing surface finishes, materials and disks for the duty")
         alternatives = duty.alternatives(spec, material, designs, deadline=deadline())
     found = bool(freed or nearest or materials or series is not None) or (
         bool(alternatives) and not alternatives.endswith(duty.NOTHING_MEETS))
     if not found and not alternatives:  # several keys: the whole disk larger
+        say("probing the whole disk scaled up")
         big = larger_disk(spec, designs, deadline=deadline())
         if big:
             return f"{changes}; it designs with {big}", True
@@ -637,10 +651,13 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     """
     args = (manufacturing, hardware, max_root_radius_mm)
     stop = time.monotonic() + REFUSAL_TOTAL_S
+    report(f"spring {spec.name}: no layout passes; searching the changes that would design "
+           f"it (up to {REFUSAL_TOTAL_S:.0f} s)")
     changes, _ = _changes(spec, material, *args, stop=stop)
     sized = duty.sized_for(material)
     if not material.duty.declared and duty.fatigue_limited(sized, spec.max_deflection_rad):
         if time.monotonic() < stop:
+            report(f"spring {spec.name}: the same for springcad's default duty")
             for_duty, found = _changes(spec, sized, *args, stop=stop)
             for_duty = (for_duty if found else "no change springcad probes meets it: declare "
                         "the duty the spring will see in [duty]")
