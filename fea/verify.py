@@ -46,7 +46,7 @@ from fea.fatigue import region_peaks_MPa
 from fea.problem import Material, solver_material
 from fea.study import ModelRun, VerifyOptions, _noop, apply_3d_factor, run_model, support_study
 from fea.verdict import JobVerification, SpringVerification, verify_stack
-from springcad.design import search as spring_design
+from springcad.design import redesign
 from springcad.design.resize import with_width_scale
 from springcad.errors import DesignError, SpringcadError
 from springcad.units import NMM_PER_NM
@@ -183,7 +183,7 @@ def _verify_spring(design, options: VerifyOptions, progress, material: Material 
                 k, design, run, target, f"redesign for the FEA peak ({bias:.3f} x the design's "
                 f"prediction; yield margin {margin:.3f} < {required:g})"))
             try:
-                redesigned = spring_design.redesign_for_margin(
+                redesigned = redesign.redesign_for_margin(
                     design, bias * (1.0 + 0.01 * stress_passes))
             except DesignError as exc:
                 notes.append(f"stress correction stopped: {exc}")
@@ -220,7 +220,7 @@ def _verify_spring(design, options: VerifyOptions, progress, material: Material 
             redesigned_for_k = True
             try:
                 ratio = (target / K) * design.stiffness_beam_Nmm_per_rad / target
-                design = searched = spring_design.redesign_for_stiffness(design, ratio)
+                design = searched = redesign.redesign_for_stiffness(design, ratio)
             except DesignError as exc2:
                 notes.append(f"correction stopped: {exc}; no layout carries the beam stiffness "
                              f"{ratio:.4f} x the target either ({exc2})")
@@ -247,7 +247,7 @@ def _verify_spring(design, options: VerifyOptions, progress, material: Material 
                 k, design, run, target, f"redesign for the tip-ball contact (balls of at "
                 f"least {r_min:.3f} mm)"))
             try:
-                redesigned = spring_design.redesign_for_contact(design,
+                redesigned = redesign.redesign_for_contact(design,
                                                                 r_min * CONTACT_BALL_MARGIN)
             except DesignError as exc:
                 notes.append(f"contact correction stopped: {exc}")

@@ -33,7 +33,6 @@ from springcad.design.planar import find_defect
 from springcad.design.feasibility import (describe, fixed_choices, larger_disk,
                                           material_changes, nearest_changes, series_change)
 from springcad.design.layout import MAX_CANDIDATES, ContactLimit, Layout, candidate_layouts
-from springcad.design.ring import with_hole_circle
 from springcad.design.shapes.base import SizingContext
 from springcad.design.resize import with_width
 from springcad.design.spring import SpringDesign
@@ -236,7 +235,7 @@ def _design_with_margin(spec: SpringSpec, material: MaterialSpec,
     return d, history, None
 
 
-def _short(err: Exception) -> str:
+def short_reason(err: Exception) -> str:
     """An error's message without the spring's name prefix."""
     text = str(err)
     return text.split("': ", 1)[1] if text.startswith("spring '") and "': " in text else text
@@ -416,133 +415,12 @@ def _choice_text(d: SpringDesign, rejected) -> str:
     if not rejected:
         return f"{what}: the layout with the longest straight reach that passes every rule"
     return (f"{what}: layout {len(rejected) + 1} of the ranked candidates; rejected before it: "
-            + "; ".join(_short(e) for _, e, _ in rejected))
-
-
-def _on_holes_of(design: SpringDesign, redesigned: SpringDesign) -> SpringDesign:
-    """``redesigned`` with its rim holes on ``design``'s hole circle (a redesign keeps the
-    circle the stack shares), or as it is when ``design`` has no holes."""
-    if not design.hole_centres_mm:
-        return redesigned
-    return with_hole_circle(redesigned, math.hypot(*design.hole_centres_mm[0]))
+            + "; ".join(short_reason(e) for _, e, _ in rejected))
 
 
 #: the start of the warning that the design lowered its beam stress for the margin (the
 #: FEA's yield margin checks the real geometry: a note where it ran)
 STRESS_DERATED = "beam stress lowered"
-#: thicker stock plates the FEA stress correction tries when the thickness is springcad's
-MARGIN_PLATES = 3
-
-
-def _meets(d: SpringDesign, material: MaterialSpec, default_sized: bool) -> bool:
-    """Whether ``d``'s predicted peak keeps the margin of ``material`` (with springcad's
-    default duty when the spring is sized for it)."""
-    mat = duty.sized_for(material) if default_sized else material
-    return d.yield_margin >= duty.required_margin(mat, d.max_deflection_rad) * (1.0 - 1e-3)
-
-
-def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign:
-    """The spring redesigned so its predicted peak x ``model_bias`` keeps the required margin.
-
-    The FEA stress correction: when FEA finds the peak ``model_bias`` times the design's
-    prediction, the design's own stress passes (:func:`design_spring`) run against a
-    required margin raised by that factor, so the new geometry is judged by the same
-    model that missed, corrected by what the FEA measured. Tried in order, the first
-    whose prediction keeps that margin is returned:
-
-    1. the same layout (N, r_c, tip ball, so the cam): a correction is a small move, and
-       the bias measured holds for that layout (another has other 3D factors and stress
-       raisers: on the default at 20 deg a new layout's FEA peak came out higher);
-    2. the full search, unless its layout brings the tooth tip near the ball where the
-       old one did not;
-    3. the same on the next :data:`MARGIN_PLATES` thicker stock plates, when springcad
-       chose the thickness (``thicker_plates_mm``; default at 20 deg: the layout at 40 mm
-       has no longer flexures to lower its stress).
-
-    Rim holes stay on the design's hole circle.
-
-    Raises:
-        DesignError: none of them keeps the margin.
-    """
-    mat = design.material
-    biased = duty.biased(mat, max(model_bias, 1.0))
-    default_sized = design.sized_for_default_duty
-    tried = []
-    for t in (design.thickness_mm, *design.thicker_plates_mm[:MARGIN_PLATES]):
-        spec = _replace(design.spec, thickness_mm=t)
-        same = _replace(spec, n_flexures=design.n_flexures,
-                        contact_radius_mm=design.contact_radius_mm,
-                        tip_radius_mm=design.tip_radius_mm)
-        for s, what in ((same, "the same layout"), (spec, "any layout")):
-            try:
-                d = design_spring(s, biased, design.manufacturing, design.hardware,
-                                  explain=False, max_root_radius_mm=design.max_root_radius_mm)
-            except DesignError as err:
-                tried.append(f"{what} at {t:g} mm: {_short(err)}")
-                continue
-            if not _meets(d, biased, default_sized):
-                tried.append(f"{what} at {t:g} mm: predicted yield margin {d.yield_margin:.3f}")
-                continue
-            if soft_shortfalls(d) and not soft_shortfalls(design):
-                tried.append(f"{what} at {t:g} mm: {soft_shortfalls(d)[0].split(':')[0]}")
-                continue
-            thicker = tuple(u for u in design.thicker_plates_mm if u > t)
-            # a note, not a warning: the redesign is verified again, and its verdict gates
-            # the release
-            d = _replace(d, spec=_replace(design.spec, thickness_mm=t), material=mat,
-                         thicker_plates_mm=thicker, design_choice=(
-                             f"{d.design_choice}; redesigned by the FEA stress correction "
-                             f"(FEA peak {model_bias:.3f} x the design prediction; {what} at "
-                             f"{t:g} mm): beam stress {d.beam_stress_MPa:.0f} MPa"))
-            return _on_holes_of(design, d)
-    raise DesignError(f"spring '{design.name}': no redesign keeps the yield margin "
-                      f"{duty.required_margin(biased, design.max_deflection_rad):.3f} for a "
-                      f"peak {model_bias:.3f} x the prediction: " + "; ".join(tried))
-
-
-def redesign_for_stiffness(design: SpringDesign, k_ratio: float) -> SpringDesign:
-    """The spring redesigned for a beam stiffness ``k_ratio`` x its target, target unchanged.
-
-    The FEA stiffness correction when the widths cannot simply be scaled (the wider
-    flexures would break the neighbour clearance or the edge radius): the design search
-    runs for K_target x ``k_ratio`` (the FEA measured K_target / ``k_ratio`` for the
-    beam's K_target), so it chooses a layout with room for those widths under every
-    rule; the spec (and so the target) is then the user's again. Rim holes stay on the
-    design's hole circle.
-
-    Raises:
-        DesignError: no layout carries that stiffness in the envelope.
-    """
-    spec = design.spec
-    biased = _replace(spec, target_stiffness_Nmm_per_rad=spec.target_stiffness_Nmm_per_rad * k_ratio)
-    d = design_spring(biased, design.material, design.manufacturing, design.hardware,
-                      explain=False, max_root_radius_mm=design.max_root_radius_mm)
-    d = _replace(d, spec=spec, warnings=d.warnings, design_choice=(
-        f"{d.design_choice}; redesigned by the FEA stiffness correction for a beam stiffness "
-        f"{k_ratio:.4f} x the target (the widths alone could not be scaled)"))
-    return _on_holes_of(design, d)
-
-
-def redesign_for_contact(design: SpringDesign, min_tip_radius_mm: float) -> SpringDesign:
-    """The spring redesigned with tip balls of at least ``min_tip_radius_mm`` (mm).
-
-    The FEA contact correction: the contact sweep found the balls' Hertz stress at
-    +-theta_max above the allowable and named the smallest ball that carries the same
-    force on the same flank; the search runs again with that floor (a larger ball may
-    change N and r_c), the spec otherwise the user's. Rim holes stay on the design's
-    hole circle.
-
-    Raises:
-        DesignError: no layout with balls that large meets the spec.
-    """
-    spec = design.spec
-    floor = _replace(spec, min_tip_radius_mm=max(spec.min_tip_radius_mm, min_tip_radius_mm))
-    d = design_spring(floor, design.material, design.manufacturing, design.hardware,
-                      explain=False, max_root_radius_mm=design.max_root_radius_mm)
-    d = _replace(d, spec=spec, design_choice=(
-        f"{d.design_choice}; redesigned by the FEA contact correction for tip balls of at "
-        f"least {min_tip_radius_mm:.3f} mm"))
-    return _on_holes_of(design, d)
 
 
 def _stress_text(spec, material, history, err) -> str:
@@ -554,7 +432,7 @@ def _stress_text(spec, material, history, err) -> str:
     return (f"spring '{spec.name}': the predicted peak {peak:.0f} MPa at the {region} leaves a "
             f"yield margin {material.material.yield_strength_MPa / peak:.3f} < required "
             f"{required:g}; the flexures would need a beam stress of about {sigma_need:.0f} MPa, "
-            f"and at that stress {_short(err)}")
+            f"and at that stress {short_reason(err)}")
 
 
 #: seconds the refusal spends on the user's keys (their far ends are always probed; the
@@ -668,4 +546,4 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
         changes += (f"; for springcad's default duty ({duty.describe(material.duty)}) as well, "
                     + for_duty)
     return DesignError(f"spring '{spec.name}' cannot be made as specified; {changes}. "
-                       f"Why{tried}: {_short(text)}")
+                       f"Why{tried}: {short_reason(text)}")
