@@ -47,7 +47,7 @@ from fea.problem import Material, solver_material
 from fea.study import ModelRun, VerifyOptions, _noop, apply_3d_factor, run_model, support_study
 from fea.verdict import JobVerification, SpringVerification, verify_stack
 from springcad.design import redesign
-from springcad.design.resize import with_width_scale
+from springcad.design.resize import with_cam_clearance, with_width_scale
 from springcad.errors import DesignError, SpringcadError
 from springcad.units import NMM_PER_NM
 
@@ -66,6 +66,9 @@ def _iteration_record(k, design, run: ModelRun, target, action) -> dict:
 
 #: redesigns for the tip balls' contact stress a verification may make
 CONTACT_PASSES = 2
+#: the driving tooth tip to ball gap the cam correction aims for beyond the worst case, as
+#: a share of the gap's plain stack (t_spring + t_shaft)
+TIP_GAP_AIM = 0.5
 #: the ball asked of the redesign over the smallest the contact FEA names (held-out g01:
 #: a ball 3 % over it still missed the margin by 0.2 %, as the new layout's force grew)
 CONTACT_BALL_MARGIN = 1.05
@@ -101,6 +104,52 @@ def _same_layout(a, b) -> bool:
             and math.isclose(a.tip_radius_mm, b.tip_radius_mm, rel_tol=1e-9)
             and math.isclose(a.root_radius_mm, b.root_radius_mm, rel_tol=1e-9)
             and math.isclose(a.beam_stress_MPa, b.beam_stress_MPa, rel_tol=1e-9))
+
+
+def _tip_gap_shortfall_mm(contact) -> float:
+    """How much more the driving tooth tip to ball gap needs at +-theta_max (mm): over
+    both ends, the most the gap falls short of a worst case of :data:`TIP_GAP_AIM` x its
+    stack and of a nominal value above its stack (0 when it passes, None-safe)."""
+    at_max = getattr(contact, "at_max", None)
+    short = 0.0
+    for end in (getattr(at_max, "ends", None) or {}).values():
+        for g in end.clearances:
+            if g.name == "driving_tooth_tip/ball" and not g.ok:
+                short = max(short, TIP_GAP_AIM * g.stack_mm - g.worst_case_mm,
+                            (1 + TIP_GAP_AIM) * g.stack_mm - g.nominal_mm)
+    return short
+
+
+def _correct_cam(design, contact, material, run, progress, notes, iterations, k, target):
+    """The contact FEA's clearance correction: when the driving tooth tip passes the ball
+    closer than the tolerances allow at +-theta_max, the cam's flanks are lengthened so the
+    design's estimate of that gap grows by the shortfall the FEA measured (the estimate
+    and the FEA differ by the flexure's foreshortening and the real contact point, which a
+    longer flank does not change), and the sweep is run again on the same ring. Returns
+    the (design, contact) to report: the new ones when the gap then passes, else the old
+    with a note."""
+    short = _tip_gap_shortfall_mm(contact)
+    if short <= 0 or not math.isfinite(design.cam_tip_clearance_mm):
+        return design, contact
+    want = design.cam_tip_clearance_mm + short
+    try:
+        lengthened = with_cam_clearance(design, want)
+    except DesignError as exc:
+        notes.append(f"cam clearance correction stopped: {exc}")
+        return design, contact
+    if lengthened.cam_overtravel <= design.cam_overtravel:
+        notes.append(f"cam clearance correction: no longer flank fits the tooth (overtravel "
+                     f"{design.cam_overtravel:g}; the tooth tip would fall below min_web_mm)")
+        return design, contact
+    iterations.append(_iteration_record(
+        k, design, run, target, f"lengthen the cam flanks for the tooth tip to ball gap "
+        f"(overtravel {design.cam_overtravel:g} -> {lengthened.cam_overtravel:g}, estimate "
+        f"{1000 * design.cam_tip_clearance_mm:.0f} -> {1000 * lengthened.cam_tip_clearance_mm:.0f}"
+        f" um for a shortfall of {1000 * short:.0f} um)"))
+    again = _contact(lengthened, material, run, progress, notes)
+    if again is None:
+        return design, contact
+    return lengthened, again
 
 
 def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_noop,
@@ -257,6 +306,9 @@ def _verify_spring(design, options: VerifyOptions, progress, material: Material 
                 again.iterations[:0] = iterations
                 again.notes[:0] = notes
                 return again
+    if contact is not None and options.correct:
+        design, contact = _correct_cam(design, contact, material, run, progress, notes,
+                                       iterations, k, target)
     support = None
     if options.support_study:
         progress(f"spring {design.name}: support study on the full ring with its holes", None)

@@ -81,6 +81,10 @@ class SpringDesign:
     cam_overtravel: float = 0.0
     cam_tip_clearance_mm: float = float("nan")
     """Estimated gap from the driving tooth tip to the ball at full deflection (mm)."""
+    cam_min_tip_clearance_mm: float = 0.0
+    """Tooth-tip-to-ball gap estimate the cam's flank length must reach at least (mm; 0: the
+    design rule alone): set by the contact FEA's clearance correction
+    (:func:`springcad.design.resize.with_cam_clearance`)."""
     warnings: tuple[str, ...] = field(default_factory=tuple)
     width_scale: float = 1.0
     """Factor on every flexure width (1.0 = the beam-theory widths; set by the FEA
