@@ -106,50 +106,83 @@ def _same_layout(a, b) -> bool:
             and math.isclose(a.beam_stress_MPa, b.beam_stress_MPa, rel_tol=1e-9))
 
 
-def _tip_gap_shortfall_mm(contact) -> float:
-    """How much more the driving tooth tip to ball gap needs at +-theta_max (mm): over
-    both ends, the most the gap falls short of a worst case of :data:`TIP_GAP_AIM` x its
-    stack and of a nominal value above its stack (0 when it passes, None-safe)."""
+#: the gaps of the driving tooth tip at +-theta_max that a longer cam flank opens
+TIP_GAPS = ("driving_tooth_tip/ball", "driving_tooth_tip/neck", "driving_tooth_tip/edge")
+#: cam-flank corrections a verification may make (each one contact sweep)
+CAM_PASSES = 2
+
+
+def _tip_gaps_short_mm(contact) -> dict:
+    """How much more each failing driving-tooth-tip gap needs at +-theta_max (mm): over
+    both ends, the most it falls short of a worst case of :data:`TIP_GAP_AIM` x its stack
+    and of a nominal value (1 + :data:`TIP_GAP_AIM`) x its stack; {} when they all pass."""
     at_max = getattr(contact, "at_max", None)
-    short = 0.0
+    short: dict = {}
     for end in (getattr(at_max, "ends", None) or {}).values():
         for g in end.clearances:
-            if g.name == "driving_tooth_tip/ball" and not g.ok:
-                short = max(short, TIP_GAP_AIM * g.stack_mm - g.worst_case_mm,
-                            (1 + TIP_GAP_AIM) * g.stack_mm - g.nominal_mm)
+            if g.name in TIP_GAPS and not g.ok:
+                need = max(TIP_GAP_AIM * g.stack_mm - g.worst_case_mm,
+                           (1 + TIP_GAP_AIM) * g.stack_mm - g.nominal_mm)
+                short[g.name] = max(short.get(g.name, 0.0), need)
     return short
 
 
+def _tip_gaps_mm(contact) -> dict:
+    """Each driving-tooth-tip gap's smallest nominal value over both ends (mm)."""
+    at_max = getattr(contact, "at_max", None)
+    out: dict = {}
+    for end in (getattr(at_max, "ends", None) or {}).values():
+        for g in end.clearances:
+            if g.name in TIP_GAPS:
+                out[g.name] = min(out.get(g.name, math.inf), g.nominal_mm)
+    return out
+
+
 def _correct_cam(design, contact, material, run, progress, notes, iterations, k, target):
-    """The contact FEA's clearance correction: when the driving tooth tip passes the ball
-    closer than the tolerances allow at +-theta_max, the cam's flanks are lengthened so the
-    design's estimate of that gap grows by the shortfall the FEA measured (the estimate
-    and the FEA differ by the flexure's foreshortening and the real contact point, which a
-    longer flank does not change), and the sweep is run again on the same ring. Returns
-    the (design, contact) to report: the new ones when the gap then passes, else the old
-    with a note."""
-    short = _tip_gap_shortfall_mm(contact)
-    if short <= 0 or not math.isfinite(design.cam_tip_clearance_mm):
-        return design, contact
-    want = design.cam_tip_clearance_mm + short
-    try:
-        lengthened = with_cam_clearance(design, want)
-    except DesignError as exc:
-        notes.append(f"cam clearance correction stopped: {exc}")
-        return design, contact
-    if lengthened.cam_overtravel <= design.cam_overtravel:
-        notes.append(f"cam clearance correction: no longer flank fits the tooth (overtravel "
-                     f"{design.cam_overtravel:g}; the tooth tip would fall below min_web_mm)")
-        return design, contact
-    iterations.append(_iteration_record(
-        k, design, run, target, f"lengthen the cam flanks for the tooth tip to ball gap "
-        f"(overtravel {design.cam_overtravel:g} -> {lengthened.cam_overtravel:g}, estimate "
-        f"{1000 * design.cam_tip_clearance_mm:.0f} -> {1000 * lengthened.cam_tip_clearance_mm:.0f}"
-        f" um for a shortfall of {1000 * short:.0f} um)"))
-    again = _contact(lengthened, material, run, progress, notes)
-    if again is None:
-        return design, contact
-    return lengthened, again
+    """The contact FEA's clearance correction: when the driving tooth tip passes the ball,
+    its neck or its edge closer than the tolerances allow at +-theta_max, the cam's flanks
+    are lengthened and the sweep run again on the same ring (K and the stresses do not
+    change), up to :data:`CAM_PASSES` times. The first pass asks the design's estimate of
+    the tooth-tip-to-ball gap to grow by the largest shortfall the FEA measured (the
+    estimate and the FEA differ by the flexure's foreshortening and the real contact point,
+    which a longer flank does not change); the next divides each shortfall by what that
+    gap gained per um of estimate in the pass before (the neck opens slower than the
+    ball's gap). Returns the (design, contact) to report: the last that the FEA swept."""
+    gain: dict = {}
+    for _ in range(CAM_PASSES):
+        short = _tip_gaps_short_mm(contact)
+        if not short or not math.isfinite(design.cam_tip_clearance_mm):
+            break
+        ask = max(v / gain.get(n, 1.0) for n, v in short.items())
+        if not math.isfinite(ask) or ask <= 0:
+            notes.append("cam clearance correction stopped: a longer flank did not open "
+                         + ", ".join(n.replace("/", " to ").replace("_", " ") for n in short))
+            break
+        try:
+            lengthened = with_cam_clearance(design, design.cam_tip_clearance_mm + ask)
+        except DesignError as exc:
+            notes.append(f"cam clearance correction stopped: {exc}")
+            break
+        if lengthened.cam_overtravel <= design.cam_overtravel:
+            notes.append(f"cam clearance correction: no longer flank fits the tooth (overtravel "
+                         f"{design.cam_overtravel:g}; the tooth tip would fall below min_web_mm)")
+            break
+        iterations.append(_iteration_record(
+            k, design, run, target, f"lengthen the cam flanks for the tooth tip gaps "
+            f"(overtravel {design.cam_overtravel:g} -> {lengthened.cam_overtravel:g}, estimate "
+            f"{1000 * design.cam_tip_clearance_mm:.0f} -> "
+            f"{1000 * lengthened.cam_tip_clearance_mm:.0f} um; short: "
+            + ", ".join(f"{n} {1000 * v:.0f} um" for n, v in short.items()) + ")"))
+        again = _contact(lengthened, material, run, progress, notes)
+        if again is None:
+            break
+        before, after = _tip_gaps_mm(contact), _tip_gaps_mm(again)
+        grown = lengthened.cam_tip_clearance_mm - design.cam_tip_clearance_mm
+        gain = {n: (after[n] - before[n]) / grown if n in after and n in before else 1.0
+                for n in TIP_GAPS}
+        gain = {n: (v if v > 1e-3 else math.nan) for n, v in gain.items()}
+        design, contact = lengthened, again
+    return design, contact
 
 
 def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_noop,

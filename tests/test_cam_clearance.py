@@ -4,7 +4,6 @@ lengthened by the shortfall the FEA measured, on the same ring."""
 
 from __future__ import annotations
 
-import math
 from types import SimpleNamespace
 
 import pytest
@@ -61,14 +60,18 @@ def _contact(*gaps):
 
 
 def test_the_shortfall_is_what_the_worst_case_and_nominal_gap_miss():
-    from fea.verify import TIP_GAP_AIM, _tip_gap_shortfall_mm
+    from fea.verify import TIP_GAP_AIM, _tip_gaps_short_mm
 
     # held-out elbow spring: 4.7 um nominal, -15.3 um worst case, stack 20 um
-    short = _tip_gap_shortfall_mm(_contact(("driving_tooth_tip/ball", 0.0047, -0.0153, 0.020)))
-    assert short == pytest.approx(max(TIP_GAP_AIM * 0.020 + 0.0153,
-                                      (1 + TIP_GAP_AIM) * 0.020 - 0.0047))
-    # a passing gap, or another gap, asks nothing of the cam's flank
-    assert _tip_gap_shortfall_mm(_contact(("driving_tooth_tip/ball", 0.050, 0.010, 0.020))) == 0
-    assert _tip_gap_shortfall_mm(_contact(("driving_tooth_tip/neck", 0.005, -0.01, 0.02))) == 0
-    assert _tip_gap_shortfall_mm(SimpleNamespace(at_max=None)) == 0
-    assert math.isfinite(short)
+    short = _tip_gaps_short_mm(_contact(("driving_tooth_tip/ball", 0.0047, -0.0153, 0.020),
+                                        ("driving_tooth_tip/neck", 0.0652, -0.0135, 0.040),
+                                        ("back_tooth_tip/neck", 0.001, -0.03, 0.040)))
+    assert short == pytest.approx({
+        "driving_tooth_tip/ball": max(TIP_GAP_AIM * 0.020 + 0.0153,
+                                      (1 + TIP_GAP_AIM) * 0.020 - 0.0047),
+        "driving_tooth_tip/neck": max(TIP_GAP_AIM * 0.040 + 0.0135,
+                                      (1 + TIP_GAP_AIM) * 0.040 - 0.0652)})
+    # passing gaps, or gaps a longer driving flank does not open, ask nothing of it
+    assert _tip_gaps_short_mm(_contact(("driving_tooth_tip/ball", 0.050, 0.010, 0.020))) == {}
+    assert _tip_gaps_short_mm(_contact(("pocket/ball", 0.005, -0.01, 0.02))) == {}
+    assert _tip_gaps_short_mm(SimpleNamespace(at_max=None)) == {}
