@@ -147,10 +147,12 @@ def _correct_cam(design, contact, material, run, progress, notes, iterations, k,
     estimate and the FEA differ by the flexure's foreshortening and the real contact point,
     which a longer flank does not change); the next divides each shortfall by what that
     gap gained per um of estimate in the pass before (the neck opens slower than the
-    ball's gap). Returns the (design, contact) to report: of those the FEA swept, the one
+    ball's gap). Returns (design, contact, room): the design and sweep to report, of those
+    the FEA swept the one
     with the fewest failing tooth-tip gaps, then the largest smallest worst case (a longer
     flank opens the ball and neck gaps but brings the tip nearer the flexure's edge:
-    held-out g11 at overtravel 1.6 traded the neck for the edge, and 1.4 is reported)."""
+    held-out g11 at overtravel 1.6 traded the neck for the edge, and 1.4 is reported); and
+    the gap estimate (mm) the layout had no room for, or None."""
     def score(c) -> tuple:
         ends = getattr(getattr(c, "at_max", None), "ends", None)
         if not ends:
@@ -160,6 +162,7 @@ def _correct_cam(design, contact, material, run, progress, notes, iterations, k,
 
     best = (design, contact)
     gain: dict = {}
+    room = None
     for _ in range(CAM_PASSES):
         short = _tip_gaps_short_mm(contact)
         if not short or not math.isfinite(design.cam_tip_clearance_mm):
@@ -177,6 +180,7 @@ def _correct_cam(design, contact, material, run, progress, notes, iterations, k,
         if lengthened.cam_overtravel <= design.cam_overtravel:
             notes.append(f"cam clearance correction: no longer flank fits the tooth (overtravel "
                          f"{design.cam_overtravel:g}; the tooth tip would fall below min_web_mm)")
+            room = design.cam_tip_clearance_mm + ask
             break
         iterations.append(_iteration_record(
             k, design, run, target, f"lengthen the cam flanks for the tooth tip gaps "
@@ -198,7 +202,7 @@ def _correct_cam(design, contact, material, run, progress, notes, iterations, k,
     if best[0] is not design:
         notes.append(f"cam clearance correction: the flank of overtravel {best[0].cam_overtravel:g}"
                      f" is kept (at {design.cam_overtravel:g} other tooth-tip gaps closed)")
-    return best
+    return (*best, room)
 
 
 def verify_spring(design, options: VerifyOptions = VerifyOptions(), progress=_noop,
@@ -356,8 +360,30 @@ def _verify_spring(design, options: VerifyOptions, progress, material: Material 
                 again.notes[:0] = notes
                 return again
     if contact is not None and options.correct:
-        design, contact = _correct_cam(design, contact, material, run, progress, notes,
-                                       iterations, k, target)
+        design, contact, room = _correct_cam(design, contact, material, run, progress, notes,
+                                             iterations, k, target)
+        if room is not None and contact_pass < CONTACT_PASSES:
+            # no longer flank fits this layout's tooth: a layout with room for one, verified
+            # whole; kept only when its verification passes (else this one is reported)
+            try:
+                redesigned = redesign.redesign_for_cam(design, room)
+            except DesignError as exc:
+                notes.append(f"cam redesign stopped: {exc}")
+            else:
+                again = verify_spring(redesigned, options, progress, material,
+                                      _contact_pass=contact_pass + 1, _original=original)
+                if again.ok and not again.contact_failures():
+                    iterations.append(_iteration_record(
+                        k, design, run, target, f"redesign for the cam's tooth-tip gaps (a "
+                        f"flank estimate of {1000 * room:.0f} um; N {design.n_flexures} -> "
+                        f"{redesigned.n_flexures}, r_c {design.contact_radius_mm:.3f} -> "
+                        f"{redesigned.contact_radius_mm:.3f} mm)"))
+                    again.iterations[:0] = iterations
+                    again.notes[:0] = notes
+                    return again
+                notes.append(f"cam redesign (N {redesigned.n_flexures}, r_c "
+                             f"{redesigned.contact_radius_mm:.3f} mm) verified and not kept: "
+                             + "; ".join((again.failures() + again.contact_failures())[:2]))
     support = None
     if options.support_study:
         progress(f"spring {design.name}: support study on the full ring with its holes", None)

@@ -75,3 +75,37 @@ def test_the_shortfall_is_what_the_worst_case_and_nominal_gap_miss():
     assert _tip_gaps_short_mm(_contact(("driving_tooth_tip/ball", 0.050, 0.010, 0.020))) == {}
     assert _tip_gaps_short_mm(_contact(("pocket/ball", 0.005, -0.01, 0.02))) == {}
     assert _tip_gaps_short_mm(SimpleNamespace(at_max=None)) == {}
+
+
+def test_a_layout_without_room_for_the_flank_is_redesigned_to_one_with_room():
+    """The default template's disk at 14 deg on 12 mm, asked a gap estimate beyond what
+    even a 3 x flank would give this layout: no flank of its tooth reaches it, so the cam
+    correction asks the search for a layout whose cam does; the search passes over the
+    layouts that cannot, and the spring keeps its target."""
+    from springcad.config import job_from_dict
+    from springcad.design.cam import LONG_OVERTRAVELS, TIP_CLEARANCE_SHORT
+    from springcad.design.job import design_job
+    from springcad.design.redesign import redesign_for_cam
+
+    job = job_from_dict({"material": {"name": "420_ht", "design_stress_MPa": 780},
+                         "duty": {"preset": "static"},
+                         "springs": {"S1": {"target_stiffness_Nm_per_rad": 150,
+                                            "max_deflection_deg": 14, "outer_radius_mm": 36,
+                                            "thickness_mm": 12.0}}})
+    d = design_job(job, explain=False).springs["S1"]
+    def estimate(f):
+        return tip_clearance_mm(d.contact_radius_mm, d.tip_radius_mm, d.manufacturing.w_gap_mm,
+                                d.max_deflection_rad, f)
+
+    # the first longer flank this layout's tooth has no room for
+    beyond = next(f for f in LONG_OVERTRAVELS if f > d.cam_overtravel
+                  and with_cam_clearance(d, estimate(f)).cam_overtravel != f)
+    want = estimate(beyond)
+    assert with_cam_clearance(d, want).cam_overtravel < beyond  # no room
+    r = redesign_for_cam(d, want)
+    assert r.cam_tip_clearance_mm >= want
+    assert not any(w.startswith(TIP_CLEARANCE_SHORT) for w in r.warnings)
+    assert (r.n_flexures, r.contact_radius_mm) != (d.n_flexures, d.contact_radius_mm)
+    assert r.target_stiffness_Nmm_per_rad == d.target_stiffness_Nmm_per_rad
+    assert r.spec.cam_min_tip_clearance_mm == want  # later width corrections keep the floor
+    assert r.cam_min_tip_clearance_mm == want

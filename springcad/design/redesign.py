@@ -149,4 +149,33 @@ def redesign_for_contact(design: SpringDesign, min_tip_radius_mm: float) -> Spri
     return _on_holes_of(design, d)
 
 
-__all__ = ["redesign_for_margin", "redesign_for_stiffness", "redesign_for_contact"]
+def redesign_for_cam(design: SpringDesign, min_tip_clearance_mm: float) -> SpringDesign:
+    """The spring redesigned so its cam's tooth-tip-to-ball gap estimate at full deflection
+    reaches ``min_tip_clearance_mm`` (mm) on every layout the search keeps.
+
+    The contact FEA's cam correction, when the driving tooth tip passes the ball (its neck,
+    its edge) closer than the tolerances allow and no longer flank fits this layout's tooth
+    (:func:`springcad.design.resize.with_cam_clearance` could not): the search runs again
+    with that floor, so it passes over layouts whose tooth has no room for the flank
+    (fewer flexures, a larger contact radius give one; the layouts that keep a shortfall
+    are its soft shortfalls). The spec is otherwise the user's; rim holes stay on the
+    design's hole circle.
+
+    Raises:
+        DesignError: no layout meets the spec, or none without the shortfall.
+    """
+    spec = _replace(design.spec, cam_min_tip_clearance_mm=min_tip_clearance_mm)
+    d = design_spring(spec, design.material, design.manufacturing, design.hardware,
+                      explain=False, max_root_radius_mm=design.max_root_radius_mm)
+    if soft_shortfalls(d):
+        raise DesignError(f"spring '{design.name}': no layout's cam reaches a tooth-tip gap "
+                          f"estimate of {1000 * min_tip_clearance_mm:.0f} um")
+    d = _replace(d, material=design.material, design_choice=(
+        f"{d.design_choice}; redesigned by the FEA cam correction for a tooth-tip gap estimate "
+        f"of at least {1000 * min_tip_clearance_mm:.0f} um (layout {design.n_flexures} "
+        f"flexures, r_c {design.contact_radius_mm:.3f} mm had no room for a longer flank)"))
+    return _on_holes_of(design, d)
+
+
+__all__ = ["redesign_for_margin", "redesign_for_stiffness", "redesign_for_contact",
+           "redesign_for_cam"]

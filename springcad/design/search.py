@@ -133,7 +133,8 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
         rim_thickness_mm=t_rim,
         root_fillet_radius_mm=root_fillet, neck_fillet_radius_mm=neck_fillet,
         torque_cap_Nmm=fx.torque_cap_Nmm(rc, z, sigma), stiffness_beam_Nmm_per_rad=float("nan"),
-        peak_stress_MPa=float("nan"), warnings=tuple(warnings), stress_derating=derating)
+        peak_stress_MPa=float("nan"), warnings=tuple(warnings), stress_derating=derating,
+        cam_min_tip_clearance_mm=spec.cam_min_tip_clearance_mm)
     # beam prediction of the generated centreline (Castigliano). The web kept at the tip
     # stiffens the ring by ~0.1-0.3 %: a width factor brings beam theory back onto the
     # target (K ~ scale^3; two passes because the web itself does not scale)
