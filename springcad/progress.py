@@ -11,6 +11,8 @@ CLI decides what to show (:mod:`springcad.cli.progress`).
 from __future__ import annotations
 
 import re
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -23,6 +25,29 @@ class Progress(Protocol):
 
 def no_progress(message: str, fraction: float | None = None) -> None:
     """The default: report nothing."""
+
+
+#: the progress of the step running in this context (:func:`reporting`)
+_AMBIENT: ContextVar = ContextVar("springcad_progress", default=None)
+
+
+@contextmanager
+def reporting(progress: Progress | None):
+    """Within the block, :func:`report` forwards to ``progress``: for messages from deep
+    inside a step whose inner functions take no progress argument (the design search's
+    plate choice and refusal, called from many places)."""
+    token = _AMBIENT.set(progress)
+    try:
+        yield
+    finally:
+        _AMBIENT.reset(token)
+
+
+def report(message: str, fraction: float | None = None) -> None:
+    """Send ``message`` to the progress of the enclosing :func:`reporting` block, if any."""
+    progress = _AMBIENT.get()
+    if progress is not None:
+        progress(message, fraction)
 
 
 class Tracker:

@@ -30,6 +30,10 @@ def test_an_envelope_that_carries_the_default_duty_is_sized_for_it():
     assert check.met and check.safety_factor >= check.required_safety_factor
     sized = replace(s.material, duty=replace(s.material.duty, declared=True))
     assert s.yield_margin >= duty.required_margin(sized, s.max_deflection_rad) * (1 - 1e-3)
+    # the FEA stress correction holds it to the same duty (fea.verify reads sizing_margin)
+    assert s.sized_for_default_duty
+    assert s.sizing_margin == duty.required_margin(sized, s.max_deflection_rad)
+    assert s.sizing_margin > s.required_yield_margin == s.material.safety_factor
 
 
 def test_an_envelope_that_cannot_is_sized_for_yield_and_fails_the_duty():
@@ -42,3 +46,5 @@ def test_an_envelope_that_cannot_is_sized_for_yield_and_fails_the_duty():
     assert plain.yield_margin == static.yield_margin
     assert not plain.duty_check.met and static.duty_check.met
     assert plain.duty_advice == ""  # the advice is only searched with explain
+    assert not plain.sized_for_default_duty
+    assert plain.sizing_margin == plain.required_yield_margin  # yield alone

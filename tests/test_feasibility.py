@@ -14,7 +14,8 @@ from springcad.config.schema import keys
 from springcad.design.feasibility import (as_material, describe, fewer_disks, in_series,
                                           larger_disk, material_changes, nearest_changes,
                                           series_change)
-from springcad.design.search import design_spring, redesign_for_contact
+from springcad.design.redesign import redesign_for_contact
+from springcad.design.search import design_spring
 from springcad.errors import DesignError
 
 BASE = {"stiffness_Nm_per_rad": 150, "max_deflection_deg": 14, "outer_radius_mm": 36,

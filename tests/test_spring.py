@@ -246,6 +246,41 @@ def test_a_refusal_names_changes_in_numbers_and_each_change_designs():
         assert s.yield_margin >= 1.6 * (1 - 1e-3)
 
 
+def test_a_refusal_out_of_time_still_names_the_users_own_keys(monkeypatch):
+    """The refusal's time box (search.REFUSAL_TOTAL_S) spent at once: the user's own keys
+    are still probed and named with the value that designs; the kinds of change started
+    only while the box lasts (materials, disks in series, the default duty's pass) are not
+    searched, and the default-duty clause says so. The design search is replaced by a
+    known rule (a spring designs from 6 mm thickness up) so only the refusal's logic runs."""
+    import math
+    import re
+
+    from springcad.design import search
+
+    asked = []
+
+    def designs(spec, material, *args, **kwargs):
+        asked.append(material)
+        return spec.thickness_mm >= 6.0
+
+    monkeypatch.setattr(search, "_designs", designs)
+    monkeypatch.setattr(search, "probe", lambda *a, **k: None)
+    base = {"target_stiffness_Nm_per_rad": 150, "max_deflection_deg": 16, "outer_radius_mm": 33.5,
+            "thickness_mm": 4.5}
+    j = job_from_dict({"material": {"design_stress_MPa": 912}, "springs": {"A": base}})
+    args = (j.springs["A"], j.material, j.manufacturing, j.hardware, math.inf, "the rule")
+    monkeypatch.setattr(search, "REFUSAL_TOTAL_S", 0.0)
+    text = str(search._refusal(*args))
+    assert "not searched (the refusal's 0 s were spent)" in text, text
+    (value,) = re.findall(r"springs\.A\.thickness_mm = ([\d.]+) \(now 4\.5\)", text)
+    assert 6.0 <= float(value) <= 6.5, text
+    assert "material.name" not in text and "disks in series" not in text, text
+    assert {m.material.name for m in asked} == {j.material.material.name}  # no other probed
+    # with the box open, the default duty's own pass runs
+    monkeypatch.setattr(search, "REFUSAL_TOTAL_S", 600.0)
+    assert "not searched" not in str(search._refusal(*args))
+
+
 @pytest.mark.slow
 def test_a_refusal_with_a_fixed_overloaded_ball_names_a_change_whose_ball_carries():
     """S1 with its layout fixed (N 28, r_c 5.5 mm, ball 0.3 mm) and a yield margin of 1.6:

@@ -67,13 +67,15 @@ def _job(job_or_design):
 
 
 @api_door
-def design_job(job, cache: bool | None = None) -> Design:
+def design_job(job, cache: bool | None = None, progress=None) -> Design:
     """Design every spring of a job and the stack (beam theory and the stress model).
 
     Args:
         job: a :class:`~springcad.config.Job`, a TOML path or a config dict.
         cache: reuse the design of an equal job from the result cache
             (:mod:`springcad.cache`; None: the default, :data:`springcad.options.CACHE`).
+        progress: ``progress(message, fraction)`` for the springs, the stock plate choice
+            and a refusal's search (seconds to a minute or two; :mod:`springcad.progress`).
 
     Returns:
         The :class:`Design`.
@@ -87,7 +89,7 @@ def design_job(job, cache: bool | None = None) -> Design:
     job = _job(job)
     with stage("design", lambda: f"job {job.name}"):
         return Design(memo(open_cache(cache), "design", (job,),
-                           lambda: _design.design_job(job)))
+                           lambda: _design.design_job(job, progress=progress)))
 
 
 def _design_of(job_or_design, cache: bool | None = None) -> Design:

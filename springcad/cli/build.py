@@ -84,7 +84,7 @@ def run(args) -> int:
 
     t0 = _announce("design")
     cache = cache_of(args)
-    design = sc.design_job(job, cache=cache)
+    design = sc.design_job(job, cache=cache, progress=say)
     warn("build", design.warnings)
     _done("design", t0, timings)
 

@@ -61,7 +61,7 @@ def run(args) -> int:
     job = sc.load(args.config)
     check_output_dir(out, args.overwrite, inputs=[args.config])  # fail before the work
     progress = console(args.quiet)
-    design = sc.design_job(job, cache=cache_of(args))
+    design = sc.design_job(job, cache=cache_of(args), progress=progress)
     warn("verify", design.warnings)
     result = sc.verify(design, model=args.model, levels=args.levels, mesher=args.mesher,
                        tolerance_pct=args.tolerance_pct, correct=args.correct, load=args.load,

@@ -105,6 +105,10 @@ class SpringSpec:
         flexure: "auto", "straight" or "serpentine".
         max_thickness_mm: the thickest disk the chosen thickness may be (mm; None: no
             bound but the stock list's), when ``thickness_mm`` is None.
+        cam_min_tip_clearance_mm: the tooth-tip-to-ball gap estimate every layout's cam
+            must reach (mm; 0: the design rule alone). Not a config key: the contact FEA's
+            cam correction sets it when no longer flank fits the tooth, so the search
+            passes over layouts without room for one (:mod:`springcad.design.redesign`).
     """
 
     name: str
@@ -119,6 +123,7 @@ class SpringSpec:
     root_radius_mm: float | None = None
     flexure: str = _d("springs.<name>", "flexure")
     max_thickness_mm: float | None = None
+    cam_min_tip_clearance_mm: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -182,9 +182,13 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
     ring_pts = _ring_points_near_ball0(d) if d.ring is not None else None
     mfg = d.manufacturing
     need = TIP_CLEARANCE_FACTOR * (mfg.t_spring_mm + mfg.t_shaft_mm)
+    aim = need * TIP_CLEARANCE_AIM / TIP_CLEARANCE_FACTOR
+    # the contact FEA's clearance correction asks more of the estimate (it read the FEA's
+    # gap short of the tolerances by that much): both the rule and the aim rise to it
+    need, aim = max(need, d.cam_min_tip_clearance_mm), max(aim, d.cam_min_tip_clearance_mm)
     gaps = {f: tip_clearance_mm(rc, rb, g, theta, f) for f in OVERTRAVELS + LONG_OVERTRAVELS}
     clearing = [f for f in gaps if gaps[f] >= need]
-    aimed = [f for f in clearing if gaps[f] >= need * TIP_CLEARANCE_AIM / TIP_CLEARANCE_FACTOR]
+    aimed = [f for f in clearing if gaps[f] >= aim]
     # the reference 1.25 and below where they clear by the aim, else the shortest flanks
     # that do; then the same for the clearance needed; else (a layout the user fixed, or
     # one the search will pass over) the reference flanks, with a warning that stops the
@@ -228,8 +232,9 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
     tip_gap = tip_clearance_mm(rc, rb, g, theta, f)
     if f not in clearing:
         warnings += (f"{TIP_CLEARANCE_SHORT}: {UM_PER_MM * tip_gap:.0f} um at full deflection "
-                     f"(estimate), below {TIP_CLEARANCE_FACTOR:g} x the profile tolerances "
-                     f"t_spring_mm + t_shaft_mm = {UM_PER_MM * need:.0f} um: the toleranced parts "
+                     f"(estimate), below the {UM_PER_MM * need:.0f} um needed ({TIP_CLEARANCE_FACTOR:g}"
+                     " x the profile tolerances t_spring_mm + t_shaft_mm, or what the contact FEA "
+                     "asked): the toleranced parts "
                      "can touch there; fewer flexures or a larger contact radius give a longer "
                      "flank, or tighten the tolerances",)
     info = CamInfo(tip.radius, root, f, tip_w, clearance, warnings, tip_gap)

@@ -19,6 +19,7 @@ from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
 from springcad.errors import DesignError
+from springcad.progress import Progress, report, reporting
 
 SCHEMA = "springcad.design/1"
 
@@ -212,18 +213,24 @@ def _design_or_refuse(job: Job, name: str, explain: bool, rr_max: float) -> Spri
         raise DesignError(f"{head}feasible with fewer disks: {fewer}; or {rest}") from err
 
 
-def design_job(job: Job, explain: bool = True) -> JobDesign:
+def design_job(job: Job, explain: bool = True, progress: Progress | None = None) -> JobDesign:
     """Design every spring named in the job and the stack.
 
     Args:
         explain: a refused spring names the changes that would design (seconds to a
             minute; False for searches that only need a yes or no, e.g. synthesis).
+        progress: ``progress(message, fraction)`` for the springs, the stock plate choice
+            and a refusal's search (:mod:`springcad.progress`).
 
     Raises:
         DesignError: a spring or a hardware part cannot be made as specified.
     """
     rr_max = shared_rim_limit_mm(job)
-    springs = {name: _design_or_refuse(job, name, explain, rr_max) for name in job.springs}
+    springs = {}
+    with reporting(progress):
+        for i, name in enumerate(job.springs):
+            report(f"designing spring {name} ({i + 1}/{len(job.springs)})", i / len(job.springs))
+            springs[name] = _design_or_refuse(job, name, explain, rr_max)
     # the thickness springcad chose (stock plate) is the job's from here on
     job = replace(job, springs={n: replace(s, thickness_mm=springs[n].thickness_mm)
                                 for n, s in job.springs.items()})

@@ -19,7 +19,7 @@ import numpy as np
 
 from springcad.design import flexure as fx
 from springcad.design import stress
-from springcad.design.cam import cam_profile
+from springcad.design.cam import OVERTRAVEL_REDUCED, TIP_CLEARANCE_SHORT, cam_profile
 from springcad.design.ring import ring_profile
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError
@@ -80,6 +80,22 @@ def _predictions_and_profiles(d: SpringDesign) -> SpringDesign:
                     cam_root_radius_mm=info.root_radius_mm, cam_overtravel=info.overtravel,
                     cam_tip_clearance_mm=info.tip_clearance_mm,
                     warnings=tuple(dict.fromkeys(d.warnings + info.warnings)))
+
+
+def with_cam_clearance(design: SpringDesign, min_tip_clearance_mm: float) -> SpringDesign:
+    """The same ring with a cam whose flanks are long enough that the design's estimate of
+    the tooth-tip-to-ball gap at full deflection reaches ``min_tip_clearance_mm`` (mm), when
+    a tooth that long still fits (:func:`springcad.design.cam.cam_profile`; else the cam's
+    warning says so). The ring, so K and the stresses, is unchanged: the contact FEA's
+    clearance correction."""
+    d = _replace(design, cam_min_tip_clearance_mm=min_tip_clearance_mm)
+    cam, info = cam_profile(d)
+    kept = tuple(w for w in d.warnings if not w.startswith((TIP_CLEARANCE_SHORT,
+                                                             OVERTRAVEL_REDUCED)))
+    return _replace(d, cam=cam, cam_tip_radius_mm=info.tip_radius_mm,
+                    cam_root_radius_mm=info.root_radius_mm, cam_overtravel=info.overtravel,
+                    cam_tip_clearance_mm=info.tip_clearance_mm,
+                    warnings=tuple(dict.fromkeys(kept + info.warnings)))
 
 
 def with_root(design: SpringDesign, flare: float, flare_length_mm: float | None = None,

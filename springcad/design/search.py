@@ -33,11 +33,11 @@ from springcad.design.planar import find_defect
 from springcad.design.feasibility import (describe, fixed_choices, larger_disk,
                                           material_changes, nearest_changes, series_change)
 from springcad.design.layout import MAX_CANDIDATES, ContactLimit, Layout, candidate_layouts
-from springcad.design.ring import with_hole_circle
 from springcad.design.shapes.base import SizingContext
 from springcad.design.resize import with_width
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError, SpecInfeasible
+from springcad.progress import report
 from springcad.units import J_PER_NMM, NMM_PER_NM
 
 
@@ -133,7 +133,8 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
         rim_thickness_mm=t_rim,
         root_fillet_radius_mm=root_fillet, neck_fillet_radius_mm=neck_fillet,
         torque_cap_Nmm=fx.torque_cap_Nmm(rc, z, sigma), stiffness_beam_Nmm_per_rad=float("nan"),
-        peak_stress_MPa=float("nan"), warnings=tuple(warnings), stress_derating=derating)
+        peak_stress_MPa=float("nan"), warnings=tuple(warnings), stress_derating=derating,
+        cam_min_tip_clearance_mm=spec.cam_min_tip_clearance_mm)
     # beam prediction of the generated centreline (Castigliano). The web kept at the tip
     # stiffens the ring by ~0.1-0.3 %: a width factor brings beam theory back onto the
     # target (K ~ scale^3; two passes because the web itself does not scale)
@@ -229,13 +230,13 @@ def _design_with_margin(spec: SpringSpec, material: MaterialSpec,
             f"{d.torque_cap_Nmm / NMM_PER_NM:.2f} N*m at r_c = {d.contact_radius_mm:.3g} mm",))
     if derating < 1.0:
         d = _replace(d, warnings=d.warnings + (
-            f"beam stress lowered from {material.design_stress_MPa:.0f} to {d.beam_stress_MPa:.0f} "
+            f"{STRESS_DERATED} from {material.design_stress_MPa:.0f} to {d.beam_stress_MPa:.0f} "
             f"MPa so the predicted peak ({d.predicted_peak_stress_MPa:.0f} MPa at the "
             f"{d.stress.region}) keeps the yield margin {required:g}",))
     return d, history, None
 
 
-def _short(err: Exception) -> str:
+def short_reason(err: Exception) -> str:
     """An error's message without the spring's name prefix."""
     text = str(err)
     return text.split("': ", 1)[1] if text.startswith("spring '") and "': " in text else text
@@ -260,7 +261,7 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
             # the search would return
             d = probe(spec, sized, manufacturing, hardware, max_root_radius_mm)
             if d is not None:
-                return _replace(d, material=material, design_choice=(
+                return _replace(d, material=material, sized_for_default_duty=True, design_choice=(
                     f"{d.design_choice}; sized for springcad's default duty "
                     f"({duty.describe(material.duty)})"))
             d = design_for_margin(spec, material, manufacturing, hardware, explain,
@@ -415,98 +416,12 @@ def _choice_text(d: SpringDesign, rejected) -> str:
     if not rejected:
         return f"{what}: the layout with the longest straight reach that passes every rule"
     return (f"{what}: layout {len(rejected) + 1} of the ranked candidates; rejected before it: "
-            + "; ".join(_short(e) for _, e, _ in rejected))
+            + "; ".join(short_reason(e) for _, e, _ in rejected))
 
 
-def _on_holes_of(design: SpringDesign, redesigned: SpringDesign) -> SpringDesign:
-    """``redesigned`` with its rim holes on ``design``'s hole circle (a redesign keeps the
-    circle the stack shares), or as it is when ``design`` has no holes."""
-    if not design.hole_centres_mm:
-        return redesigned
-    return with_hole_circle(redesigned, math.hypot(*design.hole_centres_mm[0]))
-
-
-def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign:
-    """The spring redesigned so its predicted peak x ``model_bias`` keeps the required margin.
-
-    The FEA stress correction: when FEA finds the peak ``model_bias`` times the design's
-    prediction, the design's own stress passes (:func:`design_spring`) run against a
-    required margin raised by that factor, so the new geometry is judged by the same
-    model that missed, corrected by what the FEA measured. Rim holes stay on the
-    design's hole circle. When the new layout has a soft shortfall the old one had not
-    (its cam's tooth tip near the ball), the old layout is kept if it carries the lower
-    stress (default at 18 and 20 deg).
-
-    Raises:
-        DesignError: no beam stress fits the envelope with that margin.
-    """
-    mat = design.material
-    biased = duty.biased(mat, max(model_bias, 1.0))
-    d = design_spring(design.spec, biased, design.manufacturing, design.hardware, explain=False,
-                      max_root_radius_mm=design.max_root_radius_mm)
-    if soft_shortfalls(d) and not soft_shortfalls(design):
-        # the new layout's cam brings the tooth tip near the ball where the old one did not:
-        # the old layout (its N, r_c and ball, so its cam) at the lower stress, if it carries it
-        same = _replace(design.spec, n_flexures=design.n_flexures,
-                        contact_radius_mm=design.contact_radius_mm,
-                        tip_radius_mm=design.tip_radius_mm)
-        try:
-            kept = design_spring(same, biased, design.manufacturing, design.hardware,
-                                 explain=False, max_root_radius_mm=design.max_root_radius_mm)
-        except DesignError:
-            kept = None
-        if kept is not None and not soft_shortfalls(kept):
-            d = _replace(kept, spec=design.spec)
-    # a note, not a warning: the redesign is verified again, and its verdict gates the release
-    d = _replace(d, material=mat, design_choice=(
-        f"{d.design_choice}; redesigned by the FEA stress correction (FEA peak "
-        f"{model_bias:.3f} x the design prediction): beam stress {d.beam_stress_MPa:.0f} MPa"))
-    return _on_holes_of(design, d)
-
-
-def redesign_for_stiffness(design: SpringDesign, k_ratio: float) -> SpringDesign:
-    """The spring redesigned for a beam stiffness ``k_ratio`` x its target, target unchanged.
-
-    The FEA stiffness correction when the widths cannot simply be scaled (the wider
-    flexures would break the neighbour clearance or the edge radius): the design search
-    runs for K_target x ``k_ratio`` (the FEA measured K_target / ``k_ratio`` for the
-    beam's K_target), so it chooses a layout with room for those widths under every
-    rule; the spec (and so the target) is then the user's again. Rim holes stay on the
-    design's hole circle.
-
-    Raises:
-        DesignError: no layout carries that stiffness in the envelope.
-    """
-    spec = design.spec
-    biased = _replace(spec, target_stiffness_Nmm_per_rad=spec.target_stiffness_Nmm_per_rad * k_ratio)
-    d = design_spring(biased, design.material, design.manufacturing, design.hardware,
-                      explain=False, max_root_radius_mm=design.max_root_radius_mm)
-    d = _replace(d, spec=spec, warnings=d.warnings, design_choice=(
-        f"{d.design_choice}; redesigned by the FEA stiffness correction for a beam stiffness "
-        f"{k_ratio:.4f} x the target (the widths alone could not be scaled)"))
-    return _on_holes_of(design, d)
-
-
-def redesign_for_contact(design: SpringDesign, min_tip_radius_mm: float) -> SpringDesign:
-    """The spring redesigned with tip balls of at least ``min_tip_radius_mm`` (mm).
-
-    The FEA contact correction: the contact sweep found the balls' Hertz stress at
-    +-theta_max above the allowable and named the smallest ball that carries the same
-    force on the same flank; the search runs again with that floor (a larger ball may
-    change N and r_c), the spec otherwise the user's. Rim holes stay on the design's
-    hole circle.
-
-    Raises:
-        DesignError: no layout with balls that large meets the spec.
-    """
-    spec = design.spec
-    floor = _replace(spec, min_tip_radius_mm=max(spec.min_tip_radius_mm, min_tip_radius_mm))
-    d = design_spring(floor, design.material, design.manufacturing, design.hardware,
-                      explain=False, max_root_radius_mm=design.max_root_radius_mm)
-    d = _replace(d, spec=spec, design_choice=(
-        f"{d.design_choice}; redesigned by the FEA contact correction for tip balls of at "
-        f"least {min_tip_radius_mm:.3f} mm"))
-    return _on_holes_of(design, d)
+#: the start of the warning that the design lowered its beam stress for the margin (the
+#: FEA's yield margin checks the real geometry: a note where it ran)
+STRESS_DERATED = "beam stress lowered"
 
 
 def _stress_text(spec, material, history, err) -> str:
@@ -518,13 +433,16 @@ def _stress_text(spec, material, history, err) -> str:
     return (f"spring '{spec.name}': the predicted peak {peak:.0f} MPa at the {region} leaves a "
             f"yield margin {material.material.yield_strength_MPa / peak:.3f} < required "
             f"{required:g}; the flexures would need a beam stress of about {sigma_need:.0f} MPa, "
-            f"and at that stress {_short(err)}")
+            f"and at that stress {short_reason(err)}")
 
 
 #: seconds the refusal spends on the user's keys (their far ends are always probed; the
 #: bisection towards the nearest value stops when this has passed; every printed value
 #: is still one the design search accepted)
 REFUSAL_BUDGET_S = 30.0
+#: seconds a whole refusal may spend before it stops starting new kinds of change (the
+#: user's own keys are always probed): held-out refusals took up to 674 s at load 8-12
+REFUSAL_TOTAL_S = 90.0
 #: candidate layouts each feasibility probe tries (a subset of the full search's, in the
 #: same order, so a probe that designs implies the full search designs)
 PROBE_CANDIDATES = 4
@@ -549,10 +467,14 @@ def _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm) 
     return ""
 
 
-def _changes(spec, material, manufacturing, hardware, max_root_radius_mm) -> tuple[str, bool]:
+def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
+             stop: float = math.inf) -> tuple[str, bool]:
     """The changes that design ``spec`` with ``material``'s yield margin and duty: the
     user's fixed layout keys left free, the nearest values of the user's own keys, a
     stronger material or disks in series, and a declared duty's own alternatives.
+
+    ``stop`` (``time.monotonic()`` seconds) is the refusal's time box: the user's own keys
+    are always probed; the other kinds of change are searched only while it lasts.
 
     Returns:
         (text, found): the clause, and whether it names a change that designs.
@@ -560,24 +482,37 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm) -> tup
     def designs(s, m=material) -> bool:
         return _designs(s, m, manufacturing, hardware, max_root_radius_mm, base=spec)
 
-    if duty.fatigue_limited(material, spec.max_deflection_rad):
-        # the duty sets the allowed peak: its own alternatives (surface, materials with
-        # fatigue data, one more disk) replace the yield-limited ones
-        series, materials = None, []
-    else:
-        series = series_change(spec, designs)
-        materials = material_changes(material, lambda m: designs(spec, m))
+    def deadline() -> float:
+        return min(time.monotonic() + REFUSAL_BUDGET_S, stop)
+
+    def say(what: str) -> None:
+        report(f"spring {spec.name}: {what}")
+
+    if fixed_choices(spec):
+        say("probing the layout keys you fixed, left free")
     freed = _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm)
-    nearest = nearest_changes(spec, designs, deadline=time.monotonic() + REFUSAL_BUDGET_S)
+    say("probing the nearest value of each of your keys that designs")
+    nearest = nearest_changes(spec, designs, deadline=deadline())
+    series, materials, alternatives = None, [], ""
+    if not duty.fatigue_limited(material, spec.max_deflection_rad):
+        # (when the duty sets the allowed peak, its own alternatives, below, replace these)
+        if time.monotonic() < stop:
+            say("probing disks in series")
+            series = series_change(spec, designs)
+        if time.monotonic() < stop:
+            say("probing other materials")
+            materials = material_changes(material, lambda m: designs(spec, m))
     changes = describe(spec.name, nearest, materials, series, spec)
     if freed:
         changes = freed + ("; or " + changes if not changes.startswith("no change") else "")
-    alternatives = duty.alternatives(spec, material, designs,
-                                     deadline=time.monotonic() + REFUSAL_BUDGET_S)
+    if time.monotonic() < stop and duty.fatigue_limited(material, spec.max_deflection_rad):
+        say("probing surface finishes, materials and disks for the duty")
+        alternatives = duty.alternatives(spec, material, designs, deadline=deadline())
     found = bool(freed or nearest or materials or series is not None) or (
         bool(alternatives) and not alternatives.endswith(duty.NOTHING_MEETS))
     if not found and not alternatives:  # several keys: the whole disk larger
-        big = larger_disk(spec, designs, deadline=time.monotonic() + REFUSAL_BUDGET_S)
+        say("probing the whole disk scaled up")
+        big = larger_disk(spec, designs, deadline=deadline())
         if big:
             return f"{changes}; it designs with {big}", True
     return changes + alternatives, found
@@ -594,12 +529,22 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     yield margin, with the default duty's shortfall said.
     """
     args = (manufacturing, hardware, max_root_radius_mm)
-    changes, _ = _changes(spec, material, *args)
+    stop = time.monotonic() + REFUSAL_TOTAL_S
+    report(f"spring {spec.name}: no layout passes; searching the changes that would design "
+           f"it (up to {REFUSAL_TOTAL_S:.0f} s)")
+    changes, _ = _changes(spec, material, *args, stop=stop)
     sized = duty.sized_for(material)
     if not material.duty.declared and duty.fatigue_limited(sized, spec.max_deflection_rad):
-        for_duty, found = _changes(spec, sized, *args)
+        if time.monotonic() < stop:
+            report(f"spring {spec.name}: the same for springcad's default duty")
+            for_duty, found = _changes(spec, sized, *args, stop=stop)
+            for_duty = (for_duty if found else "no change springcad probes meets it: declare "
+                        "the duty the spring will see in [duty]")
+        else:
+            for_duty = (f"not searched (the refusal's {REFUSAL_TOTAL_S:.0f} s were spent): "
+                        "declare the duty the spring will see in [duty], or check the change "
+                        "above with it")
         changes += (f"; for springcad's default duty ({duty.describe(material.duty)}) as well, "
-                    + (for_duty if found else "no change springcad probes meets it: declare "
-                       "the duty the spring will see in [duty]"))
+                    + for_duty)
     return DesignError(f"spring '{spec.name}' cannot be made as specified; {changes}. "
-                       f"Why{tried}: {_short(text)}")
+                       f"Why{tried}: {short_reason(text)}")

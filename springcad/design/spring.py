@@ -81,6 +81,10 @@ class SpringDesign:
     cam_overtravel: float = 0.0
     cam_tip_clearance_mm: float = float("nan")
     """Estimated gap from the driving tooth tip to the ball at full deflection (mm)."""
+    cam_min_tip_clearance_mm: float = 0.0
+    """Tooth-tip-to-ball gap estimate the cam's flank length must reach at least (mm; 0: the
+    design rule alone): set by the contact FEA's clearance correction
+    (:func:`springcad.design.resize.with_cam_clearance`)."""
     warnings: tuple[str, ...] = field(default_factory=tuple)
     width_scale: float = 1.0
     """Factor on every flexure width (1.0 = the beam-theory widths; set by the FEA
@@ -105,6 +109,13 @@ class SpringDesign:
     duty_advice: str = ""
     """Sized for yield alone because the envelope cannot carry springcad's default duty:
     what would meet it (surface, material, one more disk), or ""."""
+    thicker_plates_mm: tuple[float, ...] = ()
+    """Stock plates thicker than this one that the spec allows, ascending (mm), when
+    springcad chose the thickness (:mod:`springcad.design.stock`); else empty. The FEA
+    stress correction may move the spring to one."""
+    sized_for_default_duty: bool = False
+    """The job declares no duty and the search sized the spring for springcad's default
+    duty (its envelope carries it): the FEA corrections hold the design to that duty too."""
 
     # ------------------------------------------------------------- the shape
     @property
@@ -208,6 +219,14 @@ class SpringDesign:
     def required_yield_margin(self) -> float:
         """Yield / peak the design needs for yield and the duty (-)."""
         return duty.required_margin(self.material, self.max_deflection_rad)
+
+    @property
+    def sizing_margin(self) -> float:
+        """Yield / peak the design was sized for (-): :attr:`required_yield_margin`, or with
+        springcad's default duty when the spring was sized for it (the FEA stress
+        correction holds the real geometry to the same margin)."""
+        material = duty.sized_for(self.material) if self.sized_for_default_duty else self.material
+        return duty.required_margin(material, self.max_deflection_rad)
 
     @property
     def yield_margin_beam(self) -> float:
@@ -371,6 +390,7 @@ class SpringDesign:
             "width_offset_mm": self.width_offset_mm,
             "design_choice": self.design_choice,
             "duty_advice": self.duty_advice,
+            "sized_for_default_duty": self.sized_for_default_duty,
             "warnings": list(self.warnings),
             **({"flexure_params": dict(self.shape.params)} if self.shape.params else {}),
         }

@@ -26,6 +26,7 @@ from springcad.data import data_path
 from springcad.design import duty, search
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError
+from springcad.progress import report
 
 STOCK_FILE = "plate_stock.toml"
 #: thicker stock plates tried when the thinnest that designs has a soft shortfall (a
@@ -87,6 +88,8 @@ def choose_thickness_mm(spec: SpringSpec, material: MaterialSpec,
         refused or None, what the thickness was sized for).
     """
     stock = _allowed_mm(spec)
+    report(f"spring {spec.name}: choosing the stock plate (bisection over {len(stock)} "
+           f"thicknesses up to {stock[-1]:g} mm)" if stock else f"spring {spec.name}: no stock plate")
     sized = _sizing_material(material)
     tries = [(sized, "its duty" if sized is material else "springcad's default duty")]
     if sized is not material:
@@ -147,7 +150,8 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
                        f"{what} without a soft shortfall ({t:g} mm carries it with one: "
                        f"{short[0].split(':')[0]})")
                 break
-    return _replace(d, design_choice=f"{why}; {d.design_choice}")
+    return _replace(d, design_choice=f"{why}; {d.design_choice}",
+                    thicker_plates_mm=tuple(u for u in _allowed_mm(spec) if u > d.thickness_mm))
 
 
 def _thickest(spec, material, manufacturing, hardware, explain, max_root_radius_mm

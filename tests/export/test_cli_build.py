@@ -271,7 +271,7 @@ def test_failed_verification_stops_the_build(tmp_path, capsys, monkeypatch):
     """
     import dataclasses
 
-    from springcad.design import search, stress
+    from springcad.design import redesign, stress
     from springcad.errors import DesignError
 
     honest = stress.calibration()
@@ -282,7 +282,7 @@ def test_failed_verification_stops_the_build(tmp_path, capsys, monkeypatch):
     def no_redesign(design, model_bias):
         raise DesignError("no flexure fits (test)")
 
-    monkeypatch.setattr(search, "redesign_for_margin", no_redesign)
+    monkeypatch.setattr(redesign, "redesign_for_margin", no_redesign)
     cfg = tmp_path / "s1_strict.toml"
     cfg.write_text(S1.read_text().replace("design_stress_MPa = 912",
                                           "design_stress_MPa = 912\nsafety_factor = 1.2"))

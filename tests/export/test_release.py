@@ -131,3 +131,27 @@ def test_tooth_tip_estimates_give_way_to_the_contact_fea(designs):
     status = release_status(warned, ver)
     assert status.released
     assert sum("checked by the contact FEA" in n for n in status.notes) == 2
+
+
+def test_a_stress_derating_is_a_note_where_the_fea_verified_the_stress(designs):
+    """The design lowered its beam stress so the predicted peak keeps the margin: the FEA
+    verification judges the real geometry's margin (its failure is a reason of its own), so
+    with a verification the derating is a note; without one (--no-verify) it stays a reason
+    (held-out wrist spring: NOT FOR MANUFACTURE for this line alone before)."""
+    from dataclasses import replace
+
+    from springcad.design.search import STRESS_DERATED
+
+    d = designs["default"]
+    s1 = replace(d.springs["S1"], warnings=(f"{STRESS_DERATED} from 890 to 872 MPa so the "
+                                            "predicted peak keeps the yield margin 1.2",))
+    derated = replace(d, springs={"S1": s1})
+    status = release_status(derated, FakeVerification())
+    assert status.released
+    assert status.notes == (f"design note, checked by the FEA verification: spring S1: "
+                            f"{s1.warnings[0]}",)
+    skipped = release_status(derated, None, verify_skipped=True)
+    assert any(r.startswith("design warning: spring S1: beam stress lowered")
+               for r in skipped.reasons)
+    failed = release_status(derated, FakeVerification(["S1: yield margin 1.05 < 1.2"]))
+    assert not failed.released
