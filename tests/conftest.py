@@ -32,10 +32,11 @@ def template(name: str) -> Path:
 
 @pytest.fixture(scope="session")
 def paper_designs():
-    """JobDesign of every paper template, keyed by template name."""
+    """JobDesign of every paper template, keyed by template name (explain=False: the same
+    designs without the default duty's advice search, which no user of the fixture reads)."""
     from springcad.config import load_job
     from springcad.design.job import design_job
 
     names = ["paper_S1", "paper_S2", "paper_2xS1", "paper_2xS2", "paper_4xS1", "paper_S1_2xS2",
              "paper_S2_3xS1", "paper_4xS1_mfr1", "paper_4xS1_mfr2"]
-    return {n: design_job(load_job(template(n))) for n in names}
+    return {n: design_job(load_job(template(n)), explain=False) for n in names}
