@@ -26,6 +26,19 @@ SHARED = ROOT.parent / "shared"
 PAPER_DATA = SHARED / "data" if (SHARED / "data").exists() else ROOT / "springcad" / "data" / "paper"
 
 
+def pytest_collection_modifyitems(config, items):
+    """Modules holding heavy cases (marked slow) run first, each module kept together (its
+    module fixtures built once). pytest-xdist's load scheduling sends a worker more tests
+    as it runs dry, in smaller batches towards the end: with the long tests early, the
+    run ends on short ones and the workers finish together, instead of one worker
+    starting a two-minute refusal test while the other has nothing left."""
+    heavy = {item.module.__name__ for item in items
+             if item.get_closest_marker("slow") is not None and hasattr(item, "module")}
+    order = {id(item): k for k, item in enumerate(items)}
+    items.sort(key=lambda item: (getattr(getattr(item, "module", None), "__name__", "")
+                                 not in heavy, order[id(item)]))
+
+
 def template(name: str) -> Path:
     return TEMPLATES / f"{name}.toml"
 
