@@ -32,8 +32,13 @@ EXTRA = (
 )
 
 
-def calibration_designs(flare_free: bool = True) -> dict:
-    """label -> SpringDesign of every calibration geometry (root flare 0)."""
+def calibration_designs(flare_free: bool = True, labels=None) -> dict:
+    """label -> SpringDesign of every calibration geometry (root flare 0).
+
+    ``labels``: only these geometries (e.g. ``("paper_S2",)``; None: all). Each design
+    takes seconds to tens of seconds (the default duty's sizing), so a caller that solves
+    one case designs only that one.
+    """
     from springcad.config import job_from_dict
     from springcad.design.job import design_job
     from springcad.design.resize import with_root
@@ -46,6 +51,8 @@ def calibration_designs(flare_free: bool = True) -> dict:
     cases = [(name, name, {}) for name in ("paper_S1.toml", "paper_S2.toml", "default.toml")]
     cases.append(("default_5mm", "default.toml", default_5mm))
     for label, template, over in [*cases, *EXTRA]:
+        if labels is not None and label.removesuffix(".toml") not in labels:
+            continue
         data = tomllib.loads((ROOT / "templates" / template).read_text())
         data = copy.deepcopy(data)
         data.pop("duty", None)  # geometries sized for yield alone, as calibrated
@@ -53,7 +60,9 @@ def calibration_designs(flare_free: bool = True) -> dict:
         data["springs"][first].update(over)
         data["stack"]["sequence"] = [first]
         job = job_from_dict(data, label)
-        spring = next(iter(design_job(job).springs.values()))
+        # explain=False: the same spring, without the default duty's advice text (a search
+        # of up to a minute the geometry does not need)
+        spring = next(iter(design_job(job, explain=False).springs.values()))
         out[label.removesuffix(".toml")] = with_root(spring, 0.0)
     return out
 

@@ -26,16 +26,30 @@ SHARED = ROOT.parent / "shared"
 PAPER_DATA = SHARED / "data" if (SHARED / "data").exists() else ROOT / "springcad" / "data" / "paper"
 
 
+def pytest_collection_modifyitems(config, items):
+    """Modules holding heavy cases (marked slow) run first, each module kept together (its
+    module fixtures built once). pytest-xdist's load scheduling sends a worker more tests
+    as it runs dry, in smaller batches towards the end: with the long tests early, the
+    run ends on short ones and the workers finish together, instead of one worker
+    starting a two-minute refusal test while the other has nothing left."""
+    heavy = {item.module.__name__ for item in items
+             if item.get_closest_marker("slow") is not None and hasattr(item, "module")}
+    order = {id(item): k for k, item in enumerate(items)}
+    items.sort(key=lambda item: (getattr(getattr(item, "module", None), "__name__", "")
+                                 not in heavy, order[id(item)]))
+
+
 def template(name: str) -> Path:
     return TEMPLATES / f"{name}.toml"
 
 
 @pytest.fixture(scope="session")
 def paper_designs():
-    """JobDesign of every paper template, keyed by template name."""
+    """JobDesign of every paper template, keyed by template name (explain=False: the same
+    designs without the default duty's advice search, which no user of the fixture reads)."""
     from springcad.config import load_job
     from springcad.design.job import design_job
 
     names = ["paper_S1", "paper_S2", "paper_2xS1", "paper_2xS2", "paper_4xS1", "paper_S1_2xS2",
              "paper_S2_3xS1", "paper_4xS1_mfr1", "paper_4xS1_mfr2"]
-    return {n: design_job(load_job(template(n))) for n in names}
+    return {n: design_job(load_job(template(n)), explain=False) for n in names}

@@ -27,7 +27,7 @@ BAD = {
                            r"springs\.S1\.target_stiffness_Nm_per_rad.*-150.*from 0\.001 to 100000 N\*m/rad"),
     "zero stiffness": (lambda d: d["springs"]["S1"].update(target_stiffness_Nm_per_rad=0),
                        r"springs\.S1\.target_stiffness_Nm_per_rad.* = 0: .*from 0\.001 to"),
-    "unreachable deflection": (lambda d: d["springs"]["S1"].update(max_deflection_deg=60),
+    "unreachable deflection": (lambda d: d["springs"]["S1"].update(max_deflection_deg=89),
                                r"S1.*(no flexure geometry|no curved flexure).*series"),
     "tip below wire": (lambda d: d["springs"]["S1"].update(tip_radius_mm=0.1),
                        r"tip_radius_mm.*0\.1.*wire radius \+ spark gap = 0\.15"),

@@ -55,10 +55,14 @@ def test_stack_adds_d_play_worst_rss_and_monte_carlo():
     assert b.to_dict()["with_d_joints"]["nominal"] == t["nominal"]
 
 
-def _max_turn_rad(radius_mm, ratio, corner_mm, c_bore_mm, c_shaft_mm, step_mm=0.001):
+def _max_turn_rad(radius_mm, ratio, corner_mm, c_bore_mm, c_shaft_mm, step_mm=0.002,
+                  bisections=20):
     """Largest turn of the D shaft about the axis that keeps it inside the D bore
     (bisection on point-in-polygon; the shaft's round part 1 um smaller so that only
-    the flats limit the turn)."""
+    the flats limit the turn). The outlines sampled every 2 um and 20 bisections of
+    0-0.2 rad (2e-7 rad): the turns agree with 1 um and 30 bisections within 5e-5
+    relative on the three cases below (2 % allowed), at a sixth of the cost (the
+    point-in-polygon test is samples x samples)."""
     from matplotlib.path import Path
 
     from springcad.design.cam import d_bore
@@ -68,7 +72,7 @@ def _max_turn_rad(radius_mm, ratio, corner_mm, c_bore_mm, c_shaft_mm, step_mm=0.
     r_s = radius_mm - 0.001
     shaft = d_bore(r_s, (a - c_shaft_mm) / r_s, corner_mm).sample(step_mm)
     lo, hi = 0.0, 0.2
-    for _ in range(30):
+    for _ in range(bisections):
         th = 0.5 * (lo + hi)
         rot = np.array([[math.cos(th), math.sin(th)], [-math.sin(th), math.cos(th)]])
         lo, hi = (th, hi) if bore.contains_points(shaft @ rot).all() else (lo, th)
@@ -90,7 +94,8 @@ def test_default_stack_reports_its_d_joints():
     from springcad.config import load_job
     from springcad.design.job import design_job
 
-    d = design_job(load_job(Path(__file__).resolve().parents[1] / "templates" / "default.toml"))
+    d = design_job(load_job(Path(__file__).resolve().parents[1] / "templates" / "default.toml"),
+                   explain=False)  # the same design without the duty advice search
     b = d.stack.backlash
     # input and output torque shafts, and the dowelled rim-to-rim joint of the two rings
     assert b.d_joint_kinds == ("D fit", "D fit", "rim pins")

@@ -20,14 +20,32 @@ def job(**spring):
     return job_from_dict({"material": {"design_stress_MPa": 912}, "springs": {"A": base}})
 
 
-def design(**spring):
+def design(explain=False, **spring):
+    """The spring of :func:`job`. ``explain=False`` (the designs the tests read): the same
+    spring without the default duty's advice search (up to ~30 s, text no test here reads);
+    True for the refusals, whose changes are part of the message."""
     j = job(**spring)
-    return design_spring(j.springs["A"], j.material, j.manufacturing, j.hardware)
+    return design_spring(j.springs["A"], j.material, j.manufacturing, j.hardware, explain=explain)
+
+
+def designs_with_margin(spec_job, margin):
+    """The full design search (not the refusal's probe) designs ``spec_job``'s spring "A" with
+    its yield margin at least ``margin``; returns the spring."""
+    s = design_spring(spec_job.springs["A"], spec_job.material, spec_job.manufacturing,
+                      spec_job.hardware, explain=False)
+    assert s.yield_margin >= margin * (1 - 1e-3)
+    return s
 
 
 @pytest.fixture(scope="module")
 def straight():
     return design(max_deflection_deg=10)
+
+
+@pytest.fixture(scope="module")
+def as_built():
+    """S1 as the paper built it (N 28, r_c 5.5 mm, ball 0.3 mm fixed)."""
+    return design()
 
 
 def test_straight_flexure_meets_closed_form(straight):
@@ -70,8 +88,8 @@ def test_serpentine_constraints_hold(paper_designs):
         assert s.stiffness_beam_Nmm_per_rad == pytest.approx(s.target_stiffness_Nmm_per_rad, rel=2e-3)
 
 
-def test_design_is_deterministic():
-    a, b = design(), design()
+def test_design_is_deterministic(as_built):
+    a, b = as_built, design()
     assert a.centreline == b.centreline
     assert a.ring == b.ring and a.cam == b.cam
 
@@ -101,13 +119,13 @@ def test_rim_holes_sit_between_flexures(paper_designs):
         assert s.root_radius_mm < r - s.hole_diameter_mm / 2 < r + s.hole_diameter_mm / 2 < s.outer_radius_mm
 
 
-def test_deviation_tip_ball_sized_for_peak_load():
+def test_deviation_tip_ball_sized_for_peak_load(as_built):
     """Reference tool: ball sized at the straight-limit load, so S1 gets N = 28 and 0.300 mm.
     springcad sizes it for the peak load (0.344 mm), which at r_c = 5.5 mm caps the torque at
     37.5 N*m < 41.9 N*m: with N and the ball free it stops and says so."""
     with pytest.raises(DesignError, match=r"torque cap 37\.5 N\*m"):
-        design(tip_radius_mm=None, n_flexures=None, min_tip_radius_mm=0.3)
-    as_built = design()  # N and ball fixed as the paper built them: a warning, not an error
+        design(explain=True, tip_radius_mm=None, n_flexures=None, min_tip_radius_mm=0.3)
+    # as_built: N and ball fixed as the paper built them: a warning, not an error
     # bending alone needs 0.344 mm; the ball's Hertz contact on the flank radius it leaves
     # at theta_max (r_c theta - r_b - w_gap) at yield / safety factor needs more: the
     # required ball gives exactly the allowed von Mises there (Hertz evaluated forwards)
@@ -146,7 +164,7 @@ def test_rim_rule(paper_designs):
 
 def test_straight_forced_but_too_far():
     with pytest.raises(DesignError, match="straight flexures reach only"):
-        design(flexure="straight")
+        design(explain=True, flexure="straight")
 
 
 def test_width_hooks_follow_beam_theory(paper_designs):
@@ -233,17 +251,15 @@ def test_a_refusal_names_changes_in_numbers_and_each_change_designs():
         if key not in base:
             continue  # the disks-in-series clause's per-disk values
         assert float(now) == pytest.approx(base[key])
-        ok = job_from_dict({"material": mat, "springs": {"A": {**base, key: float(value)}}})
-        s = design_spring(ok.springs["A"], ok.material, ok.manufacturing, ok.hardware)
-        assert s.yield_margin >= 1.6 * (1 - 1e-3)
+        designs_with_margin(job_from_dict({"material": mat, "springs": {"A": {
+            **base, key: float(value)}}}), 1.6)
     # another material, when named: both keys named, the pair designs with the margin
     materials = re.findall(r'material\.name = "([\w-]+)" with material\.design_stress_MPa = '
                            r"([\d.]+)", yield_part)
     for name, sigma in materials:
-        ok = job_from_dict({"material": {**mat, "name": name, "design_stress_MPa": float(sigma)},
-                            "springs": {"A": base}})
-        s = design_spring(ok.springs["A"], ok.material, ok.manufacturing, ok.hardware)
-        assert s.yield_margin >= 1.6 * (1 - 1e-3)
+        designs_with_margin(job_from_dict({
+            "material": {**mat, "name": name, "design_stress_MPa": float(sigma)},
+            "springs": {"A": base}}), 1.6)
 
 
 def test_a_refusal_out_of_time_still_names_the_users_own_keys(monkeypatch):
@@ -308,9 +324,8 @@ def test_a_refusal_with_a_fixed_overloaded_ball_names_a_change_whose_ball_carrie
         assert f"springs.A.{key} removed" in text, text
     changed = {"target_stiffness_Nm_per_rad": 150, "max_deflection_deg": 16,
                "thickness_mm": float(z.group(1)), "outer_radius_mm": float(ro.group(1))}
-    ok = job_from_dict({"material": mat, "duty": static, "springs": {"A": changed}})
-    s = design_spring(ok.springs["A"], ok.material, ok.manufacturing, ok.hardware)
-    assert s.yield_margin >= 1.6 * (1 - 1e-3)
+    s = designs_with_margin(job_from_dict({"material": mat, "duty": static,
+                                           "springs": {"A": changed}}), 1.6)
     assert s.tip_radius_mm >= s.tip_radius_required_mm * (1 - 1e-6)
 
 
@@ -335,10 +350,9 @@ def test_a_refusal_over_the_energy_bound_names_disks_in_series_that_design():
                               r"([\d.]+)", text)
     assert float(k) == pytest.approx(150 * int(m), rel=1e-3)
     assert float(deg) == pytest.approx(base["max_deflection_deg"] / int(m), rel=1e-3)
-    one = job_from_dict({"material": mat, "springs": {"A": {
-        **base, "target_stiffness_Nm_per_rad": float(k), "max_deflection_deg": float(deg)}}})
-    s = design_spring(one.springs["A"], one.material, one.manufacturing, one.hardware)
-    assert s.yield_margin >= one.material.safety_factor * (1 - 1e-3)
+    designs_with_margin(job_from_dict({"material": mat, "springs": {"A": {
+        **base, "target_stiffness_Nm_per_rad": float(k), "max_deflection_deg": float(deg)}}}),
+        mat["safety_factor"])
     bounds = keys("springs.<name>")
     for key, value, _ in re.findall(r"springs\.A\.(\w+) = ([\d.]+) \(now ([\d.]+)\)", text):
         assert bounds[key].lo <= float(value) <= bounds[key].hi

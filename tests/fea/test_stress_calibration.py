@@ -55,8 +55,8 @@ def test_fresh_fea_reproduces_the_calibration(shipped, case, flare):
     spec = importlib.util.spec_from_file_location("calibrate_stress", path)
     bench = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(bench)
-    designs = bench.calibration_designs()
-    row = calibration_row(with_root(designs[case], flare), case)
+    design, = bench.calibration_designs(labels=(case,)).values()  # this case only
+    row = calibration_row(with_root(design, flare), case)
     old = next(r for r in shipped["rows"] if r["case"] == case and r["root_flare"] == flare)
     assert row["fea_peak_MPa"] == pytest.approx(old["fea_peak_MPa"], rel=0.01)
     assert row["root_nominal_MPa"] == pytest.approx(old["root_nominal_MPa"], rel=0.01)
