@@ -27,6 +27,8 @@ from springcad.export.sheet import (A3, FRAME_MM, LABEL_FONT, NOTE_FONT, TEXT_FO
 from springcad.geometry.sheet_cut import iso_fits
 
 TITLE_BLOCK_NAME = "drawing_title_block.toml"
+#: free space between a title-block cell's label or value and the cell's edge (mm)
+CELL_PAD_MM = 1.0
 #: sheet parts this thin or thinner get the template's ``thin_sheet`` notes (mm)
 THIN_SHEET_MM = 1.0
 #: the right column (title block, notes, hole table, details): x from here to the frame
@@ -167,10 +169,10 @@ def note_lines(part, values: dict, template: dict) -> list[str]:
 
 
 def _projection_symbol(sheet: Sheet, x: float, y: float, h: float) -> None:
-    """ISO 5456-2 first-angle symbol in a cell (x, y) of height ``h``: truncated cone, its
-    large end beside the end view (two circles) on the right."""
-    d = 0.55 * h
-    cy = y + 0.45 * h
+    """ISO 5456-2 first-angle symbol in the space (x, y) of height ``h`` under a cell's
+    label: truncated cone, its large end beside the end view (two circles) on the right."""
+    d = 0.9 * h
+    cy = y + 0.5 * h
     x0 = x + 2.0
     cone = [(x0, cy - 0.25 * d), (x0 + d, cy - 0.5 * d), (x0 + d, cy + 0.5 * d),
             (x0, cy + 0.25 * d)]
@@ -199,15 +201,16 @@ def title_block(sheet: Sheet, template: dict, values: dict, y_page: float = 0.0,
         x = x0
         for cell in row["cells"]:
             sheet.rect(x, y - h, cell["width_mm"], h)
-            sheet.text(x + 1, y - 1.8, cell["label"], size=LABEL_FONT, ha="left", color="0.35",
-                       role="title block")
+            label = sheet.text(x + 1, y - CELL_PAD_MM, cell["label"], size=LABEL_FONT,
+                               ha="left", va="top", color="0.35", role="title block")
             if cell["value"] == "{projection}":
-                _projection_symbol(sheet, x + 0.5 * cell["width_mm"] - 6.0, y - h, h - 2.5)
+                _projection_symbol(sheet, x + 0.5 * cell["width_mm"] - 6.0,
+                                   y - h + CELL_PAD_MM, label[1] - (y - h) - 1.5 * CELL_PAD_MM)
             else:
                 value = cell_value(sheet, cell["value"].format(**values),
                                    cell["width_mm"] - 2.0, notes)
-                sheet.text(x + 1, y - h + 2.6, value, ha="left", role="title block value",
-                           size=NOTE_FONT)
+                sheet.text(x + 1, y - h + CELL_PAD_MM, value, ha="left", va="bottom",
+                           role="title block value", size=NOTE_FONT)
             x += cell["width_mm"]
         y -= h
     return x0, top

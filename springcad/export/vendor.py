@@ -14,6 +14,7 @@ unchanged files is byte-for-byte the same zip. Units: mm, g.
 
 from __future__ import annotations
 
+import textwrap
 import zipfile
 from pathlib import Path
 
@@ -24,6 +25,18 @@ BUNDLE_NAME = "vendor.zip"
 _EPOCH = (1980, 1, 1, 0, 0, 0)
 #: files of a made part that go into its folder
 PART_KINDS = ("step", "dxf", "pdf")
+
+
+#: what holds the stack along its axis (vendor README, report.html): no part of the package
+#: does; the camshafts' drawings say how each is held
+AXIAL_LOCATION_TITLE = "Axial location"
+AXIAL_LOCATION = (
+    "No part of this package retains the stack along its axis. The user's "
+    "housing holds the end camshafts (by their hub end faces, directly or through a torque "
+    "shaft's socket bottom) and the rim stack (the outer faces of its first and last rims) "
+    "between thrust faces; inside, the centre spacers keep the camshafts apart and the rim "
+    "spacers the rims. The cam teeth are as long as the rings are thick, so any axial "
+    "offset of a camshaft from its ring shortens the contact line: keep the end float small.")
 
 
 def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[dict],
@@ -63,6 +76,7 @@ def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[
                       "the m6 pins, never pressed, so no set of pins can jam); bond each pin with",
                       "an anaerobic retaining compound for slip fits (e.g. Loctite 641) applied",
                       "as the rims are stacked; it cures after the stack is closed."]
+    lines += [""] + textwrap.wrap(f"{AXIAL_LOCATION_TITLE.upper()}: {AXIAL_LOCATION}", 80)
     return "\n".join(lines) + "\n"
 
 
