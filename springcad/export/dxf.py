@@ -39,6 +39,7 @@ import numpy as np
 
 from springcad.design.curves import Profile
 from springcad.export.biarc import BulgeLoop, arc_centre, loop_bulges
+from springcad.options import DXF_VERSIONS
 
 CUT_LAYER = "CUT"
 INFO_LAYER = "INFO"
@@ -51,8 +52,6 @@ BIARC_TOL_MM = 0.5 * CHORD_TOL_MM
 INFO_TEXT_HEIGHT_MM = 2.5
 #: contour entity styles (see the module docstring); the first is the default
 ENTITY_STYLES = ("lines-arcs", "polyline")
-#: DXF versions the writer offers; the first is the default
-DXF_VERSIONS = ("R2010", "R12")
 #: two entity ends closer than this (mm) are one point when contours are chained on reading
 CHAIN_TOL_MM = 1e-6
 

@@ -19,6 +19,7 @@ import zipfile
 from pathlib import Path
 
 from springcad.export.release import ReleaseStatus
+from springcad.options import DXF_VERSION
 
 BUNDLE_NAME = "vendor.zip"
 #: zip time stamp of every entry (the zip format's epoch): no build date in the bundle
@@ -40,8 +41,9 @@ AXIAL_LOCATION = (
 
 
 def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[dict],
-                files_by_part: dict[str, list[str]]) -> str:
-    """The shop's README: status first, then one block per part to make, then the buy list."""
+                files_by_part: dict[str, list[str]], dxf_version: str = DXF_VERSION) -> str:
+    """The shop's README: status first, then one block per part to make, then the buy list
+    and how the parts go together. ``dxf_version``: the version the DXFs were written in."""
     lines = [f"Job: {job_name}", f"Status: {release.stamp}"]
     if not release.released:
         lines += ["", "DO NOT MANUFACTURE: these drawings are for quoting and review only.",
@@ -49,8 +51,12 @@ def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[
     lines += ["", "Units: mm. Each part folder holds the STEP solid, the drawing (PDF) and, for",
               "cut parts, the DXF (layer CUT: LINE, ARC and CIRCLE entities only, every hole one",
               "CIRCLE, contours closed end to end, true size; layer INFO: text, not to cut; the",
-              "DXF governs the contour, the drawing the tolerances and finishes).",
-              "A part number names one geometry; the same number in another job is the same part.",
+              "DXF governs the contour, the drawing the tolerances and finishes)."]
+    lines += textwrap.wrap(
+        f"DXF version {dxf_version} (AC1009)." if dxf_version == "R12" else
+        f"DXF version {dxf_version} (AC1024); springcad build --dxf-version R12 writes R12 "
+        "(AC1009) for CAM that reads nothing newer.", 80)
+    lines += ["A part number names one geometry; the same number in another job is the same part.",
               "", "PARTS TO MAKE"]
     for r in bom_rows:
         if r["make_or_buy"] != "make":
@@ -80,6 +86,15 @@ def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[
     return "\n".join(lines) + "\n"
 
 
+def _dxf_version(entries: dict[str, bytes]) -> str:
+    """The version the bundle's DXFs were written in, from a header's $ACADVER (AC1009 is
+    R12); the default when the bundle has no DXF."""
+    for name, data in entries.items():
+        if name.endswith(".dxf"):
+            return "R12" if b"AC1009" in data[:2000] else DXF_VERSION
+    return DXF_VERSION
+
+
 def write_vendor_bundle(assembly, out_dir: Path, release: ReleaseStatus, job_name: str) -> Path:
     """Zip a build folder's part files, BOM and a README into ``out_dir/vendor.zip``.
 
@@ -102,8 +117,8 @@ def write_vendor_bundle(assembly, out_dir: Path, release: ReleaseStatus, job_nam
             if src.exists():
                 entries[f"{pn}/{pn}.{kind}"] = src.read_bytes()
                 files_by_part.setdefault(pn, []).append(f"{pn}.{kind}")
-    entries["README.txt"] = readme_text(assembly, release, job_name, rows,
-                                        files_by_part).encode()
+    entries["README.txt"] = readme_text(assembly, release, job_name, rows, files_by_part,
+                                        _dxf_version(entries)).encode()
     path = out_dir / BUNDLE_NAME
     with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as zf:
         for name in sorted(entries):
