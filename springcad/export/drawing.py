@@ -329,14 +329,14 @@ def _column_height(sheet: Sheet, notes: list[str], rows, width: float) -> float:
 def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
     """Lay out the drawing of one part on one A3 sheet, or on two when the notes and the hole
     table at a readable size would leave the views' right column less than
-    :data:`MIN_VIEW_ZONE_MM` (sheet 1: views, release and title block; sheet 2: hole table,
+    :data:`MIN_VIEW_ZONE_MM` (a part with no view there: when they do not fit) (sheet 1: views, release and title block; sheet 2: hole table,
     notes and title block; one figure, sheet 2 below sheet 1, the PDF a page each).
 
     Returns:
         the :class:`~springcad.export.sheet.Sheet`; ``texts`` holds every text,
         ``dims`` the dimension list, ``conflicts`` labels that found no free place.
     """
-    from springcad.export.views import choose_scale_of, hole_rows, part_views
+    from springcad.export.views import choose_scale_of, hole_rows, part_views, uses_right_column
 
     template = template or load_title_block()
     values = fields(part, info, choose_scale_of(part), template)
@@ -346,7 +346,8 @@ def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
     probe = Sheet()
     x0, top = title_block(probe, template, values, notes=tuple(notes))
     top = release_box(probe, x0, top, width, info.release)
-    two = VIEWS_TOP - (top + _column_height(probe, notes, rows, width - 2.0)) < MIN_VIEW_ZONE_MM
+    room = VIEWS_TOP - (top + _column_height(probe, notes, rows, width - 2.0))
+    two = room < (MIN_VIEW_ZONE_MM if uses_right_column(part) else 0.0)
     probe.fig.clear()
     pages = 2 if two else 1
     sheet = Sheet((PAGE[0], PAGE[1] * pages), bottom_mm=-(pages - 1) * PAGE[1])

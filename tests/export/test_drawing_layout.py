@@ -387,3 +387,18 @@ def test_d_corner_radii_outside_a_profile_have_limits(drawings):
             else:
                 assert not d.label.endswith(("min", "max")), (job, part.name, d.label)
     assert seen == {" min", " max"}  # shafts and the 4xS1 hub; the 4xS1 socket
+
+
+def test_parts_without_right_column_views_keep_one_sheet(drawings):
+    """A part whose views leave the right column free (no detail, no view B: the spacers,
+    the bushing, the shafts) has its notes there and a second sheet only when they do not
+    fit above the title block (the rim spacers' and centre spacers' notes went to a sheet 2
+    of their own, the more so after the title block grew to 10 pt labels)."""
+    from springcad.export.views import uses_right_column
+
+    free = [(job, part.info.kind, pdf_pages(pdf)) for job, part, _, pdf in drawings
+            if not uses_right_column(part)]
+    assert {k for _, k, _ in free} >= {"centre_spacer", "torque_shaft", "rim_spacer"}
+    assert all(n == 1 for *_, n in free), free
+    assert all(uses_right_column(part) for _, part, _, _ in drawings
+               if part.info.kind in ("flexure_ring", "camshaft"))
