@@ -329,8 +329,9 @@ def _column_height(sheet: Sheet, notes: list[str], rows, width: float) -> float:
 def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
     """Lay out the drawing of one part on one A3 sheet, or on two when the notes and the hole
     table at a readable size would leave the views' right column less than
-    :data:`MIN_VIEW_ZONE_MM` (a part with no view there: when they do not fit) (sheet 1: views, release and title block; sheet 2: hole table,
-    notes and title block; one figure, sheet 2 below sheet 1, the PDF a page each).
+    :data:`MIN_VIEW_ZONE_MM` (a part with no view there: when they do not fit). Sheet 1:
+    views, release and title block; sheet 2: hole table, notes and title block; one figure,
+    sheet 2 below sheet 1, the PDF a page each.
 
     Returns:
         the :class:`~springcad.export.sheet.Sheet`; ``texts`` holds every text,
