@@ -169,7 +169,7 @@ def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: floa
     pts = profile.outer.sample(0.05)
     bbox = (*pts.min(axis=0), *pts.max(axis=0))
     with _fixed_meta_data():
-        doc = ezdxf.new(version, setup=False)
+        doc = _new_doc(version)
         if version != "R12":
             doc.units = units.MM
             doc.header["$MEASUREMENT"] = 1
@@ -194,6 +194,24 @@ def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: floa
         doc.saveas(path)
     return DxfReport(Path(path), len(bulged), sum(b.n_biarcs for b in bulged),
                      max(b.max_deviation_mm for b in bulged), entities, n_entities)
+
+
+def _new_doc(version: str):
+    """A new ezdxf document; for R12 without ezdxf's warning that R12 has no $INSUNITS (it
+    was printed on the console of ``springcad build --dxf-version R12`` for every DXF: the
+    units are in the INFO text and the vendor README)."""
+    import logging
+
+    import ezdxf
+
+    log = logging.getLogger("ezdxf")
+    level = log.level
+    if version == "R12":
+        log.setLevel(logging.ERROR)
+    try:
+        return ezdxf.new(version, setup=False)
+    finally:
+        log.setLevel(level)
 
 
 def _entity_segments(e) -> list[tuple]:
