@@ -126,6 +126,23 @@ def check_revision(revision) -> None:
         raise refuse("revision", revision, "is 1 to 8 ASCII letters or digits")
 
 
+#: DXF versions of a build's cutting profiles (``sc.export_build(dxf_version=...)``,
+#: ``springcad build --dxf-version``): R2010 (AC1024) the default, R12 (AC1009) for CAM
+#: that reads nothing newer; both hold LINE, ARC and CIRCLE entities only
+DXF_VERSIONS = ("R2010", "R12")
+DXF_VERSION = DXF_VERSIONS[0]
+
+
+def check_dxf_version(version) -> None:
+    """A build's DXF version is one of :data:`DXF_VERSIONS`.
+
+    Raises:
+        OptionError: a ConfigError naming ``dxf_version``.
+    """
+    if version not in DXF_VERSIONS:
+        raise refuse("dxf_version", version, f"is one of {', '.join(DXF_VERSIONS)}")
+
+
 # ----------------------------------------------------------------------------- synthesis
 @dataclass(frozen=True)
 class SynthesisDefaults:

@@ -25,7 +25,8 @@ from springcad.api.results import Design, Verification
 from springcad.cache import MISSING, open_cache
 from springcad.config import read_toml
 from springcad.errors import ConfigError
-from springcad.options import REVISION, api_door, check_revision, written
+from springcad.options import (DXF_VERSION, REVISION, api_door, check_dxf_version,
+                               check_revision, written)
 from springcad.parallel import Pending, beside, enabled, single_threaded_blas, trim_heap
 from springcad.progress import Tracker
 from springcad.report import notebook
@@ -372,7 +373,7 @@ def _write_fea_and_render(ver_raw, assembly, tmp: Path, png, triangles, cache=No
 
 
 @contextlib.contextmanager
-def _part_sheets(assembly, tmp: Path, info: dict, template, store, track):
+def _part_sheets(assembly, tmp: Path, info: dict, template, store, track, dxf_version: str):
     """The parts' DXFs and drawings (:func:`springcad.export.bundle.export_part_sheets`: no
     CAD kernel), written by a second process beside the STEP/STL exports, the assembly and
     the read-backs when the solids are built (a cached, lazy assembly's are cached too, or
@@ -383,11 +384,11 @@ def _part_sheets(assembly, tmp: Path, info: dict, template, store, track):
 
     if not enabled() or isinstance(assembly, LazyAssembly):
         yield Pending(value=export_part_sheets(assembly, tmp, info, template, progress=track,
-                                               cache=store))
+                                               cache=store, dxf_version=dxf_version))
         return
     track("writing the DXFs and drawings in a second process")
     with beside(export_part_sheets, assembly, tmp, info, template, cache=store,
-                progress=track) as pending:
+                progress=track, dxf_version=dxf_version) as pending:
         yield pending
 
 
@@ -395,7 +396,7 @@ def _part_sheets(assembly, tmp: Path, info: dict, template, store, track):
 def export_build(built: Build, out, overwrite: bool = False, render: bool = True,
                  revision: str = REVISION,
            title_block=None, progress=None, timings_s: dict | None = None,
-           cache: bool | None = None) -> Build:
+           cache: bool | None = None, dxf_version: str = DXF_VERSION) -> Build:
     """Write a build folder: design, FEA results, CAD, drawings, BOM, build.json, report.html.
 
     Args:
@@ -410,6 +411,8 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
         cache: reuse the files (and read-back checks) of parts, assembly and FEA exported
             before with the same inputs (:mod:`springcad.cache`; None:
             :data:`springcad.options.CACHE`); the files are the same bytes.
+        dxf_version: "R2010" (default, AC1024) or "R12" (AC1009, for CAM that reads
+            nothing newer); either holds LINE, ARC and CIRCLE entities only.
 
     Returns:
         A new :class:`Build`, the given one with ``out_dir``, ``files``, ``release`` and
@@ -428,6 +431,7 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
     if not isinstance(built, Build):
         raise ConfigError("export_build", type(built).__name__, "takes the Build that sc.build returned")
     check_revision(revision)
+    check_dxf_version(dxf_version)
     built.raise_for_failures()
     built = copy.copy(built)  # the exported build; the argument stays as it was
     template = load_title_block(title_block)
@@ -435,7 +439,7 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
     track = Tracker(progress)
     t0 = time.perf_counter()
     d, ver = built.design, built.verification
-    built.options = {"revision": revision, "render": render}
+    built.options = {"revision": revision, "render": render, "dxf_version": dxf_version}
     store = open_cache(cache)
     inputs = [x for x in (d.job.source, title_block) if isinstance(x, (str, Path)) and x
               and Path(x).is_file()]
@@ -456,7 +460,7 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
             info = {"job": d.job.name, "revision": revision,
                     "date": build_date(), "drawn_by": _drawn_by(),
                     "release": built.release}
-            with _part_sheets(asm, tmp, info, template, store, track) as sheets:
+            with _part_sheets(asm, tmp, info, template, store, track, dxf_version) as sheets:
                 cad = export_part_cad(asm, tmp, info["date"], progress=track, cache=store)
                 stack = export_assembly(asm, tmp, render=False, progress=track,
                                         date=info["date"], cache=store)

@@ -22,7 +22,7 @@ import springcad.api as sc
 from springcad.cli.common import add_cache_flag, cache_of, default_out, warn
 from springcad.cli.progress import console
 from springcad.errors import ConfigError
-from springcad.options import REVISION, check_revision
+from springcad.options import DXF_VERSION, DXF_VERSIONS, REVISION, check_revision
 from springcad.parallel import return_freed_memory, trim_heap
 from springcad.report.outdir import check_output_dir
 
@@ -44,6 +44,10 @@ def register(sub):
                    help="drawing revision (default %(default)s)")
     p.add_argument("--title-block", type=Path, default=None,
                    help="title block template (default templates/drawing_title_block.toml)")
+    p.add_argument("--dxf-version", choices=DXF_VERSIONS, default=DXF_VERSION,
+                   help="DXF file version of the cutting profiles (default %(default)s; R12 "
+                        "writes AC1009 for CAM that reads nothing newer; both hold LINE, ARC "
+                        "and CIRCLE entities only)")
     p.add_argument("--no-render", action="store_true", help="skip the PNG renders")
     p.add_argument("--no-verify", action="store_true",
                    help="skip the FEA verification (and correction) before the CAD step")
@@ -115,7 +119,7 @@ def run(args) -> int:
     t0 = _announce("exports")
     built = sc.export_build(built, out, overwrite=args.overwrite, render=not args.no_render,
                             revision=args.revision, title_block=template, progress=say,
-                            timings_s=timings, cache=cache)
+                            timings_s=timings, cache=cache, dxf_version=args.dxf_version)
     _done("exports", t0, timings)
     _print_summary(built, out)
     print(f"report: {out / 'report.html'} (open it in a web browser)")

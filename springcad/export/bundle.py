@@ -31,6 +31,7 @@ from springcad.export.step import read_step, write_assembly_step, write_part_ste
 from springcad.export.vendor import write_vendor_bundle
 from springcad.geometry.checks import Check
 from springcad.geometry.profile import profile_face
+from springcad.options import DXF_VERSION
 from springcad.parallel import trim_heap
 from springcad.progress import Progress, no_progress
 from springcad.units import UM_PER_MM
@@ -128,7 +129,8 @@ def export_part_cad(assembly, out_dir: Path, date: str = "", progress: Progress 
 
 
 def export_part_sheets(assembly, out_dir: Path, drawing_info: dict, template: dict | None = None,
-                       progress: Progress = no_progress, cache=None) -> list[WrittenFile]:
+                       progress: Progress = no_progress, cache=None,
+                       dxf_version: str = DXF_VERSION) -> list[WrittenFile]:
     """DXF (profile-cut parts) and drawings (made parts) of every distinct part: no CAD
     kernel (the drawings' views and the DXF are drawn from the parts' profiles), so they
     can be written by a forked process beside the STEP/STL exports.
@@ -137,6 +139,9 @@ def export_part_sheets(assembly, out_dir: Path, drawing_info: dict, template: di
         drawing_info: ``job``, ``revision``, ``date``, ``drawn_by``, ``release`` for the
             title blocks (the part's quantity is added).
         cache: a :class:`springcad.cache.Cache` or None.
+        dxf_version: DXF file version (:data:`springcad.options.DXF_VERSIONS`): the
+            default R2010 (AC1024) or R12 (AC1009) for CAM that reads nothing newer; both
+            hold the same LINE/ARC/CIRCLE entities.
     """
     parts_dir = Path(out_dir) / "parts"
     parts_dir.mkdir(parents=True, exist_ok=True)
@@ -146,20 +151,23 @@ def export_part_sheets(assembly, out_dir: Path, drawing_info: dict, template: di
         return {**drawing_info, "quantity": qty[pn]}
 
     def write(pn):
-        return _write_sheets(built_part(assembly, pn), parts_dir, info(pn), template)
+        return _write_sheets(built_part(assembly, pn), parts_dir, info(pn), template,
+                             dxf_version)
 
-    return _each_part(assembly, out_dir, "part-sheets", lambda pn: (info(pn), template), write,
-                      "DXF, drawings", progress, cache)
+    return _each_part(assembly, out_dir, "part-sheets",
+                      lambda pn: (info(pn), template, dxf_version), write, "DXF, drawings",
+                      progress, cache)
 
 
-def _write_sheets(part, parts_dir: Path, info: dict, template) -> tuple[list[Path], list]:
+def _write_sheets(part, parts_dir: Path, info: dict, template,
+                  dxf_version: str = DXF_VERSION) -> tuple[list[Path], list]:
     """Write a part's DXF (profile-cut parts) and drawings (made parts); returns their
     paths and (kind, info) of each."""
     pn = part.part_number
     paths, meta = [], []
     if part.info.cut_profile is not None:
         rep = write_dxf(part.info.cut_profile, parts_dir / f"{pn}.dxf", pn,
-                        part.info.thickness_mm)
+                        part.info.thickness_mm, version=dxf_version)
         paths.append(rep.path)
         meta.append(("dxf", f"{rep.n_loops} closed contours as {rep.n_entities} "
                             f"{rep.entities} entities, {rep.n_biarcs} biarcs, "

@@ -27,6 +27,8 @@ from springcad.export.sheet import (A3, FRAME_MM, LABEL_FONT, NOTE_FONT, TEXT_FO
 from springcad.geometry.sheet_cut import iso_fits
 
 TITLE_BLOCK_NAME = "drawing_title_block.toml"
+#: free space between a title-block cell's label or value and the cell's edge (mm)
+CELL_PAD_MM = 1.0
 #: sheet parts this thin or thinner get the template's ``thin_sheet`` notes (mm)
 THIN_SHEET_MM = 1.0
 #: the right column (title block, notes, hole table, details): x from here to the frame
@@ -167,10 +169,10 @@ def note_lines(part, values: dict, template: dict) -> list[str]:
 
 
 def _projection_symbol(sheet: Sheet, x: float, y: float, h: float) -> None:
-    """ISO 5456-2 first-angle symbol in a cell (x, y) of height ``h``: truncated cone, its
-    large end beside the end view (two circles) on the right."""
-    d = 0.55 * h
-    cy = y + 0.45 * h
+    """ISO 5456-2 first-angle symbol in the space (x, y) of height ``h`` under a cell's
+    label: truncated cone, its large end beside the end view (two circles) on the right."""
+    d = 0.9 * h
+    cy = y + 0.5 * h
     x0 = x + 2.0
     cone = [(x0, cy - 0.25 * d), (x0 + d, cy - 0.5 * d), (x0 + d, cy + 0.5 * d),
             (x0, cy + 0.25 * d)]
@@ -199,15 +201,16 @@ def title_block(sheet: Sheet, template: dict, values: dict, y_page: float = 0.0,
         x = x0
         for cell in row["cells"]:
             sheet.rect(x, y - h, cell["width_mm"], h)
-            sheet.text(x + 1, y - 1.8, cell["label"], size=LABEL_FONT, ha="left", color="0.35",
-                       role="title block")
+            label = sheet.text(x + 1, y - CELL_PAD_MM, cell["label"], size=LABEL_FONT,
+                               ha="left", va="top", color="0.35", role="title block")
             if cell["value"] == "{projection}":
-                _projection_symbol(sheet, x + 0.5 * cell["width_mm"] - 6.0, y - h, h - 2.5)
+                _projection_symbol(sheet, x + 0.5 * cell["width_mm"] - 6.0,
+                                   y - h + CELL_PAD_MM, label[1] - (y - h) - 1.5 * CELL_PAD_MM)
             else:
                 value = cell_value(sheet, cell["value"].format(**values),
                                    cell["width_mm"] - 2.0, notes)
-                sheet.text(x + 1, y - h + 2.6, value, ha="left", role="title block value",
-                           size=NOTE_FONT)
+                sheet.text(x + 1, y - h + CELL_PAD_MM, value, ha="left", va="bottom",
+                           role="title block value", size=NOTE_FONT)
             x += cell["width_mm"]
         y -= h
     return x0, top
@@ -326,14 +329,15 @@ def _column_height(sheet: Sheet, notes: list[str], rows, width: float) -> float:
 def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
     """Lay out the drawing of one part on one A3 sheet, or on two when the notes and the hole
     table at a readable size would leave the views' right column less than
-    :data:`MIN_VIEW_ZONE_MM` (sheet 1: views, release and title block; sheet 2: hole table,
-    notes and title block; one figure, sheet 2 below sheet 1, the PDF a page each).
+    :data:`MIN_VIEW_ZONE_MM` (a part with no view there: when they do not fit). Sheet 1:
+    views, release and title block; sheet 2: hole table, notes and title block; one figure,
+    sheet 2 below sheet 1, the PDF a page each.
 
     Returns:
         the :class:`~springcad.export.sheet.Sheet`; ``texts`` holds every text,
         ``dims`` the dimension list, ``conflicts`` labels that found no free place.
     """
-    from springcad.export.views import choose_scale_of, hole_rows, part_views
+    from springcad.export.views import choose_scale_of, hole_rows, part_views, uses_right_column
 
     template = template or load_title_block()
     values = fields(part, info, choose_scale_of(part), template)
@@ -343,7 +347,8 @@ def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
     probe = Sheet()
     x0, top = title_block(probe, template, values, notes=tuple(notes))
     top = release_box(probe, x0, top, width, info.release)
-    two = VIEWS_TOP - (top + _column_height(probe, notes, rows, width - 2.0)) < MIN_VIEW_ZONE_MM
+    room = VIEWS_TOP - (top + _column_height(probe, notes, rows, width - 2.0))
+    two = room < (MIN_VIEW_ZONE_MM if uses_right_column(part) else 0.0)
     probe.fig.clear()
     pages = 2 if two else 1
     sheet = Sheet((PAGE[0], PAGE[1] * pages), bottom_mm=-(pages - 1) * PAGE[1])

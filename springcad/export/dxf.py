@@ -39,6 +39,7 @@ import numpy as np
 
 from springcad.design.curves import Profile
 from springcad.export.biarc import BulgeLoop, arc_centre, loop_bulges
+from springcad.options import DXF_VERSIONS
 
 CUT_LAYER = "CUT"
 INFO_LAYER = "INFO"
@@ -51,8 +52,6 @@ BIARC_TOL_MM = 0.5 * CHORD_TOL_MM
 INFO_TEXT_HEIGHT_MM = 2.5
 #: contour entity styles (see the module docstring); the first is the default
 ENTITY_STYLES = ("lines-arcs", "polyline")
-#: DXF versions the writer offers; the first is the default
-DXF_VERSIONS = ("R2010", "R12")
 #: two entity ends closer than this (mm) are one point when contours are chained on reading
 CHAIN_TOL_MM = 1e-6
 
@@ -170,7 +169,7 @@ def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: floa
     pts = profile.outer.sample(0.05)
     bbox = (*pts.min(axis=0), *pts.max(axis=0))
     with _fixed_meta_data():
-        doc = ezdxf.new(version, setup=False)
+        doc = _new_doc(version)
         if version != "R12":
             doc.units = units.MM
             doc.header["$MEASUREMENT"] = 1
@@ -195,6 +194,24 @@ def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: floa
         doc.saveas(path)
     return DxfReport(Path(path), len(bulged), sum(b.n_biarcs for b in bulged),
                      max(b.max_deviation_mm for b in bulged), entities, n_entities)
+
+
+def _new_doc(version: str):
+    """A new ezdxf document; for R12 without ezdxf's warning that R12 has no $INSUNITS (it
+    was printed on the console of ``springcad build --dxf-version R12`` for every DXF: the
+    units are in the INFO text and the vendor README)."""
+    import logging
+
+    import ezdxf
+
+    log = logging.getLogger("ezdxf")
+    level = log.level
+    if version == "R12":
+        log.setLevel(logging.ERROR)
+    try:
+        return ezdxf.new(version, setup=False)
+    finally:
+        log.setLevel(level)
 
 
 def _entity_segments(e) -> list[tuple]:

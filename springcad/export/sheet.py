@@ -31,12 +31,12 @@ FRAME_MM = 10.0
 #: standard drawing scales (ISO 5455), largest first
 SCALES = (50.0, 20.0, 10.0, 5.0, 2.0, 1.0, 0.5, 0.2, 0.1)
 THICK, THIN = 0.7, 0.25  # line widths (pt)
-#: font sizes (pt): every dimension, note, table and title-block value is written at
-#: TEXT_FONT, whose capital height (DejaVu Sans: 0.729 em) is at least MIN_CAP_MM, the
-#: ISO 3098-0 / ISO 129-1 least for an A3 sheet; only the title block's field labels
-#: (LABEL_FONT) are smaller
+#: font sizes (pt): every text of a drawing (dimension, note, table, title-block label and
+#: value) is written at TEXT_FONT, whose capital height (DejaVu Sans: 0.729 em) is at least
+#: MIN_CAP_MM, the ISO 3098-0 / ISO 129-1 least for an A3 sheet (issue 26: the title
+#: block's labels were 6.5 pt, 1.67 mm)
 TEXT_FONT = 10.0
-DIM_FONT, NOTE_FONT, LABEL_FONT = TEXT_FONT, TEXT_FONT, 6.5
+DIM_FONT, NOTE_FONT, LABEL_FONT = TEXT_FONT, TEXT_FONT, TEXT_FONT
 #: capital height of DejaVu Sans per point of font size (mm / pt)
 CAP_MM_PER_PT = 0.729 * 25.4 / 72.0
 MIN_CAP_MM = 2.5

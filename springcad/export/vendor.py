@@ -14,10 +14,12 @@ unchanged files is byte-for-byte the same zip. Units: mm, g.
 
 from __future__ import annotations
 
+import textwrap
 import zipfile
 from pathlib import Path
 
 from springcad.export.release import ReleaseStatus
+from springcad.options import DXF_VERSION
 
 BUNDLE_NAME = "vendor.zip"
 #: zip time stamp of every entry (the zip format's epoch): no build date in the bundle
@@ -26,9 +28,22 @@ _EPOCH = (1980, 1, 1, 0, 0, 0)
 PART_KINDS = ("step", "dxf", "pdf")
 
 
+#: what holds the stack along its axis (vendor README, report.html): no part of the package
+#: does; the camshafts' drawings say how each is held
+AXIAL_LOCATION_TITLE = "Axial location"
+AXIAL_LOCATION = (
+    "No part of this package retains the stack along its axis. The user's "
+    "housing holds the end camshafts (by their hub end faces, directly or through a torque "
+    "shaft's socket bottom) and the rim stack (the outer faces of its first and last rims) "
+    "between thrust faces; inside, the centre spacers keep the camshafts apart and the rim "
+    "spacers the rims. The cam teeth are as long as the rings are thick, so any axial "
+    "offset of a camshaft from its ring shortens the contact line: keep the end float small.")
+
+
 def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[dict],
-                files_by_part: dict[str, list[str]]) -> str:
-    """The shop's README: status first, then one block per part to make, then the buy list."""
+                files_by_part: dict[str, list[str]], dxf_version: str = DXF_VERSION) -> str:
+    """The shop's README: status first, then one block per part to make, then the buy list
+    and how the parts go together. ``dxf_version``: the version the DXFs were written in."""
     lines = [f"Job: {job_name}", f"Status: {release.stamp}"]
     if not release.released:
         lines += ["", "DO NOT MANUFACTURE: these drawings are for quoting and review only.",
@@ -36,8 +51,12 @@ def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[
     lines += ["", "Units: mm. Each part folder holds the STEP solid, the drawing (PDF) and, for",
               "cut parts, the DXF (layer CUT: LINE, ARC and CIRCLE entities only, every hole one",
               "CIRCLE, contours closed end to end, true size; layer INFO: text, not to cut; the",
-              "DXF governs the contour, the drawing the tolerances and finishes).",
-              "A part number names one geometry; the same number in another job is the same part.",
+              "DXF governs the contour, the drawing the tolerances and finishes)."]
+    lines += textwrap.wrap(
+        f"DXF version {dxf_version} (AC1009)." if dxf_version == "R12" else
+        f"DXF version {dxf_version} (AC1024); springcad build --dxf-version R12 writes R12 "
+        "(AC1009) for CAM that reads nothing newer.", 80)
+    lines += ["A part number names one geometry; the same number in another job is the same part.",
               "", "PARTS TO MAKE"]
     for r in bom_rows:
         if r["make_or_buy"] != "make":
@@ -63,7 +82,17 @@ def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[
                       "the m6 pins, never pressed, so no set of pins can jam); bond each pin with",
                       "an anaerobic retaining compound for slip fits (e.g. Loctite 641) applied",
                       "as the rims are stacked; it cures after the stack is closed."]
+    lines += [""] + textwrap.wrap(f"{AXIAL_LOCATION_TITLE.upper()}: {AXIAL_LOCATION}", 80)
     return "\n".join(lines) + "\n"
+
+
+def _dxf_version(entries: dict[str, bytes]) -> str:
+    """The version the bundle's DXFs were written in, from a header's $ACADVER (AC1009 is
+    R12); the default when the bundle has no DXF."""
+    for name, data in entries.items():
+        if name.endswith(".dxf"):
+            return "R12" if b"AC1009" in data[:2000] else DXF_VERSION
+    return DXF_VERSION
 
 
 def write_vendor_bundle(assembly, out_dir: Path, release: ReleaseStatus, job_name: str) -> Path:
@@ -88,8 +117,8 @@ def write_vendor_bundle(assembly, out_dir: Path, release: ReleaseStatus, job_nam
             if src.exists():
                 entries[f"{pn}/{pn}.{kind}"] = src.read_bytes()
                 files_by_part.setdefault(pn, []).append(f"{pn}.{kind}")
-    entries["README.txt"] = readme_text(assembly, release, job_name, rows,
-                                        files_by_part).encode()
+    entries["README.txt"] = readme_text(assembly, release, job_name, rows, files_by_part,
+                                        _dxf_version(entries)).encode()
     path = out_dir / BUNDLE_NAME
     with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as zf:
         for name in sorted(entries):

@@ -572,6 +572,15 @@ def plain_views(sheet: Sheet, part, zone) -> float:
 VIEWS = {"flexure_ring": ring_views, "camshaft": cam_views}
 
 
+def uses_right_column(part) -> bool:
+    """Whether a part's views take the right column above the notes (details of a ring or
+    a camshaft, a plain part's view B); the others leave it to the notes."""
+    if part.info.kind in VIEWS:
+        return True
+    return len(part.slabs) > 1 and bool(_new_loops(part.slabs[0].region,
+                                                   part.slabs[-1].region))
+
+
 def part_views(sheet: Sheet, part, zone) -> float:
     """Draw every view of a part; ``zone`` is the free box of the right column. Returns the
     main view's scale."""

@@ -72,6 +72,8 @@ class TorqueShaft(SpringcadPart):
                     "like the g6 diameter; chamfer 0.2 x 45° at the inner end (lead into the bore).")
             fits = {"outer": "g6"}
             secondary = ("ground",)
+            retention = ("Coupling to the drive, and holding the camshaft along the axis (it "
+                         "slides on this shaft), are left to the user.")
         elif isinstance(plan, HubSocketPlan):
             self.outer_radius = plan.outer_radius_mm
             self.socket_depth = plan.socket_depth_mm
@@ -91,6 +93,8 @@ class TorqueShaft(SpringcadPart):
             # outside is a plain turned diameter
             secondary = ("sinker_edm",)
             heat_treatment_sequence = SOCKET_HEAT_TREATMENT_SEQUENCE
+            retention = ("Coupling to the drive is left to the user, who holds this shaft "
+                         "along the axis: the socket bottom holds the camshaft's hub.")
         else:
             raise GeometryError(f"{name}: no torque shaft of style "
                                 f"{type(plan).__name__}; use a D shaft or a hub socket")
@@ -99,7 +103,7 @@ class TorqueShaft(SpringcadPart):
                         density_kg_per_m3=material[1], process="turned",
                         thickness_mm=length_mm, dimensions=key, hardness=hardness,
                         heat_treatment_sequence=heat_treatment_sequence, fits=fits,
-                        notes=(note, "Coupling to the drive is left to the user."),
+                        notes=(note, retention),
                         secondary_processes=secondary)
         super().__init__(info, slabs, COLOURS["steel"])
 

@@ -163,7 +163,8 @@ def part_checks(part, manufacturing=None) -> list[Check]:
     Wire-EDM profiles: the ``[manufacturing]`` rules (:mod:`springcad.geometry.edm`), from
     the part's own spring or else ``manufacturing``. Laser-cut and milled sheet profiles:
     the process's web, hole-edge and hole-size rules (:mod:`springcad.geometry.sheet_cut`).
-    Turned parts: the wall between bore or socket and outer diameter (``turned.min_wall``).
+    Turned parts, and cut parts with a turned section (an end camshaft's hub): the wall
+    between bore or socket and outer diameter (``turned.min_wall``).
     """
     pn = part.part_number
     valid = getattr(part, "solid_valid", None)  # the kernel's answer when building asked it
@@ -194,7 +195,13 @@ def part_checks(part, manufacturing=None) -> list[Check]:
     elif info.process == "turned":
         results.append(wall_rule(part.slabs, "turned", part.describe))
     prefix = "edm" if info.process == "wire_edm" else info.process
-    return out + _rule_checks(prefix, pn, results)
+    out += _rule_checks(prefix, pn, results)
+    if info.process != "turned" and "turned" in info.secondary_processes:
+        # a cut part with a turned section (an end camshaft's hub): the walls of its
+        # sections that are not the cut profile, as turned
+        turned = [sl for sl in part.slabs if sl.region is not info.cut_profile]
+        out += _rule_checks("turned", pn, [wall_rule(turned, "turned", part.describe)])
+    return out
 
 
 # ----------------------------------------------------------------------- assembly checks

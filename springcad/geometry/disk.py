@@ -105,6 +105,24 @@ class FlexureRing(SpringcadPart):
         return f"flexure {k} {where}"
 
 
+def axial_location_note(hub_length_mm: float, drive: str) -> str:
+    """What holds a camshaft along its axis (drawing note): nothing in the spring does. An
+    end camshaft (``hub_length_mm`` > 0) is held by the user's drive at its hub end face,
+    directly (``drive`` "bore_flat": the D shaft slides in its bore and holds nothing) or
+    through the bottom of the torque shaft's socket ("hub_flat"); a floating one runs
+    between the centre spacers beside it."""
+    if not hub_length_mm:
+        return ("Axial location: runs between the centre spacers beside it; no part retains "
+                "it along the axis (the user's housing holds the stack's end parts).")
+    by = ("bears on the bottom of the torque shaft's socket, and the user's drive holds "
+          "that shaft along the axis" if drive == "hub_flat" else
+          "is the thrust face by which the user's drive holds it (the D shaft slides in the "
+          "bore and retains nothing)")
+    return (f"Axial location: no part of the spring retains this camshaft along its axis; the "
+            f"hub end face {by}. The teeth are as long as the ring is thick: an axial offset "
+            "shortens the contact line.")
+
+
 class Camshaft(SpringcadPart):
     """The gear-like camshaft: toothed section(s) and, at a stack end, a turned hub.
 
@@ -177,6 +195,7 @@ class Camshaft(SpringcadPart):
             notes.append(f"The hub is {self.root_radius - self.hub_radius:.2f} mm inside the "
                          "tooth root at its largest size (toleranced minus only): the wire "
                          "cutting the teeth passes it.")
+        notes.append(axial_location_note(hub_length_mm, drive))
         info = PartInfo(
             name=tag, code="CAM",
             title=("End camshaft" if hub_length_mm else "Camshaft") + f", {self.n_teeth} teeth",

@@ -18,6 +18,7 @@ import json
 import math
 from pathlib import Path
 
+from springcad.export.vendor import AXIAL_LOCATION, AXIAL_LOCATION_TITLE
 from springcad.options import written
 from springcad.report.html_page import img_tag as _img
 from springcad.report.html_page import page
@@ -329,7 +330,8 @@ def render_build_report(out_dir: Path | str) -> str:
         _duty_html(out, design, fea),
         _warnings_html(design, fea, build),
         _fea_html(out, design),
-        "<h2>Assembly</h2>" + _figures([(out / "assembly.png", "assembly render")], 700),
+        "<h2>Assembly</h2>" + _figures([(out / "assembly.png", "assembly render")], 700)
+        + f"<p><b>{AXIAL_LOCATION_TITLE}:</b> {html.escape(AXIAL_LOCATION)}</p>",
         _drawings_html(out),
         _bom_html(out),
     ]

@@ -183,3 +183,45 @@ def test_dxf2gcode_reads_the_design(tmp_path, stack, name):
     print(f"dxf2gcode {name}: {stats}, design->cam {1e3 * d_design:.4f} um, "
           f"cam->design {1e3 * d_back:.4f} um")
     assert d_design <= CHORD_TOL_MM and d_back <= CHORD_TOL_MM
+
+
+def test_a_build_writes_r12_on_request(tmp_path):
+    """``--dxf-version R12`` (sc.export_build(dxf_version="R12")) reaches every DXF of a
+    build: the part sheets written both ways, read by the group-code parser, hold the same
+    CUT entities with the same numbers and the same extents, only $ACADVER differs
+    (AC1024 / AC1009); the vendor README names the version it holds; a version that is not
+    offered is refused naming the option."""
+    import zipfile
+
+    from springcad.errors import OptionError
+    from springcad.export.bom import write_bom
+    from springcad.export.bundle import export_part_sheets
+    from springcad.export.release import ReleaseStatus
+    from springcad.export.vendor import write_vendor_bundle
+    from springcad.options import check_dxf_version
+
+    a = assembly("default")
+    info = {"job": "default", "revision": "A", "date": "", "drawn_by": "test"}
+    read_back = {}
+    for version in ("R2010", "R12"):
+        out = tmp_path / version
+        files = export_part_sheets(a, out, info, dxf_version=version)
+        dxfs = sorted(out / f.path for f in files if f.path.endswith(".dxf"))
+        assert len(dxfs) == 4
+        read_back[version] = [read(p.read_text()) for p in dxfs]
+        write_bom(a, out / "bom.csv")
+        readme = zipfile.ZipFile(write_vendor_bundle(a, out, ReleaseStatus(()), "default")) \
+            .read("README.txt").decode()
+        assert f"DXF version {version} ({'AC1009' if version == 'R12' else 'AC1024'})" in readme
+    numeric = (10, 20, 11, 21, 40, 50, 51)
+    for (h_new, e_new), (h_r12, e_r12) in zip(read_back["R2010"], read_back["R12"]):
+        assert (h_new["$ACADVER"], h_r12["$ACADVER"]) == (["AC1024"], ["AC1009"])
+        assert h_new["$EXTMIN"] == h_r12["$EXTMIN"] and h_new["$EXTMAX"] == h_r12["$EXTMAX"]
+        cut_new = [e for e in e_new if e.layer == CUT_LAYER]
+        cut_r12 = [e for e in e_r12 if e.layer == CUT_LAYER]
+        assert [e.kind for e in cut_new] == [e.kind for e in cut_r12]
+        for x, y in zip(cut_new, cut_r12):
+            assert [(c, float(v)) for c, v in x.groups if c in numeric] == \
+                [(c, float(v)) for c, v in y.groups if c in numeric]
+    with pytest.raises(OptionError, match=r"dxf.version = 'R14': is one of R2010, R12"):
+        check_dxf_version("R14")

@@ -156,3 +156,26 @@ def test_ground_only_where_a_fit_is_ground():
                 assert ("grinding" in notes) == bool(ground), (pn, notes)
                 seen.add(part.info.secondary_processes)
     assert seen == {("ground",), ("sinker_edm",)}  # a D shaft and a socket shaft
+
+
+def test_turned_hub_of_a_cut_camshaft_is_checked_as_turned():
+    """A wire-EDM end camshaft with a turned hub gets the turning rule on its hub too (the
+    shop-6 review: build.json ran only the EDM rules on it). The default's hub: Ø13.646
+    over the Ø4 D bore, the wall at least 6.823 - 2 = 4.8 mm, beyond the 1 mm the rule
+    searches; the same camshaft on a Ø4.6 hub leaves 2.3 - 2 = 0.3 mm of wall over the
+    bore's round part, under turning's 0.5 mm: refused."""
+    from springcad.geometry.checks import part_checks
+    from springcad.geometry.disk import Camshaft
+
+    a = assembly("default")
+    mfg = a.design.stack.springs[0].manufacturing
+    cam = next(p for p in a.parts.values() if p.info.kind == "camshaft")
+    assert cam.info.process == "wire_edm" and "turned" in cam.info.secondary_processes
+    wall = [c for c in part_checks(cam, mfg) if c.name == "turned.min_wall"]
+    assert len(wall) == 1 and wall[0].passed and wall[0].value is None
+
+    thin = Camshaft(cam.spring, cam.toothed_length, cam.hub_length, cam.bore, cam.drive,
+                    cam.bore_diameter, 0.8, hub_radius_mm=0.5 * cam.bore_diameter + 0.3)
+    wall = [c for c in part_checks(thin, mfg) if c.name == "turned.min_wall"]
+    assert len(wall) == 1 and not wall[0].passed
+    assert wall[0].value == pytest.approx(0.3, abs=2e-3)

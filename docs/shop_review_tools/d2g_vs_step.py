@@ -1,0 +1,33 @@
+"""dxf2gcode's reading of each DXF against the STEP solid's cross-section (OCC), both ways."""
+import json, glob, os
+import numpy as np
+from scipy.spatial import cKDTree
+from OCP.STEPControl import STEPControl_Reader
+from OCP.BRepAlgoAPI import BRepAlgoAPI_Section
+from OCP.gp import gp_Pln, gp_Pnt, gp_Dir
+from OCP.TopExp import TopExp_Explorer
+from OCP.TopAbs import TopAbs_EDGE
+from OCP.TopoDS import TopoDS
+from OCP.BRepAdaptor import BRepAdaptor_Curve
+from OCP.GCPnts import GCPnts_UniformAbscissa
+from OCP.Bnd import Bnd_Box
+from OCP.BRepBndLib import BRepBndLib
+for j in sorted(glob.glob('/tmp/shop6/d2g/*CAM*.json')):
+    d, b = os.path.basename(j)[:-5].split('_', 1)
+    r = STEPControl_Reader(); r.ReadFile(f'/tmp/shop6/{d}/parts/{b}.step'); r.TransferRoots(); s = r.OneShape()
+    box = Bnd_Box(); BRepBndLib.Add_s(s, box); cmin, cmax = box.CornerMin(), box.CornerMax(); z0, z1 = cmin.Z(), cmax.Z()
+    z = z1 - 0.3 if 'CAM' in b else 0.5 * (z0 + z1)
+    sec = BRepAlgoAPI_Section(s, gp_Pln(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1))); sec.Build()
+    ref = []
+    ex = TopExp_Explorer(sec.Shape(), TopAbs_EDGE)
+    while ex.More():
+        c = BRepAdaptor_Curve(TopoDS.Edge(ex.Current()))
+        u = GCPnts_UniformAbscissa(c, 0.002)
+        for k in range(1, u.NbPoints() + 1):
+            p = c.Value(u.Parameter(k)); ref.append((p.X(), p.Y()))
+        ex.Next()
+    ref = np.array(ref)
+    data = json.load(open(j)); paths = data['paths'] if isinstance(data, dict) else data
+    pts = np.array([p for path in paths for p in path])
+    d1, _ = cKDTree(ref).query(pts); d2, _ = cKDTree(pts).query(ref)
+    print(f'{d:8s} {b:26s} z {z:6.2f} dxf2gcode pts {len(pts):7d} -> STEP max {d1.max()*1000:6.2f} um; STEP pts {len(ref):7d} -> dxf2gcode max {d2.max()*1000:6.2f} um', flush=True)
