@@ -20,7 +20,9 @@ each part. For every effect the split applies to, its size parameter must
 
 1. *agree* between the parts within their uncertainty (Wald test with the
    clustered covariance of :mod:`springcad.fit.inference`,
-   ``p >= agreement_p``), and
+   ``p >= agreement_p``; a monotone effect, a drift, also agrees when each part
+   supports it with the same sign: a zero that settles drifts at a falling rate, and
+   what its linear law leaves is the residual's to flag), and
 2. be *supported* by the parts together: the inverse-variance mean of the two
    part values is at least ``support_z`` standard errors away from the value
    at which the effect vanishes.
@@ -352,10 +354,23 @@ def _compare(checks: dict, model: TorqueModel, tested: list, split: str, parts, 
         p = wald_p(np.array([va - vb]), np.array([[sa * sa + sb * sb]]),
                    min(ua.dof, ub.dof))
         z = _support_z(((va, sa), (vb, sb)), null)
+        agrees = p >= agreement_p or (e.monotone and _same_sign_each(
+            ((va, sa), (vb, sb)), null, support_z))
         checks[e.name].append(SplitCheck(
             split, (parts[0].label, parts[1].label),
             e.params(model.scales)[e.primary].name, (va, vb), (sa, sb), p, z,
-            p >= agreement_p, abs(z) >= support_z))
+            agrees, abs(z) >= support_z))
+
+
+def _same_sign_each(parts: tuple[tuple[float, float], ...], null: float,
+                    support_z: float) -> bool:
+    """Whether every ``(value, standard error)`` part stands ``support_z`` standard errors
+    from ``null`` on the same side: a monotone effect (a drift whose rate settles) that
+    each part shows, though by different amounts; what the linear law leaves is the
+    residual's to flag."""
+    z = [(v - null) / se for v, se in parts if se > 0 and math.isfinite(se)]
+    return len(z) == len(parts) and (all(zi >= support_z for zi in z)
+                                     or all(zi <= -support_z for zi in z))
 
 
 #: a standard error below this share of its value is round-off about a parameter resting on

@@ -225,8 +225,31 @@ class RegularisedCoulomb(Hysteresis):
         return {"friction_torque_Nm": float(p[0]), "fade_speed_rad_per_s": float(p[1])}
 
 
+class ElastoPlastic(Hysteresis):
+    """Coulomb friction H (N·m) with a presliding stiffness ``H/θ_p``: after a turn the
+    friction changes linearly with the travel (by H per θ_p rad) until it reaches H, then
+    slides at H (an elasto-plastic, Coulomb-with-presliding-stiffness law).
+
+    The library's presliding law (Dahl's) approaches H exponentially; this one takes it
+    up at a constant stiffness and has a kink where sliding starts. Both are friction
+    reversing over a presliding angle after each turn: the family's meaning."""
+
+    law = "elasto_plastic"
+    meaning = ("Coulomb friction H with a presliding stiffness H/θp: after each turn the "
+               "friction torque changes linearly with the travel until it reaches H, then "
+               "slides at H")
+
+    @staticmethod
+    def take_up(away, swing, presliding):
+        return np.minimum(1.0, 1.0 - swing + away / presliding)
+
+    def report(self, p, stiffness, sc):
+        return {"friction_torque_Nm": float(p[0]), "presliding_rad": float(p[1]),
+                "presliding_stiffness_Nm_per_rad": float(p[0] / p[1])}
+
+
 #: laws of each family other than the library's, tried in its place once it is named
 OTHER_LAWS: dict[str, tuple[Effect, ...]] = {
     "time_lag": (ViscousDamping(), FirstOrderLag(), TorqueFilter(), StandardLinearSolid()),
-    "hysteresis": (RegularisedCoulomb(),),
+    "hysteresis": (RegularisedCoulomb(), ElastoPlastic()),
 }

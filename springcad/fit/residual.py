@@ -62,6 +62,80 @@ def noise_model(r: np.ndarray, sample_rate_hz: float) -> NoiseModel:
     return NoiseModel(noise_std(r, lag), lag, tau)
 
 
+#: AR(1) coefficients tried by :func:`coloured_noise_model` (denser towards 1)
+AR1_GRID = tuple(1.0 - np.geomspace(0.7, 0.01, 40))
+#: AR(1) shares of the noise variance tried beside them
+AR1_SHARES = np.linspace(0.0, 1.0, 41)
+#: the AR(1) + white model must reproduce the remainder's autocorrelation this closely (RMS)
+AR1_FIT_TOLERANCE = 0.05
+
+
+def _autocov(x: np.ndarray, kmax: int) -> np.ndarray:
+    """Autocovariance of ``x`` (mean removed) at lags 0 … ``kmax`` (per sample)."""
+    x = x - x.mean()
+    m = 1 << int(math.ceil(math.log2(2 * x.size)))
+    f = np.fft.rfft(x, m)
+    return np.fft.irfft(f * np.conj(f), m)[:kmax + 1] / x.size
+
+
+def coloured_noise_model(r: np.ndarray, idx: np.ndarray, sig: Signals) -> NoiseModel:
+    """The noise of a residual, with correlated (AR(1)-like) sensor noise read through the
+    flexible description that separates it from structure.
+
+    :func:`noise_model` measures the correlation on :func:`flexible_remainder`, which
+    takes out the means in fine bins of deflection and 0.1 s windows of time: that keeps
+    a ripple swept past at speed from passing for noise, but it also takes out the slow
+    part of a strongly coloured noise (a torque amplifier's AR(1) noise with a
+    coefficient of 0.9 decorrelates over tens of samples), so its decorrelation lag and
+    correlation time come out short and its level low. Here the remainder's
+    autocorrelation is matched with that of white plus AR(1) noise put through the same
+    remainder (a fixed pseudo-random draw on the record's own samples): the model of
+    coefficient ``ρ`` and AR share ``s`` that reproduces it gives the noise's
+    decorrelation lag (``s·ρ^k < 0.05``), its correlation time ``1 + 2·s·ρ/(1 - ρ)``,
+    and the level's correction for what lagged differences at that lag still miss.
+    Kept when the remainder's own lag is over two samples and the model reproduces its
+    autocorrelation within ``AR1_FIT_TOLERANCE``; otherwise :func:`noise_model`'s.
+
+    Returns:
+        The noise model; ``sigma`` is the white-equivalent level of the residual ``r``
+        (its lagged differences at ``lag``, corrected for the correlation left at that lag).
+    """
+    rate = sig.scales.sample_rate_hz
+    fr = flexible_remainder(r, idx, sig)
+    base = noise_model(fr, rate)
+    plain = NoiseModel(noise_std(r, base.lag), base.lag, base.tau)
+    if base.lag <= 2 or r.size < 200:
+        return plain
+    kmax = int(min(max(4 * base.lag, 20), r.size // 8))
+    data = _autocov(fr, kmax)
+    if data[0] <= 0.0:
+        return plain
+    data = data[1:] / data[0]
+    z = np.random.default_rng(20261126).standard_normal(r.size)
+    white = _autocov(flexible_remainder(z, idx, sig), kmax)
+    from scipy.signal import lfilter
+
+    best = (math.inf, 0.0, 0.0)
+    for rho in AR1_GRID:
+        a = lfilter([math.sqrt(1.0 - rho * rho)], [1.0, -rho], z)
+        ar = _autocov(flexible_remainder(a, idx, sig), kmax)
+        mix = AR1_SHARES[:, None] * ar[None, :] + (1.0 - AR1_SHARES[:, None]) * white[None, :]
+        model = mix[:, 1:] / mix[:, :1]
+        err = np.sqrt(np.mean((model - data[None, :]) ** 2, axis=1))
+        j = int(np.argmin(err))
+        if err[j] < best[0]:
+            best = (float(err[j]), float(rho), float(AR1_SHARES[j]))
+    err, rho, share = best
+    if err > AR1_FIT_TOLERANCE or share * rho <= 0.0:
+        return plain
+    below = share * rho ** np.arange(1, 10 * kmax + 1) < 0.05
+    lag = int(np.argmax(below)) + 1 if below.any() else 10 * kmax
+    lag = max(lag, base.lag)
+    tau = max(base.tau, 1.0 + 2.0 * share * rho / (1.0 - rho))
+    left = max(1.0 - share * rho ** lag, 0.5)
+    return NoiseModel(noise_std(r, lag) / math.sqrt(left), lag, tau)
+
+
 def flexible_remainder(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int = 128,
                        window_s: float = 0.1) -> np.ndarray:
     """What is left of ``r`` after a flexible description of any structure.
@@ -330,8 +404,8 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     """
     # noise correlation from what a flexible description leaves; level from lagged
     # differences of the residual itself at the lag where that noise decorrelates
-    noise = noise_model(flexible_remainder(r, idx, sig), sig.scales.sample_rate_hz)
-    sigma = noise_std(r, noise.lag)
+    noise = coloured_noise_model(r, idx, sig)
+    sigma = noise.sigma
     var_noise = sigma ** 2 * noise.tau  # bin means of correlated noise vary as σ²·τ/n
     theta = sig.theta_smooth[idx]
     nb = bins
