@@ -248,8 +248,54 @@ class ElastoPlastic(Hysteresis):
                 "presliding_stiffness_Nm_per_rad": float(p[0] / p[1])}
 
 
+class Stribeck(Hysteresis):
+    """Presliding friction whose sliding level falls with speed (the Stribeck effect):
+    ``H(v) = H + ΔH·exp(-(v/v_s)²)`` (N·m; ``v_s`` rad/s), taken up after each turn
+    over the presliding angle θ_p as the library's law does.
+
+    Breakaway friction (``H + ΔH``) above the sliding friction at speed: lubricated
+    contacts, LuGre-like bristle friction. With ``ΔH = 0`` it is the library's law; the
+    friction then differs between slow and fast parts of a record, which one friction
+    torque cannot describe."""
+
+    law = "stribeck"
+    meaning = ("friction with a Stribeck curve: a breakaway level H + ΔH at low speed "
+               "falling to the sliding level H above the Stribeck speed v_s, taken up over a "
+               "presliding angle after each turn")
+
+    def params(self, sc):
+        v_ref = sc.theta_ref * 2.0
+        return Hysteresis.params(self, sc) + (
+            Param("stribeck_excess", 0.0, 0.5 * sc.torque_ref, 0.0, 0.01 * sc.torque_ref),
+            Param("stribeck_speed", 1e-4 * v_ref, v_ref, 0.01 * v_ref, 0.02 * v_ref))
+
+    def starts(self, sc):
+        return [np.array([0.02 * sc.torque_ref, 0.01 * sc.theta_ref, 0.02 * sc.torque_ref,
+                          f * sc.theta_ref]) for f in (0.02, 0.1, 0.5)]
+
+    def physical_problem(self, p, stiffness, sc):
+        q = self.params(sc)[3]
+        if p[2] > 0.0 and p[3] >= q.upper * (1 - 1e-4):
+            return (f"Stribeck speed {p[3]:.4g} rad/s rests on its upper bound: a friction "
+                    "that falls over every speed of the record is no Stribeck curve")
+        return super().physical_problem(p[:2], stiffness, sc)
+
+    def torque(self, p, sig, idx, fraction=None):
+        if fraction is not None:
+            v = np.interp(fraction, np.arange(sig.n), sig.rate_trace)
+        else:
+            v = sig.rate_trace[idx]
+        level = p[0] + p[2] * np.exp(-np.square(v / p[3]))
+        return Hysteresis.torque(self, np.array([1.0, p[1]]), sig, idx, fraction) * level
+
+    def report(self, p, stiffness, sc):
+        return {"friction_torque_Nm": float(p[0]), "presliding_rad": float(p[1]),
+                "breakaway_friction_Nm": float(p[0] + p[2]),
+                "stribeck_speed_rad_per_s": float(p[3])}
+
+
 #: laws of each family other than the library's, tried in its place once it is named
 OTHER_LAWS: dict[str, tuple[Effect, ...]] = {
     "time_lag": (ViscousDamping(), FirstOrderLag(), TorqueFilter(), StandardLinearSolid()),
-    "hysteresis": (RegularisedCoulomb(), ElastoPlastic()),
+    "hysteresis": (RegularisedCoulomb(), ElastoPlastic(), Stribeck()),
 }

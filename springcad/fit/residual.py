@@ -63,19 +63,22 @@ def noise_model(r: np.ndarray, sample_rate_hz: float) -> NoiseModel:
 
 
 #: AR(1) coefficients tried by :func:`coloured_noise_model` (denser towards 1)
-AR1_GRID = tuple(1.0 - np.geomspace(0.7, 0.01, 40))
+AR1_GRID = tuple(1.0 - np.geomspace(0.7, 0.01, 10))
+#: longest lag of the autocorrelation matched, and how many lags (log-spaced) up to it
+AR1_MAX_LAG = 400
+AR1_LAGS = 16
+#: pseudo-random draws averaged for the remainder's autocorrelation of each model
+AR1_DRAWS = 3
 #: AR(1) shares of the noise variance tried beside them
 AR1_SHARES = np.linspace(0.0, 1.0, 41)
 #: the AR(1) + white model must reproduce the remainder's autocorrelation this closely (RMS)
 AR1_FIT_TOLERANCE = 0.05
 
 
-def _autocov(x: np.ndarray, kmax: int) -> np.ndarray:
-    """Autocovariance of ``x`` (mean removed) at lags 0 … ``kmax`` (per sample)."""
+def _autocov(x: np.ndarray, lags: np.ndarray) -> np.ndarray:
+    """Autocovariance of ``x`` (mean removed) at lag 0 and at ``lags`` (≥ 1; per sample)."""
     x = x - x.mean()
-    m = 1 << int(math.ceil(math.log2(2 * x.size)))
-    f = np.fft.rfft(x, m)
-    return np.fft.irfft(f * np.conj(f), m)[:kmax + 1] / x.size
+    return np.array([float(x @ x)] + [float(x[k:] @ x[:-k]) for k in lags]) / x.size
 
 
 def coloured_noise_model(r: np.ndarray, idx: np.ndarray, sig: Signals) -> NoiseModel:
@@ -89,9 +92,9 @@ def coloured_noise_model(r: np.ndarray, idx: np.ndarray, sig: Signals) -> NoiseM
     coefficient of 0.9 decorrelates over tens of samples), so its decorrelation lag and
     correlation time come out short and its level low. Here the remainder's
     autocorrelation is matched with that of white plus AR(1) noise put through the same
-    remainder (a fixed pseudo-random draw on the record's own samples): the model of
-    coefficient ``ρ`` and AR share ``s`` that reproduces it gives the noise's
-    decorrelation lag (``s·ρ^k < 0.05``), its correlation time ``1 + 2·s·ρ/(1 - ρ)``,
+    remainder (fixed pseudo-random draws on the record's own samples, ``AR1_DRAWS``
+    averaged): the model of coefficient ``ρ`` and AR share ``s`` that reproduces it
+    gives the noise's decorrelation lag (``s·ρ^k < 0.05``), its correlation time ``1 + 2·s·ρ/(1 - ρ)``,
     and the level's correction for what lagged differences at that lag still miss.
     Kept when the remainder's own lag is over two samples and the model reproduces its
     autocorrelation within ``AR1_FIT_TOLERANCE``; otherwise :func:`noise_model`'s.
@@ -101,37 +104,44 @@ def coloured_noise_model(r: np.ndarray, idx: np.ndarray, sig: Signals) -> NoiseM
         (its lagged differences at ``lag``, corrected for the correlation left at that lag).
     """
     rate = sig.scales.sample_rate_hz
-    fr = flexible_remainder(r, idx, sig)
+    remainder = _remainder_keys(idx, sig)
+    fr = remainder(r)
     base = noise_model(fr, rate)
     plain = NoiseModel(noise_std(r, base.lag), base.lag, base.tau)
     if base.lag <= 2 or r.size < 200:
         return plain
-    kmax = int(min(max(4 * base.lag, 20), r.size // 8))
-    data = _autocov(fr, kmax)
+    kmax = int(min(max(4 * base.lag, 20), AR1_MAX_LAG, r.size // 8))
+    lags = np.unique(np.round(np.geomspace(1, kmax, AR1_LAGS)).astype(int))
+    data = _autocov(fr, lags)
     if data[0] <= 0.0:
         return plain
     data = data[1:] / data[0]
-    z = np.random.default_rng(20261126).standard_normal(r.size)
-    white = _autocov(flexible_remainder(z, idx, sig), kmax)
+    draws = np.random.default_rng(20261126).standard_normal((AR1_DRAWS, r.size))
+    white = sum(_autocov(remainder(z), lags) for z in draws)
     from scipy.signal import lfilter
 
-    best = (math.inf, 0.0, 0.0)
-    for rho in AR1_GRID:
-        a = lfilter([math.sqrt(1.0 - rho * rho)], [1.0, -rho], z)
-        ar = _autocov(flexible_remainder(a, idx, sig), kmax)
+    def fit(rho: float) -> tuple[float, float, float]:
+        a = lfilter([math.sqrt(1.0 - rho * rho)], [1.0, -rho], draws, axis=1)
+        ar = sum(_autocov(remainder(z), lags) for z in a)
         mix = AR1_SHARES[:, None] * ar[None, :] + (1.0 - AR1_SHARES[:, None]) * white[None, :]
         model = mix[:, 1:] / mix[:, :1]
         err = np.sqrt(np.mean((model - data[None, :]) ** 2, axis=1))
         j = int(np.argmin(err))
-        if err[j] < best[0]:
-            best = (float(err[j]), float(rho), float(AR1_SHARES[j]))
+        return float(err[j]), rho, float(AR1_SHARES[j])
+
+    # coarse grid in 1 - ρ (log-spaced), then finer about the best
+    best = min(fit(rho) for rho in AR1_GRID)
+    q = math.log(1.0 - best[1])
+    step = math.log((1.0 - AR1_GRID[0]) / (1.0 - AR1_GRID[1]))
+    fine = [1.0 - math.exp(q + f * step) for f in (-0.66, -0.33, 0.33, 0.66)]
+    best = min([best] + [fit(rho) for rho in fine if 0.0 < rho < 0.999])
     err, rho, share = best
     if err > AR1_FIT_TOLERANCE or share * rho <= 0.0:
         return plain
     below = share * rho ** np.arange(1, 10 * kmax + 1) < 0.05
     lag = int(np.argmax(below)) + 1 if below.any() else 10 * kmax
     lag = max(lag, base.lag)
-    tau = max(base.tau, 1.0 + 2.0 * share * rho / (1.0 - rho))
+    tau = float(max(base.tau, 1.0 + 2.0 * share * rho / (1.0 - rho)))
     left = max(1.0 - share * rho ** lag, 0.5)
     return NoiseModel(noise_std(r, lag) / math.sqrt(left), lag, tau)
 
@@ -146,16 +156,26 @@ def flexible_remainder(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     swept past at speed) would otherwise read as correlated noise; what is
     left is noise, for the noise level and correlation time.
     """
+    return _remainder_keys(idx, sig, bins, window_s)(r)
+
+
+def _remainder_keys(idx: np.ndarray, sig: Signals, bins: int = 128, window_s: float = 0.1):
+    """:func:`flexible_remainder` for samples ``idx`` as a function of the residual (the
+    bins worked out once, for many residuals on the same samples)."""
     theta = sig.theta_smooth[idx]
     edges = np.linspace(theta.min(), theta.max(), bins + 1)
-    key = 2 * np.clip(np.searchsorted(edges, theta, side="right") - 1, 0, bins - 1)
-    key = key + (sig.direction[idx] > 0)
-    cnt = np.bincount(key)
-    out = r - (np.bincount(key, weights=r) / np.maximum(cnt, 1))[key]
+    k1 = 2 * np.clip(np.searchsorted(edges, theta, side="right") - 1, 0, bins - 1)
+    k1 = k1 + (sig.direction[idx] > 0)
+    n1 = np.maximum(np.bincount(k1), 1)
     t = sig.t[idx]
-    key = ((t - t[0]) / window_s).astype(int)
-    cnt = np.bincount(key)
-    return out - (np.bincount(key, weights=out) / np.maximum(cnt, 1))[key]
+    k2 = ((t - t[0]) / window_s).astype(int)
+    n2 = np.maximum(np.bincount(k2), 1)
+
+    def remainder(r: np.ndarray) -> np.ndarray:
+        out = r - (np.bincount(k1, weights=r) / n1)[k1]
+        return out - (np.bincount(k2, weights=out) / n2)[k2]
+
+    return remainder
 
 
 def run_features(r: np.ndarray, idx: np.ndarray, sig: Signals, min_samples: int = 20) -> dict:
