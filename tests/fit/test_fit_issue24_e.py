@@ -15,7 +15,7 @@ from issue24_records import dahl_friction, ramps, sine_sweep
 from springcad.fit.analysis import fit_record
 from springcad.fit.data import make_record
 from springcad.fit.effects import get_effect
-from springcad.fit.evidence import _same_sign_each
+from springcad.fit.evidence import _one_way
 from springcad.fit.residual import coloured_noise_model, residual_structure
 from springcad.fit.segment import segment
 from springcad.fit.signals import make_signals
@@ -117,9 +117,10 @@ def test_a_drift_whose_rate_settles_is_named_and_what_its_line_leaves_is_flagged
     # a torque zero settling exponentially (by 0.6 N·m, time constant a fifth of the
     # record) on a staircase: a drift, though not a linear one; each third of the record
     # shows it with the same sign, the residual holds the curve a line cannot follow
-    assert _same_sign_each(((-4.3, 0.5), (-0.34, 0.08)), 0.0, 3.0)
-    assert not _same_sign_each(((-4.3, 0.5), (0.34, 0.08)), 0.0, 3.0)
-    assert not _same_sign_each(((-4.3, 0.5), (-0.1, 0.08)), 0.0, 3.0)
+    assert _one_way(((-4.3, 0.5), (-0.34, 0.08)), 0.0, 3.0)
+    assert _one_way(((-0.45, 0.087), (0.002, 0.005)), 0.0, 3.0)  # settled in the last third
+    assert not _one_way(((-4.3, 0.5), (0.34, 0.08)), 0.0, 3.0)  # one way, then back
+    assert not _one_way(((-0.1, 0.5), (0.1, 0.08)), 0.0, 3.0)  # nowhere
     t, th = ramps([8, 16], [10.0, 10.0], hold_s=0.8)
     t, th = np.concatenate([t, t + t[-1] + t[1]]), np.concatenate([th, th])
     rng = np.random.default_rng(11)
