@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from springcad.fit.effects import Effect, Hysteresis, Param, TimeLag
+from springcad.fit.effects import Backlash, Effect, Hysteresis, Param, TimeLag
 
 class ViscousDamping(TimeLag):
     """Rate-proportional torque ``c·dθ/dt`` (N·m·s/rad): the time-lag family's damper law."""
@@ -294,8 +294,63 @@ class Stribeck(Hysteresis):
                 "stribeck_speed_rad_per_s": float(p[3])}
 
 
+class HertzianTakeUp(Backlash):
+    """A gap of width b = 2h (rad) closed through a Hertzian contact in series with the
+    spring: past the gap the contact compresses as ``c = κ·u^(2/3)`` (κ in rad^(1/3))
+    while the spring deflects by u (contact force ∝ c^(3/2), spring torque ``K·u``), so
+    the measured deflection beyond the gap is ``u + c`` and the torque rises as a power
+    law, not at once.
+
+    The library's crossover is taken up over a transition and then runs parallel to
+    ``K·θ``; a Hertzian contact stays compliant at every load (its stiffness grows as the
+    torque's cube root), which reads as a stiffening of the whole curve."""
+
+    law = "hertzian_contact"
+    meaning = ("a gap of width b taken up through a Hertzian (point or line) contact in "
+               "series with the spring: the torque rises as a power law past the gap, and "
+               "the contact keeps compressing as the torque grows")
+
+    def params(self, sc):
+        kappa_max = 0.3 * sc.theta_ref ** (1.0 / 3.0)  # 0.3·θ_ref of contact at u = θ_ref
+        return (Backlash.params(self, sc)[0],
+                Param("contact_compliance", 0.0, kappa_max, 0.0, 0.03 * kappa_max))
+
+    def starts(self, sc):
+        kappa_ref = sc.theta_ref ** (1.0 / 3.0)
+        return [np.array([f * sc.theta_ref, g * kappa_ref])
+                for f in (0.01, 0.03, 0.06, 0.1) for g in (0.01, 0.05)]
+
+    def physical_problem(self, p, stiffness, sc):
+        q = self.params(sc)[1]
+        if p[1] >= q.upper * (1 - 1e-4):
+            return (f"contact compliance {p[1]:.4g} rad^(1/3) rests on its upper bound: a "
+                    "contact softer than the spring is no take-up")
+        return Effect.physical_problem(self, p, stiffness, sc)
+
+    def map(self, x, p):
+        half, kappa = float(p[0]), max(float(p[1]), 0.0)
+        d = np.maximum(np.abs(x) - half, 0.0)
+        if kappa <= 0.0:
+            return np.sign(x) * d
+        # u + κ·u^(2/3) = d; with w = u^(1/3): w³ + κ·w² = d, solved by Newton's method
+        # from above the root (the cubic is increasing and convex for w > 0)
+        w = np.minimum(np.cbrt(d), np.sqrt(d / kappa))
+        for _ in range(40):
+            step = (w * w * (w + kappa) - d) / np.maximum(w * (3.0 * w + 2.0 * kappa), 1e-300)
+            w = w - step
+            if float(np.max(np.abs(step))) <= 1e-10 * max(float(np.max(w)), 1e-12):
+                break
+        return np.sign(x) * w ** 3
+
+    def report(self, p, stiffness, sc):
+        return {"backlash_rad": 2.0 * float(p[0]),
+                "contact_compliance_rad_cbrt": float(p[1]),
+                "contact_compression_at_max_rad": float(p[1] * sc.theta_ref ** (2.0 / 3.0))}
+
+
 #: laws of each family other than the library's, tried in its place once it is named
 OTHER_LAWS: dict[str, tuple[Effect, ...]] = {
     "time_lag": (ViscousDamping(), FirstOrderLag(), TorqueFilter(), StandardLinearSolid()),
     "hysteresis": (RegularisedCoulomb(), ElastoPlastic(), Stribeck()),
+    "backlash": (HertzianTakeUp(),),
 }
