@@ -62,6 +62,8 @@ def noise_model(r: np.ndarray, sample_rate_hz: float) -> NoiseModel:
     return NoiseModel(noise_std(r, lag), lag, tau)
 
 
+#: time window (s) whose means :func:`flexible_remainder` takes out
+REMAINDER_WINDOW_S = 0.1
 #: AR(1) coefficients tried by :func:`coloured_noise_model` (denser towards 1)
 AR1_GRID = tuple(1.0 - np.geomspace(0.7, 0.01, 10))
 #: longest lag of the autocorrelation matched, and how many lags (log-spaced) up to it
@@ -69,6 +71,11 @@ AR1_MAX_LAG = 400
 AR1_LAGS = 16
 #: pseudo-random draws averaged for the remainder's autocorrelation of each model
 AR1_DRAWS = 3
+#: least share of the noise variance in the AR(1) part: a sensor's coloured noise is most
+#: of its noise; a small share correlated over a long time is slow structure
+AR1_MIN_SHARE = 0.5
+#: the AR(1) + white model must predict the level of one-sample differences within this factor
+AR1_LEVEL_RATIO = 1.25
 #: AR(1) shares of the noise variance tried beside them
 AR1_SHARES = np.linspace(0.0, 1.0, 41)
 #: the AR(1) + white model must reproduce the remainder's autocorrelation this closely (RMS)
@@ -96,8 +103,13 @@ def coloured_noise_model(r: np.ndarray, idx: np.ndarray, sig: Signals) -> NoiseM
     averaged): the model of coefficient ``ρ`` and AR share ``s`` that reproduces it
     gives the noise's decorrelation lag (``s·ρ^k < 0.05``), its correlation time ``1 + 2·s·ρ/(1 - ρ)``,
     and the level's correction for what lagged differences at that lag still miss.
-    Kept when the remainder's own lag is over two samples and the model reproduces its
-    autocorrelation within ``AR1_FIT_TOLERANCE``; otherwise :func:`noise_model`'s.
+    Kept when the remainder's own lag is over two samples, the model reproduces its
+    autocorrelation within ``AR1_FIT_TOLERANCE`` with at least ``AR1_MIN_SHARE`` of the
+    variance in the AR(1) part, its correlation (``1/(1 - ρ)`` samples) is within half
+    the remainder's time window (a longer one is slow structure the remainder kept, not
+    noise it measures), and it predicts the level of the
+    one-sample differences within ``AR1_LEVEL_RATIO`` (differences at the long lag that
+    hold slow structure do not); otherwise :func:`noise_model`'s.
 
     Returns:
         The noise model; ``sigma`` is the white-equivalent level of the residual ``r``
@@ -136,18 +148,29 @@ def coloured_noise_model(r: np.ndarray, idx: np.ndarray, sig: Signals) -> NoiseM
     fine = [1.0 - math.exp(q + f * step) for f in (-0.66, -0.33, 0.33, 0.66)]
     best = min([best] + [fit(rho) for rho in fine if 0.0 < rho < 0.999])
     err, rho, share = best
-    if err > AR1_FIT_TOLERANCE or share * rho <= 0.0:
+    # a correlation longer than half the remainder's time window is not one it measures:
+    # slow structure (a stiffness that stepped, spread over the deflection bins) left in
+    # the remainder, not noise
+    window = REMAINDER_WINDOW_S * rate / max(float(np.median(np.diff(idx))), 1.0)
+    if (err > AR1_FIT_TOLERANCE or share < AR1_MIN_SHARE or rho <= 0.0
+            or 1.0 / (1.0 - rho) > 0.5 * window):
         return plain
     below = share * rho ** np.arange(1, 10 * kmax + 1) < 0.05
     lag = int(np.argmax(below)) + 1 if below.any() else 10 * kmax
     lag = max(lag, base.lag)
     tau = float(max(base.tau, 1.0 + 2.0 * share * rho / (1.0 - rho)))
     left = max(1.0 - share * rho ** lag, 0.5)
-    return NoiseModel(noise_std(r, lag) / math.sqrt(left), lag, tau)
+    sigma = noise_std(r, lag) / math.sqrt(left)
+    # the model must also give the level of the differences between neighbours: where the
+    # differences at the long lag hold slow structure, those at one sample do not
+    ratio = noise_std(r, 1) / (sigma * math.sqrt(max(1.0 - share * rho, 1e-12)))
+    if not 1.0 / AR1_LEVEL_RATIO <= ratio <= AR1_LEVEL_RATIO:
+        return plain
+    return NoiseModel(sigma, lag, tau)
 
 
 def flexible_remainder(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int = 128,
-                       window_s: float = 0.1) -> np.ndarray:
+                       window_s: float = REMAINDER_WINDOW_S) -> np.ndarray:
     """What is left of ``r`` after a flexible description of any structure.
 
     The residual's means in fine bins of deflection (per direction of motion)
@@ -159,7 +182,8 @@ def flexible_remainder(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     return _remainder_keys(idx, sig, bins, window_s)(r)
 
 
-def _remainder_keys(idx: np.ndarray, sig: Signals, bins: int = 128, window_s: float = 0.1):
+def _remainder_keys(idx: np.ndarray, sig: Signals, bins: int = 128,
+                    window_s: float = REMAINDER_WINDOW_S):
     """:func:`flexible_remainder` for samples ``idx`` as a function of the residual (the
     bins worked out once, for many residuals on the same samples)."""
     theta = sig.theta_smooth[idx]

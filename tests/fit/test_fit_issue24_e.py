@@ -113,6 +113,23 @@ def test_coloured_noise_model_recovers_the_correlation_time_of_ar1_noise(rho):
     assert not residual_structure(r, idx, sig)[1]
 
 
+def test_slow_structure_left_in_the_remainder_is_not_taken_for_coloured_noise():
+    # what a stiffness that dropped by 2 % mid-test leaves (∝ θ in the second half), beside
+    # white noise: its correlation reaches past the remainder's 0.1 s windows, so it is not
+    # read as AR(1) noise with a long correlation time, and the residual tests find it
+    t, th = ramps([10, 20], [10.0], hold_s=0.5, fs=1000.0)
+    t, th = np.concatenate([t, t + t[-1] + t[1]]), np.concatenate([th, th])
+    rng = np.random.default_rng(4)
+    step = np.where(t > 0.5 * t[-1], -0.02 * K * th, 0.0)
+    noise = rng.normal(0.0, 0.01, t.size)
+    rec = make_record(t, K * th + step + noise, th)
+    sig = make_signals(rec, segment(rec))
+    idx = np.arange(sig.n)
+    r = step - np.mean(step) + noise
+    assert coloured_noise_model(r, idx, sig).tau < 2.0
+    assert residual_structure(r, idx, sig)[1]
+
+
 def test_a_drift_whose_rate_settles_is_named_and_what_its_line_leaves_is_flagged():
     # a torque zero settling exponentially (by 0.6 N·m, time constant a fifth of the
     # record) on a staircase: a drift, though not a linear one; each third of the record
