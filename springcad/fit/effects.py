@@ -88,6 +88,10 @@ class Effect:
     #: that drifts fast after taring, then settles): parts of the record that each support
     #: it with one sign show it, though their rates differ (the evidence audit)
     monotone: bool = False
+    #: a law the search proposes and the confounding test tries as a reading of its own;
+    #: ``False``: a refinement of the library's law (its special case plus freedom), only
+    #: fitted in the library law's place once the family is named (:mod:`springcad.fit.laws`)
+    reads_alone: bool = True
     #: a torque of the spring's material, acting on the spring's own deflection (after a
     #: crossover): evaluated by ``spring_torque`` on the whole smooth trace of it
     on_spring: bool = False

@@ -41,7 +41,7 @@ import numpy as np
 from scipy import ndimage
 
 from springcad.fit.data import make_record
-from springcad.fit.effects import LIBRARY, get_effect
+from springcad.fit.effects import LIBRARY, Effect, get_effect
 from springcad.fit.inference import Uncertainty, jacobian, report_intervals
 from springcad.fit.other_laws import OTHER_LAWS
 from springcad.fit.protocols import Protocol, SineSweep
@@ -75,6 +75,12 @@ def pair_correlation(J: np.ndarray, i: int, j: int) -> float:
 def vif(rho: float) -> float:
     """Variance inflation factor of a correlation."""
     return math.inf if abs(rho) >= 1.0 else 1.0 / (1.0 - rho * rho)
+
+
+def _alternatives(family: Effect) -> tuple[Effect, ...]:
+    """The family's laws that may read as another family's effect: the library's and
+    every other law but the refinements with more freedom (``reads_alone``)."""
+    return (family,) + tuple(law for law in OTHER_LAWS.get(family.name, ()) if law.reads_alone)
 
 
 def turn_window_s(model: TorqueModel, x: np.ndarray, sig: Signals) -> float:
@@ -367,7 +373,7 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
         # every law of the family (a friction that lets go at rest reads like a damper
         # where a presliding one does not)
         signatures[f.name] = []
-        for law in (f,) + OTHER_LAWS.get(f.name, ()):
+        for law in _alternatives(f):
             joint = state.model.with_effect(law)
             signatures[f.name].append(
                 joint.predict(joint.transfer(state.model, state.x), sig, idx) - base)
@@ -394,7 +400,7 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
             # the pair: both fitted together; the pair is confounded when one law reads
             # like e (a damper like a friction that lets go at rest, on one speed)
             found = []
-            for law in (f,) + OTHER_LAWS.get(f.name, ()):
+            for law in _alternatives(f):
                 m_swap, x_swap, score_swap, _ = search.try_law(minus, law, f_scale)
                 fx = x_swap[m_swap.slice_of(f.name)]
                 if (score_minus - score_swap <= s.gain_threshold

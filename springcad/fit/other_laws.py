@@ -249,33 +249,37 @@ class ElastoPlastic(Hysteresis):
 
 
 class Stribeck(Hysteresis):
-    """Presliding friction whose sliding level falls with speed (the Stribeck effect):
-    ``H(v) = H + ΔH·exp(-(v/v_s)²)`` (N·m; ``v_s`` rad/s), taken up after each turn
-    over the presliding angle θ_p as the library's law does.
+    """Presliding friction whose level falls with speed (the Stribeck effect): breakaway
+    friction ``H`` (N·m) at rest falling to the sliding level ``f·H`` above the Stribeck
+    speed ``v_s`` (rad/s), ``H(v) = H·(f + (1 - f)·exp(-(v/v_s)²))``, taken up after each
+    turn over the presliding angle θ_p as the library's law does.
 
-    Breakaway friction (``H + ΔH``) above the sliding friction at speed: lubricated
-    contacts, LuGre-like bristle friction. With ``ΔH = 0`` it is the library's law; the
-    friction then differs between slow and fast parts of a record, which one friction
-    torque cannot describe."""
+    Breakaway friction above the sliding friction at speed: lubricated contacts,
+    LuGre-like bristle friction. With ``f = 1`` it is the library's law; the friction
+    then differs between slow and fast parts of a record, which one friction torque
+    cannot describe. A refinement of the library's law (its special case plus two
+    parameters), tried in its place once friction is named, not as another family's
+    reading of an effect (``reads_alone``)."""
 
     law = "stribeck"
-    meaning = ("friction with a Stribeck curve: a breakaway level H + ΔH at low speed "
-               "falling to the sliding level H above the Stribeck speed v_s, taken up over a "
+    meaning = ("friction with a Stribeck curve: a breakaway level H at low speed falling to "
+               "the sliding level f·H above the Stribeck speed v_s, taken up over a "
                "presliding angle after each turn")
+    reads_alone = False
 
     def params(self, sc):
         v_ref = sc.theta_ref * 2.0
         return Hysteresis.params(self, sc) + (
-            Param("stribeck_excess", 0.0, 0.5 * sc.torque_ref, 0.0, 0.01 * sc.torque_ref),
+            Param("sliding_fraction", 0.0, 1.0, 1.0, 0.7),
             Param("stribeck_speed", 1e-4 * v_ref, v_ref, 0.01 * v_ref, 0.02 * v_ref))
 
     def starts(self, sc):
-        return [np.array([0.02 * sc.torque_ref, 0.01 * sc.theta_ref, 0.02 * sc.torque_ref,
+        return [np.array([0.03 * sc.torque_ref, 0.01 * sc.theta_ref, 0.6,
                           f * sc.theta_ref]) for f in (0.02, 0.1, 0.5)]
 
     def physical_problem(self, p, stiffness, sc):
         q = self.params(sc)[3]
-        if p[2] > 0.0 and p[3] >= q.upper * (1 - 1e-4):
+        if p[2] < 1.0 and p[3] >= q.upper * (1 - 1e-4):
             return (f"Stribeck speed {p[3]:.4g} rad/s rests on its upper bound: a friction "
                     "that falls over every speed of the record is no Stribeck curve")
         return super().physical_problem(p[:2], stiffness, sc)
@@ -285,12 +289,12 @@ class Stribeck(Hysteresis):
             v = np.interp(fraction, np.arange(sig.n), sig.rate_trace)
         else:
             v = sig.rate_trace[idx]
-        level = p[0] + p[2] * np.exp(-np.square(v / p[3]))
-        return Hysteresis.torque(self, np.array([1.0, p[1]]), sig, idx, fraction) * level
+        level = p[2] + (1.0 - p[2]) * np.exp(-np.square(v / p[3]))
+        return Hysteresis.torque(self, p[:2], sig, idx, fraction) * level
 
     def report(self, p, stiffness, sc):
         return {"friction_torque_Nm": float(p[0]), "presliding_rad": float(p[1]),
-                "breakaway_friction_Nm": float(p[0] + p[2]),
+                "sliding_friction_Nm": float(p[0] * p[2]),
                 "stribeck_speed_rad_per_s": float(p[3])}
 
 
@@ -303,9 +307,11 @@ class HertzianTakeUp(Backlash):
 
     The library's crossover is taken up over a transition and then runs parallel to
     ``K·θ``; a Hertzian contact stays compliant at every load (its stiffness grows as the
-    torque's cube root), which reads as a stiffening of the whole curve."""
+    torque's cube root), which reads as a stiffening of the whole curve. Fitted in the
+    crossover's place once backlash is named (``reads_alone``)."""
 
     law = "hertzian_contact"
+    reads_alone = False
     meaning = ("a gap of width b taken up through a Hertzian (point or line) contact in "
                "series with the spring: the torque rises as a power law past the gap, and "
                "the contact keeps compressing as the torque grows")
