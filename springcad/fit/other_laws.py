@@ -248,40 +248,47 @@ class ElastoPlastic(Hysteresis):
                 "presliding_stiffness_Nm_per_rad": float(p[0] / p[1])}
 
 
+#: largest breakaway friction of the Stribeck law, in sliding frictions above the sliding one
+MAX_STRIBECK_RATIO = 5.0
+
+
 class Stribeck(Hysteresis):
-    """Presliding friction whose level falls with speed (the Stribeck effect): breakaway
-    friction ``H`` (N·m) at rest falling to the sliding level ``f·H`` above the Stribeck
-    speed ``v_s`` (rad/s), ``H(v) = H·(f + (1 - f)·exp(-(v/v_s)²))``, taken up after each
-    turn over the presliding angle θ_p as the library's law does.
+    """Presliding friction whose level falls with speed (the Stribeck effect): sliding
+    friction ``H`` (N·m) at speed, rising to the breakaway level ``H·(1 + r)`` at rest
+    below the Stribeck speed ``v_s`` (rad/s), ``H(v) = H·(1 + r·exp(-(v/v_s)²))``, taken
+    up after each turn over the presliding angle θ_p as the library's law does.
 
     Breakaway friction above the sliding friction at speed: lubricated contacts,
-    LuGre-like bristle friction. With ``f = 1`` it is the library's law; the friction
+    LuGre-like bristle friction. With ``r = 0`` it is the library's law; the friction
     then differs between slow and fast parts of a record, which one friction torque
     cannot describe. A refinement of the library's law (its special case plus two
     parameters), tried in its place once friction is named, not as another family's
     reading of an effect (``reads_alone``)."""
 
     law = "stribeck"
-    meaning = ("friction with a Stribeck curve: a breakaway level H at low speed falling to "
-               "the sliding level f·H above the Stribeck speed v_s, taken up over a "
+    meaning = ("friction with a Stribeck curve: a sliding level H at speed rising to the "
+               "breakaway level H·(1 + r) below the Stribeck speed v_s, taken up over a "
                "presliding angle after each turn")
     reads_alone = False
 
     def params(self, sc):
         v_ref = sc.theta_ref * 2.0
         return Hysteresis.params(self, sc) + (
-            Param("sliding_fraction", 0.0, 1.0, 1.0, 0.7),
+            Param("stribeck_ratio", 0.0, MAX_STRIBECK_RATIO, 0.0, 0.5),
             Param("stribeck_speed", 1e-4 * v_ref, v_ref, 0.01 * v_ref, 0.02 * v_ref))
 
     def starts(self, sc):
-        return [np.array([0.03 * sc.torque_ref, 0.01 * sc.theta_ref, 0.6,
+        return [np.array([0.02 * sc.torque_ref, 0.01 * sc.theta_ref, 0.5,
                           f * sc.theta_ref]) for f in (0.02, 0.1, 0.5)]
 
     def physical_problem(self, p, stiffness, sc):
-        q = self.params(sc)[3]
-        if p[2] < 1.0 and p[3] >= q.upper * (1 - 1e-4):
+        q = self.params(sc)
+        if p[2] > 0.0 and p[3] >= q[3].upper * (1 - 1e-4):
             return (f"Stribeck speed {p[3]:.4g} rad/s rests on its upper bound: a friction "
                     "that falls over every speed of the record is no Stribeck curve")
+        if p[2] >= q[2].upper * (1 - 1e-4):
+            return (f"breakaway {1 + p[2]:.3g} times the sliding friction rests on its upper "
+                    "bound: no friction law the record supports")
         return super().physical_problem(p[:2], stiffness, sc)
 
     def torque(self, p, sig, idx, fraction=None):
@@ -289,12 +296,12 @@ class Stribeck(Hysteresis):
             v = np.interp(fraction, np.arange(sig.n), sig.rate_trace)
         else:
             v = sig.rate_trace[idx]
-        level = p[2] + (1.0 - p[2]) * np.exp(-np.square(v / p[3]))
+        level = 1.0 + p[2] * np.exp(-np.square(v / p[3]))
         return Hysteresis.torque(self, p[:2], sig, idx, fraction) * level
 
     def report(self, p, stiffness, sc):
         return {"friction_torque_Nm": float(p[0]), "presliding_rad": float(p[1]),
-                "sliding_friction_Nm": float(p[0] * p[2]),
+                "breakaway_friction_Nm": float(p[0] * (1.0 + p[2])),
                 "stribeck_speed_rad_per_s": float(p[3])}
 
 

@@ -162,8 +162,8 @@ def test_stribeck_friction_on_three_rates_is_fitted_with_its_law_and_flagged():
     assert "hysteresis" in loop.final.effects
     assert loop.laws["hysteresis"]["law"] == "stribeck"
     p = loop.final.params()
-    assert p["sliding_friction_Nm"] == pytest.approx(0.4, rel=0.1)
-    assert p["friction_torque_Nm"] == pytest.approx(0.8, rel=0.15)  # breakaway
+    assert p["friction_torque_Nm"] == pytest.approx(0.4, rel=0.1)  # sliding
+    assert p["breakaway_friction_Nm"] == pytest.approx(0.8, rel=0.15)
     assert loop.unexplained
     found = [f for f in loop.localisation["findings"] if f["kind"] == "law_outside_library"]
     assert ("hysteresis", "stribeck") in [(f["family"], f["law"]) for f in found]
