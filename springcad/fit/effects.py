@@ -14,7 +14,8 @@ The common model, in evaluation order::
 
     θ₁ = θ(t - δ) - θ₀                       angle stage   (time_lag, angle_offset)
     x  = θ_spring(θ₁; h, l)                   map stage     (backlash, eq. 9)
-    τ  = K · x · (1 + a·sign x) · (1 + α·(x/θ_ref)²)   factor stage (asymmetric_stiffness, stiffening)
+    τ  = K · x · (1 + a·sign x + α·(x/θ_ref)²)   factor stage (asymmetric_stiffness, stiffening:
+                                              the factors' departures from 1 add)
        + H·d·(1 - 2·exp(-|θ - θ_rev|/θ_p))    torque stage  (hysteresis; 1·exp before the first reversal)
        + τ₀ + ṙ·(t - t₀)                      torque stage  (torque_offset, drift)
 
@@ -83,6 +84,14 @@ class Effect:
     signature: str = ""
     #: a torque of the spring itself, delayed with the torque channel (see ``time_shift_s``)
     delayed: bool = False
+    #: its size is a rate along the record that may change without changing sign (a zero
+    #: that drifts fast after taring, then settles): parts of the record that each support
+    #: it with one sign show it, though their rates differ (the evidence audit)
+    monotone: bool = False
+    #: a law the search proposes and the confounding test tries as a reading of its own;
+    #: ``False``: a refinement of the library's law (its special case plus freedom), only
+    #: fitted in the library law's place once the family is named (:mod:`springcad.fit.laws`)
+    reads_alone: bool = True
     #: a torque of the spring's material, acting on the spring's own deflection (after a
     #: crossover): evaluated by ``spring_torque`` on the whole smooth trace of it
     on_spring: bool = False
@@ -246,7 +255,13 @@ class Hysteresis(Effect):
             w = fraction - i0
             inter = (1.0 - w) * sig.from_reversal[i0] + w * sig.from_reversal[i0 + 1]
             away = np.where(same, inter, away)
-        return p[0] * sig.direction[idx] * (1.0 - sig.swing[idx] * np.exp(-away / p[1]))
+        return p[0] * sig.direction[idx] * self.take_up(away, sig.swing[idx], p[1])
+
+    @staticmethod
+    def take_up(away, swing, presliding):
+        """Friction over H after ``away`` rad of travel since the turn (``swing`` 2 after a
+        reversal, 1 from rest): an exponential approach (Dahl's law), ``-1`` → ``1``."""
+        return 1.0 - swing * np.exp(-away / presliding)
 
     def report(self, p, stiffness, sc):
         return {"friction_torque_Nm": float(p[0]), "presliding_rad": float(p[1])}
@@ -396,6 +411,7 @@ class Drift(Effect):
     stage = "torque"
     order = 1
     signature = "a torque growing linearly with time"
+    monotone = True
 
     def params(self, sc):
         # parameter: drift over the whole record (N·m)

@@ -25,6 +25,11 @@ each part. For every effect the split applies to, its size parameter must
    part values is at least ``support_z`` standard errors away from the value
    at which the effect vanishes.
 
+A monotone effect, a drift, agrees and is supported when one part shows it at
+``support_z`` and no part as strongly the other way: a zero that settles drifts at
+a falling rate (and not at all once settled); what its linear law leaves is the
+residual's to flag.
+
 An effect no split applies to (a short record: too few runs in a part) must
 still be supported, on the whole record with its clustered standard error: a
 friction that a thermal loss of stiffness fakes on a staircase (unloading
@@ -352,10 +357,24 @@ def _compare(checks: dict, model: TorqueModel, tested: list, split: str, parts, 
         p = wald_p(np.array([va - vb]), np.array([[sa * sa + sb * sb]]),
                    min(ua.dof, ub.dof))
         z = _support_z(((va, sa), (vb, sb)), null)
+        one_way = e.monotone and _one_way(((va, sa), (vb, sb)), null, support_z)
         checks[e.name].append(SplitCheck(
             split, (parts[0].label, parts[1].label),
             e.params(model.scales)[e.primary].name, (va, vb), (sa, sb), p, z,
-            p >= agreement_p, abs(z) >= support_z))
+            p >= agreement_p or one_way, abs(z) >= support_z or one_way))
+
+
+def _one_way(parts: tuple[tuple[float, float], ...], null: float, support_z: float) -> bool:
+    """Whether a part stands ``support_z`` standard errors from ``null`` and none stands
+    as far on the other side (``(value, standard error)`` parts): a monotone effect (a
+    torque zero drifting fast after taring, then settling) that the record shows one way,
+    though by different amounts in its parts (and none in the last, once settled); what
+    the linear law leaves is the residual's to flag."""
+    z = [(v - null) / se for v, se in parts if se > 0 and math.isfinite(se)]
+    if len(z) != len(parts):
+        return False
+    return ((max(z) >= support_z and min(z) > -support_z)
+            or (min(z) <= -support_z and max(z) < support_z))
 
 
 #: a standard error below this share of its value is round-off about a parameter resting on

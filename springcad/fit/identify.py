@@ -41,7 +41,7 @@ import numpy as np
 from scipy import ndimage
 
 from springcad.fit.data import make_record
-from springcad.fit.effects import LIBRARY, get_effect
+from springcad.fit.effects import LIBRARY, Effect, get_effect
 from springcad.fit.inference import Uncertainty, jacobian, report_intervals
 from springcad.fit.other_laws import OTHER_LAWS
 from springcad.fit.protocols import Protocol, SineSweep
@@ -77,6 +77,12 @@ def vif(rho: float) -> float:
     return math.inf if abs(rho) >= 1.0 else 1.0 / (1.0 - rho * rho)
 
 
+def _alternatives(family: Effect) -> tuple[Effect, ...]:
+    """The family's laws that may read as another family's effect: the library's and
+    every other law but the refinements with more freedom (``reads_alone``)."""
+    return (family,) + tuple(law for law in OTHER_LAWS.get(family.name, ()) if law.reads_alone)
+
+
 def turn_window_s(model: TorqueModel, x: np.ndarray, sig: Signals) -> float:
     """How long (s) after a reversal the model's effects are still turning over.
 
@@ -88,7 +94,8 @@ def turn_window_s(model: TorqueModel, x: np.ndarray, sig: Signals) -> float:
     window = 0.0
     for e in model.effects:
         p = x[model.slice_of(e.name)]
-        if e.name == "hysteresis" and e.law == "presliding" and typical > 0:
+        if e.name == "hysteresis" and e.law in ("presliding", "elasto_plastic", "stribeck") and typical > 0:
+            # three presliding angles (Dahl's) or the two of a full elasto-plastic swing
             window = max(window, 3.0 * float(p[1]) / typical)
         window = max(window, abs(e.time_shift_s(p)))
     return window + 0.02 if window > 0 else 0.0
@@ -366,7 +373,7 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
         # every law of the family (a friction that lets go at rest reads like a damper
         # where a presliding one does not)
         signatures[f.name] = []
-        for law in (f,) + OTHER_LAWS.get(f.name, ()):
+        for law in _alternatives(f):
             joint = state.model.with_effect(law)
             signatures[f.name].append(
                 joint.predict(joint.transfer(state.model, state.x), sig, idx) - base)
@@ -393,7 +400,7 @@ def find_confounded(state, search, f_scale: float, excluded: frozenset[str] = fr
             # the pair: both fitted together; the pair is confounded when one law reads
             # like e (a damper like a friction that lets go at rest, on one speed)
             found = []
-            for law in (f,) + OTHER_LAWS.get(f.name, ()):
+            for law in _alternatives(f):
                 m_swap, x_swap, score_swap, _ = search.try_law(minus, law, f_scale)
                 fx = x_swap[m_swap.slice_of(f.name)]
                 if (score_minus - score_swap <= s.gain_threshold

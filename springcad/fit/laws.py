@@ -68,6 +68,14 @@ BEYOND_LIBRARY = {
                               "clamped or press-fitted joint creeping): the torque overshoots "
                               "while moving and relaxes toward K·θ in holds, which no library "
                               "effect does"),
+    "hertzian_contact": ("a gap closed through a Hertzian (point or line) contact in series "
+                         "with the spring (a cam on a flexure tip, a ball or roller seat): "
+                         "the torque is taken up as a power law and the contact stays "
+                         "compliant at every load, where the library's crossover is taken "
+                         "up over a transition and then runs parallel to K·θ"),
+    "stribeck": ("friction whose level falls with speed (a Stribeck curve: lubricated or "
+                 "bristle-like LuGre contacts), where the library's friction torque is one "
+                 "level at every speed"),
     "regularised_coulomb": ("friction that fades with speed and lets go at rest (lubricated or "
                             "rolling contact, a velocity-regularised law), where the library's "
                             "presliding friction holds its torque through holds and turns"),

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from springcad.fit.effects import Effect, Hysteresis, Param, TimeLag
+from springcad.fit.effects import Backlash, Effect, Hysteresis, Param, TimeLag
 
 class ViscousDamping(TimeLag):
     """Rate-proportional torque ``c·dθ/dt`` (N·m·s/rad): the time-lag family's damper law."""
@@ -225,8 +225,145 @@ class RegularisedCoulomb(Hysteresis):
         return {"friction_torque_Nm": float(p[0]), "fade_speed_rad_per_s": float(p[1])}
 
 
+class ElastoPlastic(Hysteresis):
+    """Coulomb friction H (N·m) with a presliding stiffness ``H/θ_p``: after a turn the
+    friction changes linearly with the travel (by H per θ_p rad) until it reaches H, then
+    slides at H (an elasto-plastic, Coulomb-with-presliding-stiffness law).
+
+    The library's presliding law (Dahl's) approaches H exponentially; this one takes it
+    up at a constant stiffness and has a kink where sliding starts. Both are friction
+    reversing over a presliding angle after each turn: the family's meaning."""
+
+    law = "elasto_plastic"
+    meaning = ("Coulomb friction H with a presliding stiffness H/θp: after each turn the "
+               "friction torque changes linearly with the travel until it reaches H, then "
+               "slides at H")
+
+    @staticmethod
+    def take_up(away, swing, presliding):
+        return np.minimum(1.0, 1.0 - swing + away / presliding)
+
+    def report(self, p, stiffness, sc):
+        return {"friction_torque_Nm": float(p[0]), "presliding_rad": float(p[1]),
+                "presliding_stiffness_Nm_per_rad": float(p[0] / p[1])}
+
+
+#: largest breakaway friction of the Stribeck law, in sliding frictions above the sliding one
+MAX_STRIBECK_RATIO = 5.0
+
+
+class Stribeck(Hysteresis):
+    """Presliding friction whose level falls with speed (the Stribeck effect): sliding
+    friction ``H`` (N·m) at speed, rising to the breakaway level ``H·(1 + r)`` at rest
+    below the Stribeck speed ``v_s`` (rad/s), ``H(v) = H·(1 + r·exp(-(v/v_s)²))``, taken
+    up after each turn over the presliding angle θ_p as the library's law does.
+
+    Breakaway friction above the sliding friction at speed: lubricated contacts,
+    LuGre-like bristle friction. With ``r = 0`` it is the library's law; the friction
+    then differs between slow and fast parts of a record, which one friction torque
+    cannot describe. A refinement of the library's law (its special case plus two
+    parameters), tried in its place once friction is named, not as another family's
+    reading of an effect (``reads_alone``)."""
+
+    law = "stribeck"
+    meaning = ("friction with a Stribeck curve: a sliding level H at speed rising to the "
+               "breakaway level H·(1 + r) below the Stribeck speed v_s, taken up over a "
+               "presliding angle after each turn")
+    reads_alone = False
+
+    def params(self, sc):
+        v_ref = sc.theta_ref * 2.0
+        return Hysteresis.params(self, sc) + (
+            Param("stribeck_ratio", 0.0, MAX_STRIBECK_RATIO, 0.0, 0.5),
+            Param("stribeck_speed", 1e-4 * v_ref, v_ref, 0.01 * v_ref, 0.02 * v_ref))
+
+    def starts(self, sc):
+        return [np.array([0.02 * sc.torque_ref, 0.01 * sc.theta_ref, 0.5,
+                          f * sc.theta_ref]) for f in (0.02, 0.1, 0.5)]
+
+    def physical_problem(self, p, stiffness, sc):
+        q = self.params(sc)
+        if p[2] > 0.0 and p[3] >= q[3].upper * (1 - 1e-4):
+            return (f"Stribeck speed {p[3]:.4g} rad/s rests on its upper bound: a friction "
+                    "that falls over every speed of the record is no Stribeck curve")
+        if p[2] >= q[2].upper * (1 - 1e-4):
+            return (f"breakaway {1 + p[2]:.3g} times the sliding friction rests on its upper "
+                    "bound: no friction law the record supports")
+        return super().physical_problem(p[:2], stiffness, sc)
+
+    def torque(self, p, sig, idx, fraction=None):
+        if fraction is not None:
+            v = np.interp(fraction, np.arange(sig.n), sig.rate_trace)
+        else:
+            v = sig.rate_trace[idx]
+        level = 1.0 + p[2] * np.exp(-np.square(v / p[3]))
+        return Hysteresis.torque(self, p[:2], sig, idx, fraction) * level
+
+    def report(self, p, stiffness, sc):
+        return {"friction_torque_Nm": float(p[0]), "presliding_rad": float(p[1]),
+                "breakaway_friction_Nm": float(p[0] * (1.0 + p[2])),
+                "stribeck_speed_rad_per_s": float(p[3])}
+
+
+class HertzianTakeUp(Backlash):
+    """A gap of width b = 2h (rad) closed through a Hertzian contact in series with the
+    spring: past the gap the contact compresses as ``c = κ·u^(2/3)`` (κ in rad^(1/3))
+    while the spring deflects by u (contact force ∝ c^(3/2), spring torque ``K·u``), so
+    the measured deflection beyond the gap is ``u + c`` and the torque rises as a power
+    law, not at once.
+
+    The library's crossover is taken up over a transition and then runs parallel to
+    ``K·θ``; a Hertzian contact stays compliant at every load (its stiffness grows as the
+    torque's cube root), which reads as a stiffening of the whole curve. Fitted in the
+    crossover's place once backlash is named (``reads_alone``)."""
+
+    law = "hertzian_contact"
+    reads_alone = False
+    meaning = ("a gap of width b taken up through a Hertzian (point or line) contact in "
+               "series with the spring: the torque rises as a power law past the gap, and "
+               "the contact keeps compressing as the torque grows")
+
+    def params(self, sc):
+        kappa_max = 0.3 * sc.theta_ref ** (1.0 / 3.0)  # 0.3·θ_ref of contact at u = θ_ref
+        return (Backlash.params(self, sc)[0],
+                Param("contact_compliance", 0.0, kappa_max, 0.0, 0.03 * kappa_max))
+
+    def starts(self, sc):
+        kappa_ref = sc.theta_ref ** (1.0 / 3.0)
+        return [np.array([f * sc.theta_ref, g * kappa_ref])
+                for f in (0.01, 0.03, 0.06, 0.1) for g in (0.01, 0.05)]
+
+    def physical_problem(self, p, stiffness, sc):
+        q = self.params(sc)[1]
+        if p[1] >= q.upper * (1 - 1e-4):
+            return (f"contact compliance {p[1]:.4g} rad^(1/3) rests on its upper bound: a "
+                    "contact softer than the spring is no take-up")
+        return Effect.physical_problem(self, p, stiffness, sc)
+
+    def map(self, x, p):
+        half, kappa = float(p[0]), max(float(p[1]), 0.0)
+        d = np.maximum(np.abs(x) - half, 0.0)
+        if kappa <= 0.0:
+            return np.sign(x) * d
+        # u + κ·u^(2/3) = d; with w = u^(1/3): w³ + κ·w² = d, solved by Newton's method
+        # from above the root (the cubic is increasing and convex for w > 0)
+        w = np.minimum(np.cbrt(d), np.sqrt(d / kappa))
+        for _ in range(40):
+            step = (w * w * (w + kappa) - d) / np.maximum(w * (3.0 * w + 2.0 * kappa), 1e-300)
+            w = w - step
+            if float(np.max(np.abs(step))) <= 1e-10 * max(float(np.max(w)), 1e-12):
+                break
+        return np.sign(x) * w ** 3
+
+    def report(self, p, stiffness, sc):
+        return {"backlash_rad": 2.0 * float(p[0]),
+                "contact_compliance_rad_cbrt": float(p[1]),
+                "contact_compression_at_max_rad": float(p[1] * sc.theta_ref ** (2.0 / 3.0))}
+
+
 #: laws of each family other than the library's, tried in its place once it is named
 OTHER_LAWS: dict[str, tuple[Effect, ...]] = {
     "time_lag": (ViscousDamping(), FirstOrderLag(), TorqueFilter(), StandardLinearSolid()),
-    "hysteresis": (RegularisedCoulomb(),),
+    "hysteresis": (RegularisedCoulomb(), ElastoPlastic(), Stribeck()),
+    "backlash": (HertzianTakeUp(),),
 }

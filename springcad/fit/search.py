@@ -275,6 +275,8 @@ class Search:
                                           m1.scales) is None
         score = best[2] if best_ok else math.inf
         for law in OTHER_LAWS.get(effect.name, ()):
+            if not law.reads_alone:
+                continue  # a refinement: fitted in the library law's place once named
             m2, x2, s2, heldout = self.try_law(state, law, f_scale)
             if law.physical_problem(x2[m2.slice_of(law.name)], float(x2[0]), m2.scales):
                 continue

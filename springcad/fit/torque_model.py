@@ -157,11 +157,13 @@ class TorqueModel:
         for e in self.effects:
             if e.stage == "map":
                 spring = e.map(spring, parts[e.name])
-        stiff = x[0]
+        # the factors' departures from 1 add: an asymmetric K and a cubic are the sum
+        # K±·θ + k3·θ³ of their two laws (the cubic is not scaled by each side's K)
+        change = 0.0
         for e in self.effects:
             if e.stage == "factor":
-                stiff = stiff * e.factor(spring, parts[e.name], self.scales)
-        out = stiff * spring + self.torque_terms(x, sig, idx)
+                change = change + (e.factor(spring, parts[e.name], self.scales) - 1.0)
+        out = x[0] * (1.0 + change) * spring + self.torque_terms(x, sig, idx)
         if any(e.stage == "output" for e in self.effects):
             out = out + self._output_change(x, sig, idx)
         return out
