@@ -14,8 +14,8 @@ The common model, in evaluation order::
 
     θ₁ = θ(t - δ) - θ₀                       angle stage   (time_lag, angle_offset)
     x  = θ_spring(θ₁; h, l)                   map stage     (backlash, eq. 9)
-    τ  = K · x · (1 + a·sign x + α·(x/θ_ref)²)   factor stage (asymmetric_stiffness, stiffening:
-                                              the factors' departures from 1 add)
+    τ  = K · x · (1 + a·sign x + α·(x/θ_ref)²)   factor stage (asymmetric_stiffness,
+                                              stiffening: departures from 1 add)
        + H·d·(1 - 2·exp(-|θ - θ_rev|/θ_p))    torque stage  (hysteresis; 1·exp before the first reversal)
        + τ₀ + ṙ·(t - t₀)                      torque stage  (torque_offset, drift)
 

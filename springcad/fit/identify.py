@@ -94,7 +94,8 @@ def turn_window_s(model: TorqueModel, x: np.ndarray, sig: Signals) -> float:
     window = 0.0
     for e in model.effects:
         p = x[model.slice_of(e.name)]
-        if e.name == "hysteresis" and e.law in ("presliding", "elasto_plastic", "stribeck") and typical > 0:
+        presliding = ("presliding", "elasto_plastic", "stribeck")
+        if e.name == "hysteresis" and e.law in presliding and typical > 0:
             # three presliding angles (Dahl's) or the two of a full elasto-plastic swing
             window = max(window, 3.0 * float(p[1]) / typical)
         window = max(window, abs(e.time_shift_s(p)))

@@ -16,7 +16,8 @@ from springcad.fit.analysis import fit_record
 from springcad.fit.data import make_record
 from springcad.fit.effects import get_effect
 from springcad.fit.evidence import _one_way
-from springcad.fit.residual import coloured_noise_model, residual_structure
+from springcad.fit.noise import coloured_noise_model
+from springcad.fit.residual import residual_structure
 from springcad.fit.segment import segment
 from springcad.fit.signals import make_signals
 from springcad.fit.torque_model import TorqueModel
