@@ -18,7 +18,6 @@ import json
 import math
 from pathlib import Path
 
-from springcad.export.vendor import AXIAL_LOCATION, AXIAL_LOCATION_TITLE
 from springcad.options import written
 from springcad.report.html_page import img_tag as _img
 from springcad.report.html_page import page
@@ -315,6 +314,9 @@ def _bom_html(out: Path) -> str:
 
 def render_build_report(out_dir: Path | str) -> str:
     """The HTML text of a build folder's report (see the module docstring)."""
+    # here, not at the top: springcad.export pulls numpy, and importing springcad is light
+    from springcad.export.vendor import AXIAL_LOCATION, AXIAL_LOCATION_TITLE
+
     out = Path(out_dir)
     design = _read_json(out / "design.json") or {}
     fea = _read_json(out / "fea" / "fea.json")
