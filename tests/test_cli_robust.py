@@ -64,7 +64,7 @@ def test_usage_errors_are_exit_2(capsys):
 def test_internal_error_is_exit_3_with_a_log(tmp_path, capsys, monkeypatch):
     import springcad.design.job as job_module
 
-    def broken(job):
+    def broken(job, **kwargs):
         raise KeyError("a bug")
 
     monkeypatch.setattr(job_module, "design_job", broken)
@@ -87,7 +87,7 @@ def test_an_interrupt_inside_a_c_extension_import_is_an_interrupt(tmp_path, caps
     import springcad.design.job as job_module
     from springcad.errors import Interrupted
 
-    def importing(job):
+    def importing(job, **kwargs):
         try:
             raise KeyboardInterrupt() if signum == 2 else Interrupted(signum)
         except BaseException as err:
@@ -105,7 +105,7 @@ def test_a_library_failure_names_the_stage(tmp_path, capsys, monkeypatch):
     """A numerical library failure inside design is one line naming stage and job, exit 2."""
     import springcad.design.job as job_module
 
-    def broken(job):
+    def broken(job, **kwargs):
         raise ValueError("abscissae must increase")
 
     monkeypatch.setattr(job_module, "design_job", broken)
