@@ -6,7 +6,7 @@ import math
 from dataclasses import dataclass, replace
 
 from springcad.version import stamp
-from springcad.config import Job
+from springcad.config import Job, ManufacturingSpec
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty
 from springcad.design.connections import RIM, camshaft_indices, connection_sequence
@@ -18,6 +18,7 @@ from springcad.design.search import probe
 from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
+from springcad.design.tolerance import gap_range_mm
 from springcad.errors import DesignError
 from springcad.progress import Progress, report, reporting
 
@@ -187,10 +188,39 @@ def _share_camshafts(job: Job, springs: dict[str, SpringDesign],
 REFUSAL_HEAD = "cannot be made as specified; "
 
 
+def jamming_tolerances(mfg: ManufacturingSpec) -> str:
+    """What the job's tolerances add to a refusal when they alone keep every spring from
+    release: a design gap ``w_gap_mm`` below t_spring + t_shaft lets worst-case parts jam at
+    the cam (the stack's interference warning stops the release whatever the spring); then
+    the change to springcad's tolerances (the schema's defaults: wire EDM with skim cuts),
+    else ''. The paper's S1 with a 1e7-cycle duty: its scaled disk builds RELEASED at
+    those, NOT FOR MANUFACTURE at the paper's t_spring 0.05, t_shaft 0.02, w_gap 0.025."""
+    if gap_range_mm(mfg.w_gap_mm, mfg.t_spring_mm, mfg.t_shaft_mm)[0] >= 0:
+        return ""
+    ours = ManufacturingSpec()
+    return (f"; and for a release the cam interfaces need w_gap_mm >= t_spring_mm + t_shaft_mm "
+            f"(now {mfg.w_gap_mm:g} < {mfg.t_spring_mm + mfg.t_shaft_mm:g} mm: worst-case parts "
+            f"jam whatever the spring): springcad's tolerances, manufacturing.t_spring_mm = "
+            f"{ours.t_spring_mm:g}, t_shaft_mm = {ours.t_shaft_mm:g} and w_gap_mm = "
+            f"{ours.w_gap_mm:g} (wire EDM with skim cuts)")
+
+
 def _design_or_refuse(job: Job, name: str, explain: bool, rr_max: float) -> SpringDesign:
     """The spring ``name`` of ``job``; a refusal of a disk the stack holds several times
     names the stack with fewer of them first (:func:`~springcad.design.feasibility.
-    fewer_disks`), each checked with the design search."""
+    fewer_disks`), each checked with the design search; a refusal whose job's tolerances
+    jam at the cam says so (:func:`jamming_tolerances`)."""
+    try:
+        return _design_or_fewer(job, name, explain, rr_max)
+    except DesignError as err:
+        advice = jamming_tolerances(job.manufacturing) if explain else ""
+        if not advice:
+            raise
+        raise type(err)(f"{err}{advice}") from err
+
+
+def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> SpringDesign:
+    """The spring ``name``, or its refusal naming fewer disks first (:func:`_design_or_refuse`)."""
     spec = job.springs[name]
     try:
         return design_spring(spec, job.material, job.manufacturing, job.hardware,

@@ -222,7 +222,7 @@ def _design_with_margin(spec: SpringSpec, material: MaterialSpec,
     else:
         d = _replace(d, warnings=d.warnings + (
             f"predicted peak {d.predicted_peak_stress_MPa:.0f} MPa ({d.stress.region}) leaves a "
-            f"yield margin {d.yield_margin:.3f} < required {required:g} after {STRESS_PASSES} "
+            f"yield margin {d.yield_margin:.3f} < required {required:.3f} after {STRESS_PASSES} "
             "stress passes",))
     if d.peak_torque_Nmm > d.torque_cap_Nmm * (1 + 1e-3) and not any("tip ball" in w for w in d.warnings):
         d = _replace(d, warnings=d.warnings + (
@@ -432,7 +432,7 @@ def _stress_text(spec, material, history, err) -> str:
         material.material.yield_strength_MPa / required / peak)
     return (f"spring '{spec.name}': the predicted peak {peak:.0f} MPa at the {region} leaves a "
             f"yield margin {material.material.yield_strength_MPa / peak:.3f} < required "
-            f"{required:g}; the flexures would need a beam stress of about {sigma_need:.0f} MPa, "
+            f"{required:.3f}; the flexures would need a beam stress of about {sigma_need:.0f} MPa, "
             f"and at that stress {short_reason(err)}")
 
 
