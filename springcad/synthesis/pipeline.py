@@ -12,6 +12,8 @@ import time
 from collections import Counter
 from dataclasses import dataclass, field
 
+from springcad.config.specs import DEFAULT_DUTY_PRESET
+from springcad.export.release import release_status
 from springcad.options import SYNTHESIS
 from springcad.synthesis import ranking
 from springcad.synthesis.finalists import (build_checks, full_design_summary, job_document,
@@ -92,6 +94,13 @@ class SynthesisResult:
         }
 
 
+def release_reasons(job_design, verification) -> list[str]:
+    """Why ``springcad build``'s release gate would stamp a verified candidate NOT FOR
+    MANUFACTURE, its geometry checks aside (:func:`build_checks` runs those): empty when
+    it would be RELEASED (:func:`springcad.export.release.release_status`)."""
+    return list(release_status(job_design, verification).reasons)
+
+
 def verification_entry(req, cand: dict, fea_model: str, describe=None) -> dict:
     """What ``springcad build`` would decide about a candidate, as a report entry.
 
@@ -120,16 +129,15 @@ def verification_entry(req, cand: dict, fea_model: str, describe=None) -> dict:
                              "width_scale": sv.design.width_scale}
                          for n, sv in v.springs.items()},
              "mass_kg": corrected.stack.mass_kg, "build_checks": None}
-    # with a duty in the requirements, build's release gate on the verified springs: the
-    # duty (flexures and tip balls) and the contact at full deflection (ball stress,
-    # clearances with the tolerances); a finalist that would build NOT FOR MANUFACTURE is not
-    # a winner. Without one the winner is the first to pass the FEA and the build checks (its
-    # job gets springcad's default duty, rated at build; e.g. the paper's +-0.05 mm
-    # tolerances leave no stack whose contact clearances hold)
-    stops = (list(v.duty_failures()) + list(v.release_failures())
-             if req.duty is not None else [])
+    # build's release gate on the verified springs (the duty of the flexures and tip balls,
+    # the contact at full deflection with the tolerances, the design's warnings such as cam
+    # interfaces that can jam): with a duty in the requirements a finalist that would build
+    # NOT FOR MANUFACTURE is not a winner; without one (the job gets springcad's default
+    # duty at build) the first finalist build would release is preferred and else the gate's
+    # reasons are named in the winner's status (:func:`synthesize`)
+    stops = release_reasons(corrected, v) if v.ok else []
     entry["release_failures"] = stops
-    if stops:
+    if stops and req.duty is not None:
         entry["ok"] = False
         entry["failures"] = entry["failures"] + [f"release: {f}" for f in stops]
     if not entry["ok"]:
@@ -214,16 +222,27 @@ def synthesize(req, space, store, client, *, finalists: int = SYNTHESIS.finalist
     winner, status = good[0][0], "full design passed; FEA and build checks not run"
     if verify:
         t0 = time.perf_counter()
-        status = None
+        status, unreleased = None, None
         for r, s in good[:verify_top]:
             progress(f"FEA ({fea_model}) and build checks of candidate {int(r['cid'])} "
                 f"({r['family']}, {G_PER_KG * s['mass_kg']:.1f} g)")
             entry = verification_entry(req, r, fea_model, describe)
             result.verifications[int(r["cid"])] = entry
             progress(entry["summary"] or "; ".join(entry["failures"]))
-            if entry["ok"]:
+            if entry["ok"] and not entry.get("release_failures"):
                 winner, status = r, f"FEA ({fea_model}) and build checks passed"
                 break
+            if entry["ok"] and unreleased is None:
+                unreleased = (r, entry)
+        if status is None and unreleased is not None:
+            winner, entry = unreleased
+            status = (f"FEA ({fea_model}) and build checks passed, but `springcad build` will "
+                      f"stamp it NOT FOR MANUFACTURE (no verified finalist passes build's release"
+                      f" gate; the requirements declare no duty, so the job gets springcad's "
+                      f"default duty, preset '{DEFAULT_DUTY_PRESET}'): "
+                      + "; ".join(entry["release_failures"]) + "; declare a [duty] in the "
+                      "requirements to rank the stacks for it (preset = \"static\" for a "
+                      "prototype)")
         if status is None:
             winner = good[0][0]
             first = result.verifications[int(winner["cid"])]

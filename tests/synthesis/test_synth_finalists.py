@@ -74,10 +74,11 @@ def test_failure_classes(message, kind):
     assert failure_class(message) == kind
 
 
-def _verified_run(tmp_path, monkeypatch, failing_checks, verify_top):
+def _verified_run(tmp_path, monkeypatch, failing_checks, verify_top, unreleased=frozenset()):
     """synthesize with verify=True, the full design and FEA passing and build's checks
-    failing for the stacks in ``failing_checks`` (full design, FEA and solids replaced: what
-    is tested is the choice)."""
+    failing for the stacks in ``failing_checks``, build's release gate for those in
+    ``unreleased`` (full design, FEA, release gate and solids replaced: what is tested is
+    the choice)."""
     from types import SimpleNamespace
 
     def full_design(req, cand):
@@ -97,6 +98,8 @@ def _verified_run(tmp_path, monkeypatch, failing_checks, verify_top):
     monkeypatch.setattr(pipeline, "full_design_summary", full_design)
     monkeypatch.setattr(pipeline, "verify_candidate", fea)
     monkeypatch.setattr(pipeline, "build_checks", checks)
+    monkeypatch.setattr(pipeline, "release_reasons", lambda corrected, v: (
+        [f"duty not met by {corrected.cid}"] if corrected.cid in unreleased else []))
     store = ResultStore(tmp_path / "run", REQ.fingerprint(), SPACE.total, 300)
     with dask_client(n_workers=1, processes=False) as client:
         return pipeline.synthesize(REQ, SPACE, store, client, finalists=6, max_finalists=6,
@@ -117,6 +120,22 @@ def test_winner_is_the_best_finalist_that_passes_build_checks(tmp_path, monkeypa
     assert again.winner_status == "FEA (2d3d) and build checks passed"
     assert again.winner_job["job"]["description"].endswith(
         f"candidate {cids[1]}, 37.5 N*m/rad over +-{SMALL['requirement']['deflection_deg']:g} deg")
+
+
+def test_without_a_duty_a_finalist_build_would_release_is_preferred(tmp_path, monkeypatch):
+    first_pick = int(_verified_run(tmp_path, monkeypatch, set(), verify_top=3).winner["cid"])
+    preferred = _verified_run(tmp_path / "b", monkeypatch, set(), verify_top=3,
+                              unreleased={first_pick})
+    cids = list(preferred.verifications)
+    assert cids[0] == first_pick and int(preferred.winner["cid"]) == cids[1] != first_pick
+    assert preferred.verifications[first_pick]["ok"]  # passed, only not releasable
+    assert preferred.winner_status == "FEA (2d3d) and build checks passed"
+    everyone = {int(r["cid"]) for r in _ranked_all()}
+    named = _verified_run(tmp_path / "c", monkeypatch, set(), verify_top=2, unreleased=everyone)
+    assert int(named.winner["cid"]) == first_pick and len(named.verifications) == 2
+    assert named.winner_status.startswith("FEA (2d3d) and build checks passed, but `springcad "
+                                          "build` will stamp it NOT FOR MANUFACTURE")
+    assert f"duty not met by {first_pick}; declare a [duty]" in named.winner_status
 
 
 def test_no_finalist_passes_build_checks_is_not_ok(tmp_path, monkeypatch):
