@@ -209,7 +209,9 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
     if spec.n_flexures is not None:
         ns = [spec.n_flexures]
     elif spec.tip_radius_mm is not None and spec.contact_radius_mm is not None:
-        ns = [fx.max_flexures(spec.tip_radius_mm, spec.contact_radius_mm)]
+        # the ball and r_c fixed: eq. 6's most flexures first, then fewer (N is still free:
+        # fewer, wider-spaced flexures leave a serpentine the room to reach a deflection)
+        ns = range(fx.max_flexures(spec.tip_radius_mm, spec.contact_radius_mm), 2, -1)
     else:
         ns = range(3, 200)
     best: dict[int, Layout] = {}
