@@ -137,10 +137,12 @@ def check(job: Job, spring_values: dict[str, dict]) -> Job:
                         "RSS and Monte Carlo backlash have zero spread (perfect parts)")
     mat = job.material
     if mat.design_stress_MPa * mat.safety_factor > mat.material.yield_strength_MPa * (1 + 1e-9):
-        warnings.append(f"material: design stress {mat.design_stress_MPa:g} MPa x safety factor "
-                        f"{mat.safety_factor:g} exceeds the yield strength "
-                        f"{mat.material.yield_strength_MPa:g} MPa; the FEA yield check will fail "
-                        "unless the peak stress stays below the design stress")
+        warnings.append(f"material: design stress {mat.design_stress_MPa:.4g} MPa x safety factor "
+                        f"{mat.safety_factor:.4g} exceeds the yield strength "
+                        f"{mat.material.yield_strength_MPa:g} MPa: the flexures are not designed to "
+                        "it but to a predicted peak of at most yield / safety factor = "
+                        f"{mat.material.yield_strength_MPa / mat.safety_factor:.0f} MPa (the design "
+                        "search lowers the beam stress until the yield margin holds)")
     rim_joints = rim_joint_count(len(job.stack.sequence), job.stack.input)
     if hw.fastener_count == 0 and rim_joints:
         raise ConfigError("hardware.fastener_count", 0,
