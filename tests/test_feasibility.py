@@ -67,6 +67,11 @@ def test_a_past_deadline_still_gives_every_key_two_steps_and_a_value_that_design
     # two steps of the span 5 -> 12.5 mm: within 1/4 of it, on the feasible side
     assert 6.23 <= changes["thickness_mm"] <= 6.23 + 7.5 / 4
     assert 11.1 - 9.8 / 4 <= changes["max_deflection_deg"] <= 11.1
+    # and rounded outward to the key's step (0.1 mm, 0.1 deg) where that designs too: the
+    # bisection alone gives 6.875 mm here (a user buys 6.9 mm, not 6.875)
+    assert changes["thickness_mm"] == pytest.approx(round(changes["thickness_mm"], 1), abs=1e-9)
+    assert changes["max_deflection_deg"] == pytest.approx(
+        round(changes["max_deflection_deg"], 1), abs=1e-9)
 
 
 def test_larger_disk_is_the_smallest_scale_that_designs_and_frees_fixed_layout_keys():

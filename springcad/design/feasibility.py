@@ -88,8 +88,8 @@ def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
     Each key's far end (inside the schema's range) is probed first; only the keys whose
     far end designs are then bisected towards the user's value, all keys a step at a time,
     at least :data:`MIN_STEPS` steps and then until ``deadline`` (``time.monotonic()``
-    seconds) passes: a key cut short keeps the nearest value its bisection had proven,
-    unrounded.
+    seconds) passes: a key cut short keeps the nearest value its bisection had proven.
+    Each value is then rounded outward to the key's step and kept when that designs too.
 
     Args:
         spec: the refused spring spec.
@@ -117,11 +117,12 @@ def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
         for (kr, _, _, _), span in zip(open_keys, spans):
             mid = 0.5 * (span[0] + span[1])
             span[designs(kr.set(spec, mid))] = mid
-    else:
-        for (kr, _, _, bound), span in zip(open_keys, spans):
-            value = min(max(_rounded(span[1], kr.step, kr.far_factor > 1), bound.lo), bound.hi)
-            if designs(kr.set(spec, value)):
-                span[1] = value
+    # the proven value rounded outward to the key's step (one probe each, also after the
+    # deadline: a user buys 7.7 mm plate, not 7.6875), kept when it designs too
+    for (kr, _, _, bound), span in zip(open_keys, spans):
+        value = min(max(_rounded(span[1], kr.step, kr.far_factor > 1), bound.lo), bound.hi)
+        if value != span[1] and designs(kr.set(spec, value)):
+            span[1] = value
     return [(kr.key, v0, span[1]) for (kr, v0, _, _), span in zip(open_keys, spans)]
 
 
