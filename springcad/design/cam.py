@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.design.curves import Arc, Feature, Line, Loop, Profile, Spline, named
+from springcad.design.numeric import min_block_distance
 from springcad.errors import DesignError
 from springcad.units import UM_PER_MM
 
@@ -127,13 +128,11 @@ def _ring_points_near_ball0(d) -> np.ndarray:
     return np.vstack(pts)
 
 
-def _min_distance(a: np.ndarray, b: np.ndarray, chunk: int = 2000) -> float:
-    """Smallest distance between two point sets (mm)."""
-    best = np.inf
-    for i in range(0, len(a), chunk):
-        d2 = ((a[i:i + chunk, None, :] - b[None, :, :]) ** 2).sum(-1)
-        best = min(best, float(d2.min()))
-    return float(np.sqrt(best))
+def _min_distance(a: np.ndarray, b: np.ndarray) -> float:
+    """Smallest distance between two point sets (mm): the all-pairs minimum bit for bit, by
+    blocks nearest first (:func:`~springcad.design.numeric.min_block_distance`)."""
+    return min_block_distance(np.asarray(a, float), np.asarray(b, float), lambda p, q: math.sqrt(
+        float(((p[:, None, :] - q[None, :, :]) ** 2).sum(-1).min())))
 
 
 def d_bore(radius_mm: float, flat_ratio: float = 0.8, corner_radius_mm: float = 0.0) -> Loop:

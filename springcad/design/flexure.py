@@ -14,7 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from springcad.design.numeric import ClampedCubic, cumtrapz, cumtrapz_last, find_root, trapz_last
+from springcad.design.numeric import (ClampedCubic, cumtrapz, cumtrapz_last, find_root,
+                                      min_block_distance, trapz_last)
 
 from springcad.errors import DesignError
 from springcad.units import J_PER_NMM
@@ -123,7 +124,7 @@ class Centreline:
     def straight(cls, contact_radius_mm: float, root_radius_mm: float) -> "Centreline":
         return cls((contact_radius_mm, root_radius_mm), (0.0, 0.0))
 
-    @property
+    @functools.cached_property
     def is_straight(self) -> bool:
         return all(abs(x) < 1e-12 for x in self.x_mm)
 
@@ -138,7 +139,7 @@ class Centreline:
             z = np.zeros_like(y)
             return z, z, z
         cs = self._cs
-        x, dx, ddx = cs(y), cs(y, 1), cs(y, 2)
+        x, dx, ddx = cs.derivatives(y)
         # beyond the root station the flexure runs on straight along its root tangent
         y_end, x_end, slope = self.y_mm[-1], self.x_mm[-1], self.end_slopes[1]
         past = y > y_end
@@ -298,43 +299,17 @@ def _point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> np.ndarray
 _CLEARANCE_BLOCK = 16
 
 
-def _block_boxes(xy: np.ndarray, size: int, overlap: int) -> tuple[np.ndarray, np.ndarray]:
-    """(lower, upper) corners of the bounding boxes of consecutive blocks of ``size`` rows of
-    ``xy``, each block also holding the next ``overlap`` rows (mm; shape (blocks, 2))."""
-    count = -(-(len(xy) - overlap) // size)
-    rows = np.minimum(np.arange(count)[:, None] * size + np.arange(size + overlap)[None],
-                      len(xy) - 1)
-    block = xy[rows]
-    return block.min(axis=1), block.max(axis=1)
-
-
 def _min_point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> float:
-    """Smallest distance from a set of points to a polyline (mm), exact.
-
-    Branch and bound over blocks of :data:`_CLEARANCE_BLOCK` points and segments: no pair
-    of a point block and a segment block is nearer than their bounding boxes, so the block
-    pairs are measured (:func:`_point_polyline_distance`, the same arithmetic as every pair
-    at once) nearest box first, until the next box lies beyond the smallest distance found.
-    The result is the all-pairs minimum bit for bit, at a small part of its cost
-    (two curves of ~1200 points: 0.8 ms instead of 10 ms).
-    """
+    """Smallest distance from a set of points to a polyline (mm), exact: the all-pairs
+    minimum of :func:`_point_polyline_distance` bit for bit, measured block pair by block
+    pair, nearest bounding boxes first (:func:`~springcad.design.numeric.min_block_distance`;
+    two curves of ~1200 points: 0.8 ms instead of 10 ms)."""
     points, poly = np.asarray(points, float), np.asarray(poly, float)
-    size, n_seg = _CLEARANCE_BLOCK, len(poly) - 1
-    if n_seg < 1 or len(points) * n_seg <= 4 * size * size:
+    size = _CLEARANCE_BLOCK
+    if len(poly) < 2 or len(points) * (len(poly) - 1) <= 4 * size * size:
         return float(_point_polyline_distance(points, poly).min())
-    p_lo, p_hi = _block_boxes(points, size, 0)
-    s_lo, s_hi = _block_boxes(poly, size, 1)  # a segment block holds its last end vertex
-    gap = np.maximum(np.maximum(s_lo[None] - p_hi[:, None], p_lo[:, None] - s_hi[None]), 0.0)
-    lower = np.sqrt((gap ** 2).sum(-1))
-    best = math.inf
-    for flat in np.argsort(lower, axis=None, kind="stable"):
-        if lower.flat[flat] > best * (1.0 + 1e-9) + 1e-12:  # (slack for the rounding)
-            break
-        i, j = divmod(int(flat), lower.shape[1])
-        near = _point_polyline_distance(points[i * size:(i + 1) * size],
-                                        poly[j * size:min((j + 1) * size, n_seg) + 1])
-        best = min(best, float(near.min()))
-    return best
+    return min_block_distance(points, poly, lambda p, q: float(_point_polyline_distance(p, q).min()),
+                              size, b_overlap=1)
 
 
 def neighbour_clearance_mm(centreline: Centreline, y, width, n_flexures: int,
