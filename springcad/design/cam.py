@@ -202,8 +202,6 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
         psi_end = rho / rc + f * theta
         unit, unit_features, tip = _unit(rc, rho, pitch, psi_end)
         tip_w = tip.length
-        segs = tuple(s.rotated(i * pitch) for i in range(n) for s in unit)
-        loop = Loop(segs, tuple(f.reindexed(i) for i in range(n) for f in unit_features))
         clearance = float("inf")
         if ring_pts is not None:  # N-fold symmetric: one tooth and its pockets suffice
             cam_pts = np.vstack([s.sample(0.01) for s in (*unit, *(s.rotated(-pitch) for s in unit))])
@@ -218,6 +216,8 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
             + "; ".join(f"overtravel {f:g}: tooth tip {w:.3f} mm wide (min_web_mm {min_web:g}), "
                         f"clearance {c:.4f} mm (w_gap_mm {g:g})" for f, w, c in tried[:4])
             + "; use fewer flexures, a larger contact radius or a smaller tip radius")
+    segs = tuple(s.rotated(i * pitch) for i in range(n) for s in unit)  # the chosen tooth, N x
+    loop = Loop(segs, tuple(f.reindexed(i) for i in range(n) for f in unit_features))
     root = rc - rho
     bore_r = 0.5 * d.hardware.shaft_diameter_mm
     if root - bore_r < min_web:
