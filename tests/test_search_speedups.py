@@ -141,3 +141,34 @@ def test_cam_clearance_is_the_all_pairs_minimum():
             a, b = rng.uniform(-3, 3, (n, 2)), rng.uniform(-1, 4, (m, 2))
         want = math.sqrt(float(((a[:, None, :] - b[None, :, :]) ** 2).sum(-1).min()))
         assert _min_distance(a, b) == want
+
+
+def test_kept_layouts_design_the_same_spring_with_less_work(monkeypatch):
+    """The default job (thickness from stock): the design with each layout rank designed once
+    per stock choice (:func:`search.kept_layouts`) is the design without it, field for field
+    of design.json, and fewer layout designs ran (the chosen plate's probe and its search
+    share theirs)."""
+    import contextlib
+    import json
+    from pathlib import Path
+
+    from springcad.config import load_job
+    from springcad.design import search
+    from springcad.design.job import design_job
+
+    job = load_job(Path(__file__).resolve().parents[1] / "templates" / "default.toml")
+    calls = []
+    inner = search._design_with_margin
+
+    def counted(*args):
+        calls.append(args)
+        return inner(*args)
+
+    monkeypatch.setattr(search, "_design_with_margin", counted)
+    kept = json.dumps(design_job(job, explain=False).to_dict(), sort_keys=True, default=str)
+    n_kept = len(calls)
+    calls.clear()
+    monkeypatch.setattr(search, "kept_layouts", contextlib.nullcontext)
+    fresh = json.dumps(design_job(job, explain=False).to_dict(), sort_keys=True, default=str)
+    assert kept == fresh
+    assert n_kept < len(calls)
