@@ -373,6 +373,9 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
     raise DesignError(text + tried.replace(" the first:", "")) from first
 
 
+#: layout designs :func:`kept_layouts` keeps at most (each with its profiles, ~1 MB): the
+#: chosen plate's probe is among the last few dozen a stock choice makes
+KEPT_LAYOUTS = 64
 #: within :func:`kept_layouts`: each layout rank's design and contour check by its arguments
 _KEPT: contextvars.ContextVar[dict | None] = contextvars.ContextVar("springcad_kept_layouts",
                                                                    default=None)
@@ -405,6 +408,8 @@ def _layout_design(spec, material, manufacturing, hardware, rank, max_root_radiu
                                           max_root_radius_mm)
     defect = profile_defect(d) if d is not None else ""
     if kept is not None:
+        if len(kept) >= KEPT_LAYOUTS:  # a refusal probes many specs: the oldest go first
+            del kept[next(iter(kept))]
         kept[key] = (d, tuple(history), err, defect)
     return d, history, err, defect
 
