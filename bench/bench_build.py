@@ -7,7 +7,7 @@ included, as a user sees it) with every export and verification: cold with an em
 cache (``SPRINGCAD_CACHE_DIR`` a new temporary folder), then warm (the same command again on
 that cache). It prints the wall time, the CPU time of the process tree (user + sys: on a
 machine shared with other work the wall time says more about the load than about the
-build), each stage's time (``build.json``), the peak memory of the process tree (psutil: the unique pages of every process alive together plus the largest
+build), each stage's time (``build.json``; for ``verify`` the FEA steps of ``fea.json``), the peak memory of the process tree (psutil: the unique pages of every process alive together plus the largest
 process's shared pages, so what a forked child shares with the build counts once; else the
 largest process's ``ru_maxrss``), the load average, whether the warm files equal the cold ones byte
 for byte (``build.json`` and ``report.html`` carry the run's own timings and start time and
@@ -137,10 +137,20 @@ def same_files(a: Path, b: Path) -> tuple[bool, list[str]]:
 
 
 def stage_times(out: Path) -> dict:
+    """A build's stage times (``build.json``), else a verification's FEA steps per spring
+    (``fea.json``: mesh, assemble, solve, post, and the total with the correction loop), s."""
     doc = out / "build.json"
+    if doc.is_file():
+        return json.loads(doc.read_text()).get("timings_s", {})
+    doc = out / "fea.json"
     if not doc.is_file():
         return {}
-    return json.loads(doc.read_text()).get("timings_s", {})
+    steps = {}
+    for name, spring in json.loads(doc.read_text()).get("springs", {}).items():
+        for step, seconds in (spring.get("timings_s") or {}).items():
+            if isinstance(seconds, (int, float)):
+                steps[f"{name}.{step}"] = seconds
+    return steps
 
 
 def main() -> int:

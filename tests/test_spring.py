@@ -359,17 +359,22 @@ def test_a_refusal_over_the_energy_bound_names_disks_in_series_that_design():
 
 
 def test_pruned_clearance_is_the_brute_force_minimum():
-    """The neighbour clearance prunes points by their nearest vertex; the minimum over the
-    points is the all-pairs point-to-segment minimum, exactly (random wavy polylines)."""
+    """The neighbour clearance prunes blocks of points and segments by their bounding boxes;
+    the minimum is the all-pairs point-to-segment minimum bit for bit (random wavy
+    polylines, points around them and on them, small and large)."""
     import numpy as np
 
     from springcad.design.flexure import _min_point_polyline_distance, _point_polyline_distance
 
     rng = np.random.default_rng(3)
-    for _ in range(200):
-        n, m = rng.integers(2, 200), rng.integers(1, 200)
+    for case in range(300):
+        n, m = rng.integers(2, 400), rng.integers(1, 400)
         t = np.sort(rng.uniform(0, 10, n))
         poly = np.c_[t, np.sin(t * rng.uniform(0.2, 3)) + rng.normal(0, 0.05, n)]
-        pts = rng.uniform(-2, 12, (m, 2))
-        assert _min_point_polyline_distance(pts, poly) == pytest.approx(
-            _point_polyline_distance(pts, poly).min(), abs=1e-12)
+        if case % 3 == 0:  # a neighbouring edge: the polyline shifted, resampled
+            s = np.sort(rng.uniform(0, 10, m))
+            pts = np.c_[s, np.interp(s, poly[:, 0], poly[:, 1]) + rng.uniform(0.0, 0.5)]
+        else:
+            pts = rng.uniform(-2, 12, (m, 2))
+        assert _min_point_polyline_distance(pts, poly) == _point_polyline_distance(
+            pts, poly).min()

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.design.curves import Arc, Feature, Line, Loop, Profile, Spline, named
+from springcad.design.numeric import min_block_distance
 from springcad.errors import DesignError
 from springcad.units import UM_PER_MM
 
@@ -127,13 +128,11 @@ def _ring_points_near_ball0(d) -> np.ndarray:
     return np.vstack(pts)
 
 
-def _min_distance(a: np.ndarray, b: np.ndarray, chunk: int = 2000) -> float:
-    """Smallest distance between two point sets (mm)."""
-    best = np.inf
-    for i in range(0, len(a), chunk):
-        d2 = ((a[i:i + chunk, None, :] - b[None, :, :]) ** 2).sum(-1)
-        best = min(best, float(d2.min()))
-    return float(np.sqrt(best))
+def _min_distance(a: np.ndarray, b: np.ndarray) -> float:
+    """Smallest distance between two point sets (mm): the all-pairs minimum bit for bit, by
+    blocks nearest first (:func:`~springcad.design.numeric.min_block_distance`)."""
+    return min_block_distance(np.asarray(a, float), np.asarray(b, float), lambda p, q: math.sqrt(
+        float(((p[:, None, :] - q[None, :, :]) ** 2).sum(-1).min())))
 
 
 def d_bore(radius_mm: float, flat_ratio: float = 0.8, corner_radius_mm: float = 0.0) -> Loop:
@@ -203,8 +202,6 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
         psi_end = rho / rc + f * theta
         unit, unit_features, tip = _unit(rc, rho, pitch, psi_end)
         tip_w = tip.length
-        segs = tuple(s.rotated(i * pitch) for i in range(n) for s in unit)
-        loop = Loop(segs, tuple(f.reindexed(i) for i in range(n) for f in unit_features))
         clearance = float("inf")
         if ring_pts is not None:  # N-fold symmetric: one tooth and its pockets suffice
             cam_pts = np.vstack([s.sample(0.01) for s in (*unit, *(s.rotated(-pitch) for s in unit))])
@@ -219,6 +216,8 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
             + "; ".join(f"overtravel {f:g}: tooth tip {w:.3f} mm wide (min_web_mm {min_web:g}), "
                         f"clearance {c:.4f} mm (w_gap_mm {g:g})" for f, w, c in tried[:4])
             + "; use fewer flexures, a larger contact radius or a smaller tip radius")
+    segs = tuple(s.rotated(i * pitch) for i in range(n) for s in unit)  # the chosen tooth, N x
+    loop = Loop(segs, tuple(f.reindexed(i) for i in range(n) for f in unit_features))
     root = rc - rho
     bore_r = 0.5 * d.hardware.shaft_diameter_mm
     if root - bore_r < min_web:

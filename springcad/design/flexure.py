@@ -14,7 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from springcad.design.numeric import ClampedCubic, cumtrapz, cumtrapz_last, find_root, trapz_last
+from springcad.design.numeric import (ClampedCubic, cumtrapz, cumtrapz_last, find_root,
+                                      min_block_distance, trapz_last)
 
 from springcad.errors import DesignError
 from springcad.units import J_PER_NMM
@@ -123,7 +124,7 @@ class Centreline:
     def straight(cls, contact_radius_mm: float, root_radius_mm: float) -> "Centreline":
         return cls((contact_radius_mm, root_radius_mm), (0.0, 0.0))
 
-    @property
+    @functools.cached_property
     def is_straight(self) -> bool:
         return all(abs(x) < 1e-12 for x in self.x_mm)
 
@@ -138,7 +139,7 @@ class Centreline:
             z = np.zeros_like(y)
             return z, z, z
         cs = self._cs
-        x, dx, ddx = cs(y), cs(y, 1), cs(y, 2)
+        x, dx, ddx = cs.derivatives(y)
         # beyond the root station the flexure runs on straight along its root tangent
         y_end, x_end, slope = self.y_mm[-1], self.x_mm[-1], self.end_slopes[1]
         past = y > y_end
@@ -294,19 +295,21 @@ def _point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> np.ndarray
     return np.sqrt(((points[:, None, :] - foot) ** 2).sum(-1)).min(axis=1)
 
 
-def _min_point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> float:
-    """Smallest distance from a set of points to a polyline (mm), exact.
+#: points and segments per block of :func:`_min_point_polyline_distance`
+_CLEARANCE_BLOCK = 16
 
-    A point's distance to the polyline is at most its distance to the nearest vertex d_v
-    and at least d_v - l/2 (l: the longest segment), so only the points whose d_v comes
-    within l/2 of the smallest d_v can hold the minimum; those are measured against every
-    segment (:func:`_point_polyline_distance`).
-    """
-    d2 = ((points[:, None, :] - poly[None, :, :]) ** 2).sum(-1)
-    d_vertex = np.sqrt(d2.min(axis=1))
-    half = 0.5 * float(np.max(np.hypot(*np.diff(poly, axis=0).T)))
-    near = d_vertex <= d_vertex.min() + half
-    return float(_point_polyline_distance(points[near], poly).min())
+
+def _min_point_polyline_distance(points: np.ndarray, poly: np.ndarray) -> float:
+    """Smallest distance from a set of points to a polyline (mm), exact: the all-pairs
+    minimum of :func:`_point_polyline_distance` bit for bit, measured block pair by block
+    pair, nearest bounding boxes first (:func:`~springcad.design.numeric.min_block_distance`;
+    two curves of ~1200 points: 0.8 ms instead of 10 ms)."""
+    points, poly = np.asarray(points, float), np.asarray(poly, float)
+    size = _CLEARANCE_BLOCK
+    if len(poly) < 2 or len(points) * (len(poly) - 1) <= 4 * size * size:
+        return float(_point_polyline_distance(points, poly).min())
+    return min_block_distance(points, poly, lambda p, q: float(_point_polyline_distance(p, q).min()),
+                              size, b_overlap=1)
 
 
 def neighbour_clearance_mm(centreline: Centreline, y, width, n_flexures: int,

@@ -215,8 +215,12 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
     else:
         ns = range(3, 200)
     best: dict[int, Layout] = {}
+    screen = _screen(spec, sigma, E, ns, max_root_radius_mm)
     for rc in radii:
-        for n in ns:
+        reach, may_fit = screen(rc)
+        for i, n in enumerate(ns):
+            if not may_fit[i] or (n in best and reach[i] < best[n].theta_s):
+                continue  # the balls cannot fit, or it cannot beat the best at this N
             rb = tip_ball(spec, sigma, n, rc, contact)[2]
             if not math.isfinite(rb) or n > fx.max_flexures(rb, rc):
                 continue  # the balls do not fit (as fits() below), no rim rule to solve
@@ -248,6 +252,37 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
         ranked = sorted(best.values(), key=lambda lay: (lay.rb < lay.rb_req * (1 - 1e-9),
                                                         -lay.theta_s, lay.n))
     return _spread(ranked, limit)
+
+
+def _screen(spec: SpringSpec, sigma, E, ns, max_root_radius_mm: float):
+    """``screen(r_c)``: for the flexure counts ``ns``, (a straight limit no layout at (N, r_c)
+    exceeds (rad), whether N balls may fit around r_c), so :func:`candidate_layouts`
+    passes over the pairs that cannot be chosen without sizing their balls and rims.
+
+    :func:`~springcad.design.flexure.straight_limit_rad` grows with the flexure length
+    R_r - r_c, and :func:`layout_at` never puts R_r beyond the fixed ``root_radius_mm``, nor
+    else beyond R_o or ``max_root_radius_mm`` (no bound where that length is not positive).
+    :func:`tip_ball` never gives a ball smaller than the fixed ``tip_radius_mm``, nor else
+    than ``min_tip_radius_mm`` and the radius bending needs, and fewer balls fit as they
+    grow (:func:`~springcad.design.flexure.max_flexures`). Both bounds are widened by 1e-9
+    against rounding: a pair screened out fails the exact rules.
+    """
+    z, K, theta = spec.thickness_mm, spec.target_stiffness_Nmm_per_rad, spec.max_deflection_rad
+    rr = spec.root_radius_mm if spec.root_radius_mm is not None else min(
+        max_root_radius_mm, spec.outer_radius_mm)
+    n = np.asarray(list(ns), float)
+
+    def screen(rc: float) -> tuple[np.ndarray, np.ndarray]:
+        reach = (np.full(n.shape, np.inf) if not rr - rc > 0 else
+                 fx.straight_limit_rad(n, z, sigma, rr - rc, E, K, rc) * (1.0 + 1e-9))
+        if spec.tip_radius_mm is not None:
+            rb = np.full(n.shape, spec.tip_radius_mm)
+        else:
+            rb = np.maximum(spec.min_tip_radius_mm, fx.tip_ball_required_radius_mm(
+                fx.tip_load_N(K, theta, n, rc), z, sigma))
+        may_fit = n <= np.pi * np.hypot(rb, rc) / (2.0 * rb) * (1.0 + 1e-9)
+        return reach, may_fit
+    return screen
 
 
 #: later candidates differ from every earlier one by at least this factor in N, so that

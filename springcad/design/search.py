@@ -20,6 +20,8 @@ Units: mm, N, MPa, N*mm, rad.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 import time
 from dataclasses import replace as _replace
@@ -339,11 +341,11 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
     fallback = None
     for rank in range(candidates):
         try:
-            d, history, err = _design_with_margin(spec, material, manufacturing, hardware, rank,
-                                                  max_root_radius_mm)
+            d, history, err, defect = _layout_design(spec, material, manufacturing, hardware,
+                                                     rank, max_root_radius_mm)
         except _NoMoreLayouts:
             break
-        if d is not None and (defect := profile_defect(d)):
+        if d is not None and defect:
             rejected.append((None, DesignError(f"spring '{spec.name}': {defect}"), []))
             continue
         if d is not None:
@@ -369,6 +371,47 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
         raise _refusal(spec, material, manufacturing, hardware, max_root_radius_mm,
                        text, tried) from first
     raise DesignError(text + tried.replace(" the first:", "")) from first
+
+
+#: layout designs :func:`kept_layouts` keeps at most (each with its profiles, ~1 MB): the
+#: chosen plate's probe is among the last few dozen a stock choice makes
+KEPT_LAYOUTS = 64
+#: within :func:`kept_layouts`: each layout rank's design and contour check by its arguments
+_KEPT: contextvars.ContextVar[dict | None] = contextvars.ContextVar("springcad_kept_layouts",
+                                                                   default=None)
+
+
+@contextlib.contextmanager
+def kept_layouts():
+    """Within it, :func:`design_for_margin` designs and checks each (spec, material, rank) once:
+    the stock plate bisection's probe at the chosen thickness and the search that follows
+    there try the same first layouts. Pure: the same arguments give the same design."""
+    token = _KEPT.set(_KEPT.get() if _KEPT.get() is not None else {})
+    try:
+        yield
+    finally:
+        _KEPT.reset(token)
+
+
+def _layout_design(spec, material, manufacturing, hardware, rank, max_root_radius_mm):
+    """(design or None, stress-pass history, error, contour defect) of one layout rank
+    (:func:`_design_with_margin`, :func:`profile_defect`), kept within :func:`kept_layouts`.
+
+    Raises:
+        _NoMoreLayouts: ``rank`` is past the last candidate.
+    """
+    kept, key = _KEPT.get(), (spec, material, manufacturing, hardware, rank, max_root_radius_mm)
+    if kept is not None and key in kept:
+        d, history, err, defect = kept[key]
+        return d, list(history), err, defect
+    d, history, err = _design_with_margin(spec, material, manufacturing, hardware, rank,
+                                          max_root_radius_mm)
+    defect = profile_defect(d) if d is not None else ""
+    if kept is not None:
+        if len(kept) >= KEPT_LAYOUTS:  # a refusal probes many specs: the oldest go first
+            del kept[next(iter(kept))]
+        kept[key] = (d, tuple(history), err, defect)
+    return d, history, err, defect
 
 
 #: sample step of the design-time contour check: the solids' own check

@@ -126,6 +126,13 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
     if spec.thickness_mm is not None:
         return search.design_spring(spec, material, manufacturing, hardware, explain=explain,
                                     max_root_radius_mm=max_root_radius_mm)
+    with search.kept_layouts():  # the chosen plate's probe and its design share layouts
+        return _design_on_stock(spec, material, manufacturing, hardware, explain,
+                                max_root_radius_mm)
+
+
+def _design_on_stock(spec, material, manufacturing, hardware, explain, max_root_radius_mm):
+    """:func:`design_spring` with the thickness left free (mm)."""
     t, thinner, what = choose_thickness_mm(spec, material, manufacturing, hardware,
                                            max_root_radius_mm)
     if t is None:  # the full search (more layouts than the probe) at the thickest allowed
