@@ -92,12 +92,19 @@ class Signals:
         out = np.gradient(trace, self.t)
         own = np.zeros(self.n)
         cuts = []
+        mended = self._mend_cuts
         for block in self._trace_blocks:
             c0, d0 = block[0][0], block[-1][1]
             cuts.append(c0)
-            if not block[0][2] and d0 - c0 >= 2:
-                own[c0:d0] = np.gradient(trace[c0:d0], self.t[c0:d0])
-        c = np.array([k for k in cuts if 2 <= k <= self.n - 2], dtype=int)
+            if block[0][2]:
+                continue
+            # the trace is fitted on each side of a corner it was cut at on its own
+            inner = [k for k in mended if c0 < k < d0]
+            cuts.extend(inner)
+            for a, b in zip([c0, *inner], [*inner, d0]):
+                if b - a >= 2:
+                    own[a:b] = np.gradient(trace[a:b], self.t[a:b])
+        c = np.array(sorted(k for k in cuts if 2 <= k <= self.n - 2), dtype=int)
         if c.size:
             # a cut the trace jumps across: it moves there by more than twice what the
             # rates about it carry over a sample (a continuous trace, a V turn, a linear
@@ -174,6 +181,7 @@ class Signals:
         w_min = max(5, int(round(TRACE_WINDOW_S[0] * self.scales.sample_rate_hz)))
         out = self.theta_smooth.copy()
         blocks = self._trace_blocks
+        mended: list[int] = []
         for block in blocks:
             c0, d0 = block[0][0], block[-1][1]
             if block[0][2]:
@@ -182,11 +190,19 @@ class Signals:
             # a ramp between holds inside a run (a staircase's step) is shorter than the
             # run: the cubic's window stays within a share of what is fitted
             cap = max(w_min, int(TRACE_PIECE_FRACTION * (d0 - c0))) | 1
-            self._fit_block(out, block, c0, d0, cap, w_min, TRACE_MEND_DEPTH)
+            self._fit_block(out, block, c0, d0, cap, w_min, TRACE_MEND_DEPTH, mended)
+        self.__dict__["_mend_cuts"] = tuple(sorted(mended))
         return out
 
+    @functools.cached_property
+    def _mend_cuts(self) -> tuple[int, ...]:
+        """Samples where :attr:`theta_trace` was cut inside a moving block, at a corner it
+        missed (:meth:`_fit_block`); the piece after the cut starts there."""
+        self.theta_trace  # noqa: B018 (sets it)
+        return self.__dict__["_mend_cuts"]
+
     def _fit_block(self, out: np.ndarray, block: list, lo: int, hi: int, cap: int, w_min: int,
-                   depth: int) -> None:
+                   depth: int, mended: list[int]) -> None:
         """Fill ``out[lo:hi]`` (rad) with the local cubic of the moving ``block``'s pieces
         (each its own window) fitted over ``[lo, hi)`` as one; then cut it where it misses
         the measured deflection and fit each side alone.
@@ -198,7 +214,8 @@ class Signals:
         median over ``w_min`` samples of what the trace misses, against its noise,
         finds such a corner (a median: a spike in the angle channel is no corner);
         the cut is the break of a parabola with a slope break fitted around it
-        (:func:`_slope_break`), at most ``depth`` cuts deep.
+        (:func:`_slope_break`), at most ``depth`` cuts deep; each cut is appended to
+        ``mended``.
         """
         from scipy.signal import savgol_filter
 
@@ -220,12 +237,19 @@ class Signals:
             return
         dev = ndimage.median_filter(self.theta[lo:hi] - out[lo:hi], w_min | 1, mode="nearest")
         z = np.abs(dev) / (1.25 * sigma / math.sqrt(w_min))
+        # within a window of the piece's ends the cubic is one-sided and the corners of holds
+        # and turns are placed by their own fits (``_pieces``): a corner is sought inside
+        z[:w_min] = 0.0
+        z[-w_min:] = 0.0
         worst = int(np.argmax(z))
         if z[worst] < TRACE_MISS_Z:
             return
         cut = lo + _slope_break(self.theta[lo:hi], worst, 2 * w_min)
+        if not lo + w_min <= cut <= hi - w_min:
+            return
+        mended.append(cut)
         for a, b in ((lo, cut), (cut, hi)):
-            self._fit_block(out, block, a, b, cap, w_min, depth - 1)
+            self._fit_block(out, block, a, b, cap, w_min, depth - 1, mended)
 
     @functools.cached_property
     def in_hold(self) -> np.ndarray:
@@ -445,7 +469,7 @@ TRACE_MEND_DEPTH = 3
 #: window of the smoothed deflection (``springcad.fit.segment.smooth``'s default), s
 SMOOTH_WINDOW_S = 0.02
 #: the signals derived from the measured deflection (cached), shared by :attr:`Signals.on_trace`
-_DERIVED = ("theta_trace", "rate_trace", "_trace_blocks", "in_hold", "from_reversal",
+_DERIVED = ("theta_trace", "_mend_cuts", "rate_trace", "_trace_blocks", "in_hold", "from_reversal",
             "since_turn_s", "swing", "near_turn")
 #: the motion has left a turn's angle where the smoothed deflection is this many
 #: deflection noise levels away from it (see ``Signals._pieces``)
