@@ -214,8 +214,9 @@ class Signals:
         median over ``w_min`` samples of what the trace misses, against its noise,
         finds such a corner (a median: a spike in the angle channel is no corner);
         the cut is the break of a parabola with a slope break fitted around it
-        (:func:`_slope_break`), at most ``depth`` cuts deep; each cut is appended to
-        ``mended``.
+        (:func:`_slope_break`), at most ``depth`` cuts deep, kept where the two sides
+        fitted alone follow the deflection about it at least twice as closely (squared);
+        each cut kept is appended to ``mended``.
         """
         from scipy.signal import savgol_filter
 
@@ -247,9 +248,17 @@ class Signals:
         cut = lo + _slope_break(self.theta[lo:hi], worst, 2 * w_min)
         if not lo + w_min <= cut <= hi - w_min:
             return
+        near = slice(max(lo, cut - 2 * w_min), min(hi, cut + 2 * w_min))
+        before, kept = float(np.sum((self.theta[near] - out[near]) ** 2)), list(mended)
+        saved = out[lo:hi].copy()
         mended.append(cut)
         for a, b in ((lo, cut), (cut, hi)):
             self._fit_block(out, block, a, b, cap, w_min, depth - 1, mended)
+        if float(np.sum((self.theta[near] - out[near]) ** 2)) >= 0.5 * before:
+            # the sides fitted alone follow the deflection about the cut no better: no
+            # corner there (a cubic starting at a cut placed off a corner misses by more)
+            out[lo:hi] = saved
+            mended[:] = kept
 
     @functools.cached_property
     def in_hold(self) -> np.ndarray:
@@ -481,8 +490,9 @@ TURN_GUARD_BAND = 0.01
 
 
 def _slope_break(theta: np.ndarray, near: int, half: int) -> int:
-    """Index (into ``theta``) of the break of a parabola with a slope break,
-    ``a + b x + c x² + d·max(x - j, 0)``, fitting ``theta`` best within ``half`` samples of
+    """Index (into ``theta``) of the break of a cubic whose slope and curvature break at j,
+    ``a + b x + c x² + d x³ + e·max(x - j, 0) + f·max(x - j, 0)²``, fitting ``theta`` best
+    within ``half`` samples of
     ``near``: where a motion changes speed at once; the break's own sample (on both lines,
     so the piece after the break starts there)."""
     lo, hi = max(near - half, 0), min(near + half + 1, theta.size)
@@ -491,10 +501,10 @@ def _slope_break(theta: np.ndarray, near: int, half: int) -> int:
         return near
     y = theta[lo:hi]
     i = np.arange(lo, hi, dtype=float)
-    x = i - float(near)
-    kink = np.maximum(i[None, :] - js[:, None].astype(float), 0.0)
-    base = np.broadcast_to(np.stack([np.ones_like(x), x, x * x], axis=1), (js.size, x.size, 3))
-    a = np.concatenate([base, kink[:, :, None]], axis=2)
+    x = (i - float(near)) / max(half, 1)
+    kink = np.maximum(i[None, :] - js[:, None].astype(float), 0.0) / max(half, 1)
+    base = np.broadcast_to(np.stack([np.ones_like(x), x, x * x, x ** 3], axis=1), (js.size, x.size, 4))
+    a = np.concatenate([base, kink[:, :, None], (kink * kink)[:, :, None]], axis=2)
     coef = np.linalg.pinv(a) @ y
     sse = np.sum((y[None, :] - np.einsum("cnk,ck->cn", a, coef)) ** 2, axis=1)
     return int(js[int(np.argmin(sse))])
