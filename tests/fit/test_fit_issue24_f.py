@@ -95,3 +95,26 @@ def test_a_delay_and_a_cubic_on_a_chirp_ending_fast_are_not_flagged():
     assert p["stiffness_Nm_per_rad"] == pytest.approx(k_true, rel=0.01)
     assert p["lag_s"] == pytest.approx(lag, abs=5e-4)
     assert math.isfinite(p["cubic_stiffness_Nm_per_rad3"])
+
+
+def test_the_trace_follows_a_sine_sweep_through_the_junction_of_its_blocks():
+    # whole cycles of 0.3 rad at 0.5 Hz, then of 0.3 rad at 1.5 Hz: at the junction the
+    # speed jumps from 0.94 to 2.8 rad/s (generator E's sine sweeps); the cut is placed on
+    # the junction itself (a parabola with a kink put it 6 samples early and the trace
+    # stepped by 4 mrad there)
+    fs = 1000.0
+    u1 = np.arange(int(3 / 0.5 * fs)) / fs
+    u2 = np.arange(int(4 / 1.5 * fs)) / fs
+    th = np.concatenate([np.zeros(500), 0.3 * np.sin(2 * np.pi * 0.5 * u1),
+                         0.3 * np.sin(2 * np.pi * 1.5 * u2), np.zeros(500)])
+    t = np.arange(th.size) / fs
+    rng = np.random.default_rng(4)
+    sigma = 1e-4
+    rec = make_record(t, 50.0 * th, th + rng.normal(0.0, sigma, t.size))
+    sig = make_signals(rec, segment(rec))
+    junction = 500 + u1.size
+    near = slice(junction - 60, junction + 60)
+    assert np.max(np.abs(sig.theta_trace[near] - th[near])) < 6 * sigma
+    # and the rate a damper sees has no step there beyond the speed's own jump
+    v = np.gradient(th, t)
+    assert np.max(np.abs(sig.rate_trace[near] - v[near])) < 0.05 * np.max(np.abs(v))
