@@ -12,7 +12,12 @@ Coulomb friction J_p (only if the case has friction). The result is the RMS resi
 the torque noise sigma ("lib/sig"): about 0 when the record is inside this library, and the
 size of what no library law describes otherwise. The labelling rule it checks: a record is
 ``unexplained`` when lib/sig >= 0.5 (structure of 0.5 sigma RMS over >= 10 000 samples is
-far above noise for any residual test). It does not decide scores.
+far above noise for any residual test). It does not decide scores, except under the
+README rule (``heldout_fit_a.py --rule readme``, the default): there the label of a record
+with physics outside the library is decided from it as generator E decides its own, by the
+excess chi-square ``N·(lib/sig)²`` (>= 2000: flagged, <= 200: not, between: either), with a
+viscous damper ``c·dθ/dt`` among the laws (``damper=True``: the README puts a damper within
+``time_lag``'s meaning, the lag's other law beside the pure delay).
 """
 
 from __future__ import annotations
@@ -25,8 +30,11 @@ UNEXPLAINED_LIB_SIG = 0.5
 STEP = 4  # use every 4th sample (speed)
 
 
-def library_residual(spec, seed_rng):
-    """RMS residual (over the torque noise) of the best library-like fit to the noiseless record."""
+def library_residual(spec, seed_rng, damper=False):
+    """RMS residual (over the torque noise) of the best library-like fit to the noiseless record.
+
+    ``damper``: the lag is a pure delay d or (at d = 0) a viscous damper c·dθ/dt.
+    """
     sp = {k: v for k, v in spec.items() if k not in ("outliers", "quant_counts", "ar1")}
     sp["noise_frac"] = 1e-12
     sp["angle_noise"] = 0.0
@@ -51,11 +59,15 @@ def library_residual(spec, seed_rng):
     def late(x, d):  # x(t - d) at the kept samples, interpolated at the full rate
         return np.interp(t - d, t_full, x)
 
-    def resid(d, b, z, J):
+    rate = np.gradient(th_full, t_full)[::STEP] * 0.01 / A  # a damper's shape, scaled
+
+    def resid(d, b, z, J, damp=False):
         phi = deadband(late(th_full, d) - z, b) / A
         cols = [phi, phi ** 3, phi * (phi < 0), np.ones_like(t), t / t[-1]]
         if J is not None:  # a torque lag delays the friction too, an angle lag does not
             cols.append(late(J[0], d * J[1]))
+        if damp:
+            cols.append(rate)
         B = np.column_stack(cols)
         x = np.linalg.lstsq(B, T, rcond=None)[0]
         return float(np.sqrt(np.mean((T - B @ x) ** 2)))
@@ -72,4 +84,10 @@ def library_residual(spec, seed_rng):
     for d in np.arange(d0 - 0.002, d0 + 0.00201, 0.00025):
         r = resid(d, b, z, J)
         best = min(best, (r, d, b, z, J), key=lambda x: x[0])
+    if damper:
+        for b in gaps:
+            for z in zeros:
+                for J in fric:
+                    r = resid(0.0, b, z, J, True)
+                    best = min(best, (r, 0.0, b, z, J), key=lambda x: x[0])
     return best[0] / sigma

@@ -356,7 +356,7 @@ class Search:
                 full_r = state.model.residual(state.x, sig, every)
                 mask = find_glitches(full_r, self.s.glitch_threshold,
                                      guard=turn_guard(state.model, state.x, sig),
-                                     model=sig.torque - full_r)
+                                     model=direction_terms(state.model, state.x, sig))
                 n_glitch = int(mask.sum())
                 if n_glitch == 0:
                     cands.append(Candidate(effect.name, 0.0, False))
@@ -545,15 +545,27 @@ def turn_guard(model: TorqueModel, x: np.ndarray, sig: Signals) -> np.ndarray:
     return guard | late
 
 
+def direction_terms(model: TorqueModel, x: np.ndarray, sig: Signals) -> np.ndarray:
+    """The model's direction-following torque terms (N·m) on every sample (zeros without).
+
+    What a glitch at a guarded turn must exceed (``find_glitches``'s ``model``): a friction
+    that flips at the turn, placed a sample early or late, leaves a one-sample error as
+    large as its step. The elastic part is not among them: it steps only where the
+    deflection sample itself jumps, and a spike in the angle channel (K times a 30 mrad
+    jump in a hold) is a glitch, not a step of the model to excuse.
+    """
+    names = {e.name for e in model.effects if e.stage == "torque" and e.direction_signed}
+    if not names:
+        return np.zeros(sig.n)
+    return model.torque_terms(x, sig, np.arange(sig.n), names)
+
+
 def _term_steps(model: TorqueModel, x: np.ndarray, sig: Signals, half: int = 4) -> np.ndarray:
     """Samples within ``half`` of a step of the model's direction-following torque terms
     (a friction that takes hold when a hold ends): a step of more than a quarter of the
     term's size in one sample, placed a sample early or late on the deflection trace,
     leaves a residual swing there for the model's reasons, as at a turn."""
-    names = {e.name for e in model.effects if e.stage == "torque" and e.direction_signed}
-    if not names:
-        return np.zeros(sig.n, dtype=bool)
-    term = model.torque_terms(x, sig, np.arange(sig.n), names)
+    term = direction_terms(model, x, sig)
     size = float(np.max(np.abs(term)))
     if size == 0.0:
         return np.zeros(sig.n, dtype=bool)

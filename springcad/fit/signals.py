@@ -92,12 +92,19 @@ class Signals:
         out = np.gradient(trace, self.t)
         own = np.zeros(self.n)
         cuts = []
+        mended = self._mend_cuts
         for block in self._trace_blocks:
             c0, d0 = block[0][0], block[-1][1]
             cuts.append(c0)
-            if not block[0][2] and d0 - c0 >= 2:
-                own[c0:d0] = np.gradient(trace[c0:d0], self.t[c0:d0])
-        c = np.array([k for k in cuts if 2 <= k <= self.n - 2], dtype=int)
+            if block[0][2]:
+                continue
+            # the trace is fitted on each side of a corner it was cut at on its own
+            inner = [k for k in mended if c0 < k < d0]
+            cuts.extend(inner)
+            for a, b in zip([c0, *inner], [*inner, d0]):
+                if b - a >= 2:
+                    own[a:b] = np.gradient(trace[a:b], self.t[a:b])
+        c = np.array(sorted(k for k in cuts if 2 <= k <= self.n - 2), dtype=int)
         if c.size:
             # a cut the trace jumps across: it moves there by more than twice what the
             # rates about it carry over a sample (a continuous trace, a V turn, a linear
@@ -174,24 +181,84 @@ class Signals:
         w_min = max(5, int(round(TRACE_WINDOW_S[0] * self.scales.sample_rate_hz)))
         out = self.theta_smooth.copy()
         blocks = self._trace_blocks
+        mended: list[int] = []
         for block in blocks:
             c0, d0 = block[0][0], block[-1][1]
             if block[0][2]:
                 out[c0:d0] = float(np.mean(self.theta[c0:d0]))
                 continue
-            fits: dict[int, np.ndarray] = {}
-            longest = (d0 - c0) if (d0 - c0) % 2 else d0 - c0 - 1
             # a ramp between holds inside a run (a staircase's step) is shorter than the
             # run: the cubic's window stays within a share of what is fitted
             cap = max(w_min, int(TRACE_PIECE_FRACTION * (d0 - c0))) | 1
-            for c, d, _, w in block:
-                wp = min(w, longest, cap)
-                if wp < 5:
-                    continue
-                if wp not in fits:
-                    fits[wp] = savgol_filter(self.theta[c0:d0], wp, 3, mode="interp")
-                out[c:d] = fits[wp][c - c0:d - c0]
+            self._fit_block(out, block, c0, d0, cap, w_min, TRACE_MEND_DEPTH, mended)
+        self.__dict__["_mend_cuts"] = tuple(sorted(mended))
         return out
+
+    @functools.cached_property
+    def _mend_cuts(self) -> tuple[int, ...]:
+        """Samples where :attr:`theta_trace` was cut inside a moving block, at a corner it
+        missed (:meth:`_fit_block`); the piece after the cut starts there."""
+        self.theta_trace  # noqa: B018 (sets it)
+        return self.__dict__["_mend_cuts"]
+
+    def _fit_block(self, out: np.ndarray, block: list, lo: int, hi: int, cap: int, w_min: int,
+                   depth: int, mended: list[int]) -> None:
+        """Fill ``out[lo:hi]`` (rad) with the local cubic of the moving ``block``'s pieces
+        (each its own window) fitted over ``[lo, hi)`` as one; then cut it where it misses
+        the measured deflection and fit each side alone.
+
+        A motion may change speed at once without turning or holding (a chirp that ends
+        at 5 rad/s into a ramp from rest): a cubic fitted across that corner rounds it
+        off (by 19 mrad, 500 noise levels of its 20 ms median), and a time lag shifts the
+        rounded corner into a torque swing of 35 torque noise levels. The running
+        median over ``w_min`` samples of what the trace misses, against its noise,
+        finds such a corner (a median: a spike in the angle channel is no corner);
+        the cut is the break of a parabola with a slope break fitted around it
+        (:func:`_slope_break`), at most ``depth`` cuts deep, kept where the two sides
+        fitted alone follow the deflection about it at least twice as closely (squared);
+        each cut kept is appended to ``mended``.
+        """
+        from scipy.signal import savgol_filter
+
+        fits: dict[int, np.ndarray] = {}
+        longest = (hi - lo) if (hi - lo) % 2 else hi - lo - 1
+        for c, d, _, w in block:
+            c, d = max(c, lo), min(d, hi)
+            if c >= d:
+                continue
+            wp = min(w, longest, cap)
+            if wp < 5:
+                out[c:d] = self.theta_smooth[c:d]
+                continue
+            if wp not in fits:
+                fits[wp] = savgol_filter(self.theta[lo:hi], wp, 3, mode="interp")
+            out[c:d] = fits[wp][c - lo:d - lo]
+        sigma = self.scales.theta_noise
+        if depth <= 0 or hi - lo < 4 * w_min or sigma <= 0.0:
+            return
+        dev = ndimage.median_filter(self.theta[lo:hi] - out[lo:hi], w_min | 1, mode="nearest")
+        z = np.abs(dev) / (1.25 * sigma / math.sqrt(w_min))
+        # within a window of the piece's ends the cubic is one-sided and the corners of holds
+        # and turns are placed by their own fits (``_pieces``): a corner is sought inside
+        z[:w_min] = 0.0
+        z[-w_min:] = 0.0
+        worst = int(np.argmax(z))
+        if z[worst] < TRACE_MISS_Z:
+            return
+        cut = lo + _slope_break(self.theta[lo:hi], worst, 2 * w_min)
+        if not lo + w_min <= cut <= hi - w_min:
+            return
+        near = slice(max(lo, cut - 2 * w_min), min(hi, cut + 2 * w_min))
+        before, kept = float(np.sum((self.theta[near] - out[near]) ** 2)), list(mended)
+        saved = out[lo:hi].copy()
+        mended.append(cut)
+        for a, b in ((lo, cut), (cut, hi)):
+            self._fit_block(out, block, a, b, cap, w_min, depth - 1, mended)
+        if float(np.sum((self.theta[near] - out[near]) ** 2)) >= 0.5 * before:
+            # the sides fitted alone follow the deflection about the cut no better: no
+            # corner there (a cubic starting at a cut placed off a corner misses by more)
+            out[lo:hi] = saved
+            mended[:] = kept
 
     @functools.cached_property
     def in_hold(self) -> np.ndarray:
@@ -404,10 +471,14 @@ TRACE_RUN_FRACTION = 0.15
 #: ...within these bounds (s), and at most this fraction of the moving piece it smooths
 TRACE_WINDOW_S = (0.06, 0.3)
 TRACE_PIECE_FRACTION = 0.5
+#: the trace is cut where the running median of what it misses of the deflection stands this
+#: many of its noise levels out (``Signals._mend_corners``), at most this many times deep
+TRACE_MISS_Z = 12.0
+TRACE_MEND_DEPTH = 3
 #: window of the smoothed deflection (``springcad.fit.segment.smooth``'s default), s
 SMOOTH_WINDOW_S = 0.02
 #: the signals derived from the measured deflection (cached), shared by :attr:`Signals.on_trace`
-_DERIVED = ("theta_trace", "rate_trace", "_trace_blocks", "in_hold", "from_reversal",
+_DERIVED = ("theta_trace", "_mend_cuts", "rate_trace", "_trace_blocks", "in_hold", "from_reversal",
             "since_turn_s", "swing", "near_turn")
 #: the motion has left a turn's angle where the smoothed deflection is this many
 #: deflection noise levels away from it (see ``Signals._pieces``)
@@ -416,6 +487,27 @@ HOLD_BAND_NOISE = 5.0
 TURN_GUARD_S = 0.025
 #: ...and while the deflection is this close to the turn's, as a fraction of the largest
 TURN_GUARD_BAND = 0.01
+
+
+def _slope_break(theta: np.ndarray, near: int, half: int) -> int:
+    """Index (into ``theta``) of the break of a cubic whose slope and curvature break at j,
+    ``a + b x + c x² + d x³ + e·max(x - j, 0) + f·max(x - j, 0)²``, fitting ``theta`` best
+    within ``half`` samples of
+    ``near``: where a motion changes speed at once; the break's own sample (on both lines,
+    so the piece after the break starts there)."""
+    lo, hi = max(near - half, 0), min(near + half + 1, theta.size)
+    js = np.arange(lo + 2, hi - 2)
+    if js.size == 0:
+        return near
+    y = theta[lo:hi]
+    i = np.arange(lo, hi, dtype=float)
+    x = (i - float(near)) / max(half, 1)
+    kink = np.maximum(i[None, :] - js[:, None].astype(float), 0.0) / max(half, 1)
+    base = np.broadcast_to(np.stack([np.ones_like(x), x, x * x, x ** 3], axis=1), (js.size, x.size, 4))
+    a = np.concatenate([base, kink[:, :, None], (kink * kink)[:, :, None]], axis=2)
+    coef = np.linalg.pinv(a) @ y
+    sse = np.sum((y[None, :] - np.einsum("cnk,ck->cn", a, coef)) ** 2, axis=1)
+    return int(js[int(np.argmin(sse))])
 
 
 def _corner(theta: np.ndarray, near: int, leaving: bool, half: int, reach: int = 0) -> int:

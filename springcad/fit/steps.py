@@ -19,7 +19,7 @@ import numpy as np
 from springcad.fit.effects import Effect, get_effect
 from springcad.fit.models import nrmse_pct
 from springcad.fit.nuisance import nuisance_views
-from springcad.fit.search import BESIDE_STRUCTURE, Search, State, turn_guard
+from springcad.fit.search import BESIDE_STRUCTURE, Search, State, direction_terms, turn_guard
 from springcad.fit.signals import Signals, find_glitches
 
 
@@ -163,7 +163,7 @@ def _refresh_mask(state: State, lp: Search, f_scale: float) -> State:
     r = state.model.residual(state.x, lp.sig, np.arange(lp.sig.n))
     mask = find_glitches(r, lp.s.glitch_threshold,
                          guard=turn_guard(state.model, state.x, lp.sig),
-                         model=lp.sig.torque - r)
+                         model=direction_terms(state.model, state.x, lp.sig))
     if np.array_equal(mask, state.mask):
         return state
     x = lp.refit(state.model, state.x, mask, f_scale)
