@@ -22,13 +22,38 @@ def test_dowel_length_by_hand():
         rim_dowel_length(1.5, 1.0, 0.5, 1.0)
 
 
+#: ISO 8734:1997 Table 1, written here in the standard's own form and not copied from
+#: springcad's table: each diameter's length range (l min, l max), the lengths being
+#: the standard's preferred length series within it
+ISO8734_RANGES = {1: (3, 10), 1.5: (4, 16), 2: (5, 20), 2.5: (6, 24), 3: (8, 30), 4: (10, 40),
+                  5: (12, 50), 6: (14, 60), 8: (18, 80), 10: (22, 100), 12: (26, 100),
+                  16: (40, 100), 20: (50, 100)}
+ISO8734_SERIES = (3, 4, 5, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30, 32, 35, 40, 45, 50,
+                  55, 60, 65, 70, 75, 80, 85, 90, 95, 100)
+
+
+def _iso8734_lengths(d: float) -> tuple:
+    lo, hi = ISO8734_RANGES.get(d, (1, 0))
+    return tuple(x for x in ISO8734_SERIES if lo <= x <= hi)
+
+
+def test_dowel_table_is_iso8734():
+    """springcad's dowel table (springcad/data/iso8734_dowels.csv) is the standard's
+    ranges and series, diameter by diameter."""
+    table = dowel_lengths()
+    assert set(table) == set(ISO8734_RANGES)
+    for d, lengths in table.items():
+        assert tuple(lengths) == _iso8734_lengths(d), d
+
+
 def _catalogue_match(standard: str) -> bool:
-    """The designation names a size its standard's catalogue lists."""
+    """The designation names a size its standard's catalogue lists (dowels: the ISO 8734
+    table above; screws and nuts: bd_warehouse's ISO 4762 / ISO 4032 tables)."""
     from bd_warehouse.fastener import HexNut, SocketHeadCapScrew
 
     if m := re.fullmatch(r"ISO 8734 - ([\d.]+) m6 x ([\d.]+)", standard):
         d, length = float(m[1]), float(m[2])
-        return length in dowel_lengths().get(d, ())
+        return length in _iso8734_lengths(d)
     if m := re.fullmatch(r"ISO 4762 - (M[\d.]+) x ([\d.]+)", standard):
         size = next((s for s in SocketHeadCapScrew.sizes("iso4762")
                      if s.startswith(m[1] + "-")), None)
