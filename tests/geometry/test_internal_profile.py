@@ -94,3 +94,23 @@ def test_hole_tolerance_no_tighter_than_the_process():
     res = fit_rule(replace(spacer.info, process="laser"))
     assert [v["feature"] for v in res.violations] == ["holes ±0.005: laser cut hold ±0.05 at best"]
     assert fit_rule(replace(spacer.info, process="laser", fits={"holes": "±0.05"})).passed
+
+
+def test_rim_spacer_notes_follow_the_process():
+    """4xS1 (wire EDM): the web at the largest hole by hand from the plan, hole circle
+    minus half of Ø1.56 + 0.005 minus the inner radius, is below the 0.5 mm sheet and the
+    note names it and forbids the sheet processes; a laser spacer is cut one sheet at a
+    time and says nothing of stacks."""
+    import math
+
+    spacer = assembly("4xS1").part_named("RIM-SPACER")
+    hc = min(math.hypot(*c) for c in spacer.hole_centres)
+    web = hc - 0.5 * (1.56 + 0.005) - spacer.inner_radius
+    assert spacer.hole_diameter == 1.56 and web < 0.5
+    text = " ".join(spacer.info.notes)
+    assert f"webs at the holes are {web:.3f}".rstrip("0") in text
+    assert "not laser, waterjet or punched" in text
+    laser = type(spacer)("X", spacer.inner_radius, spacer.outer_radius, 0.5,
+                         ("aluminium", 2700.0), spacer.hole_centres, 1.68, process="laser")
+    assert "one sheet at a time" in laser.info.notes[0]
+    assert "stack" not in " ".join(laser.info.notes)
