@@ -30,8 +30,22 @@ class RimFlange(AnnularPart):
 
     KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_flange", "Rim flange", "wire_edm", "steel", True
     CODE = "RIM-FLANGE"
-    NOTES = ("Holes match the flexure-ring rim holes; mounting to the system is "
-             "left to the user.",)
+    NOTES = ("Holes match the flexure-ring rim holes (same pattern, same fit).",)
+
+    def part_notes(self) -> tuple[str, ...]:
+        """How torque gets in and out: drive pins (a dowelled stack) or the rim bolts."""
+        if "dowel" in self.hole_purpose:
+            how = ("Torque path: the drive pins (BOM, ISO 8734, bonded like the rim dowels) "
+                   "pass these holes into the end ring's rim, stopping short of its far face, "
+                   "and stand proud of this flange's face away from the ring; the user's "
+                   "drive part takes them in holes of this pattern and fit. Holding the "
+                   "stack along the axis is left to the user.")
+        else:
+            how = ("Torque path: the rim bolts (BOM) clamp this flange to the end ring's rim, "
+                   "heads on this flange's face away from the ring; the user's drive part "
+                   "bears on that face and its outer diameter. Holding the stack along the "
+                   "axis is left to the user.")
+        return (*self.NOTES, how)
 
 
 #: a socket torque shaft is hardened between turning and the sinker EDM of its socket

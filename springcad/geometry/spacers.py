@@ -59,6 +59,7 @@ class AnnularPart(SpringcadPart):
         self.hole_centres = tuple(hole_centres)
         self.hole_diameter = hole_diameter_mm
         self.process = process or self.PROCESS
+        self.hole_purpose = (fits or {}).get("hole_purpose", "")
         holes = tuple(circle_loop(0.5 * hole_diameter_mm, c) for c in self.hole_centres)
         region = annulus(inner_radius_mm, outer_radius_mm, holes)
         dims = {"outer diameter": 2 * outer_radius_mm}
