@@ -74,10 +74,11 @@ def test_failure_classes(message, kind):
     assert failure_class(message) == kind
 
 
-def _verified_run(tmp_path, monkeypatch, failing_checks, verify_top):
+def _verified_run(tmp_path, monkeypatch, failing_checks, verify_top, release=()):
     """synthesize with verify=True, the full design and FEA passing and build's checks
     failing for the stacks in ``failing_checks`` (full design, FEA and solids replaced: what
-    is tested is the choice)."""
+    is tested is the choice); ``release``: the FEA's release findings (contact at full
+    deflection) of every candidate."""
     from types import SimpleNamespace
 
     def full_design(req, cand):
@@ -86,7 +87,8 @@ def _verified_run(tmp_path, monkeypatch, failing_checks, verify_top):
 
     def fea(req, cand, model):
         v = SimpleNamespace(ok=True, failures=lambda: [], notes=lambda: [],
-                            summary=lambda: f"FEA of {int(cand['cid'])} passed", springs={})
+                            summary=lambda: f"FEA of {int(cand['cid'])} passed", springs={},
+                            release_failures=lambda: list(release), duty_failures=list)
         return v, SimpleNamespace(cid=int(cand["cid"]), stack=SimpleNamespace(mass_kg=0.3))
 
     def checks(corrected):
@@ -130,3 +132,19 @@ def test_no_finalist_passes_build_checks_is_not_ok(tmp_path, monkeypatch):
 def _ranked_all():
     cols = evaluate_batch(SPACE, 0, SPACE.total)
     return ranking.distinct(cols, ranking.rank(cols, "mass_kg"), 1000)
+
+
+def test_winner_that_build_will_not_release_says_so(tmp_path, monkeypatch):
+    """Requirements without a [duty] (issue 26 review 7): the winner is still the first to
+    pass the FEA and build's checks, but its status (winner.toml's header, the CLI's last
+    line) says build will stamp it NOT FOR MANUFACTURE, with the count and the first
+    finding; with no findings the status is the plain one."""
+    assert REQ.duty is None
+    finding = "spring A at +10.7 deg: clearance driving flank to neck -33.5 um worst case"
+    result = _verified_run(tmp_path, monkeypatch, set(), verify_top=3, release=(finding, "x"))
+    assert result.ok
+    assert result.winner_status == (
+        "FEA (2d3d) and build checks passed; but build will stamp it NOT FOR MANUFACTURE: 2 "
+        "release findings (springcad's default duty and the contact at full deflection; the "
+        f"requirements declare no [duty]), the first: {finding}")
+    assert "NOT FOR MANUFACTURE" in result.winner_toml()
