@@ -117,8 +117,10 @@ def rim_pin_fit(diameter_mm: float, pattern_zone_mm: float) -> RimPinFit:
 
 
 def dowel_designation(diameter_mm: float, length_mm: float) -> str:
-    """The order designation, e.g. ``ISO 8734 - 1.5 m6 x 8``."""
-    return f"ISO 8734 - {diameter_mm:g} m6 x {length_mm:g}"
+    """The order designation (ISO 8734:1997 clause 6: diameter x length, type A = through
+    hardened, St = steel; the diameter tolerance is always m6), e.g.
+    ``ISO 8734 - 1.5 x 8 - A - St``."""
+    return f"ISO 8734 - {diameter_mm:g} x {length_mm:g} - A - St"
 
 
 def rim_dowel_length(diameter_mm: float, first_mm: float, gap_mm: float,

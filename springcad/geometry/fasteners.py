@@ -24,7 +24,8 @@ class DowelPin(AnnularPart):
 
     KIND, TITLE, PROCESS, COLOUR = "fastener", "Dowel pin", "purchased", "fastener"
     CODE = "DOWEL"
-    NOTES = ("Catalogue part: ISO 8734 hardened dowel pin, m6.",)
+    NOTES = ("Catalogue part: ISO 8734 parallel pin, type A (through-hardened steel, "
+             "550-650 HV), diameter m6.",)
 
     def __init__(self, name: str, diameter_mm: float, length_mm: float):
         super().__init__(name, 0.0, 0.5 * diameter_mm, length_mm, STEEL,
