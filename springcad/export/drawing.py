@@ -12,6 +12,7 @@ the drawing is for quoting and inspection. Units: mm.
 
 from __future__ import annotations
 
+import re
 import textwrap
 import tomllib
 from dataclasses import dataclass
@@ -86,6 +87,21 @@ def _finisher(info, fit: str) -> str:
     return process_text(keys[0]) if keys else "(no listed process holds it)"
 
 
+#: the coarsest ISO tolerance grade whose fit gets a fine finish (IT7: Ra 0.8 um, 0.4 on a
+#: hardened part); a coarser fit (H9, H11: a clearance or a running fit in plastic) keeps
+#: its process's finish, Ra 3.2 um (a finer Ra is neither needed nor measurable on the
+#: 0.5 mm wall of a milled sheet part)
+FINE_FIT_GRADE = 8
+
+
+def fit_roughness(fits, hardened: bool) -> str:
+    """Ra (um, as text) of a part's fitted features: set by its finest fit."""
+    grades = [int(m[1]) for f in fits if (m := re.search(r"(\d+)$", f))]
+    if grades and min(grades) > FINE_FIT_GRADE:
+        return "3.2"
+    return "0.4" if hardened else "0.8"
+
+
 def fields(part, info: DrawingInfo, scale: float, template: dict) -> dict:
     """The values the template's ``{field}`` placeholders take."""
     p = part.info
@@ -102,6 +118,7 @@ def fields(part, info: DrawingInfo, scale: float, template: dict) -> dict:
             "job": info.job, "process": process_chain_text(p.process, p.secondary_processes),
             "fits": ", ".join(f"{fit} ({feature}) {_finisher(p, fit)}"
                               for feature, fit in fits.items()),
+            "fit_ra": fit_roughness(fits.values(), bool(p.heat_treatment)),
             "drawn_by": info.drawn_by, "sheet": "1/1", "standard": p.standard or "-",
             "general_tolerance": template.get("block", {}).get("general_tolerance",
                                                                 "ISO 2768-mK"),

@@ -101,7 +101,10 @@ class TorqueShaft(SpringcadPart):
             note = (f"D socket (blind, {self.socket_depth:.4g} deep, corners "
                     f"R{plan.corner_radius_mm:g}): sinker EDM after hardening with a D "
                     "electrode (cannot be turned, ground or wire cut); H7 on the round part, "
-                    "flat toleranced as drawn; 0.2 x 45° chamfer at the mouth.")
+                    "flat toleranced as drawn; 0.2 x 45° chamfer at the mouth. Bottom: flat, "
+                    "square to the axis within 0.02 mm (it bears on the camshaft hub's end "
+                    "face), bottom corners R0.1 max (the hub's end edge is broken 0.1-0.2 "
+                    "mm).")
             fits = {"bore": "H7"}
             # nothing on it is ground: the H7 socket is finished by the sinker EDM, the
             # outside is a plain turned diameter
