@@ -116,11 +116,11 @@ def rim_pin_fit(diameter_mm: float, pattern_zone_mm: float) -> RimPinFit:
                      mismatch_mm=pattern_zone_mm, pattern_zone_mm=pattern_zone_mm)
 
 
-def dowel_designation(diameter_mm: float, length_mm: float) -> str:
-    """The order designation (ISO 8734:1997 clause 6: diameter x length, type A = through
-    hardened, St = steel; the diameter tolerance is always m6), e.g.
-    ``ISO 8734 - 1.5 x 8 - A - St``."""
-    return f"ISO 8734 - {diameter_mm:g} x {length_mm:g} - A - St"
+def dowel_designation(diameter_mm: float, length_mm: float, stainless: bool = False) -> str:
+    """The order designation (ISO 8734:1997: diameter x length, then type A = through
+    hardened steel "A - St", or martensitic stainless steel "C1" for a stainless stack; the
+    diameter tolerance is always m6), e.g. ``ISO 8734 - 1.5 x 8 - A - St``."""
+    return f"ISO 8734 - {diameter_mm:g} x {length_mm:g} - {'C1' if stainless else 'A - St'}"
 
 
 def rim_dowel_length(diameter_mm: float, first_mm: float, gap_mm: float,

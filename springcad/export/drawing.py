@@ -12,7 +12,6 @@ the drawing is for quoting and inspection. Units: mm.
 
 from __future__ import annotations
 
-import re
 import textwrap
 import tomllib
 from dataclasses import dataclass
@@ -80,26 +79,26 @@ def load_title_block(path: Path | None = None) -> dict:
 
 
 def _finisher(info, fit: str) -> str:
-    """The process that finishes a fit: the first of the part's processes (main, then
-    secondary) that holds it."""
-    keys = [k for k in (info.process, *info.secondary_processes)
-            if k in processes() and processes()[k].can_finish(fit)]
-    return process_text(keys[0]) if keys else "(no listed process holds it)"
+    """The process that finishes a fit and the Ra it leaves (``"ground, Ra 0.4 um"``)."""
+    key = _finisher_key(info, fit)
+    if key is None:
+        return "(no listed process holds it)"
+    ra = FIT_RA_UM.get(key)
+    return process_text(key) + (f", Ra {fmt(ra)} um" if ra is not None else "")
 
 
-#: the coarsest ISO tolerance grade whose fit gets a fine finish (IT7: Ra 0.8 um, 0.4 on a
-#: hardened part); a coarser fit (H9, H11: a clearance or a running fit in plastic) keeps
-#: its process's finish, Ra 3.2 um (a finer Ra is neither needed nor measurable on the
-#: 0.5 mm wall of a milled sheet part)
-FINE_FIT_GRADE = 8
+#: Ra (um) of a fitted feature by the process that finishes it: grinding gives Ra 0.4
+#: cheaply; wire and sinker EDM Ra 0.8 with skim cuts or a finishing electrode (enough for
+#: slip fits and bonded pins, review 7); a turned H9 Ra 1.6; a milled H11 on a 0.5 mm POM
+#: edge the process's Ra 3.2 (a finer one is neither needed nor measurable there)
+FIT_RA_UM = {"ground": 0.4, "wire_edm": 0.8, "sinker_edm": 0.8, "broached": 0.8,
+             "turned": 1.6, "milled": 3.2, "laser": 3.2}
 
 
-def fit_roughness(fits, hardened: bool) -> str:
-    """Ra (um, as text) of a part's fitted features: set by its finest fit."""
-    grades = [int(m[1]) for f in fits if (m := re.search(r"(\d+)$", f))]
-    if grades and min(grades) > FINE_FIT_GRADE:
-        return "3.2"
-    return "0.4" if hardened else "0.8"
+def _finisher_key(info, fit: str) -> str | None:
+    """The key of the first of the part's processes (main, then secondary) that holds the fit."""
+    return next((k for k in (info.process, *info.secondary_processes)
+                 if k in processes() and processes()[k].can_finish(fit)), None)
 
 
 def fields(part, info: DrawingInfo, scale: float, template: dict) -> dict:
@@ -116,9 +115,8 @@ def fields(part, info: DrawingInfo, scale: float, template: dict) -> dict:
                           else "- (no DXF)"), "units": "mm",
             "revision": info.revision, "date": info.date, "scale": scale_text(scale),
             "job": info.job, "process": process_chain_text(p.process, p.secondary_processes),
-            "fits": ", ".join(f"{fit} ({feature}) {_finisher(p, fit)}"
+            "fits": "; ".join(f"{fit} ({feature}) {_finisher(p, fit)}"
                               for feature, fit in fits.items()),
-            "fit_ra": fit_roughness(fits.values(), bool(p.heat_treatment)),
             "drawn_by": info.drawn_by, "sheet": "1/1", "standard": p.standard or "-",
             "general_tolerance": template.get("block", {}).get("general_tolerance",
                                                                 "ISO 2768-mK"),
@@ -162,6 +160,8 @@ def note_lines(part, values: dict, template: dict) -> list[str]:
     else:
         lines += (notes.get("process_by_kind", {}).get(p.kind, {}).get(p.process)
                   or notes.get("process", {}).get(p.process, []))
+    if p.process == "wire_edm" and p.thickness_mm > THIN_SHEET_MM:  # a shim: deburred only
+        lines += notes.get("edges_wire_edm", [])
     if p.process == "wire_edm" and spring is not None:
         m = spring.manufacturing
         lines.append(f"Wire Ø{fmt(m.wire_diameter_mm)} mm or finer: the smallest inside "

@@ -127,12 +127,10 @@ class RimSpacer(AnnularPart):
         if self.process != "wire_edm":
             return ("Cut from flat sheet, one sheet at a time; deburr both faces.", *self.NOTES)
         web = min(self.webs_mm(process_of(self.process).hole_tolerance_mm))
-        cut = ("Wire EDM from flat sheet, several sheets clamped as one stack between two "
-               "flat plates of 2 mm or more; deburr both faces.")
+        cut = "Wire EDM, several sheets clamped as one stack between two plates."
         if web < self.length - 1e-9:
-            cut += (f" The webs at the holes are {fmt_mm(web)} mm at the largest hole, thinner "
-                    f"than the {fmt_mm(self.length)} mm sheet: wire EDM only (no cutting "
-                    "force, no heat-affected zone); not laser, waterjet or punched.")
+            cut += (f" Webs at the holes {fmt_mm(web)} mm (largest hole), thinner than the "
+                    "sheet: wire EDM only, not laser, waterjet or punched.")
         return (cut, *self.NOTES)
 
 

@@ -51,7 +51,7 @@ def _catalogue_match(standard: str) -> bool:
     table above; screws and nuts: bd_warehouse's ISO 4762 / ISO 4032 tables)."""
     from bd_warehouse.fastener import HexNut, SocketHeadCapScrew
 
-    if m := re.fullmatch(r"ISO 8734 - ([\d.]+) x ([\d.]+) - A - St", standard):
+    if m := re.fullmatch(r"ISO 8734 - ([\d.]+) x ([\d.]+) - (A - St|C1)", standard):
         d, length = float(m[1]), float(m[2])
         return length in _iso8734_lengths(d)
     if m := re.fullmatch(r"ISO 4762 - (M[\d.]+) x ([\d.]+)", standard):
@@ -71,6 +71,11 @@ def test_every_purchased_item_is_in_its_catalogue(stack):
     assert bought
     for r in bought:
         assert _catalogue_match(r["standard"]), r["standard"]
+    # stainless rings (AISI 420) take ISO 8734 type C1 (martensitic stainless) pins
+    ring = next(r for r in bom_rows(a) if r["kind"] == "flexure_ring")
+    if "stainless" in ring["material"]:
+        assert all(r["standard"].endswith("- C1") for r in bought
+                   if r["standard"].startswith("ISO 8734")), bought
     assert not _catalogue_match("ISO 8734 - 1.5 x 10.5 - A - St")  # the issue-26 item
     assert not _catalogue_match("ISO 8734 - 1.5 m6 x 16")  # no type and material
     # dowels sit inside the two rims they join (recessed, never proud)

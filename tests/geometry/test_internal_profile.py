@@ -108,7 +108,7 @@ def test_rim_spacer_notes_follow_the_process():
     web = hc - 0.5 * (1.56 + 0.005) - spacer.inner_radius
     assert spacer.hole_diameter == 1.56 and web < 0.5
     text = " ".join(spacer.info.notes)
-    assert f"webs at the holes are {web:.3f}".rstrip("0") in text
+    assert f"Webs at the holes {web:.3f}".rstrip("0") + " mm" in text
     assert "not laser, waterjet or punched" in text
     laser = type(spacer)("X", spacer.inner_radius, spacer.outer_radius, 0.5,
                          ("aluminium", 2700.0), spacer.hole_centres, 1.68, process="laser")
