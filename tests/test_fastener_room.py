@@ -86,15 +86,20 @@ def _gap_after(d, j):
 
 def test_bolted_three_stack_makes_room_for_the_heads_at_its_shaft_joint():
     # joints: shaft (A-A, rim washer), rim (A-B, bolted): the heads of the A-B bolts sit
-    # on spring 2's input face and turn against spring 1: the shaft joint holds the head
-    # height k, 0.3 mm of clearance and the 0.5 mm washer, the washer against spring 1
+    # on spring 2's input face and turn against spring 1; the input rim flange (3 mm) is
+    # bolted to spring 1 (3 mm), its nuts (or screw ends) on spring 1's output face. The
+    # shaft joint holds both: nut, 0.3 mm clearance, the 0.5 mm washer, 0.3 mm, head k
     d = design_job(_job("bolt", ["A", "A", "B"], "rim"), explain=False)
-    k = bolt_set(2.0).head_height_mm
-    assert _gap_after(d, 0) == pytest.approx(0.5 + 0.3 + k)
+    b = bolt_set(2.0)
+    grip = 3.0 + 3.0
+    below = max(b.nut_height_mm, b.screw_length_mm(grip) - grip)
+    assert _gap_after(d, 0) == pytest.approx(below + 0.3 + 0.5 + 0.3 + b.head_height_mm)
     assert _gap_after(d, 1) == pytest.approx(0.5)  # the bolted rim joint: the rim spacer
     washer = next(c for c in d.stack.components if c.kind == "rim_washer")
-    assert washer.z_mm == pytest.approx(d.stack.springs[0].thickness_mm)
+    assert washer.z_mm == pytest.approx(d.stack.springs[0].thickness_mm + below + 0.3)
     assert washer.length_mm == pytest.approx(0.5)
+    flange = next(c for c in d.stack.components if c.name == "bolts_input_flange")
+    assert (flange.z_mm, flange.length_mm, flange.plan.joint) == pytest.approx((-3.0, 6.0, -1))
     assert fastener_clashes(d.stack.layout, d.stack.springs) == []
 
 
@@ -160,9 +165,17 @@ def test_room_check_agrees_with_the_solids(monkeypatch):
             if o.component is not f.component and checker.pair(f, o).relation == "overlap":
                 solid.add((f.name, o.name))
     design = set()
+
+    def instance(owner, what):  # the solid instance of a fastener piece
+        return owner + ("_nut" if what == "nut" else "")
+
     for c in fastener_clashes(d.stack.layout, d.stack.springs):
-        owner = c.piece.owner + ("_nut" if c.piece.what == "nut" else "")
-        design.add((owner, c.other))
+        other = c.other  # a part, or another fastener's piece ("bolts_2_1 head")
+        mine = instance(c.piece.owner, c.piece.what)
+        if other.endswith((" head", " shank", " nut", " pin")):  # named once, both ways
+            other = instance(*other.rsplit(" ", 1))
+            design.add((other, mine))
+        design.add((mine, other))
     assert solid and solid <= design
     screws = {p for p in design if not p[0].endswith("_nut")}
     assert screws <= solid
@@ -202,3 +215,33 @@ def test_solids_of_a_bolted_four_stack_have_no_fastener_overlap():
         for o in asm.instances:
             if o is not f and o.component is not f.component:
                 assert checker.pair(f, o).relation != "overlap", (f.name, o.name)
+
+
+def test_rim_flanges_are_pinned_to_their_rings_by_hand():
+    """A dowelled stack driven at the rims (issue 26 review 7: the flanges were loose): each
+    rim flange (3 mm) is joined to its 3 mm ring by drive pins. Ø2 ISO 8734 lengths 5, 6,
+    8, ...; a pin stops its length tolerance (+0.3 to 10 mm) short of the ring's far face,
+    2.7 mm in the ring, and stands at least 1 x d = 2 mm proud of the flange: 5 and 6 stand
+    -0.7 and 0.3 mm proud, 8 stands 8 - 2.7 - 3 = 2.3 mm. The pins' strength is the
+    rim joints' check; nothing else is reached."""
+    from springcad.design.catalogue import drive_pin_length
+    from springcad.design.joint_strength import stack_pin_strengths
+
+    assert drive_pin_length(2.0, 3.0, 3.0) == (8, pytest.approx(2.7))
+    d = design_job(_job("dowel", ["A", "B"], "rim"), explain=False)  # rim, shaft, rim
+    lay = d.stack.layout
+    pins = {c.name: c for c in d.stack.components if c.kind == "fastener"}
+    first, last = pins["dowels_input_flange"], pins["dowels_output_flange"]
+    assert (first.plan.joint, last.plan.joint) == (-1, 1)
+    assert first.length_mm == last.length_mm == 8 and not first.in_mass
+    assert first.z_mm + 8 == pytest.approx(3.0 - 0.3)  # 0.3 short of spring 1's output face
+    assert first.z_mm == pytest.approx(-3.0 - 2.3)  # 2.3 proud of the input flange
+    z_last = lay.spring_z_mm[1]
+    assert last.z_mm == pytest.approx(z_last + 0.3)
+    assert last.z_mm + 8 == pytest.approx(lay.height_mm + 3.0 + 2.3)
+    assert len(first.plan.hole_centres_mm) == 4
+    strengths = {s.name: s for s in stack_pin_strengths(d.stack)}
+    assert strengths["dowels_input_flange"].engagement_mm == pytest.approx(2.7)
+    assert strengths["dowels_input_flange"].gap_mm == 0.0
+    assert all(s.ok for s in strengths.values())
+    assert fastener_clashes(lay, d.stack.springs) == []

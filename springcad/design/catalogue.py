@@ -33,6 +33,19 @@ from springcad.units import UM_PER_MM
 DOWEL_FILE = "iso8734_dowels.csv"
 #: a dowel engages each part it locates by at least this x its diameter
 MIN_ENGAGEMENT_PER_DIAMETER = 1.0
+#: upper length tolerance of a dowel pin (mm) by nominal length (up to, mm): a pin is
+#: ordered to length within +tol/0; DIN 7's table (+0.3 to 10 mm, +0.5 to 50, +0.8 above),
+#: taken for ISO 8734 pins too. A pin is chosen so that at its longest it still fits the
+#: room between the outer faces of the two parts it joins (never proud of either face,
+#: where a washer or a spring that turns against it may sit)
+DOWEL_LENGTH_TOLERANCE_MM = ((10.0, 0.3), (50.0, 0.5), (math.inf, 0.8))
+
+
+def dowel_length_tolerance_mm(length_mm: float) -> float:
+    """Upper length tolerance of a dowel of this nominal length (mm)."""
+    return next(tol for upto, tol in DOWEL_LENGTH_TOLERANCE_MM if length_mm <= upto + 1e-9)
+
+
 #: ISO 286-2 limit deviations (um) by nominal size range (upper bound of the range, mm):
 #: shaft m6 (lower, upper) and hole E7 (lower, upper)
 _M6_UM = ((3.0, 2, 8), (6.0, 4, 12), (10.0, 6, 15), (18.0, 7, 18))
@@ -103,15 +116,19 @@ def rim_pin_fit(diameter_mm: float, pattern_zone_mm: float) -> RimPinFit:
                      mismatch_mm=pattern_zone_mm, pattern_zone_mm=pattern_zone_mm)
 
 
-def dowel_designation(diameter_mm: float, length_mm: float) -> str:
-    """The order designation, e.g. ``ISO 8734 - 1.5 m6 x 8``."""
-    return f"ISO 8734 - {diameter_mm:g} m6 x {length_mm:g}"
+def dowel_designation(diameter_mm: float, length_mm: float, stainless: bool = False) -> str:
+    """The order designation (ISO 8734:1997: diameter x length, then type A = through
+    hardened steel "A - St", or martensitic stainless steel "C1" for a stainless stack; the
+    diameter tolerance is always m6), e.g. ``ISO 8734 - 1.5 x 8 - A - St``."""
+    return f"ISO 8734 - {diameter_mm:g} x {length_mm:g} - {'C1' if stainless else 'A - St'}"
 
 
 def rim_dowel_length(diameter_mm: float, first_mm: float, gap_mm: float,
                      second_mm: float) -> float:
     """Catalogue length (mm) of a dowel through two rims ``first_mm`` and ``second_mm``
-    thick with ``gap_mm`` between them, centred in the three.
+    thick with ``gap_mm`` between them, centred in the three: the longest whose largest
+    length (nominal + :func:`dowel_length_tolerance_mm`) fits the room and whose nominal
+    length engages each rim by the minimum.
 
     Raises:
         DesignError: no catalogue pin of this diameter, or none that fits inside the
@@ -125,10 +142,35 @@ def rim_dowel_length(diameter_mm: float, first_mm: float, gap_mm: float,
     need = MIN_ENGAGEMENT_PER_DIAMETER * diameter_mm
     for length in reversed(lengths):
         recess = 0.5 * (room - length)
-        if recess >= -1e-9 and min(first_mm, second_mm) - recess >= need - 1e-9:
+        if (room - length - dowel_length_tolerance_mm(length) >= -1e-9
+                and min(first_mm, second_mm) - recess >= need - 1e-9):
             return length
-    raise DesignError(f"dowel Ø{diameter_mm:g}: no ISO 8734 length ({', '.join(f'{v:g}' for v in lengths)}) "
-                      f"fits the {room:g} mm of two rims and engages each by {need:g} mm")
+    listed = ", ".join(f"{v:g}" for v in lengths)
+    raise DesignError(f"dowel Ø{diameter_mm:g}: no ISO 8734 length ({listed}) fits the "
+                      f"{room:g} mm of two rims at its longest (nominal + its length "
+                      f"tolerance, +{dowel_length_tolerance_mm(lengths[0]):g} mm) and engages "
+                      f"each by {need:g} mm")
+
+
+def drive_pin_length(diameter_mm: float, ring_mm: float, flange_mm: float) -> tuple[float, float]:
+    """(catalogue length, length in the ring) of a drive pin (mm) through a rim flange into
+    a ring ``ring_mm`` thick: its ring end short of the ring's far face by its length
+    tolerance (never proud there), engaging the ring and standing proud of the flange's
+    outer face each by at least the minimum engagement; the shortest such length.
+
+    Raises:
+        DesignError: the ring is too thin, or no catalogue length is long enough.
+    """
+    lengths = dowel_lengths().get(float(diameter_mm), ())
+    need = MIN_ENGAGEMENT_PER_DIAMETER * diameter_mm
+    for length in lengths:
+        in_ring = ring_mm - dowel_length_tolerance_mm(length)
+        if in_ring >= need - 1e-9 and length - in_ring - flange_mm >= need - 1e-9:
+            return length, in_ring
+    raise DesignError(f"drive pin Ø{diameter_mm:g}: no ISO 8734 length "
+                      f"({', '.join(f'{v:g}' for v in lengths) or 'none'}) engages a "
+                      f"{ring_mm:g} mm ring and stands {need:g} mm proud of a {flange_mm:g} mm "
+                      "rim flange")
 
 
 # ------------------------------------------------------------- screws and nuts

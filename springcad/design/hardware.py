@@ -16,7 +16,8 @@ from dataclasses import dataclass
 from springcad.connections import RIM, SHAFT
 from springcad.design import plans as pl
 from springcad.design.cam import d_bore
-from springcad.design.catalogue import bolt_set, m6_deviation_mm, rim_dowel_length, rim_pin_fit
+from springcad.design.catalogue import (bolt_set, drive_pin_length, m6_deviation_mm,
+                                        rim_dowel_length, rim_pin_fit)
 from springcad.design.connections import camshaft_indices
 from springcad.design.processes import process
 from springcad.design.tolerance import DJoint, RimPinJoint, d_half_chord_mm
@@ -285,9 +286,21 @@ class _Layout:
         self.floating = n >= FLOATING_FROM_SPRINGS
 
     def _bolted(self, j: int) -> bool:
-        """Rim joint j (0 <= j < n - 1) is clamped by through bolts."""
+        """Rim joint j (0 <= j < n - 1) is clamped by through bolts; j = -1 (n - 1): the
+        input (output) rim flange is bolted to spring 0 (n - 1)."""
+        n = len(self.springs)
+        if self.hw.fastener != "bolt":
+            return False
+        if j == -1 or j == n - 1:
+            end = self.input if j == -1 else self.output
+            return end == RIM and bool(self.springs[max(j, 0)].hole_centres_mm)
         return (0 <= j < len(self.joints) and self.joints[j] == RIM
-                and self.hw.fastener == "bolt" and bool(self.springs[j].hole_centres_mm))
+                and bool(self.springs[j].hole_centres_mm))
+
+    def _thickness(self, i: int) -> float:
+        """Thickness of spring i, or of the rim flange beyond either end (mm)."""
+        return (self.springs[i].thickness_mm if 0 <= i < len(self.springs)
+                else FLANGE_THICKNESS_MM)
 
     def _joint_gap(self, j: int) -> tuple[float, float]:
         """(axial gap, washer offset) of joint j (mm).
@@ -305,7 +318,9 @@ class _Layout:
         below = above = 0.0
         if self._bolted(j - 1):
             b = bolt_set(self.hw.fastener_diameter_mm)
-            grip = self.springs[j - 1].thickness_mm + self.gap + self.springs[j].thickness_mm
+            # a flange (j - 1 = -1) sits on its ring with no gap
+            grip = (self._thickness(j - 1) + (self.gap if j > 0 else 0.0)
+                    + self.springs[j].thickness_mm)
             below = max(b.nut_height_mm, b.screw_length_mm(grip) - grip)
         if self._bolted(j + 1):
             above = bolt_set(self.hw.fastener_diameter_mm).head_height_mm
@@ -420,18 +435,29 @@ class _Layout:
         out = [_annular(f"rim_spacer_{j + 1}", spacer, self.aluminium, zj, gap),
                _annular(f"centre_spacer_{j + 1}", centre, self.plastic, zj, gap)]
         if centres:
-            d = hw.fastener_diameter_mm
-            grip = springs[j].thickness_mm + gap + springs[j + 1].thickness_mm
-            length, z = grip, self.z0[j]
-            if hw.fastener == "dowel":  # a catalogue length, centred in the two rims
-                length = rim_dowel_length(d, springs[j].thickness_mm, gap,
-                                          springs[j + 1].thickness_mm)
-                z += 0.5 * (grip - length)
-            plan = pl.FastenerPlan(type=hw.fastener, diameter_mm=d, length_mm=length,
-                                   hole_centres_mm=centres, joint=j)
-            out.append(Component(f"{hw.fastener}s_{j + 1}", plan, FASTENER_STEEL[0], len(centres),
-                                 math.pi * d ** 2 / 4 * length, FASTENER_STEEL[1], z, length))
+            out.append(self.pins(f"{hw.fastener}s_{j + 1}", j, springs[j].thickness_mm, gap,
+                                 springs[j + 1].thickness_mm, self.z0[j], centres))
         return out
+
+    def pins(self, name: str, j: int, lower_mm: float, gap_mm: float, upper_mm: float,
+             z_mm: float, centres, in_mass: bool = True) -> Component:
+        """The fasteners of joint ``j`` through two plates ``lower_mm`` and ``upper_mm`` thick
+        with ``gap_mm`` between them, the lower one starting at ``z_mm`` (mm): dowels of a
+        catalogue length centred in the two, or bolts whose head is below the lower plate.
+        ``j`` is -1 for the input rim flange on spring 0 and n - 1 for the output flange
+        (system parts like the flanges: ``in_mass`` False)."""
+        hw = self.hw
+        d = hw.fastener_diameter_mm
+        grip = lower_mm + gap_mm + upper_mm
+        length, z = grip, z_mm
+        if hw.fastener == "dowel":  # a catalogue length, centred in the two
+            length = rim_dowel_length(d, lower_mm, gap_mm, upper_mm)
+            z += 0.5 * (grip - length)
+        plan = pl.FastenerPlan(type=hw.fastener, diameter_mm=d, length_mm=length,
+                               hole_centres_mm=centres, joint=j)
+        return Component(name, plan, FASTENER_STEEL[0], len(centres),
+                         math.pi * d ** 2 / 4 * length, FASTENER_STEEL[1], z, length,
+                         in_mass=in_mass)
 
     def rim_spacer(self, j: int, centres) -> pl.RimSpacerPlan:
         """The rim spacer of joint j: process, holes and inner edge from
@@ -512,7 +538,35 @@ class _Layout:
                                     hole_diameter_mm=s.hole_diameter_mm, spring_index=i)
             out.append(_annular(f"{end}_rim_flange", plan, self.steel, z, FLANGE_THICKNESS_MM,
                                 end, in_mass=False))
+            if s.hole_centres_mm:  # the flange is pinned (or bolted) to its ring's rim
+                out.append(self.flange_pins(end, i, z))
         return out
+
+    def flange_pins(self, end: str, i: int, z_flange_mm: float) -> Component:
+        """The fasteners of a rim flange on spring i (system parts: not in the mass).
+
+        Dowels are drive pins (:func:`~springcad.design.catalogue.drive_pin_length`): in
+        the ring up to its length tolerance short of the ring's far face (a washer or a
+        spring turns against that face), through the flange and proud of its outer face by
+        at least the engagement the user's drive part needs. Bolts: head on the flange's
+        outer face, nut on the ring's far face (:meth:`_joint_gap` makes room for it)."""
+        s, n, f = self.springs[i], len(self.springs), FLANGE_THICKNESS_MM
+        j, name = (-1 if end == "input" else n - 1), f"{self.hw.fastener}s_{end}_flange"
+        if self.hw.fastener != "dowel":
+            lower, upper, z_lo = ((f, s.thickness_mm, z_flange_mm) if end == "input"
+                                  else (s.thickness_mm, f, self.z0[i]))
+            return self.pins(name, j, lower, 0.0, upper, z_lo, s.hole_centres_mm,
+                             in_mass=False)
+        d = self.hw.fastener_diameter_mm
+        length, in_ring = drive_pin_length(d, s.thickness_mm, f)
+        # input: the ring's far face is its output face (z0 + t); output: its input face
+        z = (self.z0[i] + in_ring - length if end == "input"
+             else self.z0[i] + s.thickness_mm - in_ring)
+        plan = pl.FastenerPlan(type="dowel", diameter_mm=d, length_mm=length,
+                               hole_centres_mm=s.hole_centres_mm, joint=j)
+        return Component(name, plan, FASTENER_STEEL[0], len(s.hole_centres_mm),
+                         math.pi * d ** 2 / 4 * length, FASTENER_STEEL[1], z, length,
+                         in_mass=False)
 
 
 def d_joints(layout: StackLayout, t_camshaft_mm: float) -> tuple:

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 from springcad.design import plans as pl
 from springcad.design.catalogue import bolt_set, dowel_lengths
+from springcad.design.hardware import FLANGE_THICKNESS_MM
 from springcad.errors import DesignError
 from springcad.units import NMM_PER_NM
 
@@ -128,16 +129,26 @@ def pin_strength(name: str, kind: str, count: int, diameter_mm: float, radius_mm
 
 
 def _joint_inputs(stack, comp) -> dict:
-    """Geometry of one fastener component of a designed stack (mm, N*mm, MPa)."""
+    """Geometry of one fastener component of a designed stack (mm, N*mm, MPa): the two
+    plates it joins (two rims, or a rim flange and its ring: joint -1 / n - 1), the gap
+    between them and the pin's engagement, the shorter of its lengths inside each."""
     plan = comp.plan
-    a, b = stack.springs[plan.joint], stack.springs[plan.joint + 1]
-    z_a, z_b = stack.layout.spring_z_mm[plan.joint], stack.layout.spring_z_mm[plan.joint + 1]
-    gap = z_b - (z_a + a.thickness_mm)
-    # a pin centred in the rims (recessed at both ends by the same amount)
-    recess = 0.5 * (a.thickness_mm + gap + b.thickness_mm - plan.length_mm)
+    springs, z = stack.springs, stack.layout.spring_z_mm
+    j, n = plan.joint, len(springs)
+    if 0 <= j < n - 1:
+        a, b = springs[j], springs[j + 1]
+        plates = ((z[j], z[j] + a.thickness_mm), (z[j + 1], z[j + 1] + b.thickness_mm))
+    else:  # a rim flange on the first (j = -1) or the last spring, face to face
+        a = b = springs[0 if j < 0 else -1]
+        ring = (z[0], z[0] + a.thickness_mm) if j < 0 else (z[-1], z[-1] + a.thickness_mm)
+        flange = ((ring[0] - FLANGE_THICKNESS_MM, ring[0]) if j < 0
+                  else (ring[1], ring[1] + FLANGE_THICKNESS_MM))
+        plates = (flange, ring) if j < 0 else (ring, flange)
+    pin = (comp.z_mm, comp.z_mm + comp.length_mm)
+    engagement = min(min(pin[1], hi) - max(pin[0], lo) for lo, hi in plates)
     return dict(name=comp.name, kind=plan.type, count=len(plan.hole_centres_mm),
                 diameter_mm=plan.diameter_mm, radius_mm=plan.hole_circle_radius_mm,
-                gap_mm=gap, engagement_mm=min(a.thickness_mm, b.thickness_mm) - max(recess, 0.0),
+                gap_mm=plates[1][0] - plates[0][1], engagement_mm=engagement,
                 torque_Nmm=stack.stiffness_Nmm_per_rad * stack.max_deflection_rad,
                 rim_yield_MPa=min(s.material.material.yield_strength_MPa for s in (a, b)))
 
@@ -197,7 +208,8 @@ def check_pin_strength(stack) -> tuple[PinJointStrength, ...]:
         out.append(s)
         if s.ok:
             continue
-        max_count = min(sp.n_flexures for sp in stack.springs[c.plan.joint:c.plan.joint + 2])
+        j = c.plan.joint
+        max_count = min(sp.n_flexures for sp in stack.springs[max(j, 0):max(j, 0) + 2])
         raise DesignError(
             f"{s.name}: {s.count} x Ø{s.diameter_mm:g} {s.kind}s on R{s.radius_mm:.2f} carry "
             f"{s.torque_Nmm / NMM_PER_NM:.3g} N*m at the stack's largest deflection: "

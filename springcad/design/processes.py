@@ -33,6 +33,9 @@ class Process:
     position_tolerance_mm: float
     fits: tuple[str, ...]
     pattern_zone_mm: float = 0.0
+    internal_profiles: tuple[str, ...] = ()
+    min_internal_radius_mm: float = 0.0
+    before_hardening: bool = False
 
     @property
     def pattern_zone(self) -> float:
@@ -53,6 +56,10 @@ class Process:
                 + self.hole_tolerance_mm)
         return math.ceil(round(need * 100.0, 6)) / 100.0
 
+    def makes_internal(self, kind: str) -> bool:
+        """The process makes a non-round hole or pocket of this kind ("through", "blind")."""
+        return kind in self.internal_profiles
+
     def can_finish(self, fit: str) -> bool:
         """The process holds this ISO fit on a hole or bore without a second operation."""
         return not fit or fit in self.fits
@@ -70,7 +77,10 @@ def processes() -> dict[str, Process]:
                        hole_tolerance_mm=float(v["hole_tolerance_mm"]),
                        position_tolerance_mm=float(v["position_tolerance_mm"]),
                        fits=tuple(v["fits"]),
-                       pattern_zone_mm=float(v.get("pattern_zone_mm", 0.0)))
+                       pattern_zone_mm=float(v.get("pattern_zone_mm", 0.0)),
+                       internal_profiles=tuple(v.get("internal_profiles", ())),
+                       min_internal_radius_mm=float(v.get("min_internal_radius_mm", 0.0)),
+                       before_hardening=bool(v.get("before_hardening", False)))
             for k, v in data.items()}
 
 

@@ -166,8 +166,10 @@ def _write_sheets(part, parts_dir: Path, info: dict, template,
     pn = part.part_number
     paths, meta = [], []
     if part.info.cut_profile is not None:
+        cut = sum(sl.length_mm for sl in part.slabs if sl.region is part.info.cut_profile)
         rep = write_dxf(part.info.cut_profile, parts_dir / f"{pn}.dxf", pn,
-                        part.info.thickness_mm, version=dxf_version)
+                        part.info.thickness_mm, version=dxf_version,
+                        profile_length_mm=cut or None)
         paths.append(rep.path)
         meta.append(("dxf", f"{rep.n_loops} closed contours as {rep.n_entities} "
                             f"{rep.entities} entities, {rep.n_biarcs} biarcs, "

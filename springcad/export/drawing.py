@@ -79,11 +79,26 @@ def load_title_block(path: Path | None = None) -> dict:
 
 
 def _finisher(info, fit: str) -> str:
-    """The process that finishes a fit: the first of the part's processes (main, then
-    secondary) that holds it."""
-    keys = [k for k in (info.process, *info.secondary_processes)
-            if k in processes() and processes()[k].can_finish(fit)]
-    return process_text(keys[0]) if keys else "(no listed process holds it)"
+    """The process that finishes a fit and the Ra it leaves (``"ground, Ra 0.4 um"``)."""
+    key = _finisher_key(info, fit)
+    if key is None:
+        return "(no listed process holds it)"
+    ra = FIT_RA_UM.get(key)
+    return process_text(key) + (f", Ra {fmt(ra)} um" if ra is not None else "")
+
+
+#: Ra (um) of a fitted feature by the process that finishes it: grinding gives Ra 0.4
+#: cheaply; wire and sinker EDM Ra 0.8 with skim cuts or a finishing electrode (enough for
+#: slip fits and bonded pins, review 7); a turned H9 Ra 1.6; a milled H11 on a 0.5 mm POM
+#: edge the process's Ra 3.2 (a finer one is neither needed nor measurable there)
+FIT_RA_UM = {"ground": 0.4, "wire_edm": 0.8, "sinker_edm": 0.8, "broached": 0.8,
+             "turned": 1.6, "milled": 3.2, "laser": 3.2}
+
+
+def _finisher_key(info, fit: str) -> str | None:
+    """The key of the first of the part's processes (main, then secondary) that holds the fit."""
+    return next((k for k in (info.process, *info.secondary_processes)
+                 if k in processes() and processes()[k].can_finish(fit)), None)
 
 
 def fields(part, info: DrawingInfo, scale: float, template: dict) -> dict:
@@ -100,7 +115,7 @@ def fields(part, info: DrawingInfo, scale: float, template: dict) -> dict:
                           else "- (no DXF)"), "units": "mm",
             "revision": info.revision, "date": info.date, "scale": scale_text(scale),
             "job": info.job, "process": process_chain_text(p.process, p.secondary_processes),
-            "fits": ", ".join(f"{fit} ({feature}) {_finisher(p, fit)}"
+            "fits": "; ".join(f"{fit} ({feature}) {_finisher(p, fit)}"
                               for feature, fit in fits.items()),
             "drawn_by": info.drawn_by, "sheet": "1/1", "standard": p.standard or "-",
             "general_tolerance": template.get("block", {}).get("general_tolerance",
@@ -145,6 +160,8 @@ def note_lines(part, values: dict, template: dict) -> list[str]:
     else:
         lines += (notes.get("process_by_kind", {}).get(p.kind, {}).get(p.process)
                   or notes.get("process", {}).get(p.process, []))
+    if p.process == "wire_edm" and p.thickness_mm > THIN_SHEET_MM:  # a shim: deburred only
+        lines += notes.get("edges_wire_edm", [])
     if p.process == "wire_edm" and spring is not None:
         m = spring.manufacturing
         lines.append(f"Wire Ø{fmt(m.wire_diameter_mm)} mm or finer: the smallest inside "

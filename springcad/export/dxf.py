@@ -69,11 +69,17 @@ class DxfReport:
     n_entities: int = 0
 
 
-def info_lines(part_number: str, thickness_mm: float, entities: str) -> list[str]:
-    """The INFO text: part number, thickness and units, what the CUT layer holds, how
-    close it is to the design (not a part tolerance: those are on the drawing)."""
+def info_lines(part_number: str, thickness_mm: float, entities: str,
+               profile_length_mm: float | None = None) -> list[str]:
+    """The INFO text: part number, thickness (and, when the outer contour is cut over only
+    part of it, that length: an end camshaft's teeth beside its turned hub) and units, what
+    the CUT layer holds, how close it is to the design (not a part tolerance: those are on
+    the drawing)."""
     what = "LINE ARC CIRCLE" if entities == "lines-arcs" else "LWPOLYLINE"
-    return [part_number, f"t {thickness_mm:g} mm", "units mm", f"CUT: {what}",
+    t = f"t {thickness_mm:g} mm"
+    if profile_length_mm is not None and abs(profile_length_mm - thickness_mm) > 1e-9:
+        t += f", outer contour over {profile_length_mm:g} mm"
+    return [part_number, t, "units mm", f"CUT: {what}",
             f"within {CHORD_TOL_MM:g} mm of design", "tolerances: see drawing"]
 
 
@@ -143,10 +149,13 @@ def _add_lines_arcs(msp, loop: BulgeLoop) -> int:
 
 
 def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: float,
-              entities: str = ENTITY_STYLES[0], version: str = DXF_VERSIONS[0]) -> DxfReport:
+              entities: str = ENTITY_STYLES[0], version: str = DXF_VERSIONS[0],
+              profile_length_mm: float | None = None) -> DxfReport:
     """Write a cutting profile (mm) as DXF.
 
     Args:
+        profile_length_mm: length over which the outer contour is cut, when less than the
+            thickness (INFO text; :func:`info_lines`).
         entities: ``"lines-arcs"`` (LINE/ARC/CIRCLE, default) or ``"polyline"`` (one
             closed LWPOLYLINE with bulges per loop).
         version: ``"R2010"`` (default) or ``"R12"`` (lines-arcs only).
@@ -185,7 +194,8 @@ def write_dxf(profile: Profile, path: Path, part_number: str, thickness_mm: floa
                 n_entities += 1
             else:
                 n_entities += _add_lines_arcs(msp, b)
-        _info_text(msp, info_lines(part_number, thickness_mm, entities), bbox)
+        _info_text(msp, info_lines(part_number, thickness_mm, entities, profile_length_mm),
+                   bbox)
         box = ezbbox.extents(msp)
         msp.dxf.extmin, msp.dxf.extmax = box.extmin, box.extmax  # -> $EXTMIN/$EXTMAX
         zoom.extents(msp)

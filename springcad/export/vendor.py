@@ -31,13 +31,35 @@ PART_KINDS = ("step", "dxf", "pdf")
 #: what holds the stack along its axis (vendor README, report.html): no part of the package
 #: does; the camshafts' drawings say how each is held
 AXIAL_LOCATION_TITLE = "Axial location"
-AXIAL_LOCATION = (
-    "No part of this package retains the stack along its axis. The user's "
-    "housing holds the end camshafts (by their hub end faces, directly or through a torque "
-    "shaft's socket bottom) and the rim stack (the outer faces of its first and last rims) "
-    "between thrust faces; inside, the centre spacers keep the camshafts apart and the rim "
-    "spacers the rims. The cam teeth are as long as the rings are thick, so any axial "
-    "offset of a camshaft from its ring shortens the contact line: keep the end float small.")
+
+
+def axial_location(end_hubs: bool, flanges: bool) -> str:
+    """What the user's housing must hold along the axis, for a stack with end camshafts
+    with hubs (``end_hubs``) or rim flanges at its ends (``flanges``; then the camshafts at
+    the stack ends float on the alignment shaft, their end faces flush with the end rings)."""
+    held = []
+    if end_hubs:
+        held.append("the end camshafts (by their hub end faces, directly or through a torque "
+                    "shaft's socket bottom)")
+    if flanges:
+        held.append("the rim flanges (by their outer faces) and, inside their bores, the "
+                    "camshafts at the stack ends and the alignment shaft (by their end faces, "
+                    "flush with the end rings' outer faces: nothing else holds them)")
+    else:
+        held.append("the rim stack (the outer faces of its first and last rims)")
+    return ("No part of this package retains the stack along its axis. The user's housing "
+            f"holds {' and '.join(held)} between thrust faces; inside, the centre spacers keep "
+            "the camshafts apart and the rim spacers the rims. The cam teeth are as long as "
+            "the rings are thick, so any axial offset of a camshaft from its ring shortens the "
+            "contact line: keep the end float small.")
+
+
+def assembly_axial_location(assembly) -> str:
+    """:func:`axial_location` of a built stack."""
+    kinds = {i.component.kind for i in assembly.instances}
+    hubs = any(getattr(i.part, "hub_length", 0.0) > 0 for i in assembly.instances
+               if i.component.kind == "camshaft")
+    return axial_location(hubs, "rim_flange" in kinds)
 
 
 def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[dict],
@@ -82,7 +104,8 @@ def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[
                       "the m6 pins, never pressed, so no set of pins can jam); bond each pin with",
                       "an anaerobic retaining compound for slip fits (e.g. Loctite 641) applied",
                       "as the rims are stacked; it cures after the stack is closed."]
-    lines += [""] + textwrap.wrap(f"{AXIAL_LOCATION_TITLE.upper()}: {AXIAL_LOCATION}", 80)
+    lines += [""] + textwrap.wrap(
+        f"{AXIAL_LOCATION_TITLE.upper()}: {assembly_axial_location(assembly)}", 80)
     return "\n".join(lines) + "\n"
 
 
@@ -93,6 +116,23 @@ def _dxf_version(entries: dict[str, bytes]) -> str:
         if name.endswith(".dxf"):
             return "R12" if b"AC1009" in data[:2000] else DXF_VERSION
     return DXF_VERSION
+
+
+def _bundle_bom(text: str, rows: list[dict], files_by_part: dict[str, list[str]]) -> bytes:
+    """The build's bom.csv with its ``files`` column as the bundle holds them
+    (``<PN>/<PN>.step ...``; bought parts: none), every other column as written."""
+    import csv
+    import io
+
+    fields = next(csv.reader(io.StringIO(text)))
+    out = io.StringIO()
+    writer = csv.DictWriter(out, fieldnames=fields, lineterminator="\n")
+    writer.writeheader()
+    for r in rows:
+        pn = r["part_number"]
+        writer.writerow({**r, "files": " ".join(f"{pn}/{f}"
+                                                for f in sorted(files_by_part.get(pn, [])))})
+    return out.getvalue().encode()
 
 
 def write_vendor_bundle(assembly, out_dir: Path, release: ReleaseStatus, job_name: str) -> Path:
@@ -106,7 +146,7 @@ def write_vendor_bundle(assembly, out_dir: Path, release: ReleaseStatus, job_nam
     bom_path = out_dir / "bom.csv"
     with open(bom_path, newline="") as fh:
         rows = list(csv.DictReader(fh))
-    entries: dict[str, bytes] = {"bom.csv": bom_path.read_bytes()}
+    entries: dict[str, bytes] = {}
     files_by_part: dict[str, list[str]] = {}
     for r in rows:
         pn = r["part_number"]
@@ -117,6 +157,7 @@ def write_vendor_bundle(assembly, out_dir: Path, release: ReleaseStatus, job_nam
             if src.exists():
                 entries[f"{pn}/{pn}.{kind}"] = src.read_bytes()
                 files_by_part.setdefault(pn, []).append(f"{pn}.{kind}")
+    entries["bom.csv"] = _bundle_bom(bom_path.read_text(), rows, files_by_part)
     entries["README.txt"] = readme_text(assembly, release, job_name, rows, files_by_part,
                                         _dxf_version(entries)).encode()
     path = out_dir / BUNDLE_NAME

@@ -30,8 +30,22 @@ class RimFlange(AnnularPart):
 
     KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_flange", "Rim flange", "wire_edm", "steel", True
     CODE = "RIM-FLANGE"
-    NOTES = ("Holes match the flexure-ring rim holes; mounting to the system is "
-             "left to the user.",)
+    NOTES = ("Holes match the flexure-ring rim holes (same pattern, same fit).",)
+
+    def part_notes(self) -> tuple[str, ...]:
+        """How torque gets in and out: drive pins (a dowelled stack) or the rim bolts."""
+        if "dowel" in self.hole_purpose:
+            how = ("Torque path: the drive pins (BOM, ISO 8734, bonded like the rim dowels) "
+                   "pass these holes into the end ring's rim, stopping short of its far face, "
+                   "and stand proud of this flange's face away from the ring; the user's "
+                   "drive part takes them in holes of this pattern and fit. Holding the "
+                   "stack along the axis is left to the user.")
+        else:
+            how = ("Torque path: the rim bolts (BOM) clamp this flange to the end ring's rim, "
+                   "heads on this flange's face away from the ring; the user's drive part "
+                   "bears on that face and its outer diameter. Holding the stack along the "
+                   "axis is left to the user.")
+        return (*self.NOTES, how)
 
 
 #: a socket torque shaft is hardened between turning and the sinker EDM of its socket
@@ -87,7 +101,10 @@ class TorqueShaft(SpringcadPart):
             note = (f"D socket (blind, {self.socket_depth:.4g} deep, corners "
                     f"R{plan.corner_radius_mm:g}): sinker EDM after hardening with a D "
                     "electrode (cannot be turned, ground or wire cut); H7 on the round part, "
-                    "flat toleranced as drawn; 0.2 x 45° chamfer at the mouth.")
+                    "flat toleranced as drawn; 0.2 x 45° chamfer at the mouth. Bottom: flat, "
+                    "square to the axis within 0.02 mm (it bears on the camshaft hub's end "
+                    "face), bottom corners R0.1 max (the hub's end edge is broken 0.1-0.2 "
+                    "mm).")
             fits = {"bore": "H7"}
             # nothing on it is ground: the H7 socket is finished by the sinker EDM, the
             # outside is a plain turned diameter

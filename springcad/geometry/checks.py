@@ -25,7 +25,7 @@ from springcad.connections import connection_sequence
 from springcad.errors import CheckFailed, GeometryError
 from springcad.geometry.edm import edm_rules
 from springcad.geometry.interference import InterferenceChecker, cam_clearance
-from springcad.geometry.sheet_cut import fit_rule, sheet_rules, wall_rule
+from springcad.geometry.sheet_cut import fit_rule, internal_profile_rule, sheet_rules, wall_rule
 from springcad.geometry.stack import build_stack
 from springcad.options import spell
 from springcad.progress import Progress, Tracker, no_progress
@@ -164,7 +164,10 @@ def part_checks(part, manufacturing=None) -> list[Check]:
     the part's own spring or else ``manufacturing``. Laser-cut and milled sheet profiles:
     the process's web, hole-edge and hole-size rules (:mod:`springcad.geometry.sheet_cut`).
     Turned parts, and cut parts with a turned section (an end camshaft's hub): the wall
-    between bore or socket and outer diameter (``turned.min_wall``).
+    between bore or socket and outer diameter (``turned.min_wall``). Every made part with
+    a non-round hole or pocket: the process of its chain that makes it
+    (``<maker>.internal_profile``, e.g. ``sinker_edm.internal_profile`` for a blind D
+    socket).
     """
     pn = part.part_number
     valid = getattr(part, "solid_valid", None)  # the kernel's answer when building asked it
@@ -196,6 +199,12 @@ def part_checks(part, manufacturing=None) -> list[Check]:
         results.append(wall_rule(part.slabs, "turned", part.describe))
     prefix = "edm" if info.process == "wire_edm" else info.process
     out += _rule_checks(prefix, pn, results)
+    spring = getattr(part, "spring", None)
+    mfg = spring.manufacturing if spring is not None else manufacturing
+    maker, internal = internal_profile_rule(
+        info, part.slabs, mfg.min_inside_radius_mm if mfg is not None else None, part.describe)
+    if internal.value_mm is not None or internal.violations:
+        out += _rule_checks(maker, pn, [internal])
     if info.process != "turned" and "turned" in info.secondary_processes:
         # a cut part with a turned section (an end camshaft's hub): the walls of its
         # sections that are not the cut profile, as turned

@@ -81,7 +81,8 @@ class FlexureRing(SpringcadPart):
                    f"Tip balls R{fmt_mm(self.tip_radius)} on R{fmt_mm(self.contact_radius)}: "
                    "critical to "
                    f"function (cam-to-tip gap {spring.manufacturing.w_gap_mm:g} mm).",
-                   "Do not round or chamfer the cut edges of the flexures; remove burrs only."))
+                   "Do not round or chamfer the cut edges of the flexures: remove burrs "
+                   "only, edges sharp to 0.02 mm."))
         super().__init__(info, (Slab(0.0, self.thickness, spring.ring),), COLOURS["steel"])
 
     @property
@@ -188,7 +189,8 @@ class Camshaft(SpringcadPart):
             # the blank is hardened before the EDM, so the hub is finished hard
             notes.append("Hub: finished after the heat treatment (hard turned) and before the "
                          "teeth are cut, coaxial to the bore (datum A) within "
-                         f"Ø{fmt_mm(HUB_COAXIALITY_MM)} (frame in view B); "
+                         f"Ø{fmt_mm(HUB_COAXIALITY_MM)} (frame in view B); its end edges "
+                         "broken 0.1-0.2 mm x 45°; "
                          + ("its g6 diameter and its D flat ground (the flat drives the torque "
                             "shaft, view B)." if drive == "hub_flat"
                             else "torque through the D bore."))
@@ -242,6 +244,13 @@ class Camshaft(SpringcadPart):
 
     @property
     def tolerance_mm(self) -> float:
+        return self.spring.manufacturing.t_shaft_mm
+
+    @property
+    def length_tolerance_mm(self) -> float:
+        """Tolerance of the axial lengths (mm): the teeth are as long as the ring is thick
+        (its thickness ±t_spring), so they get the camshaft's manufacturing tolerance,
+        not the general one."""
         return self.spring.manufacturing.t_shaft_mm
 
     def describe(self, x: float, y: float) -> str:

@@ -207,8 +207,10 @@ def _fasteners(ctx: BuildContext, comp: Component) -> None:
     plan: pl.FastenerPlan = comp.plan
     dia, length = plan.diameter_mm, plan.length_mm
     if plan.type == "dowel":
-        parts = [(ctx.cache.get(("dowel", _r(dia), _r(length)),
-                                lambda pn: DowelPin(pn, dia, length), "DOWEL"), comp.z_mm, "")]
+        stainless = "stainless" in ctx.steel[0].lower()  # C1 pins in stainless rings
+        parts = [(ctx.cache.get(("dowel", _r(dia), _r(length), stainless),
+                                lambda pn: DowelPin(pn, dia, length, stainless), "DOWEL"),
+                  comp.z_mm, "")]
     else:
         nut_h = nut_height_mm(dia)
         screw = ctx.cache.get(("screw", _r(dia), _r(length)),

@@ -16,6 +16,8 @@ from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, circ
 from springcad.geometry.spacers import AnnularPart
 
 STEEL = ("steel, hardened (catalogue part)", 7850.0)
+#: ISO 8734 type C1 pins for a stack of stainless rings (no carbon-steel pin rusting in them)
+STAINLESS = ("martensitic stainless steel C1, hardened (catalogue part)", 7700.0)
 
 
 class DowelPin(AnnularPart):
@@ -24,11 +26,13 @@ class DowelPin(AnnularPart):
 
     KIND, TITLE, PROCESS, COLOUR = "fastener", "Dowel pin", "purchased", "fastener"
     CODE = "DOWEL"
-    NOTES = ("Catalogue part: ISO 8734 hardened dowel pin, m6.",)
+    NOTES = ("Catalogue part: ISO 8734 parallel pin, diameter m6.",)
 
-    def __init__(self, name: str, diameter_mm: float, length_mm: float):
-        super().__init__(name, 0.0, 0.5 * diameter_mm, length_mm, STEEL,
-                         standard=dowel_designation(diameter_mm, length_mm))
+    def __init__(self, name: str, diameter_mm: float, length_mm: float,
+                 stainless: bool = False):
+        super().__init__(name, 0.0, 0.5 * diameter_mm, length_mm,
+                         STAINLESS if stainless else STEEL,
+                         standard=dowel_designation(diameter_mm, length_mm, stainless))
         self.diameter = diameter_mm
 
 

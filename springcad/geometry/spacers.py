@@ -11,6 +11,7 @@ import math
 
 from springcad.design.plans import AnnulusPlan
 from springcad.design.processes import process as process_of
+from springcad.units import fmt_mm
 from springcad.geometry.base import (COLOURS, GENERAL_TOLERANCE_MM, PartInfo, Slab, SpringcadPart,
                                      annulus, circle_loop)
 
@@ -58,6 +59,7 @@ class AnnularPart(SpringcadPart):
         self.hole_centres = tuple(hole_centres)
         self.hole_diameter = hole_diameter_mm
         self.process = process or self.PROCESS
+        self.hole_purpose = (fits or {}).get("hole_purpose", "")
         holes = tuple(circle_loop(0.5 * hole_diameter_mm, c) for c in self.hole_centres)
         region = annulus(inner_radius_mm, outer_radius_mm, holes)
         dims = {"outer diameter": 2 * outer_radius_mm}
@@ -71,12 +73,26 @@ class AnnularPart(SpringcadPart):
                         material=material[0], heat_treatment=heat_treatment,
                         density_kg_per_m3=material[1], process=self.process,
                         thickness_mm=length_mm, cut_profile=region if self.SHEET else None,
-                        dimensions=dims, notes=self.NOTES, standard=standard,
+                        dimensions=dims, notes=self.part_notes(), standard=standard,
                         hardness=hardness, heat_treatment_sequence=heat_treatment_sequence,
                         fits={k: v for k, v in {**self.FITS, **(fits or {})}.items()
                               if k != "bore" or inner_radius_mm > 0},
                         secondary_processes=self.SECONDARY)
         super().__init__(info, (Slab(0.0, length_mm, region),), COLOURS[self.COLOUR])
+
+    def part_notes(self) -> tuple[str, ...]:
+        """The drawing notes of this part (the class's ``NOTES``; subclasses add notes that
+        depend on the sizes and the process)."""
+        return self.NOTES
+
+    def webs_mm(self, hole_tolerance_mm: float = 0.0) -> tuple[float, float]:
+        """Material between the holes, ``hole_tolerance_mm`` over size, and the inner and
+        outer edges (mm; inf without holes)."""
+        if not self.hole_centres:
+            return math.inf, math.inf
+        r = [math.hypot(*c) for c in self.hole_centres]
+        h = 0.5 * (self.hole_diameter + hole_tolerance_mm)
+        return min(r) - h - self.inner_radius, self.outer_radius - max(r) - h
 
     @property
     def tolerance_mm(self) -> float:
@@ -102,10 +118,20 @@ class RimSpacer(AnnularPart):
 
     KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_spacer", "Rim spacer", "laser", "aluminium", True
     CODE = "RIM-SPACER"
-    NOTES = ("Cut from flat sheet (several sheets may be cut as one clamped stack); deburr "
-             "both faces.",
-             "Holes clear the rim dowels (slip, never pressed): their position matters, "
-             "their size only as toleranced.")
+    NOTES = ("Holes clear the rim dowels (slip, never pressed): their position matters, "
+             "their size only as toleranced.",)
+
+    def part_notes(self) -> tuple[str, ...]:
+        """How the sheet is cut, by process; a wire-EDM spacer whose webs are thinner than
+        the sheet says why no other process may cut it."""
+        if self.process != "wire_edm":
+            return ("Cut from flat sheet, one sheet at a time; deburr both faces.", *self.NOTES)
+        web = min(self.webs_mm(process_of(self.process).hole_tolerance_mm))
+        cut = "Wire EDM, several sheets clamped as one stack between two plates."
+        if web < self.length - 1e-9:
+            cut += (f" Webs at the holes {fmt_mm(web)} mm (largest hole), thinner than the "
+                    "sheet: wire EDM only, not laser, waterjet or punched.")
+        return (cut, *self.NOTES)
 
 
 class RimWasher(AnnularPart):

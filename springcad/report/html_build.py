@@ -312,10 +312,19 @@ def _bom_html(out: Path) -> str:
             f"<div class='scroll'><table class='bom'><tr>{head}</tr>{''.join(body)}</table></div>")
 
 
+def _axial_location(design: dict, text) -> str:
+    """``text(end_hubs, flanges)`` (:func:`springcad.export.vendor.axial_location`) for the
+    stack of a design.json."""
+    comps = design.get("stack", {}).get("components", [])
+    hubs = any(c.get("kind") == "camshaft" and c.get("dims", {}).get("hub_length_mm", 0) > 0
+               for c in comps)
+    return text(hubs, any(c.get("kind") == "rim_flange" for c in comps))
+
+
 def render_build_report(out_dir: Path | str) -> str:
     """The HTML text of a build folder's report (see the module docstring)."""
     # here, not at the top: springcad.export pulls numpy, and importing springcad is light
-    from springcad.export.vendor import AXIAL_LOCATION, AXIAL_LOCATION_TITLE
+    from springcad.export.vendor import AXIAL_LOCATION_TITLE, axial_location
 
     out = Path(out_dir)
     design = _read_json(out / "design.json") or {}
@@ -333,7 +342,8 @@ def render_build_report(out_dir: Path | str) -> str:
         _warnings_html(design, fea, build),
         _fea_html(out, design),
         "<h2>Assembly</h2>" + _figures([(out / "assembly.png", "assembly render")], 700)
-        + f"<p><b>{AXIAL_LOCATION_TITLE}:</b> {html.escape(AXIAL_LOCATION)}</p>",
+        + f"<p><b>{AXIAL_LOCATION_TITLE}:</b> "
+        f"{html.escape(_axial_location(design, axial_location))}</p>",
         _drawings_html(out),
         _bom_html(out),
     ]

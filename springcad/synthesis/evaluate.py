@@ -70,6 +70,12 @@ def describe(binding: str, value: float, limit: float, disk: str = "") -> str:
     if binding == "torque_cap":
         return (f"{who}peak torque {value / NMM_PER_NM:.3g} N*m > tip-ball torque cap "
                 f"{limit / NMM_PER_NM:.3g} N*m at this r_c and thickness")
+    if binding == "tip_ball_fit":
+        if limit < 1:
+            return (f"{who}no tip-ball radius keeps the Hertz contact at full deflection within "
+                    f"the allowable stress for {value:.0f} or more flexures at this r_c")
+        return (f"{who}tip balls sized for the load (bending and contact) fit {limit:.0f} "
+                f"around r_c, fewer than the {value:.0f} flexures a disk needs")
     if binding == "flexure_fit":
         return f"{who}{value:.0f} flexures requested, at most {limit:.0f} tip balls fit around r_c"
     if binding == "rim_rule":

@@ -60,12 +60,12 @@ __all__ = ["REASONS", "cam_tooth_width_mm", "screen_disks", "screened_shapes"]
 
 #: failure codes (0 = passes), in the order the design meets them
 (OK, ENERGY, TORQUE_CAP, FLEXURE_FIT, RIM_RULE, STRAIGHT, SERPENTINE, ROOT_GAP, CAM_TOOTH,
- CAM_BORE, SERP_SHAPE, ROOT_FILLET, YIELD, FATIGUE) = range(14)
+ CAM_BORE, SERP_SHAPE, ROOT_FILLET, YIELD, FATIGUE, TIP_BALLS) = range(15)
 REASONS = {ENERGY: "energy_bound", TORQUE_CAP: "torque_cap", FLEXURE_FIT: "flexure_fit",
            RIM_RULE: "rim_rule", STRAIGHT: "straight_limit", SERPENTINE: "serpentine_budget",
            ROOT_GAP: "root_gap", CAM_TOOTH: "cam_tooth", CAM_BORE: "cam_bore",
            SERP_SHAPE: "serpentine_shape", ROOT_FILLET: "root_fillet", YIELD: "yield_margin",
-           FATIGUE: "fatigue_margin"}
+           FATIGUE: "fatigue_margin", TIP_BALLS: "tip_ball_fit"}
 #: failure code by reason name (a shape's screen names its failures)
 CODES = {reason: code for code, reason in REASONS.items()}
 def _nmax(rb, rc):
@@ -295,8 +295,13 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         n[free] -= 1
         sel[:] = False
         sel[free[n[free] < 2]] = True
-        fail(sel, TORQUE_CAP if capped else FLEXURE_FIT, peak if capped else n.astype(float),
-             cap if capped else np.full(m, 2.0))
+        if sel.any():
+            # no N >= 2 fits the balls sized for its load (the torque cap passed above):
+            # value 2 flexures, limit the balls that fit at N = 2 (0: no ball radius
+            # carries the contact at full deflection)
+            rb2 = ball(fx.tip_load_N(K, theta, np.full(m, 2), rc), z, sigma)
+            fit2 = np.where(np.isfinite(rb2), _nmax(np.minimum(rb2, 1e9), rc), 0)
+            fail(sel, TIP_BALLS, np.full(m, 2.0), fit2.astype(float))
         active = (code == OK) & np.isnan(rr)
     good = code == OK
     load = fx.tip_load_N(K, theta, n, rc)

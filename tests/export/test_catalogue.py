@@ -22,13 +22,38 @@ def test_dowel_length_by_hand():
         rim_dowel_length(1.5, 1.0, 0.5, 1.0)
 
 
+#: ISO 8734:1997 Table 1, written here in the standard's own form and not copied from
+#: springcad's table: each diameter's length range (l min, l max), the lengths being
+#: the standard's preferred length series within it
+ISO8734_RANGES = {1: (3, 10), 1.5: (4, 16), 2: (5, 20), 2.5: (6, 24), 3: (8, 30), 4: (10, 40),
+                  5: (12, 50), 6: (14, 60), 8: (18, 80), 10: (22, 100), 12: (26, 100),
+                  16: (40, 100), 20: (50, 100)}
+ISO8734_SERIES = (3, 4, 5, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30, 32, 35, 40, 45, 50,
+                  55, 60, 65, 70, 75, 80, 85, 90, 95, 100)
+
+
+def _iso8734_lengths(d: float) -> tuple:
+    lo, hi = ISO8734_RANGES.get(d, (1, 0))
+    return tuple(x for x in ISO8734_SERIES if lo <= x <= hi)
+
+
+def test_dowel_table_is_iso8734():
+    """springcad's dowel table (springcad/data/iso8734_dowels.csv) is the standard's
+    ranges and series, diameter by diameter."""
+    table = dowel_lengths()
+    assert set(table) == set(ISO8734_RANGES)
+    for d, lengths in table.items():
+        assert tuple(lengths) == _iso8734_lengths(d), d
+
+
 def _catalogue_match(standard: str) -> bool:
-    """The designation names a size its standard's catalogue lists."""
+    """The designation names a size its standard's catalogue lists (dowels: the ISO 8734
+    table above; screws and nuts: bd_warehouse's ISO 4762 / ISO 4032 tables)."""
     from bd_warehouse.fastener import HexNut, SocketHeadCapScrew
 
-    if m := re.fullmatch(r"ISO 8734 - ([\d.]+) m6 x ([\d.]+)", standard):
+    if m := re.fullmatch(r"ISO 8734 - ([\d.]+) x ([\d.]+) - (A - St|C1)", standard):
         d, length = float(m[1]), float(m[2])
-        return length in dowel_lengths().get(d, ())
+        return length in _iso8734_lengths(d)
     if m := re.fullmatch(r"ISO 4762 - (M[\d.]+) x ([\d.]+)", standard):
         size = next((s for s in SocketHeadCapScrew.sizes("iso4762")
                      if s.startswith(m[1] + "-")), None)
@@ -46,7 +71,13 @@ def test_every_purchased_item_is_in_its_catalogue(stack):
     assert bought
     for r in bought:
         assert _catalogue_match(r["standard"]), r["standard"]
-    assert not _catalogue_match("ISO 8734 - 1.5 m6 x 10.5")  # the issue-26 item
+    # stainless rings (AISI 420) take ISO 8734 type C1 (martensitic stainless) pins
+    ring = next(r for r in bom_rows(a) if r["kind"] == "flexure_ring")
+    if "stainless" in ring["material"]:
+        assert all(r["standard"].endswith("- C1") for r in bought
+                   if r["standard"].startswith("ISO 8734")), bought
+    assert not _catalogue_match("ISO 8734 - 1.5 x 10.5 - A - St")  # the issue-26 item
+    assert not _catalogue_match("ISO 8734 - 1.5 m6 x 16")  # no type and material
     # dowels sit inside the two rims they join (recessed, never proud)
     for inst in a.instances:
         if inst.part.info.standard.startswith("ISO 8734"):

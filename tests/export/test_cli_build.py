@@ -159,9 +159,17 @@ def test_vendor_bundle(built, tmp_path):
     zf = zipfile.ZipFile(out / "vendor.zip")
     assert set(zf.namelist()) == expected
     assert any(n.endswith(".dxf") for n in expected)
-    for name in expected - {"README.txt"}:
-        src = out / "bom.csv" if name == "bom.csv" else out / "parts" / name.split("/")[1]
-        assert zf.read(name) == src.read_bytes(), name
+    for name in expected - {"README.txt", "bom.csv"}:
+        assert zf.read(name) == (out / "parts" / name.split("/")[1]).read_bytes(), name
+    # the bundle's BOM: the build's, but its files are the ones in the zip (review 7 item
+    # 2.8: it listed parts/<PN>.stl and .svg, which the zip does not hold)
+    zipped = list(csv.DictReader(zf.read("bom.csv").decode().splitlines()))
+    assert [{k: v for k, v in r.items() if k != "files"} for r in zipped] == \
+        [{k: v for k, v in r.items() if k != "files"} for r in bom]
+    for r in zipped:
+        listed = set(r["files"].split())
+        assert listed == {n for n in expected if n.startswith(r["part_number"] + "/")}, r
+        assert bool(listed) == (r["make_or_buy"] == "make")
     readme = zf.read("README.txt").decode()
     assert "Status: NOT FOR MANUFACTURE" in readme and "DO NOT MANUFACTURE" in readme
     for reason in doc["release"]["reasons"]:

@@ -66,7 +66,9 @@ def closed(p: np.ndarray) -> np.ndarray:
 def test_dxf_read_by_a_second_reader_is_the_design(tmp_path, stack, pn, entities):
     part = assembly(stack).parts[pn]
     prof = part.info.cut_profile
-    rep = write_dxf(prof, tmp_path / f"{pn}.dxf", pn, part.info.thickness_mm, entities=entities)
+    along = sum(sl.length_mm for sl in part.slabs if sl.region is prof)
+    rep = write_dxf(prof, tmp_path / f"{pn}.dxf", pn, part.info.thickness_mm, entities=entities,
+                    profile_length_mm=along)
     header, ents = read(rep.path.read_text())
     cut = [e for e in ents if e.layer == CUT_LAYER]
     kinds = {e.kind for e in cut}
@@ -94,6 +96,10 @@ def test_dxf_read_by_a_second_reader_is_the_design(tmp_path, stack, pn, entities
     # INFO: legible, below the cut contours, inside the extents
     info = [e for e in ents if e.layer == INFO_LAYER and e.kind == "TEXT"]
     assert pn in [e.first(1) for e in info]
+    # an end camshaft's teeth are cut over the toothed length only (review 7, 2.14)
+    t = f"t {part.info.thickness_mm:g} mm"
+    assert (t if along == part.info.thickness_mm else f"{t}, outer contour over {along:g} mm") \
+        in [e.first(1) for e in info]
     for e in info:
         x, y, h = e.num(10), e.num(20), e.num(40)
         assert h >= INFO_TEXT_HEIGHT_MM >= 2.5

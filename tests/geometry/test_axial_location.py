@@ -10,7 +10,7 @@ in the stacked solids. A floating camshaft runs between the centre spacers besid
 import pytest
 from cad_fixtures import assembly
 
-from springcad.export.vendor import AXIAL_LOCATION
+from springcad.export.vendor import axial_location
 
 
 def _axial_note(part) -> str:
@@ -60,4 +60,15 @@ def test_vendor_readme_states_the_axial_location():
 
     a = assembly("default")
     text = readme_text(a, ReleaseStatus(()), "default", [], {})
-    assert " ".join(text.split()).endswith(" ".join(("AXIAL LOCATION: " + AXIAL_LOCATION).split()))
+    expect = axial_location(end_hubs=True, flanges=False)
+    assert " ".join(text.split()).endswith(" ".join(("AXIAL LOCATION: " + expect).split()))
+    assert "end camshafts (by their hub end faces" in expect
+
+
+def test_axial_location_of_a_stack_with_rim_flanges():
+    """Review 7 item 2.2: a stack driven at its rims has no end camshafts; the text names the
+    flanges and the floating camshafts at the stack ends."""
+    text = axial_location(end_hubs=False, flanges=True)
+    assert "end camshafts" not in text and "hub" not in text
+    assert "rim flanges (by their outer faces)" in text
+    assert "camshafts at the stack ends and the alignment shaft" in text

@@ -28,7 +28,7 @@ from springcad.design.search import FLARE_GAIN, design_spring
 from springcad.design.resize import with_root
 from springcad.errors import DesignError
 from springcad.synthesis import peak
-from springcad.synthesis.screening import (ENERGY, FLEXURE_FIT, OK, REASONS, RIM_RULE,
+from springcad.synthesis.screening import (ENERGY, FLEXURE_FIT, OK, REASONS, RIM_RULE, TIP_BALLS,
                                           TORQUE_CAP, YIELD, screen_disks)
 from springcad.design.shapes.serpentine_screen import DESIGN_SHAPES, serpentine_centrelines, spline_centreline
 from synth_fixtures import TEMPLATES
@@ -37,7 +37,7 @@ JOB = load_job(TEMPLATES / "paper_S1.toml")
 BASE = replace(JOB.springs["S1"], n_flexures=None, tip_radius_mm=None)
 YIELD_MPA = JOB.material.material.yield_strength_MPa
 TOL = 0.02
-LAYOUT = {ENERGY, TORQUE_CAP, FLEXURE_FIT, RIM_RULE}
+LAYOUT = {ENERGY, TORQUE_CAP, FLEXURE_FIT, RIM_RULE, TIP_BALLS}
 
 
 def test_spline_is_the_designs_centreline():

@@ -148,3 +148,31 @@ def test_fixed_tip_balls_screen_as_the_design_with_tip_radius():
         assert fixed["peak_stress_MPa"][j] == pytest.approx(d.predicted_peak_stress_MPa, rel=0.03)
         assert fixed["mass_kg"][j] == pytest.approx(d.mass_kg, rel=0.03)
     assert fixed["n"][0] == 28  # the paper's S1: N 28 at r_c 5.5 mm with 0.3 mm balls
+
+
+def test_no_ball_fit_is_not_called_a_torque_cap():
+    """A disk whose peak torque is under the tip-ball cap but whose load-sized balls fit no
+    N >= 2 (issue 26: the log said "peak torque 36.7 N*m > tip-ball torque cap 183 N*m") is
+    refused as ``tip_ball_fit``, not ``torque_cap``; the full design refuses it too, with
+    its "no layout fits" (balls), not its torque-cap message; every ``torque_cap`` row's
+    peak exceeds its cap (eq. 6 by hand: pi r_c^2 z sigma / (6 sqrt 3))."""
+    from springcad.synthesis.evaluate import describe
+
+    cases = _cases(1, 400)
+    res = _screen(cases)
+    sigma = MAT.design_stress_MPa
+    names = [REASONS.get(int(c), "ok") for c in res["code"]]
+    assert "tip_ball_fit" in names and "torque_cap" in names
+    for j, name in enumerate(names):
+        K, th, _, z, rc = cases[j]
+        cap = math.pi * rc ** 2 * z * sigma / (6 * math.sqrt(3))
+        if name == "torque_cap":
+            assert K * th > cap
+        elif name == "tip_ball_fit":
+            assert K * th <= cap and res["value"][j] == 2 and res["limit"][j] < 2
+            text = describe(name, res["value"][j], res["limit"][j])
+            assert ">" not in text and "torque cap" not in text
+    for j in [j for j, name in enumerate(names) if name == "tip_ball_fit"][:3]:
+        with pytest.raises(DesignError, match="no layout fits") as err:
+            _full(cases[j])
+        assert "exceeds the torque cap" not in str(err.value)
