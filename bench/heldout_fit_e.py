@@ -43,6 +43,12 @@ drift's zero is, is a convention); a cubic beside a hard stop or clipping is opt
 or a lag beside a relaxing element is optional; a lag beside LuGre friction (it has a
 viscous part) is optional. ``series_compliance`` is never simulated: with one angle channel a
 linear compliance in series is only a lower K.
+
+Amendment (issue 24 session 7, ``--rule readme``, the default; see heldout_fit_e.md): the
+oracle's library laws are those the README puts within a library name, so E is the least
+over them: friction's presliding law elasto-plastic or Dahl, the lag a pure delay or a
+viscous damper. ``--rule original`` scores as first written; ``--rescore`` scores the fits
+already under ``--out``.
 """
 
 from __future__ import annotations
