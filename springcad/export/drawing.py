@@ -121,6 +121,8 @@ def fields(part, info: DrawingInfo, scale: float, template: dict) -> dict:
             "general_tolerance": template.get("block", {}).get("general_tolerance",
                                                                 "ISO 2768-mK"),
             "flatness": fmt(flat) if flat is not None else "", "projection": "",
+            "flatness_where": (" on the rim (the flexures follow the ground plate)"
+                               if p.kind == "flexure_ring" else ""),
             "profile": (fmt(2 * part.tolerance_mm)
                         if p.cut_profile is not None else "")}
 
