@@ -92,7 +92,8 @@ def test_hole_tolerance_no_tighter_than_the_process():
     assert spacer.info.process == "wire_edm" and spacer.info.fits["holes"] == "±0.005"
     assert fit_rule(spacer.info).passed
     res = fit_rule(replace(spacer.info, process="laser"))
-    assert [v["feature"] for v in res.violations] == ["holes ±0.005: laser cut hold ±0.05 at best"]
+    assert [v["feature"] for v in res.violations] == [
+        "holes ±0.005: laser cut hold ±0.05 at best"]
     assert fit_rule(replace(spacer.info, process="laser", fits={"holes": "±0.05"})).passed
 
 
