@@ -55,9 +55,10 @@ def axial_location(end_hubs: bool, flanges: bool) -> str:
 
 
 def assembly_axial_location(assembly) -> str:
-    """:func:`axial_location` of a built stack."""
+    """:func:`axial_location` of a built stack (from its components' plans: a cached
+    build's parts are not built for this)."""
     kinds = {i.component.kind for i in assembly.instances}
-    hubs = any(getattr(i.part, "hub_length", 0.0) > 0 for i in assembly.instances
+    hubs = any(getattr(i.component.plan, "hub_length_mm", 0.0) > 0 for i in assembly.instances
                if i.component.kind == "camshaft")
     return axial_location(hubs, "rim_flange" in kinds)
 
