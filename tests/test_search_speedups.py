@@ -37,7 +37,7 @@ def _brute_force(spec, sigma, E, max_root_radius_mm, contact, limit=12):
     if spec.n_flexures is not None:
         ns = [spec.n_flexures]
     elif spec.tip_radius_mm is not None and spec.contact_radius_mm is not None:
-        ns = [fx.max_flexures(spec.tip_radius_mm, spec.contact_radius_mm)]
+        ns = range(fx.max_flexures(spec.tip_radius_mm, spec.contact_radius_mm), 2, -1)
     else:
         ns = range(3, 200)
     best = {}

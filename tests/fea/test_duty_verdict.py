@@ -135,7 +135,7 @@ def test_a_declared_duty_sizes_the_design_and_the_default_duty_does_not():
     assert plain.predicted_peak_stress_MPa > allowed and not plain.duty_check.met
     assert not plain.warnings
     assert required > 1.2 * 1.5
-    assert sized.duty_check.met or any(f"required {required:g}" in w for w in sized.warnings)
+    assert sized.duty_check.met or any(f"required {required:.3f}" in w for w in sized.warnings)
 
 
 def _with_contact(v, force_N, r_tip_mm, flank_radius_mm):
