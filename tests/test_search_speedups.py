@@ -17,47 +17,25 @@ import pytest
 
 from springcad.config import job_from_dict
 from springcad.design import flexure as fx
-from springcad.design.layout import (ContactLimit, _spread, candidate_layouts, fits, layout_at,
-                                     tip_ball)
+from springcad.design import layout
+from springcad.design.layout import ContactLimit, candidate_layouts, layout_at, tip_ball
 from springcad.errors import DesignError
 
 BASE = {"stiffness_Nm_per_rad": 150, "max_deflection_deg": 14, "outer_radius_mm": 36,
         "thickness_mm": 5.0}
 
 
+def _unscreened(spec, ns, *args):
+    """A screen that passes every (N, r_c) pair: the enumeration without its shortcut."""
+    return lambda rc: (np.full(len(ns), np.inf), np.ones(len(ns), bool))
+
+
 def _brute_force(spec, sigma, E, max_root_radius_mm, contact, limit=12):
-    z, ro = spec.thickness_mm, spec.outer_radius_mm
-    peak = spec.target_stiffness_Nmm_per_rad * spec.max_deflection_rad
-    if spec.contact_radius_mm is not None:
-        radii = [spec.contact_radius_mm]
-    else:
-        rc_min = max(ro / 30, fx.min_contact_radius_mm(peak, z, sigma) * 1.001
-                     if spec.tip_radius_mm is None else ro / 30)
-        radii = [float(r) for r in np.linspace(rc_min, 0.6 * ro, 60)]
-    if spec.n_flexures is not None:
-        ns = [spec.n_flexures]
-    elif spec.tip_radius_mm is not None and spec.contact_radius_mm is not None:
-        ns = range(fx.max_flexures(spec.tip_radius_mm, spec.contact_radius_mm), 2, -1)
-    else:
-        ns = range(3, 200)
-    best = {}
-    for rc in radii:
-        for n in ns:
-            rb = tip_ball(spec, sigma, n, rc, contact)[2]
-            if not math.isfinite(rb) or n > fx.max_flexures(rb, rc):
-                continue
-            try:
-                lay = layout_at(spec, sigma, E, n, rc, max_root_radius_mm, contact)
-            except DesignError:
-                continue
-            if fits(spec, lay) and (n not in best or lay.theta_s > best[n].theta_s):
-                best[n] = lay
-    if spec.contact_radius_mm is not None:
-        ranked = sorted(best.values(), key=lambda lay: -lay.n)
-    else:
-        ranked = sorted(best.values(), key=lambda lay: (lay.rb < lay.rb_req * (1 - 1e-9),
-                                                        -lay.theta_s, lay.n))
-    return _spread(ranked, limit)
+    """Every pair through :func:`tip_ball` and :func:`layout_at`: the same enumeration with
+    the screen replaced by one that passes every pair."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(layout, "_screen", lambda spec, sigma, E, ns, cap: _unscreened(spec, ns))
+        return candidate_layouts(spec, sigma, E, limit, max_root_radius_mm, contact)
 
 
 CASES = [{}, {"thickness_mm": 12.0}, {"thickness_mm": 2.0, "outer_radius_mm": 50},
