@@ -217,7 +217,8 @@ class Friction:
     law "dahl": df/dθ = (F/w)·(1 - f/F·sign θ̇), integrated exactly over each step.
     ``thermal_drop`` > 0 makes F = F0·(1 - ΔT/ΔT_ref) with ΔT the temperature rise of the
     contact, C dΔT/dt = |f·θ̇| - ΔT/R, time constant ``thermal_tau_s``; R is chosen so
-    that the steady rise at the record's mean friction power lowers F by ``thermal_drop``.
+    that ΔT/ΔT_ref would reach ``thermal_drop`` at the power F0·mean|θ̇| of the record;
+    since F falls as it warms, sliding steadily at that speed F settles at F0/(1 + drop).
     """
 
     force_Nm: float
@@ -306,6 +307,7 @@ def integrate(command: np.ndarray, dt_s: float, k_Nm_per_rad: float, gap_rad: fl
             drive = dyn.k_shaft_Nm_per_rad * (cmd[i] - th) + dyn.c_shaft_Nms_per_rad * (qdot - om)
         prev_cmd = cmd[i]
         acc = (drive - t_el - f) / J
+        theta[i] = th  # the state the forces (and the sensor) are evaluated at
         om += acc * dt_s
         dth = om * dt_s
         th += dth
@@ -315,7 +317,6 @@ def integrate(command: np.ndarray, dt_s: float, k_Nm_per_rad: float, gap_rad: fl
                 f = s * F + (f - s * F) * math.exp(-abs(dth) / w)
             else:
                 f = min(max(f + F / w * dth, -F), F)
-        theta[i] = th
         sensor[i] = drive if dyn.mode == "shaft" else t_el + f + dyn.J_hub_kgm2 * acc
     return np.asarray(theta), np.asarray(sensor)
 
