@@ -134,7 +134,7 @@ def table(rows: list) -> str:
         lines.append(f"| {truth['name']} | {req}{'; ' + opt if opt else ''} | {truth['unexplained']} | "
                      f"{truth['oracle_E']:.3g} | {', '.join(sc['named'] or []) if sc['named'] is not None else 'CRASH ' + str(res['status'])} | "
                      f"{sc['unexplained']} | {kerr} | {'yes' if sc['right'] else 'NO: ' + ' '.join(m[:-3] for m in miss)} | "
-                     f"{res.get('wall_s', 0):.0f} |")
+                     f"{'-' if res.get('wall_s') is None else format(res['wall_s'], '.0f')} |")
     return "\n".join(lines)
 
 
@@ -153,7 +153,7 @@ def run_seed(seed: int, args) -> tuple:
         results = []
         for t in truths:
             fj = folder / f"{t['name']}_fit" / "fit.json"
-            results.append({"status": 0 if fj.exists() else 1, "wall_s": 0.0,
+            results.append({"status": 0 if fj.exists() else 1, "wall_s": None,
                             "fit": json.loads(fj.read_text()) if fj.exists() else None})
     else:
         code = Path(args.code).resolve()

@@ -265,8 +265,8 @@ class Dynamics:
     "shaft": the motor imposes the command angle on a shaft of stiffness k_shaft and
     damping c_shaft that drives the hub. The torque sensor sits between J_motor and the
     hub, so it reads T_spring + T_friction + J_hub·θ̈ (torque control) or the shaft's
-    torque (shaft mode, J_motor = 0). ``upstream_friction_Nm`` acts on the rotor, before
-    the sensor. The stack is linear with one total clearance (closed form in the loop).
+    torque (shaft mode, J_motor = 0). ``upstream_friction_Nm`` is Coulomb friction on the
+    rotor, before the sensor (implicit stick-slip update, no regularisation). The stack is linear with one total clearance (closed form in the loop).
     """
 
     mode: str
@@ -295,20 +295,23 @@ def integrate(command: np.ndarray, dt_s: float, k_Nm_per_rad: float, gap_rad: fl
     dahl = bool(fr and fr.law == "dahl")
     theta, sensor = [0.0] * n, [0.0] * n
     prev_cmd = cmd[0]
+    stick = dyn.upstream_friction_Nm * dt_s / J  # speed the rotor's friction removes per step
     for i in range(n):
         x = th - h if th > h else (th + h if th < -h else 0.0)
         t_el = k_Nm_per_rad * x
         if dyn.mode == "torque":
             drive = cmd[i] - dyn.damping_Nms_per_rad * om
-            if dyn.upstream_friction_Nm:
-                drive -= dyn.upstream_friction_Nm * math.tanh(om / 1e-3)
         else:
             qdot = (cmd[i] - prev_cmd) / dt_s
             drive = dyn.k_shaft_Nm_per_rad * (cmd[i] - th) + dyn.c_shaft_Nms_per_rad * (qdot - om)
         prev_cmd = cmd[i]
-        acc = (drive - t_el - f) / J
+        om_new = om + (drive - t_el - f) / J * dt_s
+        if stick:  # implicit Coulomb update: stick if the friction can stop it within the step
+            om_new = 0.0 if abs(om_new) <= stick else om_new - math.copysign(stick, om_new)
+        acc = (om_new - om) / dt_s
         theta[i] = th  # the state the forces (and the sensor) are evaluated at
-        om += acc * dt_s
+        sensor[i] = drive if dyn.mode == "shaft" else t_el + f + dyn.J_hub_kgm2 * acc
+        om = om_new
         dth = om * dt_s
         th += dth
         if F:
@@ -317,7 +320,6 @@ def integrate(command: np.ndarray, dt_s: float, k_Nm_per_rad: float, gap_rad: fl
                 f = s * F + (f - s * F) * math.exp(-abs(dth) / w)
             else:
                 f = min(max(f + F / w * dth, -F), F)
-        sensor[i] = drive if dyn.mode == "shaft" else t_el + f + dyn.J_hub_kgm2 * acc
     return np.asarray(theta), np.asarray(sensor)
 
 

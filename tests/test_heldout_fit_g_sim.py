@@ -126,6 +126,18 @@ def test_torque_controlled_hub_rings_at_the_natural_frequency():
     np.testing.assert_allclose(sensor, k * theta, atol=1e-12)  # J_hub = 0: the stack's torque
 
 
+def test_rotor_friction_before_the_sensor_sticks_without_chatter():
+    k, J, F_up, dt = 90.0, 2.4e-3, 1.3, 1e-4
+    cmd = np.concatenate([np.linspace(0, 10.0, 10000), np.full(20000, 10.0)])  # ramp, hold
+    dyn = sim.Dynamics("torque", J_hub_kgm2=5e-4, J_motor_kgm2=J - 5e-4,
+                       damping_Nms_per_rad=0.5, upstream_friction_Nm=F_up)
+    theta, sensor = sim.integrate(cmd, dt, k, 0.0, dyn, None)
+    hold = slice(25000, None)
+    assert np.ptp(theta[hold]) == 0.0  # stuck: the rotor's friction holds the difference
+    assert abs(10.0 - k * theta[-1]) <= F_up
+    np.testing.assert_allclose(sensor[hold], k * theta[hold], atol=1e-12)
+
+
 def test_dropped_and_jittered_samples_stay_ordered():
     t = sim.sample_times(20.0, 500.0, np.random.default_rng(3), jitter=0.3, drop_frac=0.03, n_bursts=3)
     assert np.all(np.diff(t) > 0)
