@@ -64,3 +64,25 @@ def test_too_few_pins_are_refused_with_the_change():
             and "hardware.fastener_diameter_mm = 2 (2 dowels)" in msg), msg
     ok = design_job(job_from_dict(job_data(["S1", "S1"], hardware={"fastener_count": 3})))
     assert 0.8 < ok.stack.to_dict()["rim_pins"][0]["utilisation"] < 1.0
+
+
+def test_many_more_pins_name_a_larger_size_first_and_it_holds():
+    """2 x S1 on three Ø1 dowels: 2188 MPa against 907 needs eight of them (the equivalent
+    stress grows as 1/d^3); so many holes crowd the rim, so the refusal names a larger
+    catalogue dowel first, and that change alone designs."""
+    import re
+
+    from springcad.config import job_from_dict
+    from springcad.design.job import design_job
+
+    hw = {"fastener_count": 3, "fastener_diameter_mm": 1.0}
+    with pytest.raises(DesignError) as err:
+        design_job(job_from_dict(job_data(["S1", "S1"], hardware=hw)))
+    msg = str(err.value)
+    first = re.search(r"use hardware\.(\w+) = ([\d.]+)", msg)
+    assert first and first.group(1) == "fastener_diameter_mm", msg
+    count = re.search(r"hardware\.fastener_count = (\d+)", msg)
+    assert count is None or int(count.group(1)) > 1.5 * 3, msg
+    ok = design_job(job_from_dict(job_data(
+        ["S1", "S1"], hardware={**hw, "fastener_diameter_mm": float(first.group(2))})))
+    assert all(p["ok"] for p in ok.stack.to_dict()["rim_pins"])

@@ -178,16 +178,23 @@ def _diameters(kind: str) -> list[float]:
     return out
 
 
+#: a remedy that needs more than this many times the pins lists a larger size first
+MAX_COUNT_GROWTH = 1.5
+
+
 def _remedy(s: PinJointStrength, inputs: dict, max_count: int) -> str:
     """The pins that would hold: more of them, or a larger catalogue diameter."""
     need = math.ceil(s.count * s.utilisation - 1e-9)
-    parts = []
-    if need <= max_count:
-        parts.append(f"hardware.fastener_count = {need} (Ø{s.diameter_mm:g} {s.kind}s)")
-    for d in _diameters(s.kind):
-        if d > s.diameter_mm and pin_strength(**{**inputs, "diameter_mm": d}).ok:
-            parts.append(f"hardware.fastener_diameter_mm = {d:g} ({s.count} {s.kind}s)")
-            break
+    more = (f"hardware.fastener_count = {need} (Ø{s.diameter_mm:g} {s.kind}s)"
+            if need <= max_count else None)
+    larger = next((f"hardware.fastener_diameter_mm = {d:g} ({s.count} {s.kind}s)"
+                   for d in _diameters(s.kind)
+                   if d > s.diameter_mm and pin_strength(**{**inputs, "diameter_mm": d}).ok),
+                  None)
+    # a few more pins first; many more crowd the rim (their holes take the room the
+    # flexure roots and the rim web need), so a larger catalogue size comes first then
+    first, second = (more, larger) if need <= MAX_COUNT_GROWTH * s.count else (larger, more)
+    parts = [p for p in (first, second) if p is not None]
     parts.append("a lower stack torque (stiffness x max deflection)")
     return " or ".join(parts)
 
