@@ -86,6 +86,24 @@ class ContactLimit:
         return cls(m.youngs_modulus_MPa, m.poisson_ratio, allowed, manufacturing.w_gap_mm,
                    manufacturing.t_spring_mm + manufacturing.t_shaft_mm)
 
+    def max_load_N(self, contact_radius_mm: float, deflection_rad: float,
+                   thickness_mm: float) -> float:
+        """The largest tip load some ball carries in contact at full deflection (N; 0 when
+        the flank leaves no room for a ball): bisection on :meth:`ball_window_mm`."""
+        def carried(load: float) -> bool:
+            lo, hi = self.ball_window_mm(load, contact_radius_mm, deflection_rad, thickness_mm)
+            return lo <= hi
+
+        lo, hi = 0.0, 1.0
+        if not carried(1e-9):
+            return 0.0
+        while carried(hi) and hi < 1e9:
+            lo, hi = hi, 2.0 * hi
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if carried(mid) else (lo, mid)
+        return lo
+
     def ball_window_mm(self, load_N: float, contact_radius_mm: float, deflection_rad: float,
                        thickness_mm: float) -> tuple[float, float]:
         """(smallest, largest) tip ball radius whose contact holds at full deflection (mm;
@@ -136,8 +154,14 @@ def layout_at(spec: SpringSpec, sigma, E, n, rc, max_root_radius_mm: float = mat
     """
     load, rb_req, rb = tip_ball(spec, sigma, n, rc, contact)
     if not math.isfinite(rb):
+        why = "" if contact is None else (
+            f" (at most {contact.max_load_N(rc, spec.max_deflection_rad, spec.thickness_mm):.3g}"
+            f" N on the flank radius r_c theta - w_gap = "
+            f"{rc * spec.max_deflection_rad - contact.gap_mm:.3g} mm that full deflection leaves, "
+            f"within the contact von Mises {contact.allowable_MPa:.0f} MPa; the load falls as "
+            "1/(N r_c) and the flank grows with r_c theta)")
         raise DesignError(f"spring '{spec.name}': no tip ball carries the {load:.3g} N contact "
-                          f"load at r_c = {rc:.3g} mm")
+                          f"load at r_c = {rc:.3g} mm{why}")
     z = spec.thickness_mm
     if spec.root_radius_mm is not None:
         rr = spec.root_radius_mm
@@ -232,7 +256,8 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
                 best[n] = lay
     if not best:
         if spec.contact_radius_mm is not None and spec.n_flexures is not None:
-            lay = layout_at(spec, sigma, E, spec.n_flexures, spec.contact_radius_mm)
+            lay = layout_at(spec, sigma, E, spec.n_flexures, spec.contact_radius_mm,
+                            max_root_radius_mm, contact)  # raises when contact sizes no ball
             raise SpecInfeasible(
                 f"spring '{spec.name}': n_flexures = {spec.n_flexures} do not fit: tip balls of "
                 f"radius {lay.rb:.3g} mm and equal cam teeth leave room for at most "
