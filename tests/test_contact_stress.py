@@ -213,3 +213,22 @@ def test_the_ball_window_on_floats_is_the_window_on_arrays():
         lo_i, hi_i = cs.tip_radius_window_mm(*(float(a[i]) for a in args))
         assert lo_i == pytest.approx(lo[i], rel=1e-12) and hi_i == pytest.approx(hi[i], rel=1e-12)
     assert np.isinf(lo).any() and np.isfinite(lo).any() and (lo == 0).any()
+
+
+def test_largest_contact_load_by_hand():
+    """The largest tip load any ball carries on the flank full deflection leaves: the best
+    ball is half the reach r_c theta - w_gap, curvature sum 4 / reach, so Hertz line
+    contact (p0 = sqrt(F E* / (pi z R)), von Mises 0.557 p0 at nu 0.3) allows
+    F = pi (s_allow / 0.557)^2 z reach / (4 E*), E* = E / (2 (1 - nu^2)). 420 HT at
+    1120 MPa, r_c 13 mm, 6 deg, w_gap 0.04 mm, z 5 mm: 186 N."""
+    from springcad.design.layout import ContactLimit
+
+    E, nu, allow, rc, theta, gap, z = 200e3, 0.3, 1120.0, 13.0, math.radians(6), 0.04, 5.0
+    limit = ContactLimit(E, nu, allow, gap, 0.0)
+    reach = rc * theta - gap
+    by_hand = math.pi * (allow / 0.557) ** 2 * z * reach / (4 * E / (2 * (1 - nu ** 2)))
+    assert limit.max_load_N(rc, theta, z) == pytest.approx(by_hand, rel=2e-3)
+    lo, hi = limit.ball_window_mm(0.995 * by_hand, rc, theta, z)
+    assert lo <= 0.5 * reach <= hi
+    lo, hi = limit.ball_window_mm(1.01 * by_hand, rc, theta, z)
+    assert lo > hi

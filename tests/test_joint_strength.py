@@ -52,7 +52,10 @@ def test_templates_pins_hold_with_their_numbers(job):
 
 def test_too_few_pins_are_refused_with_the_change():
     """2 x S1 (41.9 N*m) on two Ø1.5 dowels: 974 N a pin, equivalent 1205 MPa > 907; the
-    refusal names 3 pins (ceil(2 x 1205 / 907)) or Ø2 dowels; 3 pins hold."""
+    refusal names 3 pins (ceil(2 x 1205 / 907)), which hold, and the stack torque two pins
+    carry (41.9 x 907 / 1205 = 31.5 N*m). Two Ø2 dowels would hold the torque, but their
+    wider rim leaves the paper's fixed layout (N, r_c and ball) no flexure: the refusal
+    does not name them, and they do not design."""
     from springcad.config import job_from_dict
     from springcad.design.job import design_job
 
@@ -60,7 +63,34 @@ def test_too_few_pins_are_refused_with_the_change():
         design_job(job_from_dict(job_data(["S1", "S1"], hardware={"fastener_count": 2})))
     msg = str(err.value)
     assert "2 x Ø1.5 dowels" in msg and "equivalent 1205 MPa against 907" in msg, msg
-    assert ("use hardware.fastener_count = 3 (Ø1.5 dowels)" in msg
-            and "hardware.fastener_diameter_mm = 2 (2 dowels)" in msg), msg
+    assert "use hardware.fastener_count = 3 (Ø1.5 dowels)" in msg, msg
+    assert "a stack torque of at most 31.5 N*m" in msg, msg
+    assert "fastener_diameter_mm" not in msg, msg
     ok = design_job(job_from_dict(job_data(["S1", "S1"], hardware={"fastener_count": 3})))
     assert 0.8 < ok.stack.to_dict()["rim_pins"][0]["utilisation"] < 1.0
+    with pytest.raises(DesignError, match="spring 'S1'"):
+        design_job(job_from_dict(job_data(
+            ["S1", "S1"], hardware={"fastener_count": 2, "fastener_diameter_mm": 2.0})),
+            explain=False)
+
+
+def test_many_more_pins_name_a_larger_size_first_and_it_holds():
+    """2 x S1 on three Ø1 dowels: 2188 MPa against 907 needs eight of them (the equivalent
+    stress grows as 1/d^3); so many holes crowd the rim, so the refusal names a larger
+    catalogue dowel first, and that change alone designs."""
+    import re
+
+    from springcad.config import job_from_dict
+    from springcad.design.job import design_job
+
+    hw = {"fastener_count": 3, "fastener_diameter_mm": 1.0}
+    with pytest.raises(DesignError) as err:
+        design_job(job_from_dict(job_data(["S1", "S1"], hardware=hw)))
+    msg = str(err.value)
+    first = re.search(r"use hardware\.(\w+) = ([\d.]+)", msg)
+    assert first and first.group(1) == "fastener_diameter_mm", msg
+    count = re.search(r"hardware\.fastener_count = (\d+)", msg)
+    assert count is None or int(count.group(1)) > 1.5 * 3, msg
+    ok = design_job(job_from_dict(job_data(
+        ["S1", "S1"], hardware={**hw, "fastener_diameter_mm": float(first.group(2))})))
+    assert all(p["ok"] for p in ok.stack.to_dict()["rim_pins"])

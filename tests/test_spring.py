@@ -190,6 +190,31 @@ def test_width_hooks_follow_beam_theory(paper_designs):
         with_width(s, 1.3)
 
 
+def test_root_fillets_too_large_for_the_arc_between_roots_shrink_to_fit(paper_designs):
+    """Flexures widened until their roots leave less rim arc than two root fillets need
+    (here S1 with its 1.26 mm fillets set to 2 mm, as a dense layout's FEA correction
+    widens its roots): each root fillet shrinks to fit (two take at most 90 % of the arc,
+    never below the wire's inside radius) instead of overlapping its neighbour's, and the
+    ring keeps a rim arc of positive length between every pair of flexures."""
+    from dataclasses import replace
+
+    from springcad.design.curves import Arc
+    from springcad.design.resize import with_width
+
+    s = paper_designs["paper_S1"].springs["S1"]
+    e = with_width(replace(s, root_fillet_radius_mm=2.0), 1.0)
+    w_root = float(e.width_mm(np.array([e.root_station_mm]))[0])
+    arc_between_mm = 2 * math.pi * e.root_radius_mm / e.n_flexures - w_root
+    assert 2 * 2.0 > arc_between_mm  # the fillets asked for would overlap
+    assert e.root_fillet_radius_mm == pytest.approx(0.45 * arc_between_mm, rel=1e-9)
+    assert e.root_fillet_radius_mm >= e.manufacturing.min_inside_radius_mm
+    loop = e.ring.loop("flexures")
+    rims = [seg for seg, f in zip(loop.segments, loop.features) if f.kind == "rim"]
+    assert len(rims) == e.n_flexures
+    assert all(isinstance(a, Arc) and a.sweep * a.radius > 0.05 for a in rims)
+    assert with_width(s, 1.0).root_fillet_radius_mm == s.root_fillet_radius_mm  # room: kept
+
+
 def test_root_flare_is_the_lowest_predicted_peak(straight, paper_designs):
     """The chosen root flare predicts no higher a peak than any other flare of the list."""
     from springcad.design import stress

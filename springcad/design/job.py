@@ -12,9 +12,10 @@ from springcad.design import duty
 from springcad.design.connections import RIM, camshaft_indices, connection_sequence
 from springcad.design.feasibility import fewer_disks
 from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
+from springcad.design.joint_strength import PinStrengthError
 from springcad.design.plausibility import check_hardware, design_warnings
 from springcad.design.ring import common_hole_pattern
-from springcad.design.search import probe
+from springcad.design.search import probe, short_reason
 from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
@@ -269,5 +270,30 @@ def design_job(job: Job, explain: bool = True, progress: Progress | None = None)
     stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
                          job.analysis.monte_carlo_samples, job.analysis.seed)
     design = JobDesign(job, springs, stack)
-    check_hardware(design)
+    try:
+        check_hardware(design)
+    except PinStrengthError as err:
+        if not explain:
+            raise
+        raise _checked_pin_remedies(job, err) from err
     return design
+
+
+def _checked_pin_remedies(job: Job, err: PinStrengthError) -> DesignError:
+    """The pin refusal ``err`` with only the pin changes under which the whole job designs
+    (more pins crowd the rim; larger ones need a wider rim, which shortens the flexures):
+    each is tried with the design search; when none designs, the refusal says so and
+    names what stopped the first."""
+    works, why = [], ""
+    for changes, text in err.remedies:
+        try:
+            design_job(replace(job, hardware=replace(job.hardware, **changes)), explain=False)
+        except DesignError as e:
+            why = why or f"{text} stops the springs: {short_reason(e)}"
+            continue
+        works.append(text)
+    if works:
+        return DesignError(f"{err.head}; use " + " or ".join(works + [err.lower_torque]))
+    tried = " or ".join(t for _, t in err.remedies) or "no catalogue pin"
+    return DesignError(f"{err.head}; no pin change alone designs the job ({tried} tried; "
+                       f"{why}): use {err.lower_torque}")

@@ -178,26 +178,41 @@ def _diameters(kind: str) -> list[float]:
     return out
 
 
-def _remedy(s: PinJointStrength, inputs: dict, max_count: int) -> str:
-    """The pins that would hold: more of them, or a larger catalogue diameter."""
+#: a remedy that needs more than this many times the pins lists a larger size first
+MAX_COUNT_GROWTH = 1.5
+
+
+def remedies(s: PinJointStrength, inputs: dict, max_count: int) -> list[tuple[dict, str]]:
+    """The pins that would hold, most likely first: (hardware changes, text) for more of
+    them at this diameter and for the larger catalogue diameters at this count (the first
+    two that hold). A few more pins come first; many more (over :data:`MAX_COUNT_GROWTH`
+    times) crowd the rim (their holes take the room the flexure roots and the rim web need),
+    so the larger sizes come first then."""
     need = math.ceil(s.count * s.utilisation - 1e-9)
-    parts = []
-    if need <= max_count:
-        parts.append(f"hardware.fastener_count = {need} (Ø{s.diameter_mm:g} {s.kind}s)")
-    for d in _diameters(s.kind):
-        if d > s.diameter_mm and pin_strength(**{**inputs, "diameter_mm": d}).ok:
-            parts.append(f"hardware.fastener_diameter_mm = {d:g} ({s.count} {s.kind}s)")
-            break
-    parts.append("a lower stack torque (stiffness x max deflection)")
-    return " or ".join(parts)
+    more = ([({"fastener_count": need}, f"hardware.fastener_count = {need} "
+              f"(Ø{s.diameter_mm:g} {s.kind}s)")] if need <= max_count else [])
+    larger = [({"fastener_diameter_mm": d}, f"hardware.fastener_diameter_mm = {d:g} "
+               f"({s.count} {s.kind}s)") for d in _diameters(s.kind)
+              if d > s.diameter_mm and pin_strength(**{**inputs, "diameter_mm": d}).ok][:2]
+    return more + larger if need <= MAX_COUNT_GROWTH * s.count else larger + more
+
+
+class PinStrengthError(DesignError):
+    """A rim joint's pins are over their allowable stress: ``remedies`` holds the
+    (hardware changes, text) that would hold (:func:`remedies`), ``head`` the stresses,
+    ``lower_torque`` the stack torque these pins carry (text)."""
+
+    def __init__(self, head: str, options: list[tuple[dict, str]], lower_torque: str):
+        self.head, self.remedies, self.lower_torque = head, options, lower_torque
+        super().__init__(f"{head}; use " + " or ".join([t for _, t in options] + [lower_torque]))
 
 
 def check_pin_strength(stack) -> tuple[PinJointStrength, ...]:
     """Every rim-to-rim joint's pins, checked.
 
     Raises:
-        DesignError: a joint's pins or the rims' hole walls are over their allowable
-            stress; names the stresses and the pins that would hold.
+        PinStrengthError: a joint's pins or the rims' hole walls are over their
+            allowable stress; names the stresses and the pins that would hold.
     """
     out = []
     for c in stack.components:
@@ -210,7 +225,7 @@ def check_pin_strength(stack) -> tuple[PinJointStrength, ...]:
             continue
         j = c.plan.joint
         max_count = min(sp.n_flexures for sp in stack.springs[max(j, 0):max(j, 0) + 2])
-        raise DesignError(
+        raise PinStrengthError(
             f"{s.name}: {s.count} x Ø{s.diameter_mm:g} {s.kind}s on R{s.radius_mm:.2f} carry "
             f"{s.torque_Nmm / NMM_PER_NM:.3g} N*m at the stack's largest deflection: "
             f"{s.force_N:.0f} N on the most loaded pin (x{UNEVEN_SHARE:g} the mean), shear "
@@ -218,5 +233,7 @@ def check_pin_strength(stack) -> tuple[PinJointStrength, ...]:
             f"gap, equivalent {s.equivalent_MPa:.0f} MPa against {s.allowable_MPa:.0f} "
             f"(shear strength / {PIN_SAFETY_FACTOR:g}); bearing {s.bearing_MPa:.0f} MPa on "
             f"{s.engagement_mm:.3g} mm of rim against {s.bearing_allowable_MPa:.0f} (yield / "
-            f"{PIN_SAFETY_FACTOR:g}); use {_remedy(s, inputs, max_count)}")
+            f"{PIN_SAFETY_FACTOR:g})", remedies(s, inputs, max_count),
+            f"a stack torque of at most {s.torque_Nmm / s.utilisation / NMM_PER_NM:.3g} N*m "
+            f"(stiffness x max deflection, now {s.torque_Nmm / NMM_PER_NM:.3g})")
     return tuple(out)

@@ -86,6 +86,24 @@ class ContactLimit:
         return cls(m.youngs_modulus_MPa, m.poisson_ratio, allowed, manufacturing.w_gap_mm,
                    manufacturing.t_spring_mm + manufacturing.t_shaft_mm)
 
+    def max_load_N(self, contact_radius_mm: float, deflection_rad: float,
+                   thickness_mm: float) -> float:
+        """The largest tip load some ball carries in contact at full deflection (N; 0 when
+        the flank leaves no room for a ball): bisection on :meth:`ball_window_mm`."""
+        def carried(load: float) -> bool:
+            lo, hi = self.ball_window_mm(load, contact_radius_mm, deflection_rad, thickness_mm)
+            return lo <= hi
+
+        lo, hi = 0.0, 1.0
+        if not carried(1e-9):
+            return 0.0
+        while carried(hi) and hi < 1e9:
+            lo, hi = hi, 2.0 * hi
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if carried(mid) else (lo, mid)
+        return lo
+
     def ball_window_mm(self, load_N: float, contact_radius_mm: float, deflection_rad: float,
                        thickness_mm: float) -> tuple[float, float]:
         """(smallest, largest) tip ball radius whose contact holds at full deflection (mm;
@@ -122,6 +140,24 @@ def tip_ball(spec: SpringSpec, sigma, n, rc, contact: ContactLimit | None = None
     return load, rb_req, rb
 
 
+def _contact_shortfall(contact: ContactLimit, spec: SpringSpec, rc: float) -> str:
+    """Why no tip ball carries its load in contact at ``rc`` (text): the flank that full
+    deflection leaves is too short for the profile tolerances, or too tight for the load."""
+    theta, reach = spec.max_deflection_rad, rc * spec.max_deflection_rad - contact.gap_mm
+    cusp = math.sqrt(2.0 * rc * contact.min_flank_position_mm)
+    if reach - cusp < spec.min_tip_radius_mm:
+        return (f" (the flank full deflection leaves, r_c theta - w_gap = {reach:.3g} mm, holds "
+                f"no ball of at least {spec.min_tip_radius_mm:g} mm whose contact stays "
+                f"sqrt(2 r_c (t_spring + t_shaft)) = {cusp:.3g} mm from the flank's cusp, where "
+                "toleranced parts can meet: the flank grows as r_c theta, the cusp room as "
+                "sqrt(r_c): a larger contact radius or deflection, or tighter tolerances)")
+    most = contact.max_load_N(rc, theta, spec.thickness_mm)
+    return (f" (at most {most:.3g} N on the flank radius r_c theta - w_gap = {reach:.3g} mm "
+            f"that full deflection leaves, within the contact von Mises "
+            f"{contact.allowable_MPa:.0f} MPa; the load falls as 1/(N r_c) and the flank grows "
+            "with r_c theta)")
+
+
 def layout_at(spec: SpringSpec, sigma, E, n, rc, max_root_radius_mm: float = math.inf,
               contact: ContactLimit | None = None) -> Layout:
     """Tip ball, root radius (rim rule unless given) and straight limit for (N, r_c).
@@ -136,8 +172,9 @@ def layout_at(spec: SpringSpec, sigma, E, n, rc, max_root_radius_mm: float = mat
     """
     load, rb_req, rb = tip_ball(spec, sigma, n, rc, contact)
     if not math.isfinite(rb):
+        why = "" if contact is None else _contact_shortfall(contact, spec, rc)
         raise DesignError(f"spring '{spec.name}': no tip ball carries the {load:.3g} N contact "
-                          f"load at r_c = {rc:.3g} mm")
+                          f"load at r_c = {rc:.3g} mm{why}")
     z = spec.thickness_mm
     if spec.root_radius_mm is not None:
         rr = spec.root_radius_mm
@@ -232,19 +269,25 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
                 best[n] = lay
     if not best:
         if spec.contact_radius_mm is not None and spec.n_flexures is not None:
-            lay = layout_at(spec, sigma, E, spec.n_flexures, spec.contact_radius_mm)
+            lay = layout_at(spec, sigma, E, spec.n_flexures, spec.contact_radius_mm,
+                            max_root_radius_mm, contact)  # raises when contact sizes no ball
             raise SpecInfeasible(
                 f"spring '{spec.name}': n_flexures = {spec.n_flexures} do not fit: tip balls of "
                 f"radius {lay.rb:.3g} mm and equal cam teeth leave room for at most "
                 f"{fx.max_flexures(lay.rb, lay.rc)} flexures at contact radius {lay.rc:.3g} mm")
         if spec.tip_radius_mm is None and peak > cap(radii[-1], z, sigma):
             raise cap_error(radii[-1])
+        try:  # what stops the widest contact radius with the most flexures (the least load)
+            layout_at(spec, sigma, E, max(ns), radii[-1], max_root_radius_mm, contact)
+            at_widest = ""
+        except DesignError as err:
+            at_widest = f" (at r_c = {radii[-1]:.3g} mm: {str(err).split(': ', 1)[-1]})"
         raise SpecInfeasible(
             f"spring '{spec.name}': no layout fits: for contact radii {radii[0]:.3g} to "
             f"{radii[-1]:.3g} mm and N = {ns[0]}{'' if len(ns) == 1 else f' to {ns[-1]}'} the tip "
             f"balls (sized for the peak torque {peak / NMM_PER_NM:.3g} N*m in bending and in "
             f"contact) or the flexure roots do not fit in R_o = {ro:.3g} mm; use a larger outer "
-            "radius, a thicker disk or a lower stiffness, or fewer n_flexures")
+            f"radius, a thicker disk or a lower stiffness, or fewer n_flexures{at_widest}")
     if spec.contact_radius_mm is not None:  # r_c fixed: the most flexures first (eq. 6)
         ranked = sorted(best.values(), key=lambda lay: -lay.n)
     else:  # r_c free: the longest straight reach first (eq. 7); a fixed tip ball: the

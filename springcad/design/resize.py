@@ -41,6 +41,7 @@ def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0)
                  tip_radius_mm=design.tip_radius_mm - design.width_offset_mm + offset_mm)
     y = np.linspace(d.contact_radius_mm, d.root_station_mm, 1201)
     mfg = d.manufacturing
+    d = _replace(d, root_fillet_radius_mm=_root_fillet_fit_mm(d))
     clearance = None
     # straight flexures too (many of them close together at the tips), on the nominal
     # profile; the tolerance study's offsets of a curved flexure are held to it as before
@@ -59,6 +60,22 @@ def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0)
                 f"spring '{d.name}': flexures {scale:.4f} x wider have a concave edge radius "
                 f"{edge:.3f} mm < wire radius + spark gap {mfg.min_inside_radius_mm:g} mm")
     return _predictions_and_profiles(_replace(d, min_neighbour_clearance_mm=clearance))
+
+
+#: a root fillet takes at most this share of the rim arc between two flexure roots, so
+#: wider flexures (the FEA stiffness correction, a flare) keep the neighbours' fillets apart
+ROOT_FILLET_GAP_SHARE = 0.45
+
+
+def _root_fillet_fit_mm(d: SpringDesign) -> float:
+    """The design's root fillet radius, lowered where the flexures have grown so wide that
+    it would take more than :data:`ROOT_FILLET_GAP_SHARE` of the arc between their roots
+    at R_r (mm), never below the wire's inside radius (the stress prediction and the FEA
+    then see the smaller fillet's peak)."""
+    root_width = float(d.width_mm(np.array([d.root_station_mm]))[0])
+    gap = 2.0 * np.pi * d.root_radius_mm / d.n_flexures - root_width
+    fit = max(ROOT_FILLET_GAP_SHARE * gap, d.manufacturing.min_inside_radius_mm)
+    return min(d.root_fillet_radius_mm, fit)
 
 
 def _predictions_and_profiles(d: SpringDesign) -> SpringDesign:
