@@ -6,7 +6,7 @@ import pytest
 from cad_fixtures import assembly
 
 from springcad.design.curves import Profile
-from springcad.design.hardware import rim_spacer_fit
+from springcad.design.rim_spacer import rim_spacer_fit
 from springcad.design.processes import process, processes
 from springcad.errors import DesignError
 from springcad.geometry.base import PartInfo, annulus, circle_loop
