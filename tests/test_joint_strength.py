@@ -51,15 +51,17 @@ def test_templates_pins_hold_with_their_numbers(job):
 
 
 def test_too_few_pins_are_refused_with_the_change():
-    """2 x S1 (41.9 N*m) on two Ø1.5 dowels: 974 N a pin, equivalent 1205 MPa > 907; the
-    refusal names 3 pins (ceil(2 x 1205 / 907)) or Ø2 dowels; 3 pins hold."""
+    """2 x S1 (41.9 N*m) on two Ø1.5 dowels: 974 N a pin; over the 0.4 mm gap shear
+    4 F / (pi d^2) = 551 MPa, bending 32 F (g / 2) / (pi d^3) = 588 MPa, equivalent
+    sqrt(588^2 + 3 x 551^2) = 1122 MPa > 907; the refusal names 3 pins
+    (ceil(2 x 1122 / 907)) or Ø2 dowels; 3 pins hold."""
     from springcad.config import job_from_dict
     from springcad.design.job import design_job
 
     with pytest.raises(DesignError) as err:
         design_job(job_from_dict(job_data(["S1", "S1"], hardware={"fastener_count": 2})))
     msg = str(err.value)
-    assert "2 x Ø1.5 dowels" in msg and "equivalent 1205 MPa against 907" in msg, msg
+    assert "2 x Ø1.5 dowels" in msg and "equivalent 1122 MPa against 907" in msg, msg
     assert ("use hardware.fastener_count = 3 (Ø1.5 dowels)" in msg
             and "hardware.fastener_diameter_mm = 2 (2 dowels)" in msg), msg
     ok = design_job(job_from_dict(job_data(["S1", "S1"], hardware={"fastener_count": 3})))

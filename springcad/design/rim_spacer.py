@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from springcad.design import plans as pl
 from springcad.design.catalogue import m6_deviation_mm
-from springcad.design.processes import process
+from springcad.design.processes import process, sheet_web_mm
 from springcad.errors import DesignError
 
 #: radial clearance between the rim spacer / washer and the flexure roots (mm)
@@ -62,16 +62,20 @@ class RimSpacerFit:
 def rim_spacer_rim_mm(hardware, manufacturing) -> float:
     """Thinnest spring rim (R_o - R_r, mm) on which a wire-EDM rim spacer fits its pin holes
     with the rules of :func:`rim_spacer_fit`, the holes on the circle midway in the rim: the
-    largest clearance hole, the hole-edge web on both sides, the spacer's play on its pins
-    and :data:`ROOT_MARGIN_MM` inside (the design search keeps this rim, so the spacer is
-    not refused by the build's web rules)."""
+    largest clearance hole, the web on both sides (the hole-edge rule, and at least the
+    sheet, ``hardware.rim_spacer_thickness_mm``:
+    :func:`~springcad.design.processes.sheet_web_mm`), the spacer's play on its pins and
+    :data:`ROOT_MARGIN_MM` inside (the design search keeps this rim, so the spacer is not
+    refused by the build's web rules)."""
     pin = hardware.fastener_diameter_mm
     pin_max = max_pin_mm(hardware.fastener, pin)
     wire = process("wire_edm")
     hole = wire.clearance_hole(pin_max, wire.position_tolerance_mm)
     r_hole = 0.5 * (hole + wire.hole_tolerance_mm)
     play = r_hole - 0.5 * pin
-    return 2.0 * (r_hole + manufacturing.min_hole_edge_mm + play + ROOT_MARGIN_MM)
+    web = sheet_web_mm("wire_edm", hardware.rim_spacer_thickness_mm,
+                       manufacturing.min_hole_edge_mm)
+    return 2.0 * (r_hole + web + play + ROOT_MARGIN_MM)
 
 
 def rim_spacer_fit(root_radius_mm: float, outer_radius_mm: float, hole_circle_radius_mm: float,
@@ -81,9 +85,10 @@ def rim_spacer_fit(root_radius_mm: float, outer_radius_mm: float, hole_circle_ra
 
     For each process (cheapest first): the hole clears the largest pin at its smallest
     size and worst position, the pin located by the wire-cut rim holes
-    (:meth:`~springcad.design.processes.Process.clearance_hole`); the web from the largest hole to either edge is at least the process minimum
-    (``max(process min, factor x sheet thickness)``; wire EDM: ``wire_min_web_mm``,
-    the job's hole-edge rule); the inner edge sits :data:`ROOT_CLEARANCE_MM` outside the
+    (:meth:`~springcad.design.processes.Process.clearance_hole`); the web from the largest
+    hole to either edge is at least the process minimum and the sheet thickness
+    (:func:`~springcad.design.processes.sheet_web_mm`; wire EDM's minimum:
+    ``wire_min_web_mm``, the job's hole-edge rule); the inner edge sits :data:`ROOT_CLEARANCE_MM` outside the
     flexure roots, or less where the web needs it, but never so close that the spacer,
     shifted by its play on the pins, comes within :data:`ROOT_MARGIN_MM` of the roots.
 
@@ -95,7 +100,7 @@ def rim_spacer_fit(root_radius_mm: float, outer_radius_mm: float, hole_circle_ra
         proc = process(key)
         hole = proc.clearance_hole(pin_max_mm, process("wire_edm").position_tolerance_mm)
         r_hole = 0.5 * (hole + proc.hole_tolerance_mm)  # largest hole (mm)
-        web = proc.min_web(thickness_mm) if key != "wire_edm" else wire_min_web_mm
+        web = sheet_web_mm(key, thickness_mm, wire_min_web_mm if key == "wire_edm" else 0.0)
         play = r_hole - 0.5 * pin_diameter_mm  # radial shift of the spacer on the pins
         outer_web = outer_radius_mm - hole_circle_radius_mm - r_hole
         r_in = min(root_radius_mm + ROOT_CLEARANCE_MM, hole_circle_radius_mm - r_hole - web)
@@ -114,7 +119,8 @@ def rim_spacer_fit(root_radius_mm: float, outer_radius_mm: float, hole_circle_ra
             return RimSpacerFit(key, hole, r_in, hole_circle_radius_mm - r_hole - r_in,
                                 outer_web, web, r_in - root_radius_mm, tuple(rejected))
     raise DesignError("rim spacer: no process can make it. " + "; ".join(rejected)
-                      + ". Widen the rim (outer radius) or use smaller rim fasteners.")
+                      + ". Widen the rim (outer radius), use smaller rim fasteners or a "
+                      "thinner spacer (hardware.rim_spacer_thickness_mm).")
 
 
 def rim_spacer_plan(lower, upper, outer_radius_mm: float, thickness_mm: float, joint: int,
@@ -140,7 +146,7 @@ def rim_spacer_plan(lower, upper, outer_radius_mm: float, thickness_mm: float, j
         # then refuse it with the webs measured (or the spring's own rim check does),
         # and the design search can still weigh the stack
         # The hole shrinks to what the rim leaves (less clearance for the position
-        # errors: a soft 0.5 mm spacer yields to a pin, a hardened ring does not) but
+        # errors: a soft sheet spacer yields to a pin, a hardened ring does not) but
         # always slips over the largest pin.
         edm = process("wire_edm")
         tol = edm.hole_tolerance_mm
