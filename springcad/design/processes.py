@@ -19,6 +19,10 @@ from springcad.errors import ConfigError
 PROCESS_FILE = "processes.toml"
 #: a part this thin or thinner is cut from sheet stock, whatever cuts it (mm): a shim
 SHEET_STOCK_MAX_MM = 1.0
+#: thickness tolerance drawn on such a part, the sheet as supplied (+-mm): ISO 2768-1 has
+#: no general tolerance below 0.5 mm, and the gap it sets between two springs needs no
+#: finer one
+SHEET_THICKNESS_TOLERANCE_MM = 0.05
 
 
 @dataclass(frozen=True)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 
 from springcad.design.plans import AnnulusPlan
+from springcad.design.processes import SHEET_STOCK_MAX_MM, SHEET_THICKNESS_TOLERANCE_MM
 from springcad.design.processes import process as process_of
 from springcad.geometry.base import (COLOURS, GENERAL_TOLERANCE_MM, PartInfo, Slab, SpringcadPart,
                                      annulus, circle_loop)
@@ -92,6 +93,14 @@ class AnnularPart(SpringcadPart):
         r = [math.hypot(*c) for c in self.hole_centres]
         h = 0.5 * (self.hole_diameter + hole_tolerance_mm)
         return min(r) - h - self.inner_radius, self.outer_radius - max(r) - h
+
+    @property
+    def length_tolerance_mm(self) -> float:
+        """Thickness tolerance of a part cut from sheet stock (mm; the sheet as supplied,
+        :data:`~springcad.design.processes.SHEET_THICKNESS_TOLERANCE_MM`), else 0: the
+        general tolerance."""
+        thin = self.SHEET and self.length <= SHEET_STOCK_MAX_MM
+        return SHEET_THICKNESS_TOLERANCE_MM if thin else 0.0
 
     @property
     def tolerance_mm(self) -> float:
