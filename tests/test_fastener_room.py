@@ -13,6 +13,10 @@ from springcad.design.ring import hole_centres_mm, shared_hole_angles_rad
 from springcad.design.stack import design_stack
 from springcad.errors import DesignError
 
+#: the washer and spacer sheet between two springs (hardware.rim_spacer_thickness_mm's
+#: default; the jobs here do not set it)
+GAP = 0.4
+
 
 def _job(fastener, sequence, inp, diameter=2.0):
     """Two small springs with different flexure counts (24 and 20)."""
@@ -88,16 +92,17 @@ def test_bolted_three_stack_makes_room_for_the_heads_at_its_shaft_joint():
     # joints: shaft (A-A, rim washer), rim (A-B, bolted): the heads of the A-B bolts sit
     # on spring 2's input face and turn against spring 1; the input rim flange (3 mm) is
     # bolted to spring 1 (3 mm), its nuts (or screw ends) on spring 1's output face. The
-    # shaft joint holds both: nut, 0.3 mm clearance, the 0.5 mm washer, 0.3 mm, head k
+    # shaft joint holds both: nut, 0.3 mm clearance, the GAP mm washer, 0.3 mm, head k
     d = design_job(_job("bolt", ["A", "A", "B"], "rim"), explain=False)
+    assert d.job.hardware.rim_spacer_thickness_mm == GAP
     b = bolt_set(2.0)
     grip = 3.0 + 3.0
     below = max(b.nut_height_mm, b.screw_length_mm(grip) - grip)
-    assert _gap_after(d, 0) == pytest.approx(below + 0.3 + 0.5 + 0.3 + b.head_height_mm)
-    assert _gap_after(d, 1) == pytest.approx(0.5)  # the bolted rim joint: the rim spacer
+    assert _gap_after(d, 0) == pytest.approx(below + 0.3 + GAP + 0.3 + b.head_height_mm)
+    assert _gap_after(d, 1) == pytest.approx(GAP)  # the bolted rim joint: the rim spacer
     washer = next(c for c in d.stack.components if c.kind == "rim_washer")
     assert washer.z_mm == pytest.approx(d.stack.springs[0].thickness_mm + below + 0.3)
-    assert washer.length_mm == pytest.approx(0.5)
+    assert washer.length_mm == pytest.approx(GAP)
     flange = next(c for c in d.stack.components if c.name == "bolts_input_flange")
     assert (flange.z_mm, flange.length_mm, flange.plan.joint) == pytest.approx((-3.0, 6.0, -1))
     assert fastener_clashes(d.stack.layout, d.stack.springs) == []
@@ -109,9 +114,9 @@ def test_bolted_four_stack_by_hand():
     # outer radius (the outer bushing turns against them)
     d = design_job(_job("bolt", ["A", "A", "A", "A"], "shaft"), explain=False)
     b = bolt_set(2.0)
-    grip = 3.0 + 0.5 + 3.0
+    grip = 3.0 + GAP + 3.0
     below = max(b.nut_height_mm, b.screw_length_mm(grip) - grip)
-    assert _gap_after(d, 1) == pytest.approx(below + 0.3 + 0.5 + 0.3 + b.head_height_mm)
+    assert _gap_after(d, 1) == pytest.approx(below + 0.3 + GAP + 0.3 + b.head_height_mm)
     washer = next(c for c in d.stack.components if c.kind == "rim_washer")
     assert washer.z_mm == pytest.approx(d.stack.layout.spring_z_mm[1] + 3.0 + below + 0.3)
     r_piece = 0.5 * max(b.head_diameter_mm, b.nut_across_corners_mm)
@@ -123,7 +128,7 @@ def test_bolted_four_stack_by_hand():
 
 def _bolted_three_stack(monkeypatch):
     """A + A + B driven at the rim, with bolts, laid out without room for the heads (the
-    springs of a bolted 2-stack, every joint gap the 0.5 mm washer or spacer, the holes
+    springs of a bolted 2-stack, every joint gap the GAP mm washer or spacer, the holes
     where the 2-stack has them)."""
     from springcad.design import hardware, stack
 
@@ -137,15 +142,15 @@ def _bolted_three_stack(monkeypatch):
 
 def test_head_clash_by_hand(monkeypatch):
     # without the room: joints: shaft (A-A, rim washer), rim (A-B, bolted); the head sits on spring 2's input
-    # face at z = 3 + 0.5 = 3.5 and runs its height k back through the 0.5 mm washer into
+    # face at z = 3 + GAP and runs its height k back through the GAP mm washer into
     # spring 1, which turns against it
     d = _bolted_three_stack(monkeypatch)
     k = bolt_set(2.0).head_height_mm
     clashes = fastener_clashes(d.stack.layout, d.stack.springs)
     head = {(c.piece.owner, c.other): c.axial_mm for c in clashes if c.piece.what == "head"}
     for j in range(1, 5):
-        assert head[(f"bolts_2_{j}", "rim_washer_1")] == pytest.approx(0.5)
-        assert head[(f"bolts_2_{j}", "spring_1_A")] == pytest.approx(k - 0.5)
+        assert head[(f"bolts_2_{j}", "rim_washer_1")] == pytest.approx(GAP)
+        assert head[(f"bolts_2_{j}", "spring_1_A")] == pytest.approx(k - GAP)
 
 
 @pytest.mark.slow

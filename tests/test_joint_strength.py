@@ -51,20 +51,22 @@ def test_templates_pins_hold_with_their_numbers(job):
 
 
 def test_too_few_pins_are_refused_with_the_change():
-    """2 x S1 (41.9 N*m) on two Ø1.5 dowels: 974 N a pin, equivalent 1205 MPa > 907; the
-    refusal names 3 pins (ceil(2 x 1205 / 907)), which hold, and the stack torque two pins
-    carry (41.9 x 907 / 1205 = 31.5 N*m). Two Ø2 dowels would hold the torque, but their
-    wider rim leaves the paper's fixed layout (N, r_c and ball) no flexure: the refusal
-    does not name them, and they do not design."""
+    """2 x S1 (41.9 N*m) on two Ø1.5 dowels: 974 N a pin; over the 0.4 mm gap shear
+    4 F / (pi d^2) = 551 MPa, bending 32 F (g / 2) / (pi d^3) = 588 MPa, equivalent
+    sqrt(588^2 + 3 x 551^2) = 1122 MPa > 907; the refusal names 3 pins
+    (ceil(2 x 1122 / 907)), which hold, and the stack torque two pins carry
+    (41.9 x 907 / 1122 = 33.9 N*m). Two Ø2 dowels would hold the torque, but their wider
+    rim leaves the paper's fixed layout (N, r_c and ball) no flexure: the refusal does not
+    name them, and they do not design."""
     from springcad.config import job_from_dict
     from springcad.design.job import design_job
 
     with pytest.raises(DesignError) as err:
         design_job(job_from_dict(job_data(["S1", "S1"], hardware={"fastener_count": 2})))
     msg = str(err.value)
-    assert "2 x Ø1.5 dowels" in msg and "equivalent 1205 MPa against 907" in msg, msg
+    assert "2 x Ø1.5 dowels" in msg and "equivalent 1122 MPa against 907" in msg, msg
     assert "use hardware.fastener_count = 3 (Ø1.5 dowels)" in msg, msg
-    assert "a stack torque of at most 31.5 N*m" in msg, msg
+    assert "a stack torque of at most 33.9 N*m" in msg, msg
     assert "fastener_diameter_mm" not in msg, msg
     ok = design_job(job_from_dict(job_data(["S1", "S1"], hardware={"fastener_count": 3})))
     assert 0.8 < ok.stack.to_dict()["rim_pins"][0]["utilisation"] < 1.0

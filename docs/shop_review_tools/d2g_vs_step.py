@@ -1,4 +1,7 @@
-"""dxf2gcode's reading of each DXF against the STEP solid's cross-section (OCC), both ways."""
+"""dxf2gcode's reading of each DXF against the STEP solid's cross-section (OCC), both ways.
+
+Environment: ROOT (folder of the built packages, ROOT/<package>/parts/<PN>.step) and D2G
+(folder of dxf2gcode_read.py outputs named <package>_<PN>.json)."""
 import json, glob, os
 import numpy as np
 from scipy.spatial import cKDTree
@@ -12,9 +15,10 @@ from OCP.BRepAdaptor import BRepAdaptor_Curve
 from OCP.GCPnts import GCPnts_UniformAbscissa
 from OCP.Bnd import Bnd_Box
 from OCP.BRepBndLib import BRepBndLib
-for j in sorted(glob.glob('/tmp/shop6/d2g/*CAM*.json')):
-    d, b = os.path.basename(j)[:-5].split('_', 1)
-    r = STEPControl_Reader(); r.ReadFile(f'/tmp/shop6/{d}/parts/{b}.step'); r.TransferRoots(); s = r.OneShape()
+ROOT, D2G = os.environ['ROOT'], os.environ['D2G']
+for j in sorted(glob.glob(f'{D2G}/*.json')):
+    d, b = os.path.basename(j)[:-5].rsplit('_', 1)
+    r = STEPControl_Reader(); r.ReadFile(f'{ROOT}/{d}/parts/{b}.step'); r.TransferRoots(); s = r.OneShape()
     box = Bnd_Box(); BRepBndLib.Add_s(s, box); cmin, cmax = box.CornerMin(), box.CornerMax(); z0, z1 = cmin.Z(), cmax.Z()
     z = z1 - 0.3 if 'CAM' in b else 0.5 * (z0 + z1)
     sec = BRepAlgoAPI_Section(s, gp_Pln(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1))); sec.Build()

@@ -324,8 +324,10 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
            "most one per flexure gap)"),
         _f("shaft_diameter_mm", "mm", 1.0, 100.0, 4.0, "camshaft bore / torque and alignment "
            "shaft"),
-        _f("rim_spacer_thickness_mm", "mm", 0.1, 20.0, 0.5, "axial gap between springs: rim "
-           "spacer, washer and centre spacer"),
+        _f("rim_spacer_thickness_mm", "mm", 0.1, 20.0, 0.4, "axial gap between springs: rim "
+           "spacer, washer and centre spacer (sheet); the rim spacer's webs at its pin holes "
+           "are at least this thick, so 0.5 needs a rim 0.2 mm wider (2.67 mm for 1.5 mm "
+           "dowels)"),
         _f("bushing_wall_mm", "mm", 0.5, 20.0, 1.5, "outer bushing wall (stacks of 3+ springs)"),
         _f("camshaft_hub_length_mm", "mm", 0.5, 100.0, 6.0, "hub of an input/output camshaft"),
         _f("rim_spacer_density_kg_per_m3", "kg/m^3", 500.0, 25000.0, "6061_t6",

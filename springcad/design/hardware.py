@@ -16,21 +16,16 @@ from dataclasses import dataclass
 from springcad.connections import RIM, SHAFT
 from springcad.design import plans as pl
 from springcad.design.cam import d_bore
-from springcad.design.catalogue import (bolt_set, drive_pin_length, m6_deviation_mm,
-                                        rim_dowel_length, rim_pin_fit)
+from springcad.design.catalogue import bolt_set, drive_pin_length, rim_dowel_length, rim_pin_fit
 from springcad.design.connections import camshaft_indices
 from springcad.design.processes import process
+# rim_spacer_rim_mm: the design search's rim rule (springcad.design.job) imports it from here
+from springcad.design.rim_spacer import (ROOT_CLEARANCE_MM, rim_spacer_plan,  # noqa: F401
+                                         rim_spacer_rim_mm)
 from springcad.design.tolerance import DJoint, RimPinJoint, d_half_chord_mm
 from springcad.errors import DesignError
 from springcad.units import KG_PER_MM3_PER_KG_PER_M3
 
-#: radial clearance between the rim spacer / washer and the flexure roots (mm)
-ROOT_CLEARANCE_MM = 0.3
-#: rim spacer processes, cheapest first: the first whose webs fit is used
-RIM_SPACER_PROCESSES = ("laser", "wire_edm")
-#: radial margin between the flexure roots and the spacer's inner edge after the spacer
-#: has shifted by its play on the pins (mm)
-ROOT_MARGIN_MM = 0.02
 #: profile tolerance of the turned torque shafts (mm): their D flats are toleranced
 #: one-sided by it (springcad.geometry.adapters.TorqueShaft)
 TORQUE_SHAFT_TOLERANCE_MM = 0.02
@@ -124,36 +119,6 @@ def bolt_circle_limit_mm(hardware, n_springs: int, outer_radius_mm: float) -> fl
     return outer_radius_mm - 0.5 * max(b.head_diameter_mm, b.nut_across_corners_mm)
 
 
-def max_pin_mm(fastener: str, diameter_mm: float) -> float:
-    """Largest rim pin a clearance hole must pass (mm): an m6 dowel at its upper
-    deviation, a bolt at its nominal size."""
-    return diameter_mm + (m6_deviation_mm(diameter_mm)[1] if fastener == "dowel" else 0.0)
-
-
-@dataclass(frozen=True)
-class RimSpacerFit:
-    """How a rim spacer fits its rim: process, hole, inner edge and the webs left (mm).
-
-    Attributes:
-        process: process key (``springcad/data/processes.toml``).
-        hole_diameter_mm: nominal clearance hole for the pins (toleranced +- the
-            process's hole tolerance).
-        inner_radius_mm: the inner edge.
-        inner_web_mm, outer_web_mm: material between the largest hole and the inner and
-            outer edges.
-        min_web_mm: the process's limit for this sheet.
-        root_clearance_mm: inner edge to the flexure roots, before the spacer's play.
-        rejected: why each cheaper process was not used.
-    """
-
-    process: str
-    hole_diameter_mm: float
-    inner_radius_mm: float
-    inner_web_mm: float
-    outer_web_mm: float
-    min_web_mm: float
-    root_clearance_mm: float
-    rejected: tuple[str, ...] = ()
 
 
 def _camshaft_volume_mm3(spring, toothed_mm: float, hub_mm: float, hub_radius_mm: float,
@@ -175,62 +140,6 @@ def _camshaft_volume_mm3(spring, toothed_mm: float, hub_mm: float, hub_radius_mm
     return (teeth - bore) * toothed_mm + (hub - bore) * hub_mm
 
 
-def rim_spacer_rim_mm(hardware, manufacturing) -> float:
-    """Thinnest spring rim (R_o - R_r, mm) on which a wire-EDM rim spacer fits its pin holes
-    with the rules of :func:`rim_spacer_fit`, the holes on the circle midway in the rim: the
-    largest clearance hole, the hole-edge web on both sides, the spacer's play on its pins
-    and :data:`ROOT_MARGIN_MM` inside (the design search keeps this rim, so the spacer is
-    not refused by the build's web rules)."""
-    pin = hardware.fastener_diameter_mm
-    pin_max = max_pin_mm(hardware.fastener, pin)
-    wire = process("wire_edm")
-    hole = wire.clearance_hole(pin_max, wire.position_tolerance_mm)
-    r_hole = 0.5 * (hole + wire.hole_tolerance_mm)
-    play = r_hole - 0.5 * pin
-    return 2.0 * (r_hole + manufacturing.min_hole_edge_mm + play + ROOT_MARGIN_MM)
-
-
-def rim_spacer_fit(root_radius_mm: float, outer_radius_mm: float, hole_circle_radius_mm: float,
-                   pin_diameter_mm: float, pin_max_mm: float, thickness_mm: float,
-                   wire_min_web_mm: float) -> RimSpacerFit:
-    """Process, clearance hole and inner edge of a rim spacer, webs within the process rules.
-
-    For each process (cheapest first): the hole clears the largest pin at its smallest
-    size and worst position, the pin located by the wire-cut rim holes
-    (:meth:`~springcad.design.processes.Process.clearance_hole`); the web from the largest hole to either edge is at least the process minimum
-    (``max(process min, factor x sheet thickness)``; wire EDM: ``wire_min_web_mm``,
-    the job's hole-edge rule); the inner edge sits :data:`ROOT_CLEARANCE_MM` outside the
-    flexure roots, or less where the web needs it, but never so close that the spacer,
-    shifted by its play on the pins, comes within :data:`ROOT_MARGIN_MM` of the roots.
-
-    Raises:
-        DesignError: no process fits; the message gives each process's shortfall.
-    """
-    rejected = []
-    for key in RIM_SPACER_PROCESSES:
-        proc = process(key)
-        hole = proc.clearance_hole(pin_max_mm, process("wire_edm").position_tolerance_mm)
-        r_hole = 0.5 * (hole + proc.hole_tolerance_mm)  # largest hole (mm)
-        web = proc.min_web(thickness_mm) if key != "wire_edm" else wire_min_web_mm
-        play = r_hole - 0.5 * pin_diameter_mm  # radial shift of the spacer on the pins
-        outer_web = outer_radius_mm - hole_circle_radius_mm - r_hole
-        r_in = min(root_radius_mm + ROOT_CLEARANCE_MM, hole_circle_radius_mm - r_hole - web)
-        lowest = root_radius_mm + play + ROOT_MARGIN_MM
-        if outer_web < web - 1e-9:
-            rejected.append(f"{proc.text}: {outer_web:.3f} mm between a Ø{hole:g} "
-                            f"+-{proc.hole_tolerance_mm:g} hole and the outer edge, less than "
-                            f"the {web:g} mm web it needs")
-        elif r_in < lowest - 1e-9:
-            rejected.append(f"{proc.text}: a {web:g} mm web inside a Ø{hole:g} "
-                            f"+-{proc.hole_tolerance_mm:g} hole puts the inner edge "
-                            f"{r_in - root_radius_mm:+.3f} mm from the flexure roots; it "
-                            f"needs {play + ROOT_MARGIN_MM:.3f} mm (play on the pins "
-                            f"{play:.3f} + margin {ROOT_MARGIN_MM:g})")
-        else:
-            return RimSpacerFit(key, hole, r_in, hole_circle_radius_mm - r_hole - r_in,
-                                outer_web, web, r_in - root_radius_mm, tuple(rejected))
-    raise DesignError("rim spacer: no process can make it. " + "; ".join(rejected)
-                      + ". Widen the rim (outer radius) or use smaller rim fasteners.")
 
 
 @dataclass(frozen=True)
@@ -461,39 +370,10 @@ class _Layout:
 
     def rim_spacer(self, j: int, centres) -> pl.RimSpacerPlan:
         """The rim spacer of joint j: process, holes and inner edge from
-        :func:`rim_spacer_fit` (a plain ring when the rims have no holes)."""
-        springs, hw = self.springs, self.hw
-        root = max(springs[j].root_radius_mm, springs[j + 1].root_radius_mm)
-        if not centres:
-            return pl.RimSpacerPlan(inner_radius_mm=root + ROOT_CLEARANCE_MM,
-                                    outer_radius_mm=self.r_outer, joint=j)
-        pin = hw.fastener_diameter_mm
-        pin_max = max_pin_mm(hw.fastener, pin)
-        r_hc = min(math.hypot(*c) for c in centres)
-        edge = springs[j].manufacturing.min_hole_edge_mm
-        try:
-            fit = rim_spacer_fit(root, self.r_outer, r_hc, pin, pin_max, self.gap, edge)
-        except DesignError:
-            # no process meets every rule: lay the spacer out for wire EDM as well as the
-            # rim allows (inner edge no closer than the roots); the build's wire-EDM rules
-            # then refuse it with the webs measured (or the spring's own rim check does),
-            # and the design search can still weigh the stack
-            # The hole shrinks to what the rim leaves (less clearance for the position
-            # errors: a soft 0.5 mm spacer yields to a pin, a hardened ring does not) but
-            # always slips over the largest pin.
-            edm = process("wire_edm")
-            tol = edm.hole_tolerance_mm
-            smallest = math.ceil(round((pin_max + tol + 0.01) * 100.0, 6)) / 100.0
-            room = math.floor(round((2.0 * (r_hc - root - edge) - tol) * 100.0, 6)) / 100.0
-            hole = max(smallest, min(edm.clearance_hole(pin_max, edm.position_tolerance_mm),
-                                     room))
-            r_in = max(root, min(root + ROOT_CLEARANCE_MM, r_hc - 0.5 * (hole + tol) - edge))
-            return pl.RimSpacerPlan(inner_radius_mm=r_in, outer_radius_mm=self.r_outer,
-                                    hole_centres_mm=centres, hole_diameter_mm=hole, joint=j,
-                                    process="wire_edm")
-        return pl.RimSpacerPlan(inner_radius_mm=fit.inner_radius_mm, outer_radius_mm=self.r_outer,
-                                hole_centres_mm=centres, hole_diameter_mm=fit.hole_diameter_mm,
-                                joint=j, process=fit.process)
+        :func:`~springcad.design.rim_spacer.rim_spacer_fit` (a plain ring when the rims have
+        no holes)."""
+        return rim_spacer_plan(self.springs[j], self.springs[j + 1], self.r_outer, self.gap,
+                               j, centres)
 
     @property
     def aluminium(self) -> tuple[str, float]:

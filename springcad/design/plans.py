@@ -137,7 +137,7 @@ class AnnulusPlan(PartPlan):
 class RimSpacerPlan(AnnulusPlan):
     """Aluminium ring between two bolted rims; ``joint`` is the joint it sits in;
     ``process``: the manufacturing process its webs were sized for
-    (:func:`springcad.design.hardware.rim_spacer_fit`)."""
+    (:func:`springcad.design.rim_spacer.rim_spacer_fit`)."""
 
     KIND = "rim_spacer"
     PLACE_FIELDS = ("joint",)

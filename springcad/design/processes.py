@@ -17,6 +17,12 @@ from springcad.data import data_path
 from springcad.errors import ConfigError
 
 PROCESS_FILE = "processes.toml"
+#: a part this thin or thinner is cut from sheet stock, whatever cuts it (mm): a shim
+SHEET_STOCK_MAX_MM = 1.0
+#: thickness tolerance drawn on such a part, the sheet as supplied (+-mm): ISO 2768-1 has
+#: no general tolerance below 0.5 mm, and the gap it sets between two springs needs no
+#: finer one
+SHEET_THICKNESS_TOLERANCE_MM = 0.05
 
 
 @dataclass(frozen=True)
@@ -95,6 +101,18 @@ def process(key: str) -> Process:
     except KeyError:
         raise ConfigError(f"manufacturing process '{key}': not in {PROCESS_FILE} "
                           f"(known: {', '.join(sorted(processes()))})") from None
+
+
+def sheet_web_mm(key: str, thickness_mm: float, process_min_mm: float = 0.0) -> float:
+    """Thinnest web (mm) a part ``thickness_mm`` thick may have between a hole and another
+    contour, or between two facing contours, when ``key`` cuts it: the process's own rule
+    (:meth:`Process.min_web`) and ``process_min_mm`` (wire EDM: the job's
+    ``[manufacturing]`` web or hole-edge limit), and on sheet stock
+    (:data:`SHEET_STOCK_MAX_MM` or thinner) at least the sheet thickness, whatever the
+    process (issue 26): a web narrower than the sheet is thick twists and tears when the
+    part is deburred, handled and slipped over its pins."""
+    sheet = thickness_mm if thickness_mm <= SHEET_STOCK_MAX_MM else 0.0
+    return max(process(key).min_web(thickness_mm), process_min_mm, sheet)
 
 
 def process_text(key: str) -> str:

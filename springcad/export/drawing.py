@@ -349,7 +349,8 @@ def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
     """Lay out the drawing of one part on one A3 sheet, or on two when the notes and the hole
     table at a readable size would leave the views' right column less than
     :data:`MIN_VIEW_ZONE_MM` (a part with no view there: when they do not fit). Sheet 1:
-    views, release and title block; sheet 2: hole table, notes and title block; one figure,
+    views, release and title block; sheet 2: hole table (top left), notes and title block
+    (the right column); one figure,
     sheet 2 below sheet 1, the PDF a page each.
 
     Returns:
@@ -382,8 +383,11 @@ def draw_part(part, info: DrawingInfo, template: dict | None = None) -> Sheet:
             top = release_box(sheet, x0, top, width, info.release)
         if k == 1 or not two:
             top = notes_block(sheet, x0 + 1.0, top, notes, width - 2.0)
-            if rows:
+            if rows and not two:
                 top = _hole_table(sheet, x0 + 1.0, top, rows)
+            elif rows:  # sheet 2: the table at the top left, the whole column for the notes
+                _hole_table(sheet, FRAME_MM + 10.0, y_page + VIEWS_TOP - 12.0
+                            - len(rows) * TABLE_ROW_MM, rows)
         if two and k == 0:
             sheet.text(x0 + 1.0, top + 2.0, ("HOLE TABLE AND " if rows else "") + "NOTES: SHEET 2",
                        size=NOTE_FONT,

@@ -25,7 +25,8 @@ from springcad.connections import connection_sequence
 from springcad.errors import CheckFailed, GeometryError
 from springcad.geometry.edm import edm_rules
 from springcad.geometry.interference import InterferenceChecker, cam_clearance
-from springcad.geometry.sheet_cut import fit_rule, internal_profile_rule, sheet_rules, wall_rule
+from springcad.geometry.sheet_cut import (fit_rule, internal_profile_rule, sheet_rules,
+                                          sheet_stock_rules, wall_rule)
 from springcad.geometry.stack import build_stack
 from springcad.options import spell
 from springcad.progress import Progress, Tracker, no_progress
@@ -161,7 +162,9 @@ def part_checks(part, manufacturing=None) -> list[Check]:
 
     Every made part: its ISO fits are ones its process finishes (``<process>.fits``).
     Wire-EDM profiles: the ``[manufacturing]`` rules (:mod:`springcad.geometry.edm`), from
-    the part's own spring or else ``manufacturing``. Laser-cut and milled sheet profiles:
+    the part's own spring or else ``manufacturing``; cut from sheet stock (a shim), webs
+    and hole edges at least the sheet thickness too (``edm.sheet_web``,
+    ``edm.sheet_hole_edge``). Laser-cut and milled sheet profiles:
     the process's web, hole-edge and hole-size rules (:mod:`springcad.geometry.sheet_cut`).
     Turned parts, and cut parts with a turned section (an end camshaft's hub): the wall
     between bore or socket and outer diameter (``turned.min_wall``). Every made part with
@@ -192,6 +195,8 @@ def part_checks(part, manufacturing=None) -> list[Check]:
                 raise GeometryError(f"{pn}: a wire-EDM part needs the job's [manufacturing] "
                                     "rules to be checked")
             results += edm_rules(info.cut_profile, mfg, part.tolerance_mm, part.describe)
+            results += sheet_stock_rules(info.cut_profile, info.thickness_mm, mfg,
+                                         part.describe)
         else:
             results += sheet_rules(info.cut_profile, info.process, info.thickness_mm,
                                    part.describe)

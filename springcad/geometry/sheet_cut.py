@@ -10,6 +10,10 @@ pair search and hole distances (:mod:`springcad.geometry.edm`):
   process distorts or tears a thinner web);
 * ``hole_edge``: the same web from every round hole to every other contour;
 * ``min_hole``: every round hole at least ``factor x sheet thickness`` across;
+* ``sheet_web``, ``sheet_hole_edge`` (wire-EDM parts cut from sheet stock,
+  :data:`~springcad.design.processes.SHEET_STOCK_MAX_MM` or thinner): the wire-EDM web
+  and hole-edge rules, and at least the sheet thickness
+  (:func:`~springcad.design.processes.sheet_web_mm`);
 * ``min_wall`` (turned parts): the wall between a bore or socket and the outer diameter
   of every section at least the process's minimum web (a thinner wall chatters, deforms
   in the chuck or breaks through);
@@ -30,9 +34,10 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import replace
 
 from springcad.design.curves import Circle, Loop, Profile
-from springcad.design.processes import process
+from springcad.design.processes import SHEET_STOCK_MAX_MM, process, sheet_web_mm
 from springcad.geometry.edm import (RuleResult, _location, gap_rules, hole_edge_rule,
                                     inside_corner_rule)
 
@@ -58,6 +63,21 @@ def sheet_rules(profile, process_key: str, thickness_mm: float,
     webs, _slots = gap_rules(profile, web, 0.0, describe)
     return [webs, hole_edge_rule(profile, web, describe),
             min_hole_rule(profile, proc.min_hole_per_thickness * thickness_mm, describe)]
+
+
+def sheet_stock_rules(profile, thickness_mm: float, manufacturing,
+                      describe=lambda x, y: "") -> list[RuleResult]:
+    """Webs and hole edges of a wire-EDM part cut from sheet stock (``thickness_mm`` at most
+    :data:`~springcad.design.processes.SHEET_STOCK_MAX_MM`): at least the sheet thickness
+    and the job's ``[manufacturing]`` web and hole-edge limits (``sheet_web``,
+    ``sheet_hole_edge``); none for a thicker plate, which the wire-EDM rules alone cover."""
+    if thickness_mm > SHEET_STOCK_MAX_MM:
+        return []
+    web = sheet_web_mm("wire_edm", thickness_mm, manufacturing.min_web_mm)
+    edge = sheet_web_mm("wire_edm", thickness_mm, manufacturing.min_hole_edge_mm)
+    webs, _slots = gap_rules(profile, web, 0.0, describe)
+    return [replace(webs, rule="sheet_web"),
+            replace(hole_edge_rule(profile, edge, describe), rule="sheet_hole_edge")]
 
 
 def wall_rule(slabs, process_key: str, describe=lambda x, y: "") -> RuleResult:

@@ -10,8 +10,8 @@ from __future__ import annotations
 import math
 
 from springcad.design.plans import AnnulusPlan
+from springcad.design.processes import SHEET_STOCK_MAX_MM, SHEET_THICKNESS_TOLERANCE_MM
 from springcad.design.processes import process as process_of
-from springcad.units import fmt_mm
 from springcad.geometry.base import (COLOURS, GENERAL_TOLERANCE_MM, PartInfo, Slab, SpringcadPart,
                                      annulus, circle_loop)
 
@@ -95,6 +95,14 @@ class AnnularPart(SpringcadPart):
         return min(r) - h - self.inner_radius, self.outer_radius - max(r) - h
 
     @property
+    def length_tolerance_mm(self) -> float:
+        """Thickness tolerance of a part cut from sheet stock (mm; the sheet as supplied,
+        :data:`~springcad.design.processes.SHEET_THICKNESS_TOLERANCE_MM`), else 0: the
+        general tolerance."""
+        thin = self.SHEET and self.length <= SHEET_STOCK_MAX_MM
+        return SHEET_THICKNESS_TOLERANCE_MM if thin else 0.0
+
+    @property
     def tolerance_mm(self) -> float:
         """Contour tolerance (mm): the general one, or the process's hole tolerance if
         that is coarser (a laser-cut or milled sheet part)."""
@@ -122,16 +130,11 @@ class RimSpacer(AnnularPart):
              "their size only as toleranced.",)
 
     def part_notes(self) -> tuple[str, ...]:
-        """How the sheet is cut, by process; a wire-EDM spacer whose webs are thinner than
-        the sheet says why no other process may cut it."""
+        """How the sheet is cut, by process (its webs are at least the sheet thickness
+        whatever the process: the build's ``sheet_web`` rules)."""
         if self.process != "wire_edm":
             return ("Cut from flat sheet, one sheet at a time; deburr both faces.", *self.NOTES)
-        web = min(self.webs_mm(process_of(self.process).hole_tolerance_mm))
-        cut = "Wire EDM, several sheets clamped as one stack between two plates."
-        if web < self.length - 1e-9:
-            cut += (f" Webs at the holes {fmt_mm(web)} mm (largest hole), thinner than the "
-                    "sheet: wire EDM only, not laser, waterjet or punched.")
-        return (cut, *self.NOTES)
+        return ("Wire EDM, several sheets clamped as one stack between two plates.", *self.NOTES)
 
 
 class RimWasher(AnnularPart):

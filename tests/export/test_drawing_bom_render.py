@@ -68,7 +68,7 @@ def test_cam_and_spacer_drawings(stack_4xs1, tmp_path):
                 f"Ø{fmt(2 * cam.hub_radius)}", "VIEW B", "DETAIL C"] + title_values(cam)
     assert_all_in(expected, svg)
     assert_all_in(expected, pdf)
-    floating = stack_4xs1.part_named("S1-CAM-L9.5-R")
+    floating = stack_4xs1.part_named("S1-CAM-L9.4-R")
     svg, _ = drawing_texts(floating, tmp_path)
     assert not any("hub" in t.lower() for t in svg)  # no "(hub below)" on a cam without one
     spacer = stack_4xs1.part_named("RIM-SPACER")
@@ -93,6 +93,22 @@ def test_title_block_comes_from_the_template(ring_s1, tmp_path):
     template["rows"][0]["cells"][0]["label"] = "ITEM NAME"
     svg, _ = drawing_texts(ring_s1, tmp_path, template)
     assert "ACME springs test" in svg and "ITEM NAME" in svg
+
+
+def test_job_name_is_whole_in_the_title_block(stack_4xs1, tmp_path):
+    """The JOB cell (shop review 7: "requirements_4xS1_conservative_winner" was cut in a
+    42 mm cell) has a row of its own: a 64-character name, the longest the schema allows,
+    in the usual letters is whole; the sheet thickness below 0.5 mm, where ISO 2768-1 has
+    no general tolerance, carries its own."""
+    from springcad.export.drawing import draw_part
+
+    job = "requirements_4xS1_conservative_winner_" + "rev_0123456789_abcdefghijk"
+    assert len(job) == 64
+    sheet = draw_part(stack_4xs1.part_named("RIM-SPACER"), DrawingInfo(job, 3))
+    values = [t for t, (_, role) in zip(sheet.texts, sheet.sizes)
+              if role == "title block value"]
+    assert job in values, values
+    assert "0.4 ±0.05" in sheet.texts
 
 
 def test_bom_quantities_and_masses(stack_4xs1, tmp_path):

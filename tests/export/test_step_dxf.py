@@ -55,7 +55,7 @@ def test_stl_is_a_closed_binary_mesh(ring_s1, tmp_path):
     assert vol == pytest.approx(solid_volume_mm3(ring_s1.solid), rel=5e-4)
 
 
-CUT_PARTS = ["S1-RING", "S1-CAM-L4.5-H6-R", "S1-CAM-L9.5-R", "RIM-SPACER", "CENTRE-SPACER",
+CUT_PARTS = ["S1-RING", "S1-CAM-L4.5-H6-R", "S1-CAM-L9.4-R", "RIM-SPACER", "CENTRE-SPACER",
              "RIM-WASHER"]
 
 
