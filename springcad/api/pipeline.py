@@ -320,7 +320,9 @@ def export_verification(verification: Verification, out, overwrite: bool = False
                         render: bool = True, progress=None,
                         cache: bool | None = None) -> list[Path]:
     """Write a verification folder: ``fea.json`` and, per spring, the ``.vtu`` fields and
-    PNG renders (von Mises, cam contact, duty), what ``springcad verify`` writes.
+    PNG renders (von Mises, cam contact, duty), what ``springcad verify`` writes (the von
+    Mises renders by a second process beside the rest:
+    :func:`~springcad.report.fea_outputs.write_outputs`).
 
     Args:
         verification: the :class:`Verification` (``keep_fields=True`` for the fields).
@@ -345,7 +347,8 @@ def export_verification(verification: Verification, out, overwrite: bool = False
               if isinstance(x, (str, Path)) and x and Path(x).is_file()]
     with atomic_output_dir(out, overwrite=overwrite, inputs=inputs) as tmp:
         written = write_outputs(verification.raw, Path(tmp), render=render,
-                                progress=Tracker(progress), cache=open_cache(cache))
+                                progress=Tracker(progress), cache=open_cache(cache),
+                                beside_renders=True)
     return [out / Path(f).relative_to(tmp) for f in written]
 
 

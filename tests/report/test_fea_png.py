@@ -38,3 +38,11 @@ def test_png_title_peak_equals_fea_json_and_console(tmp_path):
     # the finest mesh's own maximum is a different number (discretisation error), which
     # is why the old title (mesh peak) and the console disagreed
     assert mesh_peak != pytest.approx(peak, abs=1e-9)
+    # the von Mises renders drawn by a second process beside the rest: the same files, bytes
+    # and order (what springcad verify writes through sc.export_verification)
+    beside = tmp_path / "beside"
+    beside.mkdir()
+    again = write_outputs(v.raw, beside, beside_renders=True)
+    assert [p.name for p in again] == [p.name for p in written]
+    for p in written:
+        assert (beside / p.name).read_bytes() == p.read_bytes(), p.name
