@@ -531,9 +531,10 @@ def _export_into(built: Build, out: Path, overwrite: bool, inputs: list, render:
                  revision: str, dxf_version: str, store, track, outputs, timings_s, t0) -> None:
     """The files of :func:`export_build` (its arguments, checked), written into a temporary
     folder that becomes ``out``; sets ``built``'s files, checks and timings."""
-    from springcad.export.bundle import (WrittenFile, export_assembly, export_bundle,
-                                         export_part_cad, part_file_order, roundtrip_checks,
-                                         stack_file_order)
+    from springcad.export.bundle import (WrittenFile, dxf_references, export_assembly,
+                                         export_bundle, export_part_cad, part_file_order,
+                                         roundtrip_checks, stack_file_order)
+    from springcad.export.skeleton import LazyAssembly
     from springcad.export.release import release_status
     from springcad.geometry.checks import CheckReport
 
@@ -559,10 +560,13 @@ def _export_into(built: Build, out: Path, overwrite: bool, inputs: list, render:
                 stack = export_assembly(asm, tmp, render=False, progress=track,
                                         date=info["date"], cache=store)
                 checks = roundtrip_checks(asm, tmp, cad, progress=track, cache=store)
+                # what the DXFs are held against, while the second process may still write them
+                references = None if isinstance(asm, LazyAssembly) else dxf_references(asm)
                 sheet_files = sheets.result()
             parts = part_file_order(asm, cad + sheet_files)
             stack += export_bundle(asm, tmp, parts, progress=track, release=built.release)
-            checks += roundtrip_checks(asm, tmp, sheet_files, progress=track, cache=store)
+            checks += roundtrip_checks(asm, tmp, sheet_files, progress=track, cache=store,
+                                       references=references)
             if outputs is not None:  # before the render's result: progress in that order
                 fea_files = outputs.take(tmp / "fea", track)
             fea_files, png = fea_and_render.result() if outputs is None else (
