@@ -23,12 +23,16 @@ def write_outputs(result, folder: Path, render: bool = True,
         beside_renders: the von Mises renders (VTK and matplotlib, about half the work) are
             drawn by a second process while this one writes the rest
             (:func:`springcad.parallel.beside`; here where steps do not run in a second
-            process). The same files, listed in the same order.
+            process, or when the cache holds them all). The same files, listed in the same
+            order.
     """
     written = []
     if render:
         springs = list(result.springs.items())
-        if beside_renders and enabled():
+        beside_renders = (beside_renders and enabled()
+                          and not all(_stored(cache, "fea-von-mises", name, v)
+                                      for name, v in springs))
+        if beside_renders:
             import matplotlib
 
             matplotlib.use("Agg")
@@ -60,6 +64,12 @@ def write_outputs(result, folder: Path, render: bool = True,
 def _here(func, *args, progress=no_progress):
     """``func``'s result, computed here before the block (:func:`beside`'s serial form)."""
     yield Pending(value=func(*args, progress=progress))
+
+
+def _stored(cache, kind: str, name: str, v) -> bool:
+    """Whether :func:`_cached` would take these files from the cache."""
+    key = getattr(v, "cache_key", None)
+    return cache is not None and key is not None and cache.has(cache.key(kind, key, name))
 
 
 def _cached(cache, kind: str, name: str, v, folder: Path, write, progress) -> list[Path]:
