@@ -174,6 +174,10 @@ class Cache:
     def _path(self, key: str) -> Path:
         return self.folder / key[-2:] / (key + _SUFFIX)
 
+    def has(self, key: str | None) -> bool:
+        """Whether ``key`` has an entry (it may still turn out torn when loaded)."""
+        return key is not None and self._path(key).is_file()
+
     def load(self, key: str | None):
         """The stored value of ``key``, or :data:`MISSING`. An unreadable entry is removed."""
         if key is None:

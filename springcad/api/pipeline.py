@@ -17,7 +17,9 @@ from __future__ import annotations
 import contextlib
 import copy
 import datetime
+import shutil
 import time
+import weakref
 from pathlib import Path
 
 from springcad.api import calls
@@ -27,7 +29,7 @@ from springcad.config import read_toml
 from springcad.errors import ConfigError
 from springcad.options import (DXF_VERSION, REVISION, api_door, check_dxf_version,
                                check_revision, written)
-from springcad.parallel import Pending, beside, enabled, single_threaded_blas, trim_heap
+from springcad.parallel import Pending, ahead, beside, enabled, single_threaded_blas, trim_heap
 from springcad.progress import Tracker
 from springcad.report import notebook
 from springcad.report.fea_outputs import write_outputs
@@ -71,6 +73,8 @@ class Build:
         self.roundtrip: list = []
         self.release = None
         self.options: dict = {}
+        #: the FEA outputs being written ahead (:class:`_OutputsAhead`), or None
+        self._outputs_ahead = None
 
     @property
     def ok(self) -> bool:
@@ -203,16 +207,86 @@ def build(design, accept_violations: bool = False, progress=None,
     """
     d, ver = _design_of(design, cache)
     store = open_cache(cache)
-    cached = _cached_build(d.raw, store, progress)
-    if cached is not None:
-        return Build(d, ver, *cached[:2], accept_violations, cached[2])
-    from springcad.export import skeleton
-    from springcad.geometry.checks import build_and_check
+    outputs = _OutputsAhead.start(ver, store, progress)
+    try:
+        cached = _cached_build(d.raw, store, progress)
+        if cached is not None:
+            built = Build(d, ver, *cached[:2], accept_violations, cached[2])
+        else:
+            from springcad.export import skeleton
+            from springcad.geometry.checks import build_and_check
 
-    with single_threaded_blas():  # see export_build
-        assembly, report, timings = build_and_check(d.raw, progress, store)
-    skeleton.store(store, d.raw, assembly)
-    return Build(d, ver, assembly, report, accept_violations, timings)
+            with single_threaded_blas():  # see export_build
+                assembly, report, timings = build_and_check(d.raw, progress, store)
+            skeleton.store(store, d.raw, assembly)
+            built = Build(d, ver, assembly, report, accept_violations, timings)
+    except BaseException:
+        if outputs is not None:
+            outputs.close()
+        raise
+    if outputs is not None:
+        built._outputs_ahead = outputs
+        weakref.finalize(built, outputs.close)
+    return built
+
+
+class _OutputsAhead:
+    """The FEA outputs of a verification (``fea.json``, .vtu fields, PNG renders:
+    :func:`~springcad.report.fea_outputs.write_outputs`) written by a second process while
+    :func:`build` makes and checks the solids (they need only the verification; the CAD steps
+    leave the second core idle), into a staging folder whose files :func:`export_build`
+    moves into the build folder (:meth:`take`). The files are those ``export_build`` would
+    write itself; it does when the outputs were not started (no second process, no
+    verification), are not wanted (``render=False``, another cache choice) or were taken
+    by an earlier export."""
+
+    def __init__(self, ver, store):
+        import tempfile
+
+        self.folder = Path(tempfile.mkdtemp(prefix="springcad-fea-"))
+        self.cached = store is not None
+        self.used = False
+        self._messages: list = []
+        self._stack = contextlib.ExitStack()
+        self.pending = ahead(self._stack, write_outputs, ver.raw, self.folder, render=True,
+                             cache=store, progress=lambda m, f=None: self._messages.append((m, f)))
+
+    @classmethod
+    def start(cls, ver, store, progress) -> "_OutputsAhead | None":
+        """Start writing the outputs of ``ver`` (a :class:`Verification` or None) in a second
+        process; None when there is no verification or no second process."""
+        if ver is None or not enabled():
+            return None
+        Tracker(progress)("writing the FEA outputs (.vtu, renders) in a second process")
+        return cls(ver, store)
+
+    def usable(self, render: bool, store) -> bool:
+        """Whether an export with these options writes exactly these files."""
+        return not self.used and render and self.cached == (store is not None)
+
+    def take(self, folder: Path, progress) -> list[Path]:
+        """Wait for the outputs (their progress replayed into ``progress``), move them into
+        ``folder`` and return their paths there, in the order they were written."""
+        self.used = True
+        try:
+            written = self.pending.result()
+            for message, fraction in self._messages:
+                progress(message, fraction)
+            moved = []
+            for path in written:
+                target = Path(folder) / Path(path).relative_to(self.folder)
+                target.parent.mkdir(parents=True, exist_ok=True)
+                shutil.move(str(path), str(target))
+                moved.append(target)
+            return moved
+        finally:
+            self.close()
+
+    def close(self) -> None:
+        """Stop the second process if it still runs and remove the staging folder."""
+        self.used = True
+        self._stack.close()
+        shutil.rmtree(self.folder, ignore_errors=True)
 
 
 def _cached_build(job_design, store, progress):
@@ -246,7 +320,9 @@ def export_verification(verification: Verification, out, overwrite: bool = False
                         render: bool = True, progress=None,
                         cache: bool | None = None) -> list[Path]:
     """Write a verification folder: ``fea.json`` and, per spring, the ``.vtu`` fields and
-    PNG renders (von Mises, cam contact, duty), what ``springcad verify`` writes.
+    PNG renders (von Mises, cam contact, duty), what ``springcad verify`` writes (the von
+    Mises renders by a second process beside the rest:
+    :func:`~springcad.report.fea_outputs.write_outputs`).
 
     Args:
         verification: the :class:`Verification` (``keep_fields=True`` for the fields).
@@ -271,7 +347,8 @@ def export_verification(verification: Verification, out, overwrite: bool = False
               if isinstance(x, (str, Path)) and x and Path(x).is_file()]
     with atomic_output_dir(out, overwrite=overwrite, inputs=inputs) as tmp:
         written = write_outputs(verification.raw, Path(tmp), render=render,
-                                progress=Tracker(progress), cache=open_cache(cache))
+                                progress=Tracker(progress), cache=open_cache(cache),
+                                beside_renders=True)
     return [out / Path(f).relative_to(tmp) for f in written]
 
 
@@ -423,11 +500,6 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
         CheckFailed: the build's checks, or an export read-back, failed (nothing written).
         OutputExistsError, OutputPathError: the folder cannot be written.
     """
-    from springcad.export.bundle import (export_assembly, export_bundle, export_part_cad,
-                                         part_file_order, roundtrip_checks, stack_file_order)
-    from springcad.export.release import release_status
-    from springcad.geometry.checks import CheckReport
-
     if not isinstance(built, Build):
         raise ConfigError("export_build", type(built).__name__, "takes the Build that sc.build returned")
     check_revision(revision)
@@ -438,13 +510,35 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
     out = Path(out)
     track = Tracker(progress)
     t0 = time.perf_counter()
-    d, ver = built.design, built.verification
     built.options = {"revision": revision, "render": render, "dxf_version": dxf_version}
     store = open_cache(cache)
-    inputs = [x for x in (d.job.source, title_block) if isinstance(x, (str, Path)) and x
-              and Path(x).is_file()]
-    fea_files = []
-    asm = built.assembly
+    inputs = [x for x in (built.design.job.source, title_block)
+              if isinstance(x, (str, Path)) and x and Path(x).is_file()]
+    outputs, built._outputs_ahead = built._outputs_ahead, None
+    if outputs is not None and not outputs.usable(render, store):
+        outputs.close()
+        outputs = None
+    with contextlib.ExitStack() as leaving:
+        if outputs is not None:  # not taken (an error, an interrupt): stopped and removed
+            leaving.callback(outputs.close)
+        _export_into(built, out, overwrite, inputs, render, template, revision, dxf_version,
+                     store, track, outputs, timings_s, t0)
+    built.out_dir = out
+    return built
+
+
+def _export_into(built: Build, out: Path, overwrite: bool, inputs: list, render: bool, template,
+                 revision: str, dxf_version: str, store, track, outputs, timings_s, t0) -> None:
+    """The files of :func:`export_build` (its arguments, checked), written into a temporary
+    folder that becomes ``out``; sets ``built``'s files, checks and timings."""
+    from springcad.export.bundle import (WrittenFile, dxf_references, export_assembly,
+                                         export_bundle, export_part_cad, part_file_order,
+                                         roundtrip_checks, stack_file_order)
+    from springcad.export.skeleton import LazyAssembly
+    from springcad.export.release import release_status
+    from springcad.geometry.checks import CheckReport
+
+    d, ver, asm = built.design, built.verification, built.assembly
     # one BLAS thread, as in the second processes: the CAD steps' BLAS work is tall, thin
     # products (placing 10^6 profile points), which OpenBLAS's second thread made 3-7x
     # slower on a busy machine (measured: 1e6 x 2 points placed, 0.63 s wall with two
@@ -453,7 +547,8 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
             single_threaded_blas():
         tmp = Path(tmp)
         with stage("exports", track.subject("exports")), \
-                _fea_and_render(ver, asm, tmp, render, store, track) as fea_and_render:
+                _fea_and_render(ver if outputs is None else None, asm, tmp, render, store,
+                                track) as fea_and_render:
             write_json(tmp / "design.json", d.to_dict())
             built.release = release_status(d.raw, ver.raw if ver is not None else None,
                                            ver is None, built.checks.checks)
@@ -465,17 +560,21 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
                 stack = export_assembly(asm, tmp, render=False, progress=track,
                                         date=info["date"], cache=store)
                 checks = roundtrip_checks(asm, tmp, cad, progress=track, cache=store)
+                # what the DXFs are held against, while the second process may still write them
+                references = None if isinstance(asm, LazyAssembly) else dxf_references(asm)
                 sheet_files = sheets.result()
             parts = part_file_order(asm, cad + sheet_files)
             stack += export_bundle(asm, tmp, parts, progress=track, release=built.release)
-            checks += roundtrip_checks(asm, tmp, sheet_files, progress=track, cache=store)
-            fea_files, png = fea_and_render.result()
+            checks += roundtrip_checks(asm, tmp, sheet_files, progress=track, cache=store,
+                                       references=references)
+            if outputs is not None:  # before the render's result: progress in that order
+                fea_files = outputs.take(tmp / "fea", track)
+            fea_files, png = fea_and_render.result() if outputs is None else (
+                fea_files, fea_and_render.result()[1])
             files = parts + stack_file_order(stack + png)
             order = {f.path: k for k, f in enumerate(files)}
             built.roundtrip = sorted(checks, key=lambda c: order[c.subject])
         CheckReport(built.roundtrip).raise_if_failed()
-        from springcad.export.bundle import WrittenFile
-
         files.append(WrittenFile("design.json", "design", "", (tmp / "design.json").stat().st_size))
         files += [WrittenFile(str(f.relative_to(tmp)), "fea", "", f.stat().st_size)
                   for f in fea_files]
@@ -488,5 +587,3 @@ def export_build(built: Build, out, overwrite: bool = False, render: bool = True
         report = write_build_report(tmp)  # last: it reads the files written above
         built.files.append(WrittenFile("report.html", "report", "", report.stat().st_size))
         write_json(tmp / "build.json", built.to_dict())  # now listing the report too
-    built.out_dir = out
-    return built

@@ -278,15 +278,34 @@ def export_bundle(assembly, out_dir: Path, part_files: list[WrittenFile],
     return out
 
 
+def dxf_reference(part) -> tuple[float, float]:
+    """What the DXF read-back of a profile-cut part is held against: the kernel's area
+    (mm^2) and perimeter (mm) of its profile face."""
+    from springcad.geometry.base import face_area_mm2
+
+    # the profile's loops were checked when the part's solid was made from them
+    face = profile_face(part.info.cut_profile, part.part_number, check=False)
+    return face_area_mm2(face), sum(e.length for e in face.edges())
+
+
+def dxf_references(assembly) -> dict:
+    """:func:`dxf_reference` of every profile-cut part, by part number: computed by the build's
+    process while a second one writes the DXFs (:func:`roundtrip_checks`' ``references``)."""
+    return {pn: dxf_reference(built_part(assembly, pn)) for pn, part in assembly.parts.items()
+            if part.info.cut_profile is not None}
+
+
 def roundtrip_checks(assembly, out_dir: Path, files: list[WrittenFile],
-                     progress: Progress = no_progress, cache=None) -> list[Check]:
+                     progress: Progress = no_progress, cache=None,
+                     references: dict | None = None) -> list[Check]:
     """Read every part STEP and DXF back and hold it against the part.
 
     STEP: one valid solid, same volume (0.1 %) and bounding box (1 um).
     DXF: the CUT layer's lines, arcs and circles chain into one closed contour per
     loop of the profile, the file audits clean, the enclosed area equals the kernel's area
     of the profile face within the chordal tolerance x the perimeter, and the
-    perimeter the kernel's within :data:`PERIMETER_RTOL`. With a
+    perimeter the kernel's within :data:`PERIMETER_RTOL` (``references``: those of
+    :func:`dxf_references`, else computed here). With a
     :class:`springcad.cache.Cache`, the check of a file whose bytes were read back before
     against the same part is taken from it.
     """
@@ -301,14 +320,14 @@ def roundtrip_checks(assembly, out_dir: Path, files: list[WrittenFile],
         progress(f"reading back {f.path}", k / len(files))
         digest = hashlib.sha256(path.read_bytes()).hexdigest() if cache is not None else ""
         out.append(memo(cache, "roundtrip", (digest, f, part_fingerprint(part)),
-                        lambda: _read_back(built_part(assembly, f.part), path, f)))
+                        lambda: _read_back(built_part(assembly, f.part), path, f,
+                                           (references or {}).get(f.part))))
     return out
 
 
-def _read_back(part, path: Path, f: WrittenFile) -> Check:
-    """The read-back check of one STEP or DXF file of ``part`` (see :func:`roundtrip_checks`)."""
-    from springcad.geometry.base import face_area_mm2
-
+def _read_back(part, path: Path, f: WrittenFile, reference=None) -> Check:
+    """The read-back check of one STEP or DXF file of ``part`` (see :func:`roundtrip_checks`;
+    ``reference``: the DXF's :func:`dxf_reference`, or None to compute it)."""
     if f.kind == "step":
         rb = read_step(path)
         v = part.volume_mm3()
@@ -326,9 +345,7 @@ def _read_back(part, path: Path, f: WrittenFile) -> Check:
     except ValueError as err:
         return Check("dxf_roundtrip", f.path, False, message=str(err))
     area, length = loops_area_mm2(loops), loops_length_mm(loops)
-    # the profile's loops were checked when the part's solid was made from them
-    face = profile_face(part.info.cut_profile, part.part_number, check=False)
-    ref, ref_len = face_area_mm2(face), sum(e.length for e in face.edges())
+    ref, ref_len = reference if reference is not None else dxf_reference(part)
     n_loops = len(part.info.cut_profile.loops)
     ok = (len(loops) == n_loops and not auditor.has_errors
           and abs(area - ref) <= CHORD_TOL_MM * ref_len

@@ -12,27 +12,23 @@ import sys as _sys
 import types as _types
 
 
-@_contextlib.contextmanager
-def sklearn_deferred():
-    """Import build123d inside this block to spare the process the import of scikit-learn
-    (~1 s of CPU, 40 % of build123d's import): build123d imports ``sklearn.cluster.DBSCAN``
-    at import time for one function springcad never calls (``detect_primitives`` of STL
-    meshes).
+#: modules build123d imports at import time for functions springcad never calls, with the
+#: names it takes from them: scikit-learn's DBSCAN (``detect_primitives`` of STL meshes;
+#: ~1 s of CPU, 40 % of build123d's import) and IPython's pretty printer (``ShapeList``'s
+#: ``__str__`` in a notebook; IPython's package import, ~0.6 s of CPU per process)
+DEFERRED = {"sklearn.cluster": ("DBSCAN",),
+            "IPython.lib.pretty": ("pretty", "RepresentationPrinter")}
 
-    Inside the block ``sklearn.cluster`` is a stand-in module whose ``DBSCAN`` imports the
-    real class when it is called (any other attribute imports the real module); after it,
-    the stand-in is gone from ``sys.modules``, so a later ``import sklearn.cluster`` is the
-    real one. Nothing changes when scikit-learn or build123d is already imported."""
-    if "sklearn.cluster" in _sys.modules or "build123d" in _sys.modules:
-        yield
-        return
 
+def _standin(module: str, names: tuple):
+    """A stand-in for ``module`` whose ``names`` import the real module when first used
+    (called, or made); any other attribute imports the real module at once."""
     def real():
-        if _sys.modules.get("sklearn.cluster") is standin:
-            del _sys.modules["sklearn.cluster"]
+        if _sys.modules.get(module) is standin:
+            del _sys.modules[module]
         import importlib
 
-        return importlib.import_module("sklearn.cluster")
+        return importlib.import_module(module)
 
     class Standin(_types.ModuleType):
         def __getattr__(self, name):
@@ -40,17 +36,42 @@ def sklearn_deferred():
                 raise AttributeError(name)
             return getattr(real(), name)
 
-    class DBSCAN:
-        """scikit-learn's DBSCAN, imported when first made."""
+    def deferred(name):
+        class Deferred:
+            __doc__ = f"{module}.{name}, imported when first used."
 
-        def __new__(cls, *args, **kwargs):
-            return real().DBSCAN(*args, **kwargs)
+            def __new__(cls, *args, **kwargs):
+                return getattr(real(), name)(*args, **kwargs)
 
-    standin = Standin("sklearn.cluster", "stand-in while build123d is imported")
-    standin.DBSCAN = DBSCAN
-    _sys.modules["sklearn.cluster"] = standin
+        Deferred.__name__ = Deferred.__qualname__ = name
+        return Deferred
+
+    standin = Standin(module, "stand-in while build123d is imported")
+    for name in names:
+        setattr(standin, name, deferred(name))
+    return standin
+
+
+@_contextlib.contextmanager
+def sklearn_deferred():
+    """Import build123d inside this block to spare the process the imports of scikit-learn
+    and IPython (:data:`DEFERRED`): build123d imports ``sklearn.cluster.DBSCAN`` and
+    ``IPython.lib.pretty`` at import time for functions springcad never calls.
+
+    Inside the block each of these modules is a stand-in whose names import the real
+    module when first used (a class made, a function called; any other attribute imports
+    the real module); after it, the stand-ins are gone from ``sys.modules``, so a later
+    import is the real one. Nothing changes for a module already imported, nor when
+    build123d is."""
+    if "build123d" in _sys.modules:
+        yield
+        return
+    standins = {m: _standin(m, names) for m, names in DEFERRED.items()
+                if m not in _sys.modules}
+    _sys.modules.update(standins)
     try:
         yield
     finally:
-        if _sys.modules.get("sklearn.cluster") is standin:
-            del _sys.modules["sklearn.cluster"]
+        for module, standin in standins.items():
+            if _sys.modules.get(module) is standin:
+                del _sys.modules[module]
