@@ -9,16 +9,20 @@ against a residual the ripple dominates, and are lost or invented (a stick-slip'
 sawtooth read as a relaxation, a friction rejected as too uncertain).
 
 :func:`periodic_route` reads the first pass's residual, with the whole-range shapes
-(stiffening, asymmetric stiffness) taken out of the model and the rest refitted,
+(stiffening, asymmetric stiffness, an angle offset placing them without a crossover)
+taken out of the model and the rest refitted,
 against a sinusoid in the deflection, ``a·sin(ωθ) + b·cos(ωθ)``, with at least
 ``MIN_PERIODS`` periods over the deflection range (fewer would be a smooth shape,
-the library's to describe), jointly with the model's own parameters (linearised).
+the library's to describe; a sinusoid whose best period sits on that bound is one),
+jointly with the model's own parameters (linearised).
 The sinusoid is taken for a ripple when
 
 * it describes the residual better than the whole-range shapes it replaces, by the
   loop's gain threshold (held-out criterion units, the sinusoid counted as three
   parameters): a cubic of the spring is described by a cubic exactly and by a
   sinusoid only to 1-3 %, so a true stiffening keeps its place;
+* it is the same sinusoid on the inner and the outer half of the range and on either
+  side of zero (``AGREEMENT``): a ripple repeats alike everywhere;
 * and it describes at least ``DOMINANCE`` times what it leaves in the residual's
   deflection profile (common to both directions): a hard stop, a Hertzian take-up
   or a crossover are fitted by a sinusoid only in part and leave most of their
@@ -30,7 +34,9 @@ what is left is judged on the record as measured, so the ripple stays flagged
 and amplitude). The final model describes the record with the ripple as a nuisance
 term: its NRMSE is of the record without it (``LoopResult.nuisance_Nm``), the
 baseline's of the record as measured, and the route is kept only when that is no
-worse than the baseline.
+worse than the baseline, and when it changes what the library names (a shape fitted
+by a sinusoid that names the same effects is no ripple the library was lost beside:
+the first pass, fitted with fewer assumptions, stands).
 
 Torque in N·m, deflection in rad.
 """
@@ -58,6 +64,11 @@ WHOLE_RANGE = ("stiffening", "asymmetric_stiffness")
 PLACES_SHAPES = ("angle_offset",)
 #: deflection bins of the profile the period is scanned on
 SCAN_BINS = 1024
+#: a best period this close (periods over the range) to ``MIN_PERIODS`` asks for fewer
+BOUND_PERIODS = 0.02
+#: the sinusoid fitted on parts of the range (inner and outer, either side of zero) may differ
+#: between them by at most this share of its size
+AGREEMENT = 0.5
 #: parameters of the sinusoid (amplitude, phase, period)
 SINE_PARAMS = 3
 
@@ -101,6 +112,25 @@ class Ripple:
 
 def _project(Q: np.ndarray, y: np.ndarray) -> np.ndarray:
     return y - Q @ (Q.T @ y)
+
+
+def _disagrees(rp: np.ndarray, Sp: np.ndarray, coef: np.ndarray, theta: np.ndarray) -> bool:
+    """Whether the sinusoid's coefficients, fitted again on parts of the deflection range
+    (the inner and outer halves of |θ|, the two sides of zero; columns ``Sp``, residual
+    ``rp``), differ between the parts by more than ``AGREEMENT`` of their size: a ripple
+    repeats alike over the whole range, a shape it patches (a take-up near zero, a stop at
+    large deflection) does not."""
+    size = float(np.hypot(*coef))
+    a = np.abs(theta)
+    for part in (a <= np.median(a), theta < 0.0):
+        found = []
+        for sel in (part, ~part):
+            if sel.sum() < 32:
+                return True
+            found.append(np.linalg.lstsq(Sp[sel], rp[sel], rcond=None)[0])
+        if float(np.hypot(*(found[0] - found[1]))) > AGREEMENT * size:
+            return True
+    return False
 
 
 def find_ripple(sig: Signals, first, state, gain_threshold: float,
@@ -167,7 +197,7 @@ def find_ripple(sig: Signals, first, state, gain_threshold: float,
         om = 2.0 * math.pi * periods / span
         Sp = np.column_stack([_project(Q, np.sin(om * theta)), _project(Q, np.cos(om * theta))])
         coef, *_ = np.linalg.lstsq(Sp, rp, rcond=None)
-        return coef, Sp @ coef
+        return coef, Sp @ coef, Sp
 
     grid = np.arange(MIN_PERIODS, p_max, 0.05)
     gains = [on_profile(p) for p in grid]
@@ -176,7 +206,11 @@ def find_ripple(sig: Signals, first, state, gain_threshold: float,
                                    bounds=(max(MIN_PERIODS, p0 - 0.3), min(p_max, p0 + 0.3)),
                                    method="bounded", options={"xatol": 1e-3})
     periods = float(res.x)
-    coef, fitted = on_samples(periods)
+    if periods < MIN_PERIODS + BOUND_PERIODS:
+        return None  # wants fewer periods than a ripple has: a smooth shape, not a period
+    coef, fitted, Sp = on_samples(periods)
+    if _disagrees(rp, Sp, coef, theta):
+        return None
     left = rp - fitted
     tau = max(1.0, float(first.structure.get("noise_correlation_samples", 1.0))
               * idx.size / max(every.size, 1))
@@ -232,6 +266,8 @@ def periodic_route(sig: Signals, settings, first, run):
     out = dataclasses.replace(out, baseline=first.baseline, nuisance_Nm=ripple.component)
     if out.no_spring or out.nrmse_pct(out.final, sig) > out.nrmse_pct(out.baseline, sig):
         return None
+    if set(out.final.effects) == set(first.final.effects):
+        return None  # the library reads the record alike beside it: the first pass stands
     loc = out.localisation
     nuisance = {"kind": "periodic_deflection", "period_rad": ripple.period_rad,
                 "amplitude_Nm": ripple.amplitude_Nm, "criterion_gain": ripple.criterion_gain,
