@@ -8,16 +8,16 @@ that looks like its own shape; the friction and the lag beside it are then judge
 against a residual the ripple dominates, and are lost or invented (a stick-slip's
 sawtooth read as a relaxation, a friction rejected as too uncertain).
 
-:func:`periodic_route` reads the first pass's residual, with the whole-range shapes
-(stiffening, asymmetric stiffness, an angle offset placing them without a crossover)
-taken out of the model and the rest refitted,
+:func:`periodic_route` reads the first pass's residual, with the shapes in
+deflection a ripple is patched with (a crossover, a cubic, an asymmetry, an angle
+offset placing them) taken out of the model and the rest refitted,
 against a sinusoid in the deflection, ``a·sin(ωθ) + b·cos(ωθ)``, with at least
 ``MIN_PERIODS`` periods over the deflection range (fewer would be a smooth shape,
 the library's to describe; a sinusoid whose best period sits on that bound is one),
 jointly with the model's own parameters (linearised).
 The sinusoid is taken for a ripple when
 
-* it describes the residual better than the whole-range shapes it replaces, by the
+* it describes the residual better than the shapes it replaces, by the
   loop's gain threshold (held-out criterion units, the sinusoid counted as three
   parameters): a cubic of the spring is described by a cubic exactly and by a
   sinusoid only to 1-3 %, so a true stiffening keeps its place;
@@ -58,10 +58,9 @@ from springcad.fit.signals import Signals
 MIN_PERIODS = 1.2
 #: the sinusoid must describe this many times (RMS over the deflection profile) what it leaves
 DOMINANCE = 3.0
-#: effects whose shape spans the whole deflection range: what a ripple is patched with
-WHOLE_RANGE = ("stiffening", "asymmetric_stiffness")
-#: an angle offset beside them bends their shape (without a crossover, which it places)
-PLACES_SHAPES = ("angle_offset",)
+#: effects shaped in deflection that a ripple is patched with (a crossover invented at one of
+#: its slopes, a cubic and an asymmetry over the range), and an angle offset placing them
+PATCHES = ("backlash", "stiffening", "asymmetric_stiffness", "angle_offset")
 #: deflection bins of the profile the period is scanned on
 SCAN_BINS = 1024
 #: a best period this close (periods over the range) to ``MIN_PERIODS`` asks for fewer
@@ -84,7 +83,8 @@ class Ripple:
         criterion_gain: how much better (held-out criterion units) it describes the
             residual than the whole-range shapes it replaces.
         dominance: RMS of the sinusoid over the deflection profile over the RMS of the
-            structure it leaves there.
+            structure it leaves there (``inf``: it leaves nothing above the noise; reported
+            as ``None``).
         replaces: the whole-range shapes of the first pass's model it stands in for.
     """
 
@@ -153,8 +153,7 @@ def find_ripple(sig: Signals, first, state, gain_threshold: float,
     span = float(np.ptp(theta))
     if span <= 0.0 or idx.size < 64:
         return None
-    replaces = tuple(n for n in model.names if n in WHOLE_RANGE
-                     or (n in PLACES_SHAPES and "backlash" not in model.names))
+    replaces = tuple(n for n in model.names if n in PATCHES)
     m0 = model
     for name in replaces:
         m0 = m0.without(name)
@@ -231,11 +230,14 @@ def find_ripple(sig: Signals, first, state, gain_threshold: float,
         return None
     _, common_left, n_left, var_noise = prof_left
     okl = n_left > 0
+    if not okl.any():
+        return None
     wl = n_left[okl]
-    left_ms = max((float(np.sum(wl * common_left[okl] ** 2)) - int(okl.sum()) * var_noise)
-                  / float(wl.sum()), 1e-300)
+    left_ms = (float(np.sum(wl * common_left[okl] ** 2)) - int(okl.sum()) * var_noise) \
+        / float(wl.sum())
     own_ms = float(np.sum(wl * own[1][okl] ** 2)) / float(wl.sum())
-    dominance = math.sqrt(own_ms / left_ms)
+    # nothing left above the noise: the sinusoid describes the whole profile
+    dominance = math.sqrt(own_ms / left_ms) if left_ms > 0.0 else math.inf
     if dominance < DOMINANCE:
         return None
     om = 2.0 * math.pi * periods / span
@@ -271,7 +273,8 @@ def periodic_route(sig: Signals, settings, first, run):
     loc = out.localisation
     nuisance = {"kind": "periodic_deflection", "period_rad": ripple.period_rad,
                 "amplitude_Nm": ripple.amplitude_Nm, "criterion_gain": ripple.criterion_gain,
-                "dominance": ripple.dominance, "first_pass_model": first.final.label,
+                "dominance": ripple.dominance if math.isfinite(ripple.dominance) else None,
+                "first_pass_model": first.final.label,
                 "reason": ("the first pass's residual held a ripple periodic in deflection that "
                            "no library effect describes: taken out of the torque before the "
                            "library effects were fitted, and judged with the rest on the "
