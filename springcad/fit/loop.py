@@ -46,6 +46,12 @@
    the final residual is tested for structure beyond noise (by deflection and
    direction, by time, by run, periodic in time); if any is found it is
    ``unexplained`` and localised.
+7. **Structure outside the library beside it.** When what is left is
+   unexplained, the pass is run again with that structure kept out of the fit:
+   a ripple periodic in deflection taken out of the torque as a nuisance
+   (:mod:`springcad.fit.ripple`), or a band of deflection a hard stop or a
+   clipping sensor acts in left out (:mod:`springcad.fit.region`); what is left
+   is still judged on the record as measured, so the structure stays flagged.
 
 Torque in N·m, angles in rad, time in s.
 """
