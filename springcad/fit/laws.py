@@ -43,6 +43,7 @@ Units: N·m, rad, s.
 
 from __future__ import annotations
 
+import math
 from typing import Callable
 
 import numpy as np
@@ -83,13 +84,14 @@ BEYOND_LIBRARY = {
 
 
 def beyond_library(laws: dict, threshold: float,
-                   leaves_structure: Callable[[str, str], bool] | None = None) -> list[dict]:
+                   leaves_structure: Callable[[str, str, float], bool] | None = None
+                   ) -> list[dict]:
     """Localisation findings for families whose kept law is in :data:`BEYOND_LIBRARY`,
     beats the best law within the library effect's meaning by more than ``threshold``
     (held-out criterion units), and where that library law, fitted in its place, leaves
-    structure the residual tests find clearly above noise (``leaves_structure(family,
-    law)``; the same bar as ``unexplained`` itself): a law the record prefers but whose
-    difference from the library's stays within the noise is not flagged."""
+    structure clearly above noise (``leaves_structure(family, law, margin)``; the same bar
+    as ``unexplained`` itself): a law the record prefers but whose difference from the
+    library's stays within the noise is not flagged."""
     out = []
     for family, info in laws.items():
         law = info["law"]
@@ -101,7 +103,7 @@ def beyond_library(laws: dict, threshold: float,
         margin = within[nearest]
         if margin <= threshold:
             continue
-        if leaves_structure is not None and not leaves_structure(family, nearest):
+        if leaves_structure is not None and not leaves_structure(family, nearest, margin):
             continue
         against = (f"the library's {library_law.replace('_', ' ')}" if nearest == library_law
                    else f"a {nearest.replace('_', ' ')} law within the library's meaning")
@@ -122,10 +124,14 @@ def flag_outside(state: State, search: Search, laws: dict, idx: np.ndarray, nois
 
     A law within the library's meaning, fitted in the kept law's place on all fitted
     samples, leaves structure when the residual tests find it (the bar of
-    ``unexplained`` itself) or when it departs from the kept law, somewhere in the
+    ``unexplained`` itself), when it departs from the kept law, somewhere in the
     record, by more than the noise can (:func:`springcad.fit.residual.local_departure`:
     a sensor filter read as a delay differs only where a crossover is taken up at
-    speed, too briefly for the binned tests). When the family is confounded with
+    speed, too briefly for the binned tests), or when the held-out criterion by which
+    it loses says what it leaves is as large as the residual tests' own bar
+    (:func:`left_rms_over_noise`: a Hertzian take-up read with the library's crossover
+    leaves 0.3 noise levels RMS spread over every crossing, below the binned tests'
+    resolution on each bin but not on the record). When the family is confounded with
     another family whose law is within the library's meaning (a damper for a friction
     that lets go at rest, on one speed), the record read with that one in its place
     is judged alike.
@@ -142,15 +148,27 @@ def flag_outside(state: State, search: Search, laws: dict, idx: np.ndarray, nois
         d = model.predict(x, sig, idx) - kept
         return local_departure(d, noise, tau, s.structure_p)["significant"]
 
-    def leaves_structure(family: str, law: str) -> bool:
+    def leaves_structure(family: str, law: str, margin: float) -> bool:
         for model, x_swap in search.swaps.get(family, ()):
             if not any(e.law in BEYOND_LIBRARY for e in model.effects) and not left(
                     model, search.refit(model, x_swap, state.mask, f_scale)):
                 return False
+        if left_rms_over_noise(margin, search.n_eff) >= s.structure_min_rms:
+            return True
         found = fitted_in_place(state, search, family, law, f_scale)
         return True if found is None else left(*found)
 
     return beyond_library(laws, s.gain_threshold, leaves_structure)
+
+
+def left_rms_over_noise(margin: float, n_eff: float) -> float:
+    """RMS, in noise levels, of what a law leaves that another describes, from the held-out
+    criterion ``margin`` by which it loses (``n_eff`` independent held-out samples): the
+    criterion is ``n_eff·ln(SSE)``, so its SSE is ``exp(margin/n_eff)`` times the other's,
+    and the excess over the noise's own sum of squares is the structure it leaves."""
+    if margin <= 0.0 or n_eff <= 0.0:
+        return 0.0
+    return math.sqrt(math.expm1(margin / n_eff))
 
 
 def fitted_in_place(state: State, search: Search, family: str, law: str,

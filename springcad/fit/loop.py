@@ -46,6 +46,12 @@
    the final residual is tested for structure beyond noise (by deflection and
    direction, by time, by run, periodic in time); if any is found it is
    ``unexplained`` and localised.
+7. **Structure outside the library beside it.** When what is left is
+   unexplained, the pass is run again with that structure kept out of the fit:
+   a ripple periodic in deflection taken out of the torque as a nuisance
+   (:mod:`springcad.fit.ripple`), or a band of deflection a hard stop or a
+   clipping sensor acts in left out (:mod:`springcad.fit.region`); what is left
+   is still judged on the record as measured, so the structure stays flagged.
 
 Torque in N·m, angles in rad, time in s.
 """
@@ -69,6 +75,7 @@ from springcad.fit.localise import localise
 from springcad.fit.patches import profile_patches, stiffness_patches
 from springcad.fit.region import outside_structure
 from springcad.fit.residual import residual_structure
+from springcad.fit.ripple import periodic_route
 from springcad.fit.search import (BESIDE_STRUCTURE, Candidate, LoopSettings, Search,  # noqa: F401
                                   State, line_fit)
 from springcad.fit.steps import Step, backward, drop, forward, nrmse_of
@@ -107,6 +114,14 @@ class LoopResult:
         keep: the samples fitted (``None``: all); NRMSEs are over these.
         laws: per named family with several laws, the law kept and how the
             others scored (see :mod:`springcad.fit.laws`).
+        nuisance: when a ripple periodic in deflection was taken out of the torque
+            before the library was fitted (:mod:`springcad.fit.ripple`): its period,
+            amplitude and why (``None`` otherwise).
+        searched: the model of the first forward and backward search, before the
+            evidence audit (what :mod:`springcad.fit.ripple` also reads).
+        nuisance_Nm: the torque taken out as that nuisance (N·m, every sample), or
+            ``None``: the final model describes the record with it, so its NRMSE is of
+            the record without it (the baseline's of the record as measured).
     """
 
     baseline: State
@@ -128,6 +143,9 @@ class LoopResult:
     region: dict | None = None
     keep: np.ndarray | None = None
     laws: dict = field(default_factory=dict)
+    nuisance: dict | None = None
+    searched: State | None = None
+    nuisance_Nm: np.ndarray | None = None
 
     def __repr__(self) -> str:
         # the states hold per-sample arrays: show the chain of steps only
@@ -146,7 +164,17 @@ class LoopResult:
         return tuple(e for e in self.final.effects if e not in grouped)
 
     def nrmse_pct(self, state: State, sig: Signals) -> float:
+        """NRMSE (%) of ``state`` on ``sig`` (the record as measured); a state of the
+        loop beside a nuisance (every one but the baseline) with the nuisance taken out."""
+        if state is not self.baseline:
+            sig = self.described(sig)
         return nrmse_of(state, sig, self.half_range_Nm, self.keep)
+
+    def described(self, sig: Signals) -> Signals:
+        """The record the final model describes: ``sig`` with the nuisance taken out."""
+        if self.nuisance_Nm is None:
+            return sig
+        return sig.with_torque(sig.torque - self.nuisance_Nm)
 
 
 def run_loop(sig: Signals, settings: LoopSettings = LoopSettings()) -> LoopResult:
@@ -162,7 +190,10 @@ def run_loop(sig: Signals, settings: LoopSettings = LoopSettings()) -> LoopResul
     """
     with single_threaded_blas():
         first = _run_loop(sig, settings)
-        return outside_structure(sig, settings, first, _run_loop) or first
+        # a ripple first: over a range of two or three of its periods it reads as structure
+        # at large deflection, and a band left out of the fit there leaves it patched
+        return (periodic_route(sig, settings, first, _run_loop)
+                or outside_structure(sig, settings, first, _run_loop) or first)
 
 
 def _spring(sig: Signals, lp: Search) -> tuple[State, dict]:
@@ -185,8 +216,13 @@ def _spring(sig: Signals, lp: Search) -> tuple[State, dict]:
     return State(model, model.fit(sig, lp.all, state.x, lp.f_scale(state), max_nfev=200)), info
 
 
-def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = None) -> LoopResult:
+def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = None,
+              judge: Signals | None = None) -> LoopResult:
+    """One pass of the loop on ``sig`` (the samples ``keep``), what is left judged on
+    ``judge`` (default ``sig``: the record with a nuisance taken out is judged as measured)."""
     lp = Search(sig, settings, keep)
+    if judge is not None:
+        lp.judge = judge
     baseline, spring = _spring(sig, lp)
     if not spring["above_noise"]:
         return _finish(lp, baseline, baseline, (), (), (), spring, {}, (), ())
@@ -196,6 +232,7 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
     rejected: list[dict] = []
     state, score, f_scale = forward(baseline, lp, search, rounds, None, excluded)
     state, score = backward(state, score, f_scale, lp, search)
+    searched = state
     state, laws = choose_laws(state, lp, f_scale)
     evidence: dict[str, EffectEvidence] = {}
     for attempt in range(settings.max_audits + 1):
@@ -262,8 +299,9 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
         # every effect rejected or removed: the final model is the baseline itself (a refit
         # from another start lands a round-off away, above the baseline's error)
         state = baseline
-    return _finish(lp, baseline, state, tuple(steps), tuple(rounds), log, spring, evidence,
-                   tuple(rejected), pairs, laws)
+    out = _finish(lp, baseline, state, tuple(steps), tuple(rounds), log, spring, evidence,
+                  tuple(rejected), pairs, laws)
+    return dataclasses.replace(out, searched=searched)
 
 
 def _drop_patches(state: State, lp: Search, f_scale: float, search: list[Step],
@@ -302,11 +340,13 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
         # the baseline's stiffness was regressed on the same noisy deflection: corrected
         # alike, a final model with no effect is the baseline itself
         baseline = _undilute(baseline, sig, baseline.inliers(lp.all))[0]
-    # what is left is judged on every sample, also those of a region left out of the fit
+    # what is left is judged on every sample, also those of a region left out of the fit, and
+    # on the record as measured (``lp.judge``), also when a nuisance was taken out of it
+    judge = lp.judge
     idx = state.inliers(np.arange(sig.n))
-    r = state.model.residual(state.x, sig, idx)
+    r = state.model.residual(state.x, judge, idx)
     structure, unexplained, noise = residual_structure(
-        r, idx, sig, bins=settings.structure_bins, min_rms=settings.structure_min_rms,
+        r, idx, judge, bins=settings.structure_bins, min_rms=settings.structure_min_rms,
         p_level=settings.structure_p, excess_ratio=settings.excess_ratio)
     tau = structure["noise_correlation_samples"]
     outside = flag_outside(state, lp, laws or {}, idx, noise, tau)
@@ -330,7 +370,7 @@ def _finish(lp: Search, baseline: State, state: State, steps, rounds, log, sprin
         x0, x1 = state.x.copy(), state.x.copy()
         x0[0], x1[0] = 0.0, 1.0
         shape = state.model.predict(x1, sig, idx) - state.model.predict(x0, sig, idx)
-        loc = localise(r, idx, sig, noise, tau, shape, p_level=settings.structure_p)
+        loc = localise(r, idx, judge, noise, tau, shape, p_level=settings.structure_p)
         if outside:
             # after the residual's own patterns (the first decides a fitted region)
             own = loc["findings"]

@@ -166,6 +166,9 @@ class Search:
         #: library cannot describe (``keep``, see ``springcad.fit.loop``)
         self.all = np.arange(n) if keep is None else np.flatnonzero(keep)
         self.keep = keep
+        #: the signals the final residual is judged on: these, or the record as measured
+        #: when a nuisance was taken out of them (see ``springcad.fit.ripple``)
+        self.judge = sig
         stride = max(1, math.ceil(self.all.size / settings.max_cv_samples))
         self.cv = self.all[::stride]
         self.folds = (self.cv[sig.fold[self.cv] == 0], self.cv[sig.fold[self.cv] == 1])
