@@ -110,3 +110,37 @@ def test_unreadable_file(tmp_path):
     bad.write_text("[springs.S1\n")
     with pytest.raises(ConfigError, match="not valid TOML"):
         load_job(bad)
+
+
+def _one_spring(spring: dict, hardware: dict | None = None) -> dict:
+    base = {"target_stiffness_Nm_per_rad": 14, "max_deflection_deg": 13.5,
+            "outer_radius_mm": 23.0, "thickness_mm": 6.0}
+    return {"springs": {"A": {**base, **spring}}, "hardware": hardware or {}}
+
+
+def test_the_default_bore_steps_below_a_fixed_contact_radius():
+    """springcad's 4 mm camshaft bore does not fit a fixed 3.5 mm contact radius: with no
+    shaft_diameter_mm given, springcad takes the largest 0.5 mm step at least 0.5 mm
+    below it (3.0 mm); a bore the user gives is theirs and still refused; a contact
+    radius with room keeps the default."""
+    job = job_from_dict(_one_spring({"contact_radius_mm": 3.5}))
+    assert job.hardware.shaft_diameter_mm == 3.0
+    with pytest.raises(ConfigError, match="shaft_diameter_mm"):
+        job_from_dict(_one_spring({"contact_radius_mm": 3.5}, {"shaft_diameter_mm": 4.0}))
+    assert job_from_dict(_one_spring({"contact_radius_mm": 6.0})).hardware.shaft_diameter_mm \
+        == 4.0
+
+
+def test_a_fixed_root_radius_below_the_contact_search_bounds_the_search():
+    """A root radius fixed at 20 mm on R_o 36 (below 0.6 R_o = 21.6, where springcad's
+    contact-radius search ends) is accepted: the design searches contact radii below it,
+    and every candidate layout keeps r_c under R_r."""
+    from springcad.design.layout import candidate_layouts
+
+    data = tomllib.loads(template("default").read_text())
+    data["springs"]["S1"].update(root_radius_mm=20.0, thickness_mm=5.0)
+    job = job_from_dict(data)
+    spec = job.springs["S1"]
+    layouts = candidate_layouts(spec, job.material.design_stress_MPa,
+                                job.material.material.youngs_modulus_MPa)
+    assert layouts and all(lay.rc < lay.rr == 20.0 for lay in layouts)

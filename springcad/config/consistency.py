@@ -19,7 +19,8 @@ from springcad.errors import ConfigError
 
 #: Monte Carlo stacks below which the 1 %/99 % percentiles are not worth quoting
 MIN_USEFUL_SAMPLES = 1000
-#: largest contact radius springcad tries, as a fraction of R_o (design.layout.choose_layout)
+#: largest contact radius springcad tries, as a fraction of R_o, and below a fixed root
+#: radius (design.layout.candidate_layouts)
 CONTACT_SEARCH_FRACTION = 0.6
 #: thinnest rim as a fraction of the outer radius (the rim carries the whole torque)
 MIN_RIM_FRACTION = 0.02
@@ -49,13 +50,6 @@ def _spring(s: SpringSpec, mfg: ManufacturingSpec, hw: HardwareSpec, given: dict
     if rr is not None and rc is not None and rr <= rc:
         raise ConfigError(f"{p}.root_radius_mm", rr,
                           f"must be larger than contact_radius_mm = {rc:g}")
-    if rr is not None and rc is None and rr <= CONTACT_SEARCH_FRACTION * ro:
-        raise ConfigError(
-            f"{p}.root_radius_mm", rr,
-            f"must be above {CONTACT_SEARCH_FRACTION:g} x outer_radius_mm = "
-            f"{CONTACT_SEARCH_FRACTION * ro:.4g} when contact_radius_mm is chosen (springcad "
-            f"tries contact radii up to {CONTACT_SEARCH_FRACTION:g} R_o); give contact_radius_mm "
-            "below root_radius_mm too, or a larger root radius")
     if rr is not None:
         need = min_rim_mm(ro, mfg, hw)
         if ro - rr < need:

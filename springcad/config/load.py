@@ -340,6 +340,28 @@ def _job_name(given: str | None, fallback: str) -> str:
     return safe.strip("_")[:64] or "job"
 
 
+#: steps of the camshaft bore springcad chooses below the default (mm)
+SHAFT_STEP_MM = 0.5
+#: what springcad leaves between its chosen bore and the smallest fixed contact radius (mm)
+SHAFT_ROOM_MM = 0.5
+
+
+def _shaft_that_fits(hw_values: dict, springs: dict) -> dict:
+    """The hardware values with springcad's camshaft bore where none is given: the default
+    diameter, or, when a spring's fixed contact radius leaves no room for it, the largest
+    step of :data:`SHAFT_STEP_MM` at least :data:`SHAFT_ROOM_MM` below the smallest fixed
+    contact radius (never below the schema's minimum; the design checks the cam's wall
+    over it and names the largest bore that keeps it)."""
+    if "shaft_diameter_mm" in hw_values:
+        return hw_values
+    fixed = [s.contact_radius_mm for s in springs.values() if s.contact_radius_mm is not None]
+    key = keys("hardware")["shaft_diameter_mm"]
+    if not fixed or key.default < min(fixed):
+        return hw_values
+    fit = math.floor((min(fixed) - SHAFT_ROOM_MM) / SHAFT_STEP_MM) * SHAFT_STEP_MM
+    return {**hw_values, "shaft_diameter_mm": max(fit, key.lo)}
+
+
 def job_from_dict(data, name: str = "job", source: str = "") -> Job:
     """Validate a parsed TOML document and build a :class:`Job`.
 
@@ -375,7 +397,8 @@ def job_from_dict(data, name: str = "job", source: str = "") -> Job:
     mfg = ManufacturingSpec(**mfg_v)
     base = Path(source).parent if source else Path.cwd()
     material = replace(material, duty=_duty(data.get("duty"), springs, surface, base))
-    hw = HardwareSpec(**check_section(data.get("hardware", {}), "hardware", "hardware"))
+    hw = HardwareSpec(**_shaft_that_fits(
+        check_section(data.get("hardware", {}), "hardware", "hardware"), springs))
     an = AnalysisSpec(**check_section(data.get("analysis", {}), "analysis", "analysis"))
     job = Job(name=_job_name(job_v.get("name"), name),
               description=job_v.get("description", keys("job")["description"].default),

@@ -323,7 +323,8 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
         _i("fastener_count", 0, 199, 7, "rim holes per spring, midway between flexures (at "
            "most one per flexure gap)"),
         _f("shaft_diameter_mm", "mm", 1.0, 100.0, 4.0, "camshaft bore / torque and alignment "
-           "shaft"),
+           "shaft; not given: 4, or the largest 0.5 mm step at least 0.5 mm below the "
+           "smallest fixed contact_radius_mm"),
         _f("rim_spacer_thickness_mm", "mm", 0.1, 20.0, 0.4, "axial gap between springs: rim "
            "spacer, washer and centre spacer (sheet); the rim spacer's webs at its pin holes "
            "are at least this thick, so 0.5 needs a rim 0.2 mm wider (2.67 mm for 1.5 mm "

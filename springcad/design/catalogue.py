@@ -138,6 +138,26 @@ def rim_dowel_length(diameter_mm: float, first_mm: float, gap_mm: float,
     if not lengths:
         raise DesignError(f"dowel Ø{diameter_mm:g}: not an ISO 8734 diameter in {DOWEL_FILE} "
                           f"({', '.join(f'{d:g}' for d in sorted(dowel_lengths()))})")
+    length = _rim_dowel_fit(diameter_mm, lengths, first_mm, gap_mm, second_mm)
+    if length is not None:
+        return length
+    room = first_mm + gap_mm + second_mm
+    others = [(d, v) for d, ls in sorted(dowel_lengths().items()) if d != diameter_mm
+              for v in [_rim_dowel_fit(d, ls, first_mm, gap_mm, second_mm)] if v is not None]
+    nearest = sorted(others, key=lambda dv: abs(math.log(dv[0] / diameter_mm)))[:2]
+    instead = "".join(f"; use hardware.fastener_diameter_mm = {d:g} (ISO 8734 {d:g} x {v:g})"
+                      if i == 0 else f" or {d:g} ({d:g} x {v:g})"
+                      for i, (d, v) in enumerate(nearest))
+    listed = ", ".join(f"{v:g}" for v in lengths)
+    raise DesignError(f"dowel Ø{diameter_mm:g}: no ISO 8734 length ({listed}) fits the "
+                      f"{room:g} mm of two rims at its longest (nominal + its length "
+                      f"tolerance, +{dowel_length_tolerance_mm(lengths[0]):g} mm) and engages "
+                      f"each by {MIN_ENGAGEMENT_PER_DIAMETER * diameter_mm:g} mm{instead}")
+
+
+def _rim_dowel_fit(diameter_mm: float, lengths, first_mm: float, gap_mm: float,
+                   second_mm: float) -> float | None:
+    """The longest of ``lengths`` (mm) that :func:`rim_dowel_length` accepts, or None."""
     room = first_mm + gap_mm + second_mm
     need = MIN_ENGAGEMENT_PER_DIAMETER * diameter_mm
     for length in reversed(lengths):
@@ -145,11 +165,7 @@ def rim_dowel_length(diameter_mm: float, first_mm: float, gap_mm: float,
         if (room - length - dowel_length_tolerance_mm(length) >= -1e-9
                 and min(first_mm, second_mm) - recess >= need - 1e-9):
             return length
-    listed = ", ".join(f"{v:g}" for v in lengths)
-    raise DesignError(f"dowel Ø{diameter_mm:g}: no ISO 8734 length ({listed}) fits the "
-                      f"{room:g} mm of two rims at its longest (nominal + its length "
-                      f"tolerance, +{dowel_length_tolerance_mm(lengths[0]):g} mm) and engages "
-                      f"each by {need:g} mm")
+    return None
 
 
 def drive_pin_length(diameter_mm: float, ring_mm: float, flange_mm: float) -> tuple[float, float]:

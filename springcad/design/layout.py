@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.config import SpringSpec
+from springcad.config.consistency import CONTACT_SEARCH_FRACTION
 from springcad.design import flexure as fx
 from springcad.design.contact_fatigue import allowable_von_mises_MPa
 from springcad.design.contact_stress import tip_radius_window_mm
@@ -240,9 +241,11 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
     else:
         rc_min = max(ro / 30, fx.min_contact_radius_mm(peak, z, sigma) * 1.001
                      if spec.tip_radius_mm is None else ro / 30)
-        if rc_min >= 0.6 * ro:
-            raise cap_error(0.6 * ro)
-        radii = [float(r) for r in np.linspace(rc_min, 0.6 * ro, 60)]
+        rc_max = CONTACT_SEARCH_FRACTION * ro if spec.root_radius_mm is None else min(
+            CONTACT_SEARCH_FRACTION * ro, spec.root_radius_mm)  # a fixed root: r_c below it
+        if rc_min >= rc_max:
+            raise cap_error(rc_max)
+        radii = [float(r) for r in np.linspace(rc_min, rc_max, 60)]
     if spec.n_flexures is not None:
         ns = [spec.n_flexures]
     elif spec.tip_radius_mm is not None and spec.contact_radius_mm is not None:

@@ -22,6 +22,22 @@ def test_dowel_length_by_hand():
         rim_dowel_length(1.5, 1.0, 0.5, 1.0)
 
 
+def test_a_dowel_with_no_length_names_the_nearest_diameters_that_fit():
+    """Two 3 mm rims and a 2 mm spacer: 8 mm of room. Ø3 (lengths from 8, at most
+    8.3 long) does not fit and engage 3 mm; nor does Ø2.5 (x 6 recessed 1 mm leaves 2 mm
+    in each rim < 2.5; x 8 is 8.3 long); Ø2 x 6 does (6.3 <= 8, 2 mm in each rim >= 2)
+    and so does Ø1.5 x 6 (1.5 mm in each rim): the refusal names Ø2 first, and that
+    diameter gives the length it names."""
+    with pytest.raises(DesignError, match="no ISO 8734 length") as err:
+        rim_dowel_length(3.0, 3.0, 2.0, 3.0)
+    msg = str(err.value)
+    first = re.search(r"use hardware\.fastener_diameter_mm = ([\d.]+) \(ISO 8734 [\d.]+ x ([\d.]+)\)",
+                      msg)
+    assert first and float(first.group(1)) == 2.0, msg
+    assert rim_dowel_length(2.0, 3.0, 2.0, 3.0) == float(first.group(2)) == 6
+    assert "or 1.5 (1.5 x 6)" in msg, msg
+
+
 #: ISO 8734:1997 Table 1, written here in the standard's own form and not copied from
 #: springcad's table: each diameter's length range (l min, l max), the lengths being
 #: the standard's preferred length series within it
