@@ -88,9 +88,10 @@ def rim_spacer_fit(root_radius_mm: float, outer_radius_mm: float, hole_circle_ra
     (:meth:`~springcad.design.processes.Process.clearance_hole`); the web from the largest
     hole to either edge is at least the process minimum and the sheet thickness
     (:func:`~springcad.design.processes.sheet_web_mm`; wire EDM's minimum:
-    ``wire_min_web_mm``, the job's hole-edge rule); the inner edge sits :data:`ROOT_CLEARANCE_MM` outside the
-    flexure roots, or less where the web needs it, but never so close that the spacer,
-    shifted by its play on the pins, comes within :data:`ROOT_MARGIN_MM` of the roots.
+    ``wire_min_web_mm``, the job's hole-edge rule); the inner edge sits
+    :data:`ROOT_CLEARANCE_MM` outside the flexure roots, or less where the web needs it,
+    but never so close that the spacer, shifted by its play on the pins, comes within
+    :data:`ROOT_MARGIN_MM` of the roots.
 
     Raises:
         DesignError: no process fits; the message gives each process's shortfall.
