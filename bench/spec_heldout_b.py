@@ -66,8 +66,9 @@ Label: infeasible if any rule says infeasible; borderline if any says borderline
 
 Harness
 -------
-`python bench/spec_heldout_b.py --code CHECKOUT --n 40 --seed 8 --jobs 1 --out DIR [--build
---max-build 16]` writes each spec to DIR/specs/, runs `python -m springcad design` on it with
+`python bench/spec_heldout_b.py --code CHECKOUT --n 40 --seed 8 --jobs 1 --out DIR`, and beside
+it or after it `... --build --max-build 16` (builds each designed spec as the design run
+reports it, from the label with the fewest builds so far; DIR/builds.json) writes each spec to DIR/specs/, runs `python -m springcad design` on it with
 PYTHONPATH=CHECKOUT and classifies: DESIGNED; REFUSED+NUMBERS (the message holds `key = value`;
 the first is applied to a copy and design re-run: `applied -> DESIGNED` or not); REFUSED (no
 numbers); CRASH (exit 3, a traceback, a signal); TIMEOUT. With --build, `springcad build` on the
@@ -361,9 +362,25 @@ def label_spec(job: dict) -> tuple[str, list[str]]:
 
 
 # ----------------------------------------------------------------------------- harness
-SUGGESTION = re.compile(r"((?:[A-Za-z0-9_-]+\.)*[a-z][a-z0-9_]*_(?:mm|deg|rad|count|Nm_per_rad|MPa)|"
-                        r"(?:[A-Za-z0-9_-]+\.)*(?:n_flexures|name|fastener|flexure|safety_factor))"
-                        r"\s*=\s*(\"[^\"]*\"|[-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)")
+SUGGESTION = re.compile(r"(?<![x*] )\b([a-z][A-Za-z0-9_]*(?:\.[A-Za-z0-9_-]+)*)\s+=\s+"
+                        r"(\"[^\"]*\"|[-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)")
+REMOVED = re.compile(r"\b([a-z][A-Za-z0-9_]*(?:\.[A-Za-z0-9_-]+)*) removed")
+
+
+def first_suggestion(text: str) -> list[tuple[str, str]]:
+    """The first suggested change in a refusal: its `key = value` pairs (a joint change such as
+    `a = 1 and b = 2, all together` or `name = x with stress = y` gives all of them; `key removed`
+    gives (key, None)). Bounds such as `0.6 x outer_radius_mm = 8.1` are not suggestions."""
+    found = [m for m in SUGGESTION.finditer(text) if "_" in m.group(1) or "." in m.group(1)]
+    if not found:
+        return []
+    start = found[0].start()
+    ends = [k for k in (text.find(" or ", start), text.find(";", start), text.find("(each alone", start))
+            if k >= 0]
+    clause = text[start:min(ends) if ends else len(text)]
+    pairs = [(m.group(1), m.group(2)) for m in SUGGESTION.finditer(clause)
+             if "_" in m.group(1) or "." in m.group(1)]
+    return pairs + [(m.group(1), None) for m in REMOVED.finditer(clause)]
 
 
 def _run(cmd: list[str], code: Path, timeout_s: float) -> tuple[int | None, str, float]:
@@ -382,9 +399,21 @@ def _is_crash(rc: int | None, text: str) -> bool:
                                or "Traceback (most recent call last)" in text)
 
 
-def apply_suggestion(job: dict, key: str, value: str) -> dict:
-    """A copy of `job` with `key = value` applied (a spring key goes to the named or every spring)."""
+def apply_suggestion(job: dict, pairs: list[tuple[str, str | None]]) -> dict:
+    """A copy of `job` with every `key = value` of `pairs` applied (value None: key removed)."""
     new = json.loads(json.dumps(job))
+    for key, value in pairs:
+        _apply_one(new, key, value)
+    return new
+
+
+def _apply_one(new: dict, key: str, value: str | None) -> None:
+    """Set `key` (dotted, or a bare key: hardware, material or every spring) to `value` in place."""
+    if value is None:
+        parts = key.split(".")
+        table = new["springs"][parts[1]] if parts[0] == "springs" else new.get(parts[0], {})
+        table.pop(parts[-1], None)
+        return
     val = json.loads(value) if value.startswith('"') else float(value)
     if isinstance(val, float) and val.is_integer() and (key.endswith(("count", "n_flexures"))):
         val = int(val)
@@ -403,7 +432,6 @@ def apply_suggestion(job: dict, key: str, value: str) -> dict:
     else:
         for spring in new["springs"].values():
             spring[parts[0]] = val
-    return new
 
 
 def _last_lines(text: str, n: int = 6) -> str:
@@ -424,14 +452,14 @@ def design_case(job: dict, workdir: Path, code: Path, timeout_s: float) -> dict:
     elif rc == 0:
         row["outcome"] = "DESIGNED"
     else:
-        found = SUGGESTION.findall(text)
-        if not found:
+        pairs = first_suggestion(text)
+        if not pairs:
             row["outcome"] = "REFUSED"
             return row
         row["outcome"] = "REFUSED+NUMBERS"
-        key, value = found[0]
-        row["suggestion"] = f"{key} = {value}"
-        fixed = apply_suggestion(job, key, value)
+        row["suggestion"] = " and ".join(f"{k} = {v}" if v is not None else f"{k} removed"
+                                         for k, v in pairs)
+        fixed = apply_suggestion(job, pairs)
         fixed["job"]["name"] = name + "_fix"
         fcfg = workdir / "specs" / f"{name}_fix.toml"
         fcfg.write_text(to_toml(fixed))
@@ -464,16 +492,37 @@ def build_case(name: str, workdir: Path, code: Path, timeout_s: float) -> dict:
     return row
 
 
-def _pick_builds(rows: list[dict], limit: int) -> list[str]:
-    """Designed specs spread across labels: round robin over feasible, borderline, infeasible."""
-    pools = {lab: [r["name"] for r in rows if r["outcome"] == "DESIGNED" and r["label"] == lab]
-             for lab in ("feasible", "borderline", "infeasible")}
-    picked: list[str] = []
-    while len(picked) < limit and any(pools.values()):
-        for lab in pools:
-            if pools[lab] and len(picked) < limit:
-                picked.append(pools[lab].pop(0))
-    return picked
+def _next_build(rows: list[dict], builds: dict, limit: int) -> str | None:
+    """The next designed spec to build: from the label with the fewest builds so far."""
+    if len(builds) >= limit:
+        return None
+    done = {lab: sum(1 for n in builds if n in labels_of(rows) and labels_of(rows)[n] == lab)
+            for lab in ("feasible", "borderline", "infeasible")}
+    waiting = [r for r in rows if r["outcome"] == "DESIGNED" and r["name"] not in builds]
+    waiting.sort(key=lambda r: (done[r["label"]], r["name"]))
+    return waiting[0]["name"] if waiting else None
+
+
+def labels_of(rows: list[dict]) -> dict:
+    return {r["name"]: r["label"] for r in rows}
+
+
+def build_loop(work: Path, code: Path, n_specs: int, limit: int, timeout_s: float) -> None:
+    """Build designed specs as the design run (possibly still going) reports them."""
+    results, out = work / "results.json", work / "builds.json"
+    builds = json.loads(out.read_text()) if out.exists() else {}
+    while True:
+        rows = json.loads(results.read_text()) if results.exists() else []
+        name = _next_build(rows, builds, limit)
+        if name is None:
+            if len(rows) >= n_specs or len(builds) >= limit:
+                return
+            time.sleep(20)
+            continue
+        builds[name] = build_case(name, work, code, timeout_s)
+        out.write_text(json.dumps(builds, indent=1))
+        print(f"{name}  {labels_of(rows)[name]:10s}  {builds[name]['build_outcome']}"
+              f"  {builds[name]['build_s']} s", flush=True)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -491,22 +540,16 @@ def main(argv: list[str] | None = None) -> int:
     (work / "specs").mkdir(parents=True, exist_ok=True)
     results = work / "results.json"
     if args.build:
+        build_loop(work, code, args.n, args.max_build, args.timeout)
         rows = json.loads(results.read_text())
-        names = _pick_builds(rows, args.max_build)
-        by_name = {r["name"]: r for r in rows}
-        with cf.ThreadPoolExecutor(args.jobs) as pool:
-            futs = {pool.submit(build_case, nm, work, code, args.timeout): nm for nm in names}
-            for fut in cf.as_completed(futs):
-                by_name[futs[fut]].update(fut.result())
-                r = by_name[futs[fut]]
-                print(f"{r['name']}  {r['label']:10s}  {r['build_outcome']}  {r['build_s']} s", flush=True)
-                results.write_text(json.dumps(rows, indent=1))
     else:
         rng = np.random.default_rng(args.seed)
         jobs = [generate_spec(rng, i) for i in range(args.n)]
-        rows = []
+        rows = json.loads(results.read_text()) if results.exists() else []  # resume
+        done = {r["name"] for r in rows}
         for job in jobs:
             (work / "specs" / f"{job['job']['name']}.toml").write_text(to_toml(job))
+        jobs = [j for j in jobs if j["job"]["name"] not in done]
         with cf.ThreadPoolExecutor(args.jobs) as pool:
             futs = {pool.submit(design_case, j, work, code, args.timeout): j for j in jobs}
             for fut in cf.as_completed(futs):
@@ -518,12 +561,15 @@ def main(argv: list[str] | None = None) -> int:
                       f"  {row['design_s']} s", flush=True)
                 rows.sort(key=lambda r: r["name"])
                 results.write_text(json.dumps(rows, indent=1))
-    _print_counts(rows)
+    _print_counts(rows, work)
     return 0
 
 
-def _print_counts(rows: list[dict]) -> None:
+def _print_counts(rows: list[dict], work: Path) -> None:
     from collections import Counter
+    builds = json.loads((work / "builds.json").read_text()) if (work / "builds.json").exists() else {}
+    for r in rows:
+        r.update(builds.get(r["name"], {}))
     print("design:", dict(Counter(r["outcome"] for r in rows)))
     print("label x design:", dict(Counter((r["label"], r["outcome"]) for r in rows)))
     built = [r for r in rows if "build_outcome" in r]
