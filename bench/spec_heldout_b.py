@@ -365,22 +365,33 @@ def label_spec(job: dict) -> tuple[str, list[str]]:
 SUGGESTION = re.compile(r"(?<![x*] )\b([a-z][A-Za-z0-9_]*(?:\.[A-Za-z0-9_-]+)*)\s+=\s+"
                         r"(\"[^\"]*\"|[-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)")
 REMOVED = re.compile(r"\b([a-z][A-Za-z0-9_]*(?:\.[A-Za-z0-9_-]+)*) removed")
+# Bare keys a message may name without their table (README's config table).
+BARE_KEYS = {"target_stiffness_Nm_per_rad", "max_deflection_deg", "max_deflection_rad",
+             "outer_radius_mm", "thickness_mm", "max_thickness_mm", "contact_radius_mm",
+             "min_tip_radius_mm", "tip_radius_mm", "n_flexures", "root_radius_mm", "flexure",
+             "fastener", "fastener_diameter_mm", "fastener_count", "shaft_diameter_mm",
+             "rim_spacer_thickness_mm", "design_stress_MPa", "safety_factor", "t_spring_mm",
+             "t_shaft_mm", "w_gap_mm", "surface"}
 
 
-def first_suggestion(text: str) -> list[tuple[str, str]]:
+def _is_key(name: str) -> bool:
+    return name.split(".")[-1] in BARE_KEYS
+
+
+def first_suggestion(text: str) -> list[tuple[str, str | None]]:
     """The first suggested change in a refusal: its `key = value` pairs (a joint change such as
     `a = 1 and b = 2, all together` or `name = x with stress = y` gives all of them; `key removed`
     gives (key, None)). Bounds such as `0.6 x outer_radius_mm = 8.1` are not suggestions."""
-    found = [m for m in SUGGESTION.finditer(text) if "_" in m.group(1) or "." in m.group(1)]
+    found = [m for m in list(SUGGESTION.finditer(text)) + list(REMOVED.finditer(text))
+             if _is_key(m.group(1))]
     if not found:
         return []
-    start = found[0].start()
-    ends = [k for k in (text.find(" or ", start), text.find(";", start), text.find("(each alone", start))
-            if k >= 0]
+    start = min(m.start() for m in found)
+    ends = [k for k in (text.find(" or ", start), text.find(";", start), text.find("(each alone", start),
+                        text.find(". ", start), text.find("all together", start)) if k >= 0]
     clause = text[start:min(ends) if ends else len(text)]
-    pairs = [(m.group(1), m.group(2)) for m in SUGGESTION.finditer(clause)
-             if "_" in m.group(1) or "." in m.group(1)]
-    return pairs + [(m.group(1), None) for m in REMOVED.finditer(clause)]
+    pairs = [(m.group(1), m.group(2)) for m in SUGGESTION.finditer(clause) if _is_key(m.group(1))]
+    return pairs + [(m.group(1), None) for m in REMOVED.finditer(clause) if _is_key(m.group(1))]
 
 
 def _run(cmd: list[str], code: Path, timeout_s: float) -> tuple[int | None, str, float]:
@@ -494,7 +505,7 @@ def build_case(name: str, workdir: Path, code: Path, timeout_s: float) -> dict:
 
 def _next_build(rows: list[dict], builds: dict, limit: int) -> str | None:
     """The next designed spec to build: from the label with the fewest builds so far."""
-    if len(builds) >= limit:
+    if sum(1 for v in builds.values() if v.get("build_outcome") != "claimed") >= limit:
         return None
     done = {lab: sum(1 for n in builds if n in labels_of(rows) and labels_of(rows)[n] == lab)
             for lab in ("feasible", "borderline", "infeasible")}
@@ -513,13 +524,22 @@ def build_loop(work: Path, code: Path, n_specs: int, limit: int, timeout_s: floa
     builds = json.loads(out.read_text()) if out.exists() else {}
     while True:
         rows = json.loads(results.read_text()) if results.exists() else []
+        done = json.loads(out.read_text()) if out.exists() else {}
+        builds = {**{k: v for k, v in builds.items() if v.get("build_outcome") == "claimed"}, **done}
         name = _next_build(rows, builds, limit)
         if name is None:
             if len(rows) >= n_specs or len(builds) >= limit:
                 return
             time.sleep(20)
             continue
-        builds[name] = build_case(name, work, code, timeout_s)
+        try:  # a claim, so that two build loops share the work
+            os.close(os.open(work / "specs" / f"{name}.claim", os.O_CREAT | os.O_EXCL))
+        except FileExistsError:
+            builds[name] = {"build_outcome": "claimed"}
+            continue
+        row = build_case(name, work, code, timeout_s)
+        builds = json.loads(out.read_text()) if out.exists() else {}
+        builds[name] = row
         out.write_text(json.dumps(builds, indent=1))
         print(f"{name}  {labels_of(rows)[name]:10s}  {builds[name]['build_outcome']}"
               f"  {builds[name]['build_s']} s", flush=True)
