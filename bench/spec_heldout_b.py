@@ -503,19 +503,27 @@ def build_case(name: str, workdir: Path, code: Path, timeout_s: float) -> dict:
     return row
 
 
+def _candidates(rows: list[dict]) -> dict:
+    """Buildable configs and their group: each designed spec under its label, and each applied
+    suggestion that designed (`<name>_fix`) under "suggested fix"."""
+    out = {r["name"]: r["label"] for r in rows if r["outcome"] == "DESIGNED"}
+    out.update({r["name"] + "_fix": "suggested fix" for r in rows if r.get("applied") == "DESIGNED"})
+    return out
+
+
 def _next_build(rows: list[dict], builds: dict, limit: int) -> str | None:
-    """The next designed spec to build: from the label with the fewest builds so far."""
+    """The next config to build: from the group with the fewest builds so far."""
     if sum(1 for v in builds.values() if v.get("build_outcome") != "claimed") >= limit:
         return None
-    done = {lab: sum(1 for n in builds if n in labels_of(rows) and labels_of(rows)[n] == lab)
-            for lab in ("feasible", "borderline", "infeasible")}
-    waiting = [r for r in rows if r["outcome"] == "DESIGNED" and r["name"] not in builds]
-    waiting.sort(key=lambda r: (done[r["label"]], r["name"]))
-    return waiting[0]["name"] if waiting else None
+    cands = _candidates(rows)
+    done = {g: sum(1 for n in builds if cands.get(n) == g)
+            for g in ("feasible", "borderline", "infeasible", "suggested fix")}
+    waiting = sorted((done[g], n) for n, g in cands.items() if n not in builds)
+    return waiting[0][1] if waiting else None
 
 
 def labels_of(rows: list[dict]) -> dict:
-    return {r["name"]: r["label"] for r in rows}
+    return {**{r["name"]: r["label"] for r in rows}, **_candidates(rows)}
 
 
 def build_loop(work: Path, code: Path, n_specs: int, limit: int, timeout_s: float) -> None:
@@ -555,10 +563,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--timeout", type=float, default=600.0, help="per run, s")
     ap.add_argument("--build", action="store_true", help="build the designed specs (reads results.json)")
     ap.add_argument("--max-build", type=int, default=16)
+    ap.add_argument("--summary", action="store_true", help="only print the tables of DIR")
     args = ap.parse_args(argv)
     code, work = args.code.resolve(), args.out.resolve()
     (work / "specs").mkdir(parents=True, exist_ok=True)
     results = work / "results.json"
+    if args.summary:
+        _print_counts(json.loads(results.read_text()), work)
+        return 0
     if args.build:
         build_loop(work, code, args.n, args.max_build, args.timeout)
         rows = json.loads(results.read_text())
@@ -586,16 +598,30 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _print_counts(rows: list[dict], work: Path) -> None:
+    """Outcome counts, and label x outcome tables for design and build."""
     from collections import Counter
     builds = json.loads((work / "builds.json").read_text()) if (work / "builds.json").exists() else {}
+    fixes = {n[:-4]: b for n, b in builds.items() if n.endswith("_fix")}
     for r in rows:
         r.update(builds.get(r["name"], {}))
-    print("design:", dict(Counter(r["outcome"] for r in rows)))
-    print("label x design:", dict(Counter((r["label"], r["outcome"]) for r in rows)))
-    built = [r for r in rows if "build_outcome" in r]
-    if built:
-        print("build:", dict(Counter(r["build_outcome"] for r in built)))
-        print("label x build:", dict(Counter((r["label"], r["build_outcome"]) for r in built)))
+        if r["name"] in fixes:
+            r["fix_build_outcome"] = fixes[r["name"]]["build_outcome"]
+        if r["outcome"] == "REFUSED+NUMBERS":
+            r["outcome_full"] = f"REFUSED+NUMBERS, applied -> {r.get('applied')}"
+        else:
+            r["outcome_full"] = r["outcome"]
+    labels = ("feasible", "borderline", "infeasible")
+    for field in ("outcome_full", "build_outcome", "fix_build_outcome"):
+        seen = sorted({r[field] for r in rows if field in r})
+        if not seen:
+            continue
+        print(f"\n{field:38s}" + "".join(f"{lab:>12s}" for lab in labels) + f"{'all':>6s}")
+        count = Counter((r[field], r["label"]) for r in rows if field in r)
+        for out in seen:
+            print(f"{out:38s}" + "".join(f"{count[(out, lab)]:12d}" for lab in labels)
+                  + f"{sum(count[(out, lab)] for lab in labels):6d}")
+        print(f"{'all':38s}" + "".join(f"{sum(count[(o, lab)] for o in seen):12d}" for lab in labels)
+              + f"{sum(count.values()):6d}")
 
 
 if __name__ == "__main__":
