@@ -473,6 +473,8 @@ def _apply_one(new: dict, key: str, value: str | None) -> None:
         new["hardware"][parts[0]] = val
     elif parts[0] in {"design_stress_MPa", "safety_factor"}:
         new["material"][parts[0]] = val
+    elif parts[0] in {"t_spring_mm", "t_shaft_mm", "w_gap_mm", "surface"}:
+        new.setdefault("manufacturing", {})[parts[0]] = val
     else:
         for spring in new["springs"].values():
             spring[parts[0]] = val
