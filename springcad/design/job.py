@@ -206,22 +206,10 @@ def jamming_tolerances(mfg: ManufacturingSpec) -> str:
             f"{ours.w_gap_mm:g} (wire EDM with skim cuts)")
 
 
-def _design_or_refuse(job: Job, name: str, explain: bool, rr_max: float) -> SpringDesign:
+def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> SpringDesign:
     """The spring ``name`` of ``job``; a refusal of a disk the stack holds several times
     names the stack with fewer of them first (:func:`~springcad.design.feasibility.
-    fewer_disks`), each checked with the design search; a refusal whose job's tolerances
-    jam at the cam says so (:func:`jamming_tolerances`)."""
-    try:
-        return _design_or_fewer(job, name, explain, rr_max)
-    except DesignError as err:
-        advice = jamming_tolerances(job.manufacturing) if explain else ""
-        if not advice:
-            raise
-        raise type(err)(f"{err}{advice}") from err
-
-
-def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> SpringDesign:
-    """The spring ``name``, or its refusal naming fewer disks first (:func:`_design_or_refuse`)."""
+    fewer_disks`), each checked with the design search."""
     spec = job.springs[name]
     try:
         return design_spring(spec, job.material, job.manufacturing, job.hardware,
@@ -257,11 +245,18 @@ def design_job(job: Job, explain: bool = True, progress: Progress | None = None)
         DesignError: a spring or a hardware part cannot be made as specified.
     """
     rr_max = shared_rim_limit_mm(job)
-    springs = {}
+    springs, refusals = {}, []
     with reporting(progress):
         for i, name in enumerate(job.springs):
             report(f"designing spring {name} ({i + 1}/{len(job.springs)})", i / len(job.springs))
-            springs[name] = _design_or_refuse(job, name, explain, rr_max)
+            try:
+                springs[name] = _design_or_fewer(job, name, explain, rr_max)
+            except DesignError as err:
+                if not explain:
+                    raise
+                refusals.append(err)
+    if refusals:
+        raise _all_refusals(refusals, jamming_tolerances(job.manufacturing))
     # the thickness springcad chose (stock plate) is the job's from here on
     job = replace(job, springs={n: replace(s, thickness_mm=springs[n].thickness_mm)
                                 for n, s in job.springs.items()})
@@ -277,6 +272,21 @@ def design_job(job: Job, explain: bool = True, progress: Progress | None = None)
             raise
         raise _checked_pin_remedies(job, err) from err
     return design
+
+
+def _all_refusals(refusals: list[DesignError], advice: str) -> DesignError:
+    """One refusal naming every spring that cannot be made, each with its own changes (a
+    change applied to the first spring alone would meet the next one's refusal only then),
+    followed once by the job's ``advice`` (:func:`jamming_tolerances`); the first refusal's
+    type (e.g. :class:`~springcad.errors.SpecInfeasible`) is kept."""
+    text = "; and ".join(str(e) for e in refusals)
+    if len(refusals) > 1:
+        text = f"{len(refusals)} springs cannot be made as specified: {text}"
+    if not advice and len(refusals) == 1:
+        return refusals[0]
+    error = type(refusals[0])(f"{text}{advice}")
+    error.__cause__ = refusals[0]
+    return error
 
 
 def _checked_pin_remedies(job: Job, err: PinStrengthError) -> DesignError:
