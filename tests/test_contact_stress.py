@@ -232,3 +232,55 @@ def test_largest_contact_load_by_hand():
     assert lo <= 0.5 * reach <= hi
     lo, hi = limit.ball_window_mm(1.01 * by_hand, rc, theta, z)
     assert lo > hi
+
+
+def _spec_and_limits(stiffness_Nm_per_rad):
+    """A held-out spec's spring (r_c fixed at 8 mm, 5.5 deg: a flank r_c theta of 0.77 mm)
+    with the paper's profile tolerances, its design stress (MPa) and modulus (MPa)."""
+    from springcad.config import job_from_dict
+
+    job = job_from_dict({
+        "job": {"name": "cusp", "description": "short flank"},
+        "material": {"name": "420_ht", "safety_factor": 1.5},
+        "springs": {"S1": {"target_stiffness_Nm_per_rad": stiffness_Nm_per_rad,
+                           "max_deflection_deg": 5.5, "outer_radius_mm": 33.5,
+                           "thickness_mm": 6.0, "contact_radius_mm": 8.0}},
+        "manufacturing": {"process": "wire_edm", "t_spring_mm": 0.05, "t_shaft_mm": 0.02,
+                          "w_gap_mm": 0.025}})
+    return job.springs["S1"], job.material, job.manufacturing
+
+
+def test_a_cusp_only_the_tolerances_block_designs_for_nominal_parts_and_names_them():
+    """sqrt(2 r_c (t_spring + t_shaft)) = 1.06 mm of cusp room exceeds the 0.74 mm flank
+    r_c theta - w_gap: no layout for toleranced parts, so the layouts for nominal parts come
+    with a warning naming t_spring + t_shaft <= s, and at that s the same rule admits a ball
+    (the named tolerance works); a spec no layout fits even for nominal parts is refused
+    with the toleranced reason."""
+    from dataclasses import replace
+
+    from springcad.design.layout import ContactLimit, candidate_layouts, toleranced_layouts
+    from springcad.errors import DesignError
+
+    spec, material, mfg = _spec_and_limits(165.0)
+    sigma, E = material.design_stress_MPa, material.material.youngs_modulus_MPa
+    limit = ContactLimit.of(material, spec.max_deflection_rad, mfg)
+    assert limit.min_flank_position_mm == pytest.approx(0.07)
+    with pytest.raises(DesignError, match="cusp"):
+        candidate_layouts(spec, sigma, E, contact=limit)
+    layouts, warning = toleranced_layouts(spec, sigma, E, math.inf, limit)
+    assert layouts and "only for nominal parts" in warning
+    s_max = float(warning.split("t_spring_mm + t_shaft_mm <= ")[1].split(" mm")[0])
+    reach = 8.0 * spec.max_deflection_rad - 0.025
+    assert 0 < s_max < 0.07 and math.sqrt(2 * 8.0 * s_max) < reach
+    assert candidate_layouts(spec, sigma, E, contact=replace(limit,
+                                                             min_flank_position_mm=0.98 * s_max))
+    # tolerances that leave the cusp room: no warning, the same layouts as the rule alone
+    loose = replace(limit, min_flank_position_mm=0.5 * s_max)
+    assert toleranced_layouts(spec, sigma, E, math.inf, loose) == (
+        candidate_layouts(spec, sigma, E, contact=loose), "")
+    heavy, *_ = _spec_and_limits(1.0e5)  # beyond the balls' torque cap for any tolerance
+    with pytest.raises(DesignError) as toleranced:
+        candidate_layouts(heavy, sigma, E, contact=limit)
+    with pytest.raises(DesignError) as refused:
+        toleranced_layouts(heavy, sigma, E, math.inf, limit)
+    assert str(refused.value) == str(toleranced.value)

@@ -27,8 +27,8 @@ def test_jamming_tolerances_name_a_change_that_cannot_jam():
     text = jamming_tolerances(paper)
     assert "now 0.025 < 0.07 mm" in text
     ours = ManufacturingSpec()
-    assert (f"t_spring_mm = {ours.t_spring_mm:g}, t_shaft_mm = {ours.t_shaft_mm:g} and "
-            f"w_gap_mm = {ours.w_gap_mm:g}") in text
+    assert (f"manufacturing.t_spring_mm = {ours.t_spring_mm:g}, manufacturing.t_shaft_mm = "
+            f"{ours.t_shaft_mm:g} and manufacturing.w_gap_mm = {ours.w_gap_mm:g}") in text
     # the named change itself cannot jam: its worst-case gap d = 2 (w - t_s - t_sh) > 0
     assert gap_range_mm(ours.w_gap_mm, ours.t_spring_mm, ours.t_shaft_mm)[0] > 0
     # tolerances whose worst case does not jam add nothing, even tight ones at the limit

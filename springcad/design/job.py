@@ -202,8 +202,8 @@ def jamming_tolerances(mfg: ManufacturingSpec) -> str:
     return (f"; and for a release the cam interfaces need w_gap_mm >= t_spring_mm + t_shaft_mm "
             f"(now {mfg.w_gap_mm:g} < {mfg.t_spring_mm + mfg.t_shaft_mm:g} mm: worst-case parts "
             f"jam whatever the spring): springcad's tolerances, manufacturing.t_spring_mm = "
-            f"{ours.t_spring_mm:g}, t_shaft_mm = {ours.t_shaft_mm:g} and w_gap_mm = "
-            f"{ours.w_gap_mm:g} (wire EDM with skim cuts)")
+            f"{ours.t_spring_mm:g}, manufacturing.t_shaft_mm = {ours.t_shaft_mm:g} and "
+            f"manufacturing.w_gap_mm = {ours.w_gap_mm:g} (wire EDM with skim cuts)")
 
 
 def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> SpringDesign:

@@ -11,7 +11,7 @@ Units: mm, N, MPa, N*mm, rad.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -298,6 +298,44 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
         ranked = sorted(best.values(), key=lambda lay: (lay.rb < lay.rb_req * (1 - 1e-9),
                                                         -lay.theta_s, lay.n))
     return _spread(ranked, limit)
+
+
+def toleranced_layouts(spec: SpringSpec, sigma, E, max_root_radius_mm: float,
+                       contact: ContactLimit) -> tuple[list[Layout], str]:
+    """:func:`candidate_layouts` with ``contact``; when only the profile tolerances' cusp
+    room stops every layout, the layouts for nominal parts with a warning (text) that names
+    the tolerances that would keep the contact off the cusp, else "".
+
+    The cusp room sqrt(2 r_c (t_spring + t_shaft)) is a tolerance rule, not a rule of the
+    spring: a spring whose ball meets it only for nominal parts is made, and the release
+    gate's worst-case clearances at full deflection stop its release (NOT FOR MANUFACTURE,
+    with the tolerances that release it) instead of the design refusing the spec.
+
+    Raises:
+        DesignError: no layout fits even for nominal parts (the toleranced refusal).
+    """
+    try:
+        return candidate_layouts(spec, sigma, E, max_root_radius_mm=max_root_radius_mm,
+                                 contact=contact), ""
+    except DesignError as toleranced:
+        if contact.min_flank_position_mm <= 0:
+            raise
+        try:
+            layouts = candidate_layouts(spec, sigma, E, max_root_radius_mm=max_root_radius_mm,
+                                        contact=replace(contact, min_flank_position_mm=0.0))
+        except DesignError:
+            raise toleranced from None
+    lay = layouts[0]
+    room = lay.rc * spec.max_deflection_rad - contact.gap_mm - lay.rb
+    s_max = max(room, 0.0) ** 2 / (2.0 * lay.rc)
+    return layouts, (
+        f"the tip ball's contact at full deflection stays off the cam flank's cusp only for "
+        f"nominal parts: the profile tolerances t_spring_mm + t_shaft_mm = "
+        f"{contact.min_flank_position_mm:.3g} mm need sqrt(2 r_c (t_spring + t_shaft)) = "
+        f"{math.sqrt(2.0 * lay.rc * contact.min_flank_position_mm):.3g} mm of flank beyond "
+        f"the ball, the flank r_c theta - w_gap - r_b leaves {room:.3g} mm at r_c = "
+        f"{lay.rc:.3g} mm: not for manufacture unless t_spring_mm + t_shaft_mm <= "
+        f"{s_max:.3g} mm, or with a larger contact radius or deflection")
 
 
 def _screen(spec: SpringSpec, sigma, E, ns, max_root_radius_mm: float):

@@ -34,7 +34,7 @@ from springcad.design.cam import TIP_CLEARANCE_SHORT
 from springcad.design.planar import find_defect
 from springcad.design.feasibility import (describe, fixed_choices, larger_disk,
                                           material_changes, nearest_changes, series_change)
-from springcad.design.layout import MAX_CANDIDATES, ContactLimit, Layout, candidate_layouts
+from springcad.design.layout import MAX_CANDIDATES, ContactLimit, Layout, toleranced_layouts
 from springcad.design.shapes.base import SizingContext
 from springcad.design.resize import with_width
 from springcad.design.spring import SpringDesign
@@ -92,9 +92,9 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
             "this envelope reaches that deflection: lower the stiffness or deflection, enlarge "
             "or thicken the disk, or put springs in series")
 
-    layouts = candidate_layouts(spec, sigma, E, max_root_radius_mm=rr_max,
-                                contact=ContactLimit.of(material, spec.max_deflection_rad,
-                                                              manufacturing))
+    layouts, cusp_warning = toleranced_layouts(
+        spec, sigma, E, rr_max, ContactLimit.of(material, spec.max_deflection_rad, manufacturing))
+    warnings += [cusp_warning] if cusp_warning else []
     if rank >= len(layouts):
         raise _NoMoreLayouts(rank)
     lay = layouts[rank]
