@@ -486,6 +486,12 @@ REFUSAL_BUDGET_S = 30.0
 #: seconds a whole refusal may spend before it stops starting new kinds of change (the
 #: user's own keys are always probed): held-out refusals took up to 674 s at load 8-12
 REFUSAL_TOTAL_S = 90.0
+#: stress headroom of a suggested change (-): the refusal's probes design with both safety
+#: factors raised by it, so a change at the edge of what the stress model allows leaves
+#: the FEA stress correction room for a peak this much above the prediction (the model's
+#: calibration spread; a held-out suggestion at the exact edge verified at margin 0.999 < 1
+#: and its correction found no redesign)
+SUGGESTION_HEADROOM = 1.04
 #: candidate layouts each feasibility probe tries (a subset of the full search's, in the
 #: same order, so a probe that designs implies the full search designs)
 PROBE_CANDIDATES = 4
@@ -512,9 +518,10 @@ def _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm) 
 
 def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
              stop: float = math.inf) -> tuple[str, bool]:
-    """The changes that design ``spec`` with ``material``'s yield margin and duty: the
-    user's fixed layout keys left free, the nearest values of the user's own keys, a
-    stronger material or disks in series, and a declared duty's own alternatives.
+    """The changes that design ``spec`` with ``material``'s yield margin and duty (with
+    :data:`SUGGESTION_HEADROOM`): the user's fixed layout keys left free, the nearest values
+    of the user's own keys, a stronger material or disks in series, and a declared duty's
+    own alternatives.
 
     ``stop`` (``time.monotonic()`` seconds) is the refusal's time box: the user's own keys
     are always probed; the other kinds of change are searched only while it lasts.
@@ -523,7 +530,8 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
         (text, found): the clause, and whether it names a change that designs.
     """
     def designs(s, m=material) -> bool:
-        return _designs(s, m, manufacturing, hardware, max_root_radius_mm, base=spec)
+        return _designs(s, duty.biased(m, SUGGESTION_HEADROOM), manufacturing, hardware,
+                        max_root_radius_mm, base=spec)
 
     def deadline() -> float:
         return min(time.monotonic() + REFUSAL_BUDGET_S, stop)
