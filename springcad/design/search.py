@@ -36,7 +36,7 @@ from springcad.design.feasibility import (describe, fixed_choices, larger_disk,
                                           material_changes, nearest_changes, series_change)
 from springcad.design.layout import MAX_CANDIDATES, ContactLimit, Layout, toleranced_layouts
 from springcad.design.shapes.base import SizingContext
-from springcad.design.resize import with_width
+from springcad.design.resize import stiffness_out_of_reach, with_width
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError, SpecInfeasible
 from springcad.progress import report
@@ -349,6 +349,10 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
             rejected.append((None, DesignError(f"spring '{spec.name}': {defect}"), []))
             continue
         if d is not None:
+            unreachable = stiffness_out_of_reach(d)
+            if unreachable:
+                rejected.append((None, DesignError(unreachable), []))
+                continue
             d = _replace(d, design_choice=_choice_text(d, rejected),
                          max_root_radius_mm=max_root_radius_mm)
             short = soft_shortfalls(d)
