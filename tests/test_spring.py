@@ -290,7 +290,7 @@ def test_a_refusal_names_changes_in_numbers_and_each_change_designs():
 
 
 def test_a_refusal_out_of_time_still_names_the_users_own_keys(monkeypatch):
-    """The refusal's time box (search.REFUSAL_TOTAL_S) spent at once: the user's own keys
+    """The refusal's box (search.REFUSAL_TOTAL_PROBES) spent at once: the user's own keys
     are still probed and named with the value that designs; the kinds of change started
     only while the box lasts (materials, disks in series, the default duty's pass) are not
     searched, and the default-duty clause says so. The design search is replaced by a
@@ -312,15 +312,15 @@ def test_a_refusal_out_of_time_still_names_the_users_own_keys(monkeypatch):
             "thickness_mm": 4.5}
     j = job_from_dict({"material": {"design_stress_MPa": 912}, "springs": {"A": base}})
     args = (j.springs["A"], j.material, j.manufacturing, j.hardware, math.inf, "the rule")
-    monkeypatch.setattr(search, "REFUSAL_TOTAL_S", 0.0)
+    monkeypatch.setattr(search, "REFUSAL_TOTAL_PROBES", 0)
     text = str(search._refusal(*args))
-    assert "not searched (the refusal's 0 s were spent)" in text, text
+    assert "not searched (the refusal's 0 design probes were spent)" in text, text
     (value,) = re.findall(r"springs\.A\.thickness_mm = ([\d.]+) \(now 4\.5\)", text)
     assert 6.0 <= float(value) <= 6.5, text
     assert "material.name" not in text and "disks in series" not in text, text
     assert {m.material.name for m in asked} == {j.material.material.name}  # no other probed
     # with the box open, the default duty's own pass runs
-    monkeypatch.setattr(search, "REFUSAL_TOTAL_S", 600.0)
+    monkeypatch.setattr(search, "REFUSAL_TOTAL_PROBES", 600)
     assert "not searched" not in str(search._refusal(*args))
 
 

@@ -432,8 +432,8 @@ def alternatives(spec, material: MaterialSpec, designs, deadline: float | None =
         spec: the :class:`~springcad.config.SpringSpec` refused.
         material: its material spec (with the duty).
         designs: ``designs(spec, material) -> bool``, the design search as a probe.
-        deadline: when the nearest-value bisection stops refining (``time.monotonic()``
-            seconds; None: never).
+        deadline: the probe count after which the nearest-value bisection stops refining
+            (:func:`springcad.design.feasibility.probes_spent`; None: never).
 
     Returns:
         "" or text to append to the refusal: a better surface finish, another material

@@ -22,7 +22,8 @@ candidate budget. Units: mm, deg, N*m/rad, MPa.
 from __future__ import annotations
 
 import math
-import time
+import contextlib
+from contextvars import ContextVar
 from dataclasses import dataclass
 from dataclasses import replace as _replace
 from typing import Callable
@@ -31,6 +32,35 @@ from springcad.config import MaterialSpec, SpringSpec
 from springcad.config.schema import keys as schema_keys
 from springcad.materials import material_table
 from springcad.units import NMM_PER_NM
+
+#: design probes spent within :func:`probe_clock` (a one-item list per context, or None)
+_PROBES: ContextVar[list[int] | None] = ContextVar("springcad_refusal_probes", default=None)
+
+
+@contextlib.contextmanager
+def probe_clock():
+    """Within it, :func:`probes_spent` counts the design probes (:func:`count_probe`): the
+    refusal's deadlines are probe counts, not seconds, so the same spec gets the same
+    suggestions however loaded the machine."""
+    token = _PROBES.set([0])
+    try:
+        yield
+    finally:
+        _PROBES.reset(token)
+
+
+def count_probe() -> None:
+    """One design probe spent (the design search's feasibility probe calls it)."""
+    spent = _PROBES.get()
+    if spent is not None:
+        spent[0] += 1
+
+
+def probes_spent() -> int:
+    """Design probes spent within the innermost :func:`probe_clock` (0 outside one)."""
+    spent = _PROBES.get()
+    return spent[0] if spent is not None else 0
+
 
 #: bisection steps per key (the boundary to ~1/32 of the searched span before rounding)
 STEPS = 5
@@ -87,15 +117,15 @@ def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
 
     Each key's far end (inside the schema's range) is probed first; only the keys whose
     far end designs are then bisected towards the user's value, all keys a step at a time,
-    at least :data:`MIN_STEPS` steps and then until ``deadline`` (``time.monotonic()``
-    seconds) passes: a key cut short keeps the nearest value its bisection had proven.
+    at least :data:`MIN_STEPS` steps and then until ``deadline`` (:func:`probes_spent`)
+    passes: a key cut short keeps the nearest value its bisection had proven.
     Each value is then rounded outward to the key's step and kept when that designs too.
 
     Args:
         spec: the refused spring spec.
         designs: the probe (True when a spec designs).
         keys: config keys to probe (default thickness, outer radius, deflection, stiffness).
-        deadline: when to stop refining (None: never).
+        deadline: the probe count after which refining stops (None: never).
 
     Returns:
         (key, user value, suggested value) for every key whose change designs, in the
@@ -112,7 +142,7 @@ def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
             open_keys.append((kr, v0, far, bound))
     spans = [[v0, far] for _, v0, far, _ in open_keys]  # [fails, designs]
     for step in range(STEPS):  # every key one step at a time, so a deadline leaves all refined
-        if step >= MIN_STEPS and deadline is not None and time.monotonic() > deadline:
+        if step >= MIN_STEPS and deadline is not None and probes_spent() > deadline:
             break
         for (kr, _, _, _), span in zip(open_keys, spans):
             mid = 0.5 * (span[0] + span[1])
@@ -161,7 +191,7 @@ def scaled_envelope(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
         return None
     span = [1.0, hi]  # [fails, designs]
     for step in range(STEPS):
-        if step >= MIN_STEPS and deadline is not None and time.monotonic() > deadline:
+        if step >= MIN_STEPS and deadline is not None and probes_spent() > deadline:
             break
         mid = 0.5 * (span[0] + span[1])
         span[designs(_scaled(spec, mid))] = mid

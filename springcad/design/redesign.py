@@ -21,7 +21,8 @@ from dataclasses import replace as _replace
 from springcad.config import MaterialSpec
 from springcad.design import duty
 from springcad.design.ring import with_hole_circle
-from springcad.design.search import design_spring, short_reason, soft_shortfalls
+from springcad.design.search import design_spring, short_reason
+from springcad.design.shortfalls import soft_shortfalls
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError
 

@@ -23,20 +23,19 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import math
-import time
 from dataclasses import replace as _replace
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty, shapes, stress
 from springcad.design import flexure as fx
-from springcad.design.cam import TIP_CLEARANCE_SHORT
-from springcad.design.planar import find_defect
-from springcad.design.feasibility import (describe, fixed_choices, larger_disk,
-                                          material_changes, nearest_changes, series_change)
+from springcad.design.feasibility import (count_probe, describe, fixed_choices, larger_disk,
+                                          material_changes, nearest_changes, probe_clock,
+                                          probes_spent, series_change)
 from springcad.design.layout import MAX_CANDIDATES, ContactLimit, Layout, toleranced_layouts
 from springcad.design.shapes.base import SizingContext
 from springcad.design.resize import stiffness_out_of_reach, with_width
+from springcad.design.shortfalls import margin_shortfall, profile_defect, soft_shortfalls
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError, SpecInfeasible
 from springcad.progress import report
@@ -270,9 +269,10 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
                                   max_root_radius_mm, candidates)
             if not explain:
                 return d
-            advice = duty.alternatives(spec, sized, lambda s, m: _designs(
-                s, m, manufacturing, hardware, max_root_radius_mm, base=spec),
-                deadline=time.monotonic() + REFUSAL_BUDGET_S)
+            with probe_clock():
+                advice = duty.alternatives(spec, sized, lambda s, m: _designs(
+                    s, m, manufacturing, hardware, max_root_radius_mm, base=spec),
+                    deadline=REFUSAL_BUDGET_PROBES)
             return _replace(d, duty_advice=advice.lstrip("; "))
     return design_for_margin(spec, material, manufacturing, hardware, explain,
                              max_root_radius_mm, candidates)
@@ -281,6 +281,7 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
 def probe(spec, material, manufacturing, hardware, max_root_radius_mm) -> SpringDesign | None:
     """A feasibility probe: the design the search (:data:`PROBE_CANDIDATES` layouts) finds
     for ``spec`` with the yield margin and duty of ``material``, or None."""
+    count_probe()
     try:
         d = design_for_margin(spec, material, manufacturing, hardware, explain=False,
                               max_root_radius_mm=max_root_radius_mm,
@@ -339,6 +340,7 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
     """
     rejected: list[tuple[Layout | None, DesignError, list]] = []
     fallback = None
+    required = duty.required_margin(material, spec.max_deflection_rad)
     for rank in range(candidates):
         try:
             d, history, err, defect = _layout_design(spec, material, manufacturing, hardware,
@@ -355,7 +357,7 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
                 continue
             d = _replace(d, design_choice=_choice_text(d, rejected),
                          max_root_radius_mm=max_root_radius_mm)
-            short = soft_shortfalls(d)
+            short = soft_shortfalls(d) + margin_shortfall(d, required)
             if not short:
                 return d
             fallback = fallback or d
@@ -418,44 +420,6 @@ def _layout_design(spec, material, manufacturing, hardware, rank, max_root_radiu
     return d, history, err, defect
 
 
-#: sample step of the design-time contour check: the solids' own check
-#: (:func:`springcad.geometry.profile.check_loops`) uses the same, so a design that passes
-#: here is not refused there (mm)
-CONTOUR_STEP_MM = 0.02
-
-
-def profile_defect(d: SpringDesign) -> str:
-    """Why the ring's or the cam's contours would not make a valid face, or "".
-
-    The solids' check, run on the design's exact profiles in ~0.1-0.4 s, so a layout
-    whose cam or ring crosses itself is passed over by the search, not refused after
-    the FEA.
-    """
-    for part, profile in (("ring", d.ring), ("camshaft", d.cam)):
-        if profile is None:
-            continue
-        defect = find_defect(profile, CONTOUR_STEP_MM)
-        if defect is not None:
-            x, y = defect.point_mm
-            where = f"at ({x:.3f}, {y:.3f}) mm, r = {math.hypot(x, y):.3f} mm"
-            if max(defect.loops) >= 2 or (part == "camshaft" and max(defect.loops) >= 1):
-                what = ("a rim hole cuts the ring's contour" if part == "ring" else
-                        "the camshaft's bore cuts its teeth")
-                fix = ("smaller fasteners (hardware.fastener_diameter_mm) or a wider rim"
-                       if part == "ring" else "a smaller hardware.shaft_diameter_mm")
-                return f"{what} {where}; {fix}"
-            verb = "crosses" if defect.kind == "cross" else f"{defect.kind}es"
-            return (f"the {part}'s contour {verb} itself {where} (flexures or teeth too wide or "
-                    "too curved for their pitch)")
-    return ""
-
-
-def soft_shortfalls(d: SpringDesign) -> list[str]:
-    """Rules a design may break and still be drawn (a warning stops its release), which the
-    search tries other layouts to avoid: the tooth tip too close to the ball."""
-    return [w for w in d.warnings if w.startswith(TIP_CLEARANCE_SHORT)]
-
-
 def _choice_text(d: SpringDesign, rejected) -> str:
     """Why this layout: the reference choice, or the rejected ones before it."""
     what = (f"N = {d.n_flexures}, r_c = {d.contact_radius_mm:.3f} mm, tip ball "
@@ -483,13 +447,14 @@ def _stress_text(spec, material, history, err) -> str:
             f"and at that stress {short_reason(err)}")
 
 
-#: seconds the refusal spends on the user's keys (their far ends are always probed; the
-#: bisection towards the nearest value stops when this has passed; every printed value
-#: is still one the design search accepted)
-REFUSAL_BUDGET_S = 30.0
-#: seconds a whole refusal may spend before it stops starting new kinds of change (the
-#: user's own keys are always probed): held-out refusals took up to 674 s at load 8-12
-REFUSAL_TOTAL_S = 90.0
+#: design probes the refusal spends on the user's keys (their far ends are always probed;
+#: the bisection towards the nearest value stops when these are spent; every printed value
+#: is still one the design search accepted). Probes, not seconds: the same spec gets the
+#: same refusal on a quiet machine and a loaded one (1-8 s a probe)
+REFUSAL_BUDGET_PROBES = 20
+#: design probes a whole refusal may spend before it stops starting new kinds of change
+#: (the user's own keys are always probed)
+REFUSAL_TOTAL_PROBES = 48
 #: stress headroom of a suggested change (-): the refusal's probes design with both safety
 #: factors raised by it, so a change at the edge of what the stress model allows leaves
 #: the FEA stress correction room for a peak this much above the prediction (the model's
@@ -527,8 +492,9 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
     of the user's own keys, a stronger material or disks in series, and a declared duty's
     own alternatives.
 
-    ``stop`` (``time.monotonic()`` seconds) is the refusal's time box: the user's own keys
-    are always probed; the other kinds of change are searched only while it lasts.
+    ``stop`` (a count of :func:`~springcad.design.feasibility.probes_spent`) is the
+    refusal's box: the user's own keys are always probed; the other kinds of change are
+    searched only while it lasts.
 
     Returns:
         (text, found): the clause, and whether it names a change that designs.
@@ -538,7 +504,7 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
                         max_root_radius_mm, base=spec)
 
     def deadline() -> float:
-        return min(time.monotonic() + REFUSAL_BUDGET_S, stop)
+        return min(probes_spent() + REFUSAL_BUDGET_PROBES, stop)
 
     def say(what: str) -> None:
         report(f"spring {spec.name}: {what}")
@@ -551,16 +517,16 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
     series, materials, alternatives = None, [], ""
     if not duty.fatigue_limited(material, spec.max_deflection_rad):
         # (when the duty sets the allowed peak, its own alternatives, below, replace these)
-        if time.monotonic() < stop:
+        if probes_spent() < stop:
             say("probing disks in series")
             series = series_change(spec, designs)
-        if time.monotonic() < stop:
+        if probes_spent() < stop:
             say("probing other materials")
             materials = material_changes(material, lambda m: designs(spec, m))
     changes = describe(spec.name, nearest, materials, series, spec)
     if freed:
         changes = freed + ("; or " + changes if not changes.startswith("no change") else "")
-    if time.monotonic() < stop and duty.fatigue_limited(material, spec.max_deflection_rad):
+    if probes_spent() < stop and duty.fatigue_limited(material, spec.max_deflection_rad):
         say("probing surface finishes, materials and disks for the duty")
         alternatives = duty.alternatives(spec, material, designs, deadline=deadline())
     found = bool(freed or nearest or materials or series is not None) or (
@@ -584,22 +550,23 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     yield margin, with the default duty's shortfall said.
     """
     args = (manufacturing, hardware, max_root_radius_mm)
-    stop = time.monotonic() + REFUSAL_TOTAL_S
+    stop = REFUSAL_TOTAL_PROBES
     report(f"spring {spec.name}: no layout passes; searching the changes that would design "
-           f"it (up to {REFUSAL_TOTAL_S:.0f} s)")
-    changes, _ = _changes(spec, material, *args, stop=stop)
-    sized = duty.sized_for(material)
-    if not material.duty.declared and duty.fatigue_limited(sized, spec.max_deflection_rad):
-        if time.monotonic() < stop:
-            report(f"spring {spec.name}: the same for springcad's default duty")
-            for_duty, found = _changes(spec, sized, *args, stop=stop)
-            for_duty = (for_duty if found else "no change springcad probes meets it: declare "
-                        "the duty the spring will see in [duty]")
-        else:
-            for_duty = (f"not searched (the refusal's {REFUSAL_TOTAL_S:.0f} s were spent): "
-                        "declare the duty the spring will see in [duty], or check the change "
-                        "above with it")
-        changes += (f"; for springcad's default duty ({duty.describe(material.duty)}) as well, "
-                    + for_duty)
+           f"it (up to {REFUSAL_TOTAL_PROBES} design probes)")
+    with probe_clock():
+        changes, _ = _changes(spec, material, *args, stop=stop)
+        sized = duty.sized_for(material)
+        if not material.duty.declared and duty.fatigue_limited(sized, spec.max_deflection_rad):
+            if probes_spent() < stop:
+                report(f"spring {spec.name}: the same for springcad's default duty")
+                for_duty, found = _changes(spec, sized, *args, stop=stop)
+                for_duty = (for_duty if found else "no change springcad probes meets it: "
+                            "declare the duty the spring will see in [duty]")
+            else:
+                for_duty = (f"not searched (the refusal's {REFUSAL_TOTAL_PROBES} design probes "
+                            "were spent): declare the duty the spring will see in [duty], or "
+                            "check the change above with it")
+            changes += (f"; for springcad's default duty ({duty.describe(material.duty)}) as "
+                        "well, " + for_duty)
     return DesignError(f"spring '{spec.name}' cannot be made as specified; {changes}. "
                        f"Why{tried}: {short_reason(text)}")

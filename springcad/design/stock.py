@@ -24,6 +24,7 @@ from dataclasses import replace as _replace
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.data import data_path
 from springcad.design import duty, search
+from springcad.design.shortfalls import soft_shortfalls
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError
 from springcad.progress import report
@@ -142,7 +143,7 @@ def _design_on_stock(spec, material, manufacturing, hardware, explain, max_root_
     why = (f"thickness {t:g} mm chosen: the thinnest stock plate that carries {what}"
            + (f" (at {thinner:g} mm the search's probe finds no layout that does)"
               if thinner is not None else " (the thinnest in the stock list)"))
-    short = search.soft_shortfalls(d)
+    short = soft_shortfalls(d)
     if short:  # a thicker plate whose layout avoids it, if one is near
         for u in [v for v in _allowed_mm(spec) if v > t][:CLEAN_SCAN]:
             try:
@@ -151,7 +152,7 @@ def _design_on_stock(spec, material, manufacturing, hardware, explain, max_root_
                                           max_root_radius_mm=max_root_radius_mm)
             except DesignError:
                 continue
-            if not search.soft_shortfalls(du):
+            if not soft_shortfalls(du):
                 d = du
                 why = (f"thickness {u:g} mm chosen: the thinnest stock plate that carries "
                        f"{what} without a soft shortfall ({t:g} mm carries it with one: "
