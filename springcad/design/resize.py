@@ -174,3 +174,24 @@ def stiffness_out_of_reach(design: SpringDesign) -> str:
             f"% from the target), and flexures {ROOM_SCALE:g} x as wide only reach "
             f"{100 * (k_narrow / target - 1):+.1f} %: fewer or longer flexures, a thinner disk "
             "or a higher stiffness")
+
+
+#: the FEA stiffness correction may need flexures this much wider (-): K ~ w^3, so +12 %
+#: (a held-out spring of 79 flexures 0.38 mm apart verified 10 % soft, and 1.037 x wider
+#: flexures left 0.25 mm between them: the correction stopped)
+WIDEN_ROOM = 1.04
+
+
+def widening_room_short(design: SpringDesign) -> list[str]:
+    """Why flexures :data:`WIDEN_ROOM` x as wide would break the neighbour clearance the
+    wire needs (a shortfall the search tries other layouts to avoid), else []."""
+    wider = _replace(design, width_scale=design.width_scale * WIDEN_ROOM)
+    y = np.linspace(design.contact_radius_mm, design.root_station_mm, 1201)
+    clearance = fx.neighbour_clearance_mm(wider.centreline, y, wider.width_mm(y),
+                                          design.n_flexures, design.tip_radius_mm)
+    need = design.manufacturing.min_slot_width_mm
+    if clearance >= need:
+        return []
+    return [f"spring '{design.name}': flexures {WIDEN_ROOM:g} x as wide (the room the FEA "
+            f"stiffness correction may need) leave {clearance:.3f} mm to their neighbours "
+            f"(min_slot_width_mm {need:g}; N = {design.n_flexures})"]

@@ -34,7 +34,7 @@ from springcad.design.feasibility import (count_probe, describe, fixed_choices, 
                                           probes_spent, series_change)
 from springcad.design.layout import MAX_CANDIDATES, ContactLimit, Layout, toleranced_layouts
 from springcad.design.shapes.base import SizingContext
-from springcad.design.resize import stiffness_out_of_reach, with_width
+from springcad.design.resize import stiffness_out_of_reach, widening_room_short, with_width
 from springcad.design.shortfalls import margin_shortfall, profile_defect, soft_shortfalls
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError, SpecInfeasible
@@ -357,7 +357,7 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
                 continue
             d = _replace(d, design_choice=_choice_text(d, rejected),
                          max_root_radius_mm=max_root_radius_mm)
-            short = soft_shortfalls(d) + margin_shortfall(d, required)
+            short = soft_shortfalls(d) + margin_shortfall(d, required) + widening_room_short(d)
             if not short:
                 return d
             fallback = fallback or d
