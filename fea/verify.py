@@ -303,6 +303,10 @@ def _verify_spring(design, options: VerifyOptions, progress, material: Material 
         if done or not options.correct:
             iterations.append(_iteration_record(k, design, run, target,
                                                 "accepted" if done else "not corrected"))
+            if done and options.correct and margin < required:
+                notes.append(f"stress correction stopped after {stress_passes} redesigns at a "
+                             f"lower beam stress: yield margin {margin:.3f} < {required:g} "
+                             f"(FEA peak {peak:.0f} MPa)")
             break
         if k >= options.max_iterations + stress_passes:
             iterations.append(_iteration_record(k, design, run, target, "stopped"))

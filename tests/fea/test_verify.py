@@ -117,6 +117,12 @@ def test_fea_stress_correction_redesigns_an_overstressed_spring(s2_job, monkeypa
     else:
         assert any(n.startswith("stress correction stopped") for n in v.notes), v.notes
         assert not v.ok and "yield margin" in " ".join(v.failures())
+    # no redesign allowed: K is met, the margin is not, and the notes say the correction
+    # stopped with the margin it left (not an accepted spring with a silent shortfall)
+    v0 = verify_spring(d, VerifyOptions(model="2d", keep_fields=False, max_stress_passes=0))
+    assert v0.stiffness_ok and not v0.stress_ok
+    assert any(n.startswith("stress correction stopped after 0 redesigns") for n in v0.notes), \
+        v0.notes
 
 
 def test_stack_from_verified_springs(s1_verified, s2_verified):
