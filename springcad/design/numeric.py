@@ -244,6 +244,7 @@ def close_pairs(xy: np.ndarray, r_mm: float) -> np.ndarray:
     key = cell[:, 0] * rows + cell[:, 1]
     order = np.argsort(key, kind="stable")
     sorted_key = key[order]
+    x, y = xy[order, 0], xy[order, 1]   # contiguous, in cell order
     position = np.arange(n)
     found = []
     for dx, dy in ((0, 0), (0, 1), (1, -1), (1, 0), (1, 1)):
@@ -255,9 +256,9 @@ def close_pairs(xy: np.ndarray, r_mm: float) -> np.ndarray:
         count = np.maximum(hi - lo, 0)
         src = np.repeat(position, count)
         dst = lo[src] + np.arange(int(count.sum())) - (np.cumsum(count) - count)[src]
-        i, j = order[src], order[dst]
-        near = ((xy[i] - xy[j]) ** 2).sum(axis=1) <= r_mm * r_mm
-        found.append(np.stack([np.minimum(i, j), np.maximum(i, j)], axis=1)[near])
+        near = (x[src] - x[dst]) ** 2 + (y[src] - y[dst]) ** 2 <= r_mm * r_mm
+        i, j = order[src[near]], order[dst[near]]
+        found.append(np.stack([np.minimum(i, j), np.maximum(i, j)], axis=1))
     pairs = np.concatenate(found)
     return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
 
