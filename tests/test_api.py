@@ -35,6 +35,19 @@ def test_import_is_light():
     assert set(sc.__all__) >= {"load", "design_job", "verify", "simulate", "fit_record"}
 
 
+
+def test_design_imports_no_scipy_or_cad(tmp_path):
+    """Designing a job (cold result cache) needs numpy only: scipy alone costs ~0.5 s of
+    ``springcad design``'s CPU to import (the contour check's close pairs are numpy's)."""
+    code = (f"import sys, springcad as sc; sc.design_job({str(S1)!r}); "
+            "print(sorted({m.split('.')[0] for m in sys.modules} & {'scipy', 'skfem', "
+            "'build123d', 'OCP', 'pyvista', 'matplotlib', 'gmsh'}))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin",
+                              "SPRINGCAD_CACHE_DIR": str(tmp_path)})
+    assert out.stdout.strip() == "[]"
+    assert any(tmp_path.iterdir())   # the design was computed and stored, not read
+
 def test_load_dict_equals_load_file():
     from_file = sc.load(S1)
     from_dict = sc.load(read_toml(S1))

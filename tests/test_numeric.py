@@ -5,8 +5,9 @@ import pytest
 from scipy.integrate import cumulative_trapezoid
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
+from scipy.spatial import cKDTree
 
-from springcad.design.numeric import ClampedCubic, cumtrapz, find_root
+from springcad.design.numeric import ClampedCubic, close_pairs, cumtrapz, find_root
 
 
 def test_clamped_cubic_matches_scipy():
@@ -60,3 +61,18 @@ def test_minimize_bounded_is_scipys_bounded_brent_bit_for_bit(nu):
         ref = minimize_scalar(g, bounds=(lo, hi), method="bounded", options={"xatol": tol})
         x, fx = minimize_bounded(g, lo, hi, xatol=tol)
         assert (x, fx) == (ref.x, ref.fun)
+
+
+@pytest.mark.parametrize("n,r_mm", [(1, 0.1), (2, 20.0), (60, 0.3), (4000, 0.02)])
+def test_close_pairs_are_the_kd_trees_and_brute_forces(n, r_mm):
+    rng = np.random.default_rng(n)
+    xy = rng.uniform(-5.0, 5.0, (n, 2))
+    # repeated points, points on the grid lines, pairs exactly r apart along an axis
+    xy = np.vstack([xy, xy[:3], np.round(xy[:50], 1), xy[:10] + [r_mm, 0.0]])
+    ours = close_pairs(xy, r_mm)
+    tree = cKDTree(xy).query_pairs(r_mm, output_type="ndarray")
+    assert np.array_equal(ours, tree[np.lexsort((tree[:, 1], tree[:, 0]))])
+    if len(xy) <= 200:
+        i, j = np.triu_indices(len(xy), 1)
+        near = ((xy[i] - xy[j]) ** 2).sum(axis=1) <= r_mm ** 2
+        assert np.array_equal(ours, np.column_stack([i, j])[near])

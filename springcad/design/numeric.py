@@ -1,10 +1,11 @@
 """Small numerical kernels for the design math (numpy only).
 
 The design step must start and finish in well under two seconds; importing
-``scipy.optimize``/``scipy.interpolate`` alone costs ~1 s, so the four
+``scipy.optimize``/``scipy.interpolate`` alone costs ~1 s, so the five
 things design needs are here: a bracketed scalar root, a bounded scalar
-minimum, a clamped cubic spline and a cumulative trapezoid. Each is checked against scipy in
-``tests/test_numeric.py``.
+minimum, a clamped cubic spline, a cumulative trapezoid and the pairs of points closer
+than a distance (``scipy.spatial`` alone costs ~0.5 s of CPU to import). Each is checked
+against scipy in ``tests/test_numeric.py``.
 """
 
 from __future__ import annotations
@@ -217,6 +218,49 @@ class ClampedCubic:
                 out = a * m0 + b * m1
             outs.append(out[..., 0] if self._scalar else out)
         return tuple(outs)
+
+
+def close_pairs(xy: np.ndarray, r_mm: float) -> np.ndarray:
+    """Every pair of rows of ``xy`` at most ``r_mm`` apart, as (k, 2) indices (i < j), sorted.
+
+    The pairs of ``scipy.spatial.cKDTree(xy).query_pairs(r_mm, output_type="ndarray")``
+    (same squared-distance test), in lexicographic order instead of the tree's. Points
+    are binned on a grid of cells ``r_mm`` wide: a pair that close lies in one cell or in
+    two neighbouring ones, so each cell is joined with itself and four of its eight
+    neighbours (the other four are the same joins seen from the other side).
+
+    Args:
+        xy: (n, 2) points (mm).
+        r_mm: the largest distance of a pair (mm), > 0.
+    """
+    xy = np.asarray(xy, dtype=float)
+    n = len(xy)
+    if n < 2:
+        return np.zeros((0, 2), dtype=np.intp)
+    cell = np.floor((xy - xy.min(axis=0)) / r_mm).astype(np.int64)
+    # one free key between columns, so that a neighbour row -1 or +1 never wraps into
+    # an occupied cell of the next column
+    rows = int(cell[:, 1].max()) + 2
+    key = cell[:, 0] * rows + cell[:, 1]
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    x, y = xy[order, 0], xy[order, 1]   # contiguous, in cell order
+    position = np.arange(n)
+    found = []
+    for dx, dy in ((0, 0), (0, 1), (1, -1), (1, 0), (1, 1)):
+        target = sorted_key + dx * rows + dy
+        lo = np.searchsorted(sorted_key, target, side="left")
+        hi = np.searchsorted(sorted_key, target, side="right")
+        if dx == 0 and dy == 0:
+            lo = np.maximum(lo, position + 1)   # each pair of one cell once
+        count = np.maximum(hi - lo, 0)
+        src = np.repeat(position, count)
+        dst = lo[src] + np.arange(int(count.sum())) - (np.cumsum(count) - count)[src]
+        near = (x[src] - x[dst]) ** 2 + (y[src] - y[dst]) ** 2 <= r_mm * r_mm
+        i, j = order[src[near]], order[dst[near]]
+        found.append(np.stack([np.minimum(i, j), np.maximum(i, j)], axis=1))
+    pairs = np.concatenate(found)
+    return pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
 
 
 def _block_boxes(xy: np.ndarray, size: int, overlap: int) -> tuple[np.ndarray, np.ndarray]:

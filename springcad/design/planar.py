@@ -8,7 +8,8 @@ its own error (``GeometryError``, ``MeshingError``).
 
 The exact curves stay the reference; the checks work on samples whose step
 bounds the error (a chord of length h on a radius R deviates h^2 / (8 R) from
-the curve). numpy only (scipy's KD-tree is imported where a check needs it).
+the curve). numpy only (the close pairs of samples from
+:func:`springcad.design.numeric.close_pairs`, not scipy's KD-tree: design imports no scipy).
 Units: mm, 1/mm.
 """
 
@@ -20,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
+from springcad.design.numeric import close_pairs
 
 #: two samples of one loop closer than half a step count as the loop touching itself only
 #: when they lie more than this many steps apart along it (else they are neighbours on the
@@ -218,10 +220,9 @@ def find_defect(profile: Profile, step_mm: float = 0.02) -> LoopDefect | None:
     Works on the loops sampled every ``step_mm``: no loop may cross itself or
     another loop, no two far-apart stretches may come closer than half a step
     (a fillet swept the long way, a hole tangent to an edge), every hole must
-    lie inside the outer contour and outside the other holes.
+    lie inside the outer contour and outside the other holes. Of several crossings (or
+    touches) the one reported is the first in sample order (outer contour first).
     """
-    from scipy.spatial import cKDTree
-
     pts = [loop.sample(step_mm) for loop in profile.loops]
     sizes = np.array([len(p) for p in pts])
     p0 = np.vstack(pts)
@@ -235,7 +236,7 @@ def find_defect(profile: Profile, step_mm: float = 0.02) -> LoopDefect | None:
     p1 = p0[nxt]
     mid, half = 0.5 * (p0 + p1), 0.5 * np.linalg.norm(p1 - p0, axis=1)
     # two chords that cross have midpoints closer than the longer chord
-    pairs = cKDTree(mid).query_pairs(2.0 * half.max() + 1e-9, output_type="ndarray")
+    pairs = close_pairs(mid, 2.0 * half.max() + 1e-9)
     a, b = pairs[:, 0], pairs[:, 1]
     adjacent = (nxt[a] == b) | (nxt[b] == a)
     a, b = a[~adjacent], b[~adjacent]
@@ -250,7 +251,7 @@ def find_defect(profile: Profile, step_mm: float = 0.02) -> LoopDefect | None:
         k = int(np.flatnonzero(cross)[0])
         return LoopDefect("cross", (int(loop_of[a[k]]), int(loop_of[b[k]])),
                           tuple(float(v) for v in mid[a[k]]))
-    near = cKDTree(p0).query_pairs(0.5 * step_mm, output_type="ndarray")
+    near = close_pairs(p0, 0.5 * step_mm)
     if len(near):
         a, b = near[:, 0], near[:, 1]
         gap_mm = np.abs(s_along[a] - s_along[b])
