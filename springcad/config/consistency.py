@@ -87,7 +87,7 @@ def _spring(s: SpringSpec, mfg: ManufacturingSpec, hw: HardwareSpec, given: dict
                           f"must be larger than contact_radius_mm = {rc:g}")
     if rr is not None:
         need = min_rim_mm(ro, mfg, hw)
-        if ro - rr < need:
+        if ro - rr < need - 1e-9:  # the root radius this names is on a 0.1 mm step
             raise ConfigError(
                 f"{p}.root_radius_mm", rr,
                 f"leaves a rim of {ro - rr:.3g} mm; the rim needs at least {need:.3g} mm "

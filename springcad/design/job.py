@@ -9,11 +9,11 @@ from springcad.version import stamp
 from springcad.config import Job, ManufacturingSpec
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty
-from springcad.design.connections import RIM, camshaft_indices, connection_sequence, rim_groups
+from springcad.design.connections import RIM, camshaft_indices, connection_sequence
 from springcad.design.feasibility import fewer_disks
 from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware, design_warnings
-from springcad.design.ring import common_hole_pattern
+from springcad.design.ring import pinned_hole_patterns
 from springcad.design.search import probe, short_reason
 from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
@@ -94,10 +94,8 @@ def common_hole_circle(springs: dict[str, SpringDesign], job: Job) -> dict[str, 
     (:func:`~springcad.design.connections.rim_groups`) on one circle at the same angles
     (:func:`springcad.design.ring.common_hole_pattern`), inside the job's
     :func:`bolt_circle_limit_mm`; a rim pinned only to its end flange keeps its own."""
-    out = dict(springs)
-    for group in rim_groups(job.stack.sequence, job.stack.input):
-        out.update(common_hole_pattern({n: springs[n] for n in group}, _bolt_circle_mm(job)))
-    return out
+    return pinned_hole_patterns(springs, job.stack.sequence, job.stack.input,
+                                _bolt_circle_mm(job))
 
 
 def _bolt_circle_mm(job: Job) -> float:
