@@ -120,14 +120,16 @@ def rim_dowel_length(diameter_mm: float, first_mm: float, gap_mm: float,
     length engages each rim by the minimum.
 
     Raises:
-        DesignError: no catalogue pin of this diameter; :class:`RemedyError` when none
-            fits inside the rims and engages each by the minimum (naming the nearest
-            catalogue diameters that do).
+        RemedyError: no catalogue pin of this diameter, or none that fits inside the rims
+            and engages each by the minimum (naming the nearest catalogue diameters that
+            do).
     """
     lengths = dowel_lengths().get(float(diameter_mm))
+    others = _other_diameters(diameter_mm, lambda d, ls: _rim_dowel_fit(
+        d, ls, first_mm, gap_mm, second_mm))
     if not lengths:
-        raise DesignError(f"dowel Ø{diameter_mm:g}: not an ISO 8734 diameter in {DOWEL_FILE} "
-                          f"({', '.join(f'{d:g}' for d in sorted(dowel_lengths()))})")
+        raise RemedyError(f"dowel Ø{diameter_mm:g}: not an ISO 8734 diameter in {DOWEL_FILE} "
+                          f"({', '.join(f'{d:g}' for d in sorted(dowel_lengths()))})", others)
     length = _rim_dowel_fit(diameter_mm, lengths, first_mm, gap_mm, second_mm)
     if length is not None:
         return length
@@ -136,9 +138,7 @@ def rim_dowel_length(diameter_mm: float, first_mm: float, gap_mm: float,
     raise RemedyError(f"dowel Ø{diameter_mm:g}: no ISO 8734 length ({listed}) fits the "
                       f"{room:g} mm of two rims at its longest (nominal + its length "
                       f"tolerance, +{dowel_length_tolerance_mm(lengths[0]):g} mm) and engages "
-                      f"each by {MIN_ENGAGEMENT_PER_DIAMETER * diameter_mm:g} mm",
-                      _other_diameters(diameter_mm, lambda d, ls: _rim_dowel_fit(
-                          d, ls, first_mm, gap_mm, second_mm)))
+                      f"each by {MIN_ENGAGEMENT_PER_DIAMETER * diameter_mm:g} mm", others)
 
 
 #: a pin refusal names at most this many other catalogue diameters (each is checked with

@@ -7,6 +7,7 @@ from dataclasses import dataclass, replace
 
 from springcad.version import stamp
 from springcad.config import Job, ManufacturingSpec
+from springcad.config.consistency import check as check_config
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty
 from springcad.design.connections import RIM, camshaft_indices, connection_sequence
@@ -19,7 +20,7 @@ from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
 from springcad.design.tolerance import gap_range_mm
-from springcad.errors import DesignError, RemedyError
+from springcad.errors import ConfigError, DesignError, RemedyError
 from springcad.progress import Progress, report, reporting
 
 SCHEMA = "springcad.design/1"
@@ -284,7 +285,11 @@ def design_job(job: Job, explain: bool = True, progress: Progress | None = None)
 def with_changes(job: Job, changes: dict) -> Job:
     """The job with config changes applied: dotted keys ``hardware.<key>`` or
     ``springs.<name>.<key>`` (as :class:`~springcad.errors.RemedyError` names them) to
-    their new values."""
+    their new values, and the config's cross-key checks run on it as on a loaded file.
+
+    Raises:
+        ConfigError: the changed job breaks a cross-key rule.
+    """
     for key, value in changes.items():
         section, *rest = key.split(".")
         if section == "hardware" and len(rest) == 1:
@@ -295,23 +300,28 @@ def with_changes(job: Job, changes: dict) -> Job:
                                         name: replace(job.springs[name], **{field: value})})
         else:
             raise ValueError(f"with_changes: cannot apply {key!r}")
-    return job
+    return check_config(job, {})
 
 
 def _checked_pin_remedies(job: Job, err: RemedyError) -> DesignError:
-    """The hardware refusal ``err`` (pins too weak, a pin or screw with no catalogue length)
+    """The hardware refusal ``err`` (pins too weak, a pin, screw or bore that does not fit)
     with only the changes under which the whole job designs (more pins crowd the rim;
     larger ones need a wider rim, which shortens the flexures): each is tried with the
-    design search; when none designs, the refusal says so and names what stopped the
-    first."""
+    design search. A change that meets another hardware rule is tried once more with
+    each of that rule's own changes (a thinner pin that then needs more of them). When
+    none designs, the refusal says so and names what stopped the first."""
     if not err.remedies:
         return DesignError(str(err))
     works, why = [], ""
     for changes, text in err.remedies:
         try:
             design_job(with_changes(job, changes), explain=False)
-        except DesignError as e:
-            why = why or f"{text} stops the springs: {short_reason(e)}"
+        except RemedyError as e:
+            why = why or f"with {text}: {short_reason(e)}"
+            works += _second_changes(job, changes, text, e)
+            continue
+        except (DesignError, ConfigError) as e:
+            why = why or f"with {text}: {short_reason(e)}"
             continue
         works.append(text)
     last = [err.fallback] if err.fallback else []
@@ -320,3 +330,17 @@ def _checked_pin_remedies(job: Job, err: RemedyError) -> DesignError:
     tried = " or ".join(t for _, t in err.remedies)
     return DesignError(f"{err.head}; no change of this part alone designs the job ({tried} "
                        f"tried; {why})" + (f": use {err.fallback}" if err.fallback else ""))
+
+
+def _second_changes(job: Job, changes: dict, text: str, err: RemedyError) -> list[str]:
+    """``changes`` with the first of ``err``'s remedies (on other keys) under which the
+    job designs, as text (an empty list when none does)."""
+    for more, more_text in err.remedies:
+        if set(more) & set(changes):
+            continue
+        try:
+            design_job(with_changes(job, {**changes, **more}), explain=False)
+        except (DesignError, ConfigError):
+            continue
+        return [f"{text} and {more_text}"]
+    return []
