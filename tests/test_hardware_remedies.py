@@ -176,3 +176,22 @@ def test_a_bore_over_the_contact_radius_names_changes_that_design():
     changes = _config_changes_design(_free({"shaft_diameter_mm": 10.0}, contact_radius_mm=10.0))
     assert changes == [("hardware.shaft_diameter_mm", 9.5),
                        ("springs.S1.contact_radius_mm", 10.5)], changes
+
+
+def test_a_spec_breaking_the_rim_and_the_bore_rule_hears_of_both():
+    """Held-out 037 broke the rim rule and the bore rule at once and heard only of the
+    first: applying its change met the second. Both are named now; the first change of
+    each, applied together, designs."""
+    data = _free({"fastener_diameter_mm": 2.0, "shaft_diameter_mm": 10.0}, root_radius_mm=33.5,
+                 contact_radius_mm=10.0)
+    with pytest.raises(ConfigError) as err:
+        job_from_dict(data)
+    msg = str(err.value)
+    assert "; also config key 'hardware.shaft_diameter_mm' = 10.0" in msg, msg
+    changes = dict(_changes(msg))
+    assert changes == {"springs.S1.root_radius_mm": 33.2, "hardware.fastener_diameter_mm": 1.5,
+                       "hardware.shaft_diameter_mm": 9.5,
+                       "springs.S1.contact_radius_mm": 10.5}, msg
+    both = _applied(_applied(data, "springs.S1.root_radius_mm", 33.2),
+                    "hardware.shaft_diameter_mm", 9.5)
+    design_job(job_from_dict(both), explain=False)

@@ -85,15 +85,6 @@ def _spring(s: SpringSpec, mfg: ManufacturingSpec, hw: HardwareSpec, given: dict
     if rr is not None and rc is not None and rr <= rc:
         raise ConfigError(f"{p}.root_radius_mm", rr,
                           f"must be larger than contact_radius_mm = {rc:g}")
-    if rr is not None:
-        need = min_rim_mm(ro, mfg, hw)
-        if ro - rr < need - 1e-9:  # the root radius this names is on a 0.1 mm step
-            raise ConfigError(
-                f"{p}.root_radius_mm", rr,
-                f"leaves a rim of {ro - rr:.3g} mm; the rim needs at least {need:.3g} mm "
-                f"(web, fillets, {hw.fastener_count} rim hole(s) of {hw.hole_diameter_mm:g} mm "
-                f"with min_hole_edge_mm on both sides): use "
-                + " or ".join(_rim_remedies(s, mfg, hw)))
     wire = mfg.min_inside_radius_mm
     for key in ("tip_radius_mm", "min_tip_radius_mm"):
         r = getattr(s, key)
@@ -109,15 +100,33 @@ def _spring(s: SpringSpec, mfg: ManufacturingSpec, hw: HardwareSpec, given: dict
     if s.n_flexures is not None and hw.fastener_count > s.n_flexures:
         raise ConfigError("hardware.fastener_count", hw.fastener_count,
                           f"must be at most n_flexures = {s.n_flexures} of spring {s.name} "
-                          "(one rim hole per gap between flexures)")
+                          "(one rim hole per gap between flexures): use "
+                          + change_text("hardware.fastener_count", s.n_flexures,
+                                        hw.fastener_count))
+    # the rim and the bore are independent: a spec that breaks both hears of both
+    problems: list[ConfigError] = []
+    if rr is not None:
+        need = min_rim_mm(ro, mfg, hw)
+        if ro - rr < need - 1e-9:  # the root radius this names is on a 0.1 mm step
+            problems.append(ConfigError(
+                f"{p}.root_radius_mm", rr,
+                f"leaves a rim of {ro - rr:.3g} mm; the rim needs at least {need:.3g} mm "
+                f"(web, fillets, {hw.fastener_count} rim hole(s) of {hw.hole_diameter_mm:g} mm "
+                f"with min_hole_edge_mm on both sides): use "
+                + " or ".join(_rim_remedies(s, mfg, hw))))
     if rc is not None and hw.shaft_diameter_mm >= rc:
         d, d_now = shaft_diameter_below_mm(rc), hw.shaft_diameter_mm
-        raise ConfigError("hardware.shaft_diameter_mm", d_now,
-                          f"must be smaller than the contact radius {rc:g} mm of spring "
-                          f"{s.name}: the camshaft bore must leave the cam teeth standing; use "
-                          f"{change_text('hardware.shaft_diameter_mm', d, d_now)} (springcad's "
-                          f"choice when the key is not given) or "
-                          f"{change_text(f'{p}.contact_radius_mm', d_now + SHAFT_ROOM_MM, rc)}")
+        problems.append(ConfigError(
+            "hardware.shaft_diameter_mm", d_now,
+            f"must be smaller than the contact radius {rc:g} mm of spring {s.name}: the "
+            f"camshaft bore must leave the cam teeth standing; use "
+            f"{change_text('hardware.shaft_diameter_mm', d, d_now)} (springcad's choice when the "
+            f"key is not given) or "
+            f"{change_text(f'{p}.contact_radius_mm', d_now + SHAFT_ROOM_MM, rc)}"))
+    if problems:
+        first, *more = problems
+        raise ConfigError(first.key, first.value, first.allowed + "".join(
+            f"; also {m}" for m in more))
     warnings = []
     if s.tip_radius_mm is not None and "min_tip_radius_mm" in given:
         warnings.append(f"spring {s.name}: min_tip_radius_mm = {s.min_tip_radius_mm:g} is ignored "
