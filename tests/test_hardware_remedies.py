@@ -61,35 +61,37 @@ def _every_change_designs(data: dict) -> list[tuple[str, object]]:
 
 
 def test_drive_pin_in_a_thick_ring_by_hand():
-    """Ø2 drive pin through a 3 mm flange into a 100 mm ring (issue 25, held-out 022): it
-    needs 2 mm in the ring and 2 mm proud of the flange, 7 mm at least; 5 and 6 are too
-    short, 8 sits min(100 - 0.3, 8 - 3 - 2) = 3 mm in the ring (bonded, the rest of the
-    hole empty). In a 3 mm ring the pin still ends 0.3 short of the far face: 8, 2.7 in."""
-    assert drive_pin_length(2.0, 100.0, 3.0) == (8, pytest.approx(3.0))
+    """Ø2 drive pin through a 3 mm flange into a 100 mm ring (issue 25, held-out 022): no
+    length reaches 0.5 mm short of the far face (99.5 + 3 + 2 > 20); the longest, 20,
+    stands 2 mm proud and sits 20 - 3 - 2 = 15 mm in the ring (bonded, the rest of the
+    hole empty). A 3 mm ring keeps its pin through to 0.3 short of the far face: Ø2 x 8,
+    2.7 in the ring (5 and 6 stand -0.7 and 0.3 proud). Ø1.5 into 14 mm: 13.5 + 3 + 1.5 =
+    18 > 16, so 16 with 11.5 in the ring."""
+    assert drive_pin_length(2.0, 100.0, 3.0) == (20, pytest.approx(15.0))
     assert drive_pin_length(2.0, 3.0, 3.0) == (8, pytest.approx(2.7))
-    # Ø1.5 into 14 mm: 1.5 + 3 + 1.5 = 6 -> 6, 1.5 mm in the ring
-    assert drive_pin_length(1.5, 14.0, 3.0) == (6, pytest.approx(1.5))
+    assert drive_pin_length(1.5, 14.0, 3.0) == (16, pytest.approx(11.5))
 
 
 def test_a_thick_ring_gets_a_drive_pin_it_engages_in_part():
     """S1 on 14 mm plate, output at its rim: the Ø1.5 flange pins were refused (a pin
-    through the whole ring would be 18.5 mm, the catalogue's longest is 16); now a 6 mm
-    pin 1.5 mm in the ring, 1.5 proud of the 3 mm flange, and its bearing checked on the
-    1.5 mm it engages."""
+    through the ring would be 18.5 mm, the catalogue's longest is 16); now the 16 mm pin,
+    11.5 mm in the ring, 1.5 proud of the 3 mm flange, its bearing checked on the 3 mm of
+    the flange (the shorter engagement)."""
     d = design_job(job_from_dict(_s1(thickness_mm=14.0)), explain=False)
     pins = next(c for c in d.stack.components if c.name == "dowels_output_flange")
     ring_end = d.stack.layout.spring_z_mm[0] + 14.0
-    assert pins.length_mm == 6
-    assert pins.z_mm == pytest.approx(ring_end - 1.5)
+    assert pins.length_mm == 16
+    assert pins.z_mm == pytest.approx(ring_end - 11.5)
     assert pins.z_mm + pins.length_mm - (ring_end + 3.0) == pytest.approx(1.5)
     (strength,) = stack_pin_strengths(d.stack)
-    assert strength.engagement_mm == pytest.approx(1.5) and strength.ok
+    assert strength.engagement_mm == pytest.approx(3.0) and strength.ok
 
 
 def test_a_thin_ring_names_a_drive_pin_that_designs():
     """S1 at 20 N*m/rad on 1.5 mm plate: a Ø1.5 pin ends 0.3 short of the far face, so it
-    engages 1.2 mm < 1.5; the refusal names Ø1 (1.2 >= 1 in the ring, 5 - 3 - 1 = 1 proud
-    of the flange: ISO 8734 1 x 5), checked: applied, the job designs."""
+    engages 1.2 mm < 1.5; the refusal names Ø1 (1.2 >= 1 in the ring; 5 stands 0.8 proud
+    of the 3 mm flange, 6 stands 1.8 >= 1: ISO 8734 1 x 6), checked: applied, the job
+    designs."""
     data = _s1(thickness_mm=1.5, target_stiffness_Nm_per_rad=20.0)
     with pytest.raises(RemedyError, match="drive pin Ø1.5"):
         design_job(job_from_dict(data), explain=False)
@@ -97,7 +99,7 @@ def test_a_thin_ring_names_a_drive_pin_that_designs():
     assert changes[0] == ("hardware.fastener_diameter_mm", 1.0), changes
     d = design_job(job_from_dict(_applied(data, *changes[0])), explain=False)
     pins = next(c for c in d.stack.components if c.name == "dowels_output_flange")
-    assert pins.length_mm == 5
+    assert pins.length_mm == 6
 
 
 def test_rim_screws_too_short_for_the_grip_name_changes_that_design():

@@ -173,11 +173,12 @@ def _rim_dowel_fit(diameter_mm: float, lengths, first_mm: float, gap_mm: float,
 
 def drive_pin_length(diameter_mm: float, ring_mm: float, flange_mm: float) -> tuple[float, float]:
     """(catalogue length, length in the ring) of a drive pin (mm) through a rim flange into
-    a ring ``ring_mm`` thick: the shortest catalogue length that engages the ring and stands
-    proud of the flange's outer face each by at least the minimum engagement, with its ring
-    end at least its length tolerance short of the ring's far face (never proud there). In
-    the ring as deep as that allows while standing proud by the minimum: a ring thicker
-    than the pin needs is engaged only in part (the pin is bonded in its hole).
+    a ring ``ring_mm`` thick, engaging the ring and standing proud of the flange's outer
+    face each by at least the minimum engagement, its ring end at least its length
+    tolerance short of the ring's far face (never proud there): the shortest length that
+    reaches that far into the ring; when none does (a ring thicker than the catalogue's
+    longest pin needs), the longest, as deep in the ring as standing proud by the minimum
+    allows (bonded in its hole, the rest of the hole empty).
 
     Raises:
         RemedyError: the ring is too thin for this diameter (names the nearest catalogue
@@ -202,11 +203,15 @@ def _drive_pin_fit(diameter_mm: float, lengths, ring_mm: float,
     """(length, length in the ring) that :func:`drive_pin_length` chooses from ``lengths``
     (mm), or None."""
     need = MIN_ENGAGEMENT_PER_DIAMETER * diameter_mm
-    for length in lengths:
-        in_ring = min(ring_mm - dowel_length_tolerance_mm(length), length - flange_mm - need)
-        if in_ring >= need - 1e-9:
+    for length in lengths:  # through the ring to its length tolerance short of the far face
+        in_ring = ring_mm - dowel_length_tolerance_mm(length)
+        if in_ring >= need - 1e-9 and length - in_ring - flange_mm >= need - 1e-9:
             return length, in_ring
-    return None
+    if not lengths:
+        return None
+    longest = lengths[-1]  # in part: standing proud by the minimum
+    in_ring = min(ring_mm - dowel_length_tolerance_mm(longest), longest - flange_mm - need)
+    return (longest, in_ring) if in_ring >= need - 1e-9 else None
 
 
 # ------------------------------------------------------------- screws and nuts
