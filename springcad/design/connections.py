@@ -1,4 +1,5 @@
-"""Which camshaft part each spring of a stack engages, from the alternation rule.
+"""Which camshaft part each spring of a stack engages, and which rims are pinned to each
+other, from the alternation rule.
 
 The rule itself (rim-to-rim and shaft-to-shaft joints alternate) lives in
 :mod:`springcad.connections`, below the config that checks it; its names are
