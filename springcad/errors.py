@@ -77,6 +77,33 @@ class DesignError(SpringcadError, ValueError):
     """The spec asks for a spring no geometry in the envelope can deliver."""
 
 
+class RemedyError(DesignError):
+    """A hardware part cannot be made as the job sets it, with the config changes that
+    might make it.
+
+    Attributes:
+        head: what failed, with its numbers.
+        remedies: ``(changes, text)`` pairs, most likely first: ``changes`` maps dotted
+            config keys (``"hardware.fastener_diameter_mm"``, ``"springs.A.max_thickness_mm"``)
+            to new values, ``text`` shows them as ``key = value (now old)``. The job design
+            (:func:`springcad.design.job.design_job`) tries each with the design search and
+            names only those under which the whole job designs.
+        fallback: a last remedy in words, not checked (may be empty).
+    """
+
+    def __init__(self, head: str, remedies, fallback: str = ""):
+        self.head, self.remedies, self.fallback = head, list(remedies), fallback
+        uses = [t for _, t in self.remedies] + ([fallback] if fallback else [])
+        super().__init__(head + ("; use " + " or ".join(uses) if uses else ""))
+
+
+def change_text(key: str, value, now, note: str = "") -> str:
+    """``key = value (now old; note)`` with numbers as ``%g`` and strings quoted as in TOML."""
+    def show_value(v) -> str:
+        return f'"{v}"' if isinstance(v, str) else f"{v:g}"
+    return f"{key} = {show_value(value)} (now {show_value(now)}{'; ' + note if note else ''})"
+
+
 class SpecInfeasible(DesignError):
     """No choice of the free parameters can help: the spec itself breaks a bound that holds
     for every layout (the energy a disk can store, the tip balls' torque cap, no flexure

@@ -65,7 +65,7 @@ def test_too_few_pins_are_refused_with_the_change():
         design_job(job_from_dict(job_data(["S1", "S1"], hardware={"fastener_count": 2})))
     msg = str(err.value)
     assert "2 x Ø1.5 dowels" in msg and "equivalent 1122 MPa against 907" in msg, msg
-    assert "use hardware.fastener_count = 3 (Ø1.5 dowels)" in msg, msg
+    assert "use hardware.fastener_count = 3 (now 2; Ø1.5 dowels)" in msg, msg
     assert "a stack torque of at most 33.9 N*m" in msg, msg
     assert "fastener_diameter_mm" not in msg, msg
     ok = design_job(job_from_dict(job_data(["S1", "S1"], hardware={"fastener_count": 3})))

@@ -10,12 +10,14 @@ need the designed geometry (the chosen N, r_c and R_r) are in
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
-from springcad.config.schema import BOLT_DIAMETERS_MM
+from springcad.config.schema import BOLT_DIAMETERS_MM, keys
 from springcad.config.specs import HardwareSpec, Job, ManufacturingSpec, SpringSpec
 from springcad.connections import rim_joint_count
-from springcad.errors import ConfigError
+from springcad.data import dowel_lengths
+from springcad.errors import ConfigError, change_text
 
 #: Monte Carlo stacks below which the 1 %/99 % percentiles are not worth quoting
 MIN_USEFUL_SAMPLES = 1000
@@ -38,6 +40,39 @@ def min_rim_mm(outer_radius_mm: float, mfg: ManufacturingSpec, hw: HardwareSpec)
     return rim
 
 
+#: steps of the camshaft bore springcad chooses below the default (mm)
+SHAFT_STEP_MM = 0.5
+#: what springcad leaves between its chosen bore and the smallest fixed contact radius (mm)
+SHAFT_ROOM_MM = 0.5
+#: a root radius the rim rule names is rounded down to this step (mm)
+ROOT_STEP_MM = 0.1
+
+
+def shaft_diameter_below_mm(contact_radius_mm: float) -> float:
+    """The camshaft bore springcad chooses under a fixed contact radius (mm): the largest
+    step of :data:`SHAFT_STEP_MM` at least :data:`SHAFT_ROOM_MM` below it (never below the
+    schema's minimum; the design checks the cam's wall over it)."""
+    fit = math.floor((contact_radius_mm - SHAFT_ROOM_MM) / SHAFT_STEP_MM + 1e-9) * SHAFT_STEP_MM
+    return max(fit, keys("hardware")["shaft_diameter_mm"].lo)
+
+
+def _rim_remedies(s: SpringSpec, mfg: ManufacturingSpec, hw: HardwareSpec) -> list[str]:
+    """``key = value (now old)`` changes under which the rim of ``s`` (a fixed root radius)
+    is wide enough: the largest root radius on a :data:`ROOT_STEP_MM` step, and the largest
+    catalogue fastener diameter whose holes fit the rim as it is."""
+    p = f"springs.{s.name}"
+    ro, rr = s.outer_radius_mm, s.root_radius_mm
+    fit = math.floor((ro - min_rim_mm(ro, mfg, hw)) / ROOT_STEP_MM + 1e-9) * ROOT_STEP_MM
+    out = [change_text(f"{p}.root_radius_mm", round(fit, 6), rr)] if fit > 0 else []
+    sizes = BOLT_DIAMETERS_MM if hw.fastener == "bolt" else sorted(dowel_lengths())
+    smaller = [d for d in sizes if d < hw.fastener_diameter_mm
+               and ro - rr >= min_rim_mm(ro, mfg, replace(hw, fastener_diameter_mm=d)) - 1e-9]
+    if smaller:
+        out.append(change_text("hardware.fastener_diameter_mm", smaller[-1],
+                               hw.fastener_diameter_mm))
+    return out
+
+
 def _spring(s: SpringSpec, mfg: ManufacturingSpec, hw: HardwareSpec, given: dict) -> list[str]:
     p = f"springs.{s.name}"
     ro, rc, rr = s.outer_radius_mm, s.contact_radius_mm, s.root_radius_mm
@@ -50,15 +85,6 @@ def _spring(s: SpringSpec, mfg: ManufacturingSpec, hw: HardwareSpec, given: dict
     if rr is not None and rc is not None and rr <= rc:
         raise ConfigError(f"{p}.root_radius_mm", rr,
                           f"must be larger than contact_radius_mm = {rc:g}")
-    if rr is not None:
-        need = min_rim_mm(ro, mfg, hw)
-        if ro - rr < need:
-            raise ConfigError(
-                f"{p}.root_radius_mm", rr,
-                f"leaves a rim of {ro - rr:.3g} mm; the rim needs at least {need:.3g} mm "
-                f"(web, fillets, {hw.fastener_count} rim hole(s) of {hw.hole_diameter_mm:g} mm "
-                "with min_hole_edge_mm on both sides): lower root_radius_mm to at most "
-                f"{ro - need:.4g}, use smaller or no fasteners")
     wire = mfg.min_inside_radius_mm
     for key in ("tip_radius_mm", "min_tip_radius_mm"):
         r = getattr(s, key)
@@ -74,11 +100,33 @@ def _spring(s: SpringSpec, mfg: ManufacturingSpec, hw: HardwareSpec, given: dict
     if s.n_flexures is not None and hw.fastener_count > s.n_flexures:
         raise ConfigError("hardware.fastener_count", hw.fastener_count,
                           f"must be at most n_flexures = {s.n_flexures} of spring {s.name} "
-                          "(one rim hole per gap between flexures)")
+                          "(one rim hole per gap between flexures): use "
+                          + change_text("hardware.fastener_count", s.n_flexures,
+                                        hw.fastener_count))
+    # the rim and the bore are independent: a spec that breaks both hears of both
+    problems: list[ConfigError] = []
+    if rr is not None:
+        need = min_rim_mm(ro, mfg, hw)
+        if ro - rr < need - 1e-9:  # the root radius this names is on a 0.1 mm step
+            problems.append(ConfigError(
+                f"{p}.root_radius_mm", rr,
+                f"leaves a rim of {ro - rr:.3g} mm; the rim needs at least {need:.3g} mm "
+                f"(web, fillets, {hw.fastener_count} rim hole(s) of {hw.hole_diameter_mm:g} mm "
+                f"with min_hole_edge_mm on both sides): use "
+                + " or ".join(_rim_remedies(s, mfg, hw))))
     if rc is not None and hw.shaft_diameter_mm >= rc:
-        raise ConfigError("hardware.shaft_diameter_mm", hw.shaft_diameter_mm,
-                          f"must be smaller than the contact radius {rc:g} mm of spring "
-                          f"{s.name}: the camshaft bore must leave the cam teeth standing")
+        d, d_now = shaft_diameter_below_mm(rc), hw.shaft_diameter_mm
+        problems.append(ConfigError(
+            "hardware.shaft_diameter_mm", d_now,
+            f"must be smaller than the contact radius {rc:g} mm of spring {s.name}: the "
+            f"camshaft bore must leave the cam teeth standing; use "
+            f"{change_text('hardware.shaft_diameter_mm', d, d_now)} (springcad's choice when the "
+            f"key is not given) or "
+            f"{change_text(f'{p}.contact_radius_mm', d_now + SHAFT_ROOM_MM, rc)}"))
+    if problems:
+        first, *more = problems
+        raise ConfigError(first.key, first.value, first.allowed + "".join(
+            f"; also {m}" for m in more))
     warnings = []
     if s.tip_radius_mm is not None and "min_tip_radius_mm" in given:
         warnings.append(f"spring {s.name}: min_tip_radius_mm = {s.min_tip_radius_mm:g} is ignored "

@@ -340,26 +340,19 @@ def _job_name(given: str | None, fallback: str) -> str:
     return safe.strip("_")[:64] or "job"
 
 
-#: steps of the camshaft bore springcad chooses below the default (mm)
-SHAFT_STEP_MM = 0.5
-#: what springcad leaves between its chosen bore and the smallest fixed contact radius (mm)
-SHAFT_ROOM_MM = 0.5
-
-
 def _shaft_that_fits(hw_values: dict, springs: dict) -> dict:
     """The hardware values with springcad's camshaft bore where none is given: the default
-    diameter, or, when a spring's fixed contact radius leaves no room for it, the largest
-    step of :data:`SHAFT_STEP_MM` at least :data:`SHAFT_ROOM_MM` below the smallest fixed
-    contact radius (never below the schema's minimum; the design checks the cam's wall
-    over it and names the largest bore that keeps it)."""
+    diameter, or, when a spring's fixed contact radius leaves no room for it,
+    :func:`~springcad.config.consistency.shaft_diameter_below_mm` the smallest fixed
+    contact radius (the design checks the cam's wall over it and names the largest bore
+    that keeps it)."""
     if "shaft_diameter_mm" in hw_values:
         return hw_values
     fixed = [s.contact_radius_mm for s in springs.values() if s.contact_radius_mm is not None]
     key = keys("hardware")["shaft_diameter_mm"]
     if not fixed or key.default < min(fixed):
         return hw_values
-    fit = math.floor((min(fixed) - SHAFT_ROOM_MM) / SHAFT_STEP_MM) * SHAFT_STEP_MM
-    return {**hw_values, "shaft_diameter_mm": max(fit, key.lo)}
+    return {**hw_values, "shaft_diameter_mm": consistency.shaft_diameter_below_mm(min(fixed))}
 
 
 def job_from_dict(data, name: str = "job", source: str = "") -> Job:

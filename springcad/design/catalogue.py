@@ -26,11 +26,11 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from springcad.data import data_path
-from springcad.errors import DesignError
+from springcad.config.schema import BOLT_DIAMETERS_MM
+from springcad.data import DOWEL_FILE, dowel_lengths
+from springcad.errors import DesignError, RemedyError, change_text
 from springcad.units import UM_PER_MM
 
-DOWEL_FILE = "iso8734_dowels.csv"
 #: a dowel engages each part it locates by at least this x its diameter
 MIN_ENGAGEMENT_PER_DIAMETER = 1.0
 #: upper length tolerance of a dowel pin (mm) by nominal length (up to, mm): a pin is
@@ -52,17 +52,6 @@ _M6_UM = ((3.0, 2, 8), (6.0, 4, 12), (10.0, 6, 15), (18.0, 7, 18))
 _E7_UM = ((3.0, 14, 24), (6.0, 20, 32), (10.0, 25, 40), (18.0, 32, 50))
 #: the ISO fit of a rim dowel's hole in every rim it passes (slip fit over an m6 pin)
 RIM_PIN_HOLE_FIT = "E7"
-
-
-@functools.cache
-def dowel_lengths() -> dict[float, tuple[float, ...]]:
-    """Nominal lengths (mm) of every ISO 8734 diameter (mm) in the catalogue."""
-    text = data_path(DOWEL_FILE).read_text()
-    rows = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
-    out: dict[float, list[float]] = {}
-    for r in rows:
-        out.setdefault(float(r["diameter_mm"]), []).append(float(r["length_mm"]))
-    return {d: tuple(sorted(ls)) for d, ls in out.items()}
 
 
 def _deviation_mm(table, diameter_mm: float, what: str) -> tuple[float, float]:
@@ -131,28 +120,42 @@ def rim_dowel_length(diameter_mm: float, first_mm: float, gap_mm: float,
     length engages each rim by the minimum.
 
     Raises:
-        DesignError: no catalogue pin of this diameter, or none that fits inside the
-            rims and engages each by the minimum.
+        RemedyError: no catalogue pin of this diameter, or none that fits inside the rims
+            and engages each by the minimum (naming the nearest catalogue diameters that
+            do).
     """
     lengths = dowel_lengths().get(float(diameter_mm))
+    others = _other_diameters(diameter_mm, lambda d, ls: _rim_dowel_fit(
+        d, ls, first_mm, gap_mm, second_mm))
     if not lengths:
-        raise DesignError(f"dowel Ø{diameter_mm:g}: not an ISO 8734 diameter in {DOWEL_FILE} "
-                          f"({', '.join(f'{d:g}' for d in sorted(dowel_lengths()))})")
+        raise RemedyError(f"dowel Ø{diameter_mm:g}: not an ISO 8734 diameter in {DOWEL_FILE} "
+                          f"({', '.join(f'{d:g}' for d in sorted(dowel_lengths()))})", others)
     length = _rim_dowel_fit(diameter_mm, lengths, first_mm, gap_mm, second_mm)
     if length is not None:
         return length
     room = first_mm + gap_mm + second_mm
-    others = [(d, v) for d, ls in sorted(dowel_lengths().items()) if d != diameter_mm
-              for v in [_rim_dowel_fit(d, ls, first_mm, gap_mm, second_mm)] if v is not None]
-    nearest = sorted(others, key=lambda dv: abs(math.log(dv[0] / diameter_mm)))[:2]
-    instead = "".join(f"; use hardware.fastener_diameter_mm = {d:g} (ISO 8734 {d:g} x {v:g})"
-                      if i == 0 else f" or {d:g} ({d:g} x {v:g})"
-                      for i, (d, v) in enumerate(nearest))
     listed = ", ".join(f"{v:g}" for v in lengths)
-    raise DesignError(f"dowel Ø{diameter_mm:g}: no ISO 8734 length ({listed}) fits the "
+    raise RemedyError(f"dowel Ø{diameter_mm:g}: no ISO 8734 length ({listed}) fits the "
                       f"{room:g} mm of two rims at its longest (nominal + its length "
                       f"tolerance, +{dowel_length_tolerance_mm(lengths[0]):g} mm) and engages "
-                      f"each by {MIN_ENGAGEMENT_PER_DIAMETER * diameter_mm:g} mm{instead}")
+                      f"each by {MIN_ENGAGEMENT_PER_DIAMETER * diameter_mm:g} mm", others)
+
+
+#: a pin refusal names at most this many other catalogue diameters (each is checked with
+#: the whole job's design search, seconds each)
+DIAMETER_REMEDIES = 2
+
+
+def _other_diameters(diameter_mm: float, fit) -> list[tuple[dict, str]]:
+    """The catalogue diameters nearest ``diameter_mm`` (by ratio) that ``fit(d, lengths)``
+    gives a length for, as :class:`~springcad.errors.RemedyError` remedies naming the pin
+    (at most :data:`DIAMETER_REMEDIES`)."""
+    key = "hardware.fastener_diameter_mm"
+    found = [(d, v) for d, ls in sorted(dowel_lengths().items()) if d != diameter_mm
+             for v in [fit(d, ls)] if v is not None]
+    found.sort(key=lambda dv: abs(math.log(dv[0] / diameter_mm)))
+    return [({key: d}, change_text(key, d, diameter_mm, f"ISO 8734 {d:g} x {v:g}"))
+            for d, v in found[:DIAMETER_REMEDIES]]
 
 
 def _rim_dowel_fit(diameter_mm: float, lengths, first_mm: float, gap_mm: float,
@@ -170,23 +173,45 @@ def _rim_dowel_fit(diameter_mm: float, lengths, first_mm: float, gap_mm: float,
 
 def drive_pin_length(diameter_mm: float, ring_mm: float, flange_mm: float) -> tuple[float, float]:
     """(catalogue length, length in the ring) of a drive pin (mm) through a rim flange into
-    a ring ``ring_mm`` thick: its ring end short of the ring's far face by its length
-    tolerance (never proud there), engaging the ring and standing proud of the flange's
-    outer face each by at least the minimum engagement; the shortest such length.
+    a ring ``ring_mm`` thick, engaging the ring and standing proud of the flange's outer
+    face each by at least the minimum engagement, its ring end at least its length
+    tolerance short of the ring's far face (never proud there): the shortest length that
+    reaches that far into the ring; when none does (a ring thicker than the catalogue's
+    longest pin needs), the longest, as deep in the ring as standing proud by the minimum
+    allows (bonded in its hole, the rest of the hole empty).
 
     Raises:
-        DesignError: the ring is too thin, or no catalogue length is long enough.
+        RemedyError: the ring is too thin for this diameter (names the nearest catalogue
+            diameters that engage it).
     """
     lengths = dowel_lengths().get(float(diameter_mm), ())
+    fit = _drive_pin_fit(diameter_mm, lengths, ring_mm, flange_mm)
+    if fit is not None:
+        return fit
     need = MIN_ENGAGEMENT_PER_DIAMETER * diameter_mm
-    for length in lengths:
+    raise RemedyError(f"drive pin Ø{diameter_mm:g}: no ISO 8734 length "
+                      f"({', '.join(f'{v:g}' for v in lengths) or 'none'}) engages a "
+                      f"{ring_mm:g} mm ring by {need:g} mm with its end its length tolerance "
+                      f"short of the ring's far face and stands {need:g} mm proud of a "
+                      f"{flange_mm:g} mm rim flange",
+                      _other_diameters(diameter_mm, lambda d, ls: (
+                          _drive_pin_fit(d, ls, ring_mm, flange_mm) or (None,))[0]))
+
+
+def _drive_pin_fit(diameter_mm: float, lengths, ring_mm: float,
+                   flange_mm: float) -> tuple[float, float] | None:
+    """(length, length in the ring) that :func:`drive_pin_length` chooses from ``lengths``
+    (mm), or None."""
+    need = MIN_ENGAGEMENT_PER_DIAMETER * diameter_mm
+    for length in lengths:  # through the ring to its length tolerance short of the far face
         in_ring = ring_mm - dowel_length_tolerance_mm(length)
         if in_ring >= need - 1e-9 and length - in_ring - flange_mm >= need - 1e-9:
             return length, in_ring
-    raise DesignError(f"drive pin Ø{diameter_mm:g}: no ISO 8734 length "
-                      f"({', '.join(f'{v:g}' for v in lengths) or 'none'}) engages a "
-                      f"{ring_mm:g} mm ring and stands {need:g} mm proud of a {flange_mm:g} mm "
-                      "rim flange")
+    if not lengths:
+        return None
+    longest = lengths[-1]  # in part: standing proud by the minimum
+    in_ring = min(ring_mm - dowel_length_tolerance_mm(longest), longest - flange_mm - need)
+    return (longest, in_ring) if in_ring >= need - 1e-9 else None
 
 
 # ------------------------------------------------------------- screws and nuts
@@ -218,14 +243,25 @@ class BoltSet:
         choose it (:class:`springcad.geometry.fasteners.RimScrew`).
 
         Raises:
-            DesignError: no length is long enough.
+            RemedyError: no length is long enough (names dowels and the smallest larger
+                screw that is).
         """
         need = grip_mm + self.nut_height_mm
         for v in self.lengths_mm:
             if v >= need - 1e-9:
                 return v
-        raise DesignError(f"rim screws: no {self.size} ISO 4762 screw is long enough for a "
-                          f"{grip_mm:g} mm grip and a nut; use dowels")
+        fastener, diameter = "hardware.fastener", "hardware.fastener_diameter_mm"
+        d_now = float(self.size[1:].split("-")[0])
+        larger = [(d, b) for d in BOLT_DIAMETERS_MM if d > d_now
+                  for b in [bolt_set(d)] if b.lengths_mm[-1] >= grip_mm + b.nut_height_mm - 1e-9]
+        raise RemedyError(
+            f"rim screws: no {self.size} ISO 4762 screw (lengths up to {self.lengths_mm[-1]:g} "
+            f"mm) is long enough for a {grip_mm:g} mm grip and a {self.nut_height_mm:g} mm nut",
+            [({fastener: "dowel"}, change_text(fastener, "dowel", "bolt",
+                                               "flush or drive pins, no grip"))]
+            + [({diameter: d}, change_text(diameter, d, d_now,
+                                           f"{b.size} x {b.screw_length_mm(grip_mm):g}"))
+               for d, b in larger[:1]])
 
 
 def _bd_warehouse_table(name: str) -> list[dict]:

@@ -426,7 +426,7 @@ class _Layout:
         """The fasteners of a rim flange on spring i (system parts: not in the mass).
 
         Dowels are drive pins (:func:`~springcad.design.catalogue.drive_pin_length`): in
-        the ring up to its length tolerance short of the ring's far face (a washer or a
+        the ring, at least its length tolerance short of the ring's far face (a washer or a
         spring turns against that face), through the flange and proud of its outer face by
         at least the engagement the user's drive part needs. Bolts: head on the flange's
         outer face, nut on the ring's far face (:meth:`_joint_gap` makes room for it)."""

@@ -7,20 +7,20 @@ from dataclasses import dataclass, replace
 
 from springcad.version import stamp
 from springcad.config import Job, ManufacturingSpec
+from springcad.config.consistency import check as check_config
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty
 from springcad.design.connections import RIM, camshaft_indices, connection_sequence
 from springcad.design.feasibility import fewer_disks
 from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
-from springcad.design.joint_strength import PinStrengthError
 from springcad.design.plausibility import check_hardware, design_warnings
-from springcad.design.ring import common_hole_pattern
+from springcad.design.ring import pinned_hole_patterns
 from springcad.design.search import probe, short_reason
 from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
 from springcad.design.tolerance import gap_range_mm
-from springcad.errors import DesignError
+from springcad.errors import ConfigError, DesignError, RemedyError
 from springcad.progress import Progress, report, reporting
 
 SCHEMA = "springcad.design/1"
@@ -91,10 +91,12 @@ class JobDesign:
 
 
 def common_hole_circle(springs: dict[str, SpringDesign], job: Job) -> dict[str, SpringDesign]:
-    """Put the rim holes of every spring on one circle at the same angles, so any two rims
-    can be pinned (:func:`springcad.design.ring.common_hole_pattern`), inside the job's
-    :func:`bolt_circle_limit_mm`."""
-    return common_hole_pattern(springs, _bolt_circle_mm(job))
+    """Put the rim holes of the springs whose rims are pinned to each other
+    (:func:`~springcad.design.connections.rim_groups`) on one circle at the same angles
+    (:func:`springcad.design.ring.common_hole_pattern`), inside the job's
+    :func:`bolt_circle_limit_mm`; a rim pinned only to its end flange keeps its own."""
+    return pinned_hole_patterns(springs, job.stack.sequence, job.stack.input,
+                                _bolt_circle_mm(job))
 
 
 def _bolt_circle_mm(job: Job) -> float:
@@ -245,6 +247,7 @@ def design_job(job: Job, explain: bool = True, progress: Progress | None = None)
         DesignError: a spring or a hardware part cannot be made as specified.
     """
     rr_max = shared_rim_limit_mm(job)
+    asked = job  # the remedies of a hardware refusal are changes to the job as given
     springs, refusals = {}, []
     with reporting(progress):
         for i, name in enumerate(job.springs):
@@ -262,15 +265,15 @@ def design_job(job: Job, explain: bool = True, progress: Progress | None = None)
                                 for n, s in job.springs.items()})
     springs = _share_camshafts(job, springs, rr_max)
     springs = common_hole_circle(springs, job)
-    stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
-                         job.analysis.monte_carlo_samples, job.analysis.seed)
-    design = JobDesign(job, springs, stack)
-    try:
+    try:  # the stack's hardware (pins, screws) and its strength
+        stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
+                             job.analysis.monte_carlo_samples, job.analysis.seed)
+        design = JobDesign(job, springs, stack)
         check_hardware(design)
-    except PinStrengthError as err:
+    except RemedyError as err:
         if not explain:
             raise
-        raise _checked_pin_remedies(job, err) from err
+        raise _checked_pin_remedies(asked, err) from err
     return design
 
 
@@ -289,21 +292,65 @@ def _all_refusals(refusals: list[DesignError], advice: str) -> DesignError:
     return error
 
 
-def _checked_pin_remedies(job: Job, err: PinStrengthError) -> DesignError:
-    """The pin refusal ``err`` with only the pin changes under which the whole job designs
-    (more pins crowd the rim; larger ones need a wider rim, which shortens the flexures):
-    each is tried with the design search; when none designs, the refusal says so and
-    names what stopped the first."""
+def with_changes(job: Job, changes: dict) -> Job:
+    """The job with config changes applied: dotted keys ``hardware.<key>`` or
+    ``springs.<name>.<key>`` (as :class:`~springcad.errors.RemedyError` names them) to
+    their new values, and the config's cross-key checks run on it as on a loaded file.
+
+    Raises:
+        ConfigError: the changed job breaks a cross-key rule.
+    """
+    for key, value in changes.items():
+        section, *rest = key.split(".")
+        if section == "hardware" and len(rest) == 1:
+            job = replace(job, hardware=replace(job.hardware, **{rest[0]: value}))
+        elif section == "springs" and len(rest) == 2:
+            name, field = rest
+            job = replace(job, springs={**job.springs,
+                                        name: replace(job.springs[name], **{field: value})})
+        else:
+            raise ValueError(f"with_changes: cannot apply {key!r}")
+    return check_config(job, {})
+
+
+def _checked_pin_remedies(job: Job, err: RemedyError) -> DesignError:
+    """The hardware refusal ``err`` (pins too weak, a pin, screw or bore that does not fit)
+    with only the changes under which the whole job designs (more pins crowd the rim;
+    larger ones need a wider rim, which shortens the flexures): each is tried with the
+    design search. A change that meets another hardware rule is tried once more with
+    each of that rule's own changes (a thinner pin that then needs more of them). When
+    none designs, the refusal says so and names what stopped the first."""
+    if not err.remedies:
+        return DesignError(str(err))
     works, why = [], ""
     for changes, text in err.remedies:
         try:
-            design_job(replace(job, hardware=replace(job.hardware, **changes)), explain=False)
-        except DesignError as e:
-            why = why or f"{text} stops the springs: {short_reason(e)}"
+            design_job(with_changes(job, changes), explain=False)
+        except RemedyError as e:
+            why = why or f"with {text}: {short_reason(e)}"
+            works += _second_changes(job, changes, text, e)
+            continue
+        except (DesignError, ConfigError) as e:
+            why = why or f"with {text}: {short_reason(e)}"
             continue
         works.append(text)
+    last = [err.fallback] if err.fallback else []
     if works:
-        return DesignError(f"{err.head}; use " + " or ".join(works + [err.lower_torque]))
-    tried = " or ".join(t for _, t in err.remedies) or "no catalogue pin"
-    return DesignError(f"{err.head}; no pin change alone designs the job ({tried} tried; "
-                       f"{why}): use {err.lower_torque}")
+        return DesignError(f"{err.head}; use " + " or ".join(works + last))
+    tried = " or ".join(t for _, t in err.remedies)
+    return DesignError(f"{err.head}; no change of this part alone designs the job ({tried} "
+                       f"tried; {why})" + (f": use {err.fallback}" if err.fallback else ""))
+
+
+def _second_changes(job: Job, changes: dict, text: str, err: RemedyError) -> list[str]:
+    """``changes`` with the first of ``err``'s remedies (on other keys) under which the
+    job designs, as text (an empty list when none does)."""
+    for more, more_text in err.remedies:
+        if set(more) & set(changes):
+            continue
+        try:
+            design_job(with_changes(job, {**changes, **more}), explain=False)
+        except (DesignError, ConfigError):
+            continue
+        return [f"{text} and {more_text}"]
+    return []

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 from springcad.design import plans as pl
 from springcad.design.catalogue import bolt_set, dowel_lengths
 from springcad.design.hardware import FLANGE_THICKNESS_MM
-from springcad.errors import DesignError
+from springcad.errors import DesignError, RemedyError, change_text
 from springcad.units import NMM_PER_NM
 
 #: shear strength of a hardened ISO 8734 dowel (MPa): ASME B18.8.5M (the metric hardened
@@ -189,22 +189,23 @@ def remedies(s: PinJointStrength, inputs: dict, max_count: int) -> list[tuple[di
     times) crowd the rim (their holes take the room the flexure roots and the rim web need),
     so the larger sizes come first then."""
     need = math.ceil(s.count * s.utilisation - 1e-9)
-    more = ([({"fastener_count": need}, f"hardware.fastener_count = {need} "
-              f"(Ø{s.diameter_mm:g} {s.kind}s)")] if need <= max_count else [])
-    larger = [({"fastener_diameter_mm": d}, f"hardware.fastener_diameter_mm = {d:g} "
-               f"({s.count} {s.kind}s)") for d in _diameters(s.kind)
+    count, diameter = "hardware.fastener_count", "hardware.fastener_diameter_mm"
+    more = ([({count: need}, change_text(count, need, s.count, f"Ø{s.diameter_mm:g} "
+                                          f"{s.kind}s"))] if need <= max_count else [])
+    larger = [({diameter: d}, change_text(diameter, d, s.diameter_mm, f"{s.count} {s.kind}s"))
+              for d in _diameters(s.kind)
               if d > s.diameter_mm and pin_strength(**{**inputs, "diameter_mm": d}).ok][:2]
     return more + larger if need <= MAX_COUNT_GROWTH * s.count else larger + more
 
 
-class PinStrengthError(DesignError):
+class PinStrengthError(RemedyError):
     """A rim joint's pins are over their allowable stress: ``remedies`` holds the
-    (hardware changes, text) that would hold (:func:`remedies`), ``head`` the stresses,
-    ``lower_torque`` the stack torque these pins carry (text)."""
+    (config changes, text) that would hold (:func:`remedies`), ``head`` the stresses,
+    ``lower_torque`` (the ``fallback``) the stack torque these pins carry (text)."""
 
     def __init__(self, head: str, options: list[tuple[dict, str]], lower_torque: str):
-        self.head, self.remedies, self.lower_torque = head, options, lower_torque
-        super().__init__(f"{head}; use " + " or ".join([t for _, t in options] + [lower_torque]))
+        self.lower_torque = lower_torque
+        super().__init__(head, options, lower_torque)
 
 
 def check_pin_strength(stack) -> tuple[PinJointStrength, ...]:

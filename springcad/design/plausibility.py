@@ -17,10 +17,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from springcad.config.consistency import MIN_RIM_FRACTION
+from springcad.config.consistency import MIN_RIM_FRACTION, SHAFT_STEP_MM
+from springcad.config.schema import keys
 from springcad.design.fastener_room import check_fastener_room
 from springcad.design.joint_strength import check_pin_strength
-from springcad.errors import DesignError
+from springcad.errors import DesignError, RemedyError, change_text
 from springcad.units import NMM_PER_NM, UM_PER_MM
 
 #: beam-theory stiffness further than this from the target is reported (fraction)
@@ -62,11 +63,16 @@ def _bore(s, shaft_diameter_mm: float, min_web_mm: float) -> None:
     wall = s.cam_root_radius_mm - _HUB_CLEARANCE_MM - 0.5 * shaft_diameter_mm
     if wall < min_web_mm:
         most = 2 * (s.cam_root_radius_mm - _HUB_CLEARANCE_MM - min_web_mm)
-        raise DesignError(
-            f"spring '{s.name}': hardware.shaft_diameter_mm = {shaft_diameter_mm:g} leaves a "
-            f"camshaft wall of {wall:.3g} mm under the cam teeth (cam root radius "
-            f"{s.cam_root_radius_mm:.3f} mm, min_web_mm = {min_web_mm:g}); use a shaft of at most "
-            f"{max(most, 0):.3g} mm or a larger contact radius")
+        # springcad's bore steps (the bore it chooses under a fixed contact radius)
+        fit = math.floor(most / SHAFT_STEP_MM + 1e-9) * SHAFT_STEP_MM
+        key = "hardware.shaft_diameter_mm"
+        lowest = keys("hardware")["shaft_diameter_mm"].lo
+        raise RemedyError(
+            f"spring '{s.name}': {key} = {shaft_diameter_mm:g} leaves a camshaft wall of "
+            f"{wall:.3g} mm under the cam teeth (cam root radius {s.cam_root_radius_mm:.3f} mm, "
+            f"min_web_mm = {min_web_mm:g}; a bore of at most {max(most, 0):.3g} mm keeps it)",
+            [({key: fit}, change_text(key, fit, shaft_diameter_mm))] if fit >= lowest else [],
+            "a larger contact radius")
 
 
 def check_hardware(job_design) -> None:

@@ -15,6 +15,7 @@ import numpy as np
 
 from springcad.design import flexure as fx
 from springcad.design.catalogue import RIM_PIN_HOLE_FIT
+from springcad.design.connections import rim_groups
 from springcad.design.curves import Arc, Circle, Feature, Loop, Profile, Spline, named
 from springcad.errors import DesignError
 
@@ -271,6 +272,18 @@ def common_hole_pattern(springs: dict, max_radius_mm: float = math.inf) -> dict:
 
     return {name: with_hole_circle(s, radius, angles) if s.hole_centres_mm and not placed(s)
             else s for name, s in springs.items()}
+
+
+def pinned_hole_patterns(springs: dict, sequence, input_connection: str,
+                         max_radius_mm: float = math.inf) -> dict:
+    """:func:`common_hole_pattern` over each set of springs whose rims are pinned to each
+    other (:func:`~springcad.design.connections.rim_groups` of the stack ``sequence`` with
+    this input); a rim pinned only to an end flange keeps its own circle (spring name ->
+    design)."""
+    out = dict(springs)
+    for group in rim_groups(tuple(sequence), input_connection):
+        out.update(common_hole_pattern({n: springs[n] for n in group}, max_radius_mm))
+    return out
 
 
 def with_hole_circle(d, radius_mm: float, angles_rad=None):

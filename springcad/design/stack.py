@@ -15,7 +15,7 @@ from springcad.design.connections import camshaft_indices
 from springcad.design.hardware import (Component, StackLayout, bolt_circle_limit_mm, d_joints,
                                       stack_layout)
 from springcad.design.joint_strength import stack_pin_strengths
-from springcad.design.ring import common_hole_pattern
+from springcad.design.ring import pinned_hole_patterns
 from springcad.design.spring import SpringDesign
 from springcad.design.tolerance import Interface, StackBacklash, stack_backlash
 from springcad.units import J_PER_NMM, MM3_PER_CM3, NMM_PER_NM
@@ -174,7 +174,8 @@ def design_stack(springs: list[SpringDesign], input_connection: str, mc_samples:
     # rims joined rim to rim are pinned through the same holes: one circle, one set of angles
     limit = bolt_circle_limit_mm(springs[0].hardware, len(springs),
                                  min(s.outer_radius_mm for s in springs))
-    holed = common_hole_pattern({s.name: s for s in springs}, limit)
+    holed = pinned_hole_patterns({s.name: s for s in springs}, [s.name for s in springs],
+                                 input_connection, limit)
     springs = [holed[s.name] for s in springs]
     joints, output = connection_sequence(len(springs), input_connection)
     mfg = springs[0].manufacturing

@@ -31,11 +31,13 @@ def test_a_dowel_with_no_length_names_the_nearest_diameters_that_fit():
     with pytest.raises(DesignError, match="no ISO 8734 length") as err:
         rim_dowel_length(3.0, 3.0, 2.0, 3.0)
     msg = str(err.value)
-    first = re.search(r"use hardware\.fastener_diameter_mm = ([\d.]+) \(ISO 8734 [\d.]+ x ([\d.]+)\)",
-                      msg)
+    first = re.search(r"use hardware\.fastener_diameter_mm = ([\d.]+) \(now 3; ISO 8734 "
+                      r"[\d.]+ x ([\d.]+)\)", msg)
     assert first and float(first.group(1)) == 2.0, msg
     assert rim_dowel_length(2.0, 3.0, 2.0, 3.0) == float(first.group(2)) == 6
-    assert "or 1.5 (1.5 x 6)" in msg, msg
+    assert "or hardware.fastener_diameter_mm = 1.5 (now 3; ISO 8734 1.5 x 6)" in msg, msg
+    assert [c for c, _ in err.value.remedies] == [{"hardware.fastener_diameter_mm": 2.0},
+                                                  {"hardware.fastener_diameter_mm": 1.5}]
 
 
 #: ISO 8734:1997 Table 1, written here in the standard's own form and not copied from
