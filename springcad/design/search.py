@@ -272,7 +272,7 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
             with probe_clock():
                 advice = duty.alternatives(spec, sized, lambda s, m: _designs(
                     s, m, manufacturing, hardware, max_root_radius_mm, base=spec),
-                    deadline=REFUSAL_BUDGET_PROBES)
+                    deadline=ADVICE_PROBES)
             return _replace(d, duty_advice=advice.lstrip("; "))
     return design_for_margin(spec, material, manufacturing, hardware, explain,
                              max_root_radius_mm, candidates)
@@ -452,6 +452,10 @@ def _stress_text(spec, material, history, err) -> str:
 #: is still one the design search accepted). Probes, not seconds: the same spec gets the
 #: same refusal on a quiet machine and a loaded one (1-8 s a probe)
 REFUSAL_BUDGET_PROBES = 20
+#: design probes the default duty's advice on a spring that designs (sized for yield
+#: alone) may spend on refining its nearest values beyond the bisection's first two steps:
+#: none (the advice is rounded outward and checked like a refusal's, to 1/4 of the span)
+ADVICE_PROBES = 0
 #: design probes a whole refusal may spend before it stops starting new kinds of change
 #: (the user's own keys are always probed)
 REFUSAL_TOTAL_PROBES = 48
