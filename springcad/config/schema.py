@@ -247,8 +247,8 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
     ),
     "material": (
         _s("name", "label", 40, "420_ht", "a name in springcad/data/materials.csv (420_ht, "
-           "17-4ph_h900, maraging_300, ti6al4v, 7075_t6, 6061_t6, 301_shim, pom); any other name needs "
-           "the four properties below"),
+           "17-4ph_h900, maraging_300, ti6al4v, 7075_t6, 6061_t6, 301_shim, pom); any other "
+           "name needs the four properties below"),
         _f("youngs_modulus_GPa", "GPa", 1.0, 1000.0, CHOSEN, "Young's modulus E (overrides the "
            "table)"),
         _f("poisson_ratio", "-", 0.0, 0.49, CHOSEN, "Poisson's ratio"),
