@@ -8,7 +8,8 @@ names that break exports, non-UTF-8 files, 400-digit integers, deep nesting,
 import dataclasses
 import math
 import re
-import time
+import subprocess
+import sys
 import tomllib
 
 import pytest
@@ -95,11 +96,19 @@ def test_every_number_is_refused_outside_its_range_with_the_range(section, key):
         assert key.allowed in msg, msg
 
 
-def test_loading_is_fast():
-    t0 = time.perf_counter()
-    for _ in range(50):
-        load_job(template("paper_S2_3xS1"))
-    assert (time.perf_counter() - t0) / 50 < 0.01
+def test_loading_imports_nothing_heavy_and_repeats_exactly():
+    """Loading a job is config work only: no CAD, mesher, solver or plotting import, and the
+    same file gives the same job each time. Its speed (< 10 ms a load) is measured by
+    bench/bench_config_load.py, not asserted here (a timed test fails under load)."""
+    code = ("import sys; from springcad.config import load_job; "
+            f"load_job({str(template('paper_S2_3xS1'))!r}); "
+            "print(sorted({m.split('.')[0] for m in sys.modules} & set(sys.argv[1:])))")
+    heavy = ["build123d", "OCP", "pyvista", "skfem", "pytetwild", "matplotlib", "scipy"]
+    out = subprocess.run([sys.executable, "-c", code, *heavy], capture_output=True, text=True,
+                         cwd=ROOT, check=True).stdout.strip()
+    assert out == "[]", f"loading a job imported {out}"
+    first = load_job(template("paper_S2_3xS1"))
+    assert all(load_job(template("paper_S2_3xS1")) == first for _ in range(3))
 
 
 SECTION_SHAPES = {

@@ -95,3 +95,22 @@ def test_unknown_part_kind_is_a_geometry_error(paper_designs):
     comp = dataclasses.replace(st.components[0], name="gear_1", plan=GearPlan())
     with pytest.raises(GeometryError, match="gear_1: no part family for component kind 'gear'"):
         build_component(BuildContext(st.springs, PartCache()), comp)
+
+
+def test_rim_spacers_are_cut_from_stocked_shim_strip(paper_designs):
+    """The rim spacer's stock is the table's stainless shim strip (1.4310, stocked as thin
+    as the 0.4 mm gap; 6061-T6 sheet is not stocked below ~0.8 mm): its material text,
+    EN 10088-1's 7.9 g/cm^3 and its mass by hand (annulus minus the pin holes x gap)."""
+    from springcad.materials import material_table
+
+    st = paper_designs["paper_4xS1"].stack
+    spacers = [c for c in st.components if c.kind == "rim_spacer"]
+    assert len(spacers) == 2  # two rim joints in S1 | S1 - S1 | S1
+    strip = material_table()["301_shim"]
+    for c in spacers:
+        p = c.plan
+        assert c.material == strip.description and "1.4310" in c.material
+        assert c.density_kg_per_m3 == 7900.0 and c.length_mm == 0.4
+        area_mm2 = math.pi * (p.outer_radius_mm ** 2 - p.inner_radius_mm ** 2) \
+            - len(p.hole_centres_mm) * math.pi * p.hole_diameter_mm ** 2 / 4
+        assert c.mass_kg == pytest.approx(area_mm2 * 0.4 * 7.9e-6, rel=1e-12)

@@ -32,6 +32,10 @@ for j in sorted(glob.glob(f'{D2G}/*.json')):
         ex.Next()
     ref = np.array(ref)
     data = json.load(open(j)); paths = data['paths'] if isinstance(data, dict) else data
-    pts = np.array([p for path in paths for p in path])
+    # dxf2gcode_read.py writes a line by its two ends: sample it every 2 um like the arcs, or
+    # a STEP point in the middle of a long line (the cam's D flat) looks half a line away
+    pts = np.array([q for path in paths for a, b in zip(path[:-1], path[1:])
+                    for q in np.linspace(a, b, max(2, int(np.hypot(b[0] - a[0], b[1] - a[1])
+                                                            / 0.002) + 1))])
     d1, _ = cKDTree(ref).query(pts); d2, _ = cKDTree(pts).query(ref)
     print(f'{d:8s} {b:26s} z {z:6.2f} dxf2gcode pts {len(pts):7d} -> STEP max {d1.max()*1000:6.2f} um; STEP pts {len(ref):7d} -> dxf2gcode max {d2.max()*1000:6.2f} um', flush=True)

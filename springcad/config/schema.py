@@ -247,8 +247,8 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
     ),
     "material": (
         _s("name", "label", 40, "420_ht", "a name in springcad/data/materials.csv (420_ht, "
-           "17-4ph_h900, maraging_300, ti6al4v, 7075_t6, 6061_t6, pom); any other name needs "
-           "the four properties below"),
+           "17-4ph_h900, maraging_300, ti6al4v, 7075_t6, 6061_t6, 301_shim, pom); any other "
+           "name needs the four properties below"),
         _f("youngs_modulus_GPa", "GPa", 1.0, 1000.0, CHOSEN, "Young's modulus E (overrides the "
            "table)"),
         _f("poisson_ratio", "-", 0.0, 0.49, CHOSEN, "Poisson's ratio"),
@@ -331,8 +331,9 @@ SECTIONS: dict[str, tuple[Key, ...]] = {
            "dowels)"),
         _f("bushing_wall_mm", "mm", 0.5, 20.0, 1.5, "outer bushing wall (stacks of 3+ springs)"),
         _f("camshaft_hub_length_mm", "mm", 0.5, 100.0, 6.0, "hub of an input/output camshaft"),
-        _f("rim_spacer_density_kg_per_m3", "kg/m^3", 500.0, 25000.0, "6061_t6",
-           "rim spacer density (default: 6061_t6 in the material table)"),
+        _f("rim_spacer_density_kg_per_m3", "kg/m^3", 500.0, 25000.0, "301_shim",
+           "rim spacer density (default: 301_shim in the material table, the stainless "
+           "shim strip the spacer is cut from)"),
         _f("plastic_density_kg_per_m3", "kg/m^3", 500.0, 25000.0, "pom",
            "washer, centre spacer and bushing density (default: pom in the material table)"),
     ),

@@ -24,6 +24,7 @@ from springcad.design.rim_spacer import (ROOT_CLEARANCE_MM, rim_spacer_plan,  # 
                                          rim_spacer_rim_mm)
 from springcad.design.tolerance import DJoint, RimPinJoint, d_half_chord_mm
 from springcad.errors import DesignError
+from springcad.materials import material_table
 from springcad.units import KG_PER_MM3_PER_KG_PER_M3
 
 #: profile tolerance of the turned torque shafts (mm): their D flats are toleranced
@@ -51,9 +52,11 @@ FLOATING_FROM_SPRINGS = 3
 #: axial clearance between a bolt's head or nut (or its screw's end) and the rim washer
 #: that turns against it at a shaft-to-shaft joint (mm)
 BOLT_END_CLEARANCE_MM = 0.3
-#: (material, default density kg/m^3) of the rim spacers and of the plastic parts; the
-#: densities used are hardware.rim_spacer_density_kg_per_m3 / plastic_density_kg_per_m3
-ALUMINIUM = ("aluminium 6061-T6", 2700.0)
+#: rim-spacer stock, a name in springcad/data/materials.csv: stainless shim strip, stocked
+#: as thin as the spacer gap (6061-T6 is not stocked below ~0.8 mm: the table's source)
+RIM_SPACER_MATERIAL = "301_shim"
+#: (material, default density kg/m^3) of the plastic parts; the densities used are
+#: hardware.rim_spacer_density_kg_per_m3 / plastic_density_kg_per_m3
 PLASTIC = ("acetal copolymer POM-C, unfilled, natural", 1420.0)
 FASTENER_STEEL = ("steel", 7850.0)
 
@@ -341,7 +344,7 @@ class _Layout:
         centre = pl.CentreSpacerPlan(
             inner_radius_mm=0.5 * hw.shaft_diameter_mm if self.floating else 0.0,
             outer_radius_mm=r_cs, joint=j)
-        out = [_annular(f"rim_spacer_{j + 1}", spacer, self.aluminium, zj, gap),
+        out = [_annular(f"rim_spacer_{j + 1}", spacer, self.rim_spacer_material, zj, gap),
                _annular(f"centre_spacer_{j + 1}", centre, self.plastic, zj, gap)]
         if centres:
             out.append(self.pins(f"{hw.fastener}s_{j + 1}", j, springs[j].thickness_mm, gap,
@@ -376,9 +379,11 @@ class _Layout:
                                j, centres)
 
     @property
-    def aluminium(self) -> tuple[str, float]:
-        """Rim-spacer material and density (kg/m^3) from the hardware config."""
-        return ALUMINIUM[0], self.hw.rim_spacer_density_kg_per_m3
+    def rim_spacer_material(self) -> tuple[str, float]:
+        """Rim-spacer material (the table's description of :data:`RIM_SPACER_MATERIAL`) and
+        density (kg/m^3) from the hardware config."""
+        return (material_table()[RIM_SPACER_MATERIAL].description,
+                self.hw.rim_spacer_density_kg_per_m3)
 
     @property
     def plastic(self) -> tuple[str, float]:

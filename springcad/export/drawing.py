@@ -164,6 +164,8 @@ def note_lines(part, values: dict, template: dict) -> list[str]:
                   or notes.get("process", {}).get(p.process, []))
     if p.process == "wire_edm" and p.thickness_mm > THIN_SHEET_MM:  # a shim: deburred only
         lines += notes.get("edges_wire_edm", [])
+        if getattr(part, "bore", "") == "d_flat":
+            lines += notes.get("edges_d_bore", [])
     if p.process == "wire_edm" and spring is not None:
         m = spring.manufacturing
         lines.append(f"Wire Ø{fmt(m.wire_diameter_mm)} mm or finer: the smallest inside "

@@ -22,6 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from springcad.export.sheet_hits import (NEAR_MM, boxes_overlap, grow, segments_hit_box,
+                                        segments_hit_boxes)
 from springcad.units import fmt_mm
 
 #: ISO A3 landscape (mm)
@@ -109,51 +111,6 @@ class View:
         return self.origin + self.scale * self._flip * np.asarray(pts, dtype=float)
 
 
-def segments_hit_box(segs: np.ndarray, box) -> np.ndarray:
-    """Which segments (n, 4: x0, y0, x1, y1) cross or touch the box (x0, y0, x1, y1)."""
-    return segments_hit_boxes(segs, np.asarray([box], dtype=float))[0]
-
-
-def segments_hit_boxes(segs: np.ndarray, boxes: np.ndarray) -> np.ndarray:
-    """Which segments (n, 4: x0, y0, x1, y1) cross or touch which boxes (m, 4: x0, y0, x1,
-    y1): an (m, n) array, each entry :func:`segments_hit_box`'s (the same arithmetic,
-    broadcast over the boxes)."""
-    segs = np.asarray(segs, dtype=float)
-    boxes = np.asarray(boxes, dtype=float)
-    if len(segs) == 0 or len(boxes) == 0:
-        return np.zeros((len(boxes), len(segs)), dtype=bool)
-    p = segs[:, :2]
-    d = segs[:, 2:] - p
-    shape = (len(boxes), len(segs))
-    t0 = np.zeros(shape)
-    t1 = np.ones(shape)
-    ok = np.ones(shape, dtype=bool)
-    for axis in (0, 1):  # Liang-Barsky clipping
-        lo, hi = boxes[:, axis, None], boxes[:, axis + 2, None]
-        dd, pp = d[:, axis], p[:, axis]
-        flat = np.abs(dd) < 1e-12
-        ok &= ~flat | ((pp >= lo) & (pp <= hi))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ta, tb = (lo - pp) / dd, (hi - pp) / dd
-        t_in = np.where(flat, -np.inf, np.minimum(ta, tb))
-        t_out = np.where(flat, np.inf, np.maximum(ta, tb))
-        t0, t1 = np.maximum(t0, t_in), np.minimum(t1, t_out)
-    return ok & (t0 <= t1)
-
-
-#: the margin (mm) by which a segment's bounding box may miss a box and the segment still be
-#: clipped against it: far above the rounding of the clipping's ratios (~1e-12 mm here)
-_NEAR_MM = 1e-6
-
-
-def _boxes_overlap(a, b) -> bool:
-    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
-
-
-def _grow(box, pad: float):
-    return (box[0] - pad, box[1] - pad, box[2] + pad, box[3] + pad)
-
-
 class Sheet:
     """A matplotlib figure whose single axes spans the sheet in millimetres.
 
@@ -216,14 +173,14 @@ class Sheet:
         x0, y0, x1, y1 = self.inner
         if box[0] < x0 + pad or box[1] < y0 + pad or box[2] > x1 - pad or box[3] > y1 - pad:
             return False
-        grown = _grow(box, pad)
-        if any(_boxes_overlap(grown, b) for b in self.boxes):
+        grown = grow(box, pad)
+        if any(boxes_overlap(grown, b) for b in self.boxes):
             return False
         return not (lines and self._lines_hit(grown))
 
     def _lines_hit(self, box) -> bool:
         """Whether a drawn segment crosses or touches ``box``: clipped only against the
-        segments whose bounding box comes within :data:`_NEAR_MM` of it (the others cannot
+        segments whose bounding box comes within :data:`NEAR_MM` of it (the others cannot
         reach it; the answer is the one clipping every segment gives)."""
         segs = self.segments
         if self._seg_bounds is None:
@@ -232,15 +189,15 @@ class Sheet:
                                                 np.maximum(segs[:, 0], segs[:, 2]),
                                                 np.maximum(segs[:, 1], segs[:, 3])])
         b = self._seg_bounds
-        near = ((b[:, 2] >= box[0] - _NEAR_MM) & (b[:, 0] <= box[2] + _NEAR_MM)
-                & (b[:, 3] >= box[1] - _NEAR_MM) & (b[:, 1] <= box[3] + _NEAR_MM))
+        near = ((b[:, 2] >= box[0] - NEAR_MM) & (b[:, 0] <= box[2] + NEAR_MM)
+                & (b[:, 3] >= box[1] - NEAR_MM) & (b[:, 1] <= box[3] + NEAR_MM))
         return bool(segments_hit_box(segs[near], box).any())
 
     def path_is_free(self, pts, pad: float = 0.3) -> bool:
         """Whether a polyline (sheet mm) keeps ``pad`` from every text box."""
         p = np.asarray(pts, float)
         segs = np.hstack([p[:-1], p[1:]])
-        boxes = np.asarray([_grow(b, pad) for b in self.boxes], dtype=float).reshape(-1, 4)
+        boxes = np.asarray([grow(b, pad) for b in self.boxes], dtype=float).reshape(-1, 4)
         return not segments_hit_boxes(segs, boxes).any()
 
     # ---------------------------------------------------------------- primitives
@@ -346,12 +303,12 @@ class Sheet:
                 fbox = (x_left, knee[1] - 0.8 - fh, x_left + fw, knee[1] - 0.8) if frames else None
                 fallback = fallback or (knee, end, box, fbox)
                 own = np.array([[*target, *knee], [*knee, *end]])
-                clear_of_own = not segments_hit_box(own, _grow(box, 0.4)).any()
+                clear_of_own = not segments_hit_box(own, grow(box, 0.4)).any()
                 if boxed:  # the frame around the value sits on the shoulder line
-                    clear_of_own = not segments_hit_box(own[:1], _grow(box, TED_PAD_MM)).any()
+                    clear_of_own = not segments_hit_box(own[:1], grow(box, TED_PAD_MM)).any()
                 frames_ok = fbox is None or (
-                    self.is_free(fbox) and not segments_hit_box(own[:1], _grow(fbox, 0.4)).any())
-                if (self.is_free(_grow(box, TED_PAD_MM) if boxed else box)
+                    self.is_free(fbox) and not segments_hit_box(own[:1], grow(fbox, 0.4)).any())
+                if (self.is_free(grow(box, TED_PAD_MM) if boxed else box)
                         and self.path_is_free([target, knee, end]) and clear_of_own and frames_ok):
                     return self._draw_callout(target, knee, end, box, label, dim, frames, fbox,
                                               boxed)
@@ -364,7 +321,7 @@ class Sheet:
         self.polyline([knee, end])
         self.text(box[0], box[1], label, ha="left", va="bottom")
         if boxed:
-            x0, y0, x1, y1 = _grow(box, TED_PAD_MM)
+            x0, y0, x1, y1 = grow(box, TED_PAD_MM)
             self.rect(x0, y0, x1 - x0, y1 - y0)
         if frames:
             self.draw_frames(fbox[0], fbox[3], frames)
@@ -499,7 +456,7 @@ class Sheet:
                 box = (x, y, x + w, y + h)
                 fallback = fallback or (a, b, lo, hi, ext, box)
                 lines_ok = all(self.path_is_free(e) for e in ext) and self.path_is_free([lo, hi])
-                clear_of_own = not segments_hit_box(own, _grow(box, TEXT_GAP_MM)).any()
+                clear_of_own = not segments_hit_box(own, grow(box, TEXT_GAP_MM)).any()
                 if self.is_free(box) and lines_ok and clear_of_own:
                     return self._draw_linear(lo, hi, ext, box, label, outside, dim)
         self.conflicts.append(label)

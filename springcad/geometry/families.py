@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import Callable
 
 from springcad.design import plans as pl
-from springcad.design.hardware import Component
+from springcad.design.hardware import RIM_SPACER_MATERIAL, Component
 from springcad.design.processes import process
 from springcad.design.ring import hole_fits
 from springcad.errors import GeometryError
@@ -22,6 +22,7 @@ from springcad.geometry.disk import Camshaft, FlexureRing
 from springcad.geometry.fasteners import DowelPin, RimNut, RimScrew, nut_height_mm
 from springcad.geometry.placement import Instance, Placement
 from springcad.geometry.spacers import Bushing, CentreSpacer, RimSpacer, RimWasher
+from springcad.materials import material_table
 from springcad.progress import Progress, no_progress
 
 #: builder(context, component) by component kind
@@ -165,8 +166,9 @@ def _annular_family(cls, prefix: str, heat: str = "", **spec):
     return build
 
 
-_annular_family(RimSpacer, "RIM-SPACER", "T6", hardness="95 HB (T6 as supplied)",
-                heat_treatment_sequence="as supplied")
+_SHIM = material_table()[RIM_SPACER_MATERIAL]
+_annular_family(RimSpacer, "RIM-SPACER", _SHIM.heat_treatment, hardness=_SHIM.hardness,
+                heat_treatment_sequence=_SHIM.heat_treatment_sequence)
 _annular_family(RimWasher, "RIM-WASHER")
 _annular_family(CentreSpacer, "CENTRE-SPACER")
 _annular_family(Bushing, "BUSHING")

@@ -122,9 +122,10 @@ class AnnularPart(SpringcadPart):
 
 
 class RimSpacer(AnnularPart):
-    """Thin aluminium ring between two bolted rims (paper Fig. 2a): reduces friction."""
+    """Thin ring between two bolted rims (paper Fig. 2a: aluminium; here stainless shim
+    strip, which is stocked as thin as the gap): keeps the rims apart, reduces friction."""
 
-    KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_spacer", "Rim spacer", "laser", "aluminium", True
+    KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_spacer", "Rim spacer", "laser", "steel", True
     CODE = "RIM-SPACER"
     NOTES = ("Holes clear the rim dowels (slip, never pressed): their position matters, "
              "their size only as toleranced.",)

@@ -184,7 +184,8 @@ def _spec_rows(design: dict, fea: dict | None) -> str:
         ("cam backlash nominal (rad; paper eqs. 1-3)", _n(b.get("nominal"))),
         ("cam backlash worst case (rad; below 0: the tolerances allow a preloaded, "
          "interfering cam)", f"{_n(b.get('worst_min'))} … {_n(b.get('worst_max'))}"),
-        ("cam backlash RSS (rad)", f"{_n(b.get('rss_min'))} … {_n(b.get('rss_max'))}"),
+        ("cam backlash RSS (rad; root sum square of the tolerances; below 0: a stack of "
+         "usual parts can preload a cam)", f"{_n(b.get('rss_min'))} … {_n(b.get('rss_max'))}"),
         ("D-fit play of the torque shafts (rad, mid-tolerance, all D joints)",
          _joint_play(b, "D fit")),
         ("rim pin play (rad, mid-tolerance, all dowelled rim joints: E7/m6 slip fits)",

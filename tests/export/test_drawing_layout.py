@@ -319,6 +319,23 @@ def test_title_block_values_cut_point_to_their_note(drawings):
     assert cut
 
 
+def test_d_bore_lead_in_only_on_parts_with_a_d_bore(drawings):
+    """The D-bore lead-in chamfer is asked only of a part whose bore is a D (the default's
+    end camshafts), not of the rings or of a cam that runs round on the alignment shaft."""
+    from springcad.export.drawing import fields, load_title_block, note_lines
+    from springcad.export.views import choose_scale_of
+
+    template = load_title_block()
+    seen = set()
+    for job, part, _, _ in drawings:
+        notes = note_lines(part, fields(part, DrawingInfo(job, 1), choose_scale_of(part),
+                                        template), template)
+        has = any("D bore's mouth" in n for n in notes)
+        assert has == (getattr(part, "bore", "") == "d_flat"), (job, part.name)
+        seen.add((getattr(part, "bore", ""), has))
+    assert ("d_flat", True) in seen and ("round", False) in seen
+
+
 def _svg_text_y(svg, text: str) -> list[float]:
     """SVG y (down the page) of every text element reading ``text`` exactly."""
     import xml.etree.ElementTree as ET

@@ -4,7 +4,8 @@ clipping every segment against every box one at a time gives."""
 
 import numpy as np
 
-from springcad.export.sheet import Sheet, segments_hit_box, segments_hit_boxes
+from springcad.export.sheet import Sheet
+from springcad.export.sheet_hits import segments_hit_box, segments_hit_boxes
 
 
 def _reference_hit(segs, box) -> np.ndarray:

@@ -88,3 +88,18 @@ def test_report_renders_in_headless_chromium(built, tmp_path):
     red = (img[..., 0] > 200) & (img[..., 1] < 240) & (img[..., 2] < 235) & \
           (img[..., 0] - img[..., 1] > 15)
     assert red[:500].sum() > 1000  # the verdict box is near the top
+
+
+def test_every_negative_stack_quantity_says_what_below_zero_means():
+    """Backlash bounds below 0 (a preloaded, interfering cam: the paper 4xS1's worst case
+    -0.0655 and RSS -0.0041 rad) are explained in their row's label, not left bare."""
+    from springcad.report.html_build import _spec_rows
+
+    design = {"springs": {}, "stack": {"backlash_rad": {
+        "nominal": 0.036, "worst_min": -0.0655, "worst_max": 0.138,
+        "rss_min": -0.0041, "rss_max": 0.0769}}}
+    rows = re.findall(r"<tr><td>([^<]*)</td><td class='n'>([^<]*)</td></tr>",
+                      _spec_rows(design, None))
+    negative = [label for label, value in rows if re.search(r"(^|\s)-\d", value)]
+    assert len(negative) == 2, rows  # worst case and RSS
+    assert all("below 0" in label for label in negative), negative
