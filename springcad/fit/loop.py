@@ -262,9 +262,8 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
         score_now = lp.cv_score(state.model, state.x, state.mask, f_scale)[0]
         found = joint_sets(state, [r["effect"] for r in rejected], lp, f_scale, score_now)
         if found is not None:
-            before, (state, names, gain) = state, found
+            before, (state, names, gain, laws) = state, found
             excluded -= set(names)
-            state, laws = choose_laws(state, lp, f_scale)
             evidence = audit(state.model, state.x, sig, state.inliers(lp.cv), f_scale,
                              settings.agreement_p, settings.support_z).effects
             rejected = [r for r in rejected if r["effect"] not in names]

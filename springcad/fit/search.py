@@ -23,7 +23,7 @@ from springcad.fit.other_laws import OTHER_LAWS
 from springcad.fit.inference import jacobian
 from springcad.fit.models import rmse
 from springcad.fit.nuisance import nuisance_views
-from springcad.fit.residual import noise_model
+from springcad.fit.residual import motion_locked_p, noise_model
 from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel
 from springcad.options import spell
@@ -128,6 +128,12 @@ class State:
         return out
 
 
+#: why glitch candidates are not proposed when they follow the motion's events
+LOCKED = ("the samples far from their neighbours all fall soon after the motion starts, stops "
+          "or turns (residual.motion_locked_p below the loop's structure_p): the motion's doing "
+          "(ringing, a breakaway), not isolated sensor glitches")
+
+
 @dataclass(frozen=True)
 class Candidate:
     """What one round found about one candidate effect.
@@ -139,7 +145,8 @@ class Candidate:
         gain: drop of the held-out criterion (positive = better), if fitted.
         heldout_rmse: held-out RMS error with the effect (N·m; rad for the
             encoder channel), if fitted.
-        note: why it was not proposed although fitted (physically impossible values).
+        note: why it was not proposed (physically impossible values, glitches that follow
+            the motion).
     """
 
     effect: str
@@ -363,6 +370,10 @@ class Search:
                 n_glitch = int(mask.sum())
                 if n_glitch == 0:
                     cands.append(Candidate(effect.name, 0.0, False))
+                    continue
+                if motion_locked_p(mask, sig) < self.s.structure_p:
+                    # glitches know nothing of the motion: these follow its events
+                    cands.append(Candidate(effect.name, float(n_glitch), False, note=LOCKED))
                     continue
                 score, heldout = self.cv_score(state.model, state.x, mask, f_scale)
                 gain = score_now - score
