@@ -34,6 +34,9 @@ SMOOTH_WINDOW_S = 0.02
 #: the motion has left a turn's angle where the smoothed deflection is this many
 #: deflection noise levels away from it (see ``DeflectionTrace._pieces``)
 HOLD_BAND_NOISE = 5.0
+#: sampling is irregular where an interval departs from the median by this share of it (the
+#: round-off of timestamps written to a CSV is far below, a jitter or a dropped sample above)
+IRREGULAR_SHARE = 0.01
 
 
 class DeflectionTrace:
@@ -120,8 +123,6 @@ class DeflectionTrace:
         fitted alone follow the deflection about it at least twice as closely (squared);
         each cut kept is appended to ``mended``.
         """
-        from scipy.signal import savgol_filter
-
         fits: dict[int, np.ndarray] = {}
         longest = (hi - lo) if (hi - lo) % 2 else hi - lo - 1
         for c, d, _, w in block:
@@ -133,7 +134,7 @@ class DeflectionTrace:
                 out[c:d] = self.theta_smooth[c:d]
                 continue
             if wp not in fits:
-                fits[wp] = savgol_filter(self.theta[lo:hi], wp, 3, mode="interp")
+                fits[wp] = self._local_cubic(lo, hi, wp)
             out[c:d] = fits[wp][c - lo:d - lo]
         sigma = self.scales.theta_noise
         if depth <= 0 or hi - lo < 4 * w_min or sigma <= 0.0:
@@ -161,6 +162,58 @@ class DeflectionTrace:
             # corner there (a cubic starting at a cut placed off a corner misses by more)
             out[lo:hi] = saved
             mended[:] = kept
+
+    def _local_cubic(self, lo: int, hi: int, w: int) -> np.ndarray:
+        """The local cubic over ``w`` samples of the deflection ``[lo, hi)`` (rad), read at
+        each sample's own time.
+
+        A Savitzky-Golay cubic runs over the samples' order, not their times. Where the
+        sampling is irregular (timestamps jittered by a fraction of a period, samples
+        dropped) the deflection at a sample read early or late by ``δ`` is off the smooth
+        motion by its speed times ``δ``, and the cubic smooths that away as noise: the
+        trace holds the deflection at the smoothed time ``t̄`` of each sample, not at its
+        own. Read again at its own time, to first order, ``θ(t) ≈ θ(t̄) + θ'·(t − t̄)``
+        (``t̄`` and ``θ'`` by the same cubic; a pure delay read on the index-smoothed trace
+        lost to a first-order filter on the raw deflection by 248 of criterion on a
+        record jittered by ±0.2 of a period). On regular sampling ``t = t̄`` and the
+        cubic is used as it is.
+        """
+        from scipy.signal import savgol_filter
+
+        y = savgol_filter(self.theta[lo:hi], w, 3, mode="interp")
+        if not self.irregular:
+            return y
+        t = self.t[lo:hi]
+        t_bar = savgol_filter(t, w, 3, mode="interp")
+        slope = (savgol_filter(self.theta[lo:hi], w, 3, deriv=1, mode="interp")
+                 / savgol_filter(t, w, 3, deriv=1, mode="interp"))
+        return y + slope * (t - t_bar)
+
+    @functools.cached_property
+    def irregular(self) -> bool:
+        """Whether the sampling is irregular and its timestamps are the samples' own: a
+        sample interval departs from the median by more than ``IRREGULAR_SHARE`` of it,
+        and the deflection reads the timestamps: the cubic over ``TRACE_WINDOW_S[0]``,
+        read at each sample's time (:meth:`_local_cubic`), misses the measured deflection
+        by less than read in sample order. Timestamps rounded when written (true times
+        regular) depart from the smooth time by their rounding, which the deflection
+        does not follow: read there, the cubic would miss it by more."""
+        dt = np.diff(self.t)
+        if dt.size < 16:
+            return False
+        step = float(np.median(dt))
+        if not np.max(np.abs(dt - step)) > IRREGULAR_SHARE * step:
+            return False
+        from scipy.signal import savgol_filter
+
+        w = max(5, int(round(TRACE_WINDOW_S[0] * self.scales.sample_rate_hz))) | 1
+        if w > self.theta.size:
+            return False
+        y = savgol_filter(self.theta, w, 3, mode="interp")
+        slope = (savgol_filter(self.theta, w, 3, deriv=1, mode="interp")
+                 / savgol_filter(self.t, w, 3, deriv=1, mode="interp"))
+        timed = y + slope * (self.t - savgol_filter(self.t, w, 3, mode="interp"))
+        return bool(np.sum((self.theta - timed) ** 2) < np.sum((self.theta - y) ** 2))
 
     @functools.cached_property
     def in_hold(self) -> np.ndarray:
