@@ -129,9 +129,10 @@ class State:
 
 
 #: why glitch candidates are not proposed when they follow the motion's events
-LOCKED = ("the samples far from their neighbours all fall soon after the motion starts, stops "
-          "or turns (residual.motion_locked_p below the loop's structure_p): the motion's doing "
-          "(ringing, a breakaway), not isolated sensor glitches")
+LOCKED = ("the samples far from their neighbours gather where the motion starts, stops or turns "
+          "(their timing disagrees with random draws beyond the audit's agreement_p, "
+          "residual.motion_locked_p): the motion's doing (ringing, a breakaway), not isolated "
+          "sensor glitches")
 
 
 @dataclass(frozen=True)
@@ -371,8 +372,9 @@ class Search:
                 if n_glitch == 0:
                     cands.append(Candidate(effect.name, 0.0, False))
                     continue
-                if motion_locked_p(mask, sig) < self.s.structure_p:
-                    # glitches know nothing of the motion: these follow its events
+                if motion_locked_p(mask, sig) < self.s.agreement_p:
+                    # glitches know nothing of the motion: their timing must agree with
+                    # random draws, as an effect's size must agree between parts (evidence)
                     cands.append(Candidate(effect.name, float(n_glitch), False, note=LOCKED))
                     continue
                 score, heldout = self.cv_score(state.model, state.x, mask, f_scale)
