@@ -128,11 +128,9 @@ class State:
         return out
 
 
-#: why glitch candidates are not proposed when they follow the motion's events
-LOCKED = ("the samples far from their neighbours gather where the motion starts, stops or turns "
-          "(their timing disagrees with random draws beyond the audit's agreement_p, "
-          "residual.motion_locked_p): the motion's doing (ringing, a breakaway), not isolated "
-          "sensor glitches")
+#: why glitches are not proposed as outliers when they gather at the motion's events
+LOCKED = ("far from their neighbours where the motion starts, stops or turns (timing against "
+          "random draws below agreement_p, residual.motion_locked_p): the motion's doing")
 
 
 @dataclass(frozen=True)
@@ -373,8 +371,7 @@ class Search:
                     cands.append(Candidate(effect.name, 0.0, False))
                     continue
                 if motion_locked_p(mask, sig) < self.s.agreement_p:
-                    # glitches know nothing of the motion: their timing must agree with
-                    # random draws, as an effect's size must agree between parts (evidence)
+                    # glitches know nothing of the motion (an agreement test, as the audit's)
                     cands.append(Candidate(effect.name, float(n_glitch), False, note=LOCKED))
                     continue
                 score, heldout = self.cv_score(state.model, state.x, mask, f_scale)
