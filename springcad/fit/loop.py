@@ -19,7 +19,10 @@
    (:mod:`springcad.fit.nuisance`: the residual's whole-cycle means and its
    deflection profile common to both directions), and proposed that way only
    after every effect the record as measured asks for: a hard stop or a zero
-   jump beside them does not hide them.
+   jump beside them does not hide them. Samples far from their neighbours are
+   proposed as ``outliers`` only where their timing agrees with random draws
+   (:func:`springcad.fit.residual.motion_locked_p`): ringing after the protocol's
+   steps gathers at its events, a sensor glitch does not.
 3. **Evidence audit** (:mod:`springcad.fit.evidence`). Each effect's size is
    fitted again on separate parts of the record (early and late, small and
    large amplitudes, loading and unloading) with the rest of the model free
@@ -28,7 +31,8 @@
    (crossover, cubic) must not leave the residual's deflection profile standing
    above noise where it acts (``evidence.shape_check``). The worst failing
    effect is rejected and the search resumes without it, until all pass.
-   Effects the audit rejected one at a time are tried together (:mod:`springcad.fit.joint`).
+   Effects the audit rejected one at a time are tried together (:mod:`springcad.fit.joint`),
+   each with the law its family fits best, and audited so.
    Then effects that patch structure the library cannot describe are not named
    (:mod:`springcad.fit.patches`): a shape in deflection that describes less than
    three times what the residual's deflection profile still holds (a crossover
@@ -262,9 +266,8 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
         score_now = lp.cv_score(state.model, state.x, state.mask, f_scale)[0]
         found = joint_sets(state, [r["effect"] for r in rejected], lp, f_scale, score_now)
         if found is not None:
-            before, (state, names, gain) = state, found
+            before, (state, names, gain, laws) = state, found
             excluded -= set(names)
-            state, laws = choose_laws(state, lp, f_scale)
             evidence = audit(state.model, state.x, sig, state.inliers(lp.cv), f_scale,
                              settings.agreement_p, settings.support_z).effects
             rejected = [r for r in rejected if r["effect"] not in names]

@@ -420,6 +420,48 @@ def phase_key(idx: np.ndarray, sig: Signals) -> tuple[np.ndarray, np.ndarray]:
     return (b * 2 + hold) * 2 + (sig.direction[idx] > 0), elapsed
 
 
+#: flagged samples this close (samples) are one burst, one draw (the running median's
+#: window of :func:`springcad.fit.signals.find_glitches`)
+GLITCH_BURST = 9
+
+
+def motion_locked_p(mask: np.ndarray, sig: Signals) -> float:
+    """Probability that samples flagged at random (``mask``, every sample) would fall as
+    near the protocol's events as those flagged do.
+
+    A sensor glitch (an ADC spike, a lost frame) knows nothing of the motion: its time to
+    the nearest instant the motion started, stopped or turned (the changes of
+    :func:`phase_key`, before or after it: an event is placed a few samples late) is that
+    of a sample drawn at random. With ``u_1 ≤ … ≤ u_n`` the shares of all samples no
+    farther from an event than each flagged one (a burst of flagged samples within
+    ``GLITCH_BURST`` samples of each other counts once), ``n`` random samples have their k-th
+    smallest share at most ``u_k`` with probability ``P(Binomial(n, u_k) ≥ k)``; the least
+    over k, times n (Bonferroni), is returned, so one glitch far from the events does not
+    hide the rest gathered at them. Ringing after the steps of a protocol, or a friction
+    that breaks away at every start, gathers there: a small probability says the flagged
+    samples are the motion's doing, not isolated glitches.
+    """
+    flagged = np.flatnonzero(mask)
+    hold, runs = sig.in_hold, sig.runs
+    change = np.flatnonzero((hold[1:] != hold[:-1]) | (runs[1:] != runs[:-1])) + 1
+    if flagged.size == 0 or change.size == 0:
+        return 1.0
+    # a burst of glitches is one draw: samples within ``GLITCH_BURST`` of each other, read
+    # at the burst's middle sample
+    bursts = np.split(flagged, np.flatnonzero(np.diff(flagged) > GLITCH_BURST) + 1)
+    at = np.array([b[b.size // 2] for b in bursts])
+    n = at.size
+    t_event = sig.t[change]
+    k = np.searchsorted(t_event, sig.t)
+    after = np.abs(t_event[np.minimum(k, t_event.size - 1)] - sig.t)
+    before = np.abs(sig.t - t_event[np.maximum(k - 1, 0)])
+    near = np.minimum(after, before)
+    u = np.sort(np.searchsorted(np.sort(near), near[at], side="right") / sig.n)
+    # P(Binomial(n, u_k) >= k) for k = 1..n
+    tail = stats.binom.sf(np.arange(n), n, u)
+    return float(min(1.0, n * tail.min()))
+
+
 def _phase_means(r: np.ndarray, idx: np.ndarray, sig: Signals) -> np.ndarray:
     """The residual's means by phase of the protocol: holding or moving, direction, and the
     time since the motion last started, stopped or turned (log-spaced bins); then by the

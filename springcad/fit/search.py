@@ -23,7 +23,7 @@ from springcad.fit.other_laws import OTHER_LAWS
 from springcad.fit.inference import jacobian
 from springcad.fit.models import rmse
 from springcad.fit.nuisance import nuisance_views
-from springcad.fit.residual import noise_model
+from springcad.fit.residual import motion_locked_p, noise_model
 from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel
 from springcad.options import spell
@@ -128,6 +128,11 @@ class State:
         return out
 
 
+#: why glitches are not proposed as outliers when they gather at the motion's events
+LOCKED = ("far from their neighbours where the motion starts, stops or turns (timing against "
+          "random draws below agreement_p, residual.motion_locked_p): the motion's doing")
+
+
 @dataclass(frozen=True)
 class Candidate:
     """What one round found about one candidate effect.
@@ -139,7 +144,8 @@ class Candidate:
         gain: drop of the held-out criterion (positive = better), if fitted.
         heldout_rmse: held-out RMS error with the effect (N·m; rad for the
             encoder channel), if fitted.
-        note: why it was not proposed although fitted (physically impossible values).
+        note: why it was not proposed (physically impossible values, glitches that follow
+            the motion).
     """
 
     effect: str
@@ -363,6 +369,10 @@ class Search:
                 n_glitch = int(mask.sum())
                 if n_glitch == 0:
                     cands.append(Candidate(effect.name, 0.0, False))
+                    continue
+                if motion_locked_p(mask, sig) < self.s.agreement_p:
+                    # glitches know nothing of the motion (an agreement test, as the audit's)
+                    cands.append(Candidate(effect.name, float(n_glitch), False, note=LOCKED))
                     continue
                 score, heldout = self.cv_score(state.model, state.x, mask, f_scale)
                 gain = score_now - score
