@@ -278,6 +278,8 @@ def test_a_cusp_only_the_tolerances_block_designs_for_nominal_parts_and_names_th
     loose = replace(limit, min_flank_position_mm=0.5 * s_max)
     assert toleranced_layouts(spec, sigma, E, math.inf, loose) == (
         candidate_layouts(spec, sigma, E, contact=loose), "")
+    with pytest.raises(DesignError, match="cusp"):  # a search for releasable springs only
+        toleranced_layouts(spec, sigma, E, math.inf, limit, nominal_fallback=False)
     heavy, *_ = _spec_and_limits(1.0e5)  # beyond the balls' torque cap for any tolerance
     with pytest.raises(DesignError) as toleranced:
         candidate_layouts(heavy, sigma, E, contact=limit)

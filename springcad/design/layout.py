@@ -301,7 +301,8 @@ def candidate_layouts(spec: SpringSpec, sigma, E, limit: int = MAX_CANDIDATES,
 
 
 def toleranced_layouts(spec: SpringSpec, sigma, E, max_root_radius_mm: float,
-                       contact: ContactLimit) -> tuple[list[Layout], str]:
+                       contact: ContactLimit, nominal_fallback: bool = True
+                       ) -> tuple[list[Layout], str]:
     """:func:`candidate_layouts` with ``contact``; when only the profile tolerances' cusp
     room stops every layout, the layouts for nominal parts with a warning (text) that names
     the tolerances that would keep the contact off the cusp, else "".
@@ -310,6 +311,7 @@ def toleranced_layouts(spec: SpringSpec, sigma, E, max_root_radius_mm: float,
     spring: a spring whose ball meets it only for nominal parts is made, and the release
     gate's worst-case clearances at full deflection stop its release (NOT FOR MANUFACTURE,
     with the tolerances that release it) instead of the design refusing the spec.
+    ``nominal_fallback`` False (a search for releasable springs only): the refusal stands.
 
     Raises:
         DesignError: no layout fits even for nominal parts (the toleranced refusal).
@@ -318,7 +320,7 @@ def toleranced_layouts(spec: SpringSpec, sigma, E, max_root_radius_mm: float,
         return candidate_layouts(spec, sigma, E, max_root_radius_mm=max_root_radius_mm,
                                  contact=contact), ""
     except DesignError as toleranced:
-        if contact.min_flank_position_mm <= 0:
+        if contact.min_flank_position_mm <= 0 or not nominal_fallback:
             raise
         try:
             layouts = candidate_layouts(spec, sigma, E, max_root_radius_mm=max_root_radius_mm,

@@ -34,12 +34,30 @@ from springcad.design.feasibility import (count_probe, describe, fixed_choices, 
                                           probes_spent, series_change)
 from springcad.design.layout import MAX_CANDIDATES, ContactLimit, Layout, toleranced_layouts
 from springcad.design.shapes.base import SizingContext
-from springcad.design.resize import stiffness_out_of_reach, widening_room_short, with_width
+from springcad.design.resize import widening_room_short, with_width
 from springcad.design.shortfalls import margin_shortfall, profile_defect, soft_shortfalls
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError, SpecInfeasible
 from springcad.progress import report
 from springcad.units import J_PER_NMM, NMM_PER_NM
+
+
+#: within :func:`for_a_user`: a layout whose only shortfall is the profile tolerances' cusp
+#: room is made for nominal parts (the release gate stops it); outside (the synthesis's yes
+#: or no), it is no candidate
+_FOR_A_USER: contextvars.ContextVar[bool] = contextvars.ContextVar("springcad_for_a_user",
+                                                                   default=False)
+
+
+@contextlib.contextmanager
+def for_a_user():
+    """Within it, the search makes the spring a user asked for even when only the profile
+    tolerances keep it from release (:func:`~springcad.design.layout.toleranced_layouts`)."""
+    token = _FOR_A_USER.set(True)
+    try:
+        yield
+    finally:
+        _FOR_A_USER.reset(token)
 
 
 class _NoMoreLayouts(Exception):
@@ -92,7 +110,8 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
             "or thicken the disk, or put springs in series")
 
     layouts, cusp_warning = toleranced_layouts(
-        spec, sigma, E, rr_max, ContactLimit.of(material, spec.max_deflection_rad, manufacturing))
+        spec, sigma, E, rr_max, ContactLimit.of(material, spec.max_deflection_rad, manufacturing),
+        nominal_fallback=_FOR_A_USER.get())
     warnings += [cusp_warning] if cusp_warning else []
     if rank >= len(layouts):
         raise _NoMoreLayouts(rank)
@@ -351,10 +370,6 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
             rejected.append((None, DesignError(f"spring '{spec.name}': {defect}"), []))
             continue
         if d is not None:
-            unreachable = stiffness_out_of_reach(d)
-            if unreachable:
-                rejected.append((None, DesignError(unreachable), []))
-                continue
             d = _replace(d, design_choice=_choice_text(d, rejected),
                          max_root_radius_mm=max_root_radius_mm)
             short = soft_shortfalls(d) + margin_shortfall(d, required) + widening_room_short(d)
