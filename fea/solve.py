@@ -182,6 +182,11 @@ def solve(system, method: str | None = None):
         spd = False
     try:
         x = _direct(M, b, method, spd, 0.01 * RESIDUAL_TOLERANCE)
+    except (ImportError, OSError) as err:  # the solver library itself, not the model
+        raise SolverError(f"the sparse direct solver '{method}' could not be loaded "
+                          f"({type(err).__name__}: {err}): the install is broken (pypardiso "
+                          "finds MKL's mkl_rt under the Python prefix; a virtual environment "
+                          "without it breaks it); reinstall pypardiso and mkl") from err
     except Exception as err:  # pardiso / superlu failures: singular or not factorisable
         raise SolverError(f"the linear system could not be factorised ({type(err).__name__}: "
                           f"{err}); the model is probably not held against rigid motion") from err

@@ -100,6 +100,24 @@ def test_singular_matrix_is_an_error_never_a_number(s1_faces, material):
         solve(sys_, "superlu")
 
 
+def test_a_solver_that_cannot_load_is_named_not_the_model(s1_faces, material, monkeypatch):
+    """pypardiso without MKL's mkl_rt (a virtual environment without it) raises ImportError
+    at the factorisation: the message names the solver install, not rigid motion."""
+    from fea import solve as solve_module
+    from fea.mesh import fea_mesh_2d
+    from fea.problem import LoadCase, assemble
+
+    def missing(*args, **kwargs):
+        raise ImportError("Shared library mkl_rt not found")
+
+    monkeypatch.setattr(solve_module, "_direct", missing)
+    g, faces = s1_faces
+    sys_ = assemble(fea_mesh_2d(faces[0], g), material, LoadCase())
+    with pytest.raises(SolverError, match="could not be loaded") as err:
+        solve_module.solve(sys_, "pardiso")
+    assert "rigid motion" not in str(err.value) and "mkl_rt" in str(err.value)
+
+
 def test_impossible_load_cases(s1_faces, material):
     from fea.mesh import fea_mesh_2d
     from fea.problem import LoadCase, assemble
