@@ -273,11 +273,18 @@ def _ball_window(reach_mm, k_allowed, max_ball_mm):
     return np.where(ok, lo, np.inf), np.where(ok, hi, -np.inf)
 
 
+def cusp_room_mm(contact_radius_mm: float, min_flank_position_mm: float) -> float:
+    """The flank the ball's contact must keep from the cam flank's cusp (mm): the profile
+    tolerances s_min = t_spring + t_shaft along a flank that leaves the cusp as the involute
+    of the contact circle, sqrt(2 r_c s_min)."""
+    return math.sqrt(2.0 * contact_radius_mm * min_flank_position_mm)
+
+
 def _window_scalar(force_N, contact_radius_mm, gap_mm, deflection_rad, thickness_mm, E_MPa,
                    nu, allowable_MPa, min_flank_position_mm) -> tuple[float, float]:
     """:func:`tip_radius_window_mm` on floats (math, no arrays: a tenth of the time)."""
     reach = contact_radius_mm * deflection_rad - gap_mm
-    max_ball = reach - math.sqrt(2.0 * contact_radius_mm * min_flank_position_mm)
+    max_ball = reach - cusp_room_mm(contact_radius_mm, min_flank_position_mm)
     if force_N <= 0:
         return 0.0, (max_ball if max_ball > 0 else -math.inf)
     c_vm = von_mises_peak(round(nu, 6))[0]

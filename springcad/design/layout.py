@@ -19,7 +19,7 @@ from springcad.config import SpringSpec
 from springcad.config.consistency import CONTACT_SEARCH_FRACTION
 from springcad.design import flexure as fx
 from springcad.design.contact_fatigue import allowable_von_mises_MPa
-from springcad.design.contact_stress import tip_radius_window_mm
+from springcad.design.contact_stress import cusp_room_mm, tip_radius_window_mm
 from springcad.design.numeric import find_root
 from springcad.errors import DesignError, SpecInfeasible
 from springcad.units import NMM_PER_NM
@@ -145,7 +145,7 @@ def _contact_shortfall(contact: ContactLimit, spec: SpringSpec, rc: float) -> st
     """Why no tip ball carries its load in contact at ``rc`` (text): the flank that full
     deflection leaves is too short for the profile tolerances, or too tight for the load."""
     theta, reach = spec.max_deflection_rad, rc * spec.max_deflection_rad - contact.gap_mm
-    cusp = math.sqrt(2.0 * rc * contact.min_flank_position_mm)
+    cusp = cusp_room_mm(rc, contact.min_flank_position_mm)
     if reach - cusp < spec.min_tip_radius_mm:
         return (f" (the flank full deflection leaves, r_c theta - w_gap = {reach:.3g} mm, holds "
                 f"no ball of at least {spec.min_tip_radius_mm:g} mm whose contact stays "
@@ -334,7 +334,7 @@ def toleranced_layouts(spec: SpringSpec, sigma, E, max_root_radius_mm: float,
         f"the tip ball's contact at full deflection stays off the cam flank's cusp only for "
         f"nominal parts: the profile tolerances t_spring_mm + t_shaft_mm = "
         f"{contact.min_flank_position_mm:.3g} mm need sqrt(2 r_c (t_spring + t_shaft)) = "
-        f"{math.sqrt(2.0 * lay.rc * contact.min_flank_position_mm):.3g} mm of flank beyond "
+        f"{cusp_room_mm(lay.rc, contact.min_flank_position_mm):.3g} mm of flank beyond "
         f"the ball, the flank r_c theta - w_gap - r_b leaves {room:.3g} mm at r_c = "
         f"{lay.rc:.3g} mm: not for manufacture unless t_spring_mm + t_shaft_mm <= "
         f"{s_max:.3g} mm, or with a larger contact radius or deflection")

@@ -25,6 +25,14 @@ from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError
 
 
+def _neighbour_clearance_mm(d: SpringDesign) -> float:
+    """The narrowest gap between neighbouring flexures of ``d`` (mm), on 1201 stations from
+    the contact circle to the root."""
+    y = np.linspace(d.contact_radius_mm, d.root_station_mm, 1201)
+    return fx.neighbour_clearance_mm(d.centreline, y, d.width_mm(y), d.n_flexures,
+                                     d.tip_radius_mm)
+
+
 def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0) -> SpringDesign:
     """The same spring with its flexure widths scaled and/or offset, profiles rebuilt.
 
@@ -46,8 +54,7 @@ def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0)
     # straight flexures too (many of them close together at the tips), on the nominal
     # profile; the tolerance study's offsets of a curved flexure are held to it as before
     if not d.centreline.is_straight or offset_mm == 0.0:
-        clearance = fx.neighbour_clearance_mm(d.centreline, y, d.width_mm(y), d.n_flexures,
-                                              d.tip_radius_mm)
+        clearance = _neighbour_clearance_mm(d)
         if clearance < mfg.min_slot_width_mm:
             wider = "" if scale == 1.0 else f" {scale:.4f} x wider"
             raise DesignError(
@@ -154,10 +161,8 @@ WIDEN_ROOM = 1.04
 def widening_room_short(design: SpringDesign) -> list[str]:
     """Why flexures :data:`WIDEN_ROOM` x as wide would break the neighbour clearance the
     wire needs (a shortfall the search tries other layouts to avoid), else []."""
-    wider = _replace(design, width_scale=design.width_scale * WIDEN_ROOM)
-    y = np.linspace(design.contact_radius_mm, design.root_station_mm, 1201)
-    clearance = fx.neighbour_clearance_mm(wider.centreline, y, wider.width_mm(y),
-                                          design.n_flexures, design.tip_radius_mm)
+    clearance = _neighbour_clearance_mm(
+        _replace(design, width_scale=design.width_scale * WIDEN_ROOM))
     need = design.manufacturing.min_slot_width_mm
     if clearance >= need:
         return []
