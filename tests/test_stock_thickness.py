@@ -11,7 +11,7 @@ from springcad.config import job_from_dict
 from springcad.config.schema import keys
 from springcad.design import redesign, search
 from springcad.design.job import design_job
-from springcad.design.stock import plate_thicknesses_mm
+from springcad.design.stock import _thinnest, plate_thicknesses_mm
 from springcad.errors import ConfigError, DesignError
 
 
@@ -95,3 +95,29 @@ def test_stress_redesign_that_nothing_carries_says_what_it_tried(chosen):
     with pytest.raises(DesignError, match="no redesign keeps the yield margin") as err:
         redesign.redesign_for_margin(d, 4.0)
     assert "the same layout at" in str(err.value) and "any layout at" in str(err.value)
+
+
+@pytest.mark.parametrize("first, last", [(0, 23), (5, 5), (3, 9), (0, 0), (23, 23), (10, 17),
+                                         (None, None)])
+def test_the_thinnest_plate_is_found_when_thick_plates_fail_too(first, last):
+    """Feasibility as an interval of the stock list (thin plates fail the stress, thick ones
+    the webs): the bisection finds its first plate, as a scan of every plate does, and names
+    the next thinner plate it probed."""
+    stock = list(plate_thicknesses_mm())
+    probed = []
+
+    def designs(t):
+        i = stock.index(t)
+        probed.append(i)
+        inside = first is not None and first <= i <= last
+        return inside, first is not None and i > last
+
+    t, thinner = _thinnest(stock, designs)
+    if first is None:
+        assert (t, thinner) == (None, None)
+        return
+    assert t == stock[first]
+    assert thinner == (stock[first - 1] if first > 0 else None)
+    if thinner is not None:
+        assert stock.index(thinner) in probed
+    assert len(probed) <= 2 * 5 + 1  # two bisections of 24 plates, not a scan

@@ -152,6 +152,55 @@ def with_width_scale(design: SpringDesign, scale: float) -> SpringDesign:
     return with_width(design, scale / design.width_scale, design.width_offset_mm)
 
 
+#: the FEA stiffness correction may need to lower the beam stiffness by this fraction (the
+#: FEA and beam theory differ by a few % on curved and short flexures): a layout whose
+#: minimum webs leave less room than this cannot be corrected onto its target
+STIFFNESS_ROOM = 0.05
+#: the width scale at which that room is measured, relative to the design's (-)
+ROOM_SCALE = 0.9
+#: the beam stiffness a design may keep above its target (-)
+STIFFNESS_OVER = 0.01
+
+
+def web_stiffness_excess(k_Nmm_per_rad, k_narrow_Nmm_per_rad, target_Nmm_per_rad):
+    """How far the minimum webs hold the stiffness from the reach of the FEA correction
+    (-, scalars or arrays): the larger of K / (target (1 + :data:`STIFFNESS_OVER`)) and
+    K_narrow / (target (1 - :data:`STIFFNESS_ROOM`)), K_narrow the beam stiffness of flexures
+    :data:`ROOM_SCALE` x as wide; above 1 the layout is out of reach. N*mm/rad in."""
+    return np.maximum(k_Nmm_per_rad / (target_Nmm_per_rad * (1 + STIFFNESS_OVER)),
+                      k_narrow_Nmm_per_rad / (target_Nmm_per_rad * (1 - STIFFNESS_ROOM)))
+
+
+class WebsHoldStiffness(DesignError):
+    """No layout designs, and some were passed over by :func:`stiffness_out_of_reach`: the
+    minimum webs hold the stiffness above the target, so a thinner disk may design (a spring's
+    feasibility is then not monotone in its thickness: thin plates fail the stress, thick ones
+    the webs)."""
+
+
+def stiffness_out_of_reach(design: SpringDesign) -> str:
+    """Why the widths cannot bring ``design``'s stiffness onto its target, or "".
+
+    The wire-EDM minimum web near the tips does not scale with the widths: when the webs
+    carry much of the stiffness, the design's beam stiffness stays above the target, or
+    flexures :data:`ROOM_SCALE` x as wide do not lower it by :data:`STIFFNESS_ROOM`, the
+    room the FEA correction needs (a held-out spring designed 10 % stiff verified +5.8 %
+    after four corrections): :func:`web_stiffness_excess` > 1. Beam theory, milliseconds.
+    """
+    target = design.target_stiffness_Nmm_per_rad
+    k = design.beam_stiffness_Nmm_per_rad()
+    narrower = _replace(design, width_scale=design.width_scale * ROOM_SCALE)
+    k_narrow = narrower.beam_stiffness_Nmm_per_rad()
+    if web_stiffness_excess(k, k_narrow, target) <= 1.0:
+        return ""
+    web = design.manufacturing.min_web_mm
+    return (f"spring '{design.name}': the wire-EDM minimum web ({web:g} mm) near the flexure "
+            f"tips keeps the beam stiffness at {k / 1e3:.4g} N*m/rad ({100 * (k / target - 1):+.1f} "
+            f"% from the target), and flexures {ROOM_SCALE:g} x as wide only reach "
+            f"{100 * (k_narrow / target - 1):+.1f} %: fewer or longer flexures, a thinner disk "
+            "or a higher stiffness")
+
+
 #: the FEA stiffness correction may need flexures this much wider (-): K ~ w^3, so +12 %
 #: (a held-out spring of 79 flexures 0.38 mm apart verified 10 % soft, and 1.037 x wider
 #: flexures left 0.25 mm between them: the correction stopped)

@@ -34,7 +34,8 @@ from springcad.design.feasibility import (count_probe, describe, fixed_choices, 
                                           probes_spent, series_change)
 from springcad.design.layout import MAX_CANDIDATES, ContactLimit, Layout, toleranced_layouts
 from springcad.design.shapes.base import SizingContext
-from springcad.design.resize import widening_room_short, with_width
+from springcad.design.resize import (WebsHoldStiffness, stiffness_out_of_reach,
+                                     widening_room_short, with_width)
 from springcad.design.shortfalls import margin_shortfall, profile_defect, soft_shortfalls
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError, SpecInfeasible
@@ -300,18 +301,28 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
 def probe(spec, material, manufacturing, hardware, max_root_radius_mm) -> SpringDesign | None:
     """A feasibility probe: the design the search (:data:`PROBE_CANDIDATES` layouts) finds
     for ``spec`` with the yield margin and duty of ``material``, or None."""
+    return probe_thickness(spec, material, manufacturing, hardware, max_root_radius_mm)[0]
+
+
+def probe_thickness(spec, material, manufacturing, hardware, max_root_radius_mm
+                    ) -> tuple[SpringDesign | None, bool]:
+    """:func:`probe`, and whether the disk is too thick when it does not design (a layout
+    was passed over because its minimum webs hold the stiffness above the target:
+    :class:`~springcad.design.resize.WebsHoldStiffness`)."""
     count_probe()
     try:
         d = design_for_margin(spec, material, manufacturing, hardware, explain=False,
                               max_root_radius_mm=max_root_radius_mm,
                               candidates=PROBE_CANDIDATES)
+    except WebsHoldStiffness:
+        return None, True
     except DesignError:
-        return None
+        return None, False
     ok = d.yield_margin >= duty.required_margin(material, spec.max_deflection_rad) * (1.0 - 1e-3)
     # a fixed ball outside its contact window designs with a warning; a probe's suggestion
     # must give a spring whose ball carries the contact too
     ball_ok = d.tip_radius_mm >= d.tip_radius_required_mm * (1.0 - 1e-6)
-    return d if ok and ball_ok else None
+    return (d if ok and ball_ok else None), False
 
 
 def _designs(spec, material, manufacturing, hardware, max_root_radius_mm, base=None) -> bool:
@@ -370,6 +381,10 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
             rejected.append((None, DesignError(f"spring '{spec.name}': {defect}"), []))
             continue
         if d is not None:
+            unreachable = stiffness_out_of_reach(d)
+            if unreachable:
+                rejected.append((None, WebsHoldStiffness(unreachable), []))
+                continue
             d = _replace(d, design_choice=_choice_text(d, rejected),
                          max_root_radius_mm=max_root_radius_mm)
             short = soft_shortfalls(d) + margin_shortfall(d, required) + widening_room_short(d)
@@ -391,7 +406,9 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
     if explain:
         raise _refusal(spec, material, manufacturing, hardware, max_root_radius_mm,
                        text, tried) from first
-    raise DesignError(text + tried.replace(" the first:", "")) from first
+    webs = any(isinstance(e, WebsHoldStiffness) for _, e, _ in rejected)
+    raise (WebsHoldStiffness if webs else DesignError)(
+        text + tried.replace(" the first:", "")) from first
 
 
 #: layout designs :func:`kept_layouts` keeps at most (each with its profiles, ~1 MB): the

@@ -10,8 +10,9 @@ which the design search (:func:`springcad.design.search.design_spring`) finds a 
 the lightest disk the envelope allows, cut from plate a stockist holds.
 
 The search bisects the sorted list with the design search's feasibility probe
-(:func:`springcad.design.search.probe`): the chosen value designs, and the next thinner
-one was probed and does not. Units: mm.
+(:func:`springcad.design.search.probe_thickness`), which also says when a plate is too thick
+(its minimum webs hold a low stiffness above the target): the chosen value designs, and the
+next thinner one was probed and does not. Units: mm.
 """
 
 from __future__ import annotations
@@ -64,15 +65,32 @@ def _allowed_mm(spec: SpringSpec) -> list[float]:
 
 
 def _thinnest(stock: list[float], designs) -> tuple[float | None, float | None]:
-    """(the thinnest of ``stock`` that ``designs``, the next thinner value probed and
-    refused or None): bisection, the last value probed first; (None, None) when it does
-    not design."""
-    if not stock or not designs(stock[-1]):
+    """(the thinnest of ``stock`` that designs, the next thinner value probed and refused or
+    None); (None, None) when none does.
+
+    ``designs(t)`` gives (whether thickness t designs, whether it is refused as too thick).
+    A spring's feasibility need not be monotone in its thickness: a thin plate fails the
+    stress or duty, a thick one can fail because its minimum webs hold a low stiffness above
+    the target. So the stock list is read as [too thin ..., designs ..., too thick ...]: the
+    thickest plate is probed first (it designs in the usual case), a plate refused as too
+    thick moves the search thinner, one refused otherwise moves it thicker, until a plate
+    designs; then the thinnest that does is bisected below it.
+    """
+    lo, hi, found = -1, len(stock), None  # stock[lo] too thin, stock[hi] too thick
+    mid = len(stock) - 1
+    while hi - lo > 1:
+        ok, too_thick = designs(stock[mid])
+        if ok:
+            found = mid
+            break
+        lo, hi = (lo, mid) if too_thick else (mid, hi)
+        mid = (lo + hi) // 2
+    if found is None:
         return None, None
-    lo, hi = -1, len(stock) - 1  # stock[lo] refused (or none below), stock[hi] designs
+    hi = found  # stock[lo] refused as too thin (or none below), stock[hi] designs
     while hi - lo > 1:
         mid = (lo + hi) // 2
-        lo, hi = (lo, mid) if designs(stock[mid]) else (mid, hi)
+        lo, hi = (lo, mid) if designs(stock[mid])[0] else (mid, hi)
     return stock[hi], (stock[lo] if lo >= 0 else None)
 
 
@@ -82,7 +100,7 @@ def choose_thickness_mm(spec: SpringSpec, material: MaterialSpec,
                         ) -> tuple[float | None, float | None, str]:
     """The thinnest stock thickness up to ``spec.max_thickness_mm`` at which ``spec``
     designs, for its duty (springcad's default duty when the job declares none), else for
-    the yield margin alone, by bisection (a thicker disk only adds room).
+    the yield margin alone, by bisection (:func:`_thinnest`).
 
     Returns:
         (thickness or None when none designs, the next thinner stock value probed and
@@ -105,10 +123,12 @@ def choose_thickness_mm(spec: SpringSpec, material: MaterialSpec,
 
 
 def _prober(spec, material, manufacturing, hardware, max_root_radius_mm):
-    """``designs(t)``: whether the design search's probe designs ``spec`` at thickness t."""
-    def designs(t: float) -> bool:
-        return search.probe(_replace(spec, thickness_mm=t), material, manufacturing, hardware,
-                            max_root_radius_mm) is not None
+    """``designs(t)``: (whether the design search's probe designs ``spec`` at thickness t,
+    whether it refuses it as too thick)."""
+    def designs(t: float) -> tuple[bool, bool]:
+        d, too_thick = search.probe_thickness(_replace(spec, thickness_mm=t), material,
+                                              manufacturing, hardware, max_root_radius_mm)
+        return d is not None, too_thick
     return designs
 
 

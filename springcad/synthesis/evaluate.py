@@ -113,6 +113,10 @@ def describe(binding: str, value: float, limit: float, disk: str = "") -> str:
         return (f"{who}no root flare gives a buildable root: the fillet (r = {value:.3g} mm) "
                 f"cannot be placed on the {limit:.3g} mm rim, or the fillets of neighbouring "
                 "flexures overlap, or the flared flexures come too close")
+    if binding == "web_stiffness":
+        return (f"{who}the wire-EDM minimum webs near the flexure tips hold the beam stiffness "
+                f"{value:.3f} x beyond what the FEA stiffness correction can bring onto the "
+                "target (fewer or longer flexures, a thinner disk or a higher stiffness)")
     if binding in ("yield_margin", "fatigue_margin"):
         what = "yield" if binding == "yield_margin" else "fatigue (S_e)"
         return (f"{who}predicted peak {value:.0f} MPa > {limit:.0f} MPa that the required "

@@ -35,6 +35,7 @@ import numpy as np
 
 from springcad.design import flexure as fx
 from springcad.design import stress
+from springcad.design.resize import ROOM_SCALE
 from springcad.design.search import FLARE_GAIN, ROOT_FLARES
 from springcad.design.shapes.serpentine_screen import U, blocks, trapz_rows
 
@@ -146,7 +147,8 @@ def _one_flare(flare, g, cal):
     place the fillets (``predicted``) and whether the profile is buildable (``buildable``:
     the neighbouring root fillets do not overlap and, for curved flexures, the clearance
     to the neighbour and the concave edge radius keep the wire's rules, as
-    :func:`springcad.design.resize.with_width` and the ring profile check).
+    :func:`springcad.design.resize.with_width` and the ring profile check), and the
+    compliance of flexures :data:`~springcad.design.resize.ROOM_SCALE` x as wide (mm/N).
     ``cal``: the (straight, curved) rows' :class:`~springcad.design.stress.StressCalibration`
     (the fillet and neck coefficients are shared).
     """
@@ -217,8 +219,9 @@ def _one_flare(flare, g, cal):
     f_exp = np.where(curved, curved_cal.flank_aspect_exponent,
                      straight_cal.flank_aspect_exponent)
     flank = f_factor * flank * (g["z"][:, 0] / w_root) ** f_exp
+    narrow = _compliance(scale * ROOM_SCALE, factor, g)[0]
     return (flank, root, curved_cal.neck_factor * neck, area, scale[:, 0], compliance, ok,
-            buildable)
+            buildable, narrow)
 
 
 def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coef, rb,
@@ -241,7 +244,9 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
         (index into :data:`REGIONS`), ``flare``, ``width_scale``, ``flexure_area_mm2``
         (one flexure outside the tip ball, integral w ds, and its root fillets),
         ``stiffness_Nmm_per_rad`` (beam theory of the built
-        widths: the tip web keeps it off ``K`` where it is a large part of the flexure) and
+        widths: the tip web keeps it off ``K`` where it is a large part of the flexure),
+        ``narrow_stiffness_Nmm_per_rad`` (the same with widths
+        :data:`~springcad.design.resize.ROOM_SCALE` x as wide) and
         ``ok`` (False: no root flare gives a profile the design can build: a fillet
         cannot be placed, neighbouring root fillets overlap, or the flared flexures break
         the clearance or edge radius).
@@ -251,7 +256,7 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
     m = len(rc)
     cols = {k: np.full(m, np.nan) for k in ("flank_MPa", "root_MPa", "neck_MPa", "peak_MPa",
                                            "flare", "width_scale", "flexure_area_mm2",
-                                           "stiffness_Nmm_per_rad")}
+                                           "stiffness_Nmm_per_rad", "narrow_stiffness_Nmm_per_rad")}
     cols["region"] = np.zeros(m, dtype=np.int64)
     cols["ok"] = np.zeros(m, dtype=bool)
     flares = np.array(ROOT_FLARES)
@@ -310,8 +315,10 @@ def predict_peaks(x, y, slope, kappa, *, rc, rr, ro, n, load, z, E, K, width_coe
             cols[name][b] = np.column_stack([r[k] for r in runs])[rows, pick] * gain
         for name, k in (("flexure_area_mm2", 3), ("width_scale", 4)):
             cols[name][b] = np.column_stack([r[k] for r in runs])[rows, pick]
-        cols["stiffness_Nmm_per_rad"][b] = np.asarray(n, dtype=float)[b] * np.asarray(
-            rc, dtype=float)[b] ** 2 / compliance
+        k_of = np.asarray(n, dtype=float)[b] * np.asarray(rc, dtype=float)[b] ** 2
+        cols["stiffness_Nmm_per_rad"][b] = k_of / compliance
+        cols["narrow_stiffness_Nmm_per_rad"][b] = k_of / np.column_stack(
+            [r[8] for r in runs])[rows, pick]
         cols["ok"][b] = np.isfinite(order[rows, pick])
         picked = peaks[rows, pick] * gain
         cols["peak_MPa"][b] = np.where(np.isfinite(picked), picked, np.nan)

@@ -30,7 +30,11 @@ without building the exact profiles:
    (:func:`springcad.design.search.design_spring` does this with the N the synthesis
    writes into the job), at most ``STRESS_PASSES`` designs; a disk that no pass
    brings under the allowed peak fails on ``yield_margin`` (or ``fatigue_margin``);
-8. mass from the flexure area integral w ds of that geometry plus tip balls and the
+8. the minimum webs: a disk whose beam stiffness the tip webs hold out of the FEA
+   correction's reach fails on ``web_stiffness``
+   (:func:`springcad.design.resize.web_stiffness_excess`, as the design's
+   :func:`~springcad.design.resize.stiffness_out_of_reach`);
+9. mass from the flexure area integral w ds of that geometry plus tip balls and the
    rim annulus less the fastener holes; cam area, EDM cut length (an estimate).
 
 What screening does not check (the exact neighbour clearance of the serpentine and
@@ -50,6 +54,7 @@ from springcad.design.cam import OVERTRAVELS
 from springcad.design.ring import hole_diameter_mm
 from springcad.config.consistency import MIN_RIM_FRACTION, min_rim_mm
 from springcad.design.contact_stress import tip_radius_window_mm
+from springcad.design.resize import web_stiffness_excess
 from springcad.design.search import STRESS_PASSES
 from springcad.design.shapes.screen import ScreenRows, ScreenSizing, rim_root_radius_rows
 from springcad.design.shapes.serpentine_screen import U
@@ -60,12 +65,13 @@ __all__ = ["REASONS", "cam_tooth_width_mm", "screen_disks", "screened_shapes"]
 
 #: failure codes (0 = passes), in the order the design meets them
 (OK, ENERGY, TORQUE_CAP, FLEXURE_FIT, RIM_RULE, STRAIGHT, SERPENTINE, ROOT_GAP, CAM_TOOTH,
- CAM_BORE, SERP_SHAPE, ROOT_FILLET, YIELD, FATIGUE, TIP_BALLS) = range(15)
+ CAM_BORE, SERP_SHAPE, ROOT_FILLET, YIELD, FATIGUE, TIP_BALLS, WEB_STIFFNESS) = range(16)
 REASONS = {ENERGY: "energy_bound", TORQUE_CAP: "torque_cap", FLEXURE_FIT: "flexure_fit",
            RIM_RULE: "rim_rule", STRAIGHT: "straight_limit", SERPENTINE: "serpentine_budget",
            ROOT_GAP: "root_gap", CAM_TOOTH: "cam_tooth", CAM_BORE: "cam_bore",
            SERP_SHAPE: "serpentine_shape", ROOT_FILLET: "root_fillet", YIELD: "yield_margin",
-           FATIGUE: "fatigue_margin", TIP_BALLS: "tip_ball_fit"}
+           FATIGUE: "fatigue_margin", TIP_BALLS: "tip_ball_fit",
+           WEB_STIFFNESS: "web_stiffness"}
 #: failure code by reason name (a shape's screen names its failures)
 CODES = {reason: code for code, reason in REASONS.items()}
 def _nmax(rb, rc):
@@ -156,7 +162,7 @@ def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     out["derating"] = np.ones(m)
     out["derated_code"] = np.zeros(m, dtype=np.int64)
     if allowed_peak_MPa is None:
-        return out
+        return _web_room(out, full[0])
     allowed = np.broadcast_to(np.asarray(allowed_peak_MPa, dtype=float), (m,))
     stress_code = np.where(np.broadcast_to(np.asarray(
         False if fatigue_limited is None else fatigue_limited, dtype=bool), (m,)), FATIGUE, YIELD)
@@ -182,6 +188,21 @@ def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     out["code"][i] = stress_code[i]
     out["value"][i] = out["peak_stress_MPa"][i]
     out["limit"][i] = allowed[i]
+    return _web_room(out, full[0])
+
+
+def _web_room(out: dict, K) -> dict:
+    """``out`` with the disks whose minimum webs hold the stiffness out of the FEA
+    correction's reach failed on ``web_stiffness`` (the design's
+    :func:`~springcad.design.resize.stiffness_out_of_reach`, after its stress passes)."""
+    if "narrow_stiffness_Nmm_per_rad" not in out:  # layout only
+        return out
+    excess = web_stiffness_excess(out["stiffness_Nmm_per_rad"],
+                                  out["narrow_stiffness_Nmm_per_rad"], K)
+    i = np.flatnonzero((out["code"] == OK) & (excess > 1.0))
+    out["code"][i] = WEB_STIFFNESS
+    out["value"][i] = excess[i]
+    out["limit"][i] = 1.0
     return out
 
 
@@ -371,7 +392,7 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     ok = code == OK
     pk = {k: np.full(m, np.nan) for k in ("flank_MPa", "root_MPa", "neck_MPa", "peak_MPa",
                                          "flare", "width_scale", "flexure_area_mm2",
-                                         "stiffness_Nmm_per_rad")}
+                                         "stiffness_Nmm_per_rad", "narrow_stiffness_Nmm_per_rad")}
     pk["region"] = np.zeros(m, dtype=np.int64)
     if np.any(ok):
         i = np.flatnonzero(ok)
@@ -405,6 +426,7 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
             "flank_MPa": pk["flank_MPa"], "root_MPa": pk["root_MPa"], "neck_MPa": pk["neck_MPa"],
             "peak_region": pk["region"], "root_flare": pk["flare"],
             "width_scale": pk["width_scale"], "stiffness_Nmm_per_rad": pk["stiffness_Nmm_per_rad"],
+            "narrow_stiffness_Nmm_per_rad": pk["narrow_stiffness_Nmm_per_rad"],
             "root_fillet_mm": root_fillet,
             "ring_area_mm2": np.where(ok, ring_area, np.nan),
             "mass_kg": np.where(ok, ring_area * z * density_kg_per_mm3, np.nan),
