@@ -85,3 +85,39 @@ def test_default_designs_with_a_clear_tooth_tip_and_contact_sized_ball(deg):
                                    d.max_deflection_rad, d.thickness_mm,
                                    mat.youngs_modulus_MPa, mat.poisson_ratio)
     assert mat.yield_strength_MPa / vm >= job.material.safety_factor * (1 - 1e-6)  # sized to it
+
+
+def test_default_duty_search_passes_over_probed_layouts_that_fall_short(monkeypatch):
+    """A job without a [duty] is sized for springcad's default duty by a probe of the first
+    layouts. When each of those falls short of a soft rule (here the first four ranked
+    layouts are said to, whatever their geometry), the full search's clean layout is the
+    design, not the probe's fallback; when every layout falls short, the design says so."""
+    from springcad.design import duty, search
+    from springcad.design.sizing import _NoMoreLayouts
+
+    job = job_from_dict({"springs": {"S1": {**S1, "max_deflection_deg": 10,
+                                            "thickness_mm": 12.0}}})
+    spec, args = job.springs["S1"], (job.manufacturing, job.hardware)
+    sized = duty.sized_for(job.material)
+    ranked = []  # (N, r_c) of each layout rank that designs for the default duty
+    for rank in range(search.MAX_CANDIDATES):
+        try:
+            d = search._layout_design(spec, sized, *args, rank, math.inf)[0]
+        except _NoMoreLayouts:
+            break
+        ranked.append(None if d is None else (d.n_flexures, round(d.contact_radius_mm, 6)))
+    probed = {k for k in ranked[:search.PROBE_CANDIDATES] if k is not None}
+    later = [k for k in ranked[search.PROBE_CANDIDATES:] if k is not None]
+    assert probed and later  # the spec has layouts on both sides of the probe
+    real = search.soft_shortfalls
+
+    def short_if_probed(d):
+        key = (d.n_flexures, round(d.contact_radius_mm, 6))
+        return real(d) or (["marked short"] if key in probed else [])
+
+    monkeypatch.setattr(search, "soft_shortfalls", short_if_probed)
+    d = search.design_spring(spec, job.material, *args, explain=False)
+    assert (d.n_flexures, round(d.contact_radius_mm, 6)) == later[0] and d.sized_for_default_duty
+    monkeypatch.setattr(search, "soft_shortfalls", lambda d: ["marked short"])
+    d = search.design_spring(spec, job.material, *args, explain=False)
+    assert "kept although it falls short" in d.design_choice

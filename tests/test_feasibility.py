@@ -166,3 +166,23 @@ def test_a_fixed_flexure_count_that_cannot_work_is_named_with_the_count_that_doe
     n = int(text.split("chooses ")[1].split(")")[0])
     d = design_spring(replace(spec, n_flexures=n), mat, mfg, hw, explain=False)
     assert d.n_flexures == n and d.yield_margin >= d.required_yield_margin * (1 - 1e-3)
+
+
+def test_stiff_webs_probe_a_thinner_disk_and_a_higher_stiffness_inside_their_window():
+    """Layouts held stiff by their minimum webs (``webs``): feasible only for 3.6 <= z <=
+    4.6 mm (thinner fails the stress) or K >= 240 N*m/rad. The thickness is found below the
+    user's 5 mm by the nearer stop (0.85 x), the stiffness above 150, each the boundary
+    within the bisection's resolution and checked; without ``webs`` neither is found (the
+    far ends 12.5 mm and 45 N*m/rad fail)."""
+    def designs(s):
+        return 3.6 <= s.thickness_mm <= 4.6 or s.target_stiffness_Nmm_per_rad >= 240e3
+
+    changes = {k: v for k, _, v in nearest_changes(_spec(), designs, webs=True)}
+    assert set(changes) == {"thickness_mm", "target_stiffness_Nm_per_rad"}
+    assert 4.6 - 0.75 / 32 - 0.1 <= changes["thickness_mm"] <= 4.6
+    # 1.3 x fails, 1.8 x designs: bisected on 150..270
+    assert 240 <= changes["target_stiffness_Nm_per_rad"] <= 240 + 120 / 32 + 1
+    assert designs(_spec(thickness_mm=changes["thickness_mm"]))
+    assert designs(_spec(stiffness_Nm_per_rad=changes["target_stiffness_Nm_per_rad"]))
+    assert nearest_changes(_spec(), designs) == []
+    assert "thickness_mm (to 0.4x)" in describe("A", [], webs=True)

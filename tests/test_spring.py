@@ -218,7 +218,7 @@ def test_root_fillets_too_large_for_the_arc_between_roots_shrink_to_fit(paper_de
 def test_root_flare_is_the_lowest_predicted_peak(straight, paper_designs):
     """The chosen root flare predicts no higher a peak than any other flare of the list."""
     from springcad.design import stress
-    from springcad.design.search import ROOT_FLARES, FLARE_GAIN, _with_flare
+    from springcad.design.sizing import ROOT_FLARES, FLARE_GAIN, _with_flare
 
     for s in (straight, paper_designs["paper_S1"].springs["S1"]):
         peaks = {f: stress.predict(_with_flare(s, f)).peak_MPa for f in ROOT_FLARES}

@@ -80,25 +80,33 @@ MAX_SCALE = 2.5
 @dataclass(frozen=True)
 class KeyRange:
     """One user key probed: its name in the config, how to read and set it on a spec,
-    the far end of its search as a factor on the user's value, and the rounding step."""
+    the far end of its search as a factor on the user's value, and the rounding step;
+    ``nearer``: factors probed before the far end, nearest first, where the values that
+    design may end before it (a thinner disk for stiff webs also carries less stress)."""
 
     key: str
     get: Callable[[SpringSpec], float]
     set: Callable[[SpringSpec, float], SpringSpec]
     far_factor: float
     step: float
+    nearer: tuple[float, ...] = ()
 
 
-def _keys() -> tuple[KeyRange, ...]:
+def _keys(webs: bool = False) -> tuple[KeyRange, ...]:
+    """The user keys probed, each towards the end that adds room: a thicker disk, a larger
+    one, less deflection, a lower stiffness; with ``webs`` (the minimum webs hold the
+    stiffness above the target) a thinner disk and a higher stiffness instead."""
     return (
         KeyRange("thickness_mm", lambda s: s.thickness_mm,
-                 lambda s, v: _replace(s, thickness_mm=v), 2.5, 0.1),
+                 lambda s, v: _replace(s, thickness_mm=v), 0.4 if webs else 2.5, 0.1,
+                 (0.85, 0.65) if webs else ()),
         KeyRange("outer_radius_mm", lambda s: s.outer_radius_mm,
                  lambda s, v: _replace(s, outer_radius_mm=v), 1.8, 0.5),
         KeyRange("max_deflection_deg", lambda s: math.degrees(s.max_deflection_rad),
                  lambda s, v: _replace(s, max_deflection_rad=math.radians(v)), 0.3, 0.1),
         KeyRange("target_stiffness_Nm_per_rad", lambda s: s.target_stiffness_Nmm_per_rad / NMM_PER_NM,
-                 lambda s, v: _replace(s, target_stiffness_Nmm_per_rad=v * NMM_PER_NM), 0.3, 0.0),
+                 lambda s, v: _replace(s, target_stiffness_Nmm_per_rad=v * NMM_PER_NM),
+                 3.0 if webs else 0.3, 0.0, (1.3, 1.8) if webs else ()),
     )
 
 
@@ -112,11 +120,12 @@ def _rounded(value: float, step: float, up: bool) -> float:
 
 def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
                     keys: tuple[str, ...] | None = None,
-                    deadline: float | None = None) -> list[tuple[str, float, float]]:
+                    deadline: float | None = None, webs: bool = False
+                    ) -> list[tuple[str, float, float]]:
     """The nearest value of each user key at which the spec designs, other keys unchanged.
 
-    Each key's far end (inside the schema's range) is probed first; only the keys whose
-    far end designs are then bisected towards the user's value, all keys a step at a time,
+    Each key's far end (inside the schema's range; its nearer stops first when it has
+    them) is probed first; only the keys whose far end designs are then bisected towards the user's value, all keys a step at a time,
     at least :data:`MIN_STEPS` steps and then until ``deadline`` (:func:`probes_spent`)
     passes: a key cut short keeps the nearest value its bisection had proven.
     Each value is then rounded outward to the key's step and kept when that designs too.
@@ -126,20 +135,24 @@ def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
         designs: the probe (True when a spec designs).
         keys: config keys to probe (default thickness, outer radius, deflection, stiffness).
         deadline: the probe count after which refining stops (None: never).
+        webs: the refusal's layouts were held stiff by their minimum webs: the thickness
+            and stiffness are probed the other way (:func:`_keys`).
 
     Returns:
         (key, user value, suggested value) for every key whose change designs, in the
         order probed; the suggestion was itself checked by ``designs``.
     """
     open_keys = []
-    for kr in _keys():
+    for kr in _keys(webs):
         if keys is not None and kr.key not in keys:
             continue
         v0 = kr.get(spec)
         bound = schema_keys("springs.<name>")[kr.key]
-        far = min(max(v0 * kr.far_factor, bound.lo), bound.hi)
-        if far != v0 and designs(kr.set(spec, far)):
-            open_keys.append((kr, v0, far, bound))
+        for factor in (*kr.nearer, kr.far_factor):
+            far = min(max(v0 * factor, bound.lo), bound.hi)
+            if far != v0 and designs(kr.set(spec, far)):
+                open_keys.append((kr, v0, far, bound))
+                break
     spans = [[v0, far] for _, v0, far, _ in open_keys]  # [fails, designs]
     for step in range(STEPS):  # every key one step at a time, so a deadline leaves all refined
         if step >= MIN_STEPS and deadline is not None and probes_spent() > deadline:
@@ -283,11 +296,12 @@ def material_changes(material: MaterialSpec,
 
 def describe(spring_name: str, changes: list[tuple[str, float, float]],
              materials: list[MaterialSpec] = (), series: int | None = None,
-             spec: SpringSpec | None = None) -> str:
+             spec: SpringSpec | None = None, webs: bool = False) -> str:
     """One clause naming the changes, e.g. "springs.A.thickness_mm = 6.3 (now 5)".
 
     ``materials`` (:func:`material_changes`) and ``series`` (:func:`series_change`, with
-    the refused ``spec``) add their clauses when given.
+    the refused ``spec``) add their clauses when given; ``webs``: the keys were probed as
+    :func:`_keys` does for layouts held stiff by their webs (said when none designs).
     """
     clauses = [f"springs.{spring_name}.{k} = {v:g} (now {v0:.4g})" for k, v0, v in changes]
     clauses += [f'material.name = "{m.material.name}" with material.design_stress_MPa = '
@@ -298,10 +312,10 @@ def describe(spring_name: str, changes: list[tuple[str, float, float]],
             f"{series} disks in series in its place (each springs.{spring_name}."
             f"target_stiffness_Nm_per_rad = {one.target_stiffness_Nmm_per_rad / NMM_PER_NM:.4g}, "
             f"max_deflection_deg = {math.degrees(one.max_deflection_rad):.4g}, and "
-            f"'{spring_name}' {series} times in stack.sequence where it is once)")
+            f"each '{spring_name}' in stack.sequence written {series} times)")
     if not clauses:
-        return ("no change of thickness_mm (to 2.5x), outer_radius_mm (to 1.8x), "
-                "max_deflection_deg (to 0.3x) or target_stiffness_Nm_per_rad (to 0.3x) alone, "
-                f"no stronger built-in material and no {SERIES_COUNTS[-1]} disks in series "
-                "design: change several keys")
+        probed = [f"{kr.key} (to {kr.far_factor:g}x)" for kr in _keys(webs)]
+        probed = ", ".join(probed[:-1]) + " or " + probed[-1]
+        return (f"no change of {probed} alone, no stronger built-in material and no "
+                f"{SERIES_COUNTS[-1]} disks in series design: change several keys")
     return "feasible with " + " or ".join(clauses) + " (each alone, other keys unchanged)"

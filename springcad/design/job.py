@@ -15,7 +15,8 @@ from springcad.design.feasibility import fewer_disks
 from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware, design_warnings
 from springcad.design.ring import pinned_hole_patterns
-from springcad.design.search import for_a_user, probe, short_reason
+from springcad.design.search import probe, short_reason
+from springcad.design.sizing import for_a_user
 from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
@@ -237,7 +238,7 @@ def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> Sprin
 def design_job(job: Job, explain: bool = True, progress: Progress | None = None) -> JobDesign:
     """Design every spring named in the job and the stack (:func:`_design_job`); with
     ``explain`` (a user's job, not a yes or no) a spring only its profile tolerances keep
-    from release is made for nominal parts (:func:`~springcad.design.search.for_a_user`)."""
+    from release is made for nominal parts (:func:`~springcad.design.sizing.for_a_user`)."""
     if not explain:
         return _design_job(job, explain, progress)
     with for_a_user():

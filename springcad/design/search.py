@@ -7,9 +7,9 @@ builds the ring and cam), and the choice is deterministic and explained:
 1. Layouts (N, r_c, tip ball, root radius) come ranked from
    :func:`springcad.design.layout.candidate_layouts`: the reference method's choice
    first, then every other flexure count that fits, each at its best contact radius.
-2. For each, the flexure shape and widths at the design stress (:func:`_design_at`),
-   the root flare with the lowest predicted peak (:func:`_choose_root`), and the stress
-   passes that keep the yield margin (:func:`_design_with_margin`).
+2. For each, the flexure shape and widths at the design stress, the root flare with the
+   lowest predicted peak, and the stress passes that keep the yield margin
+   (:mod:`springcad.design.sizing`).
 3. The first layout that passes every rule is the design; ``design_choice`` says which
    layouts were tried before it and why each was rejected.
 4. When none passes, the refusal names the binding rule and the nearest values of the
@@ -27,235 +27,17 @@ from dataclasses import replace as _replace
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.config.consistency import min_rim_mm
-from springcad.design import duty, shapes, stress
-from springcad.design import flexure as fx
+from springcad.design import duty
 from springcad.design.feasibility import (count_probe, describe, fixed_choices, larger_disk,
                                           material_changes, nearest_changes, probe_clock,
                                           probes_spent, series_change)
-from springcad.design.layout import MAX_CANDIDATES, ContactLimit, Layout, toleranced_layouts
-from springcad.design.shapes.base import SizingContext
-from springcad.design.resize import (WebsHoldStiffness, stiffness_out_of_reach,
-                                     widening_room_short, with_width)
+from springcad.design.layout import MAX_CANDIDATES, Layout
+from springcad.design.resize import WebsHoldStiffness, stiffness_out_of_reach, widening_room_short
 from springcad.design.shortfalls import margin_shortfall, profile_defect, soft_shortfalls
+from springcad.design.sizing import _design_with_margin, _NoMoreLayouts
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError, SpecInfeasible
 from springcad.progress import report
-from springcad.units import J_PER_NMM, NMM_PER_NM
-
-
-#: within :func:`for_a_user`: a layout whose only shortfall is the profile tolerances' cusp
-#: room is made for nominal parts (the release gate stops it); outside (the synthesis's yes
-#: or no), it is no candidate
-_FOR_A_USER: contextvars.ContextVar[bool] = contextvars.ContextVar("springcad_for_a_user",
-                                                                   default=False)
-
-
-@contextlib.contextmanager
-def for_a_user():
-    """Within it, the search makes the spring a user asked for even when only the profile
-    tolerances keep it from release (:func:`~springcad.design.layout.toleranced_layouts`)."""
-    token = _FOR_A_USER.set(True)
-    try:
-        yield
-    finally:
-        _FOR_A_USER.reset(token)
-
-
-class _NoMoreLayouts(Exception):
-    """The layout rank asked for is past the last candidate layout."""
-
-
-# --------------------------------------------------------------------- one layout
-def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
-               hardware: HardwareSpec, derating: float = 1.0,
-               balances: tuple[str, ...] = fx.BALANCES, rank: int = 0,
-               max_root_radius_mm: float = math.inf) -> SpringDesign:
-    """Layout, flexure shape and width calibration at beam stress ``derating`` x design stress.
-
-    No root flare, no profiles yet (:func:`design_spring` adds both). ``balances``: the
-    serpentine balances tried (:func:`flexure.design_serpentine`); ``rank``: which of the
-    ranked candidate layouts (:func:`~springcad.design.layout.candidate_layouts`, 0 = the
-    reference method's choice); ``max_root_radius_mm``: a root radius cap from outside the
-    spring (a stack's common rim-hole circle), besides the spring's own rim.
-
-    Raises:
-        DesignError: the spec cannot be met in its envelope (the message says why
-            and what to change).
-        _NoMoreLayouts: ``rank`` is past the last candidate.
-    """
-    sigma = material.design_stress_MPa * derating
-    E = material.material.youngs_modulus_MPa
-    z, K, theta_d = spec.thickness_mm, spec.target_stiffness_Nmm_per_rad, spec.max_deflection_rad
-    warnings: list[str] = []
-
-    # energy bound: the flexures are bending beams between the contact circle and the root
-    # circle, and no beam stores more than sigma^2/(6E) per unit volume at outer-fibre
-    # stress sigma, so the annulus r_c..R_r bounds the energy of every layout: r_c no
-    # smaller than the tip balls' torque cap allows (load-sized balls) or the user's, R_r
-    # no larger than the rim (and the stack's hole circle) allows
-    rr_max = min(max_root_radius_mm,
-                 spec.outer_radius_mm - min_rim_mm(spec.outer_radius_mm, manufacturing, hardware))
-    rc_min = (spec.contact_radius_mm if spec.contact_radius_mm is not None else
-              fx.min_contact_radius_mm(K * theta_d, z, sigma) if spec.tip_radius_mm is None
-              else 0.0)
-    volume_mm3 = math.pi * max(rr_max ** 2 - rc_min ** 2, 0.0) * z
-    bound_J = fx.energy_bound_J_per_mm3(sigma, E) * volume_mm3
-    need_J = 0.5 * K * theta_d ** 2 * J_PER_NMM
-    if need_J > bound_J:
-        raise SpecInfeasible(
-            f"spring '{spec.name}': storing {need_J:.3g} J at {theta_d:.3g} rad needs more than "
-            f"the flexures can hold at the design stress {sigma:.0f} MPa in the annulus between "
-            f"r_c = {rc_min:.3g} mm (the tip balls' torque cap) and R_r = {rr_max:.3g} mm (the "
-            f"rim): sigma^2/(6E) x pi (R_r^2 - r_c^2) z = {bound_J:.3g} J; no flexure geometry in "
-            "this envelope reaches that deflection: lower the stiffness or deflection, enlarge "
-            "or thicken the disk, or put springs in series")
-
-    layouts, cusp_warning = toleranced_layouts(
-        spec, sigma, E, rr_max, ContactLimit.of(material, spec.max_deflection_rad, manufacturing),
-        nominal_fallback=_FOR_A_USER.get())
-    warnings += [cusp_warning] if cusp_warning else []
-    if rank >= len(layouts):
-        raise _NoMoreLayouts(rank)
-    lay = layouts[rank]
-    n, rc, rb, rr = lay.n, lay.rc, lay.rb, lay.rr
-    if rb < lay.rb_req:
-        need = (f"tip ball {rb:.3f} mm is below the {lay.rb_req:.3f} mm the peak load "
-                f"{lay.load:.1f} N needs in bending at the neck and in Hertz contact (yield; "
-                "a declared duty's contact fatigue)" if math.isfinite(lay.rb_req) else
-                f"no tip ball carries the peak load {lay.load:.1f} N in Hertz contact on this "
-                "flank (the flank radius at full deflection, r_c theta - r_b - w_gap, is too "
-                "small for yield or a declared duty's contact fatigue, or leaves the contact "
-                f"within the profile tolerances of the flank's cusp; the ball is {rb:.3f} mm)")
-        warnings.append(
-            f"{need}; torque cap at r_c = {rc:g} mm is "
-            f"{fx.torque_cap_Nmm(rc, z, sigma) / NMM_PER_NM:.2f} N*m vs peak "
-            f"{K * theta_d / NMM_PER_NM:.2f} N*m: expect higher stress at the tip neck")
-
-    sizing, shape_warnings = shapes.size_flexure(spec.flexure, SizingContext(
-        spec, lay, sigma, E, manufacturing, rr_max, balances))
-    warnings += shape_warnings
-    lay, rr, w0 = sizing.layout, sizing.layout.rr, sizing.record.root_width_mm
-
-    t_rim = spec.outer_radius_mm - rr
-    gap_root = 2 * math.pi * rr / n - w0
-    if gap_root <= 2 * manufacturing.min_inside_radius_mm:
-        raise DesignError(f"spring '{spec.name}': flexure roots ({w0:.3g} mm wide) leave "
-                          f"{gap_root:.3g} mm between them at R_r = {rr:.3g} mm; the wire needs "
-                          f"{2 * manufacturing.min_inside_radius_mm:.3g} mm")
-    root_fillet = max(min(0.5 * t_rim, gap_root / 3.0), manufacturing.min_inside_radius_mm)
-    neck_fillet = max(0.5 * rb, manufacturing.min_inside_radius_mm)
-
-    design = SpringDesign(
-        name=spec.name, spec=spec, material=material, manufacturing=manufacturing,
-        hardware=hardware, n_flexures=n, contact_radius_mm=rc, root_radius_mm=rr,
-        outer_radius_mm=spec.outer_radius_mm, thickness_mm=z, tip_radius_mm=rb,
-        tip_radius_required_mm=lay.rb_req, shape=sizing.record, tip_load_N=lay.load,
-        straight_limit_rad=lay.theta_s, min_neighbour_clearance_mm=sizing.clearance_mm,
-        rim_thickness_mm=t_rim,
-        root_fillet_radius_mm=root_fillet, neck_fillet_radius_mm=neck_fillet,
-        torque_cap_Nmm=fx.torque_cap_Nmm(rc, z, sigma), stiffness_beam_Nmm_per_rad=float("nan"),
-        peak_stress_MPa=float("nan"), warnings=tuple(warnings), stress_derating=derating,
-        cam_min_tip_clearance_mm=spec.cam_min_tip_clearance_mm)
-    # beam prediction of the generated centreline (Castigliano). The web kept at the tip
-    # stiffens the ring by ~0.1-0.3 %: a width factor brings beam theory back onto the
-    # target (K ~ scale^3; two passes because the web itself does not scale)
-    for _ in range(2):
-        k_beam = design.beam_stiffness_Nmm_per_rad()
-        design = _replace(design, width_scale=design.width_scale * (K / k_beam) ** (1 / 3))
-    return design
-
-
-# --------------------------------------------------------------------- stress-aware root
-#: root flares the design chooses from (the range the stress model is calibrated on)
-ROOT_FLARES = (0.0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3)
-#: a flare must lower the predicted peak by more than this to be preferred to a smaller one
-FLARE_GAIN = 0.005
-#: design passes at lower beam stress before the stress correction gives up
-STRESS_PASSES = 5
-
-
-def _with_flare(d: SpringDesign, flare: float) -> SpringDesign:
-    """``d`` with a root flare, widths rescaled back onto its beam stiffness; no profiles."""
-    target = d.beam_stiffness_Nmm_per_rad()
-    c = _replace(d, root_flare=flare, root_flare_length_mm=2.0 * d.rim_thickness_mm if flare else 0.0)
-    for _ in range(3):
-        c = _replace(c, width_scale=c.width_scale * (target / c.beam_stiffness_Nmm_per_rad()) ** (1 / 3))
-    return _replace(c, stiffness_beam_Nmm_per_rad=target)
-
-
-def _choose_root(d: SpringDesign) -> SpringDesign:
-    """The root flare with the lowest predicted peak, with its profiles built.
-
-    Each flare of :data:`ROOT_FLARES` is rescaled to the same beam stiffness and its
-    peak predicted by the FEA-calibrated model (:mod:`springcad.design.stress`); a
-    larger flare must gain at least :data:`FLARE_GAIN`. Candidates whose profile
-    breaks a wire-EDM rule (neighbour clearance, fillets) fall back to the next best.
-    Deterministic; about 0.1 s per candidate.
-    """
-    scored = []
-    for flare in ROOT_FLARES:
-        c = _with_flare(d, flare)
-        try:
-            scored.append((stress.predict(c).peak_MPa, flare, c))
-        except DesignError:
-            continue
-    if not scored:
-        return with_width(d, 1.0, d.width_offset_mm)
-    best = min(p for p, _, _ in scored)
-    order = sorted(scored, key=lambda s: (s[0] > best * (1 + FLARE_GAIN), s[1] if s[0] <= best * (
-        1 + FLARE_GAIN) else s[0]))
-    error = None
-    for _, _, c in order:
-        try:
-            return with_width(c, 1.0, c.width_offset_mm)
-        except DesignError as err:
-            error = err
-    raise error
-
-
-def _design_with_margin(spec: SpringSpec, material: MaterialSpec,
-                        manufacturing: ManufacturingSpec, hardware: HardwareSpec,
-                        rank: int, max_root_radius_mm: float = math.inf
-                        ) -> tuple[SpringDesign | None, list, DesignError | None]:
-    """One candidate layout through the stress passes.
-
-    Returns:
-        (design, history, error): the design, or None with the error that stopped it;
-        ``history`` holds (derating, predicted peak MPa, region) of every pass.
-
-    Raises:
-        _NoMoreLayouts: ``rank`` is past the last candidate.
-    """
-    required = duty.required_margin(material, spec.max_deflection_rad)  # yield and the duty
-    derating, history = 1.0, []
-    d = None
-    for _ in range(STRESS_PASSES):
-        try:
-            d = _choose_root(_design_at(spec, material, manufacturing, hardware, derating,
-                                        rank=rank, max_root_radius_mm=max_root_radius_mm))
-        except DesignError as err:
-            return None, history, err
-        history.append((derating, d.predicted_peak_stress_MPa, d.stress.region))
-        if d.yield_margin >= required * (1.0 - 1e-3):
-            break
-        # the raisers scale with the beam stress: aim 0.5 % inside the margin
-        derating *= d.yield_margin / required * 0.995
-    else:
-        d = _replace(d, warnings=d.warnings + (
-            f"predicted peak {d.predicted_peak_stress_MPa:.0f} MPa ({d.stress.region}) leaves a "
-            f"yield margin {d.yield_margin:.3f} < required {required:.3f} after {STRESS_PASSES} "
-            "stress passes",))
-    if d.peak_torque_Nmm > d.torque_cap_Nmm * (1 + 1e-3) and not any("tip ball" in w for w in d.warnings):
-        d = _replace(d, warnings=d.warnings + (
-            f"peak torque {d.peak_torque_Nmm / NMM_PER_NM:.2f} N*m exceeds the tip-ball torque cap "
-            f"{d.torque_cap_Nmm / NMM_PER_NM:.2f} N*m at r_c = {d.contact_radius_mm:.3g} mm",))
-    if derating < 1.0:
-        d = _replace(d, warnings=d.warnings + (
-            f"{STRESS_DERATED} from {material.design_stress_MPa:.0f} to {d.beam_stress_MPa:.0f} "
-            f"MPa so the predicted peak ({d.predicted_peak_stress_MPa:.0f} MPa at the "
-            f"{d.stress.region}) keeps the yield margin {required:g}",))
-    return d, history, None
-
 
 def short_reason(err: Exception) -> str:
     """An error's message without the spring's name prefix."""
@@ -276,26 +58,55 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
     (:func:`springcad.design.duty.required_margin`).
     """
     if not material.duty.declared:
-        sized = duty.sized_for(material)
-        if duty.fatigue_limited(sized, spec.max_deflection_rad):
-            # the probe's layouts come first in the full search too: its design is the one
-            # the search would return
-            d = probe(spec, sized, manufacturing, hardware, max_root_radius_mm)
-            if d is not None:
-                return _replace(d, material=material, sized_for_default_duty=True, design_choice=(
-                    f"{d.design_choice}; sized for springcad's default duty "
-                    f"({duty.describe(material.duty)})"))
-            d = design_for_margin(spec, material, manufacturing, hardware, explain,
-                                  max_root_radius_mm, candidates)
-            if not explain:
-                return d
-            with probe_clock():
-                advice = duty.alternatives(spec, sized, lambda s, m: _designs(
-                    s, m, manufacturing, hardware, max_root_radius_mm, base=spec),
-                    deadline=ADVICE_PROBES)
-            return _replace(d, duty_advice=advice.lstrip("; "))
+        with kept_layouts():
+            return _for_default_duty(spec, material, manufacturing, hardware, explain,
+                                     max_root_radius_mm, candidates)
     return design_for_margin(spec, material, manufacturing, hardware, explain,
                              max_root_radius_mm, candidates)
+
+
+def _for_default_duty(spec, material, manufacturing, hardware, explain, max_root_radius_mm,
+                      candidates) -> SpringDesign:
+    """:func:`design_spring` of a job that declares no duty."""
+    sized = duty.sized_for(material)
+    if duty.fatigue_limited(sized, spec.max_deflection_rad):
+        # the probe's layouts come first in the full search too: its design is the one
+        # the search would return
+        d = probe(spec, sized, manufacturing, hardware, max_root_radius_mm)
+        if d is not None and soft_shortfalls(d):
+            # every probed layout has a soft shortfall: the full search may find one
+            # without (the kept layouts make the probe's share of it free)
+            d = _clean_or(d, spec, sized, manufacturing, hardware, max_root_radius_mm,
+                          candidates)
+        if d is not None:
+            return _replace(d, material=material, sized_for_default_duty=True, design_choice=(
+                f"{d.design_choice}; sized for springcad's default duty "
+                f"({duty.describe(material.duty)})"))
+        d = design_for_margin(spec, material, manufacturing, hardware, explain,
+                              max_root_radius_mm, candidates)
+        if not explain:
+            return d
+        with probe_clock():
+            advice = duty.alternatives(spec, sized, lambda s, m: _designs(
+                s, m, manufacturing, hardware, max_root_radius_mm, base=spec),
+                deadline=ADVICE_PROBES)
+        return _replace(d, duty_advice=advice.lstrip("; "))
+    return design_for_margin(spec, material, manufacturing, hardware, explain,
+                             max_root_radius_mm, candidates)
+
+
+def _clean_or(d: SpringDesign, spec, material, manufacturing, hardware, max_root_radius_mm,
+              candidates) -> SpringDesign:
+    """The full search's design for ``material`` when it has no soft shortfall and keeps
+    the margin, else ``d`` (a probe's design with one)."""
+    try:
+        full = design_for_margin(spec, material, manufacturing, hardware, explain=False,
+                                 max_root_radius_mm=max_root_radius_mm, candidates=candidates)
+    except DesignError:
+        return d
+    required = duty.required_margin(material, spec.max_deflection_rad)
+    clean = not soft_shortfalls(full) and full.yield_margin >= required * (1.0 - 1e-3)
+    return full if clean else d
 
 
 def probe(spec, material, manufacturing, hardware, max_root_radius_mm) -> SpringDesign | None:
@@ -348,7 +159,7 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
     ``max_root_radius_mm``: a root radius cap from the stack (the common rim-hole circle of
     springs pinned rim to rim must fit the thinnest rim; mm). The candidate layouts are tried best first (module docstring); for each:
 
-    1. Layout, flexure shape and widths at the design stress (:func:`_design_at`).
+    1. Layout, flexure shape and widths at the design stress (:func:`springcad.design.sizing._design_at`).
     2. The root flare with the lowest predicted peak (:func:`_choose_root`).
     3. While yield / predicted peak < the required margin (``material.safety_factor``),
        the beam stress is lowered by that ratio and the spring redesigned (longer,
@@ -397,16 +208,18 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
         if rank == 0 and not history and isinstance(err, SpecInfeasible):
             break  # no layout can help: the energy bound or the torque cap
     if fallback is not None:  # every layout tried has a soft shortfall: the best one, warned
-        return fallback
+        return _replace(fallback, design_choice=(
+            f"{fallback.design_choice.replace(' that passes every rule', '')}; kept although it falls short (every one of the "
+            f"{len(rejected)} layouts tried falls short of a rule; this is the first)"))
     if not rejected:
         raise DesignError(f"spring '{spec.name}': no candidate layout")
     _, first, history = rejected[0]
     tried = "" if len(rejected) == 1 else f" ({len(rejected)} layouts tried; the first:)"
     text = _stress_text(spec, material, history, first) if history else str(first)
+    webs = any(isinstance(e, WebsHoldStiffness) for _, e, _ in rejected)
     if explain:
         raise _refusal(spec, material, manufacturing, hardware, max_root_radius_mm,
-                       text, tried) from first
-    webs = any(isinstance(e, WebsHoldStiffness) for _, e, _ in rejected)
+                       text, tried, webs) from first
     raise (WebsHoldStiffness if webs else DesignError)(
         text + tried.replace(" the first:", "")) from first
 
@@ -462,9 +275,6 @@ def _choice_text(d: SpringDesign, rejected) -> str:
             + "; ".join(short_reason(e) for _, e, _ in rejected))
 
 
-#: the start of the warning that the design lowered its beam stress for the margin (the
-#: FEA's yield margin checks the real geometry: a note where it ran)
-STRESS_DERATED = "beam stress lowered"
 
 
 def _stress_text(spec, material, history, err) -> str:
@@ -522,7 +332,7 @@ def _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm) 
 
 
 def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
-             stop: float = math.inf) -> tuple[str, bool]:
+             stop: float = math.inf, webs: bool = False) -> tuple[str, bool]:
     """The changes that design ``spec`` with ``material``'s yield margin and duty (with
     :data:`SUGGESTION_HEADROOM`): the user's fixed layout keys left free, the nearest values
     of the user's own keys, a stronger material or disks in series, and a declared duty's
@@ -530,7 +340,8 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
 
     ``stop`` (a count of :func:`~springcad.design.feasibility.probes_spent`) is the
     refusal's box: the user's own keys are always probed; the other kinds of change are
-    searched only while it lasts.
+    searched only while it lasts. ``webs``: layouts were held stiff by their minimum webs
+    (the thickness and stiffness are then probed downward and upward).
 
     Returns:
         (text, found): the clause, and whether it names a change that designs.
@@ -549,7 +360,7 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
         say("probing the layout keys you fixed, left free")
     freed = _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm)
     say("probing the nearest value of each of your keys that designs")
-    nearest = nearest_changes(spec, designs, deadline=deadline())
+    nearest = nearest_changes(spec, designs, deadline=deadline(), webs=webs)
     series, materials, alternatives = None, [], ""
     if not duty.fatigue_limited(material, spec.max_deflection_rad):
         # (when the duty sets the allowed peak, its own alternatives, below, replace these)
@@ -559,7 +370,7 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
         if probes_spent() < stop:
             say("probing other materials")
             materials = material_changes(material, lambda m: designs(spec, m))
-    changes = describe(spec.name, nearest, materials, series, spec)
+    changes = describe(spec.name, nearest, materials, series, spec, webs)
     if freed:
         changes = freed + ("; or " + changes if not changes.startswith("no change") else "")
     if probes_spent() < stop and duty.fatigue_limited(material, spec.max_deflection_rad):
@@ -576,7 +387,7 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
 
 
 def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
-             tried: str = "") -> DesignError:
+             tried: str = "", webs: bool = False) -> DesignError:
     """The refusal: the nearest values of the user's own keys that design (numbers) first,
     then why (the binding rule of the reference layout), so a console line cut at its
     length limit keeps the change.
@@ -590,12 +401,12 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     report(f"spring {spec.name}: no layout passes; searching the changes that would design "
            f"it (up to {REFUSAL_TOTAL_PROBES} design probes)")
     with probe_clock():
-        changes, _ = _changes(spec, material, *args, stop=stop)
+        changes, _ = _changes(spec, material, *args, stop=stop, webs=webs)
         sized = duty.sized_for(material)
         if not material.duty.declared and duty.fatigue_limited(sized, spec.max_deflection_rad):
             if probes_spent() < stop:
                 report(f"spring {spec.name}: the same for springcad's default duty")
-                for_duty, found = _changes(spec, sized, *args, stop=stop)
+                for_duty, found = _changes(spec, sized, *args, stop=stop, webs=webs)
                 for_duty = (for_duty if found else "no change springcad probes meets it: "
                             "declare the duty the spring will see in [duty]")
             else:

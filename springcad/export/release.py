@@ -24,7 +24,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from springcad.design.cam import OVERTRAVEL_REDUCED, TIP_CLEARANCE_SHORT
-from springcad.design.search import STRESS_DERATED
+from springcad.design.sizing import STRESS_DERATED
 from springcad.options import written
 
 #: design-time estimates of the contact at +-theta_max that the contact FEA with the profile

@@ -9,7 +9,7 @@ same model on many screened disks at once, on the centreline stations of
 
 1. the flexure widths w = web-floor(scale x w_law(y) x flare(y)): the scale brought
    onto the target stiffness (Castigliano) in two passes without a flare, then, for each
-   root flare of :data:`springcad.design.search.ROOT_FLARES`, three passes onto that
+   root flare of :data:`springcad.design.sizing.ROOT_FLARES`, three passes onto that
    stiffness, exactly as the design steps (the tip web does not scale, so where it is a
    large part of the flexure the passes stop short of the target, as the design's do);
 2. nominal stress 6 F (y - r_c) / (z w^2) times the Winkler factors of the centreline
@@ -21,7 +21,7 @@ same model on many screened disks at once, on the centreline stations of
    all at the target stiffness's load K theta / (N r_c), as the design
    (:func:`springcad.design.stress.tip_load_N`);
 4. the flare with the lowest peak, a larger flare only when it gains more than
-   :data:`springcad.design.search.FLARE_GAIN`.
+   :data:`springcad.design.sizing.FLARE_GAIN`.
 
 A flare whose profile the design cannot build (neighbouring root fillets overlapping,
 clearance or edge radius broken: the design falls back to the next flare) is skipped
@@ -36,7 +36,7 @@ import numpy as np
 from springcad.design import flexure as fx
 from springcad.design import stress
 from springcad.design.resize import ROOM_SCALE
-from springcad.design.search import FLARE_GAIN, ROOT_FLARES
+from springcad.design.sizing import FLARE_GAIN, ROOT_FLARES
 from springcad.design.shapes.serpentine_screen import U, blocks, trapz_rows
 
 #: peak regions, in the order of :class:`springcad.design.stress.StressPrediction`
@@ -105,7 +105,7 @@ def _compliance(scale, factor, g):
 
 def _scale_onto(scale, factor, compliance, passes, g):
     """The width scale after ``passes`` steps scale x (C / C_target)^(1/3) (K ~ scale^3
-    away from the tip web), as :func:`springcad.design.search._design_at` and
+    away from the tip web), as :func:`springcad.design.sizing._design_at` and
     ``_with_flare`` step."""
     for _ in range(passes):
         scale = scale * (_compliance(scale, factor, g)[0] / compliance)[:, None] ** (1 / 3)

@@ -55,7 +55,7 @@ from springcad.design.ring import hole_diameter_mm
 from springcad.config.consistency import MIN_RIM_FRACTION, min_rim_mm
 from springcad.design.contact_stress import tip_radius_window_mm
 from springcad.design.resize import web_stiffness_excess
-from springcad.design.search import STRESS_PASSES
+from springcad.design.sizing import STRESS_PASSES
 from springcad.design.shapes.screen import ScreenRows, ScreenSizing, rim_root_radius_rows
 from springcad.design.shapes.serpentine_screen import U
 from springcad.synthesis.peak import predict_peaks

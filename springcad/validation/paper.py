@@ -38,7 +38,7 @@ from springcad.config import load_job
 from springcad.data import data_path
 from springcad.design.job import design_job
 from springcad.design.resize import with_root, with_width
-from springcad.design.search import _design_at
+from springcad.design.sizing import _design_at
 from springcad.design.stack import series_stiffness as series
 from springcad.errors import ConfigError
 from springcad.options import spell

@@ -24,7 +24,8 @@ import pytest
 
 from springcad.config import load_job
 from springcad.design import flexure as fx
-from springcad.design.search import FLARE_GAIN, design_spring
+from springcad.design.search import design_spring
+from springcad.design.sizing import FLARE_GAIN
 from springcad.design.resize import with_root
 from springcad.errors import DesignError
 from springcad.synthesis import peak

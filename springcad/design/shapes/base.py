@@ -6,7 +6,7 @@ is drawn: its centreline and width law (the outline that :mod:`springcad.design.
 turns into the ring profile, and so geometry/ and fea/ see), the sizing that gives
 the target stiffness at the design stress, and the stress-concentration calibration
 the design's peak prediction (:mod:`springcad.design.stress`) uses. The design
-search (:func:`springcad.design.search._design_at`) knows no shape by name: it asks
+search (:func:`springcad.design.sizing._design_at`) knows no shape by name: it asks
 the registry (:mod:`springcad.design.shapes.registry`).
 
 Local flexure frame as in :mod:`springcad.design.flexure`: the flexure axis is +y,
