@@ -170,8 +170,10 @@ def note_lines(part, values: dict, template: dict) -> list[str]:
             lines += notes.get("edges_d_bore", [])
     if p.process == "wire_edm" and spring is not None:
         m = spring.manufacturing
-        lines.append(f"Wire Ø{fmt(m.wire_diameter_mm)} mm or finer: the smallest inside "
-                     f"radius R{fmt(m.min_inside_radius_mm)} is the wire radius + the "
+        # the job's least inside radius, which the build's edm.inside_corner_radius rule
+        # holds every contour to: the part's own smallest may be larger (R0.158 on a ring)
+        lines.append(f"Wire Ø{fmt(m.wire_diameter_mm)} mm or finer: no inside radius of the "
+                     f"contour is below R{fmt(m.min_inside_radius_mm)}, the wire radius + the "
                      f"{fmt(m.spark_gap_mm)} mm spark gap.")
     from springcad.export.views import hole_frames
 
