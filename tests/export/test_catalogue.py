@@ -149,3 +149,35 @@ def test_rim_pins_slip_and_cannot_jam():
     # every ISO 286 size range springcad tabulates keeps the rule
     for d in (1.0, 2.5, 4.0, 8.0, 12.0):
         assert rim_pin_fit(d, zone).cannot_jam, d
+
+
+#: ISO 286-1 / -2 written in the standard's own form, not springcad's table: the fundamental
+#: deviation es of shafts g and the grade IT6 by nominal size range (um); g6 = (es - IT6, es)
+ISO286_G_ES_UM = {3: -2, 6: -4, 10: -5, 18: -6, 30: -7, 50: -9}
+ISO286_IT6_UM = {3: 6, 6: 8, 10: 9, 18: 11, 30: 13, 50: 16}
+
+
+@pytest.mark.parametrize("d_mm", [1.5, 3.0, 4.0, 6.0, 8.0, 10.15, 14.15, 20.0, 40.0])
+def test_g6_deviation_is_iso286(d_mm):
+    from springcad.design.catalogue import g6_deviation_mm
+
+    upper = next(u for u in ISO286_G_ES_UM if d_mm <= u)
+    es, it6 = ISO286_G_ES_UM[upper], ISO286_IT6_UM[upper]
+    assert g6_deviation_mm(d_mm) == pytest.approx(((es - it6) / 1000, es / 1000))
+
+
+def test_d_shaft_across_flat_check_against_its_solid():
+    """The default torque shaft's note gives the flat as the size across it (what a
+    micrometer reads): by hand Ø4 g6 = 3.988-3.996, radius 1.994-1.998, flat 1.6 0/-0.02
+    from the axis, so 3.574-3.598 mm; the solid's extent across the flat is the nominal
+    2 + 1.6 = 3.6 mm, the top of that band less the g6 allowance."""
+    shaft = next(p for p in assembly("default").parts.values()
+                 if p.info.kind == "torque_shaft")
+    assert shaft.style == "d_shaft"
+    note = shaft.info.notes[0]
+    assert "size across it (flat to the far side of the round): 3.574-3.598 mm" in note
+    assert "g6 radius 1.994-1.998 + the flat's 1.580-1.600 from the axis" in note
+    box = shaft.solid.bounding_box()  # a z-prism of the D: its x/y extents are the D's
+    extents = sorted((box.max.X - box.min.X, box.max.Y - box.min.Y))
+    assert extents[0] == pytest.approx(3.6, abs=1e-6)  # across the flat, nominal
+    assert extents[1] == pytest.approx(4.0, abs=1e-6)
