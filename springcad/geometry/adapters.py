@@ -6,26 +6,13 @@ at the top (+z); output instances are the same parts turned over. Units: mm.
 
 from __future__ import annotations
 
-from springcad.design.catalogue import g6_deviation_mm
 from springcad.design.curves import Profile
 from springcad.design.hardware import TORQUE_SHAFT_TOLERANCE_MM
 from springcad.design.plans import DShaftPlan, HubSocketPlan, TorqueShaftPlan
 from springcad.errors import GeometryError
-from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, circle_loop, d_loop
+from springcad.geometry.base import (COLOURS, PartInfo, Slab, SpringcadPart, across_flat_check,
+                                     circle_loop, d_loop)
 from springcad.geometry.spacers import AnnularPart
-
-
-def across_flat_check(diameter_mm: float, flat_ratio: float) -> str:
-    """How a shop measures a g6 D shaft's flat, which the drawing gives from the axis: the
-    size across it (flat to the far side of the round, a micrometer reading) is the g6
-    radius plus the flat's distance, toleranced 0/-:data:`TORQUE_SHAFT_TOLERANCE_MM`."""
-    lo, hi = g6_deviation_mm(diameter_mm)
-    r_mm, a_mm = 0.5 * diameter_mm, flat_ratio * 0.5 * diameter_mm
-    return (f"Check the flat by the size across it (flat to the far side of the round): "
-            f"{r_mm + 0.5 * lo + a_mm - TORQUE_SHAFT_TOLERANCE_MM:.3f}-"
-            f"{r_mm + 0.5 * hi + a_mm:.3f} mm (the g6 radius {r_mm + 0.5 * lo:.3f}-"
-            f"{r_mm + 0.5 * hi:.3f} + the flat's {a_mm - TORQUE_SHAFT_TOLERANCE_MM:.3f}-"
-            f"{a_mm:.3f} from the axis).")
 
 
 class AlignmentShaft(AnnularPart):
@@ -98,7 +85,7 @@ class TorqueShaft(SpringcadPart):
                    "engaged length": plan.engaged_length_mm}
             note = ("D flat matches the camshaft bore (slip fit): ground after hardening, "
                     "like the g6 diameter; chamfer 0.2 x 45° at the inner end (lead into the "
-                    f"bore). {across_flat_check(self.diameter, self.flat_ratio)}")
+                    f"bore). {across_flat_check(self.diameter, self.flat_ratio, TORQUE_SHAFT_TOLERANCE_MM)}")
             fits = {"outer": "g6"}
             secondary = ("ground",)
             retention = ("Coupling to the drive, and holding the camshaft along the axis (it "

@@ -181,3 +181,23 @@ def test_d_shaft_across_flat_check_against_its_solid():
     extents = sorted((box.max.X - box.min.X, box.max.Y - box.min.Y))
     assert extents[0] == pytest.approx(3.6, abs=1e-6)  # across the flat, nominal
     assert extents[1] == pytest.approx(4.0, abs=1e-6)
+
+
+def test_d_hub_across_flat_check_by_hand():
+    """The 4xS1 end camshaft's D hub (Ø10.15 g6, flat 4.06 0/-t_shaft from the axis, into the
+    torque shaft's socket): by hand g6 over 10-18 mm is -0.017/-0.006, so the radius is
+    5.0665-5.072 and across the flat 9.1165-t_shaft ... 9.132 mm; the hub's profile reaches
+    5.075 + 4.06 = 9.135 mm across the flat at nominal."""
+    import numpy as np
+
+    cam = next(p for p in assembly("4xS1").parts.values()
+               if p.info.kind == "camshaft" and getattr(p, "drive", "") == "hub_flat")
+    t = cam.spring.manufacturing.t_shaft_mm
+    assert cam.hub_radius == pytest.approx(5.075) and t == 0.02
+    note = next(n for n in cam.info.notes if n.startswith("Hub:"))
+    r_lo, r_hi = 5.075 - 0.017 / 2, 5.075 - 0.006 / 2
+    assert (f"size across it (flat to the far side of the round): {r_lo + 4.06 - t:.3f}-"
+            f"{r_hi + 4.06:.3f} mm (the g6 radius {r_lo:.3f}-{r_hi:.3f} + the flat's "
+            f"{4.06 - t:.3f}-4.060 from the axis)") in note, note
+    hub = cam.slabs[0].region.outer.sample(0.001)
+    assert min(np.ptp(hub, axis=0)) == pytest.approx(5.075 + 4.06, abs=1e-3)
