@@ -137,6 +137,11 @@ class ModelRun:
     factor_ahead: object = None
 
     @property
+    def coarse(self) -> bool:
+        """A 2D study without its finest level (:func:`run_model` with ``coarse=True``)."""
+        return bool(self.base2d) and self.study.results[0] is self.base2d[0]
+
+    @property
     def stiffness_Nmm_per_rad(self) -> float:
         return self.study.stiffness.extrapolated * self.factor_K
 
@@ -168,7 +173,8 @@ class ModelRun:
 
 
 def run_model(design, material: Material, options: VerifyOptions, with_3d: bool,
-              progress=_noop, ahead: contextlib.ExitStack | None = None) -> ModelRun:
+              progress=_noop, ahead: contextlib.ExitStack | None = None,
+              coarse: bool = False) -> ModelRun:
     """Mesh and solve one spring geometry on all levels of the chosen model.
 
     Model ``"2d3d"``: the 3D factor's solves (:func:`solve_3d_factor_levels`) run in a second
@@ -177,6 +183,11 @@ def run_model(design, material: Material, options: VerifyOptions, with_3d: bool,
     (an ExitStack that stops the second process when it closes) they are started even when
     ``with_3d`` is False, and left pending as ``run.factor_ahead`` for the caller to apply
     (:func:`apply_3d_factor`) if the correction loop needs the factor of this geometry.
+
+    ``coarse`` (models "2d3d" and "2d"): the finest 2D level is left out and the study is
+    extrapolated over levels 0..n-1 (:attr:`ModelRun.coarse`), e.g. for a correction step
+    whose K is far from the target; :func:`complete_run` adds the finest level later. The
+    3D factor uses levels 0 and 1 only, so it is the same either way.
     """
     geometry = sector_geometry(design)
     theta = design.max_deflection_rad
@@ -205,19 +216,42 @@ def run_model(design, material: Material, options: VerifyOptions, with_3d: bool,
             factor = parallel.ahead(ahead if ahead is not None else own, solve_3d_factor_levels,
                                     faces, geometry, design, material, options,
                                     progress=progress)
-        res2 = []
-        for k in range(0, n + 1):
-            progress(f"2D level {k}", None)
-            t = time.perf_counter()
-            fm = fea_mesh_2d(faces[k], geometry, k)
-            mesh_time += time.perf_counter() - t
-            res2.append(solve_mesh(fm, material, case, theta, keep and k == n))
-        run = ModelRun(study=cv.study(res2[1:], "2d"), geometry=geometry, faces=faces,
-                       base2d=tuple(res2), mesh_time_s=mesh_time)
+        run = ModelRun(study=None, geometry=geometry, faces=faces, mesh_time_s=mesh_time)
+        _solve_2d_levels(run, n if coarse else n + 1, material, options, theta, progress)
         if with_3d:
             apply_3d_factor(run, factor.result())
         elif factor is not None:
             run.factor_ahead = factor
+    return run
+
+
+def _solve_2d_levels(run: ModelRun, count: int, material: Material, options: VerifyOptions,
+                     theta_rad: float, progress=_noop) -> ModelRun:
+    """Solve ``run``'s 2D levels from the first not yet solved up to ``count`` levels (0 ..
+    count-1) and extrapolate its study over the last three: levels 1..n when all n+1 are
+    solved, 0..n-1 for a coarse run. The fields are kept on level n only."""
+    res2 = list(run.base2d)
+    n = options.levels
+    for k in range(len(res2), count):
+        progress(f"2D level {k}", None)
+        t = time.perf_counter()
+        fm = fea_mesh_2d(run.faces[k], run.geometry, k)
+        run.mesh_time_s += time.perf_counter() - t
+        res2.append(solve_mesh(fm, material, options.case, theta_rad,
+                               options.keep_fields and k == n))
+    run.base2d = tuple(res2)
+    run.study = cv.study(res2[-n:], "2d")
+    return run
+
+
+def complete_run(run: ModelRun, design, material: Material, options: VerifyOptions,
+                 progress=_noop) -> ModelRun:
+    """Add the finest 2D level a coarse run (:func:`run_model` with ``coarse=True``) left out:
+    the study is then that of a full run of the same geometry (levels 1..n), the 3D factors
+    as they were. A full run is returned as it is."""
+    if run.coarse:
+        _solve_2d_levels(run, options.levels + 1, material, options,
+                         design.max_deflection_rad, progress)
     return run
 
 

@@ -3,7 +3,8 @@
 * ISO 8734 hardened dowel pins, m6: ``iso8734_dowels.csv`` (diameter, nominal length).
 * ISO 4762 socket-head screws and ISO 4032 nuts: bd_warehouse's tables (:func:`bolt_set`),
   the ones the solids are built from.
-* ISO 286-2 limit deviations of the dowels (m6) and of their slip-fit holes (E7).
+* ISO 286-2 limit deviations of the dowels (m6) and of their slip-fit holes (E7), and of
+  the g6 shafts springcad turns (a D shaft's size across its flat, :func:`g6_deviation_mm`).
 
 Rim dowels locate neighbouring rims and carry the torque between them. They are a slip
 fit in every rim they pass (E7 holes, never pressed): the smallest clearance E7/m6
@@ -50,6 +51,10 @@ def dowel_length_tolerance_mm(length_mm: float) -> float:
 #: shaft m6 (lower, upper) and hole E7 (lower, upper)
 _M6_UM = ((3.0, 2, 8), (6.0, 4, 12), (10.0, 6, 15), (18.0, 7, 18))
 _E7_UM = ((3.0, 14, 24), (6.0, 20, 32), (10.0, 25, 40), (18.0, 32, 50))
+#: shaft g6 (lower, upper): fundamental deviation g (-2, -4, -5, -6, -7, -9 um) minus IT6
+#: (6, 8, 9, 11, 13, 16 um) below it
+_G6_UM = ((3.0, -8, -2), (6.0, -12, -4), (10.0, -14, -5), (18.0, -17, -6), (30.0, -20, -7),
+          (50.0, -25, -9))
 #: the ISO fit of a rim dowel's hole in every rim it passes (slip fit over an m6 pin)
 RIM_PIN_HOLE_FIT = "E7"
 
@@ -70,6 +75,11 @@ def m6_deviation_mm(diameter_mm: float) -> tuple[float, float]:
 def e7_deviation_mm(diameter_mm: float) -> tuple[float, float]:
     """(lower, upper) deviation of an E7 hole (mm, ISO 286-2)."""
     return _deviation_mm(_E7_UM, diameter_mm, "E7 hole")
+
+
+def g6_deviation_mm(diameter_mm: float) -> tuple[float, float]:
+    """(lower, upper) deviation of a g6 shaft (mm, ISO 286-2)."""
+    return _deviation_mm(_G6_UM, diameter_mm, "g6 shaft")
 
 
 @dataclass(frozen=True)

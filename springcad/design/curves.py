@@ -197,7 +197,8 @@ class Spline:
 
     def rotated(self, angle: float) -> "Spline":
         rt = lambda t: None if t is None else _rot(t, angle)  # noqa: E731
-        return Spline(tuple(_rot(p, angle) for p in self.points),
+        c, s = math.cos(angle), math.sin(angle)  # once: _rot's numbers for every point
+        return Spline(tuple((c * x - s * y, s * x + c * y) for x, y in self.points),
                       rt(self.start_tangent), rt(self.end_tangent))
 
     def mirrored(self) -> "Spline":

@@ -145,6 +145,29 @@ def cumtrapz_last(y, x):
     return np.concatenate([np.zeros(steps.shape[:-1] + (1,)), np.cumsum(steps, axis=-1)],
                           axis=-1)
 
+def _thomas(lower: list, diag: list, upper: list, rhs: list) -> list:
+    """Solve the tridiagonal system (``lower[i]``, ``diag[i]``, ``upper[i]`` on row i) for each
+    column of ``rhs`` (rows of equal length) by the Thomas algorithm, on Python floats (the
+    same operations, in the same order, as on NumPy scalars: the same numbers, ~10x faster
+    for the few-dozen-row systems of the design's splines)."""
+    n = len(diag)
+    c = [0.0] * n
+    d = [None] * n
+    c[0] = upper[0] / diag[0]
+    d[0] = [r / diag[0] for r in rhs[0]]
+    for i in range(1, n):
+        low = lower[i]
+        den = diag[i] - low * c[i - 1]
+        c[i] = upper[i] / den if i < n - 1 else 0.0
+        d[i] = [(r - low * dp) / den for r, dp in zip(rhs[i], d[i - 1])]
+    m = [None] * n
+    m[-1] = d[-1]
+    for i in range(n - 2, -1, -1):
+        ci = c[i]
+        m[i] = [di - ci * mn for di, mn in zip(d[i], m[i + 1])]
+    return m
+
+
 class ClampedCubic:
     """C2 cubic spline through (x_i, y_i) with given end slopes dy/dx.
 
@@ -174,22 +197,9 @@ class ClampedCubic:
         rhs[0] = 6 * (dy[0] - s0)
         diag[-1], lower[-1] = 2 * h[-1], h[-1]
         rhs[-1] = 6 * (s1 - dy[-1])
-        for i in range(1, n - 1):
-            lower[i], diag[i], upper[i] = h[i - 1], 2 * (h[i - 1] + h[i]), h[i]
-            rhs[i] = 6 * (dy[i] - dy[i - 1])
-        # Thomas algorithm
-        c = np.zeros(n)
-        d = np.zeros_like(rhs)
-        c[0] = upper[0] / diag[0]
-        d[0] = rhs[0] / diag[0]
-        for i in range(1, n):
-            den = diag[i] - lower[i] * c[i - 1]
-            c[i] = upper[i] / den if i < n - 1 else 0.0
-            d[i] = (rhs[i] - lower[i] * d[i - 1]) / den
-        m = np.zeros_like(rhs)
-        m[-1] = d[-1]
-        for i in range(n - 2, -1, -1):
-            m[i] = d[i] - c[i] * m[i + 1]
+        lower[1:-1], diag[1:-1], upper[1:-1] = h[:-1], 2 * (h[:-1] + h[1:]), h[1:]
+        rhs[1:-1] = 6 * (dy[1:] - dy[:-1])
+        m = np.array(_thomas(lower.tolist(), diag.tolist(), upper.tolist(), rhs.tolist()))
         self.x, self.y, self.m, self.h = x, y, m, h
 
     def __call__(self, t, nu: int = 0):

@@ -46,6 +46,8 @@ NOTE_LINE_MM = 4.6
 TABLE_ROW_MM = 5.6
 #: release reasons written out on the drawing (the rest: report.html, build.json)
 RELEASE_LINES = 2
+#: heading of the duty ratings in the release box: a rating is not a release reason
+RATING_HEAD = "RATING (what the part is rated for; not a reason):"
 
 
 def default_title_block() -> Path:
@@ -168,8 +170,10 @@ def note_lines(part, values: dict, template: dict) -> list[str]:
             lines += notes.get("edges_d_bore", [])
     if p.process == "wire_edm" and spring is not None:
         m = spring.manufacturing
-        lines.append(f"Wire Ø{fmt(m.wire_diameter_mm)} mm or finer: the smallest inside "
-                     f"radius R{fmt(m.min_inside_radius_mm)} is the wire radius + the "
+        # the job's least inside radius, which the build's edm.inside_corner_radius rule
+        # holds every contour to: the part's own smallest may be larger (R0.158 on a ring)
+        lines.append(f"Wire Ø{fmt(m.wire_diameter_mm)} mm or finer: no inside radius of the "
+                     f"contour is below R{fmt(m.min_inside_radius_mm)}, the wire radius + the "
                      f"{fmt(m.spark_gap_mm)} mm spark gap.")
     from springcad.export.views import hole_frames
 
@@ -282,28 +286,32 @@ def release_box(sheet: Sheet, x0: float, y0: float, width: float,
                 status: ReleaseStatus) -> float:
     """The release status above the title block: RELEASED, or NOT FOR MANUFACTURE, how many
     reasons and the first of them (at the notes' size, cut after :data:`RELEASE_LINES`
-    lines; every reason is in report.html and build.json), then the duty's ratings. Returns the top of the box
-    (sheet mm)."""
+    lines; every reason is in report.html and build.json), then, under a heading of their
+    own (:data:`RATING_HEAD`), the duty's ratings: what the part is rated for is a fact
+    of the design, not a reason it is held back, so it is never written as one of the
+    reasons' bullets. Returns the top of the box (sheet mm)."""
     reasons = list(status.reasons)
-    lines: list[str] = []
+    per_line = chars_per_line(sheet, width - 4.0) - 2
+    lines: list[tuple[str, str]] = []  # (text, font weight)
     if reasons:
         head = (f"{len(reasons)} reason{'s' if len(reasons) > 1 else ''} (all in report.html "
                 "and build.json), the first:")
-        lines = [head] + _wrap(reasons[:1], chars_per_line(sheet, width - 4.0) - 2,
-                               lambda i: "- ")
-        if len(lines) > RELEASE_LINES + 1:
-            lines = lines[:RELEASE_LINES + 1]
-            lines[-1] = lines[-1].rstrip()[:-2] + " ..."
-    # what the part is rated for (the duty), after the reasons
-    lines += _wrap(list(status.ratings), chars_per_line(sheet, width - 4.0) - 2, lambda i: "- ")
+        body = _wrap(reasons[:1], per_line, lambda i: "- ")
+        if len(body) > RELEASE_LINES:
+            body = body[:RELEASE_LINES]
+            body[-1] = body[-1].rstrip()[:-2] + " ..."
+        lines = [(head, "normal")] + [(b, "normal") for b in body]
+    if status.ratings:
+        lines += [(RATING_HEAD, "bold")] + [
+            (r, "normal") for r in _wrap(list(status.ratings), per_line, lambda i: "  ")]
     h = 9.0 + NOTE_LINE_MM * len(lines)
     sheet.rect(x0, y0, width, h, lw=THICK)
     colour = "black" if status.released else "#c00000"
     sheet.text(x0 + 2, y0 + h - 4.2, status.stamp, size=11, ha="left", weight="bold",
                color=colour)
     y = y0 + h - 9.0 - NOTE_LINE_MM + 0.8
-    for line in lines:
-        sheet.text(x0 + 2, y, line, size=NOTES_FONT, ha="left", va="bottom")
+    for line, weight in lines:
+        sheet.text(x0 + 2, y, line, size=NOTES_FONT, ha="left", va="bottom", weight=weight)
         y -= NOTE_LINE_MM
     return y0 + h
 

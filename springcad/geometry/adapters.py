@@ -10,7 +10,8 @@ from springcad.design.curves import Profile
 from springcad.design.hardware import TORQUE_SHAFT_TOLERANCE_MM
 from springcad.design.plans import DShaftPlan, HubSocketPlan, TorqueShaftPlan
 from springcad.errors import GeometryError
-from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, circle_loop, d_loop
+from springcad.geometry.base import (COLOURS, PartInfo, Slab, SpringcadPart, across_flat_check,
+                                     circle_loop, d_loop)
 from springcad.geometry.spacers import AnnularPart
 
 
@@ -83,7 +84,8 @@ class TorqueShaft(SpringcadPart):
             key = {"shaft diameter": self.diameter, "length": length_mm,
                    "engaged length": plan.engaged_length_mm}
             note = ("D flat matches the camshaft bore (slip fit): ground after hardening, "
-                    "like the g6 diameter; chamfer 0.2 x 45° at the inner end (lead into the bore).")
+                    "like the g6 diameter; chamfer 0.2 x 45° at the inner end (lead into the "
+                    f"bore). {across_flat_check(self.diameter, self.flat_ratio, TORQUE_SHAFT_TOLERANCE_MM)}")
             fits = {"outer": "g6"}
             secondary = ("ground",)
             retention = ("Coupling to the drive, and holding the camshaft along the axis (it "

@@ -35,6 +35,7 @@ import hashlib
 from dataclasses import replace
 
 from springcad.design.cam import d_bore
+from springcad.design.catalogue import g6_deviation_mm
 from springcad.geometry import sklearn_deferred
 
 with sklearn_deferred():
@@ -194,6 +195,18 @@ def d_loop(radius_mm: float, flat_ratio: float, corner_radius_mm: float) -> Loop
     a D shaft or D hub built from it fits that bore line to line.
     """
     return d_bore(radius_mm, flat_ratio, corner_radius_mm)
+
+
+def across_flat_check(diameter_mm: float, flat_ratio: float, flat_tolerance_mm: float) -> str:
+    """How a shop measures the flat of a g6 D shaft or D hub, which the drawing gives from
+    the axis (0/-``flat_tolerance_mm``): the size across it (flat to the far side of the
+    round, a micrometer reading) is the g6 radius plus the flat's distance (mm)."""
+    lo, hi = g6_deviation_mm(diameter_mm)
+    r_mm, a_mm = 0.5 * diameter_mm, flat_ratio * 0.5 * diameter_mm
+    return (f"Check the flat by the size across it (flat to the far side of the round): "
+            f"{r_mm + 0.5 * lo + a_mm - flat_tolerance_mm:.3f}-{r_mm + 0.5 * hi + a_mm:.3f} mm "
+            f"(the g6 radius {r_mm + 0.5 * lo:.3f}-{r_mm + 0.5 * hi:.3f} + the flat's "
+            f"{a_mm - flat_tolerance_mm:.3f}-{a_mm:.3f} from the axis).")
 
 
 def prism_solid(slabs, part: str) -> Solid:

@@ -15,7 +15,8 @@ from springcad.design.plans import CamshaftPlan
 from springcad.design.ring import hole_fits
 from springcad.errors import GeometryError
 from springcad.units import fmt_mm
-from springcad.geometry.base import COLOURS, PartInfo, Slab, SpringcadPart, circle_loop, d_loop
+from springcad.geometry.base import (COLOURS, PartInfo, Slab, SpringcadPart, across_flat_check,
+                                     circle_loop, d_loop)
 
 #: a turned camshaft hub: its diameter toleranced minus only by this (mm; turning holds
 #: +-0.02), so at its largest it keeps the wire clearance inside the tooth root
@@ -192,7 +193,9 @@ class Camshaft(SpringcadPart):
                          f"Ø{fmt_mm(HUB_COAXIALITY_MM)} (frame in view B); its end edges "
                          "broken 0.1-0.2 mm x 45°; "
                          + ("its g6 diameter and its D flat ground (the flat drives the torque "
-                            "shaft, view B)." if drive == "hub_flat"
+                            "shaft, view B). " + across_flat_check(
+                                2 * self.hub_radius, flat_ratio,
+                                spring.manufacturing.t_shaft_mm) if drive == "hub_flat"
                             else "torque through the D bore."))
             notes.append(f"The hub is {self.root_radius - self.hub_radius:.2f} mm inside the "
                          "tooth root at its largest size (toleranced minus only): the wire "

@@ -10,6 +10,7 @@ single ~40-span B-spline edge per flank made it 0.2-8 % off). Units: mm.
 from __future__ import annotations
 
 import math
+import weakref
 
 from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
 from springcad.design.planar import find_defect
@@ -135,6 +136,21 @@ def check_loops(profile: Profile, part: str = "part", step_mm: float = 0.02) -> 
                         f"{_loop_name(lb)}; holes must not nest")
 
 
+#: faces made from profiles still alive, by id(profile) (see :func:`profile_face`)
+_FACES: dict[int, object] = {}
+
+
+def _remember(profile: Profile, face) -> None:
+    """Keep ``face`` for ``profile`` while the profile lives (a profile that cannot be
+    referenced weakly is not kept)."""
+    if id(profile) not in _FACES:  # a profile alive is kept once (its finalizer drops it)
+        try:
+            weakref.finalize(profile, _FACES.pop, id(profile), None)
+        except TypeError:
+            return
+    _FACES[id(profile)] = face
+
+
 def profile_face(profile: Profile, part: str = "part", check: bool = True):
     """Planar face (z = 0) with holes for a profile.
 
@@ -142,12 +158,20 @@ def profile_face(profile: Profile, part: str = "part", check: bool = True):
     before, e.g. the one a part's solid was made from), so crossing contours are reported
     with their place rather than as a kernel failure.
 
+    With ``check=False``, the face made before from this very profile object (while it
+    lives) is returned again: the DXF read-back's reference area is that of the face the
+    part's solid was extruded from, not a second one (the ring's took ~0.5 s). Callers must
+    not modify it. A checked call always makes a new face.
+
     Raises:
         GeometryError: the contours cross, or the kernel cannot make a valid face
             (names ``part``).
     """
     import build123d as bd
 
+    made = None if check else _FACES.get(id(profile))
+    if made is not None:
+        return made
     if check:
         check_loops(profile, part)
     try:
@@ -160,6 +184,7 @@ def profile_face(profile: Profile, part: str = "part", check: bool = True):
         raise GeometryError(f"{part}: the CAD kernel could not make the profile face ({err})") from err
     if not face.is_valid:
         raise GeometryError(f"{part}: the profile face is not valid (self-intersecting contour?)")
+    _remember(profile, face)
     return face
 
 

@@ -105,10 +105,13 @@ def _verdict_html(build: dict, fea: dict | None, design: dict) -> str:
     head = ("Released for manufacture" if released else "Not for manufacture")
     items = "".join(f"<li>{html.escape(r)}</li>" for r in reasons)
     extra = (build.get("release") or {}).get("notes", []) if isinstance(build.get("release"), dict) else []
-    notes = "".join(f"<li>{html.escape(str(c))}</li>" for c in caveats(design, fea) + list(extra))
+    rated = "".join(f"<li>{html.escape(str(c))}</li>" for c in caveats(design, fea))
+    notes = "".join(f"<li>{html.escape(str(c))}</li>" for c in extra)
+    # the rating is what the parts are rated for, released or not: neither a reason nor a caveat
     return (f"<h2>Verdict</h2><div class='verdict {'ok' if released else 'bad'}'>{head}</div>"
-            + (f"<p>Why:</p><ul>{items}</ul>" if items else "")
-            + (f"<p>Caveats:</p><ul>{notes}</ul>" if notes else ""))
+            + (f"<p>Why not:</p><ul>{items}</ul>" if items else "")
+            + (f"<p>Rated for (not a reason):</p><ul>{rated}</ul>" if rated else "")
+            + (f"<p>Notes (do not stop the release):</p><ul>{notes}</ul>" if notes else ""))
 
 
 def _life_at_max(s: dict, f: dict):

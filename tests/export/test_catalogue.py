@@ -149,3 +149,55 @@ def test_rim_pins_slip_and_cannot_jam():
     # every ISO 286 size range springcad tabulates keeps the rule
     for d in (1.0, 2.5, 4.0, 8.0, 12.0):
         assert rim_pin_fit(d, zone).cannot_jam, d
+
+
+#: ISO 286-1 / -2 written in the standard's own form, not springcad's table: the fundamental
+#: deviation es of shafts g and the grade IT6 by nominal size range (um); g6 = (es - IT6, es)
+ISO286_G_ES_UM = {3: -2, 6: -4, 10: -5, 18: -6, 30: -7, 50: -9}
+ISO286_IT6_UM = {3: 6, 6: 8, 10: 9, 18: 11, 30: 13, 50: 16}
+
+
+@pytest.mark.parametrize("d_mm", [1.5, 3.0, 4.0, 6.0, 8.0, 10.15, 14.15, 20.0, 40.0])
+def test_g6_deviation_is_iso286(d_mm):
+    from springcad.design.catalogue import g6_deviation_mm
+
+    upper = next(u for u in ISO286_G_ES_UM if d_mm <= u)
+    es, it6 = ISO286_G_ES_UM[upper], ISO286_IT6_UM[upper]
+    assert g6_deviation_mm(d_mm) == pytest.approx(((es - it6) / 1000, es / 1000))
+
+
+def test_d_shaft_across_flat_check_against_its_solid():
+    """The default torque shaft's note gives the flat as the size across it (what a
+    micrometer reads): by hand Ø4 g6 = 3.988-3.996, radius 1.994-1.998, flat 1.6 0/-0.02
+    from the axis, so 3.574-3.598 mm; the solid's extent across the flat is the nominal
+    2 + 1.6 = 3.6 mm, the top of that band less the g6 allowance."""
+    shaft = next(p for p in assembly("default").parts.values()
+                 if p.info.kind == "torque_shaft")
+    assert shaft.style == "d_shaft"
+    note = shaft.info.notes[0]
+    assert "size across it (flat to the far side of the round): 3.574-3.598 mm" in note
+    assert "g6 radius 1.994-1.998 + the flat's 1.580-1.600 from the axis" in note
+    box = shaft.solid.bounding_box()  # a z-prism of the D: its x/y extents are the D's
+    extents = sorted((box.max.X - box.min.X, box.max.Y - box.min.Y))
+    assert extents[0] == pytest.approx(3.6, abs=1e-6)  # across the flat, nominal
+    assert extents[1] == pytest.approx(4.0, abs=1e-6)
+
+
+def test_d_hub_across_flat_check_by_hand():
+    """The 4xS1 end camshaft's D hub (Ø10.15 g6, flat 4.06 0/-t_shaft from the axis, into the
+    torque shaft's socket): by hand g6 over 10-18 mm is -0.017/-0.006, so the radius is
+    5.0665-5.072 and across the flat 9.1165-t_shaft ... 9.132 mm; the hub's profile reaches
+    5.075 + 4.06 = 9.135 mm across the flat at nominal."""
+    import numpy as np
+
+    cam = next(p for p in assembly("4xS1").parts.values()
+               if p.info.kind == "camshaft" and getattr(p, "drive", "") == "hub_flat")
+    t = cam.spring.manufacturing.t_shaft_mm
+    assert cam.hub_radius == pytest.approx(5.075) and t == 0.02
+    note = next(n for n in cam.info.notes if n.startswith("Hub:"))
+    r_lo, r_hi = 5.075 - 0.017 / 2, 5.075 - 0.006 / 2
+    assert (f"size across it (flat to the far side of the round): {r_lo + 4.06 - t:.3f}-"
+            f"{r_hi + 4.06:.3f} mm (the g6 radius {r_lo:.3f}-{r_hi:.3f} + the flat's "
+            f"{4.06 - t:.3f}-4.060 from the axis)") in note, note
+    hub = cam.slabs[0].region.outer.sample(0.001)
+    assert min(np.ptp(hub, axis=0)) == pytest.approx(5.075 + 4.06, abs=1e-3)

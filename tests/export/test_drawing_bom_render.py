@@ -183,3 +183,26 @@ def test_ring_surface_note_and_fatigue_factor_come_from_one_setting(ring_s1, sur
     assert part.spring.duty_check.surface_factor == row.factor
     if surface in ("polished", "shot_peened"):
         assert any("remove the recast" in line for line in lines)
+
+
+def test_wire_note_states_the_limit_every_inside_radius_meets(ring_s1, cam_s1):
+    """The wire note names the least inside radius (wire radius + spark gap) as a limit the
+    contour keeps, not as the part's own smallest radius: the edm rule, run on the same
+    cutting profile, finds every inside radius of the ring and the cam at or above it (the
+    robot-joint winner's ring has R0.158 where the note used to say "the smallest inside
+    radius R0.15")."""
+    from springcad.export.drawing import fields, note_lines
+    from springcad.geometry.edm import inside_corner_rule
+
+    tb = load_title_block()
+    for part in (ring_s1, cam_s1):
+        m = part.spring.manufacturing
+        wire = [ln for ln in note_lines(part, fields(part, INFO, 1.0, tb), tb)
+                if ln.startswith("Wire Ø")]
+        r = m.min_inside_radius_mm
+        assert wire == [f"Wire Ø{m.wire_diameter_mm:g} mm or finer: no inside radius of the "
+                        f"contour is below R{r:g}, the wire radius + the {m.spark_gap_mm:g} "
+                        "mm spark gap."]
+        assert r == pytest.approx(0.5 * m.wire_diameter_mm + m.spark_gap_mm)
+        rule = inside_corner_rule(part.info.cut_profile, r, 1e-3, lambda x, y: "")
+        assert not rule.violations and rule.value_mm >= r * (1 - 1e-9), rule.value_mm

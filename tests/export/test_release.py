@@ -91,6 +91,27 @@ def test_drawing_carries_the_stamp_and_reasons(ring_s1, tmp_path):
     assert RELEASED in text and NOT_FOR_MANUFACTURE not in text
 
 
+def test_a_rating_is_not_written_as_a_reason(ring_s1, tmp_path):
+    """The duty's rating ("duty met ...") is a fact of the design: in a NOT FOR MANUFACTURE
+    box it stands under a heading of its own after the reasons, never as a reason's bullet
+    (shop review 9 read it as the second reason). Read back with poppler."""
+    reason = "contact at full deflection: spring S1 at +16.0 deg: tip ball Hertz contact"
+    rating = ("spring S1: duty met: Miner sum 0.0883, fatigue safety factor 1.11 "
+              "(required 1)")
+    info = DrawingInfo(job="j", quantity=1, release=ReleaseStatus((reason,), (), (rating,)))
+    _, pdf = write_drawing(ring_s1, info, tmp_path)
+    lines = [ln.strip() for ln in pdf_text(pdf).splitlines()]
+    first = next(i for i, ln in enumerate(lines) if "1 reason" in ln)
+    head = next(i for i, ln in enumerate(lines) if ln.startswith("RATING"))
+    rated = next(i for i, ln in enumerate(lines) if "duty met" in ln)
+    assert first < head < rated
+    assert "not a reason" in lines[head]
+    # only the reason carries the reasons' bullet
+    assert [ln for ln in lines[first:rated + 1] if ln.startswith("- ")] == [
+        next(ln for ln in lines if ln.startswith("- contact"))]
+    assert not lines[rated].startswith("-")
+
+
 def test_a_drawing_nobody_assessed_is_not_for_manufacture(ring_s1, tmp_path):
     _, pdf = write_drawing(ring_s1, DrawingInfo(job="j", quantity=1), tmp_path)
     assert NOT_FOR_MANUFACTURE in pdf_text(pdf)

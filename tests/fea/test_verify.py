@@ -68,6 +68,36 @@ def test_3d_factor_beside_the_2d_levels_changes_no_number(s2, s2_verified, monke
     assert text[0] == text[1]
 
 
+def test_correction_steps_skip_the_finest_level_only_while_clearly_off(s2, monkeypatch):
+    """A spring 3 % too wide (K ~9 % stiff): its first correction step steps on from the 2D
+    levels 0..2 (its K clearly off the target); the accepted geometry, and the study
+    reported, have every level. Against the loop that solves every level each time (the same
+    steps but for the coarse step's K, which differs by ~1e-5, so the accepted widths differ by
+    ~1e-6): the same number of steps, widths within 1e-5, K and peak stress within 1e-4."""
+    from fea import verify
+    from fea.verify import VerifyOptions, verify_spring
+    from springcad.design.resize import with_width_scale
+
+    wide = with_width_scale(s2, 1.03 * s2.width_scale)
+    options = VerifyOptions(model="2d", keep_fields=False)
+    fast = verify_spring(wide, options)
+    levels = [it["levels_2d"] for it in fast.iterations]
+    assert levels[0] == [0, 1, 2] and levels[-1] == [1, 2, 3]
+    assert fast.iterations[-1]["action"] == "accepted"
+    assert [r.level for r in fast.run.study.results] == [1, 2, 3] and not fast.run.coarse
+    assert abs(fast.iterations[0]["error_vs_target_pct"]) > 100 * options.tolerance + 0.1
+    monkeypatch.setattr(verify, "_clearly_off", lambda run, target, tolerance: False)
+    full = verify_spring(wide, options)
+    assert all(it["levels_2d"] == [1, 2, 3] for it in full.iterations)
+    assert len(full.iterations) == len(fast.iterations)
+    k_fast, k_full = fast.run.stiffness_Nmm_per_rad, full.run.stiffness_Nmm_per_rad
+    s_fast, s_full = fast.run.peak_stress_MPa, full.run.peak_stress_MPa
+    assert k_fast == pytest.approx(k_full, rel=1e-4)
+    assert s_fast == pytest.approx(s_full, rel=1e-4)
+    assert abs(fast.error_vs_target) <= options.tolerance
+    assert fast.design.width_scale == pytest.approx(full.design.width_scale, rel=1e-5)
+
+
 def test_s1_passes_at_yield_by_construction(s1, s1_verified):
     """The paper's S1 (fixed N, ball, r_c, R_o, z, 912 MPa) meets K and its yield margin in FEA.
 

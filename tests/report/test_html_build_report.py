@@ -103,3 +103,22 @@ def test_every_negative_stack_quantity_says_what_below_zero_means():
     negative = [label for label, value in rows if re.search(r"(^|\s)-\d", value)]
     assert len(negative) == 2, rows  # worst case and RSS
     assert all("below 0" in label for label in negative), negative
+
+
+def test_verdict_keeps_reasons_ratings_and_notes_apart():
+    """A NOT FOR MANUFACTURE verdict lists the release gate's reasons under "Why not"; what a
+    spring is rated for ("duty met ...") is not a reason and not a caveat: it has a list of
+    its own, as on the drawings' release box, and the gate's notes a third one."""
+    from springcad.report.html_build import _verdict_html
+
+    build = {"release": {"released": False, "reasons": ["contact at full deflection: r"],
+                         "notes": ["contact fatigue, spring S1: n"]}}
+    fea = {"springs": {"S1": {"duty": {"rating": "duty met: Miner sum 0.0883",
+                                       "where": "FEA flexure flank"}}}}
+    text = _verdict_html(build, fea, {"springs": {"S1": {}}})
+    why, rated, notes = (text.index(h) for h in ("<p>Why not:</p>", "<p>Rated for (not a reason)",
+                                                 "<p>Notes (do not stop the release)"))
+    assert why < text.index("contact at full deflection: r") < rated
+    assert rated < text.index("duty met: Miner sum 0.0883") < notes
+    assert notes < text.index("contact fatigue, spring S1: n")
+    assert "Caveats" not in text
