@@ -76,7 +76,9 @@ def synthesize(requirements, out=None, *, scheduler: str | None = None,
     """The best stack meeting a requirement: sweep, rank, full design, FEA and checks.
 
     Writes ``out/parts/*.parquet`` (every candidate; a rerun resumes), ``out/synthesis.json``
-    and, when a finalist passed, ``out/winner.toml`` (a job config ``build`` accepts).
+    and, when a finalist passed, ``out/winner.toml`` (a job config ``build`` accepts); when
+    every verified finalist failed, the best of them as ``out/closest.toml`` (its header
+    says why it fails).
 
     Args:
         requirements: a requirements TOML path (see ``templates/requirements_*.toml``).
@@ -122,7 +124,7 @@ def synthesize(requirements, out=None, *, scheduler: str | None = None,
                              describe=verification_table)
     write_json(out / "synthesis.json", result.to_dict())
     if result.winner is not None:
-        (out / "winner.toml").write_text(result.winner_toml())
+        (out / result.winner_file).write_text(result.winner_toml())
     return result
 
 

@@ -8,7 +8,7 @@ geometry checks, and writes the winner (the best that passed) as a job config th
 ``springcad build`` accepts.
 
 Writes ``DIR/parts/*.parquet`` (every candidate; a rerun resumes), ``DIR/synthesis.json``
-and ``DIR/winner.toml``. Exit status: 0 a winner that passed (or skipped) FEA,
+and ``DIR/winner.toml`` (``DIR/closest.toml`` when every verified finalist failed). Exit status: 0 a winner that passed (or skipped) FEA,
 1 no feasible stack or the FEA or build checks failed every verified finalist (the report is
 still written), 2 bad input.
 """
@@ -94,7 +94,10 @@ def run(args) -> int:
         print(f"winner: candidate {w['cid']} ({w['family']}, input {w['input']}), "
               f"{G_PER_KG * full['mass_kg']:.1f} g{built}, {full['axial_length_mm']:.1f} mm long, "
               f"R {full['envelope_radius_mm']:.2f} mm: {result.winner_status}")
-        print(f"wrote {out / 'winner.toml'} (springcad build {out / 'winner.toml'})")
+        name = result.winner_file
+        print(f"wrote {out / name} (springcad build {out / name})" if result.ok else
+              f"no verified finalist passed: the closest is written to {out / name}; it "
+              "fails as said above")
     else:
         print(f"no winner: {result.winner_status}")
     print(f"wrote {out / 'synthesis.json'}")

@@ -51,6 +51,13 @@ class SynthesisResult:
         v = self.verifications.get(int(self.winner["cid"]))
         return v is None or v["ok"]
 
+    @property
+    def winner_file(self) -> str:
+        """The file the winner's job is written to: ``winner.toml`` when it passed (or
+        skipped) the FEA and build checks, else ``closest.toml`` (the best verified
+        finalist, which fails)."""
+        return "winner.toml" if self.ok else "closest.toml"
+
     def winner_toml(self) -> str:
         req = self.requirements
         status = self.winner_status.replace("; ", ";\n  ")
@@ -58,7 +65,9 @@ class SynthesisResult:
                 f"Candidate {int(self.winner['cid'])} ({self.winner['family']}, input "
                 f"{self.winner['input']}) of {self.n_candidates} enumerated, "
                 f"{self.n_feasible} feasible after screening.\n"
-                f"Build it with: springcad build <this file>")
+                + ("Build it with: springcad build <this file>" if self.ok else
+                   "NOT a winner: no verified finalist passed; this is the best of them, and "
+                   "springcad build refuses it for the reason above until it is changed"))
         return toml_text(self.winner_job, head)
 
     def to_dict(self) -> dict:

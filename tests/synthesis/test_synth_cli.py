@@ -69,6 +69,25 @@ def test_synthesize_resumes(synthesized, capsys):
     assert report["sweep"]["skipped_batches"] == report["sweep"]["batches"]
 
 
+def test_a_winner_that_failed_its_verification_is_not_written_as_the_winner(synthesized):
+    """When the FEA or build checks fail every verified finalist, the best of them is written
+    as closest.toml, saying it is not a winner, and no winner.toml a user would build."""
+    import dataclasses
+
+    import springcad.api as sc
+
+    _, run = synthesized
+    result = sc.synthesize(run.parent / "req.toml", run, workers=1, batch_size=300,
+                           verify=False, finalists=1)  # resumes: no candidate again
+    assert result.ok and result.winner_file == "winner.toml"
+    assert "Build it with: springcad build" in result.winner_toml()
+    failed = dataclasses.replace(result, verifications={
+        int(result.winner["cid"]): {"ok": False}})
+    assert not failed.ok and failed.winner_file == "closest.toml"
+    text = failed.winner_toml()
+    assert "NOT a winner" in text and "Build it with" not in text
+
+
 def test_explore_writes_region_fronts_and_plots(tmp_path, capsys):
     import pyarrow.parquet as pq
 
