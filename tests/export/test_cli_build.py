@@ -46,9 +46,9 @@ def test_violations_fail_without_acceptance(tmp_path, capsys, monkeypatch):
     # the S1 rim leaves 0.505 mm beside each 1.5 mm dowel hole: ask for 0.6 mm. The design
     # search now keeps room for the holes (test_design_search); without that rule (patched
     # out) the thin rim must still be caught
-    from springcad.design import search
+    from springcad.design import sizing
 
-    monkeypatch.setattr(search, "min_rim_mm", lambda *args: 0.0)
+    monkeypatch.setattr(sizing, "min_rim_mm", lambda *args: 0.0)
     cfg = tmp_path / "job.toml"
     cfg.write_text(toml_text(job_data(["S1"], manufacturing={"min_hole_edge_mm": 0.6})))
     out = tmp_path / "out"
@@ -211,9 +211,9 @@ def test_overwrite_replaces_the_folder(tmp_path):
 def test_unbuildable_geometry_stops_with_the_part_named(tmp_path, capsys, monkeypatch):
     """Rim holes too large for the rim: the kernel is never asked, the part is named (the
     design search's rim rule patched out: it would make the rim thick enough)."""
-    from springcad.design import search
+    from springcad.design import sizing
 
-    monkeypatch.setattr(search, "min_rim_mm", lambda *args: 0.0)
+    monkeypatch.setattr(sizing, "min_rim_mm", lambda *args: 0.0)
     cfg = tmp_path / "bad.toml"
     cfg.write_text(toml_text(job_data(["S1"], "shaft", hardware={"fastener_diameter_mm": 3.0})))
     out = tmp_path / "out"
