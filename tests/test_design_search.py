@@ -120,4 +120,4 @@ def test_default_duty_search_passes_over_probed_layouts_that_fall_short(monkeypa
     assert (d.n_flexures, round(d.contact_radius_mm, 6)) == later[0] and d.sized_for_default_duty
     monkeypatch.setattr(search, "soft_shortfalls", lambda d: ["marked short"])
     d = search.design_spring(spec, job.material, *args, explain=False)
-    assert "kept although it falls short" in d.design_choice
+    assert "kept although it falls short (marked short)" in d.design_choice

@@ -180,7 +180,7 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
             with ``explain``, the thickness or deflection that would fit).
     """
     rejected: list[tuple[Layout | None, DesignError, list]] = []
-    fallback = None
+    fallback, fallback_short = None, ""
     required = duty.required_margin(material, spec.max_deflection_rad)
     for rank in range(candidates):
         try:
@@ -201,16 +201,18 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
             short = soft_shortfalls(d) + margin_shortfall(d, required) + widening_room_short(d)
             if not short:
                 return d
-            fallback = fallback or d
+            if fallback is None:
+                fallback, fallback_short = d, short[0].split(":")[0]
             rejected.append((None, DesignError("; ".join(short)), []))
             continue
         rejected.append((None, err, history))
         if rank == 0 and not history and isinstance(err, SpecInfeasible):
             break  # no layout can help: the energy bound or the torque cap
     if fallback is not None:  # every layout tried has a soft shortfall: the best one, warned
+        choice = fallback.design_choice.replace(" that passes every rule", "")
         return _replace(fallback, design_choice=(
-            f"{fallback.design_choice.replace(' that passes every rule', '')}; kept although it falls short (every one of the "
-            f"{len(rejected)} layouts tried falls short of a rule; this is the first)"))
+            f"{choice}; kept although it falls short ({fallback_short}): every one of the "
+            f"{len(rejected)} layouts tried falls short of a rule, and this is the first"))
     if not rejected:
         raise DesignError(f"spring '{spec.name}': no candidate layout")
     _, first, history = rejected[0]

@@ -161,7 +161,7 @@ def test_a_stress_derating_is_a_note_where_the_fea_verified_the_stress(designs):
     (held-out wrist spring: NOT FOR MANUFACTURE for this line alone before)."""
     from dataclasses import replace
 
-    from springcad.design.search import STRESS_DERATED
+    from springcad.design.sizing import STRESS_DERATED
 
     d = designs["default"]
     s1 = replace(d.springs["S1"], warnings=(f"{STRESS_DERATED} from 890 to 872 MPa so the "
