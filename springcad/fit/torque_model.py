@@ -243,20 +243,25 @@ class TorqueModel:
 
         Each column is the change of the residual when one parameter moves, as scipy's
         own difference; only the part of the model that parameter reaches is evaluated
-        again: an additive torque term moves its own term only, and K moves the elastic
-        torque per unit K (the model is linear in K). Parameters of the angle, map and
-        factor stages, and every parameter under an output stage (a filter of the whole
-        torque), move the whole model. ``f0`` is the residual at ``x``.
+        again: an additive torque term moves its own term only, K moves the elastic
+        torque per unit K (the model is linear in K), and a parameter of the angle, map
+        or factor stages moves the elastic torque only, unless it shifts the time of the
+        delayed terms (a lag) or moves the spring trace that terms of the spring's
+        material read. Under an output stage (a filter of the whole torque) every
+        parameter moves the whole model. ``f0`` is the residual at ``x``.
         """
         lo, hi = self.bounds
         cols = np.flatnonzero(np.ones(self.size, bool) if free is None else free)
         h = forward_steps(x[cols], lo[cols], hi[cols])
         jac = np.empty((idx.size, cols.size))
         filtered = any(e.stage == "output" for e in self.effects)
-        term_of = {} if filtered else {
-            j: e.name for e in self.effects if e.stage == "torque"
-            for j in range(self._slices[e.name].start, self._slices[e.name].stop)}
-        base_terms = {}
+        effect_of = {j: e for e in self.effects
+                     for j in range(self._slices[e.name].start, self._slices[e.name].stop)}
+        term_of = {} if filtered else {j: e.name for j, e in effect_of.items()
+                                       if e.stage == "torque"}
+        on_spring = any(e.on_spring for e in self.effects if e.stage == "torque")
+        shift = {e.name: e.time_shift_s(x[self._slices[e.name]]) for e in self.effects}
+        base_terms, base_elastic = {}, []
 
         def base(name):
             if name not in base_terms:
@@ -280,6 +285,13 @@ class TorqueModel:
             elif j in term_of:
                 name = term_of[j]
                 jac[:, c] = -(self.torque_terms(xp, sig, idx, {name}) - base(name)) / dx
+            elif (not filtered and j > 0 and effect_of[j].stage in ("angle", "map", "factor")
+                  and not (on_spring and effect_of[j].stage != "factor")
+                  and effect_of[j].time_shift_s(xp[self._slices[effect_of[j].name]])
+                  == shift[effect_of[j].name]):
+                if not base_elastic:
+                    base_elastic.append(self.elastic(x, sig, idx))
+                jac[:, c] = -x[0] * (self.elastic(xp, sig, idx) - base_elastic[0]) / dx
             else:
                 jac[:, c] = (self.residual(xp, sig, idx) - f0) / dx
         return jac
