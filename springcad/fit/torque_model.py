@@ -152,6 +152,15 @@ class TorqueModel:
 
     def predict(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
         """Model torque (N·m) at samples ``idx``."""
+        out = x[0] * self.elastic(x, sig, idx) + self.torque_terms(x, sig, idx)
+        if any(e.stage == "output" for e in self.effects):
+            out = out + self._output_change(x, sig, idx)
+        return out
+
+    def elastic(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
+        """The elastic torque per unit K (rad) at samples ``idx``: the spring's deflection
+        (after the angle and map stages) times the factors; ∂(model torque)/∂K where no
+        output stage filters the torque."""
         parts = self._parts(x)
         spring = self.effective_angle(x, sig, idx)
         for e in self.effects:
@@ -163,10 +172,7 @@ class TorqueModel:
         for e in self.effects:
             if e.stage == "factor":
                 change = change + (e.factor(spring, parts[e.name], self.scales) - 1.0)
-        out = x[0] * (1.0 + change) * spring + self.torque_terms(x, sig, idx)
-        if any(e.stage == "output" for e in self.effects):
-            out = out + self._output_change(x, sig, idx)
-        return out
+        return (1.0 + change) * spring
 
     def _output_change(self, x: np.ndarray, sig: Signals, idx: np.ndarray) -> np.ndarray:
         """What the output stage (a filter in the torque sensor) changes in the model
@@ -230,6 +236,66 @@ class TorqueModel:
             out[0] = max(float(np.sum(w * q * (sig.torque[idx] - a))) / den, 1e-9)
         return out
 
+    def residual_jacobian(self, x: np.ndarray, sig: Signals, idx: np.ndarray,
+                          f0: np.ndarray, free: np.ndarray | None = None) -> np.ndarray:
+        """Forward-difference Jacobian of :meth:`residual` at ``x`` (N·m per parameter
+        unit), on the columns ``free`` (default all), with scipy's ``2-point`` steps.
+
+        Each column is the change of the residual when one parameter moves, as scipy's
+        own difference; only the part of the model that parameter reaches is evaluated
+        again: an additive torque term moves its own term only, K moves the elastic
+        torque per unit K (the model is linear in K), and a parameter of the angle, map
+        or factor stages moves the elastic torque only, unless it shifts the time of the
+        delayed terms (a lag) or moves the spring trace that terms of the spring's
+        material read. Under an output stage (a filter of the whole torque) every
+        parameter moves the whole model. ``f0`` is the residual at ``x``.
+        """
+        lo, hi = self.bounds
+        cols = np.flatnonzero(np.ones(self.size, bool) if free is None else free)
+        h = forward_steps(x[cols], lo[cols], hi[cols])
+        jac = np.empty((idx.size, cols.size))
+        filtered = any(e.stage == "output" for e in self.effects)
+        effect_of = {j: e for e in self.effects
+                     for j in range(self._slices[e.name].start, self._slices[e.name].stop)}
+        term_of = {} if filtered else {j: e.name for j, e in effect_of.items()
+                                       if e.stage == "torque"}
+        on_spring = any(e.on_spring for e in self.effects if e.stage == "torque")
+        shift = {e.name: e.time_shift_s(x[self._slices[e.name]]) for e in self.effects}
+        base_terms, base_elastic = {}, []
+
+        def base(name):
+            if name not in base_terms:
+                base_terms[name] = self.torque_terms(x, sig, idx, {name})
+            return base_terms[name]
+
+        for c, j in enumerate(cols):
+            xp = x.copy()
+            xp[j] = x[j] + h[c]
+            dx = xp[j] - x[j]
+            if j == 0 and not filtered:
+                # the model torque less its additive terms is K times the elastic torque
+                terms = np.zeros(idx.size)
+                for e in self.effects:
+                    if e.stage == "torque":
+                        terms = terms + base(e.name)
+                if x[0] > 1e-6:
+                    jac[:, c] = -(sig.torque[idx] - f0 - terms) / x[0]
+                else:
+                    jac[:, c] = -self.elastic(x, sig, idx)
+            elif j in term_of:
+                name = term_of[j]
+                jac[:, c] = -(self.torque_terms(xp, sig, idx, {name}) - base(name)) / dx
+            elif (not filtered and j > 0 and effect_of[j].stage in ("angle", "map", "factor")
+                  and not (on_spring and effect_of[j].stage != "factor")
+                  and effect_of[j].time_shift_s(xp[self._slices[effect_of[j].name]])
+                  == shift[effect_of[j].name]):
+                if not base_elastic:
+                    base_elastic.append(self.elastic(x, sig, idx))
+                jac[:, c] = -x[0] * (self.elastic(xp, sig, idx) - base_elastic[0]) / dx
+            else:
+                jac[:, c] = (self.residual(xp, sig, idx) - f0) / dx
+        return jac
+
     def fit(self, sig: Signals, idx: np.ndarray, x0: np.ndarray, f_scale: float,
             max_nfev: int = 100, free: np.ndarray | None = None) -> np.ndarray:
         """Robust least-squares fit on samples ``idx`` from ``x0``.
@@ -249,18 +315,24 @@ class TorqueModel:
         lo, hi = self.bounds
         span = np.where(np.isfinite(hi - lo), hi - lo, np.abs(x0) + 1.0)
         x0 = np.clip(x0, lo + 1e-9 * span, hi - 1e-9 * span)
-        if free is None or free.all():
-            res = optimize.least_squares(self.residual, x0, args=(sig, idx), bounds=(lo, hi),
-                                         loss="soft_l1", f_scale=f_scale, x_scale="jac",
-                                         max_nfev=max_nfev, xtol=1e-8, ftol=1e-8)
-            return res.x
+        free = np.ones(self.size, bool) if free is None else np.asarray(free, bool)
         full = x0.copy()
+        last = {}  # the residual at the last point evaluated: the Jacobian's base
 
         def residual(z):
             full[free] = z
-            return self.residual(full, sig, idx)
+            r = self.residual(full, sig, idx)
+            last["z"], last["r"] = z.copy(), r
+            return r
 
-        res = optimize.least_squares(residual, x0[free], bounds=(lo[free], hi[free]),
+        def jacobian(z):
+            if "z" not in last or not np.array_equal(last["z"], z):
+                residual(z)
+            full[free] = z
+            return self.residual_jacobian(full.copy(), sig, idx, last["r"], free)
+
+        res = optimize.least_squares(residual, x0[free], jac=jacobian,
+                                     bounds=(lo[free], hi[free]),
                                      loss="soft_l1", f_scale=f_scale, x_scale="jac",
                                      max_nfev=max_nfev, xtol=1e-8, ftol=1e-8)
         out = x0.copy()
@@ -270,3 +342,17 @@ class TorqueModel:
     def slice_of(self, name: str) -> slice:
         """Positions of effect ``name``'s parameters in the parameter vector."""
         return self._slices[name]
+
+
+def forward_steps(x: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """Forward-difference steps as scipy's ``least_squares`` takes them (``2-point``):
+    ``√eps·max(1, |x|)`` signed as ``x`` (positive at 0), turned back where the step
+    would leave the bounds, and shortened to the room left where neither way fits."""
+    sign = np.where(x >= 0, 1.0, -1.0)
+    h = np.sqrt(np.finfo(float).eps) * sign * np.maximum(1.0, np.abs(x))
+    below, above = x - lower, upper - x
+    leaves = (x + h < lower) | (x + h > upper)
+    fits = np.abs(h) <= np.maximum(below, above)
+    h = np.where(leaves & fits, -h, h)
+    h = np.where(~fits & (above >= below), above, h)
+    return np.where(~fits & (above < below), -below, h)
