@@ -104,9 +104,12 @@ def _clean_or(d: SpringDesign, spec, material, manufacturing, hardware, max_root
                                  max_root_radius_mm=max_root_radius_mm, candidates=candidates)
     except DesignError:
         return d
-    required = duty.required_margin(material, spec.max_deflection_rad)
-    clean = not soft_shortfalls(full) and full.yield_margin >= required * (1.0 - 1e-3)
-    return full if clean else d
+    return full if not soft_shortfalls(full) and _keeps_margin(full, material) else d
+
+
+def _keeps_margin(d: SpringDesign, material) -> bool:
+    """Whether ``d`` keeps the yield margin and duty of ``material`` (to 1e-3)."""
+    return d.yield_margin >= duty.required_margin(material, d.spec.max_deflection_rad) * (1.0 - 1e-3)
 
 
 def probe(spec, material, manufacturing, hardware, max_root_radius_mm) -> SpringDesign | None:
@@ -129,7 +132,7 @@ def probe_thickness(spec, material, manufacturing, hardware, max_root_radius_mm
         return None, True
     except DesignError:
         return None, False
-    ok = d.yield_margin >= duty.required_margin(material, spec.max_deflection_rad) * (1.0 - 1e-3)
+    ok = _keeps_margin(d, material)
     # a fixed ball outside its contact window designs with a warning; a probe's suggestion
     # must give a spring whose ball carries the contact too
     ball_ok = d.tip_radius_mm >= d.tip_radius_required_mm * (1.0 - 1e-6)
