@@ -74,7 +74,15 @@ class ConfigFileError(ConfigError):
 
 
 class DesignError(SpringcadError, ValueError):
-    """The spec asks for a spring no geometry in the envelope can deliver."""
+    """The spec asks for a spring no geometry in the envelope can deliver.
+
+    Attributes:
+        key_changes: a spring refusal's changes of the user's own keys, each
+            ``(spring name, key, now, value)`` in the config's units
+            (:func:`springcad.design.feasibility.nearest_changes`); empty otherwise.
+    """
+
+    key_changes: tuple = ()
 
 
 class RemedyError(DesignError):

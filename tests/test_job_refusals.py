@@ -2,6 +2,9 @@
 each with its own change (a held-out stack A + B + B was refused naming only A's change;
 applied, the job was then refused for B), and the job-wide advice once."""
 
+import re
+from dataclasses import replace
+
 import pytest
 
 from springcad.config import job_from_dict
@@ -59,3 +62,51 @@ def test_a_yes_no_search_stops_at_the_first_refusal(monkeypatch):
     with pytest.raises(DesignError, match="^spring 'A' cannot be made as specified$"):
         design_job(_job(), explain=False)
     assert calls == ["A"]
+
+
+def _bolted_job(thickness_mm: float):
+    """Two 150 N*m/rad disks bolted rim to rim with M1.6 (ISO 4762 ends at 16 mm)."""
+    return job_from_dict({
+        "job": {"name": "bolted"}, "material": {"name": "420_ht"},
+        "springs": {"S1": {"target_stiffness_Nm_per_rad": 150, "max_deflection_deg": 14,
+                           "outer_radius_mm": 36.0, "thickness_mm": thickness_mm,
+                           "min_tip_radius_mm": 0.3}},
+        "stack": {"sequence": ["S1", "S1"], "input": "shaft"},
+        "manufacturing": {"process": "wire_edm"},
+        "hardware": {"fastener": "bolt", "fastener_diameter_mm": 1.6},
+        "duty": {"preset": "static"}})
+
+
+def _refusal_naming(clause: str, key_changes) -> DesignError:
+    err = DesignError(f"spring 'S1' cannot be made as specified; feasible with {clause} "
+                      "(each alone, other keys unchanged). Why: a stand-in")
+    err.key_changes = key_changes
+    return err
+
+
+def test_a_thicker_disk_the_rim_screws_cannot_grip_names_the_hardware_change_too():
+    """A refusal's thickness is probed on the spring alone (held-out g16: 10.3 mm, then
+    refused because no M1.6 screw grips 2 x 10.3 + 0.5 mm). Checked with the whole job:
+    the clause names the hardware change as well, and both applied design. A thickness the
+    screws still grip (7 mm: 14.5 + 1.3 <= 16) and a key that only lowers the loads are
+    left as they were."""
+    job = _bolted_job(6.0)
+    design_job(job, explain=False)  # the job as given designs: only the change is at stake
+    with pytest.raises(DesignError, match="rim screws"):
+        design_job(_bolted_job(9.0), explain=False)
+    clause = "springs.S1.thickness_mm = 9 (now 6)"
+    checked = job_module._checked_key_changes(job, _refusal_naming(
+        clause, (("S1", "thickness_mm", 6.0, 9.0),)))
+    text = str(checked)
+    assert f"{clause} and hardware." in text, text
+    hardware = dict(re.findall(r"hardware\.(\w+) = (\"\w+\"|[\d.]+) \(now ",
+                               text.split(clause, 1)[1].split(" (each alone")[0]))
+    assert hardware, text
+    changed = {k: (v.strip('"') if v.startswith('"') else float(v)) for k, v in hardware.items()}
+    design_job(replace(_bolted_job(9.0), hardware=replace(job.hardware, **changed)),
+               explain=False)
+    for same in ((("S1", "thickness_mm", 6.0, 7.0), "springs.S1.thickness_mm = 7 (now 6)"),
+                 (("S1", "max_deflection_deg", 14.0, 9.0),
+                  "springs.S1.max_deflection_deg = 9 (now 14)")):
+        err = _refusal_naming(same[1], (same[0],))
+        assert job_module._checked_key_changes(job, err) is err

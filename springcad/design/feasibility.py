@@ -294,6 +294,17 @@ def material_changes(material: MaterialSpec,
     return [m for m in others if density(m) > density(material) and designs_with(m)]
 
 
+def key_clause(spring_name: str, key: str, now: float, value: float) -> str:
+    """The clause naming one key's change, e.g. "springs.A.thickness_mm = 6.3 (now 5)"."""
+    return f"springs.{spring_name}.{key} = {value:g} (now {now:.4g})"
+
+
+def with_key(spec: SpringSpec, key: str, value: float) -> SpringSpec:
+    """``spec`` with the user key ``key`` (a :func:`nearest_changes` key, in the config's
+    unit) set to ``value``."""
+    return next(kr for kr in _keys() if kr.key == key).set(spec, value)
+
+
 def describe(spring_name: str, changes: list[tuple[str, float, float]],
              materials: list[MaterialSpec] = (), series: int | None = None,
              spec: SpringSpec | None = None, webs: bool = False) -> str:
@@ -303,7 +314,7 @@ def describe(spring_name: str, changes: list[tuple[str, float, float]],
     the refused ``spec``) add their clauses when given; ``webs``: the keys were probed as
     :func:`_keys` does for layouts held stiff by their webs (said when none designs).
     """
-    clauses = [f"springs.{spring_name}.{k} = {v:g} (now {v0:.4g})" for k, v0, v in changes]
+    clauses = [key_clause(spring_name, k, v0, v) for k, v0, v in changes]
     clauses += [f'material.name = "{m.material.name}" with material.design_stress_MPa = '
                 f"{m.design_stress_MPa:g}" for m in materials[:2]]
     if series is not None and spec is not None:

@@ -11,7 +11,7 @@ from springcad.config.consistency import check as check_config
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty
 from springcad.design.connections import RIM, camshaft_indices, connection_sequence
-from springcad.design.feasibility import fewer_disks
+from springcad.design.feasibility import fewer_disks, key_clause, with_key
 from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware, design_warnings
 from springcad.design.ring import pinned_hole_patterns
@@ -21,7 +21,7 @@ from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
 from springcad.design.tolerance import gap_range_mm
-from springcad.errors import ConfigError, DesignError, RemedyError
+from springcad.errors import ConfigError, DesignError, RemedyError, one_line
 from springcad.progress import Progress, report, reporting
 
 SCHEMA = "springcad.design/1"
@@ -232,7 +232,9 @@ def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> Sprin
         at = text.find(REFUSAL_HEAD)
         head, rest = (text[:at + len(REFUSAL_HEAD)], text[at + len(REFUSAL_HEAD):]) if at >= 0 \
             else (f"spring '{name}' {REFUSAL_HEAD}", text)
-        raise DesignError(f"{head}feasible with fewer disks: {fewer}; or {rest}") from err
+        more = DesignError(f"{head}feasible with fewer disks: {fewer}; or {rest}")
+        more.key_changes = err.key_changes
+        raise more from err
 
 
 def design_job(job: Job, explain: bool = True, progress: Progress | None = None) -> JobDesign:
@@ -268,7 +270,7 @@ def _design_job(job: Job, explain: bool = True, progress: Progress | None = None
             except DesignError as err:
                 if not explain:
                     raise
-                refusals.append(err)
+                refusals.append(_checked_key_changes(job, err))
     if refusals:
         raise _all_refusals(refusals, jamming_tolerances(job.manufacturing))
     # the thickness springcad chose (stock plate) is the job's from here on
@@ -286,6 +288,40 @@ def _design_job(job: Job, explain: bool = True, progress: Progress | None = None
             raise
         raise _checked_pin_remedies(asked, err) from err
     return design
+
+
+#: the user keys whose change can move a hardware part out of its fit (a thicker disk
+#: lengthens the rim joints' grip, a larger one moves the rim holes); a lower deflection
+#: or stiffness only lowers the loads the hardware carries
+HARDWARE_KEYS = ("thickness_mm", "outer_radius_mm")
+
+
+def _checked_key_changes(job: Job, err: DesignError) -> DesignError:
+    """The spring refusal ``err`` with each of its changes of the disk's size checked with
+    the whole job (the design search probes the spring alone): a change under which a
+    hardware part no longer fits (a screw too short for the thicker rims' grip) names the
+    hardware change with which the job designs too, or what stops it."""
+    text = str(err)
+    for name, key, now, value in err.key_changes:
+        clause = key_clause(name, key, now, value)
+        if key not in HARDWARE_KEYS or clause not in text:
+            continue
+        report(f"spring {name}: checking {clause.split(' (')[0]} with the whole job")
+        changed = replace(job, springs={**job.springs,
+                                        name: with_key(job.springs[name], key, value)})
+        try:
+            design_job(changed, explain=False)
+        except RemedyError as e:
+            works = _second_changes(changed, {}, clause, e)
+            text = text.replace(clause, works[0] if works else
+                                f"{clause} (then {short_reason(e).split('; use')[0]})", 1)
+        except (DesignError, ConfigError) as e:
+            text = text.replace(clause, f"{clause} (then {one_line(short_reason(e), 160)})", 1)
+    if text == str(err):
+        return err
+    checked = type(err)(text)
+    checked.key_changes, checked.__cause__ = err.key_changes, err
+    return checked
 
 
 def _all_refusals(refusals: list[DesignError], advice: str) -> DesignError:
