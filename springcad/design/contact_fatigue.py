@@ -155,20 +155,24 @@ class ContactFatigueCheck:
         return self.safety_factor >= self.required_safety_factor * (1.0 - 1e-6)
 
     def text(self) -> str:
-        head = (f"tip ball Hertz pressure {self.p0_max_MPa:.0f} MPa at theta_max against the "
-                f"contact-fatigue strength {self.strength_MPa:.0f} MPa at 1e7 cycles "
-                f"({self.hardness_HRC_min:g} HRC)")
+        strength = (f"contact-fatigue strength S_c {self.strength_MPa:.0f} MPa at 1e7 cycles "
+                    f"({self.hardness_HRC_min:g} HRC)")
         if not self.judged:
-            return (f"{head}: not judged (a duty of fewer than 1e4 cycles or a static/prototype "
+            return (f"tip ball Hertz pressure {self.p0_max_MPa:.0f} MPa at theta_max against the "
+                    f"{strength}: not judged (a duty of fewer than 1e4 cycles or a static/prototype "
                     f"duty: below AGMA's chart, the static contact rule, von Mises against "
                     f"yield, governs); S_c Z_N at 1e4 cycles is "
                     f"{self.strength_MPa * contact_life_factor(CHART_START_CYCLES):.0f} MPa")
         life = self.life_at_max_cycles
         life_text = ("fewer than 1e4 cycles (below the chart)" if life < CHART_START_CYCLES
                      else f"{life:.3g} cycles")
-        return (f"{head}: Miner sum {self.miner_sum:.3g}, safety factor "
-                f"{self.safety_factor:.2f} (required {self.required_safety_factor:g}), "
-                f"allowable {self.allowable_MPa:.0f} MPa; life at +-theta_max {life_text}")
+        # the allowable first: a pressure above S_c (1e7 cycles) is met by a duty with
+        # fewer full-deflection cycles, which read as a contradiction after S_c
+        return (f"tip ball Hertz pressure {self.p0_max_MPa:.0f} MPa at theta_max, allowable "
+                f"{self.allowable_MPa:.0f} MPa for this duty (its cycles by Miner's rule on the "
+                f"{strength} and its S-N factor Z_N, with the required safety factor "
+                f"{self.required_safety_factor:g}): Miner sum {self.miner_sum:.3g}, safety "
+                f"factor {self.safety_factor:.2f}; life at +-theta_max {life_text}")
 
     def changes(self, force_N: float, r_tip_mm: float, thickness_mm: float, E_MPa: float,
                 nu: float, contact_radius_mm: float, gap_mm: float, theta_max_rad: float,
