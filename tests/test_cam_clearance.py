@@ -4,12 +4,21 @@ lengthened by the shortfall the FEA measured, on the same ring."""
 
 from __future__ import annotations
 
+import math
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
-from springcad.design.cam import tip_clearance_mm
+from springcad.config import job_from_dict
+from springcad.config.consistency import min_rim_mm
+from springcad.design.cam import (TIP_CLEARANCE_FACTOR, _tip_width_mm, _tooth_tip, flank_point,
+                                  tip_clearance_mm, tooth_can_clear)
+from springcad.design.job import design_job
+from springcad.design.layout import ContactLimit, toleranced_layouts
 from springcad.design.resize import with_cam_clearance
+from springcad.design.shortfalls import soft_shortfalls
+from springcad.design.sizing import _design_at
 
 
 @pytest.fixture(scope="module")
@@ -17,8 +26,6 @@ def s1():
     """The default template's disk at 8 deg on its 4 mm plate: a cam whose tooth has room
     for longer flanks (at 14 deg it has none)."""
     from springcad.config import job_from_dict
-    from springcad.design.job import design_job
-
     job = job_from_dict({"material": {"name": "420_ht", "design_stress_MPa": 780},
                          "duty": {"preset": "static"},
                          "springs": {"S1": {"target_stiffness_Nm_per_rad": 150,
@@ -109,3 +116,48 @@ def test_a_layout_without_room_for_the_flank_is_redesigned_to_one_with_room():
     assert r.target_stiffness_Nmm_per_rad == d.target_stiffness_Nmm_per_rad
     assert r.spec.cam_min_tip_clearance_mm == want  # later width corrections keep the floor
     assert r.cam_min_tip_clearance_mm == want
+
+
+def test_the_tooth_tip_width_is_signed_and_is_the_closed_form():
+    """Tooth tip width |q| (pi - 2 phi_q + 2 pi / N) at the flank's end q (the pocket's
+    mirror image one pitch on): positive while the tooth has a tip, negative once the
+    flank runs past the next tooth's (read as |width| before, a 2.4 mm "tip" on a cam
+    whose contour crossed itself)."""
+    rc, rho = 10.0, 0.35
+    for n, psi_end, sign in ((40, rho / rc + 0.10, 1), (80, rho / rc + 0.60, -1)):
+        q = flank_point(psi_end, rc, rho)
+        phi = math.atan2(q[1], q[0])
+        by_hand = float(np.hypot(*q)) * (math.pi - 2 * phi + 2 * math.pi / n)
+        w = _tip_width_mm(_tooth_tip(q, 2 * math.pi / n))
+        assert w == pytest.approx(by_hand, rel=1e-12)
+        assert math.copysign(1, w) == sign
+
+
+def test_a_layout_whose_tooth_cannot_clear_the_ball_moves_to_a_larger_contact_radius():
+    """A 580 N*m/rad maraging disk at 14 deg, R_o 53, 3.5 mm: the ranked layout (N 59 at
+    the r_c of the longest straight reach) leaves no flank length whose tooth tip is both
+    min_web_mm wide and 1.25 x the tolerances clear of the ball at full deflection (kept
+    with a 2 um gap before). The search moves the same N to the smallest larger r_c whose
+    tooth can, and the design has no shortfall; the gap, by the closed form, clears."""
+    job = job_from_dict({"material": {"name": "maraging_300", "design_stress_MPa": 1040},
+                         "duty": {"preset": "static"},
+                         "springs": {"B": {"target_stiffness_Nm_per_rad": 580,
+                                           "max_deflection_deg": 14, "outer_radius_mm": 53,
+                                           "thickness_mm": 3.5}}})
+    spec, mat, mfg = job.springs["B"], job.material, job.manufacturing
+    need = TIP_CLEARANCE_FACTOR * (mfg.t_spring_mm + mfg.t_shaft_mm)
+    E = mat.material.youngs_modulus_MPa
+    rr_max = spec.outer_radius_mm - min_rim_mm(spec.outer_radius_mm, mfg, job.hardware)
+    ranked = toleranced_layouts(spec, mat.design_stress_MPa, E, rr_max,
+                                ContactLimit.of(mat, spec.max_deflection_rad, mfg))[0][0]
+    assert not tooth_can_clear(ranked.rc, ranked.rb, mfg.w_gap_mm, ranked.n,
+                               spec.max_deflection_rad, mfg.min_web_mm, need)
+    d = _design_at(spec, mat, mfg, job.hardware)
+    assert d.n_flexures == ranked.n
+    assert ranked.rc < d.contact_radius_mm <= 1.3 * ranked.rc
+    assert tooth_can_clear(d.contact_radius_mm, d.tip_radius_mm, mfg.w_gap_mm, d.n_flexures,
+                           spec.max_deflection_rad, mfg.min_web_mm, need)
+    full = design_job(job, explain=False).springs["B"]
+    assert not soft_shortfalls(full), soft_shortfalls(full)
+    assert tip_clearance_mm(full.contact_radius_mm, full.tip_radius_mm, mfg.w_gap_mm,
+                            full.max_deflection_rad, full.cam_overtravel) >= need

@@ -88,6 +88,34 @@ def tip_clearance_mm(contact_radius_mm: float, tip_radius_mm: float, gap_mm: flo
     return float(np.hypot(*(corner - ball))) - rb
 
 
+def _tooth_tip(q: np.ndarray, pitch: float) -> Arc:
+    """The tooth tip arc from the flank's end point ``q`` to the next tooth's (pitch
+    2 pi / N; mm, rad)."""
+    phi_q = math.atan2(q[1], q[0])
+    return Arc((0.0, 0.0), float(np.hypot(*q)), phi_q, math.pi - phi_q + pitch)
+
+
+def _tip_width_mm(tip: Arc) -> float:
+    """The tooth tip's width along its arc (mm); negative when the flank runs past the
+    next tooth's (a flank too long for the pitch: the contour would cross itself)."""
+    return tip.radius * tip.sweep
+
+
+def tooth_can_clear(contact_radius_mm: float, tip_radius_mm: float, gap_mm: float,
+                    n_flexures: int, deflection_rad: float, min_web_mm: float,
+                    need_mm: float) -> bool:
+    """Whether some flank length :func:`cam_profile` tries leaves a tooth tip at least
+    ``min_web_mm`` wide that passes the ball at full deflection at least ``need_mm`` away
+    (:func:`tip_clearance_mm`; mm, rad). The cam's own check adds the gap to the resting
+    ring; this one needs no profile, so the layout search can screen contact radii."""
+    rc, rho = contact_radius_mm, tip_radius_mm + gap_mm
+    pitch = 2 * math.pi / n_flexures
+    return any(_tip_width_mm(_tooth_tip(flank_point(rho / rc + f * deflection_rad, rc, rho),
+                                        pitch)) >= min_web_mm
+               and tip_clearance_mm(rc, tip_radius_mm, gap_mm, deflection_rad, f) >= need_mm
+               for f in OVERTRAVELS + LONG_OVERTRAVELS)
+
+
 def _unit(rc, rho, pitch, psi_end):
     """Segments of one pocket (ball 0 on +y) and the following tooth tip arc, with their names.
 
@@ -107,9 +135,7 @@ def _unit(rc, rho, pitch, psi_end):
     # ball centre; the pocket passes exactly through it: the gap is short by 0.05 um at S1 sizes
     beta = math.atan2(cusp[1] - rc, -cusp[0])
     pocket = Arc((0.0, rc), float(np.hypot(cusp[0], cusp[1] - rc)), beta, -math.pi - beta)
-    q = pts[-1]
-    phi_q = math.atan2(q[1], q[0])
-    tip = Arc((0.0, 0.0), float(np.hypot(*q)), phi_q, math.pi - phi_q + pitch)
+    tip = _tooth_tip(pts[-1], pitch)
     segs, feats = named((Feature("flank", 0, "right"), Feature("pocket", 0),
                          Feature("flank", 0, "left"), Feature("tip", 0)),
                         (right, pocket, left, tip))
@@ -201,7 +227,7 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
     for f in overtravels:
         psi_end = rho / rc + f * theta
         unit, unit_features, tip = _unit(rc, rho, pitch, psi_end)
-        tip_w = tip.length
+        tip_w = _tip_width_mm(tip)
         clearance = float("inf")
         if ring_pts is not None:  # N-fold symmetric: one tooth and its pockets suffice
             cam_pts = np.vstack([s.sample(0.01) for s in (*unit, *(s.rotated(-pitch) for s in unit))])
@@ -213,8 +239,10 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
     else:
         raise DesignError(
             f"spring '{d.name}': no cam tooth covers the full deflection {theta:.3g} rad: "
-            + "; ".join(f"overtravel {f:g}: tooth tip {w:.3f} mm wide (min_web_mm {min_web:g}), "
-                        f"clearance {c:.4f} mm (w_gap_mm {g:g})" for f, w, c in tried[:4])
+            + "; ".join(f"overtravel {f:g}: " + (f"tooth tip {w:.3f} mm wide" if w >= 0 else
+                                                  f"the flanks cross by {-w:.3f} mm")
+                        + f" (min_web_mm {min_web:g}), clearance {c:.4f} mm (w_gap_mm {g:g})"
+                        for f, w, c in tried[:4])
             + "; use fewer flexures, a larger contact radius or a smaller tip radius")
     segs = tuple(s.rotated(i * pitch) for i in range(n) for s in unit)  # the chosen tooth, N x
     loop = Loop(segs, tuple(f.reindexed(i) for i in range(n) for f in unit_features))

@@ -18,7 +18,9 @@ from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, Spri
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty, shapes, stress
 from springcad.design import flexure as fx
-from springcad.design.layout import ContactLimit, toleranced_layouts
+from springcad.config.consistency import CONTACT_SEARCH_FRACTION
+from springcad.design.cam import TIP_CLEARANCE_FACTOR, tooth_can_clear
+from springcad.design.layout import ContactLimit, Layout, fits, layout_at, toleranced_layouts
 from springcad.design.resize import with_width
 from springcad.design.shapes.base import SizingContext
 from springcad.design.spring import SpringDesign
@@ -97,13 +99,14 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
             "this envelope reaches that deflection: lower the stiffness or deflection, enlarge "
             "or thicken the disk, or put springs in series")
 
-    layouts, cusp_warning = toleranced_layouts(
-        spec, sigma, E, rr_max, ContactLimit.of(material, spec.max_deflection_rad, manufacturing),
-        nominal_fallback=_FOR_A_USER.get())
+    contact = ContactLimit.of(material, spec.max_deflection_rad, manufacturing)
+    layouts, cusp_warning = toleranced_layouts(spec, sigma, E, rr_max, contact,
+                                               nominal_fallback=_FOR_A_USER.get())
     warnings += [cusp_warning] if cusp_warning else []
     if rank >= len(layouts):
         raise _NoMoreLayouts(rank)
-    lay = layouts[rank]
+    lay = _tooth_cleared(spec, layouts[rank], sigma, E, rr_max, manufacturing, _replace(
+        contact, min_flank_position_mm=0.0) if cusp_warning else contact)
     n, rc, rb, rr = lay.n, lay.rc, lay.rb, lay.rr
     if rb < lay.rb_req:
         need = (f"tip ball {rb:.3f} mm is below the {lay.rb_req:.3f} mm the peak load "
@@ -159,6 +162,46 @@ ROOT_FLARES = (0.0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3)
 FLARE_GAIN = 0.005
 #: design passes at lower beam stress before the stress correction gives up
 STRESS_PASSES = 5
+
+
+#: contact radii, as factors on a layout's own, tried for its flexure count when no flank
+#: length leaves its cam tooth wide enough and clear of the ball at full deflection: 1 %
+#: steps up to 30 % larger (the flank between ball and tooth tip grows as r_c theta^2)
+TOOTH_RC_FACTORS = tuple(1.0 + 0.01 * k for k in range(1, 31))
+
+
+def _tooth_cleared(spec: SpringSpec, lay: Layout, sigma: float, E: float, rr_max: float,
+                   manufacturing: ManufacturingSpec, contact: ContactLimit) -> Layout:
+    """``lay``, or, when its cam tooth cannot both keep ``min_web_mm`` at its tip and pass
+    the ball at full deflection :data:`~springcad.design.cam.TIP_CLEARANCE_FACTOR` x the
+    profile tolerances away (:func:`~springcad.design.cam.tooth_can_clear`), the same
+    flexure count at the smallest larger contact radius (:data:`TOOTH_RC_FACTORS`, within
+    the layout search's range) whose tooth can. The layout ranking picks each N's contact
+    radius for the longest straight reach; a few percent more leaves the flank room for
+    the tooth (held-out g02: N 59 at r_c 11.36 mm kept a 2 um tooth-tip gap, at 11.8 mm
+    it designs clean). A contact radius the user fixed is kept."""
+    need_mm = TIP_CLEARANCE_FACTOR * (manufacturing.t_spring_mm + manufacturing.t_shaft_mm)
+
+    def clears(candidate: Layout) -> bool:
+        return tooth_can_clear(candidate.rc, candidate.rb, manufacturing.w_gap_mm, candidate.n,
+                               spec.max_deflection_rad, manufacturing.min_web_mm, need_mm)
+
+    if spec.contact_radius_mm is not None or clears(lay):
+        return lay
+    rc_max = CONTACT_SEARCH_FRACTION * spec.outer_radius_mm
+    if spec.root_radius_mm is not None:
+        rc_max = min(rc_max, spec.root_radius_mm)
+    for factor in TOOTH_RC_FACTORS:
+        rc = lay.rc * factor
+        if rc > rc_max:
+            break
+        try:
+            wider = layout_at(spec, sigma, E, lay.n, rc, rr_max, contact)
+        except DesignError:
+            continue
+        if fits(spec, wider) and clears(wider):
+            return wider
+    return lay
 
 
 def _with_flare(d: SpringDesign, flare: float) -> SpringDesign:
