@@ -174,13 +174,15 @@ def _tooth_cleared(spec: SpringSpec, lay: Layout, sigma: float, E: float, rr_max
                    manufacturing: ManufacturingSpec, contact: ContactLimit) -> Layout:
     """``lay``, or, when its cam tooth cannot both keep ``min_web_mm`` at its tip and pass
     the ball at full deflection :data:`~springcad.design.cam.TIP_CLEARANCE_FACTOR` x the
-    profile tolerances away (:func:`~springcad.design.cam.tooth_can_clear`), the same
+    profile tolerances (or the contact FEA's floor, ``spec.cam_min_tip_clearance_mm``)
+    away (:func:`~springcad.design.cam.tooth_can_clear`), the same
     flexure count at the smallest larger contact radius (:data:`TOOTH_RC_FACTORS`, within
     the layout search's range) whose tooth can. The layout ranking picks each N's contact
     radius for the longest straight reach; a few percent more leaves the flank room for
     the tooth (held-out g02: N 59 at r_c 11.36 mm kept a 2 um tooth-tip gap, at 11.8 mm
     it designs clean). A contact radius the user fixed is kept."""
-    need_mm = TIP_CLEARANCE_FACTOR * (manufacturing.t_spring_mm + manufacturing.t_shaft_mm)
+    need_mm = max(TIP_CLEARANCE_FACTOR * (manufacturing.t_spring_mm + manufacturing.t_shaft_mm),
+                  spec.cam_min_tip_clearance_mm)  # the cam's own rule (cam.cam_profile)
 
     def clears(candidate: Layout) -> bool:
         return tooth_can_clear(candidate.rc, candidate.rb, manufacturing.w_gap_mm, candidate.n,
