@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from springcad.design.curves import Arc, Circle, Line, Loop, Profile, Spline
-from springcad.design.planar import (find_defect, inside_region, points_in_polygon,
-                                     sample_loop)
+from springcad.design.curves import Arc, Circle, Feature, Line, Loop, Profile, Spline
+from springcad.design.planar import (_repeat_runs, find_defect, inside_region,
+                                     points_in_polygon, sample_loop)
 
 
 def square(x0, y0, size):
@@ -102,3 +102,64 @@ def test_a_short_finely_sampled_flank_is_not_a_self_touch():
                  Line((0, 5), (0, 0))))
     assert len(flank.sample(0.02)) >= 30  # far finer than the step
     assert find_defect(Profile(loop)) is None
+
+
+def _comb(n: int, width: float, r_in: float = 10.0, r_out: float = 30.0) -> Loop:
+    """An n-fold comb: each repeat a tooth from r_in out to r_out, ``width`` pitches wide
+    there, and back (feature index = repeat, as the ring's flexures); wider than about a
+    pitch, each tooth's tip crosses the next tooth's edge."""
+    pitch = 2 * math.pi / n
+
+    def at(r, a):
+        return (r * math.cos(a), r * math.sin(a))
+
+    segs, feats = [], []
+    for k in range(n):
+        a = k * pitch
+        p = [at(r_in, a), at(r_out, a + 0.2 * pitch), at(r_out, a + (0.2 + width) * pitch),
+             at(r_in, a + pitch)]
+        segs += [Line(p[0], p[1]), Line(p[1], p[2]), Line(p[2], p[3])]
+        feats += [Feature("edge", k), Feature("tip", k), Feature("edge", k)]
+    return Loop(tuple(segs), tuple(feats))
+
+
+@pytest.mark.parametrize("width, hole_at_deg, kind", [
+    (0.3, None, None),          # a clean comb
+    (1.5, None, "cross"),       # each tooth's tip runs across the next tooth's edge
+    (0.3, 100.0, "cross"),      # a rim hole far from repeat 0 cuts the teeth
+    (0.3, 200.0, None),         # the same hole clear of the teeth
+])
+def test_the_symmetric_search_finds_what_the_full_search_finds(width, hole_at_deg, kind):
+    """find_defect with ``folds`` (repeat 0's neighbours, and wherever another loop comes
+    near) against the full search of every sample, on a 24-fold comb inside a rim: the same
+    answer, a defect between far repeats found through its copy at repeat 0, and a hole
+    that cuts the teeth found wherever it lies."""
+    holes = [_comb(24, width)]
+    names = ["outer", "flexures"]
+    if hole_at_deg is not None:
+        a = math.radians(hole_at_deg)
+        r = 40.0 if hole_at_deg < 180 else 45.0
+        holes.append(Loop((Circle((r * math.cos(a), r * math.sin(a)), 10.5),)))
+        names.append("hole:0")
+    prof = Profile(Loop((Circle((0.0, 0.0), 60.0),)), tuple(holes), tuple(names))
+    full = find_defect(prof, 0.05)
+    symmetric = find_defect(prof, 0.05, folds={"flexures": 24})
+    assert (full and full.kind) == kind
+    assert (symmetric and symmetric.kind) == kind
+    if kind is not None:
+        assert symmetric.loops == full.loops
+
+
+def test_a_loop_whose_repeats_are_not_copies_is_searched_whole():
+    """The shortcut rests on the repeats being copies of repeat 0: a comb whose repeat 12
+    alone is too wide is not (its segment ends are not repeat 0's turned), so it is
+    searched whole and its defect found; nor is a loop whose features are not n equal
+    runs."""
+    clean, wide = _comb(24, 0.3), _comb(24, 1.5)
+    mixed = Loop(clean.segments[:36] + wide.segments[36:39] + clean.segments[39:],
+                 clean.features)
+    prof = Profile(Loop((Circle((0.0, 0.0), 60.0),)), (mixed,), ("outer", "flexures"))
+    assert _repeat_runs(clean, 24) == [3] * 24 and _repeat_runs(clean, 7) is None
+    assert _repeat_runs(mixed, 24) is None
+    assert find_defect(prof, 0.05).kind == "cross"
+    assert find_defect(prof, 0.05, folds={"flexures": 24}).kind == "cross"

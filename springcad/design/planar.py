@@ -214,7 +214,82 @@ class LoopDefect:
     point_mm: tuple[float, float]
 
 
-def find_defect(profile: Profile, step_mm: float = 0.02) -> LoopDefect | None:
+#: repeats of an N-fold loop on either side of repeat 0 whose samples the symmetric check
+#: pairs (:func:`find_defect`): the repeats are rotated copies of one curve set, so two of
+#: them can meet only where repeat 0 already overlaps its neighbour
+_WINDOW_REPEATS = 2
+
+
+#: how far (mm) a repeat's segment ends may lie from repeat 0's turned onto them
+_REPEAT_TOLERANCE_MM = 1e-9
+
+
+def _repeat_runs(loop: Loop, n: int) -> list[int] | None:
+    """Segment counts of the loop's repeats 0..n-1 when its segments run as n equal,
+    consecutive repeats (feature indices 0, 0, .., 1, 1, .., n-1) whose segments start
+    and end where repeat 0's, turned by k 2 pi / n, do; else None."""
+    idx = [f.index for f in loop.features]
+    if not idx or len(idx) % n or idx != [i for i in range(n) for _ in range(len(idx) // n)]:
+        return None
+    m = len(idx) // n
+    ends = np.array([[*s.start, *s.end] for s in loop.segments]).reshape(n, m, 4)
+    turns = 2.0 * math.pi * np.arange(n) / n
+    c, s = np.cos(turns)[:, None], np.sin(turns)[:, None]
+    first = ends[0]
+    for j in (0, 2):  # segment starts, then ends
+        x = c * first[None, :, j] - s * first[None, :, j + 1]
+        y = s * first[None, :, j] + c * first[None, :, j + 1]
+        if np.hypot(ends[:, :, j] - x, ends[:, :, j + 1] - y).max() > _REPEAT_TOLERANCE_MM:
+            return None
+    return [m] * n
+
+
+def _symmetric_samples(loop: Loop, n: int, step_mm: float) -> tuple[np.ndarray, np.ndarray]:
+    """Samples of an n-fold loop (:func:`_repeat_runs`): repeat 0's, turned by k 2 pi / n
+    for repeat k (the same set of points the solids sample, to round-off), and the repeat
+    of each sample."""
+    m = len(loop.segments) // n
+    unit = np.vstack([s.sample(step_mm)[:-1] for s in loop.segments[:m]])
+    turns = 2.0 * math.pi * np.arange(n) / n
+    c, s = np.cos(turns)[:, None], np.sin(turns)[:, None]
+    x = c * unit[None, :, 0] - s * unit[None, :, 1]
+    y = s * unit[None, :, 0] + c * unit[None, :, 1]
+    return np.stack([x.ravel(), y.ravel()], axis=1), np.repeat(np.arange(n), len(unit))
+
+
+def _window(pts, repeat, symmetric_loops, profile, reach_mm: float) -> np.ndarray | None:
+    """Which samples the pair search needs when loops ``symmetric_loops`` are n-fold: the
+    repeats within :data:`_WINDOW_REPEATS` of repeat 0, every sample of the other loops
+    (an origin-centred circle, a hole, a bore) and the n-fold samples within ``reach_mm``
+    of those (a circle's radial band, a loop's box). None when nothing is symmetric."""
+    if not symmetric_loops:
+        return None
+    keep = []
+    for i, p in enumerate(pts):
+        if i in symmetric_loops:
+            n = symmetric_loops[i]
+            k = repeat[i]
+            keep.append(np.minimum(k, n - k) <= _WINDOW_REPEATS)
+        else:
+            keep.append(np.ones(len(p), bool))
+    xs = {i: pts[i][:, 0] for i in symmetric_loops}
+    ys = {i: pts[i][:, 1] for i in symmetric_loops}
+    radii = {i: np.hypot(xs[i], ys[i]) for i in symmetric_loops}
+    for j, loop in enumerate(profile.loops):
+        if j in symmetric_loops:
+            continue
+        centred = loop.is_circle and math.hypot(*loop.segments[0].center) < 1e-12
+        (x0, y0), (x1, y1) = pts[j].min(axis=0) - reach_mm, pts[j].max(axis=0) + reach_mm
+        for i in symmetric_loops:
+            if centred:
+                keep[i] |= np.abs(radii[i] - loop.segments[0].radius) <= reach_mm
+            else:
+                keep[i] |= (xs[i] >= x0) & (xs[i] <= x1) & (ys[i] >= y0) & (ys[i] <= y1)
+    return np.concatenate(keep)
+
+
+def find_defect(profile: Profile, step_mm: float = 0.02,
+                folds: dict[str, int] | None = None) -> LoopDefect | None:
     """The first reason why the profile's loops do not bound a valid face, or None.
 
     Works on the loops sampled every ``step_mm``: no loop may cross itself or
@@ -222,8 +297,25 @@ def find_defect(profile: Profile, step_mm: float = 0.02) -> LoopDefect | None:
     (a fillet swept the long way, a hole tangent to an edge), every hole must
     lie inside the outer contour and outside the other holes. Of several crossings (or
     touches) the one reported is the first in sample order (outer contour first).
+
+    ``folds``: loop name -> N for loops that are N rotated repeats of one curve set
+    (a ring's flexures, a cam's teeth: :func:`_repeat_runs`). Their samples are repeat
+    0's turned N times, and the pairs are searched only among the repeats next to repeat 0
+    and wherever another loop comes near (:func:`_window`): a defect between repeats i and
+    j is the same defect turned by -i, so the answer is the full search's (to round-off),
+    at a fraction of its cost on rings of many flexures. Where a loop's segments are not
+    such repeats it is searched whole.
     """
-    pts = [loop.sample(step_mm) for loop in profile.loops]
+    symmetric, repeat, pts = {}, {}, []
+    for i, (name, loop) in enumerate(zip(profile.names or [""] * len(profile.loops),
+                                         profile.loops)):
+        n = (folds or {}).get(name)
+        if n and n > 2 * _WINDOW_REPEATS + 1 and _repeat_runs(loop, n) is not None:
+            p, repeat[i] = _symmetric_samples(loop, n, step_mm)
+            symmetric[i] = n
+        else:
+            p = loop.sample(step_mm)
+        pts.append(p)
     sizes = np.array([len(p) for p in pts])
     p0 = np.vstack(pts)
     loop_of = np.repeat(np.arange(len(pts)), sizes)
@@ -236,7 +328,14 @@ def find_defect(profile: Profile, step_mm: float = 0.02) -> LoopDefect | None:
     p1 = p0[nxt]
     mid, half = 0.5 * (p0 + p1), 0.5 * np.linalg.norm(p1 - p0, axis=1)
     # two chords that cross have midpoints closer than the longer chord
-    pairs = close_pairs(mid, 2.0 * half.max() + 1e-9)
+    reach_mm = 2.0 * half.max() + 1e-9
+    where = _window(pts, repeat, symmetric, profile, reach_mm + step_mm)
+    search = np.arange(len(p0)) if where is None else np.flatnonzero(where)
+
+    def pairs_within(xy: np.ndarray, r_mm: float) -> np.ndarray:
+        return search[close_pairs(xy[search], r_mm)]
+
+    pairs = pairs_within(mid, reach_mm)
     a, b = pairs[:, 0], pairs[:, 1]
     adjacent = (nxt[a] == b) | (nxt[b] == a)
     a, b = a[~adjacent], b[~adjacent]
@@ -251,7 +350,7 @@ def find_defect(profile: Profile, step_mm: float = 0.02) -> LoopDefect | None:
         k = int(np.flatnonzero(cross)[0])
         return LoopDefect("cross", (int(loop_of[a[k]]), int(loop_of[b[k]])),
                           tuple(float(v) for v in mid[a[k]]))
-    near = close_pairs(p0, 0.5 * step_mm)
+    near = pairs_within(p0, 0.5 * step_mm)
     if len(near):
         a, b = near[:, 0], near[:, 1]
         gap_mm = np.abs(s_along[a] - s_along[b])

@@ -21,17 +21,23 @@ from springcad.design.spring import SpringDesign
 CONTOUR_STEP_MM = 0.02
 
 
+def _folds(n_flexures: int) -> dict[str, int]:
+    """The N-fold loops of the ring and the cam (:func:`~springcad.design.planar.find_defect`)."""
+    return {"flexures": n_flexures, "teeth": n_flexures}
+
+
 def profile_defect(d: SpringDesign) -> str:
     """Why the ring's or the cam's contours would not make a valid face, or "".
 
-    The solids' check, run on the design's exact profiles in ~0.1-0.4 s, so a layout
-    whose cam or ring crosses itself is passed over by the search, not refused after
-    the FEA.
+    The solids' check, run on the design's exact profiles, so a layout whose cam or ring
+    crosses itself is passed over by the search, not refused after the FEA. The
+    flexures and the teeth are searched by their N-fold symmetry (the solids and the
+    mesher search every repeat: a second reader of the same rule).
     """
     for part, profile in (("ring", d.ring), ("camshaft", d.cam)):
         if profile is None:
             continue
-        defect = find_defect(profile, CONTOUR_STEP_MM)
+        defect = find_defect(profile, CONTOUR_STEP_MM, folds=_folds(d.n_flexures))
         if defect is not None:
             x, y = defect.point_mm
             where = f"at ({x:.3f}, {y:.3f}) mm, r = {math.hypot(x, y):.3f} mm"
