@@ -148,8 +148,15 @@ class SpringVerification:
 
     def duty_failures(self) -> list[str]:
         """Why the duty stops a release (empty when it is met or static/prototype): the
-        flexures' fatigue and the tip balls' contact fatigue."""
-        return self._flexure_duty_failures() + self.contact_fatigue_failures()
+        flexures' fatigue and the tip balls' contact fatigue; when the job declares no
+        duty, the last says that springcad's default is the duty and how to declare one."""
+        out = self._flexure_duty_failures() + self.contact_fatigue_failures()
+        if out and not self.design.material.duty.declared:
+            out[-1] += ("; the job declares no [duty], so springcad's default is the duty: "
+                        "declare the one the spring will see ([duty] blocks of cycles, a "
+                        "time series or a preset, e.g. preset = \"static\" for a prototype: "
+                        "1e3 reversals at +-theta_max; README: Duty)")
+        return out
 
     def _flexure_duty_failures(self) -> list[str]:
         c = self.duty_check

@@ -221,3 +221,19 @@ def test_design_json_and_fea_json_agree_on_the_damage(name):
         ratio = dd["miner_sum"] / fd["miner_sum"]
         assert 0.9 <= ratio <= 1.1, (spring, dd["peak_at_max_deflection_MPa"],
                                      fd["peak_at_max_deflection_MPa"], ratio)
+
+
+def test_a_default_duty_failure_says_it_is_the_default_and_how_to_declare_one():
+    """The same stress over the robot_joint duty fails the release whether the job declares
+    it or gets it by default; only the default's reasons say that no [duty] was declared
+    and how to declare the duty the spring will see."""
+    declared = _design("default", preset="robot_joint")
+    default = _design("default")
+    assert not default.springs["S1"].material.duty.declared
+    for jd, says in ((declared, False), (default, True)):
+        d = jd.springs["S1"]
+        allowed = duty.allowed_peak_MPa(d.material, d.max_deflection_rad)
+        reasons = _verified(jd, {"root fillet": 1.3 * allowed}, "root fillet").duty_failures()
+        assert reasons and "not met" in reasons[0]
+        assert ("declares no [duty]" in reasons[-1]) is says
+        assert ('preset = "static"' in " ".join(reasons)) is says
