@@ -362,7 +362,8 @@ def _screen(spec: SpringSpec, sigma, E, ns, max_root_radius_mm: float,
 
     :func:`~springcad.design.flexure.straight_limit_rad` grows with the flexure length
     R_r - r_c, and :func:`layout_at` never puts R_r beyond the fixed ``root_radius_mm``, nor
-    else beyond R_o or ``max_root_radius_mm`` (no bound where that length is not positive).
+    else beyond R_o, ``max_root_radius_mm`` or the rim rule's bound
+    (:func:`_rim_root_bound_mm`; no bound where that length is not positive).
     :func:`tip_ball` never gives a ball smaller than the fixed ``tip_radius_mm``, nor else
     than ``min_tip_radius_mm`` and the radius bending needs, and fewer balls fit as they
     grow (:func:`~springcad.design.flexure.max_flexures`). Both bounds are widened by 1e-9
@@ -377,13 +378,16 @@ def _screen(spec: SpringSpec, sigma, E, ns, max_root_radius_mm: float,
     default job before, ~10k after.
     """
     z, K, theta = spec.thickness_mm, spec.target_stiffness_Nmm_per_rad, spec.max_deflection_rad
-    rr = spec.root_radius_mm if spec.root_radius_mm is not None else min(
-        max_root_radius_mm, spec.outer_radius_mm)
+    ro = spec.outer_radius_mm
+    rr = spec.root_radius_mm if spec.root_radius_mm is not None else min(max_root_radius_mm, ro)
     n = np.asarray(list(ns), float)
 
     def screen(rc) -> tuple[np.ndarray, np.ndarray]:
         rc = np.asarray(rc, float)[..., None]  # radii down, flexure counts across
         length = rr - rc
+        if spec.root_radius_mm is None:  # the rim rule's root, at most its bound below
+            length = np.minimum(length, _rim_root_bound_mm(
+                ro, n, rc, fx.tip_load_N(K, theta, n, rc), z, sigma) - rc)
         with np.errstate(invalid="ignore"):
             reach = np.where(length > 0, fx.straight_limit_rad(
                 n, z, sigma, np.maximum(length, 0.0), E, K, rc) * (1.0 + 1e-9), np.inf)
@@ -405,6 +409,19 @@ def _screen(spec: SpringSpec, sigma, E, ns, max_root_radius_mm: float,
             may_fit = carried & (n <= np.pi * np.hypot(rb, rc) / (2.0 * rb) * (1.0 + 1e-9))
         return reach, may_fit
     return screen
+
+
+def _rim_root_bound_mm(outer_radius_mm, n, contact_radius_mm, load_N, thickness_mm, sigma):
+    """A root radius the rim rule of :func:`rim_root_radius` never exceeds (mm; arrays).
+
+    Its root R_r solves R_o - R_r = (2 pi R_r / N - w0(R_r - r_c)) / 1.5 with w0 rising, so
+    w0(R_r - r_c) <= w0(R_o - r_c) gives R_r <= (R_o + w0(R_o - r_c) / 1.5) / (1 + 2 pi /
+    (1.5 N)); raised by 1e-6 mm for the root's own tolerance (1e-10 mm) and rounding.
+    """
+    w_most = np.sqrt(6.0 * load_N * np.maximum(outer_radius_mm - contact_radius_mm, 0.0)
+                     / (thickness_mm * sigma))
+    return ((outer_radius_mm + w_most / RIM_GAP_RATIO)
+            / (1.0 + 2.0 * np.pi / (RIM_GAP_RATIO * n)) + 1e-6)
 
 
 #: later candidates differ from every earlier one by at least this factor in N, so that
