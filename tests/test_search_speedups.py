@@ -27,14 +27,15 @@ BASE = {"stiffness_Nm_per_rad": 150, "max_deflection_deg": 14, "outer_radius_mm"
 
 def _unscreened(spec, ns, *args):
     """A screen that passes every (N, r_c) pair: the enumeration without its shortcut."""
-    return lambda rc: (np.full(len(ns), np.inf), np.ones(len(ns), bool))
+    return lambda rc: (np.full(np.shape(rc) + (len(ns),), np.inf),
+                       np.ones(np.shape(rc) + (len(ns),), bool))
 
 
 def _brute_force(spec, sigma, E, max_root_radius_mm, contact, limit=12):
     """Every pair through :func:`tip_ball` and :func:`layout_at`: the same enumeration with
     the screen replaced by one that passes every pair."""
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(layout, "_screen", lambda spec, sigma, E, ns, cap: _unscreened(spec, ns))
+        mp.setattr(layout, "_screen", lambda spec, sigma, E, ns, cap, contact: _unscreened(spec, ns))
         return candidate_layouts(spec, sigma, E, limit, max_root_radius_mm, contact)
 
 
@@ -82,17 +83,22 @@ def test_screen_bounds_every_pair(over):
     E = job.material.material.youngs_modulus_MPa
     contact = ContactLimit.of(job.material, spec.max_deflection_rad, job.manufacturing)
     ns = range(3, 200)
-    laid, screened = 0, 0
+    laid, screened, by_contact = 0, 0, 0
+    radii = np.linspace(1.5, 0.6 * spec.outer_radius_mm, 25)
     for sigma, cap in ((600.0, math.inf), (900.0, spec.outer_radius_mm - 3.0)):
-        screen = _screen(spec, sigma, E, ns, cap)
-        for rc in np.linspace(1.5, 0.6 * spec.outer_radius_mm, 25):
+        loose = _screen(spec, sigma, E, ns, cap)(radii)[1]
+        screen = _screen(spec, sigma, E, ns, cap, contact)
+        reaches, fitting = screen(radii)  # all radii at once: the float calls row by row
+        for j, rc in enumerate(radii):
             reach, may_fit = screen(float(rc))
+            assert np.array_equal(reach, reaches[j]) and np.array_equal(may_fit, fitting[j])
             for i, n in enumerate(ns):
                 rb = tip_ball(spec, sigma, n, float(rc), contact)[2]
                 ok = math.isfinite(rb) and n <= fx.max_flexures(rb, float(rc))
                 if not may_fit[i]:
                     assert not ok
                     screened += 1
+                    by_contact += bool(loose[j, i])
                 if ok:
                     try:
                         lay = layout_at(spec, sigma, E, n, float(rc), cap, contact)
@@ -101,6 +107,8 @@ def test_screen_bounds_every_pair(over):
                     assert lay.theta_s <= reach[i]
                     laid += 1
     assert laid > 0 and screened > 0
+    if spec.tip_radius_mm is None:  # the contact bound screens pairs the bending one passes
+        assert by_contact > 0
 
 
 def test_cam_clearance_is_the_all_pairs_minimum():

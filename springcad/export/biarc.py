@@ -103,20 +103,26 @@ def segment_length(a, b, bulge: float) -> float:
     return abs(sweep) * r
 
 
+def _row_norms(v: np.ndarray) -> np.ndarray:
+    """``np.linalg.norm(v, axis=1)`` of a real (n, 2) array, the same operations without
+    its argument handling (most of its time on the biarc fit's few-point calls)."""
+    return np.sqrt(np.add.reduce(v * v, axis=1))
+
+
 def distance_to_segment(p, a, b, bulge: float) -> np.ndarray:
     """Distance from points ``p`` (n, 2) to one line or bulge arc (mm)."""
     p = np.atleast_2d(np.asarray(p, float))
     a, b = np.asarray(a, float), np.asarray(b, float)
-    ends = np.minimum(np.linalg.norm(p - a, axis=1), np.linalg.norm(p - b, axis=1))
+    ends = np.minimum(_row_norms(p - a), _row_norms(p - b))
     if not bulge:
         d = b - a
         t = np.clip(((p - a) @ d) / float(d @ d), 0.0, 1.0)
-        return np.linalg.norm(p - (a + t[:, None] * d), axis=1)
+        return _row_norms(p - (a + t[:, None] * d))
     c, r, sweep = arc_centre(a, b, bulge)
     u, w = a - c, p - c
     phi = np.arctan2(_cross(u, w), w @ u) * math.copysign(1.0, sweep)
     inside = np.mod(phi, 2 * math.pi) <= abs(sweep)
-    return np.where(inside, np.abs(np.linalg.norm(w, axis=1) - r), ends)
+    return np.where(inside, np.abs(_row_norms(w) - r), ends)
 
 
 def _biarc(p0, t0, p1, t1):
@@ -156,14 +162,17 @@ def spline_biarcs(seg: Spline, tol_mm: float) -> tuple[list[tuple], float, int]:
     todo = [(0.0, float(u_knots[-1]))]  # parameter intervals still to match, in curve order
     while todo:
         ua, ub = todo.pop(0)
-        p0, p1 = cs(np.array([ua, ub]))
-        t0, t1 = cs(np.array([ua, ub]), 1)
+        # the ends, their tangents and the samples between in one evaluation (elementwise:
+        # the numbers of separate calls)
+        at = np.concatenate([[ua, ub], np.linspace(ua, ub, SAMPLES_PER_PIECE + 2)[1:-1]])
+        points, tangents = cs.derivatives(at, (0, 1))
+        (p0, p1), samples = points[:2], points[2:]
+        t0, t1 = tangents[0], tangents[1]
         t0, t1 = t0 / np.linalg.norm(t0), t1 / np.linalg.norm(t1)
         j = _biarc(p0, t0, p1, t1)
         if j is not None:
             b0 = bulge_from_tangent(p0, j, t0)
             b1 = -bulge_from_tangent(p1, j, -t1)  # the second arc, traced backwards from p1
-            samples = cs(np.linspace(ua, ub, SAMPLES_PER_PIECE + 2)[1:-1])
             dev = float(np.max(np.minimum(distance_to_segment(samples, p0, j, b0),
                                           distance_to_segment(samples, j, p1, b1))))
             if dev <= tol_mm:
