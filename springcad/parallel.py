@@ -69,6 +69,20 @@ def single_threaded_blas():
         yield
 
 
+@contextlib.contextmanager
+def single_threaded():
+    """Run the block with one thread in every native pool (BLAS and OpenMP:
+    ``threadpoolctl``; unchanged without it), as a second process runs (:func:`_child`):
+    work that may run in either place gives the same numbers in both."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # optional: only a speed-up
+        yield
+        return
+    with threadpool_limits(limits=1):
+        yield
+
+
 #: glibc mallopt parameters (malloc.h) and the size above which a block is its own mapping
 _M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
 RETURN_ABOVE_BYTES = 4 * 2 ** 20
@@ -152,9 +166,7 @@ def _child(conn, func, args, kwargs) -> None:
         ctypes.CDLL(None).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
     messages = []
     try:
-        from threadpoolctl import threadpool_limits
-
-        with threadpool_limits(1):  # the parent uses the other core; no forked thread pools
+        with single_threaded():  # the parent uses the other core; no forked thread pools
             value = func(*args, progress=lambda m, f=None: messages.append((m, f)), **kwargs)
         conn.send(("ok", value, messages))
     except BaseException as err:  # noqa: BLE001 - every failure goes back to the parent

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from springcad.errors import GeometryError
-from springcad.parallel import beside, enabled
+from springcad.parallel import beside, enabled, single_threaded
 
 pytestmark = pytest.mark.skipif(not enabled(), reason="fork not available or switched off")
 ROOT = Path(__file__).resolve().parents[1]
@@ -156,3 +156,28 @@ def test_a_child_stopped_as_it_starts_prints_nothing(tmp_path):
                          timeout=600)
     assert res.returncode == 0 and res.stdout.strip() == "done", res.stderr
     assert "Traceback" not in res.stderr and "inherited" not in res.stderr, res.stderr
+
+
+def _pools(progress):
+    """(library, threads) of every native thread pool of this process (threadpoolctl)."""
+    from threadpoolctl import threadpool_info
+
+    return sorted((p["internal_api"], p["num_threads"]) for p in threadpool_info())
+
+
+def test_work_run_here_single_threaded_sees_the_pools_a_second_process_sees():
+    """The 3D factor may be solved in the caller or in a second process; it gives the same
+    numbers only if both run with the same thread pools (a serial and a parallel verify of
+    the default differed in 1040 fields of fea.json while the caller limited BLAS alone,
+    and in none with every pool limited). :func:`single_threaded` in the caller gives
+    every pool the one thread the child has."""
+    pytest.importorskip("threadpoolctl")
+    if not enabled():
+        pytest.skip("no second process on this platform")
+    import numpy  # noqa: F401 - loads the BLAS pool
+
+    with single_threaded():
+        here = _pools(None)
+    with beside(_pools) as child:
+        there = child.result()
+    assert here == there and here and all(n == 1 for _, n in here)
