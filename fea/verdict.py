@@ -20,7 +20,7 @@ from fea.problem import LoadCase
 from fea.study import ModelRun, VerifyOptions
 from springcad.design import contact_fatigue, duty, fatigue
 from springcad.design.stack import eq10_limit, series_stiffness
-from springcad.errors import CheckFailed
+from springcad.errors import CheckFailed, one_line
 from springcad.units import NMM_PER_NM
 from springcad.version import stamp
 
@@ -32,6 +32,11 @@ class VerificationFailed(CheckFailed):
 
 
 # ================================================================== one spring
+#: the starts of the verification notes that say what a contact correction tried and why
+#: it was not kept (fea.verify): the release reasons carry them beside the contact failures
+CORRECTIONS_TRIED = ("cam redesign", "contact correction stopped", "cam clearance correction")
+
+
 @dataclass(repr=False)
 class SpringVerification:
     """The verified spring: FEA stiffness and stress with errors, and the correction history.
@@ -418,7 +423,11 @@ class JobVerification:
             if v.contact is None and self.options.contact:
                 out.append(f"spring {n}: the cam contact at +-theta_max was not assessed (the "
                            "contact sweep failed, see the notes)")
-            out += v.contact_failures()
+            failures = v.contact_failures()
+            tried = [t for t in v.notes if t.startswith(CORRECTIONS_TRIED)]
+            if failures and tried:  # what the correction tried, and why it was not kept
+                failures[-1] += "".join(f"; {one_line(t, 300)}" for t in tried)
+            out += failures
         return out
 
     def duty_failures(self) -> list[str]:

@@ -7,7 +7,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from fea.verdict import SpringVerification
+from fea.verdict import JobVerification, SpringVerification
 from springcad.config import job_from_dict
 from springcad.design import duty
 from springcad.design.job import design_job
@@ -237,3 +237,19 @@ def test_a_default_duty_failure_says_it_is_the_default_and_how_to_declare_one():
         assert reasons and "not met" in reasons[0]
         assert ("declares no [duty]" in reasons[-1]) is says
         assert ('preset = "static"' in " ".join(reasons)) is says
+
+
+def test_a_contact_failure_says_what_the_correction_tried():
+    """A release stopped by a contact clearance at +-theta_max carries the correction's own
+    note (held-out g26: the cam redesign to N 42 opened the ball's gap but left the tooth
+    tip to edge -27 um in the worst case, which only fea.json said); notes of other kinds
+    stay out, and a spring without contact failures gets none."""
+    tried = "cam redesign (N 42, r_c 11.000 mm) verified and not kept: " + "x" * 400
+    failing = SimpleNamespace(contact=object(), contact_failures=lambda: ["gap A", "gap B"],
+                              notes=["2D plane-stress Richardson extrapolation", tried])
+    clean = SimpleNamespace(contact=object(), contact_failures=lambda: [], notes=[tried])
+    stub = SimpleNamespace(springs={"A": failing, "B": clean},
+                           options=SimpleNamespace(contact=True))
+    out = JobVerification.release_failures(stub)
+    assert out[0] == "gap A" and out[1].startswith("gap B; cam redesign (N 42")
+    assert "Richardson" not in out[1] and len(out) == 2 and len(out[1]) < 320
