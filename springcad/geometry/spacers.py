@@ -60,7 +60,6 @@ class AnnularPart(SpringcadPart):
         self.hole_diameter = hole_diameter_mm
         self.process = process or self.PROCESS
         self.hole_purpose = (fits or {}).get("hole_purpose", "")
-        self.hardness = hardness
         holes = tuple(circle_loop(0.5 * hole_diameter_mm, c) for c in self.hole_centres)
         region = annulus(inner_radius_mm, outer_radius_mm, holes)
         dims = {"outer diameter": 2 * outer_radius_mm}
@@ -161,7 +160,7 @@ class RimSpacer(AnnularPart):
                 *super().part_notes())
 
     def stock_text(self) -> str:
-        """Spring strip to EN 10151 in the temper of the material data (``hardness``),
+        """Strip of the material's grade and temper (its name: ``1.4310+C1300 ... EN 10151``),
         thickness tolerance EN ISO 9445-1 normal: at most ±0.05 mm for strip up to 1 mm thick
         in widths below 600 mm (EN 10258 / ISO 9445-1 narrow-strip table), within the
         :data:`~springcad.design.processes.SHEET_THICKNESS_TOLERANCE_MM` drawn. The part
@@ -170,11 +169,9 @@ class RimSpacer(AnnularPart):
         if not self.is_thin_sheet:
             return ""
         t, w = self._stock_sizes()
-        temper = f", {self.hardness}" if self.hardness else ""
-        return (f"strip to EN 10151{temper}, {t} mm thick with the EN ISO 9445-1 normal "
-                f"thickness tolerance (inside the ±{self.length_tolerance_mm:g} drawn), at "
-                f"least {w} mm wide; the part carries no load: another EN 10151 temper of "
-                "the grade may be supplied")
+        return (f"strip {t} mm thick, EN ISO 9445-1 normal thickness tolerance (inside the "
+                f"±{self.length_tolerance_mm:g} drawn), at least {w} mm wide; the part carries "
+                "no load: another EN 10151 temper will do")
 
 
 #: thickness tolerance of acetal sheet as ASTM D6100 gives it when the order names none

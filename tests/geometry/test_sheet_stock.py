@@ -19,19 +19,20 @@ def _shim(thickness_mm=0.4):
 
 
 def test_shim_temper_is_named_in_the_material_data():
-    """EN 10151 names 1.4310 spring strip by tensile class: +C1300 is Rm 1300-1500 MPa."""
-    assert "1.4310" in SHIM.description and "EN 10151" in SHIM.description
-    assert SHIM.hardness == "temper +C1300 (EN 10151: Rm 1300-1500 MPa)"
+    """EN 10151 names 1.4310 spring strip by tensile class: +C1300 is Rm 1300-1500 MPa; the
+    material's name (drawing note 3, the BOM's material column) carries the temper."""
+    assert "1.4310+C1300" in SHIM.description and "EN 10151" in SHIM.description
+    assert SHIM.hardness == "Rm 1300-1500 MPa (EN 10151 temper +C1300)"
 
 
 def test_rim_spacer_stock():
-    """0.4 mm strip, Ø72 part: at least 72 mm wide; the temper of the material data; the
-    strip's normal thickness tolerance inside the ±0.05 drawn; a note and the part's
-    ``stock`` say the same."""
+    """0.4 mm strip, Ø72 part: at least 72 mm wide; the strip's normal thickness tolerance
+    inside the ±0.05 drawn; any temper (no load); a note and the part's ``stock`` say the
+    same."""
     part = _shim()
     stock = part.info.stock
-    for text in ("strip to EN 10151, temper +C1300", "0.4 mm thick", "EN ISO 9445-1 normal",
-                 "inside the ±0.05 drawn", "at least 72 mm wide", "carries no load"):
+    for text in ("strip 0.4 mm thick", "EN ISO 9445-1 normal", "inside the ±0.05 drawn",
+                 "at least 72 mm wide", "carries no load: another EN 10151 temper will do"):
         assert text in stock, text
     assert f"Stock to order: {stock}." in part.info.notes
     # a plate is not sheet stock: no stock text (the material and thickness say it)
@@ -52,11 +53,24 @@ def test_pom_sheet_stock(cls):
     assert "order ±0.05, closer than ASTM D6100's ±10 % (±0.06)" in thick
 
 
-def test_bom_carries_the_stock(stack_4xs1):
-    """Every sheet part's BOM row has its stock; the other parts' rows are empty."""
+def test_bom_and_vendor_readme_carry_the_stock(stack_4xs1):
+    """Every sheet part's BOM row has its stock; the other parts' rows are empty; the vendor
+    README gives it under the part, wrapped at 80 characters."""
     from springcad.export.bom import bom_rows
+    from springcad.export.release import ReleaseStatus
+    from springcad.export.vendor import readme_text
 
-    rows = {r["kind"]: r for r in bom_rows(stack_4xs1)}
-    assert "EN 10151" in rows["rim_spacer"]["stock"]
-    assert "ASTM D6100" in rows["centre_spacer"]["stock"]
-    assert rows["flexure_ring"]["stock"] == "" and rows["fastener"]["stock"] == ""
+    rows = bom_rows(stack_4xs1)
+    kinds = {r["kind"]: r for r in rows}
+    assert "EN ISO 9445-1" in kinds["rim_spacer"]["stock"]
+    assert "1.4310+C1300" in kinds["rim_spacer"]["material"]
+    assert "ASTM D6100" in kinds["centre_spacer"]["stock"]
+    assert kinds["flexure_ring"]["stock"] == "" and kinds["fastener"]["stock"] == ""
+    text = readme_text(stack_4xs1, ReleaseStatus(()), "4xS1", rows, {})
+    assert " ".join(kinds["rim_spacer"]["stock"].split()) in " ".join(text.split())
+    assert text.count("stock to order:") == sum(1 for r in rows if r["stock"])
+    lines = text.splitlines()
+    start = next(i for i, line in enumerate(lines) if "stock to order:" in line)
+    block = lines[start:next(i for i in range(start + 1, len(lines))
+                             if not lines[i].startswith(" " * 19))]
+    assert len(block) > 1 and max(len(line) for line in block) <= 80
