@@ -42,6 +42,7 @@ class Process:
     internal_profiles: tuple[str, ...] = ()
     min_internal_radius_mm: float = 0.0
     before_hardening: bool = False
+    contour_tolerance_mm: float = 0.0
 
     @property
     def pattern_zone(self) -> float:
@@ -52,6 +53,18 @@ class Process:
     def min_web(self, thickness_mm: float) -> float:
         """Smallest web between a hole and another contour, or two facing contours (mm)."""
         return max(self.min_web_mm, self.min_web_per_thickness * thickness_mm)
+
+    def hole_web_loss_mm(self) -> float:
+        """How much a web from a cut hole to another contour may lose against its nominal
+        size on a sheet part this process cuts (mm): the hole at its largest (half the
+        hole tolerance), off its true position by the position zone's radius, the other
+        contour off the drawing by the contour tolerance."""
+        return 0.5 * self.hole_tolerance_mm + self.position_tolerance_mm + self.contour_tolerance_mm
+
+    def contour_web_loss_mm(self) -> float:
+        """How much a web between two cut contours of a sheet part may lose against its
+        nominal size (mm): each contour off the drawing by the contour tolerance."""
+        return 2.0 * self.contour_tolerance_mm
 
     def clearance_hole(self, pin_max_mm: float, mate_position_mm: float) -> float:
         """Nominal diameter (rounded up to 0.01 mm) of a hole that clears a pin of largest
@@ -86,7 +99,8 @@ def processes() -> dict[str, Process]:
                        pattern_zone_mm=float(v.get("pattern_zone_mm", 0.0)),
                        internal_profiles=tuple(v.get("internal_profiles", ())),
                        min_internal_radius_mm=float(v.get("min_internal_radius_mm", 0.0)),
-                       before_hardening=bool(v.get("before_hardening", False)))
+                       before_hardening=bool(v.get("before_hardening", False)),
+                       contour_tolerance_mm=float(v.get("contour_tolerance_mm", 0.0)))
             for k, v in data.items()}
 
 

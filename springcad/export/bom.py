@@ -15,7 +15,7 @@ from springcad.export.skeleton import part_volume_mm3
 from springcad.units import G_PER_KG, KG_PER_MM3_PER_KG_PER_M3
 
 COLUMNS = ("item", "part_number", "name", "title", "kind", "quantity", "make_or_buy", "process",
-           "material", "heat_treatment", "standard", "thickness_or_length_mm",
+           "material", "heat_treatment", "standard", "stock", "thickness_or_length_mm",
            "mass_each_g", "mass_total_g", "instances", "files")
 
 
@@ -37,7 +37,7 @@ def bom_rows(assembly, files_by_part: dict | None = None) -> list[dict]:
             "quantity": qty[pn], "make_or_buy": "buy" if info.process == "purchased" else "make",
             "process": process_chain_text(info.process, info.secondary_processes),
             "material": info.material,
-            "heat_treatment": info.heat_treatment, "standard": info.standard,
+            "heat_treatment": info.heat_treatment, "standard": info.standard, "stock": info.stock,
             "thickness_or_length_mm": fmt(info.thickness_mm),
             "mass_each_g": f"{mass:.3f}", "mass_total_g": f"{mass * qty[pn]:.3f}",
             "instances": " ".join(names[pn]), "files": " ".join(files_by_part.get(pn, [])),

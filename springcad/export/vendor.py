@@ -93,8 +93,11 @@ def readme_text(assembly, release: ReleaseStatus, job_name: str, bom_rows: list[
                   + (f" ({info.heat_treatment_sequence})" if info.heat_treatment_sequence
                      and r["heat_treatment"] else ""),
                   f"  process:         {r['process']}",
-                  f"  thickness/length: {r['thickness_or_length_mm']} mm",
-                  f"  files:           {', '.join(sorted(files_by_part.get(r['part_number'], [])))}"]
+                  f"  thickness/length: {r['thickness_or_length_mm']} mm"]
+        if r["stock"]:  # what to order, wrapped under its label
+            lines += textwrap.wrap(r["stock"], 80, initial_indent="  stock to order:  ",
+                                   subsequent_indent=" " * 19)
+        lines += [f"  files:           {', '.join(sorted(files_by_part.get(r['part_number'], [])))}"]
     buy = [r for r in bom_rows if r["make_or_buy"] == "buy"]
     if buy:
         lines += ["", "PARTS TO BUY (not made by the shop; for reference)"]

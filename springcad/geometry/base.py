@@ -99,7 +99,8 @@ def identity_text(info: PartInfo, slabs, tolerance_mm: float) -> str:
              f"fits {sorted(info.fits.items())}", f"process {info.process}",
              *([f"secondary processes {' '.join(info.secondary_processes)}"]
                if info.secondary_processes else []),
-             f"standard {info.standard}", f"tolerance {_num(tolerance_mm)}"]
+             f"standard {info.standard}", *([f"stock {info.stock}"] if info.stock else []),
+             f"tolerance {_num(tolerance_mm)}"]
     for sl in slabs:
         lines.append(f"slab {_num(sl.z0_mm)} {_num(sl.z1_mm)}")
         for loop in sl.region.loops:

@@ -146,6 +146,9 @@ def _rule_checks(prefix: str, pn: str, results) -> list[Check]:
                    else "no feature of this kind")
         else:
             msg = f"smallest {res.value_mm:.4f} mm, limit {res.limit_mm:g} mm"
+        if res.loss_mm and (res.value_mm is not None or res.searched_to_mm):
+            msg += (f" (worst case: the nominal profile's {res.loss_mm:g} mm less, the "
+                    "tolerances' share)")
         if res.violations:
             msg += f"; {len(res.violations)} violation(s)"
         out.append(Check(f"{prefix}.{res.rule}", pn, res.passed, "rule", res.value_mm,

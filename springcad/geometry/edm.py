@@ -54,6 +54,8 @@ class RuleResult:
         searched_to_mm: the search radius for pair rules (mm), else None.
         violations: tuple of dicts with value_mm, x_mm, y_mm, r_mm, angle_deg, feature.
         notes: findings that are not violations (e.g. slightly non-tangent joins).
+        loss_mm: the values (and violations) are worst-case ones, this much below what
+            was measured on the nominal profile (the tolerances' share, mm); 0: nominal.
     """
 
     rule: str
@@ -62,6 +64,7 @@ class RuleResult:
     searched_to_mm: float | None
     violations: tuple
     notes: tuple = ()
+    loss_mm: float = 0.0
 
     @property
     def passed(self) -> bool:

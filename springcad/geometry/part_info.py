@@ -56,6 +56,9 @@ class PartInfo:
         secondary_processes: processes that finish features after the main one (keys of
             ``springcad/data/processes.toml``: ``("ground",)`` for the fits of a turned
             and hardened shaft, ``("sinker_edm",)`` for a blind socket).
+        stock: what a buyer orders to make the part, when the drawing's material name
+            alone does not say it (a sheet part: the strip or sheet, its standard, temper,
+            thickness and tolerance, smallest width); "" otherwise.
     """
 
     name: str
@@ -76,6 +79,7 @@ class PartInfo:
     fits: dict = field(default_factory=dict)
     part_number: str = ""
     secondary_processes: tuple[str, ...] = ()
+    stock: str = ""
 
 
 class NamedByInfo:

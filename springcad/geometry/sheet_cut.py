@@ -14,6 +14,11 @@ pair search and hole distances (:mod:`springcad.geometry.edm`):
   :data:`~springcad.design.processes.SHEET_STOCK_MAX_MM` or thinner): the wire-EDM web
   and hole-edge rules, and at least the sheet thickness
   (:func:`~springcad.design.processes.sheet_web_mm`);
+
+  these four web rules hold at the worst case the drawing allows, not at nominal: a web
+  between two contours less twice the process's contour tolerance, a web from a hole less
+  half its hole tolerance, its position zone's radius and the contour tolerance
+  (:meth:`~springcad.design.processes.Process.hole_web_loss_mm`; the result's ``loss_mm``);
 * ``min_wall`` (turned parts): the wall between a bore or socket and the outer diameter
   of every section at least the process's minimum web (a thinner wall chatters, deforms
   in the chuck or breaks through);
@@ -55,29 +60,54 @@ def min_hole_rule(profile, min_diameter_mm: float, describe) -> RuleResult:
     return RuleResult("min_hole", min_diameter_mm, min(2 * c.radius for c in holes), None, viol)
 
 
+def _worst_case(result: RuleResult, loss_mm: float, limit_mm: float) -> RuleResult:
+    """A web rule measured on the nominal profile against ``limit_mm + loss_mm``, restated
+    as the worst case against ``limit_mm``: every value ``loss_mm`` lower (mm)."""
+    def less(v):
+        return None if v is None else v - loss_mm
+
+    return replace(result, limit_mm=limit_mm, value_mm=less(result.value_mm),
+                   searched_to_mm=less(result.searched_to_mm), loss_mm=loss_mm,
+                   violations=tuple({**v, "value_mm": v["value_mm"] - loss_mm}
+                                    for v in result.violations))
+
+
+def worst_web_rules(profile, proc, web_mm: float, edge_mm: float,
+                    describe=lambda x, y: "") -> tuple[RuleResult, RuleResult]:
+    """``min_web`` between facing contours and ``hole_edge`` from every round hole of a
+    sheet part that ``proc`` cuts, in the worst case: at least ``web_mm`` and ``edge_mm``
+    once the process's contour, hole and position tolerances have taken their share
+    (:meth:`~springcad.design.processes.Process.contour_web_loss_mm`,
+    :meth:`~springcad.design.processes.Process.hole_web_loss_mm`)."""
+    webs_loss, edge_loss = proc.contour_web_loss_mm(), proc.hole_web_loss_mm()
+    webs, _slots = gap_rules(profile, web_mm + webs_loss, 0.0, describe)
+    edge = hole_edge_rule(profile, edge_mm + edge_loss, describe)
+    return _worst_case(webs, webs_loss, web_mm), _worst_case(edge, edge_loss, edge_mm)
+
+
 def sheet_rules(profile, process_key: str, thickness_mm: float,
                 describe=lambda x, y: "") -> list[RuleResult]:
-    """Web, hole-edge and hole-size rules of a laser-cut or milled sheet profile."""
+    """Web, hole-edge (both in the worst case) and hole-size rules of a laser-cut or
+    milled sheet profile."""
     proc = process(process_key)
     web = proc.min_web(thickness_mm)
-    webs, _slots = gap_rules(profile, web, 0.0, describe)
-    return [webs, hole_edge_rule(profile, web, describe),
+    return [*worst_web_rules(profile, proc, web, web, describe),
             min_hole_rule(profile, proc.min_hole_per_thickness * thickness_mm, describe)]
 
 
 def sheet_stock_rules(profile, thickness_mm: float, manufacturing,
                       describe=lambda x, y: "") -> list[RuleResult]:
     """Webs and hole edges of a wire-EDM part cut from sheet stock (``thickness_mm`` at most
-    :data:`~springcad.design.processes.SHEET_STOCK_MAX_MM`): at least the sheet thickness
-    and the job's ``[manufacturing]`` web and hole-edge limits (``sheet_web``,
-    ``sheet_hole_edge``); none for a thicker plate, which the wire-EDM rules alone cover."""
+    :data:`~springcad.design.processes.SHEET_STOCK_MAX_MM`) in the worst case: at least the
+    sheet thickness and the job's ``[manufacturing]`` web and hole-edge limits
+    (``sheet_web``, ``sheet_hole_edge``); none for a thicker plate, which the wire-EDM
+    rules alone cover."""
     if thickness_mm > SHEET_STOCK_MAX_MM:
         return []
     web = sheet_web_mm("wire_edm", thickness_mm, manufacturing.min_web_mm)
     edge = sheet_web_mm("wire_edm", thickness_mm, manufacturing.min_hole_edge_mm)
-    webs, _slots = gap_rules(profile, web, 0.0, describe)
-    return [replace(webs, rule="sheet_web"),
-            replace(hole_edge_rule(profile, edge, describe), rule="sheet_hole_edge")]
+    webs, edges = worst_web_rules(profile, process("wire_edm"), web, edge, describe)
+    return [replace(webs, rule="sheet_web"), replace(edges, rule="sheet_hole_edge")]
 
 
 def wall_rule(slabs, process_key: str, describe=lambda x, y: "") -> RuleResult:

@@ -77,13 +77,30 @@ class AnnularPart(SpringcadPart):
                         hardness=hardness, heat_treatment_sequence=heat_treatment_sequence,
                         fits={k: v for k, v in {**self.FITS, **(fits or {})}.items()
                               if k != "bore" or inner_radius_mm > 0},
-                        secondary_processes=self.SECONDARY)
+                        secondary_processes=self.SECONDARY, stock=self.stock_text())
         super().__init__(info, (Slab(0.0, length_mm, region),), COLOURS[self.COLOUR])
 
     def part_notes(self) -> tuple[str, ...]:
         """The drawing notes of this part (the class's ``NOTES``; subclasses add notes that
-        depend on the sizes and the process)."""
-        return self.NOTES
+        depend on the sizes and the process), and what to order (:meth:`stock_text`)."""
+        stock = self.stock_text()
+        return (*self.NOTES, *((f"Stock to order: {stock}.",) if stock else ()))
+
+    @property
+    def is_thin_sheet(self) -> bool:
+        """Cut from sheet stock :data:`~springcad.design.processes.SHEET_STOCK_MAX_MM` thick
+        or thinner."""
+        return self.SHEET and self.length <= SHEET_STOCK_MAX_MM
+
+    def stock_text(self) -> str:
+        """What a buyer orders to make the part, beyond the material's name ("" when the
+        material, thickness and general tolerances say it all)."""
+        return ""
+
+    def _stock_sizes(self) -> tuple[str, int]:
+        """The thickness as drawn (mm text) and the smallest stock width: the outer
+        diameter rounded up to a whole mm."""
+        return f"{self.length:g}", math.ceil(round(2.0 * self.outer_radius, 6))
 
     def webs_mm(self, hole_tolerance_mm: float = 0.0) -> tuple[float, float]:
         """Material between the holes, ``hole_tolerance_mm`` over size, and the inner and
@@ -99,14 +116,17 @@ class AnnularPart(SpringcadPart):
         """Thickness tolerance of a part cut from sheet stock (mm; the sheet as supplied,
         :data:`~springcad.design.processes.SHEET_THICKNESS_TOLERANCE_MM`), else 0: the
         general tolerance."""
-        thin = self.SHEET and self.length <= SHEET_STOCK_MAX_MM
-        return SHEET_THICKNESS_TOLERANCE_MM if thin else 0.0
+        return SHEET_THICKNESS_TOLERANCE_MM if self.is_thin_sheet else 0.0
 
     @property
     def tolerance_mm(self) -> float:
-        """Contour tolerance (mm): the general one, or the process's hole tolerance if
-        that is coarser (a laser-cut or milled sheet part)."""
-        return max(GENERAL_TOLERANCE_MM, process_of(self.process).hole_tolerance_mm)
+        """Contour tolerance (mm): a sheet part's process's contour tolerance (the one its
+        worst-case web rules count with), else the general one, or the process's hole
+        tolerance if that is coarser."""
+        proc = process_of(self.process)
+        if self.SHEET and proc.contour_tolerance_mm:
+            return proc.contour_tolerance_mm
+        return max(GENERAL_TOLERANCE_MM, proc.hole_tolerance_mm)
 
     @classmethod
     def from_plan(cls, name: str, plan: AnnulusPlan, length_mm: float,
@@ -132,13 +152,52 @@ class RimSpacer(AnnularPart):
 
     def part_notes(self) -> tuple[str, ...]:
         """How the sheet is cut, by process (its webs are at least the sheet thickness
-        whatever the process: the build's ``sheet_web`` rules)."""
+        whatever the process: the build's ``sheet_web`` rules), and what to order."""
         if self.process != "wire_edm":
-            return ("Cut from flat sheet, one sheet at a time; deburr both faces.", *self.NOTES)
-        return ("Wire EDM, several sheets clamped as one stack between two plates.", *self.NOTES)
+            return ("Cut from flat sheet, one sheet at a time; deburr both faces.",
+                    *super().part_notes())
+        return ("Wire EDM, several sheets clamped as one stack between two plates.",
+                *super().part_notes())
+
+    def stock_text(self) -> str:
+        """Strip of the material's grade and temper (its name: ``1.4310+C1300 ... EN 10151``),
+        thickness tolerance EN ISO 9445-1 normal: at most ±0.05 mm for strip up to 1 mm thick
+        in widths below 600 mm (EN 10258 / ISO 9445-1 narrow-strip table), within the
+        :data:`~springcad.design.processes.SHEET_THICKNESS_TOLERANCE_MM` drawn. The part
+        carries no load (clamped, its holes clear the pins), so the temper only makes the
+        order complete: another is no reason to call."""
+        if not self.is_thin_sheet:
+            return ""
+        t, w = self._stock_sizes()
+        return (f"strip {t} mm thick, EN ISO 9445-1 normal thickness tolerance (inside the "
+                f"±{self.length_tolerance_mm:g} drawn), at least {w} mm wide; the part carries "
+                "no load: another EN 10151 temper will do")
 
 
-class RimWasher(AnnularPart):
+#: thickness tolerance of acetal sheet as ASTM D6100 gives it when the order names none
+#: (fraction of the thickness)
+D6100_SHEET_TOLERANCE = 0.10
+
+
+class PlasticSheetPart(AnnularPart):
+    """A POM-C part cut from sheet or film (rim washer, centre spacer)."""
+
+    def stock_text(self) -> str:
+        """POM-C sheet or film to ASTM D6100 (Type I: unfilled), its thickness tolerance
+        (±10 % unless ordered closer) against the
+        :data:`~springcad.design.processes.SHEET_THICKNESS_TOLERANCE_MM` drawn."""
+        if not self.is_thin_sheet:
+            return ""
+        t, w = self._stock_sizes()
+        drawn, d6100 = self.length_tolerance_mm, D6100_SHEET_TOLERANCE * self.length
+        tol = (f"ASTM D6100's ±10 % (±{d6100:.3g}) is inside the ±{drawn:g} drawn"
+               if d6100 <= drawn + 1e-12 else
+               f"order ±{drawn:g}, closer than ASTM D6100's ±10 % (±{d6100:.3g})")
+        return (f"POM-C (acetal copolymer) sheet or film to ASTM D6100, Type I (unfilled), "
+                f"natural, {t} mm thick: {tol}; at least {w} x {w} mm")
+
+
+class RimWasher(PlasticSheetPart):
     """Plastic ring between the rims of two springs that share a camshaft."""
 
     KIND, TITLE, PROCESS, COLOUR, SHEET = "rim_washer", "Rim washer", "milled", "plastic", True
@@ -146,7 +205,7 @@ class RimWasher(AnnularPart):
     NOTES = ()
 
 
-class CentreSpacer(AnnularPart):
+class CentreSpacer(PlasticSheetPart):
     """Low-friction plastic disc, larger than the cam teeth, between rim-joined springs.
 
     It keeps either camshaft from loading both springs (paper Fig. 2a).

@@ -77,7 +77,8 @@ def test_cam_and_spacer_drawings(stack_4xs1, tmp_path):
     # holes toleranced by the process, no H7, no free-state flatness on a 0.5 mm sheet
     expected = [f"Ø{fmt(2 * spacer.outer_radius)}", f"Ø{fmt(2 * spacer.inner_radius)}",
                 f"{len(spacer.hole_centres)}× Ø{fmt(spacer.hole_diameter)} ±0.005 THRU",
-                fmt(spacer.length), "main cut only", "one skim cut", "No free-state flatness requirement",
+                fmt(spacer.length), "every contour and hole main cut and one skim cut", "±0.01 mm", "Stock to order: strip",
+                "No free-state flatness requirement",
                 "wire EDM"]
     assert_all_in(expected + title_values(spacer), svg + pdf)
     assert spacer.info.process == "wire_edm"

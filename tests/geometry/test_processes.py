@@ -14,25 +14,32 @@ from springcad.geometry.sheet_cut import fit_rule, sheet_rules
 
 
 def test_rim_spacer_fit_by_hand():
-    """Root 31, outer 33.5, holes on R32.25 for Ø1.5 m6 pins (1.508 max), 0.4 mm sheet.
+    """Root 31, outer 33.5, holes on R32.26 for Ø1.5 m6 pins (1.508 max), 0.4 mm sheet;
+    webs in the worst case: the hole at its largest and off its true position by the zone's
+    radius, the edge off the drawing by the contour tolerance.
 
     Laser: hole 1.508 + 2 (0.01 + 0.05) + 0.05 = 1.678 -> Ø1.68; outer web
-    33.5 - 32.25 - (1.68 + 0.05)/2 = 0.385 < 0.4 (= max(0.4, 1 x 0.4)): rejected.
-    Wire EDM: hole 1.508 + 2 (0.01 + 0.01) + 0.005 = 1.553 -> Ø1.56; largest radius 0.7825;
-    outer web 0.4675 >= 0.4; inner edge min(31 + 0.3, 32.25 - 0.7825 - 0.4) = 31.0675, above
-    root + play (0.7825 - 0.75) + margin 0.02 = 31.0525.
+    33.5 - 32.26 - (1.68 + 0.05)/2 - 0.05 - 0.05 = 0.275 < 0.4 (= max(0.4, 1 x 0.4)):
+    rejected. Wire EDM: hole 1.508 + 2 (0.01 + 0.01) + 0.005 = 1.553 -> Ø1.56; largest
+    radius 0.7825; outer web 33.5 - 32.26 - 0.7825 - 0.01 - 0.01 = 0.4375 >= 0.4; inner edge
+    min(31 + 0.3, 32.26 - 0.7825 - 0.02 - 0.4) = 31.0575, above root + play (0.7825 - 0.75)
+    + margin 0.02 = 31.0525. On R32.25 the inner edge would be 31.0475: refused.
     """
-    fit = rim_spacer_fit(31.0, 33.5, 32.25, 1.5, 1.508, 0.4, 0.4)
+    fit = rim_spacer_fit(31.0, 33.5, 32.26, 1.5, 1.508, 0.4, 0.4)
     assert fit.process == "wire_edm"
     assert fit.hole_diameter_mm == pytest.approx(1.56)
-    assert fit.outer_web_mm == pytest.approx(0.4675)
-    assert fit.inner_radius_mm == pytest.approx(31.0675)
+    assert fit.outer_web_mm == pytest.approx(0.4375)
+    assert fit.inner_radius_mm == pytest.approx(31.0575)
     assert fit.inner_web_mm == pytest.approx(0.4)
-    assert len(fit.rejected) == 1 and "0.385 mm" in fit.rejected[0]
-    # a wide rim: laser, inner edge 0.3 mm outside the roots
+    assert len(fit.rejected) == 1 and "0.275 mm" in fit.rejected[0]
+    with pytest.raises(DesignError, match=r"wire EDM: .* \+0\.0475 mm .* needs 0\.0525 mm"):
+        rim_spacer_fit(31.0, 33.5, 32.25, 1.5, 1.508, 0.4, 0.4)
+    # a wide rim: laser, inner edge 0.3 mm outside the roots (above root + play 0.115 +
+    # margin 0.05, the laser's contour tolerance)
     wide = rim_spacer_fit(31.0, 36.0, 33.5, 1.5, 1.508, 0.4, 0.4)
     assert wide.process == "laser" and wide.hole_diameter_mm == pytest.approx(1.68)
     assert wide.inner_radius_mm == pytest.approx(31.3) and wide.root_clearance_mm == pytest.approx(0.3)
+    assert wide.inner_web_mm == pytest.approx(33.5 - 0.865 - 0.1 - 31.3)
 
 
 def test_rim_spacer_refused_with_the_reason():
@@ -49,11 +56,13 @@ def _laser_ring(inner_mm, hole_circle_mm, hole_d_mm, outer_mm=33.5) -> Profile:
 
 def test_sheet_rules_catch_the_old_rim_spacer():
     """The 4xS1 rim spacer as first drawn (issue 26): Ø1.5 holes on R32.243, inner edge
-    R31.287: 0.207 mm to the inner edge, below the 0.5 mm a laser needs in 0.5 mm sheet."""
+    R31.287: 0.207 mm to the inner edge at nominal, 0.207 - 0.025 - 0.05 - 0.05 = 0.082 at
+    worst, below the 0.5 mm a laser needs in 0.5 mm sheet."""
     prof = _laser_ring(31.2868, 32.2434, 1.5)
     webs, edge, size = sheet_rules(prof, "laser", 0.5)
     assert edge.rule == "hole_edge" and not edge.passed
-    assert edge.value_mm == pytest.approx(32.2434 - 0.75 - 31.2868, abs=2e-3)
+    assert edge.value_mm == pytest.approx(32.2434 - 0.75 - 31.2868 - 0.125, abs=2e-3)
+    assert edge.loss_mm == pytest.approx(0.125)
     assert edge.limit_mm == pytest.approx(0.5)
     assert size.passed  # 1.5 mm >= 1 x thickness
     good = _laser_ring(30.0, 32.0, 1.0, outer_mm=34.0)
