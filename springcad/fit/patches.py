@@ -159,3 +159,109 @@ def stiffness_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.n
                 f"{now + null:.4g} -> {freed + null:.4g} ± {se:.2g}): it stands in for a "
                 "stiffness that changed during the test, and is not named"))
     return out
+
+
+#: the offsets (of the torque and of the angle): what they claim is the torque read at zero
+#: deflection, so that is where the record must show them
+OFFSETS = ("torque_offset", "angle_offset")
+#: half-width of the band about zero deflection, as a share of the largest |deflection|
+ZERO_BAND = 0.15
+#: an offset is a patch where the record shows less than this share of it at zero deflection
+ZERO_SHARE = 0.5
+#: both offsets together must claim at zero at least this share of what each claims alone
+CANCEL_SHARE = 0.25
+#: fewest runs (stretches between reversals) crossing that band for the check to apply
+MIN_ZERO_RUNS = 4
+
+
+def offset_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,
+                   agreement_p: float = 1e-3) -> dict[str, tuple[float, str]]:
+    """Offsets of ``model`` (parameters ``x``, samples ``idx``) that the record does not show
+    at zero deflection.
+
+    A torque offset is the torque read at zero deflection, an angle offset the
+    deflection at which the spring's torque is zero: near zero deflection (within
+    ``ZERO_BAND`` of the largest |deflection|, where the shapes of stiffness vanish)
+    the record shows either in full. An offset fitted as a patch for a shape the
+    library cannot describe (a torque sensor whose gain grows with the torque,
+    ``T·(1 + a·T)``: even in deflection, zero at zero) takes up the mean of that shape
+    over the whole range, where there is none at zero. Each offset's term ``d`` (the
+    model less the model with that offset at its null) is set against what the record
+    holds at zero deflection: the residual of the model without it, ``r + d``, is
+    regressed over the band's samples on ``d`` and on a local slope in deflection, odd
+    and even (``θ`` and ``|θ|``: the rest of a shape, fitted or not, that runs through
+    zero); the coefficient ``β`` of ``d`` is the share of the offset the record shows
+    at zero (1: in full, 0: not at all; a band's plain mean would read the slope of a
+    shape beside it as an offset), with a standard error clustered on the runs crossing
+    the band (a structure the model misses near zero, friction that flips with the
+    direction, spreads the runs and widens it). A true offset beside structure the
+    library cannot describe is fitted short or long of its value (the structure's mean
+    takes a part), but the record shows most of it at zero; an offset of which the
+    record shows less than ``ZERO_SHARE`` there (one-sided Student t over the runs at
+    ``agreement_p``) is a patch. Both offsets together must claim at zero at least
+    ``CANCEL_SHARE`` of what each claims alone: a torque offset that cancels an angle
+    offset there moves only a kink or a crossover off zero (each alone then reads as
+    shown in full); the angle offset goes first and the torque offset is judged alone
+    on the refit.
+
+    Returns:
+        ``{effect: (t, reason)}`` for the offsets that fail, ``t`` that of
+        ``β - ZERO_SHARE`` (the smallest is the worst).
+    """
+    present = [e for e in model.effects if e.name in OFFSETS]
+    if not present:
+        return {}
+    theta = sig.theta_smooth[idx]
+    band = np.abs(theta) <= ZERO_BAND * float(np.max(np.abs(theta)))
+    runs = sig.runs[idx][band]
+    labels, inv = np.unique(runs, return_inverse=True)
+    if labels.size < MIN_ZERO_RUNS:
+        return {}
+    near = idx[band]
+    r = model.residual(x, sig, near)
+    full = model.predict(x, sig, near)
+    slope = np.column_stack([theta[band], np.abs(theta[band])])
+    n = labels.size
+    out = {}
+    terms = {}
+    for e in present:
+        terms[e.name] = full - model.predict(_nulled(model, x, (e.name,)), sig, near)
+    if len(present) > 1:
+        both = full - model.predict(_nulled(model, x, OFFSETS), sig, near)
+        claim = math.sqrt(float(both @ both) / both.size)
+        alone = min(math.sqrt(float(d @ d) / d.size) for d in terms.values())
+        if claim < CANCEL_SHARE * alone:
+            return {"angle_offset": (-math.inf, (
+                f"torque_offset and angle_offset claim {alone:.3g} N·m or more each at zero "
+                f"deflection but {claim:.3g} N·m together: they cancel there and only move a "
+                "kink or a crossover off zero; angle_offset is not named (the torque offset "
+                "is judged alone once refitted)"))}
+    for e in present:
+        d = terms[e.name]
+        X = np.column_stack([d, slope])
+        xtx_inv = np.linalg.pinv(X.T @ X)
+        coef = xtx_inv @ (X.T @ (r + d))
+        score = X * (r + d - X @ coef)[:, None]
+        per_run = np.column_stack([np.bincount(inv, weights=c, minlength=n) for c in score.T])
+        cov = xtx_inv @ (per_run.T @ per_run) @ xtx_inv * n / (n - 1)
+        beta, se = float(coef[0]), math.sqrt(max(float(cov[0, 0]), 0.0))
+        if se <= 0.0 or not math.isfinite(beta):
+            continue
+        t = (beta - ZERO_SHARE) / se
+        if stats.t.cdf(t, n - 1) >= agreement_p:
+            continue
+        out[e.name] = (t, (
+            f"{e.name} claims {float(np.sqrt(d @ d / d.size)):.3g} N·m RMS at zero deflection "
+            f"(|deflection| within {100 * ZERO_BAND:g} % of its largest), where the record "
+            f"shows {100 * beta:.0f} % ± {100 * se:.0f} % of it ({n} runs): it takes up the "
+            "mean of a shape over the whole range, not a zero, and is not named"))
+    return out
+
+
+def _nulled(model: TorqueModel, x: np.ndarray, names: tuple[str, ...]) -> np.ndarray:
+    """``x`` with the size parameters of the effects ``names`` at their null values."""
+    x0 = x.copy()
+    for e in model.effects:
+        if e.name in names:
+            x0[model.slice_of(e.name).start + e.primary] = e.params(model.scales)[e.primary].null
+    return x0
