@@ -37,8 +37,9 @@
    (:mod:`springcad.fit.patches`): a shape in deflection that describes less than
    three times what the residual's deflection profile still holds (a crossover
    fitted to cogging), an effect that loses most of its size when the
-   stiffness is freed per whole cycle, where it does change between cycles (a
-   cubic fitted to a stiffness that dropped mid-test), and an offset the record
+   stiffness or a friction's level is freed per whole cycle, where it does change
+   between cycles (a cubic fitted to a stiffness that dropped mid-test, a lag to a
+   friction that fades as the contact warms), and an offset the record
    does not show at zero deflection (the mean of a torque sensor's even gain
    error over the range).
 4. **Identifiability** (:mod:`springcad.fit.identify`). Pairs of effects the
@@ -78,7 +79,8 @@ from springcad.fit.joint import joint_sets
 from springcad.fit.laws import choose_laws, flag_outside
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
 from springcad.fit.localise import localise
-from springcad.fit.patches import offset_patches, profile_patches, stiffness_patches
+from springcad.fit.patches import (CHANGING_SIZES, offset_patches, profile_patches,
+                                   stiffness_patches)
 from springcad.fit.region import outside_structure
 from springcad.fit.residual import residual_structure
 from springcad.fit.ripple import periodic_route
@@ -318,9 +320,13 @@ def _drop_patches(state: State, lp: Search, f_scale: float, search: list[Step],
         found = profile_patches(state.model, state.x, lp.sig, idx, lp.s.structure_p)
         short = "a patch over structure in deflection the library cannot describe"
         if not found:
-            found = stiffness_patches(state.model, state.x, lp.sig, idx, lp.cv_rate_hz,
-                                      lp.s.structure_p)
-            short = "a patch over a stiffness that changed during the test"
+            for freed in (None,) + CHANGING_SIZES:
+                found = stiffness_patches(state.model, state.x, lp.sig, idx, lp.cv_rate_hz,
+                                          lp.s.structure_p, freed)
+                short = f"a patch over {'a stiffness' if freed is None else freed} that " \
+                        "changed during the test"
+                if found:
+                    break
         if not found:
             found = offset_patches(state.model, state.x, lp.sig, idx, lp.s.agreement_p)
             short = "an offset the record does not show at zero deflection"

@@ -96,29 +96,38 @@ def profile_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.nda
     return out
 
 
-#: an effect must keep at least this share of its size with the stiffness free per whole
-#: cycle (when the stiffness does change between cycles)
+#: an effect must keep at least this share of its size with the stiffness (or a friction's
+#: level) free per whole cycle (when it does change between cycles)
 KEEPS_SIZE = 0.5
 #: ... unless the change is within this many of its standard errors
 SIZE_CHANGE_Z = 3.0
 #: fewest whole-cycle windows for the stiffness to be freed per window
 MIN_WINDOWS = 3
+#: effect families whose size may change along the record for a physical reason (a
+#: friction's level follows the contact's temperature), freed per window like the stiffness
+CHANGING_SIZES = ("hysteresis",)
 
 
 def stiffness_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,
-                      rate_hz: float, p_level: float = 1e-6) -> dict[str, tuple[float, str]]:
-    """Effects of ``model`` that stand in for a stiffness changing during the test.
+                      rate_hz: float, p_level: float = 1e-6,
+                      freed: str | None = None) -> dict[str, tuple[float, str]]:
+    """Effects of ``model`` that stand in for a stiffness (or, ``freed``, the size of
+    that effect: a friction's level) changing during the test.
 
     A stiffness that changes mid-test (a crack, a slip, a warming bench) on a
     protocol whose late cycles are also its large ones reads as a stiffening or a
     softening, and a change inside a cycle as friction; the record is too short for
-    the evidence audit's time split. Here the stiffness is freed per window of whole
+    the evidence audit's time split. A friction whose level follows the contact's
+    temperature (falling as the contact warms, faster on fast blocks) reads, fitted
+    with one level, as a torque that falls with the speed: a late channel. Here the
+    stiffness (or the size of ``freed``) is freed per window of whole
     cycles (:func:`springcad.fit.nuisance.cycle_windows`), one Gauss-Newton step from
     the fitted ``x`` on samples ``idx`` (sampled at ``rate_hz``). When the windows'
-    stiffnesses differ beyond noise (chi-squared at ``p_level``), every effect must
+    values differ beyond noise (chi-squared at ``p_level``), every other effect must
     keep at least ``KEEPS_SIZE`` of its size there (or change by less than
     ``SIZE_CHANGE_Z`` standard errors): an effect of the record does not depend on the
-    stiffness being one number, a patch over its change loses most of its size.
+    stiffness or the friction being one number, a patch over its change loses most of
+    its size.
 
     Returns:
         ``{effect: (share kept, reason)}`` for the effects that fail.
@@ -127,10 +136,19 @@ def stiffness_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.n
     labels = np.unique(win[win >= 0])
     if labels.size < MIN_WINDOWS or not model.effects:
         return {}
+    if freed is None:
+        col, what = 0, "the stiffness"
+    else:
+        e_freed = next((e for e in model.effects if e.name == freed), None)
+        if e_freed is None:
+            return {}
+        col = model.slice_of(freed).start + e_freed.primary
+        what = f"{freed}'s {e_freed.params(model.scales)[e_freed.primary].name}"
     r = model.residual(x, sig, idx)
     J = jacobian(model, x, sig, idx)
-    per_window = np.column_stack([J[:, 0] * (win == w) for w in labels])
-    J2 = np.column_stack([per_window, J[:, 1:]])
+    per_window = np.column_stack([J[:, col] * (win == w) for w in labels])
+    rest = [c for c in range(J.shape[1]) if c != col]
+    J2 = np.column_stack([per_window, J[:, rest]])
     d1 = np.linalg.lstsq(J, r, rcond=None)[0]
     d2 = np.linalg.lstsq(J2, r, rcond=None)[0]
     r1, r2 = r - J @ d1, r - J2 @ d2
@@ -145,19 +163,21 @@ def stiffness_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.n
     out = {}
     for e in model.effects:
         j = model.slice_of(e.name).start + e.primary
-        j2 = j - 1 + labels.size
+        if j == col:
+            continue
+        j2 = labels.size + rest.index(j)
         null = e.params(model.scales)[e.primary].null
-        now, freed = float(x[j]) - null, float(x[j] + d2[j2]) - null
+        now, freed_value = float(x[j]) - null, float(x[j] + d2[j2]) - null
         se = math.sqrt(max(float(cov[j2, j2]), 0.0))
-        kept = freed / now if now != 0.0 else 1.0
-        if kept < KEEPS_SIZE and abs(freed - now) > SIZE_CHANGE_Z * se:
+        kept = freed_value / now if now != 0.0 else 1.0
+        if kept < KEEPS_SIZE and abs(freed_value - now) > SIZE_CHANGE_Z * se:
             q = e.params(model.scales)[e.primary].name
             out[e.name] = (kept, (
-                f"the stiffness differs between whole cycles of the record beyond noise "
+                f"{what} differs between whole cycles of the record beyond noise "
                 f"(chi-squared {chi2:.3g} on {labels.size - 1} degrees of freedom), and with it "
                 f"free per cycle {e.name} keeps {100 * kept:.0f} % of its size ({q} "
-                f"{now + null:.4g} -> {freed + null:.4g} ± {se:.2g}): it stands in for a "
-                "stiffness that changed during the test, and is not named"))
+                f"{now + null:.4g} -> {freed_value + null:.4g} ± {se:.2g}): it stands in for "
+                f"{what} changing during the test, and is not named"))
     return out
 
 
