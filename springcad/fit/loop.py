@@ -39,7 +39,9 @@
    fitted to cogging), an effect that loses most of its size when the
    stiffness or a friction's level is freed per whole cycle, where it does change
    between cycles (a cubic fitted to a stiffness that dropped mid-test, a lag to a
-   friction that fades as the contact warms), and an offset the record
+   friction that fades as the contact warms), a lag whose term is less than three
+   times the structure the residual still holds (a sub-millisecond lag beside a
+   stick-slip sawtooth), and an offset the record
    does not show at zero deflection (the mean of a torque sensor's even gain
    error over the range).
 4. **Identifiability** (:mod:`springcad.fit.identify`). Pairs of effects the
@@ -79,8 +81,8 @@ from springcad.fit.joint import joint_sets
 from springcad.fit.laws import choose_laws, flag_outside
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
 from springcad.fit.localise import localise
-from springcad.fit.patches import (CHANGING_SIZES, offset_patches, profile_patches,
-                                   stiffness_patches)
+from springcad.fit.patches import (CHANGING_SIZES, lag_patches, offset_patches,
+                                   profile_patches, stiffness_patches)
 from springcad.fit.region import outside_structure
 from springcad.fit.residual import residual_structure
 from springcad.fit.ripple import periodic_route
@@ -327,6 +329,10 @@ def _drop_patches(state: State, lp: Search, f_scale: float, search: list[Step],
                         "changed during the test"
                 if found:
                     break
+        if not found:
+            found = lag_patches(state.model, state.x, lp.sig, idx, lp.s.structure_bins,
+                                lp.s.structure_min_rms, lp.s.structure_p, lp.s.excess_ratio)
+            short = "a late channel beside structure the library cannot describe"
         if not found:
             found = offset_patches(state.model, state.x, lp.sig, idx, lp.s.agreement_p)
             short = "an offset the record does not show at zero deflection"

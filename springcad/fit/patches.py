@@ -37,7 +37,7 @@ from scipy import stats
 
 from springcad.fit.inference import jacobian
 from springcad.fit.nuisance import common_profile, cycle_windows, nuisance_parts
-from springcad.fit.residual import noise_model
+from springcad.fit.residual import noise_model, residual_structure
 from springcad.fit.signals import Signals
 from springcad.fit.torque_model import TorqueModel
 
@@ -93,6 +93,60 @@ def profile_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.nda
                 f"{ratio:.2g} times that ({math.sqrt(term_ms):.3g} N·m RMS; at least "
                 f"{SHAPE_DOMINANCE:g} times is asked): it takes up a part of that structure "
                 "that looks like its shape, and is not named"))
+    return out
+
+
+#: late-channel effects, which take up the part that follows the speed of structure the
+#: library cannot describe beside them (a friction whose law the library does not have)
+LAG_PATCHES = ("time_lag",)
+
+
+def lag_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,
+                bins: int = 40, min_rms: float = 0.25, p_level: float = 1e-6,
+                excess_ratio: float = 1.25) -> dict[str, tuple[float, str]]:
+    """Late-channel effects of ``model`` that describe less than ``SHAPE_DOMINANCE`` times
+    the structure the residual still holds.
+
+    The counterpart of :func:`profile_patches` for a lag: a friction whose law the
+    library does not have (a stick-slip sawtooth, whose mean over a slip period
+    changes with the speed) leaves, fitted with the library's law, structure in the
+    residual, and a late channel fitted beside it takes up the small part of it that
+    follows the speed (a fraction of a millisecond, a fraction of the noise). A true lag
+    describes many times what such structure leaves. When the residual holds structure
+    (:func:`springcad.fit.residual.residual_structure` with the loop's ``bins``,
+    ``min_rms``, ``p_level`` and ``excess_ratio``: the ``unexplained`` bar), a lag whose
+    own term (RMS over the samples) is less than ``SHAPE_DOMINANCE`` times the largest
+    structure a test finds (its RMS) is not named. A record the model explains is
+    judged as before.
+
+    Returns:
+        ``{effect: (ratio, reason)}`` (the smallest ratio first is the worst).
+    """
+    lags = [e for e in model.effects if e.name in LAG_PATCHES]
+    if not lags:
+        return {}
+    r = model.residual(x, sig, idx)
+    structure, unexplained, _ = residual_structure(r, idx, sig, bins=bins, min_rms=min_rms,
+                                                   p_level=p_level, excess_ratio=excess_ratio)
+    found = {k: v["structure_rms_Nm"] for k, v in structure["tests"].items()
+             if v.get("significant") and v.get("structure_rms_Nm", 0.0) > 0.0}
+    if not unexplained or not found:
+        return {}
+    test = max(found, key=found.get)
+    left = found[test]
+    full = model.predict(x, sig, idx)
+    out = {}
+    for e in lags:
+        m0 = model.without(e.name)
+        term = full - m0.predict(m0.transfer(model, x), sig, idx)
+        ratio = math.sqrt(float(term @ term) / term.size) / left
+        if ratio < SHAPE_DOMINANCE:
+            out[e.name] = (ratio, (
+                f"the residual holds structure no library effect describes ({left:.3g} N·m "
+                f"RMS, {test.replace('_', ' ')}), and {e.name} describes only {ratio:.2g} "
+                f"times that ({ratio * left:.3g} N·m RMS; at least {SHAPE_DOMINANCE:g} times "
+                "is asked): it takes up the part of that structure that follows the speed, "
+                "and is not named"))
     return out
 
 
