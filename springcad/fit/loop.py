@@ -322,13 +322,9 @@ def _drop_patches(state: State, lp: Search, f_scale: float, search: list[Step],
         found = profile_patches(state.model, state.x, lp.sig, idx, lp.s.structure_p)
         short = "a patch over structure in deflection the library cannot describe"
         if not found:
-            for freed in (None,) + CHANGING_SIZES:
-                found = stiffness_patches(state.model, state.x, lp.sig, idx, lp.cv_rate_hz,
-                                          lp.s.structure_p, freed)
-                short = f"a patch over {'a stiffness' if freed is None else freed} that " \
-                        "changed during the test"
-                if found:
-                    break
+            found = stiffness_patches(state.model, state.x, lp.sig, idx, lp.cv_rate_hz,
+                                      lp.s.structure_p, (None,) + CHANGING_SIZES)
+            short = "a patch over a stiffness or a friction that changed during the test"
         if not found:
             found = lag_patches(state.model, state.x, lp.sig, idx, lp.s.structure_bins,
                                 lp.s.structure_min_rms, lp.s.structure_p, lp.s.excess_ratio)

@@ -164,9 +164,9 @@ CHANGING_SIZES = ("hysteresis",)
 
 def stiffness_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,
                       rate_hz: float, p_level: float = 1e-6,
-                      freed: str | None = None) -> dict[str, tuple[float, str]]:
-    """Effects of ``model`` that stand in for a stiffness (or, ``freed``, the size of
-    that effect: a friction's level) changing during the test.
+                      freed: tuple[str | None, ...] = (None,)) -> dict[str, tuple[float, str]]:
+    """Effects of ``model`` that stand in for a stiffness (``None`` in ``freed``) or for the
+    size of an effect named in ``freed`` (a friction's level) changing during the test.
 
     A stiffness that changes mid-test (a crack, a slip, a warming bench) on a
     protocol whose late cycles are also its large ones reads as a stiffening or a
@@ -184,28 +184,42 @@ def stiffness_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.n
     its size.
 
     Returns:
-        ``{effect: (share kept, reason)}`` for the effects that fail.
+        ``{effect: (share kept, reason)}`` for the effects that fail, for the first of
+        ``freed`` that finds any (one Jacobian for all).
     """
     win = cycle_windows(sig, idx)[idx]
     labels = np.unique(win[win >= 0])
     if labels.size < MIN_WINDOWS or not model.effects:
         return {}
-    if freed is None:
-        col, what = 0, "the stiffness"
-    else:
-        e_freed = next((e for e in model.effects if e.name == freed), None)
-        if e_freed is None:
-            return {}
-        col = model.slice_of(freed).start + e_freed.primary
-        what = f"{freed}'s {e_freed.params(model.scales)[e_freed.primary].name}"
     r = model.residual(x, sig, idx)
     J = jacobian(model, x, sig, idx)
+    d1 = np.linalg.lstsq(J, r, rcond=None)[0]
+    r1 = r - J @ d1
+    for name in freed:
+        if name is None:
+            col, what = 0, "the stiffness"
+        else:
+            e_freed = next((e for e in model.effects if e.name == name), None)
+            if e_freed is None:
+                continue
+            col = model.slice_of(name).start + e_freed.primary
+            what = f"{name}'s {e_freed.params(model.scales)[e_freed.primary].name}"
+        out = _freed_per_window(model, x, J, r, r1, win, labels, col, what, rate_hz, p_level)
+        if out:
+            return out
+    return {}
+
+
+def _freed_per_window(model: TorqueModel, x: np.ndarray, J: np.ndarray, r: np.ndarray,
+                      r1: np.ndarray, win: np.ndarray, labels: np.ndarray, col: int, what: str,
+                      rate_hz: float, p_level: float) -> dict[str, tuple[float, str]]:
+    """:func:`stiffness_patches` with the parameter in column ``col`` of the Jacobian ``J``
+    (residual ``r``, ``r1`` after one Gauss-Newton step) free per window ``win``."""
     per_window = np.column_stack([J[:, col] * (win == w) for w in labels])
     rest = [c for c in range(J.shape[1]) if c != col]
     J2 = np.column_stack([per_window, J[:, rest]])
-    d1 = np.linalg.lstsq(J, r, rcond=None)[0]
     d2 = np.linalg.lstsq(J2, r, rcond=None)[0]
-    r1, r2 = r - J @ d1, r - J2 @ d2
+    r2 = r - J2 @ d2
     nm = noise_model(r2, rate_hz)
     var = float(r2 @ r2) / max(r2.size - J2.shape[1], 1) * nm.tau
     if var <= 0.0:

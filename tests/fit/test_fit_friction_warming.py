@@ -65,7 +65,7 @@ def test_a_warming_friction_names_no_lag():
     x = model.fit(sig, idx, x, f_scale=0.05, max_nfev=200)
     # a lag fitted beside the one-level friction loses most of its size with the level free
     assert "time_lag" in stiffness_patches(model, x, sig, idx, SWEEP.sample_rate_hz,
-                                           freed="hysteresis")
+                                           freed=("hysteresis",))
 
 
 def test_a_true_lag_beside_a_constant_friction_is_kept():
