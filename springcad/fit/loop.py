@@ -330,7 +330,8 @@ def _drop_patches(state: State, lp: Search, f_scale: float, search: list[Step],
                                 lp.s.structure_min_rms, lp.s.structure_p, lp.s.excess_ratio)
             short = "a late channel beside structure the library cannot describe"
         if not found:
-            found = offset_patches(state.model, state.x, lp.sig, idx, lp.s.agreement_p)
+            found = offset_patches(state.model, state.x, lp.sig, idx, lp.s.agreement_p,
+                                   lp.s.support_z)
             short = "an offset the record does not show at zero deflection"
         if not found:
             return state

@@ -263,7 +263,8 @@ MIN_ZERO_RUNS = 4
 
 
 def offset_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,
-                   agreement_p: float = 1e-3) -> dict[str, tuple[float, str]]:
+                   agreement_p: float = 1e-3, support_z: float = 3.0
+                   ) -> dict[str, tuple[float, str]]:
     """Offsets of ``model`` (parameters ``x``, samples ``idx``) that the record does not show
     at zero deflection.
 
@@ -284,9 +285,10 @@ def offset_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndar
     the band (a structure the model misses near zero, friction that flips with the
     direction, spreads the runs and widens it). A true offset beside structure the
     library cannot describe is fitted short or long of its value (the structure's mean
-    takes a part), but the record shows most of it at zero; an offset of which the
-    record shows less than ``ZERO_SHARE`` there (one-sided Student t over the runs at
-    ``agreement_p``) is a patch. Both offsets together must claim at zero at least
+    takes a part), but the record shows most of it at zero; an offset the record does
+    not show there (``β`` less than ``support_z`` standard errors above zero, the
+    evidence audit's bar of support) or shows less than ``ZERO_SHARE`` of (one-sided
+    Student t over the runs at ``agreement_p``) is a patch. Both offsets together must claim at zero at least
     ``CANCEL_SHARE`` of what each claims alone: a torque offset that cancels an angle
     offset there moves only a kink or a crossover off zero (each alone then reads as
     shown in full); the angle offset goes first and the torque offset is judged alone
@@ -336,7 +338,7 @@ def offset_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndar
         if se <= 0.0 or not math.isfinite(beta):
             continue
         t = (beta - ZERO_SHARE) / se
-        if stats.t.cdf(t, n - 1) >= agreement_p:
+        if beta >= support_z * se and stats.t.cdf(t, n - 1) >= agreement_p:
             continue
         out[e.name] = (t, (
             f"{e.name} claims {float(np.sqrt(d @ d / d.size)):.3g} N·m RMS at zero deflection "
