@@ -215,6 +215,11 @@ class Backlash(Effect):
         return {"backlash_rad": 2.0 * float(p[0]), "transition_rad": float(p[1])}
 
 
+#: presliding angles after which a Dahl friction is settled to the last bit of a float64:
+#: 2·exp(-40) = 8.5e-18 is below half the spacing of doubles under 1 (5.6e-17)
+SETTLED = 40.0
+
+
 class Hysteresis(Effect):
     """Friction torque H (N·m) that reverses over a presliding angle θ_p (rad)."""
 
@@ -261,7 +266,12 @@ class Hysteresis(Effect):
     def take_up(away, swing, presliding):
         """Friction over H after ``away`` rad of travel since the turn (``swing`` 2 after a
         reversal, 1 from rest): an exponential approach (Dahl's law), ``-1`` → ``1``."""
-        return 1.0 - swing * np.exp(-away / presliding)
+        # beyond SETTLED presliding angles 1 - swing·exp(-away/presliding) rounds to 1.0
+        # exactly: the exponential is taken where the friction still moves only
+        out = np.ones(np.shape(away))
+        moving = away < SETTLED * presliding
+        out[moving] = 1.0 - np.asarray(swing)[moving] * np.exp(-away[moving] / presliding)
+        return out
 
     def report(self, p, stiffness, sc):
         return {"friction_torque_Nm": float(p[0]), "presliding_rad": float(p[1])}

@@ -36,9 +36,14 @@
    Then effects that patch structure the library cannot describe are not named
    (:mod:`springcad.fit.patches`): a shape in deflection that describes less than
    three times what the residual's deflection profile still holds (a crossover
-   fitted to cogging), and an effect that loses most of its size when the
-   stiffness is freed per whole cycle, where it does change between cycles (a
-   cubic fitted to a stiffness that dropped mid-test).
+   fitted to cogging), an effect that loses most of its size when the
+   stiffness or a friction's level is freed per whole cycle, where it does change
+   between cycles (a cubic fitted to a stiffness that dropped mid-test, a lag to a
+   friction that fades as the contact warms), a lag whose term is less than three
+   times the structure the residual still holds (a sub-millisecond lag beside a
+   stick-slip sawtooth), and an offset the record
+   does not show at zero deflection (the mean of a torque sensor's even gain
+   error over the range).
 4. **Identifiability** (:mod:`springcad.fit.identify`). Pairs of effects the
    record cannot separate (variance inflation ≥ ``vif_confounded``, also
    away from the reversals) are
@@ -76,7 +81,8 @@ from springcad.fit.joint import joint_sets
 from springcad.fit.laws import choose_laws, flag_outside
 from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, uncertainty
 from springcad.fit.localise import localise
-from springcad.fit.patches import profile_patches, stiffness_patches
+from springcad.fit.patches import (CHANGING_SIZES, lag_patches, offset_patches,
+                                   profile_patches, stiffness_patches)
 from springcad.fit.region import outside_structure
 from springcad.fit.residual import residual_structure
 from springcad.fit.ripple import periodic_route
@@ -317,8 +323,16 @@ def _drop_patches(state: State, lp: Search, f_scale: float, search: list[Step],
         short = "a patch over structure in deflection the library cannot describe"
         if not found:
             found = stiffness_patches(state.model, state.x, lp.sig, idx, lp.cv_rate_hz,
-                                      lp.s.structure_p)
-            short = "a patch over a stiffness that changed during the test"
+                                      lp.s.structure_p, (None,) + CHANGING_SIZES)
+            short = "a patch over a stiffness or a friction that changed during the test"
+        if not found:
+            found = lag_patches(state.model, state.x, lp.sig, idx, lp.s.structure_bins,
+                                lp.s.structure_min_rms, lp.s.structure_p, lp.s.excess_ratio)
+            short = "a late channel beside structure the library cannot describe"
+        if not found:
+            found = offset_patches(state.model, state.x, lp.sig, idx, lp.s.agreement_p,
+                                   lp.s.support_z)
+            short = "an offset the record does not show at zero deflection"
         if not found:
             return state
         name = min(found, key=lambda n: found[n][0])

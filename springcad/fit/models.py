@@ -84,7 +84,9 @@ def spring_angle(theta: np.ndarray, half_backlash: float, transition: float) -> 
     if transition <= _SHARP * (half_backlash + transition):
         return theta - np.clip(theta, -half_backlash, half_backlash)
     c, g, edge = logit_coefficients(half_backlash, transition)
-    out = theta - np.sign(theta) * half_backlash
+    # θ - sign(θ)·h beyond the clearance (edge ≥ h): the clipped form in two passes; the
+    # samples within it are overwritten below
+    out = theta - np.clip(theta, -half_backlash, half_backlash)
     inside = np.abs(theta) <= edge
     x = theta[inside]
     out[inside] = 2.0 * g * np.arctanh(np.clip(2.0 * c * x, -1.0 + 1e-16, 1.0 - 1e-16))

@@ -37,7 +37,7 @@ from scipy import stats
 
 from springcad.fit.inference import jacobian
 from springcad.fit.nuisance import common_profile, cycle_windows, nuisance_parts
-from springcad.fit.residual import noise_model
+from springcad.fit.residual import noise_model, residual_structure
 from springcad.fit.signals import Signals
 from springcad.fit.torque_model import TorqueModel
 
@@ -96,32 +96,96 @@ def profile_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.nda
     return out
 
 
-#: an effect must keep at least this share of its size with the stiffness free per whole
-#: cycle (when the stiffness does change between cycles)
+#: late-channel effects, which take up the part that follows the speed of structure the
+#: library cannot describe beside them (a friction whose law the library does not have)
+LAG_PATCHES = ("time_lag",)
+
+
+def lag_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,
+                bins: int = 40, min_rms: float = 0.25, p_level: float = 1e-6,
+                excess_ratio: float = 1.25) -> dict[str, tuple[float, str]]:
+    """Late-channel effects of ``model`` that describe less than ``SHAPE_DOMINANCE`` times
+    the structure the residual still holds.
+
+    The counterpart of :func:`profile_patches` for a lag: a friction whose law the
+    library does not have (a stick-slip sawtooth, whose mean over a slip period
+    changes with the speed) leaves, fitted with the library's law, structure in the
+    residual, and a late channel fitted beside it takes up the small part of it that
+    follows the speed (a fraction of a millisecond, a fraction of the noise). A true lag
+    describes many times what such structure leaves. When the residual holds structure
+    (:func:`springcad.fit.residual.residual_structure` with the loop's ``bins``,
+    ``min_rms``, ``p_level`` and ``excess_ratio``: the ``unexplained`` bar), a lag whose
+    own term (RMS over the samples) is less than ``SHAPE_DOMINANCE`` times the largest
+    structure a test finds (its RMS) is not named. A record the model explains is
+    judged as before.
+
+    Returns:
+        ``{effect: (ratio, reason)}`` (the smallest ratio first is the worst).
+    """
+    lags = [e for e in model.effects if e.name in LAG_PATCHES]
+    if not lags:
+        return {}
+    r = model.residual(x, sig, idx)
+    structure, unexplained, _ = residual_structure(r, idx, sig, bins=bins, min_rms=min_rms,
+                                                   p_level=p_level, excess_ratio=excess_ratio)
+    found = {k: v["structure_rms_Nm"] for k, v in structure["tests"].items()
+             if v.get("significant") and v.get("structure_rms_Nm", 0.0) > 0.0}
+    if not unexplained or not found:
+        return {}
+    test = max(found, key=found.get)
+    left = found[test]
+    full = model.predict(x, sig, idx)
+    out = {}
+    for e in lags:
+        m0 = model.without(e.name)
+        term = full - m0.predict(m0.transfer(model, x), sig, idx)
+        ratio = math.sqrt(float(term @ term) / term.size) / left
+        if ratio < SHAPE_DOMINANCE:
+            out[e.name] = (ratio, (
+                f"the residual holds structure no library effect describes ({left:.3g} N·m "
+                f"RMS, {test.replace('_', ' ')}), and {e.name} describes only {ratio:.2g} "
+                f"times that ({ratio * left:.3g} N·m RMS; at least {SHAPE_DOMINANCE:g} times "
+                "is asked): it takes up the part of that structure that follows the speed, "
+                "and is not named"))
+    return out
+
+
+#: an effect must keep at least this share of its size with the stiffness (or a friction's
+#: level) free per whole cycle (when it does change between cycles)
 KEEPS_SIZE = 0.5
 #: ... unless the change is within this many of its standard errors
 SIZE_CHANGE_Z = 3.0
 #: fewest whole-cycle windows for the stiffness to be freed per window
 MIN_WINDOWS = 3
+#: effect families whose size may change along the record for a physical reason (a
+#: friction's level follows the contact's temperature), freed per window like the stiffness
+CHANGING_SIZES = ("hysteresis",)
 
 
 def stiffness_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,
-                      rate_hz: float, p_level: float = 1e-6) -> dict[str, tuple[float, str]]:
-    """Effects of ``model`` that stand in for a stiffness changing during the test.
+                      rate_hz: float, p_level: float = 1e-6,
+                      freed: tuple[str | None, ...] = (None,)) -> dict[str, tuple[float, str]]:
+    """Effects of ``model`` that stand in for a stiffness (``None`` in ``freed``) or for the
+    size of an effect named in ``freed`` (a friction's level) changing during the test.
 
     A stiffness that changes mid-test (a crack, a slip, a warming bench) on a
     protocol whose late cycles are also its large ones reads as a stiffening or a
     softening, and a change inside a cycle as friction; the record is too short for
-    the evidence audit's time split. Here the stiffness is freed per window of whole
+    the evidence audit's time split. A friction whose level follows the contact's
+    temperature (falling as the contact warms, faster on fast blocks) reads, fitted
+    with one level, as a torque that falls with the speed: a late channel. Here the
+    stiffness (or the size of ``freed``) is freed per window of whole
     cycles (:func:`springcad.fit.nuisance.cycle_windows`), one Gauss-Newton step from
     the fitted ``x`` on samples ``idx`` (sampled at ``rate_hz``). When the windows'
-    stiffnesses differ beyond noise (chi-squared at ``p_level``), every effect must
+    values differ beyond noise (chi-squared at ``p_level``), every other effect must
     keep at least ``KEEPS_SIZE`` of its size there (or change by less than
     ``SIZE_CHANGE_Z`` standard errors): an effect of the record does not depend on the
-    stiffness being one number, a patch over its change loses most of its size.
+    stiffness or the friction being one number, a patch over its change loses most of
+    its size.
 
     Returns:
-        ``{effect: (share kept, reason)}`` for the effects that fail.
+        ``{effect: (share kept, reason)}`` for the effects that fail, for the first of
+        ``freed`` that finds any (one Jacobian for all).
     """
     win = cycle_windows(sig, idx)[idx]
     labels = np.unique(win[win >= 0])
@@ -129,11 +193,33 @@ def stiffness_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.n
         return {}
     r = model.residual(x, sig, idx)
     J = jacobian(model, x, sig, idx)
-    per_window = np.column_stack([J[:, 0] * (win == w) for w in labels])
-    J2 = np.column_stack([per_window, J[:, 1:]])
     d1 = np.linalg.lstsq(J, r, rcond=None)[0]
+    r1 = r - J @ d1
+    for name in freed:
+        if name is None:
+            col, what = 0, "the stiffness"
+        else:
+            e_freed = next((e for e in model.effects if e.name == name), None)
+            if e_freed is None:
+                continue
+            col = model.slice_of(name).start + e_freed.primary
+            what = f"{name}'s {e_freed.params(model.scales)[e_freed.primary].name}"
+        out = _freed_per_window(model, x, J, r, r1, win, labels, col, what, rate_hz, p_level)
+        if out:
+            return out
+    return {}
+
+
+def _freed_per_window(model: TorqueModel, x: np.ndarray, J: np.ndarray, r: np.ndarray,
+                      r1: np.ndarray, win: np.ndarray, labels: np.ndarray, col: int, what: str,
+                      rate_hz: float, p_level: float) -> dict[str, tuple[float, str]]:
+    """:func:`stiffness_patches` with the parameter in column ``col`` of the Jacobian ``J``
+    (residual ``r``, ``r1`` after one Gauss-Newton step) free per window ``win``."""
+    per_window = np.column_stack([J[:, col] * (win == w) for w in labels])
+    rest = [c for c in range(J.shape[1]) if c != col]
+    J2 = np.column_stack([per_window, J[:, rest]])
     d2 = np.linalg.lstsq(J2, r, rcond=None)[0]
-    r1, r2 = r - J @ d1, r - J2 @ d2
+    r2 = r - J2 @ d2
     nm = noise_model(r2, rate_hz)
     var = float(r2 @ r2) / max(r2.size - J2.shape[1], 1) * nm.tau
     if var <= 0.0:
@@ -145,17 +231,127 @@ def stiffness_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.n
     out = {}
     for e in model.effects:
         j = model.slice_of(e.name).start + e.primary
-        j2 = j - 1 + labels.size
+        if j == col:
+            continue
+        j2 = labels.size + rest.index(j)
         null = e.params(model.scales)[e.primary].null
-        now, freed = float(x[j]) - null, float(x[j] + d2[j2]) - null
+        now, freed_value = float(x[j]) - null, float(x[j] + d2[j2]) - null
         se = math.sqrt(max(float(cov[j2, j2]), 0.0))
-        kept = freed / now if now != 0.0 else 1.0
-        if kept < KEEPS_SIZE and abs(freed - now) > SIZE_CHANGE_Z * se:
+        kept = freed_value / now if now != 0.0 else 1.0
+        if kept < KEEPS_SIZE and abs(freed_value - now) > SIZE_CHANGE_Z * se:
             q = e.params(model.scales)[e.primary].name
             out[e.name] = (kept, (
-                f"the stiffness differs between whole cycles of the record beyond noise "
+                f"{what} differs between whole cycles of the record beyond noise "
                 f"(chi-squared {chi2:.3g} on {labels.size - 1} degrees of freedom), and with it "
                 f"free per cycle {e.name} keeps {100 * kept:.0f} % of its size ({q} "
-                f"{now + null:.4g} -> {freed + null:.4g} ± {se:.2g}): it stands in for a "
-                "stiffness that changed during the test, and is not named"))
+                f"{now + null:.4g} -> {freed_value + null:.4g} ± {se:.2g}): it stands in for "
+                f"{what} changing during the test, and is not named"))
     return out
+
+
+#: the offsets (of the torque and of the angle): what they claim is the torque read at zero
+#: deflection, so that is where the record must show them
+OFFSETS = ("torque_offset", "angle_offset")
+#: half-width of the band about zero deflection, as a share of the largest |deflection|
+ZERO_BAND = 0.15
+#: an offset is a patch where the record shows less than this share of it at zero deflection
+ZERO_SHARE = 0.5
+#: both offsets together must claim at zero at least this share of what each claims alone
+CANCEL_SHARE = 0.25
+#: fewest runs (stretches between reversals) crossing that band for the check to apply
+MIN_ZERO_RUNS = 4
+
+
+def offset_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,
+                   agreement_p: float = 1e-3, support_z: float = 3.0
+                   ) -> dict[str, tuple[float, str]]:
+    """Offsets of ``model`` (parameters ``x``, samples ``idx``) that the record does not show
+    at zero deflection.
+
+    A torque offset is the torque read at zero deflection, an angle offset the
+    deflection at which the spring's torque is zero: near zero deflection (within
+    ``ZERO_BAND`` of the largest |deflection|, where the shapes of stiffness vanish)
+    the record shows either in full. An offset fitted as a patch for a shape the
+    library cannot describe (a torque sensor whose gain grows with the torque,
+    ``T·(1 + a·T)``: even in deflection, zero at zero) takes up the mean of that shape
+    over the whole range, where there is none at zero. Each offset's term ``d`` (the
+    model less the model with that offset at its null) is set against what the record
+    holds at zero deflection: the residual of the model without it, ``r + d``, is
+    regressed over the band's samples on ``d`` and on a local slope in deflection, odd
+    and even (``θ`` and ``|θ|``: the rest of a shape, fitted or not, that runs through
+    zero); the coefficient ``β`` of ``d`` is the share of the offset the record shows
+    at zero (1: in full, 0: not at all; a band's plain mean would read the slope of a
+    shape beside it as an offset), with a standard error clustered on the runs crossing
+    the band (a structure the model misses near zero, friction that flips with the
+    direction, spreads the runs and widens it). A true offset beside structure the
+    library cannot describe is fitted short or long of its value (the structure's mean
+    takes a part), but the record shows most of it at zero; an offset the record does
+    not show there (``β`` less than ``support_z`` standard errors above zero, the
+    evidence audit's bar of support) or shows less than ``ZERO_SHARE`` of (one-sided
+    Student t over the runs at ``agreement_p``) is a patch. Both offsets together must claim at zero at least
+    ``CANCEL_SHARE`` of what each claims alone: a torque offset that cancels an angle
+    offset there moves only a kink or a crossover off zero (each alone then reads as
+    shown in full); the angle offset goes first and the torque offset is judged alone
+    on the refit.
+
+    Returns:
+        ``{effect: (t, reason)}`` for the offsets that fail, ``t`` that of
+        ``β - ZERO_SHARE`` (the smallest is the worst).
+    """
+    present = [e for e in model.effects if e.name in OFFSETS]
+    if not present:
+        return {}
+    theta = sig.theta_smooth[idx]
+    band = np.abs(theta) <= ZERO_BAND * float(np.max(np.abs(theta)))
+    runs = sig.runs[idx][band]
+    labels, inv = np.unique(runs, return_inverse=True)
+    if labels.size < MIN_ZERO_RUNS:
+        return {}
+    near = idx[band]
+    r = model.residual(x, sig, near)
+    full = model.predict(x, sig, near)
+    slope = np.column_stack([theta[band], np.abs(theta[band])])
+    n = labels.size
+    out = {}
+    terms = {}
+    for e in present:
+        terms[e.name] = full - model.predict(_nulled(model, x, (e.name,)), sig, near)
+    if len(present) > 1:
+        both = full - model.predict(_nulled(model, x, OFFSETS), sig, near)
+        claim = math.sqrt(float(both @ both) / both.size)
+        alone = min(math.sqrt(float(d @ d) / d.size) for d in terms.values())
+        if claim < CANCEL_SHARE * alone:
+            return {"angle_offset": (-math.inf, (
+                f"torque_offset and angle_offset claim {alone:.3g} N·m or more each at zero "
+                f"deflection but {claim:.3g} N·m together: they cancel there and only move a "
+                "kink or a crossover off zero; angle_offset is not named (the torque offset "
+                "is judged alone once refitted)"))}
+    for e in present:
+        d = terms[e.name]
+        X = np.column_stack([d, slope])
+        xtx_inv = np.linalg.pinv(X.T @ X)
+        coef = xtx_inv @ (X.T @ (r + d))
+        score = X * (r + d - X @ coef)[:, None]
+        per_run = np.column_stack([np.bincount(inv, weights=c, minlength=n) for c in score.T])
+        cov = xtx_inv @ (per_run.T @ per_run) @ xtx_inv * n / (n - 1)
+        beta, se = float(coef[0]), math.sqrt(max(float(cov[0, 0]), 0.0))
+        if se <= 0.0 or not math.isfinite(beta):
+            continue
+        t = (beta - ZERO_SHARE) / se
+        if beta >= support_z * se and stats.t.cdf(t, n - 1) >= agreement_p:
+            continue
+        out[e.name] = (t, (
+            f"{e.name} claims {float(np.sqrt(d @ d / d.size)):.3g} N·m RMS at zero deflection "
+            f"(|deflection| within {100 * ZERO_BAND:g} % of its largest), where the record "
+            f"shows {100 * beta:.0f} % ± {100 * se:.0f} % of it ({n} runs): it takes up the "
+            "mean of a shape over the whole range, not a zero, and is not named"))
+    return out
+
+
+def _nulled(model: TorqueModel, x: np.ndarray, names: tuple[str, ...]) -> np.ndarray:
+    """``x`` with the size parameters of the effects ``names`` at their null values."""
+    x0 = x.copy()
+    for e in model.effects:
+        if e.name in names:
+            x0[model.slice_of(e.name).start + e.primary] = e.params(model.scales)[e.primary].null
+    return x0
