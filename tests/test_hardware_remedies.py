@@ -7,6 +7,7 @@ job's TOML dict and designed again."""
 import math
 import re
 import tomllib
+from types import SimpleNamespace
 
 import pytest
 
@@ -15,6 +16,9 @@ from springcad.design.catalogue import bolt_set, drive_pin_length
 from springcad.design.connections import rim_groups
 from springcad.design.job import design_job
 from springcad.design.joint_strength import stack_pin_strengths
+from springcad.design.plans import RimSpacerPlan
+from springcad.design.plausibility import check_rim_spacers
+from springcad.design.processes import process
 from springcad.errors import ConfigError, DesignError, RemedyError
 from tests.geometry.cad_fixtures import TEMPLATES, job_data
 
@@ -197,3 +201,37 @@ def test_a_spec_breaking_the_rim_and_the_bore_rule_hears_of_both():
     both = _applied(_applied(data, "springs.S1.root_radius_mm", 33.2),
                     "hardware.shaft_diameter_mm", 9.5)
     design_job(job_from_dict(both), explain=False)
+
+
+def test_a_rim_spacer_no_process_can_make_is_refused_at_design_with_a_thinner_sheet():
+    """Holes 1.65 mm outside the flexure roots on a 2 mm bolt circle: a 0.8 mm wire-EDM
+    sheet needs a 0.8 mm web (at least the sheet) inside the Ø2.05 hole's worst case, which
+    puts the inner edge inside the roots; the stack used to lay it out anyway and the
+    build's sheet-web rule refused it after the FEA (held-out g10 with 7 bolts: 0.403 mm
+    webs). Now the design refuses it and names a sheet that fits, by hand: the edge at
+    r_hc - r_hole - loss - web must stay play + margin outside the roots."""
+    root, r_hc, outer = 30.0, 31.65, 33.5
+    plan = RimSpacerPlan(inner_radius_mm=root, outer_radius_mm=outer,
+                         hole_centres_mm=((0.0, r_hc), (r_hc, 0.0)), hole_diameter_mm=2.05,
+                         joint=0, process="wire_edm")
+    spring = SimpleNamespace(root_radius_mm=root,
+                             manufacturing=SimpleNamespace(min_hole_edge_mm=0.2))
+
+    def design(thickness_mm):
+        hw = SimpleNamespace(fastener="bolt", fastener_diameter_mm=2.0,
+                             rim_spacer_thickness_mm=thickness_mm)
+        return SimpleNamespace(job=SimpleNamespace(hardware=hw), stack=SimpleNamespace(
+            components=[SimpleNamespace(name="rim_spacer_1", plan=plan)],
+            springs=[spring, spring]))
+
+    edm = process("wire_edm")
+    hole = edm.clearance_hole(2.0, edm.position_tolerance_mm)
+    r_hole = 0.5 * (hole + edm.hole_tolerance_mm)
+    loss = edm.hole_web_loss_mm() - 0.5 * edm.hole_tolerance_mm
+    room = r_hc - r_hole - loss - (root + (r_hole - 1.0) + max(0.02, edm.contour_tolerance_mm))
+    assert 0.5 < room < 0.8  # by hand: a 0.8 mm web does not fit, 0.5 mm does
+    with pytest.raises(RemedyError) as err:
+        check_rim_spacers(design(0.8))
+    assert err.value.remedies and err.value.remedies[0][0] == {
+        "hardware.rim_spacer_thickness_mm": 0.6 if room >= 0.6 else 0.5}
+    check_rim_spacers(design(err.value.remedies[0][0]["hardware.rim_spacer_thickness_mm"]))

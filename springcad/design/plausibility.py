@@ -21,6 +21,8 @@ from springcad.config.consistency import MIN_RIM_FRACTION, SHAFT_STEP_MM
 from springcad.config.schema import keys
 from springcad.design.fastener_room import check_fastener_room
 from springcad.design.joint_strength import check_pin_strength
+from springcad.design.plans import RimSpacerPlan
+from springcad.design.rim_spacer import max_pin_mm, rim_spacer_fit
 from springcad.errors import DesignError, RemedyError, change_text
 from springcad.units import NMM_PER_NM, UM_PER_MM
 
@@ -99,6 +101,53 @@ def check_hardware(job_design) -> None:
                 "the hardware sizes against the spring radii")
     check_fastener_room(job_design.stack.layout, job_design.stack.springs)
     check_pin_strength(job_design.stack)
+    check_rim_spacers(job_design)
+
+
+#: rim spacer sheets (mm) a refused spacer is offered, thickest first (webs of at least the
+#: sheet thickness: a thinner sheet needs less rim)
+SPACER_SHEETS_MM = (0.6, 0.5, 0.4, 0.3, 0.2)
+
+
+def check_rim_spacers(job_design) -> None:
+    """Raise :class:`RemedyError` when a rim spacer cannot be made on its rim: no process
+    keeps the worst-case webs of its pin holes (at least the sheet thickness) and clears
+    the flexure roots (:func:`~springcad.design.rim_spacer.rim_spacer_fit`). The stack lays
+    such a spacer out as well as the rim allows, which the build's sheet-web rule then
+    refused after the FEA (held-out g10 with 7 bolts: 0.403 mm webs on 0.8 mm sheet); the
+    remedy is the thickest thinner sheet that fits."""
+    hw = job_design.job.hardware
+    stack = job_design.stack
+    pin_max = max_pin_mm(hw.fastener, hw.fastener_diameter_mm)
+    for c in stack.components:
+        plan = c.plan
+        if not isinstance(plan, RimSpacerPlan) or not plan.hole_centres_mm:
+            continue
+        lower, upper = stack.springs[plan.joint], stack.springs[plan.joint + 1]
+        root = max(lower.root_radius_mm, upper.root_radius_mm)
+        r_hc = min(math.hypot(*p) for p in plan.hole_centres_mm)
+
+        def fits(thickness_mm: float) -> bool:
+            try:
+                rim_spacer_fit(root, plan.outer_radius_mm, r_hc, hw.fastener_diameter_mm,
+                               pin_max, thickness_mm, lower.manufacturing.min_hole_edge_mm)
+            except DesignError:
+                return False
+            return True
+
+        if fits(hw.rim_spacer_thickness_mm):
+            continue
+        try:
+            rim_spacer_fit(root, plan.outer_radius_mm, r_hc, hw.fastener_diameter_mm, pin_max,
+                           hw.rim_spacer_thickness_mm, lower.manufacturing.min_hole_edge_mm)
+        except DesignError as err:
+            why = str(err).rstrip(". ")
+        key = "hardware.rim_spacer_thickness_mm"
+        remedies = [({key: t}, change_text(key, t, hw.rim_spacer_thickness_mm))
+                    for t in SPACER_SHEETS_MM if t < hw.rim_spacer_thickness_mm and fits(t)][:1]
+        raise RemedyError(f"{c.name} (joint {plan.joint + 1}, {hw.rim_spacer_thickness_mm:g} mm "
+                          f"sheet, holes on R{r_hc:.2f}): {why}", remedies,
+                          "a larger outer radius or smaller rim fasteners")
 
 
 def _webs_stiffen(spring) -> bool:
