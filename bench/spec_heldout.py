@@ -122,11 +122,17 @@ def material_of(cfg: dict) -> tuple[float, float, float, float, float]:
     return e_gpa * 1e3, nu, sy, sigma_b, sf
 
 
+def stiffness_of(sp: dict) -> float:
+    """A spring table's target stiffness (N*m/rad), under its current key or the deprecated
+    one the generator writes (an applied change writes the current one)."""
+    return sp.get("target_stiffness_Nm_per_rad", sp.get("stiffness_Nm_per_rad"))
+
+
 def rho_of_spring(cfg: dict, sp: dict) -> dict:
     """The plausibility ratio rho of one spring table (see the module docstring)."""
     e_mpa, nu, sy, sigma_b, sf = material_of(cfg)
     hw = cfg.get("hardware", {})
-    k = sp["stiffness_Nm_per_rad"]
+    k = stiffness_of(sp)
     th = math.radians(sp["max_deflection_deg"]) if "max_deflection_deg" in sp \
         else sp["max_deflection_rad"]
     ro, z = sp["outer_radius_mm"], sp["thickness_mm"]
@@ -170,14 +176,14 @@ def assess(cfg: dict) -> dict:
     per = {name: rho_of_spring(cfg, sp) for name, sp in springs.items()}
     worst = max(per, key=lambda n: per[n]["rho"])
     seq = cfg.get("stack", {}).get("sequence", list(springs))
-    k_stack = 1.0 / sum(1.0 / springs[n]["stiffness_Nm_per_rad"] for n in seq)
+    k_stack = 1.0 / sum(1.0 / stiffness_of(springs[n]) for n in seq)
     sp = springs[worst]
     fixed = sorted({k for s in springs.values() for k in s} & {
         "contact_radius_mm", "n_flexures", "tip_radius_mm", "min_tip_radius_mm",
         "root_radius_mm", "flexure"})
     return {"rho": per[worst]["rho"], "label": label_of(per[worst]["rho"]),
             "binding": per[worst]["binding"], "u_y": per[worst]["u_y"], "n_disks": len(seq),
-            "k_stack": k_stack, "k_disk": sp["stiffness_Nm_per_rad"],
+            "k_stack": k_stack, "k_disk": stiffness_of(sp),
             "deg": sp.get("max_deflection_deg", math.degrees(sp.get("max_deflection_rad", 0))),
             "ro": sp["outer_radius_mm"], "z": sp["thickness_mm"],
             "material": cfg.get("material", {}).get("name", "420_ht"), "fixed": fixed}
