@@ -25,10 +25,12 @@ DESIGN = Path("/tmp/ho11/design")
 
 
 def jsonl(p: Path) -> dict:
+    """name -> row of a results file, the deprecation warning of the configs' key dropped."""
     rows = {}
     if p.exists():
         for line in p.read_text().splitlines():
             r = json.loads(line)
+            r["reasons"] = [x for x in r.get("reasons") or [] if "deprecated" not in x]
             rows[r["name"]] = r
     return rows
 
@@ -67,6 +69,13 @@ def design_rows() -> dict:
     return rows
 
 
+def reason_kind(reason: str) -> str:
+    """"duty" for a reason that is only springcad's default duty (flexure fatigue, tip-ball
+    contact fatigue over the duty; no held-out config sets a duty), else "manufacturing/
+    geometry" (tolerances, clearances, interference, static margins, EDM rules)."""
+    return "duty" if re.search(r"\bduty\b|contact fatigue", reason) else "manufacturing/geometry"
+
+
 def short(text: str, n: int = 170) -> str:
     text = text.replace("|", "/").replace("\n", " ")
     return text if len(text) <= n else text[:n] + " ..."
@@ -86,12 +95,15 @@ def main(out_md: str, out_json: str) -> None:
         b = builds.get(name)
         if b:
             row.update(build=b["outcome"], build_s=round(b["seconds"], 1), build_stage=b["stage"],
-                       build_reasons=b["reasons"], build_load=b["load"])
+                       build_reasons=b["reasons"], build_load=b["load"],
+                       build_reason_kinds=sorted({reason_kind(x) for x in b["reasons"]}))
         f = fixes.get(name)
         if f:
+            f["reason_kinds"] = sorted({reason_kind(x) for x in f.get("reasons") or []})
             row["fix"] = f
         rows.append(row)
-        bcell = f"{row['build']} ({row['build_s']:.0f})" if b else "not run"
+        bcell = f"{row['build']} ({row['build_s']:.0f})" if b else \
+            ("-" if row["design"].startswith("REFUSED") else "not run")
         why = "; ".join(short(r, 90) for r in (b or {}).get("reasons", [])[:3]) if b else \
             short(row.get("message", ""))
         md.append(f"| {name} | {info['label']} | {row['design']} ({row.get('design_s', 0):.0f}) "
