@@ -58,9 +58,12 @@ cut at "feasible with ...").
 Outcomes: RELEASED, NOT FOR MANUFACTURE (reasons), REFUSED+NUMBERS (design refused and the
 message names a change in numbers), REFUSED (no numbers), LATE FAILURE (design accepted,
 build failed: verify, solids, checks, exports), CRASH (exit 3, a traceback, a signal),
-TIMEOUT; with ``--design-only``, DESIGNED for an accepted design. A refusal whose message
-names a config key and a value is applied to a copy of the config (``<name>_fix.toml``) and
-re-run; the fix's outcome is reported beside it.
+TIMEOUT; with ``--design-only``, DESIGNED for an accepted design. A build is one
+``springcad build`` run (its design stage is the design; a non-zero exit there is a refusal,
+later a late failure). The first ``--alternatives`` changes a refusal names (default 1) are
+applied to a copy of the config exactly as printed (bench/heldout_fixes.py: keys, removed
+keys, disk-count changes of stack.sequence, several keys "all together") in
+``fixes/<name>_fixJ.toml`` and run the same way; their outcome is reported beside it.
 """
 
 from __future__ import annotations
@@ -79,6 +82,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from heldout_fixes import SPRING_KEYS, apply_ops, describe, parse_fixes
 
 #: public material values (ASM Handbook, AK Steel 420 data sheet): E GPa, nu, yield MPa
 MATERIALS = {
@@ -117,11 +122,17 @@ def material_of(cfg: dict) -> tuple[float, float, float, float, float]:
     return e_gpa * 1e3, nu, sy, sigma_b, sf
 
 
+def stiffness_of(sp: dict) -> float:
+    """A spring table's target stiffness (N*m/rad), under its current key or the deprecated
+    one the generator writes (an applied change writes the current one)."""
+    return sp.get("target_stiffness_Nm_per_rad", sp.get("stiffness_Nm_per_rad"))
+
+
 def rho_of_spring(cfg: dict, sp: dict) -> dict:
     """The plausibility ratio rho of one spring table (see the module docstring)."""
     e_mpa, nu, sy, sigma_b, sf = material_of(cfg)
     hw = cfg.get("hardware", {})
-    k = sp["stiffness_Nm_per_rad"]
+    k = stiffness_of(sp)
     th = math.radians(sp["max_deflection_deg"]) if "max_deflection_deg" in sp \
         else sp["max_deflection_rad"]
     ro, z = sp["outer_radius_mm"], sp["thickness_mm"]
@@ -165,14 +176,14 @@ def assess(cfg: dict) -> dict:
     per = {name: rho_of_spring(cfg, sp) for name, sp in springs.items()}
     worst = max(per, key=lambda n: per[n]["rho"])
     seq = cfg.get("stack", {}).get("sequence", list(springs))
-    k_stack = 1.0 / sum(1.0 / springs[n]["stiffness_Nm_per_rad"] for n in seq)
+    k_stack = 1.0 / sum(1.0 / stiffness_of(springs[n]) for n in seq)
     sp = springs[worst]
     fixed = sorted({k for s in springs.values() for k in s} & {
         "contact_radius_mm", "n_flexures", "tip_radius_mm", "min_tip_radius_mm",
         "root_radius_mm", "flexure"})
     return {"rho": per[worst]["rho"], "label": label_of(per[worst]["rho"]),
             "binding": per[worst]["binding"], "u_y": per[worst]["u_y"], "n_disks": len(seq),
-            "k_stack": k_stack, "k_disk": sp["stiffness_Nm_per_rad"],
+            "k_stack": k_stack, "k_disk": stiffness_of(sp),
             "deg": sp.get("max_deflection_deg", math.degrees(sp.get("max_deflection_rad", 0))),
             "ro": sp["outer_radius_mm"], "z": sp["thickness_mm"],
             "material": cfg.get("material", {}).get("name", "420_ht"), "fixed": fixed}
@@ -435,113 +446,6 @@ def reason_lines(text: str) -> list[str]:
     return cli or errs or key or lines[-3:]
 
 
-#: keys a refusal may name with a new value, and where they live
-SPRING_KEYS = ("stiffness_Nm_per_rad", "max_deflection_deg", "max_deflection_rad",
-               "outer_radius_mm", "thickness_mm", "contact_radius_mm", "min_tip_radius_mm",
-               "tip_radius_mm", "n_flexures", "root_radius_mm")
-OTHER_KEYS = {"design_stress_MPa": "material", "safety_factor": "material",
-              "fastener_diameter_mm": "hardware", "fastener_count": "hardware",
-              "shaft_diameter_mm": "hardware", "min_slot_width_mm": "manufacturing",
-              "min_web_mm": "manufacturing", "min_hole_edge_mm": "manufacturing",
-              "w_gap_mm": "manufacturing", "t_spring_mm": "manufacturing",
-              "t_shaft_mm": "manufacturing"}
-INT_KEYS = ("n_flexures", "fastener_count")
-#: schema defaults (README config table) of keys a config may leave out
-DEFAULTS = {"min_tip_radius_mm": 0.3, "fastener_diameter_mm": 1.5, "fastener_count": 7,
-            "shaft_diameter_mm": 4.0, "min_slot_width_mm": 0.35, "min_web_mm": 0.4,
-            "min_hole_edge_mm": 0.4, "w_gap_mm": 0.04, "t_spring_mm": 0.01,
-            "t_shaft_mm": 0.01}  # w_gap: t_spring + t_shaft + 0.02 when not given
-#: "springs.S1.thickness_mm = 6.5", "thickness_mm 6.5", "thickness_mm to 6.5", ...
-_KEY_RE = re.compile(r"(?:springs\.(?P<spring>[A-Za-z0-9_-]+)\.)?(?:(?:material|hardware|"
-                     r"manufacturing)\.)?(?P<key>" + "|".join(SPRING_KEYS + tuple(OTHER_KEYS))
-                     + r")\b\s*(?:=|:|to|>=|<=|≥|≤|of|at least|at most|below|above|"
-                     r"about|~)?\s*(?P<val>-?\d+(?:\.\d+)?)")
-_FLEX_RE = re.compile(r'flexure\s*=\s*"(?P<val>auto|straight|serpentine)"')
-#: a clause that proposes a change (not one that states a limit)
-_SUGGEST = re.compile(r"\b(use|raise|lower|increase|reduce|decrease|enlarge|allow|give|put|"
-                      r"try|fix|feasible with|change|set|choose|add|remove|drop|widen|"
-                      r"thicken|shorten)\b", re.I)
-_NUM = re.compile(r"(?<![A-Za-z_'])\d+(?:\.\d+)?")
-
-
-def _current(cfg: dict, sec: str, spring: str | None, key: str):
-    if sec == "springs":
-        return cfg["springs"][spring].get(key, DEFAULTS.get(key))
-    return cfg.get(sec, {}).get(key, DEFAULTS.get(key))
-
-
-def parse_fixes(text: str, cfg: dict) -> tuple[list[list[tuple]], str]:
-    """The changes a refusal proposes, as alternatives: [[(section, spring, key, value)]].
-
-    Conservative: only suggestion clauses (``use``, ``raise``, ``feasible with`` ...) are
-    read, only an explicit config key followed by a number (or ``flexure = "..."``) is
-    taken, a value equal to the config's own value is a description, not a change, and
-    matches separated by "or" are alternatives. The note says what was named but could
-    not be parsed ("numbers, no key") or that no change in numbers was named."""
-    named = re.findall(r"spring '([^']+)'", text)
-    target = [n for n in dict.fromkeys(named) if n in cfg["springs"]]
-    groups: list[list[tuple]] = []
-    loose_numbers = False
-    clauses = re.split(r";|(?<=\D)\.\s|\n", text)
-    # an explicit "feasible with ..." list, when it names keys, is the suggestion
-    explicit = [c for c in clauses if re.search(r"feasible with", c, re.I)
-                and _KEY_RE.search(c)]
-    for clause in explicit or clauses:
-        if not _SUGGEST.search(clause):
-            continue
-        last_end = None
-        for m in sorted(list(_KEY_RE.finditer(clause)) + list(_FLEX_RE.finditer(clause)),
-                        key=lambda m: m.start()):
-            key = m.groupdict().get("key") or "flexure"
-            val = m["val"] if key == "flexure" else float(m["val"])
-            if key in INT_KEYS:
-                val = int(round(val))
-            if key in SPRING_KEYS or key == "flexure":
-                names = [m.groupdict().get("spring")] \
-                    if m.groupdict().get("spring") in cfg["springs"] \
-                    else (target[:1] if target else list(cfg["springs"]))
-                items = [("springs", n, key, val) for n in names]
-            else:
-                items = [(OTHER_KEYS[key], None, key, val)]
-            items = [it for it in items if _current(cfg, it[0], it[1], key) != val]
-            if not items:
-                continue
-            alt = last_end is None or re.search(r"\bor\b", clause[last_end:m.start()])
-            if alt or not groups:
-                groups.append(items)
-            else:
-                groups[-1].extend(items)
-            last_end = m.end()
-        if not groups and _NUM.search(clause):
-            loose_numbers = True
-    unique: list[list[tuple]] = []
-    for g in groups:
-        if g not in unique:
-            unique.append(g)
-    groups = unique
-    note = ""
-    if not any(g for g in groups if any(not isinstance(v, str) for *_, v in g)):
-        note = "names numbers, but no config key with a new value I could parse" \
-            if loose_numbers else "no change in numbers named"
-    return groups, note
-
-
-def apply_fixes(cfg: dict, fixes: list[tuple], tag: str) -> dict:
-    new = json.loads(json.dumps(cfg))
-    for sec, spring, key, val in fixes:
-        if sec == "springs":
-            sp = new["springs"][spring]
-            if key == "max_deflection_deg":
-                sp.pop("max_deflection_rad", None)
-            if key == "max_deflection_rad":
-                sp.pop("max_deflection_deg", None)
-            sp[key] = val
-        else:
-            new.setdefault(sec, {})[key] = val
-    new.setdefault("job", {})["name"] = (new["job"].get("name", "spec") + tag)[:64]
-    return new
-
-
 @dataclass
 class Result:
     name: str
@@ -550,73 +454,83 @@ class Result:
     seconds: float = 0.0
     reason: str = ""
     reasons: list[str] = field(default_factory=list)
-    fixes: list[tuple[str, str]] = field(default_factory=list)   # (change, outcome)
+    fixes: list[dict] = field(default_factory=list)   # {"change", "outcome", "seconds", ...}
     fix_note: str = ""
     load: float = 0.0       # 1-minute load average when the spec started
+    stage: str = ""         # the last stage the build started ("design", "verify", ...)
 
 
-MAX_ALTERNATIVES = 3
+#: suggested changes applied per refusal, first written first (``--alternatives``)
+MAX_ALTERNATIVES = 1
+
+
+def _stages(text: str) -> list[str]:
+    """The stages a build printed it started, in order ("[1/5] design ..." lines)."""
+    return re.findall(r"\[\d/\d\] (\w+)", text)
+
+
+def _refused(res: Result, cfg: dict, text: str) -> list[list[tuple]]:
+    """Classify a design-stage refusal; the alternatives its message names."""
+    res.reasons = reason_lines(text)
+    groups, note = parse_fixes("\n".join(res.reasons), cfg)
+    numeric = [g for g in groups if any(op[0] != "set" or not isinstance(op[-1], str)
+                                        for op in g)]
+    res.outcome = "REFUSED+NUMBERS" if numeric else \
+        ("REFUSED (numbers, no key)" if note.startswith("names") else "REFUSED")
+    res.fix_note = note
+    return groups
 
 
 def run_spec(cfg_path: Path, out_root: Path, code: Path, design_only: bool, timeout_s: float,
-             try_fix: bool = True) -> Result:
+             try_fix: bool = True, alternatives: int = MAX_ALTERNATIVES) -> Result:
+    """``springcad design`` (``design_only``) or ``springcad build`` of one config, classified;
+    on a design-stage refusal the first ``alternatives`` changes it names are applied to a
+    copy (``fixes/<name>_fixJ.toml``) and run the same way."""
     cfg = tomllib.loads(cfg_path.read_text())
     res = Result(cfg_path.stem, assess(cfg), load=os.getloadavg()[0])
     d = out_root / cfg_path.stem
     t0 = time.monotonic()
     logs = out_root / "logs"
     logs.mkdir(exist_ok=True)
-    r = run_cli(code, ["design", str(cfg_path), "--out", str(d), "--overwrite"], timeout_s,
-                out_root, logs / f"{cfg_path.stem}.design.log")
+    command = "design" if design_only else "build"
+    r = run_cli(code, [command, str(cfg_path), "--out", str(d), "--overwrite"], timeout_s,
+                out_root, logs / f"{cfg_path.stem}.{command}.log")
+    stages = _stages(r.text)
+    res.stage = stages[-1] if stages else "design"
+    groups: list[list[tuple]] = []
     if r.timeout:
-        res.outcome, res.reason = "TIMEOUT (design)", f"> {timeout_s:.0f} s"
+        res.outcome, res.reason = f"TIMEOUT ({res.stage})", f"> {timeout_s:.0f} s"
     elif _is_crash(r):
-        res.outcome, res.reasons = "CRASH (design)", reason_lines(r.text)
+        res.outcome, res.reasons = f"CRASH ({res.stage}, exit {r.rc})", reason_lines(r.text)
+    elif r.rc != 0 and res.stage == "design":
+        groups = _refused(res, cfg, r.text)
     elif r.rc != 0:
+        res.outcome = f"LATE FAILURE ({res.stage}, exit {r.rc})"
         res.reasons = reason_lines(r.text)
-        msg = "\n".join(res.reasons)
-        groups, note = parse_fixes(msg, cfg)
-        numeric = [g for g in groups if any(not isinstance(v, str) for *_, v in g)]
-        res.outcome = "REFUSED+NUMBERS" if numeric else \
-            ("REFUSED (numbers, no key)" if note.startswith("names") else "REFUSED")
-        res.fix_note = note
-        if try_fix:
-            for j, g in enumerate(groups[:MAX_ALTERNATIVES]):
-                tag = f"_fix{j + 1}"
-                fix_dir = out_root.parent / "fixes"     # beside out/, not among the inputs
-                fix_dir.mkdir(exist_ok=True)
-                fix_path = fix_dir / (cfg_path.stem + tag + ".toml")
-                fix_path.write_text(to_toml(apply_fixes(cfg, g, tag)))
-                change = ", ".join(f"{sp + '.' if sp else ''}{k}={v}" for _, sp, k, v in g)
-                sub = run_spec(fix_path, out_root, code, design_only, timeout_s,
-                               try_fix=False)
-                res.fixes.append((change, sub.outcome + (f": {sub.reason}" if sub.reason
-                                                         else "")))
-            if len(groups) > MAX_ALTERNATIVES:
-                res.fix_note += f" ({len(groups) - MAX_ALTERNATIVES} more alternatives " \
-                                f"not tried)"
     elif design_only:
         res.outcome = "DESIGNED"
         res.reasons = [ln for ln in r.text.splitlines() if "warning" in ln.lower()]
     else:
-        b = run_cli(code, ["build", str(cfg_path), "--out", str(d), "--overwrite"],
-                    timeout_s, out_root, logs / f"{cfg_path.stem}.build.log")
-        if b.timeout:
-            res.outcome, res.reason = "TIMEOUT (build)", f"> {timeout_s:.0f} s"
-        elif _is_crash(b):
-            res.outcome, res.reasons = "CRASH (build)", reason_lines(b.text)
-        elif b.rc != 0:
-            stage = re.findall(r"\[(\d)/5\] (\w+)", b.text)
-            res.outcome = f"LATE FAILURE ({stage[-1][1] if stage else '?'}, exit {b.rc})"
-            res.reasons = reason_lines(b.text)
-        else:
-            try:
-                rel = json.loads((d / "build.json").read_text())["release"]
-                res.outcome = rel["status"]
-                res.reasons = list(rel.get("reasons", []))
-            except (OSError, KeyError, ValueError) as e:
-                res.outcome, res.reason = "CRASH (build.json)", f"unreadable: {e}"
+        try:
+            rel = json.loads((d / "build.json").read_text())["release"]
+            res.outcome = rel["status"]
+            res.reasons = list(rel.get("reasons", []))
+        except (OSError, KeyError, ValueError) as e:
+            res.outcome, res.reason = "CRASH (build.json)", f"unreadable: {e}"
     res.seconds = time.monotonic() - t0
+    if try_fix:
+        for j, ops in enumerate(groups[:alternatives]):
+            tag = f"_fix{j + 1}"
+            fix_dir = out_root.parent / "fixes"     # beside out/, not among the inputs
+            fix_dir.mkdir(exist_ok=True)
+            fix_path = fix_dir / (cfg_path.stem + tag + ".toml")
+            fix_path.write_text(to_toml(apply_ops(cfg, ops, tag)))
+            sub = run_spec(fix_path, out_root, code, design_only, timeout_s, try_fix=False)
+            res.fixes.append({"change": describe(ops), "toml": str(fix_path),
+                              "outcome": sub.outcome, "seconds": round(sub.seconds, 1),
+                              "reasons": sub.reasons, "fix_note": sub.fix_note})
+        if len(groups) > alternatives:
+            res.fix_note += f" ({len(groups) - alternatives} more alternatives not tried)"
     if not res.reason and res.reasons:
         res.reason = res.reasons[0].strip()
     return res
@@ -651,8 +565,9 @@ def report(results: list[Result]) -> str:
                     f" {i['deg']:4.0f} {i['ro']:5.1f} {i['z']:4.1f} {i['material']:13s} "
                     f"{fixed[:17]:17s} {i['label']:10s} {i['rho']:5.2f} {r.outcome[:30]:30s} "
                     f"{r.seconds:5.0f} {r.reason[:150]}")
-        for change, out in r.fixes:
-            rows.append(f"{'':29s}   suggested change applied: {change} -> {out[:160]}")
+        for fx in r.fixes:
+            out = fx["outcome"] + (f": {fx['reasons'][0]}" if fx["reasons"] else "")
+            rows.append(f"{'':29s}   suggested change applied: {fx['change']} -> {out[:160]}")
         if r.outcome.startswith("REFUSED") and not r.fixes:
             rows.append(f"{'':29s}   no change applied: {r.fix_note}")
     fams: dict[str, int] = {}
@@ -670,15 +585,16 @@ def report(results: list[Result]) -> str:
     tried = [r for r in results if r.fixes]
     refused = [r for r in results if r.outcome.startswith("REFUSED")]
     if refused:
-        works = [r for r in tried if any(family(o) in ("RELEASED", "NOT FOR MANUFACTURE",
-                                                         "DESIGNED") for _, o in r.fixes)]
+        works = [r for r in tried if any(family(fx["outcome"]) in (
+            "RELEASED", "NOT FOR MANUFACTURE", "DESIGNED") for fx in r.fixes)]
         rows.append(f"refusals: {len(refused)}; a change parsed and applied on {len(tried)}, "
                     f"which then designed/built on {len(works)}; not parsed "
                     f"{len(refused) - len(tried)} ("
                     + ", ".join(f"{k} {v}" for k, v in _count(r.fix_note.split(' (')[0]
                                                               for r in refused
                                                               if not r.fixes).items()) + ")")
-        drop = [r for r in tried if all(c == "fastener_count=0" for c, _ in r.fixes)]
+        drop = [r for r in tried if all(fx["change"] == "hardware.fastener_count=0"
+                                        for fx in r.fixes)]
         if drop:
             rows.append(f"  of these, {len(drop)} named no number but fastener_count = 0 (drop "
                         f"every rim fastener): " + ", ".join(r.name for r in drop))
@@ -701,6 +617,8 @@ def main(argv=None) -> int:
     ap.add_argument("--design-only", action="store_true")
     ap.add_argument("--generate-only", action="store_true")
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--alternatives", type=int, default=MAX_ALTERNATIVES,
+                    help="suggested changes of a refusal applied and run (first written first)")
     ap.add_argument("--timeout", type=float, default=300.0)
     ap.add_argument("--only", default="", help="comma-separated spec names to run")
     ap.add_argument("--report-from", type=Path, help="print the report of a results_*.json")
@@ -741,8 +659,13 @@ def main(argv=None) -> int:
           f"{'design only' if args.design_only else 'design + build'}", flush=True)
 
     def one(p):
-        r = run_spec(p, outs, args.code.resolve(), args.design_only, args.timeout)
+        r = run_spec(p, outs, args.code.resolve(), args.design_only, args.timeout,
+                     alternatives=args.alternatives)
         print(f"  {r.name}: {r.outcome} ({r.seconds:.0f} s) {r.reason[:120]}", flush=True)
+        for fx in r.fixes:
+            print(f"    change {fx['change']}: {fx['outcome']} ({fx['seconds']:.0f} s)", flush=True)
+        with open(keep / "results_partial.jsonl", "a") as f:   # survives an interrupted run
+            f.write(json.dumps(r.__dict__, default=str) + "\n")
         return r
 
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as ex:
