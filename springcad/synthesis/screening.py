@@ -53,6 +53,7 @@ from springcad.design import shapes
 from springcad.design.cam import OVERTRAVELS
 from springcad.design.ring import hole_diameter_mm
 from springcad.config.consistency import MIN_RIM_FRACTION, min_rim_mm
+from springcad.design.hardware import rim_spacer_rim_mm
 from springcad.design.contact_stress import tip_radius_window_mm
 from springcad.design.resize import web_stiffness_excess
 from springcad.design.sizing import STRESS_PASSES
@@ -268,7 +269,11 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         return np.where(r <= hi * (1 + 1e-9), r, np.inf)
 
     capped = tip_radius_mm is None
-    rim_min = np.maximum(min_rim_mm(0.0, manufacturing, hardware), MIN_RIM_FRACTION * ro)
+    # the rim keeps room for its holes, and (pinned rim to rim: a stack of several disks,
+    # the design's shared_rim_limit_mm) for the rim spacer's holes and worst-case webs
+    spacer = rim_spacer_rim_mm(hardware, manufacturing) if hardware.fastener_count else 0.0
+    rim_min = np.maximum(max(min_rim_mm(0.0, manufacturing, hardware), spacer),
+                         MIN_RIM_FRACTION * ro)
 
     def fail(mask, c, v, lim):
         mask = mask & (code == OK)
