@@ -25,7 +25,7 @@ from springcad.config import MaterialSpec
 from springcad.design.catalogue import MIN_ENGAGEMENT_PER_DIAMETER
 from springcad.design.hardware import BUSHING_CLEARANCE_MM, stack_layout
 from springcad.connections import connection_sequence
-from springcad.design.connections import camshaft_indices
+from springcad.design.connections import RIM, camshaft_indices
 from springcad.design.tolerance import backlash_rad, gap_range_mm
 from springcad.errors import DesignError
 from springcad.synthesis.screening import REASONS, screen_disks
@@ -130,13 +130,17 @@ def _screen_groups(space, cols):
     K, th = cols["target_stiffness_Nmm_per_rad"], cols["deflection_rad"]
     mixed = n_b > 0
     rows = np.flatnonzero(mixed)
+    # stacks with a rim-to-rim joint: their disks' rims keep the rim spacer's room
+    pinned = np.array([RIM in connection_sequence(int(k), space.inputs[j])[0]
+                       and space.hardware.fastener_count > 0
+                       for k, j in zip(n_a + n_b, cols["input"])], dtype=float)
     spec = np.concatenate([
         np.column_stack([n_a * K / split, split * th / n_a, cols["outer_radius_mm"], cols["z_a"],
-                         cols["rc"], cols["material"], cols["n_flexures"]]),
+                         cols["rc"], cols["material"], cols["n_flexures"], pinned]),
         np.column_stack([n_b[rows] * K[rows] / (1 - split[rows]),
                          (1 - split[rows]) * th[rows] / n_b[rows], cols["outer_radius_mm"][rows],
                          cols["z_b"][rows], cols["rc"][rows], cols["material"][rows],
-                         cols["n_flexures"][rows]])])
+                         cols["n_flexures"][rows], pinned[rows]])])
     uniq, inverse = np.unique(spec, axis=0, return_inverse=True)
     inverse = inverse.ravel()
     mat = uniq[:, 5].astype(int)
@@ -149,7 +153,8 @@ def _screen_groups(space, cols):
                        tip_radius_mm=space.tip_radius_mm,
                        manufacturing=space.manufacturing, hardware=space.hardware,
                        straight_only=space.flexure == "straight", allowed_peak_MPa=allowed[mat],
-                       fatigue_limited=fatigue_limited[mat], contact=space.contact_limits(mat))
+                       fatigue_limited=fatigue_limited[mat], contact=space.contact_limits(mat),
+                       rim_pinned=uniq[:, 7] > 0.5)
     m = len(n_a)
     a = {k: v[inverse[:m]] for k, v in res.items()}
     b = {k: np.full(m, np.nan if v.dtype.kind == "f" else 0, dtype=v.dtype)

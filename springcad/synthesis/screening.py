@@ -114,7 +114,7 @@ def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
                  min_tip_radius_mm: float, manufacturing, hardware,
                  straight_only: bool = False, allowed_peak_MPa=None,
                  fatigue_limited=None, tip_radius_mm: float | None = None,
-                 contact=None) -> dict[str, np.ndarray]:
+                 contact=None, rim_pinned=False) -> dict[str, np.ndarray]:
     """Closed-form design of disks with given r_c, with the design's stress passes.
 
     Args:
@@ -126,6 +126,9 @@ def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
             predicted peak in ``peak_stress_MPa``).
         fatigue_limited: per disk, whether the allowed peak comes from the fatigue margin
             (the failure is then ``fatigue_margin``, else ``yield_margin``).
+        rim_pinned: per disk (or one bool), whether its stack pins it rim to rim: its rim
+            then keeps the rim spacer's room too, as the design's
+            :func:`~springcad.design.job.shared_rim_limit_mm`.
         contact: (Poisson's ratio, allowed contact von Mises MPa), scalars or per disk: the balls are
             sized for their Hertz contact at full deflection as well as bending, as the
             design's :func:`springcad.design.layout.tip_ball`; None: bending only.
@@ -144,12 +147,15 @@ def screen_disks(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
     full = [np.broadcast_to(np.asarray(v, dtype=float), (m,))
             for v in (K, theta, ro, z, rc, sigma, E, density_kg_per_mm3)]
 
+    pinned = np.broadcast_to(np.asarray(rim_pinned, dtype=bool), (m,))
+
     def screen(rows, n_rows, sigma_rows, layout_only=False):
         sub = [v[rows] for v in full]
         sub[5] = sigma_rows
         rows_args = args if contact is None else {
             **args, "contact": tuple(c[rows] for c in args["contact"])}
-        return _screen(*sub, n_rows, **rows_args, layout_only=layout_only)
+        return _screen(*sub, n_rows, **rows_args, layout_only=layout_only,
+                       rim_pinned=pinned[rows])
 
     everything = np.arange(m)
     n_run = n_fixed.clip(0)
@@ -216,7 +222,8 @@ def _merge(out: dict, rows, cols: dict) -> None:
 def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
             min_tip_radius_mm: float, manufacturing, hardware,
             straight_only: bool = False, layout_only: bool = False,
-            tip_radius_mm: float | None = None, contact=None) -> dict[str, np.ndarray]:
+            tip_radius_mm: float | None = None, contact=None,
+            rim_pinned=False) -> dict[str, np.ndarray]:
     """Closed-form design of disks with given r_c (arrays of equal length).
 
     Args:
@@ -269,11 +276,11 @@ def _screen(K, theta, ro, z, rc, sigma, E, density_kg_per_mm3, n_fixed, *,
         return np.where(r <= hi * (1 + 1e-9), r, np.inf)
 
     capped = tip_radius_mm is None
-    # the rim keeps room for its holes, and (pinned rim to rim: a stack of several disks,
-    # the design's shared_rim_limit_mm) for the rim spacer's holes and worst-case webs
+    # the rim keeps room for its holes, and on a disk pinned rim to rim (the design's
+    # shared_rim_limit_mm) for the rim spacer's holes and worst-case webs too
     spacer = rim_spacer_rim_mm(hardware, manufacturing) if hardware.fastener_count else 0.0
-    rim_min = np.maximum(max(min_rim_mm(0.0, manufacturing, hardware), spacer),
-                         MIN_RIM_FRACTION * ro)
+    rim_min = np.maximum(np.maximum(min_rim_mm(0.0, manufacturing, hardware),
+                                    np.where(rim_pinned, spacer, 0.0)), MIN_RIM_FRACTION * ro)
 
     def fail(mask, c, v, lim):
         mask = mask & (code == OK)
