@@ -25,7 +25,6 @@ from springcad.design.sizing import _design_at
 def s1():
     """The default template's disk at 8 deg on its 4 mm plate: a cam whose tooth has room
     for longer flanks (at 14 deg it has none)."""
-    from springcad.config import job_from_dict
     job = job_from_dict({"material": {"name": "420_ht", "design_stress_MPa": 780},
                          "duty": {"preset": "static"},
                          "springs": {"S1": {"target_stiffness_Nm_per_rad": 150,

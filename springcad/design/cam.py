@@ -88,6 +88,14 @@ def tip_clearance_mm(contact_radius_mm: float, tip_radius_mm: float, gap_mm: flo
     return float(np.hypot(*(corner - ball))) - rb
 
 
+def tip_clearance_need_mm(manufacturing, floor_mm: float = 0.0) -> float:
+    """The tooth-tip-to-ball gap estimate the cam rule needs at full deflection (mm):
+    :data:`TIP_CLEARANCE_FACTOR` x the profile tolerances t_spring + t_shaft, or the contact
+    FEA's floor ``floor_mm`` when that is larger."""
+    return max(TIP_CLEARANCE_FACTOR * (manufacturing.t_spring_mm + manufacturing.t_shaft_mm),
+               floor_mm)
+
+
 def _tooth_tip(q: np.ndarray, pitch: float) -> Arc:
     """The tooth tip arc from the flank's end point ``q`` to the next tooth's (pitch
     2 pi / N; mm, rad)."""
@@ -206,11 +214,12 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
     min_web = d.manufacturing.min_web_mm
     ring_pts = _ring_points_near_ball0(d) if d.ring is not None else None
     mfg = d.manufacturing
-    need = TIP_CLEARANCE_FACTOR * (mfg.t_spring_mm + mfg.t_shaft_mm)
+    need = tip_clearance_need_mm(mfg)
     aim = need * TIP_CLEARANCE_AIM / TIP_CLEARANCE_FACTOR
     # the contact FEA's clearance correction asks more of the estimate (it read the FEA's
     # gap short of the tolerances by that much): both the rule and the aim rise to it
-    need, aim = max(need, d.cam_min_tip_clearance_mm), max(aim, d.cam_min_tip_clearance_mm)
+    need, aim = tip_clearance_need_mm(mfg, d.cam_min_tip_clearance_mm), max(
+        aim, d.cam_min_tip_clearance_mm)
     gaps = {f: tip_clearance_mm(rc, rb, g, theta, f) for f in OVERTRAVELS + LONG_OVERTRAVELS}
     clearing = [f for f in gaps if gaps[f] >= need]
     aimed = [f for f in clearing if gaps[f] >= aim]

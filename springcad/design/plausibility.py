@@ -127,24 +127,22 @@ def check_rim_spacers(job_design) -> None:
         root = max(lower.root_radius_mm, upper.root_radius_mm)
         r_hc = min(math.hypot(*p) for p in plan.hole_centres_mm)
 
-        def fits(thickness_mm: float) -> bool:
+        def shortfall(thickness_mm: float) -> str:
+            """Why no process makes the spacer from this sheet, or ""."""
             try:
                 rim_spacer_fit(root, plan.outer_radius_mm, r_hc, hw.fastener_diameter_mm,
                                pin_max, thickness_mm, lower.manufacturing.min_hole_edge_mm)
-            except DesignError:
-                return False
-            return True
+            except DesignError as err:
+                return str(err).rstrip(". ")
+            return ""
 
-        if fits(hw.rim_spacer_thickness_mm):
+        why = shortfall(hw.rim_spacer_thickness_mm)
+        if not why:
             continue
-        try:
-            rim_spacer_fit(root, plan.outer_radius_mm, r_hc, hw.fastener_diameter_mm, pin_max,
-                           hw.rim_spacer_thickness_mm, lower.manufacturing.min_hole_edge_mm)
-        except DesignError as err:
-            why = str(err).rstrip(". ")
         key = "hardware.rim_spacer_thickness_mm"
         remedies = [({key: t}, change_text(key, t, hw.rim_spacer_thickness_mm))
-                    for t in SPACER_SHEETS_MM if t < hw.rim_spacer_thickness_mm and fits(t)][:1]
+                    for t in SPACER_SHEETS_MM
+                    if t < hw.rim_spacer_thickness_mm and not shortfall(t)][:1]
         raise RemedyError(f"{c.name} (joint {plan.joint + 1}, {hw.rim_spacer_thickness_mm:g} mm "
                           f"sheet, holes on R{r_hc:.2f}): {why}", remedies,
                           "a larger outer radius or smaller rim fasteners")

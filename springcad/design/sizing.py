@@ -15,11 +15,10 @@ import math
 from dataclasses import replace as _replace
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
-from springcad.config.consistency import min_rim_mm
+from springcad.config.consistency import CONTACT_SEARCH_FRACTION, min_rim_mm
 from springcad.design import duty, shapes, stress
 from springcad.design import flexure as fx
-from springcad.config.consistency import CONTACT_SEARCH_FRACTION
-from springcad.design.cam import TIP_CLEARANCE_FACTOR, tooth_can_clear
+from springcad.design.cam import tip_clearance_need_mm, tooth_can_clear
 from springcad.design.layout import ContactLimit, Layout, fits, layout_at, toleranced_layouts
 from springcad.design.resize import with_width
 from springcad.design.shapes.base import SizingContext
@@ -181,8 +180,7 @@ def _tooth_cleared(spec: SpringSpec, lay: Layout, sigma: float, E: float, rr_max
     radius for the longest straight reach; a few percent more leaves the flank room for
     the tooth (held-out g02: N 59 at r_c 11.36 mm kept a 2 um tooth-tip gap, at 11.8 mm
     it designs clean). A contact radius the user fixed is kept."""
-    need_mm = max(TIP_CLEARANCE_FACTOR * (manufacturing.t_spring_mm + manufacturing.t_shaft_mm),
-                  spec.cam_min_tip_clearance_mm)  # the cam's own rule (cam.cam_profile)
+    need_mm = tip_clearance_need_mm(manufacturing, spec.cam_min_tip_clearance_mm)
 
     def clears(candidate: Layout) -> bool:
         return tooth_can_clear(candidate.rc, candidate.rb, manufacturing.w_gap_mm, candidate.n,
