@@ -32,6 +32,12 @@ class VerificationFailed(CheckFailed):
 
 
 # ================================================================== one spring
+#: what a duty failure of a job without a [duty] adds: the duty is springcad's default and
+#: how to declare the one the spring will see (said once per job, after its last failure)
+DEFAULT_DUTY_HINT = ("; the job declares no [duty], so springcad's default is the duty: "
+                     "declare the one the spring will see ([duty] blocks of cycles, a time "
+                     "series or a preset, e.g. preset = \"static\" for a prototype: 1e3 "
+                     "reversals at +-theta_max; README: Duty)")
 #: the starts of the verification notes that say what a contact correction tried and why
 #: it was not kept (fea.verify): the release reasons carry them beside the contact failures
 CORRECTIONS_TRIED = ("cam redesign", "contact correction stopped", "cam clearance correction")
@@ -157,10 +163,7 @@ class SpringVerification:
         duty, the last says that springcad's default is the duty and how to declare one."""
         out = self._flexure_duty_failures() + self.contact_fatigue_failures()
         if out and not self.design.material.duty.declared:
-            out[-1] += ("; the job declares no [duty], so springcad's default is the duty: "
-                        "declare the one the spring will see ([duty] blocks of cycles, a "
-                        "time series or a preset, e.g. preset = \"static\" for a prototype: "
-                        "1e3 reversals at +-theta_max; README: Duty)")
+            out[-1] += DEFAULT_DUTY_HINT
         return out
 
     def _flexure_duty_failures(self) -> list[str]:
@@ -432,8 +435,14 @@ class JobVerification:
 
     def duty_failures(self) -> list[str]:
         """What stops a release on the duty: every spring judged at its own theta_max (in a
-        stack that drives a spring short of its limit, conservative)."""
-        return [f for v in self.springs.values() for f in v.duty_failures()]
+        stack that drives a spring short of its limit, conservative); the default duty's
+        hint (:data:`DEFAULT_DUTY_HINT`) once, after the last."""
+        out = [f for v in self.springs.values() for f in v.duty_failures()]
+        hinted = [f.endswith(DEFAULT_DUTY_HINT) for f in out]
+        out = [f.removesuffix(DEFAULT_DUTY_HINT) for f in out]
+        if any(hinted):
+            out[-1] += DEFAULT_DUTY_HINT
+        return out
 
     def ratings(self) -> list[str]:
         """One line per spring: what its verified stress field is rated for."""

@@ -253,3 +253,18 @@ def test_a_contact_failure_says_what_the_correction_tried():
     out = JobVerification.release_failures(stub)
     assert out[0] == "gap A" and out[1].startswith("gap B; cam redesign (N 42")
     assert "Richardson" not in out[1] and len(out) == 2 and len(out[1]) < 320
+
+
+def test_a_stack_without_a_duty_hears_of_the_default_once():
+    """Two springs failing springcad's default duty: the job's reasons say once, after
+    the last, that no [duty] was declared (the g02 report said it after each spring)."""
+    jd = _design("default")
+    d = jd.springs["S1"]
+    allowed = duty.allowed_peak_MPa(d.material, d.max_deflection_rad)
+    v = _verified(jd, {"root fillet": 1.3 * allowed}, "root fillet")
+    job = JobVerification.__new__(JobVerification)
+    job.springs = {"A": v, "B": v}
+    reasons = job.duty_failures()
+    assert len(reasons) >= 2
+    assert sum("declares no [duty]" in r for r in reasons) == 1
+    assert "declares no [duty]" in reasons[-1]
