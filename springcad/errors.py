@@ -80,9 +80,13 @@ class DesignError(SpringcadError, ValueError):
         key_changes: a spring refusal's changes of the user's own keys, each
             ``(spring name, key, now, value)`` in the config's units
             (:func:`springcad.design.feasibility.nearest_changes`); empty otherwise.
+        disk_changes: a spring refusal's changes of several keys at once, each
+            ``(spring name, clause, spec)``: the clause as the refusal prints it and the
+            spring spec it makes (:func:`springcad.design.feasibility.larger_disk`).
     """
 
     key_changes: tuple = ()
+    disk_changes: tuple = ()
 
 
 class RemedyError(DesignError):

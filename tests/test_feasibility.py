@@ -82,18 +82,20 @@ def test_larger_disk_is_the_smallest_scale_that_designs_and_frees_fixed_layout_k
     def designs(s):
         return s.thickness_mm * s.outer_radius_mm >= 400.0
 
-    text = larger_disk(_spec(), designs)
+    text, big = larger_disk(_spec(), designs)
     z = float(text.split("thickness_mm = ")[1].split(" ")[0])
     ro = float(text.split("outer_radius_mm = ")[1].split(" ")[0])
     assert z * ro >= 400.0 and z / 5.0 <= 1.491 + 1.5 / 32 + 0.02, text
     assert "all together" in text and "removed" not in text
+    assert (big.thickness_mm, big.outer_radius_mm) == (z, ro) and designs(big)
 
     def free_only(s):
         return s.contact_radius_mm is None and designs(s)
 
-    text = larger_disk(_spec(contact_radius_mm=7.0), free_only)
+    text, big = larger_disk(_spec(contact_radius_mm=7.0), free_only)
     assert "springs.A.contact_radius_mm removed (now 7 mm)" in text, text
-    assert larger_disk(_spec(), lambda s: False) == ""
+    assert big.contact_radius_mm is None and free_only(big)
+    assert larger_disk(_spec(), lambda s: False) == ("", None)
 
 
 def test_fewer_disks_merges_the_fewest_that_design_and_keeps_the_torque():

@@ -110,3 +110,23 @@ def test_a_thicker_disk_the_rim_screws_cannot_grip_names_the_hardware_change_too
                   "springs.S1.max_deflection_deg = 9 (now 14)")):
         err = _refusal_naming(same[1], (same[0],))
         assert job_module._checked_key_changes(job, err) is err
+
+
+def test_the_whole_disk_scaled_is_checked_with_the_hardware_as_well():
+    """A refusal's change of several keys at once (the whole disk scaled, held-out g08:
+    applied, the input flange's bolts were then too weak) is checked with the whole job
+    like a one-key change: here a 9 mm disk whose M1.6 rim screws no longer grip; the
+    clause names the hardware change too, and the two applied together design."""
+    job = _bolted_job(6.0)
+    clause = ("the disk scaled by 1.50: springs.S1.thickness_mm = 9 (now 6) and "
+              "springs.S1.outer_radius_mm = 36 (now 36), all together")
+    err = _refusal_naming(f"x; it designs with {clause}", ())
+    err.disk_changes = (("S1", clause, replace(job.springs["S1"], thickness_mm=9.0)),)
+    text = str(job_module._checked_key_changes(job, err))
+    assert f"{clause} and hardware." in text, text
+    hardware = dict(re.findall(r"hardware\.(\w+) = (\"\w+\"|[\d.]+) \(now ",
+                               text.split(clause, 1)[1]))
+    assert hardware, text
+    changed = {k: (v.strip('"') if v.startswith('"') else float(v)) for k, v in hardware.items()}
+    design_job(replace(_bolted_job(9.0), hardware=replace(job.hardware, **changed)),
+               explain=False)

@@ -489,7 +489,7 @@ def alternatives(spec, material: MaterialSpec, designs, deadline: float | None =
     head += ("; no surface finish, material or extra disk alone meets it, nor the best surface "
              "with another thickness, outer radius or deflection")
     # several keys: the whole disk larger (the user's fixed layout keys left free too)
-    big = larger_disk(spec, lambda s: designs(s, better), deadline=deadline)
+    big, _ = larger_disk(spec, lambda s: designs(s, better), deadline=deadline)
     if big:
         return head + f'; it is met with manufacturing.surface = "{best.name}" and {big}'
     return head + f", nor a disk up to {MAX_SCALE:g}x larger with the best surface" + NOTHING_MEETS

@@ -212,14 +212,15 @@ def scaled_envelope(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
 
 
 def larger_disk(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
-                deadline: float | None = None) -> str:
+                deadline: float | None = None) -> tuple[str, SpringSpec | None]:
     """A change of several keys when none alone works: the whole disk scaled up
     (:func:`scaled_envelope`), with the user's fixed layout keys left free when that is
     what it takes.
 
     Returns:
-        "the disk scaled by 1.76: springs.A.thickness_mm = 7.9 (now 4.5) and ..., all
-        together", or "" when no disk up to :data:`MAX_SCALE` x larger designs.
+        (text, spec): "the disk scaled by 1.76: springs.A.thickness_mm = 7.9 (now 4.5) and
+        ..., all together" and the spec it names, or ("", None) when no disk up to
+        :data:`MAX_SCALE` x larger designs.
     """
     fixed = fixed_choices(spec)
     for trial in ([spec, freed(spec)] if fixed else [spec]):
@@ -232,8 +233,8 @@ def larger_disk(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
         return (f"the disk scaled by {big.thickness_mm / spec.thickness_mm:.2f}: "
                 f"{name}.thickness_mm = {big.thickness_mm:g} (now {spec.thickness_mm:g}) and "
                 f"{name}.outer_radius_mm = {big.outer_radius_mm:g} (now "
-                f"{spec.outer_radius_mm:g}){left}, all together")
-    return ""
+                f"{spec.outer_radius_mm:g}){left}, all together"), big
+    return "", None
 
 
 def in_series(spec: SpringSpec, m: int) -> SpringSpec:

@@ -233,7 +233,7 @@ def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> Sprin
         head, rest = (text[:at + len(REFUSAL_HEAD)], text[at + len(REFUSAL_HEAD):]) if at >= 0 \
             else (f"spring '{name}' {REFUSAL_HEAD}", text)
         more = DesignError(f"{head}feasible with fewer disks: {fewer}; or {rest}")
-        more.key_changes = err.key_changes
+        more.key_changes, more.disk_changes = err.key_changes, err.disk_changes
         raise more from err
 
 
@@ -299,16 +299,20 @@ HARDWARE_KEYS = ("thickness_mm", "outer_radius_mm")
 def _checked_key_changes(job: Job, err: DesignError) -> DesignError:
     """The spring refusal ``err`` with each of its changes of the disk's size checked with
     the whole job (the design search probes the spring alone): a change under which a
-    hardware part no longer fits (a screw too short for the thicker rims' grip) names the
-    hardware change with which the job designs too, or what stops it."""
+    hardware part no longer fits (a screw too short for the thicker rims' grip, pins too
+    weak on a larger rim's bolt circle) names the hardware change with which the job
+    designs too, or what stops it. Both kinds are checked: one key
+    (``err.key_changes``) and the whole disk scaled (``err.disk_changes``)."""
     text = str(err)
-    for name, key, now, value in err.key_changes:
-        clause = key_clause(name, key, now, value)
-        if key not in HARDWARE_KEYS or clause not in text:
+    changes = [(key_clause(name, key, now, value), name,
+                with_key(job.springs[name], key, value))
+               for name, key, now, value in err.key_changes if key in HARDWARE_KEYS]
+    changes += [(clause, name, spec) for name, clause, spec in err.disk_changes]
+    for clause, name, spec in changes:
+        if clause not in text:
             continue
         report(f"spring {name}: checking {clause.split(' (')[0]} with the whole job")
-        changed = replace(job, springs={**job.springs,
-                                        name: with_key(job.springs[name], key, value)})
+        changed = replace(job, springs={**job.springs, name: spec})
         try:
             design_job(changed, explain=False)
         except RemedyError as e:
@@ -320,7 +324,8 @@ def _checked_key_changes(job: Job, err: DesignError) -> DesignError:
     if text == str(err):
         return err
     checked = type(err)(text)
-    checked.key_changes, checked.__cause__ = err.key_changes, err
+    checked.key_changes, checked.disk_changes = err.key_changes, err.disk_changes
+    checked.__cause__ = err
     return checked
 
 

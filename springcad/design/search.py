@@ -338,7 +338,7 @@ def _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm) 
 
 def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
              stop: float = math.inf, webs: bool = False
-             ) -> tuple[str, bool, list[tuple[str, float, float]]]:
+             ) -> tuple[str, bool, list[tuple[str, float, float]], tuple]:
     """The changes that design ``spec`` with ``material``'s yield margin and duty (with
     :data:`SUGGESTION_HEADROOM`): the user's fixed layout keys left free, the nearest values
     of the user's own keys, a stronger material or disks in series, and a declared duty's
@@ -350,8 +350,10 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
     (the thickness and stiffness are then probed downward and upward).
 
     Returns:
-        (text, found, keys): the clause, whether it names a change that designs, and the
-        user keys' changes it names (:func:`~springcad.design.feasibility.nearest_changes`).
+        (text, found, keys, disks): the clause, whether it names a change that designs, the
+        user keys' changes it names (:func:`~springcad.design.feasibility.nearest_changes`)
+        and its change of the whole disk as ``(clause, spec)`` pairs
+        (:func:`~springcad.design.feasibility.larger_disk`; empty when it names none).
     """
     def designs(s, m=material) -> bool:
         return _designs(s, duty.biased(m, SUGGESTION_HEADROOM), manufacturing, hardware,
@@ -387,10 +389,10 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
         bool(alternatives) and not alternatives.endswith(duty.NOTHING_MEETS))
     if not found and not alternatives:  # several keys: the whole disk larger
         say("probing the whole disk scaled up")
-        big = larger_disk(spec, designs, deadline=deadline())
+        big, scaled = larger_disk(spec, designs, deadline=deadline())
         if big:
-            return f"{changes}; it designs with {big}", True, nearest
-    return changes + alternatives, found, nearest
+            return f"{changes}; it designs with {big}", True, nearest, ((big, scaled),)
+    return changes + alternatives, found, nearest, ()
 
 
 def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
@@ -408,13 +410,14 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     report(f"spring {spec.name}: no layout passes; searching the changes that would design "
            f"it (up to {REFUSAL_TOTAL_PROBES} design probes)")
     with probe_clock():
-        changes, _, keys = _changes(spec, material, *args, stop=stop, webs=webs)
+        changes, _, keys, disks = _changes(spec, material, *args, stop=stop, webs=webs)
         sized = duty.sized_for(material)
         if not material.duty.declared and duty.fatigue_limited(sized, spec.max_deflection_rad):
             if probes_spent() < stop:
                 report(f"spring {spec.name}: the same for springcad's default duty")
-                for_duty, found, duty_keys = _changes(spec, sized, *args, stop=stop, webs=webs)
-                keys = keys + duty_keys
+                for_duty, found, duty_keys, duty_disks = _changes(spec, sized, *args,
+                                                                  stop=stop, webs=webs)
+                keys, disks = keys + duty_keys, disks + duty_disks
                 for_duty = (for_duty if found else "no change springcad probes meets it: "
                             "declare the duty the spring will see in [duty]")
             else:
@@ -426,4 +429,5 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     refusal = DesignError(f"spring '{spec.name}' cannot be made as specified; {changes}. "
                           f"Why{tried}: {short_reason(text)}")
     refusal.key_changes = tuple((spec.name, *k) for k in keys)
+    refusal.disk_changes = tuple((spec.name, *d) for d in disks)
     return refusal
