@@ -41,14 +41,14 @@ def test_a_longer_flank_reaches_the_asked_estimate_on_the_same_ring(s1):
     # the estimate is the closed form at the chosen overtravel (an independent evaluation)
     assert d.cam_tip_clearance_mm == pytest.approx(tip_clearance_mm(
         d.contact_radius_mm, d.tip_radius_mm, d.manufacturing.w_gap_mm, d.max_deflection_rad,
-        d.cam_overtravel), abs=1e-12)
+        d.cam_overtravel, d.root_radius_mm), abs=1e-12)
     # the ring, so K and the stresses, is the same part; the cam's flank is longer
     assert d.ring is s1.ring and d.stiffness_beam_Nmm_per_rad == s1.stiffness_beam_Nmm_per_rad
     assert d.predicted_peak_stress_MPa == s1.predicted_peak_stress_MPa
     assert d.cam is not s1.cam
     # the shortest flank that reaches it: the next shorter candidate does not
     assert all(tip_clearance_mm(d.contact_radius_mm, d.tip_radius_mm, d.manufacturing.w_gap_mm,
-                                d.max_deflection_rad, f) < want
+                                d.max_deflection_rad, f, d.root_radius_mm) < want
                for f in (d.cam_overtravel - 0.05,) if f > s1.cam_overtravel)
 
 
@@ -101,7 +101,7 @@ def test_a_layout_without_room_for_the_flank_is_redesigned_to_one_with_room():
     d = design_job(job, explain=False).springs["S1"]
     def estimate(f):
         return tip_clearance_mm(d.contact_radius_mm, d.tip_radius_mm, d.manufacturing.w_gap_mm,
-                                d.max_deflection_rad, f)
+                                d.max_deflection_rad, f, d.root_radius_mm)
 
     # the first longer flank this layout's tooth has no room for
     beyond = next(f for f in LONG_OVERTRAVELS if f > d.cam_overtravel
@@ -150,13 +150,14 @@ def test_a_layout_whose_tooth_cannot_clear_the_ball_moves_to_a_larger_contact_ra
     ranked = toleranced_layouts(spec, mat.design_stress_MPa, E, rr_max,
                                 ContactLimit.of(mat, spec.max_deflection_rad, mfg))[0][0]
     assert not tooth_can_clear(ranked.rc, ranked.rb, mfg.w_gap_mm, ranked.n,
-                               spec.max_deflection_rad, mfg.min_web_mm, need)
+                               spec.max_deflection_rad, mfg.min_web_mm, need, ranked.rr)
     d = _design_at(spec, mat, mfg, job.hardware)
     assert d.n_flexures == ranked.n
     assert ranked.rc < d.contact_radius_mm <= 1.3 * ranked.rc
     assert tooth_can_clear(d.contact_radius_mm, d.tip_radius_mm, mfg.w_gap_mm, d.n_flexures,
-                           spec.max_deflection_rad, mfg.min_web_mm, need)
+                           spec.max_deflection_rad, mfg.min_web_mm, need, d.root_radius_mm)
     full = design_job(job, explain=False).springs["B"]
     assert not soft_shortfalls(full), soft_shortfalls(full)
     assert tip_clearance_mm(full.contact_radius_mm, full.tip_radius_mm, mfg.w_gap_mm,
-                            full.max_deflection_rad, full.cam_overtravel) >= need
+                            full.max_deflection_rad, full.cam_overtravel,
+                            full.root_radius_mm) >= need

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.design.curves import Arc, Feature, Line, Loop, Profile, Spline, named
+from springcad.design.driven import ball_lift_mm, clearances_at_max, driven_psi
 from springcad.design.numeric import min_block_distance
 from springcad.errors import DesignError
 from springcad.units import UM_PER_MM
@@ -66,25 +67,31 @@ def flank_point(psi: float, contact_radius_mm: float, offset_mm: float) -> np.nd
 
 #: the start of the warning a too-close tooth tip gives (the design search reads it)
 TIP_CLEARANCE_SHORT = "driving tooth tip passes close to the ball"
+#: the start of the warning a tooth passing the driven flexure's neck or edges too close gives
+#: (:func:`~springcad.design.driven.clearances_at_max`; the design search reads it)
+FLEXURE_CLEARANCE_SHORT = "driving tooth passes close to the flexure"
 #: the warning when the flank covers less than the nominal overtravel beyond theta_max
 OVERTRAVEL_REDUCED = "cam flank overtravel reduced"
 
 
 def tip_clearance_mm(contact_radius_mm: float, tip_radius_mm: float, gap_mm: float,
-                     deflection_rad: float, overtravel: float) -> float:
+                     deflection_rad: float, overtravel: float, root_radius_mm: float) -> float:
     """Gap between the driving tooth's tip corner and the ball at full deflection (mm).
 
-    In the cam frame the ball centre rides the involute c(psi); driven, it lies
-    ``gap_mm`` off it towards the flank (the gap closed), at psi* + theta. The tooth tip
-    corner is the flank's end, psi* + f theta. Rigid parts: the contact FEA at +-theta_max
-    (``fea.contact``) is the check; this is the design's estimate of it. The flank length
-    between them is r_c (f^2 - 1) theta^2 / 2, so the gap grows as theta^4: small
-    deflections need long flanks.
+    The tooth tip corner is the flank's end, psi* + f theta (psi* = (r_b + g) / r_c). The
+    ball, driven with the gap closed, touches the flank at psi = theta (the cam's turn; its
+    tangential travel is r_c theta - g) moved on by the flexure's foreshortening, which
+    carries it outward along the flank (:func:`ball_lift_mm`, :func:`driven_psi`). The
+    contact FEA at +-theta_max (``fea.contact``) is the check; this is the design's estimate
+    of it. The flank between contact and corner is about r_c ((f theta + psi*)^2 - theta^2)
+    / 2 less the lift: small deflections and long flexures with a large r_c theta need long
+    flanks.
     """
     rc, rb, g = contact_radius_mm, tip_radius_mm, gap_mm
     psi0 = (rb + g) / rc
+    lift = ball_lift_mm(rc, root_radius_mm, g, deflection_rad)
     corner = flank_point(psi0 + overtravel * deflection_rad, rc, rb + g)
-    ball = flank_point(psi0 + deflection_rad, rc, g)
+    ball = flank_point(driven_psi(rc, g, deflection_rad, lift), rc, g)
     return float(np.hypot(*(corner - ball))) - rb
 
 
@@ -111,7 +118,7 @@ def _tip_width_mm(tip: Arc) -> float:
 
 def tooth_can_clear(contact_radius_mm: float, tip_radius_mm: float, gap_mm: float,
                     n_flexures: int, deflection_rad: float, min_web_mm: float,
-                    need_mm: float) -> bool:
+                    need_mm: float, root_radius_mm: float) -> bool:
     """Whether some flank length :func:`cam_profile` tries leaves a tooth tip at least
     ``min_web_mm`` wide that passes the ball at full deflection at least ``need_mm`` away
     (:func:`tip_clearance_mm`; mm, rad). The cam's own check adds the gap to the resting
@@ -120,7 +127,8 @@ def tooth_can_clear(contact_radius_mm: float, tip_radius_mm: float, gap_mm: floa
     pitch = 2 * math.pi / n_flexures
     return any(_tip_width_mm(_tooth_tip(flank_point(rho / rc + f * deflection_rad, rc, rho),
                                         pitch)) >= min_web_mm
-               and tip_clearance_mm(rc, tip_radius_mm, gap_mm, deflection_rad, f) >= need_mm
+               and tip_clearance_mm(rc, tip_radius_mm, gap_mm, deflection_rad, f,
+                                    root_radius_mm) >= need_mm
                for f in OVERTRAVELS + LONG_OVERTRAVELS)
 
 
@@ -220,7 +228,8 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
     # gap short of the tolerances by that much): both the rule and the aim rise to it
     need, aim = tip_clearance_need_mm(mfg, d.cam_min_tip_clearance_mm), max(
         aim, d.cam_min_tip_clearance_mm)
-    gaps = {f: tip_clearance_mm(rc, rb, g, theta, f) for f in OVERTRAVELS + LONG_OVERTRAVELS}
+    rr = d.root_radius_mm
+    gaps = {f: tip_clearance_mm(rc, rb, g, theta, f, rr) for f in OVERTRAVELS + LONG_OVERTRAVELS}
     clearing = [f for f in gaps if gaps[f] >= need]
     aimed = [f for f in clearing if gaps[f] >= aim]
     # the reference 1.25 and below where they clear by the aim, else the shortest flanks
@@ -232,7 +241,8 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
         overtravels += [f for f in ([f for f in group if f <= OVERTRAVELS[0]] or group[:6])
                         if f not in overtravels]
     overtravels += [f for f in OVERTRAVELS if f not in overtravels]
-    tried = []
+    tried, drawable, short = [], [], {}
+    stack = mfg.t_spring_mm + mfg.t_shaft_mm
     for f in overtravels:
         psi_end = rho / rc + f * theta
         unit, unit_features, tip = _unit(rc, rho, pitch, psi_end)
@@ -243,9 +253,17 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
             near = ring_pts[np.hypot(*ring_pts.T) < tip.radius + 0.5]
             clearance = _min_distance(cam_pts, near)
         tried.append((f, tip_w, clearance))
-        if tip_w >= min_web and clearance >= g - 5e-4:  # 0.5 um: sampling at 0.01 mm + cusp
+        if not (tip_w >= min_web and clearance >= g - 5e-4):  # 0.5 um: sampling at 0.01 mm + cusp
+            continue
+        drawable.append((f, unit, unit_features, tip, tip_w, clearance))
+        if d.ring is None or f not in clearing:
+            break  # no ring to pass, or the ball's rule already unmet: the first drawable
+        at_max = clearances_at_max(d.ring.loop("flexures"), unit, pitch, rc, d.root_radius_mm,
+                                   g, theta, stack, tip.radius + 0.5)
+        short[f] = {part: c for part, c in at_max.items() if c.worst_case_mm < 0}
+        if not short[f]:
             break
-    else:
+    if not drawable:
         raise DesignError(
             f"spring '{d.name}': no cam tooth covers the full deflection {theta:.3g} rad: "
             + "; ".join(f"overtravel {f:g}: " + (f"tooth tip {w:.3f} mm wide" if w >= 0 else
@@ -253,6 +271,9 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
                         + f" (min_web_mm {min_web:g}), clearance {c:.4f} mm (w_gap_mm {g:g})"
                         for f, w, c in tried[:4])
             + "; use fewer flexures, a larger contact radius or a smaller tip radius")
+    # the first flank that passes every rule, else the first drawable one (warned below)
+    f, unit, unit_features, tip, tip_w, clearance = next(
+        (c for c in drawable if c[0] in short and not short[c[0]]), drawable[0])
     segs = tuple(s.rotated(i * pitch) for i in range(n) for s in unit)  # the chosen tooth, N x
     loop = Loop(segs, tuple(f.reindexed(i) for i in range(n) for f in unit_features))
     root = rc - rho
@@ -265,7 +286,7 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
     warnings = ()
     if f < OVERTRAVELS[0]:
         warnings = (f"{OVERTRAVEL_REDUCED} to {f:g} x max deflection to fit the tooth",)
-    tip_gap = tip_clearance_mm(rc, rb, g, theta, f)
+    tip_gap = gaps[f]
     if f not in clearing:
         warnings += (f"{TIP_CLEARANCE_SHORT}: {UM_PER_MM * tip_gap:.0f} um at full deflection "
                      f"(estimate), below the {UM_PER_MM * need:.0f} um needed ({TIP_CLEARANCE_FACTOR:g}"
@@ -273,6 +294,13 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
                      "asked): the toleranced parts "
                      "can touch there; fewer flexures or a larger contact radius give a longer "
                      "flank, or tighten the tolerances",)
+    if short.get(f):
+        warnings += (f"{FLEXURE_CLEARANCE_SHORT} at full deflection: " + ", ".join(
+            f"{part} {UM_PER_MM * c.nominal_mm:.0f} um nominal, {UM_PER_MM * c.worst_case_mm:.0f}"
+            " um worst case" for part, c in short[f].items())
+            + f" with the profile tolerances (stack {UM_PER_MM * stack:.0f} um; estimate): no "
+            "flank length clears both it and the ball; fewer flexures or another contact radius "
+            "move the tooth, or tighten the tolerances",)
     info = CamInfo(tip.radius, root, f, tip_w, clearance, warnings, tip_gap)
     corner = d.manufacturing.min_inside_radius_mm
     return Profile(loop, (d_bore(bore_r, corner_radius_mm=corner),), ("teeth", "bore")), info

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from springcad.design.cam import TIP_CLEARANCE_SHORT
+from springcad.design.cam import FLEXURE_CLEARANCE_SHORT, TIP_CLEARANCE_SHORT
 from springcad.design.planar import find_defect
 from springcad.design.spring import SpringDesign
 
@@ -65,5 +65,7 @@ def margin_shortfall(d: SpringDesign, required: float) -> list[str]:
 
 def soft_shortfalls(d: SpringDesign) -> list[str]:
     """Rules a design may break and still be drawn (a warning stops its release), which the
-    search tries other layouts to avoid: the tooth tip too close to the ball."""
-    return [w for w in d.warnings if w.startswith(TIP_CLEARANCE_SHORT)]
+    search tries other layouts to avoid: the tooth tip too close to the ball, or the tooth too
+    close to the driven flexure's neck or edges at full deflection."""
+    return [w for w in d.warnings
+            if w.startswith(TIP_CLEARANCE_SHORT) or w.startswith(FLEXURE_CLEARANCE_SHORT)]

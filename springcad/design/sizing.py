@@ -184,7 +184,8 @@ def _tooth_cleared(spec: SpringSpec, lay: Layout, sigma: float, E: float, rr_max
 
     def clears(candidate: Layout) -> bool:
         return tooth_can_clear(candidate.rc, candidate.rb, manufacturing.w_gap_mm, candidate.n,
-                               spec.max_deflection_rad, manufacturing.min_web_mm, need_mm)
+                               spec.max_deflection_rad, manufacturing.min_web_mm, need_mm,
+                               candidate.rr)
 
     if spec.contact_radius_mm is not None or clears(lay):
         return lay
