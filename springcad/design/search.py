@@ -127,7 +127,7 @@ def probe_thickness(spec, material, manufacturing, hardware, max_root_radius_mm
     try:
         d = design_for_margin(spec, material, manufacturing, hardware, explain=False,
                               max_root_radius_mm=max_root_radius_mm,
-                              candidates=PROBE_CANDIDATES)
+                              candidates=PROBE_CANDIDATES, larger_balls=False)
     except WebsHoldStiffness:
         return None, True
     except DesignError:
@@ -155,7 +155,8 @@ def _designs(spec, material, manufacturing, hardware, max_root_radius_mm, base=N
 def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
                       hardware: HardwareSpec, explain: bool = True,
                       max_root_radius_mm: float = math.inf,
-                      candidates: int = MAX_CANDIDATES) -> SpringDesign:
+                      candidates: int = MAX_CANDIDATES, larger_balls: bool = True
+                      ) -> SpringDesign:
     """Synthesise one spring whose *predicted* peak stress keeps the required yield margin
     (yield and a declared duty, :func:`springcad.design.duty.required_margin`).
 
@@ -176,11 +177,77 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
             deflection and stiffness that would (:mod:`springcad.design.feasibility`;
             seconds to a minute; False for searches that only need a yes or no).
         candidates: how many ranked layouts to try.
+        larger_balls: when every layout falls short of a contact rule at full deflection
+            and the tip ball is springcad's choice, search again with larger balls
+            (:func:`_with_larger_ball`; off for feasibility probes, which only ask whether
+            some layout is drawable).
 
     Raises:
         DesignError: no layout meets the spec in its envelope (the message names the
             binding constraint of the reference layout, how many others were tried, and,
             with ``explain``, the thickness or deflection that would fit).
+    """
+    d, rejected, fallback, fallback_short = _first_passing(
+        spec, material, manufacturing, hardware, max_root_radius_mm, candidates)
+    if d is not None:
+        return d
+    if fallback is not None and larger_balls and spec.tip_radius_mm is None \
+            and soft_shortfalls(fallback):
+        larger = _with_larger_ball(spec, material, manufacturing, hardware, max_root_radius_mm,
+                                   candidates, fallback, fallback_short)
+        if larger is not None:
+            return larger
+    if fallback is not None:  # every layout tried has a soft shortfall: the best one, warned
+        choice = fallback.design_choice.replace(" that passes every rule", "")
+        return _replace(fallback, design_choice=(
+            f"{choice}; kept although it falls short ({fallback_short}): every one of the "
+            f"{len(rejected)} layouts tried falls short of a rule, and this is the first"))
+    if not rejected:
+        raise DesignError(f"spring '{spec.name}': no candidate layout")
+    _, first, history = rejected[0]
+    tried = "" if len(rejected) == 1 else f" ({len(rejected)} layouts tried; the first:)"
+    text = _stress_text(spec, material, history, first) if history else str(first)
+    webs = any(isinstance(e, WebsHoldStiffness) for _, e, _ in rejected)
+    if explain:
+        raise _refusal(spec, material, manufacturing, hardware, max_root_radius_mm,
+                       text, tried, webs) from first
+    raise (WebsHoldStiffness if webs else DesignError)(
+        text + tried.replace(" the first:", "")) from first
+
+
+#: tip balls tried, as factors on the kept layout's, when every layout falls short of a
+#: contact rule at full deflection: a larger ball moves its neck away from the tooth that
+#: drives it (fewer flexures then fit); held-out g26 (r_c fixed at 11 mm, 18 deg) kept a
+#: 1 um tooth-tip gap with its 0.3 mm balls and designs clean with 0.5 mm
+BALL_FACTORS = (1.25, 1.5, 1.75, 2.0)
+
+
+def _with_larger_ball(spec, material, manufacturing, hardware, max_root_radius_mm, candidates,
+                      fallback: SpringDesign, short: str) -> SpringDesign | None:
+    """The first design that passes every rule with tip balls of at least
+    :data:`BALL_FACTORS` x the kept layout's (the tip ball is springcad's choice here), its
+    choice saying why; None when none does."""
+    for factor in BALL_FACTORS:
+        floor = round(factor * fallback.tip_radius_mm, 3)
+        report(f"spring {spec.name}: every layout falls short ({short}); trying tip balls of "
+               f"at least {floor:g} mm")
+        bigger = _replace(spec, min_tip_radius_mm=max(spec.min_tip_radius_mm, floor))
+        d, *_ = _first_passing(bigger, material, manufacturing, hardware, max_root_radius_mm,
+                               candidates)
+        if d is not None:
+            return _replace(d, design_choice=(
+                f"{d.design_choice}; tip balls of at least {floor:g} mm: with "
+                f"{fallback.tip_radius_mm:g} mm every layout fell short ({short})"))
+    return None
+
+
+def _first_passing(spec, material, manufacturing, hardware, max_root_radius_mm, candidates):
+    """The candidate layouts tried best first (:func:`design_for_margin`).
+
+    Returns:
+        (design, rejected, fallback, fallback_short): the first design that passes every
+        rule (or None), the layouts rejected before it with why, and the first design that
+        is drawable but falls short of a soft rule, with that rule.
     """
     rejected: list[tuple[Layout | None, DesignError, list]] = []
     fallback, fallback_short = None, ""
@@ -203,7 +270,7 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
                          max_root_radius_mm=max_root_radius_mm)
             short = soft_shortfalls(d) + margin_shortfall(d, required) + widening_room_short(d)
             if not short:
-                return d
+                return d, rejected, fallback, fallback_short
             if fallback is None:
                 fallback, fallback_short = d, short[0].split(":")[0]
             rejected.append((None, DesignError("; ".join(short)), []))
@@ -211,22 +278,7 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
         rejected.append((None, err, history))
         if rank == 0 and not history and isinstance(err, SpecInfeasible):
             break  # no layout can help: the energy bound or the torque cap
-    if fallback is not None:  # every layout tried has a soft shortfall: the best one, warned
-        choice = fallback.design_choice.replace(" that passes every rule", "")
-        return _replace(fallback, design_choice=(
-            f"{choice}; kept although it falls short ({fallback_short}): every one of the "
-            f"{len(rejected)} layouts tried falls short of a rule, and this is the first"))
-    if not rejected:
-        raise DesignError(f"spring '{spec.name}': no candidate layout")
-    _, first, history = rejected[0]
-    tried = "" if len(rejected) == 1 else f" ({len(rejected)} layouts tried; the first:)"
-    text = _stress_text(spec, material, history, first) if history else str(first)
-    webs = any(isinstance(e, WebsHoldStiffness) for _, e, _ in rejected)
-    if explain:
-        raise _refusal(spec, material, manufacturing, hardware, max_root_radius_mm,
-                       text, tried, webs) from first
-    raise (WebsHoldStiffness if webs else DesignError)(
-        text + tried.replace(" the first:", "")) from first
+    return None, rejected, fallback, fallback_short
 
 
 #: layout designs :func:`kept_layouts` keeps at most (each with its profiles, ~1 MB): the
