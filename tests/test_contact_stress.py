@@ -274,6 +274,17 @@ def test_a_cusp_only_the_tolerances_block_designs_for_nominal_parts_and_names_th
     assert 0 < s_max < 0.07 and math.sqrt(2 * 8.0 * s_max) < reach
     assert candidate_layouts(spec, sigma, E, contact=replace(limit,
                                                              min_flank_position_mm=0.98 * s_max))
+    # a larger contact radius is named only where one (up to 0.6 R_o) leaves the cusp room
+    # beyond the same ball (closed form): none here; with 0.03 mm of tolerances one does
+    rb, theta = layouts[0].rb, spec.max_deflection_rad
+    assert 0.6 * 33.5 * theta - 0.025 - rb < math.sqrt(2 * 0.6 * 33.5 * 0.07)
+    assert "contact_radius_mm" not in warning
+    _, closer = toleranced_layouts(spec, sigma, E, math.inf,
+                                   replace(limit, min_flank_position_mm=0.03))
+    rc_named = float(closer.split("contact_radius_mm >= ")[1].split(" mm")[0])
+    assert 8.0 < rc_named <= 0.6 * 33.5
+    assert rc_named * theta - 0.025 - rb >= math.sqrt(2 * rc_named * 0.03)
+    assert (rc_named - 0.2) * theta - 0.025 - rb < math.sqrt(2 * (rc_named - 0.2) * 0.03)
     # tolerances that leave the cusp room: no warning, the same layouts as the rule alone
     loose = replace(limit, min_flank_position_mm=0.5 * s_max)
     assert toleranced_layouts(spec, sigma, E, math.inf, loose) == (

@@ -335,8 +335,20 @@ def toleranced_layouts(spec: SpringSpec, sigma, E, max_root_radius_mm: float,
         except DesignError:
             raise toleranced from None
     lay = layouts[0]
-    room = lay.rc * spec.max_deflection_rad - contact.gap_mm - lay.rb
+    theta, stack = spec.max_deflection_rad, contact.min_flank_position_mm
+    room = lay.rc * theta - contact.gap_mm - lay.rb
     s_max = max(room, 0.0) ** 2 / (2.0 * lay.rc)
+
+    def spare_mm(rc: float) -> float:  # the flank beyond the ball less the cusp room
+        return rc * theta - contact.gap_mm - lay.rb - cusp_room_mm(rc, stack)
+
+    rc_max = CONTACT_SEARCH_FRACTION * spec.outer_radius_mm
+    wider = ""
+    if spare_mm(rc_max) > 0:  # the contact radius at which the flank leaves the room
+        rc_need = find_root(spare_mm, lay.rc, rc_max, xtol=1e-4) if spare_mm(lay.rc) < 0 \
+            else lay.rc
+        wider = (f", or with springs.{spec.name}.contact_radius_mm >= {math.ceil(rc_need * 10) / 10:g} "
+                 f"mm (the flank then leaves that room; now {lay.rc:.3g} mm)")
     return layouts, (
         f"the tip ball's contact at full deflection stays off the cam flank's cusp only for "
         f"nominal parts: the profile tolerances t_spring_mm + t_shaft_mm = "
@@ -344,7 +356,7 @@ def toleranced_layouts(spec: SpringSpec, sigma, E, max_root_radius_mm: float,
         f"{cusp_room_mm(lay.rc, contact.min_flank_position_mm):.3g} mm of flank beyond "
         f"the ball, the flank r_c theta - w_gap - r_b leaves {room:.3g} mm at r_c = "
         f"{lay.rc:.3g} mm: not for manufacture unless t_spring_mm + t_shaft_mm <= "
-        f"{s_max:.3g} mm, or with a larger contact radius or deflection")
+        f"{s_max:.3g} mm{wider}")
 
 
 #: relative slack of :func:`_screen`'s contact bound: far beyond the rounding of its
