@@ -114,7 +114,7 @@ def test_screen_bounds_every_pair(over):
 def test_cam_clearance_is_the_all_pairs_minimum():
     """Point sets along nearby curves (a cam flank and a ring edge) and random clouds, small
     and large: the block search returns the all-pairs minimum distance bit for bit."""
-    from springcad.design.cam import _min_distance
+    from springcad.design.driven import min_distance_mm as _min_distance
 
     rng = np.random.default_rng(11)
     for case in range(200):

@@ -96,7 +96,8 @@ def test_design_is_deterministic(as_built):
 
 def test_cam_keeps_the_designed_gap(paper_designs):
     """Minimum distance between cam and ring at rest equals w_gap (along the profile normal)."""
-    from springcad.design.cam import _min_distance, _ring_points_near_ball0
+    from springcad.design.cam import _ring_points_near_ball0
+    from springcad.design.driven import min_distance_mm as _min_distance
 
     s = paper_designs["paper_S1"].springs["S1"]
     pitch = 2 * math.pi / s.n_flexures

@@ -24,8 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from springcad.design.curves import Arc, Feature, Line, Loop, Profile, Spline, named
-from springcad.design.driven import ball_lift_mm, clearances_at_max, driven_psi
-from springcad.design.numeric import min_block_distance
+from springcad.design.driven import (ball_lift_mm, clearances_at_max, driven_psi,
+                                     min_distance_mm)
 from springcad.errors import DesignError
 from springcad.units import UM_PER_MM
 
@@ -170,13 +170,6 @@ def _ring_points_near_ball0(d) -> np.ndarray:
     return np.vstack(pts)
 
 
-def _min_distance(a: np.ndarray, b: np.ndarray) -> float:
-    """Smallest distance between two point sets (mm): the all-pairs minimum bit for bit, by
-    blocks nearest first (:func:`~springcad.design.numeric.min_block_distance`)."""
-    return min_block_distance(np.asarray(a, float), np.asarray(b, float), lambda p, q: math.sqrt(
-        float(((p[:, None, :] - q[None, :, :]) ** 2).sum(-1).min())))
-
-
 def d_bore(radius_mm: float, flat_ratio: float = 0.8, corner_radius_mm: float = 0.0) -> Loop:
     """D-shaped shaft bore: circle with a flat at ``flat_ratio * r`` below the centre (mm).
 
@@ -251,7 +244,7 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
         if ring_pts is not None:  # N-fold symmetric: one tooth and its pockets suffice
             cam_pts = np.vstack([s.sample(0.01) for s in (*unit, *(s.rotated(-pitch) for s in unit))])
             near = ring_pts[np.hypot(*ring_pts.T) < tip.radius + 0.5]
-            clearance = _min_distance(cam_pts, near)
+            clearance = min_distance_mm(cam_pts, near)
         tried.append((f, tip_w, clearance))
         if not (tip_w >= min_web and clearance >= g - 5e-4):  # 0.5 um: sampling at 0.01 mm + cusp
             continue

@@ -26,6 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from springcad.design.numeric import min_block_distance
+
 
 #: the tip's outward shift over delta^2 / L (constant-stress taper; 3/5 for a uniform beam).
 #: With it the tooth-tip-to-ball estimate reads the contact FEA's nominal gap at +theta_max
@@ -113,10 +115,14 @@ class Clearance:
     worst_case_mm: float
 
 
-def _min_distance(a: np.ndarray, b: np.ndarray) -> float:
+def min_distance_mm(a: np.ndarray, b: np.ndarray) -> float:
+    """Smallest distance between two point sets (mm; inf when one is empty): the all-pairs
+    minimum bit for bit, by blocks nearest first
+    (:func:`~springcad.design.numeric.min_block_distance`)."""
     if len(a) == 0 or len(b) == 0:
         return math.inf
-    return float(np.sqrt(((a[:, None, :] - b[None, :, :]) ** 2).sum(-1).min()))
+    return min_block_distance(np.asarray(a, float), np.asarray(b, float), lambda p, q: math.sqrt(
+        float(((p[:, None, :] - q[None, :, :]) ** 2).sum(-1).min())))
 
 
 #: the ring's parts of flexure 0 whose gaps to the cam are held against the tolerances
@@ -162,6 +168,6 @@ def clearances_at_max(ring_loop, cam_unit: tuple, pitch_rad: float,
         for dilation in (-stack_mm, 0.0, stack_mm):
             centre = ball_centre_mm(rc, root_radius_mm, gap_mm - dilation, theta)
             moved = deflected(pts, rc, root_radius_mm, centre) @ turn.T
-            gaps.append(_min_distance(moved, cam))
+            gaps.append(min_distance_mm(moved, cam))
         out[kind] = Clearance(gaps[1], min(gaps) - stack_mm)
     return out
