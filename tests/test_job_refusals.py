@@ -130,3 +130,23 @@ def test_the_whole_disk_scaled_is_checked_with_the_hardware_as_well():
     changed = {k: (v.strip('"') if v.startswith('"') else float(v)) for k, v in hardware.items()}
     design_job(replace(_bolted_job(9.0), hardware=replace(job.hardware, **changed)),
                explain=False)
+
+
+def test_a_change_of_any_key_is_checked_with_the_hardware():
+    """A refusal's deflection change designs the spring, but the job's Ø2 drive pins fit no
+    1.5 mm ring whatever the spring (held-out B 002: applied, the change was refused at
+    design for the pins): the clause says what then stops the job instead of standing as
+    feasible."""
+    job = job_from_dict({
+        "job": {"name": "thin"}, "material": {"name": "ti6al4v"},
+        "springs": {"S1": {"target_stiffness_Nm_per_rad": 875, "max_deflection_deg": 15.0,
+                           "outer_radius_mm": 81.5, "thickness_mm": 1.5,
+                           "flexure": "straight"}},
+        "stack": {"sequence": ["S1"], "input": "shaft"},
+        "manufacturing": {"process": "wire_edm"},
+        "hardware": {"fastener": "dowel", "fastener_diameter_mm": 2.0, "fastener_count": 3},
+        "duty": {"preset": "static"}})
+    clause = "springs.S1.max_deflection_deg = 4.8 (now 15)"
+    err = _refusal_naming(clause, (("S1", "max_deflection_deg", 15.0, 4.8),))
+    text = str(job_module._checked_key_changes(job, err))
+    assert f"{clause} (then drive pin" in text or f"{clause} and hardware." in text, text

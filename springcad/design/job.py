@@ -290,27 +290,27 @@ def _design_job(job: Job, explain: bool = True, progress: Progress | None = None
     return design
 
 
-#: the user keys whose change can move a hardware part out of its fit (a thicker disk
-#: lengthens the rim joints' grip, a larger one moves the rim holes); a lower deflection
-#: or stiffness only lowers the loads the hardware carries
-HARDWARE_KEYS = ("thickness_mm", "outer_radius_mm")
+#: the changes of a spring refusal checked with the whole job, first named first: each costs
+#: a design of the job (seconds to a minute)
+CHECKED_CHANGES = 4
 
 
 def _checked_key_changes(job: Job, err: DesignError) -> DesignError:
-    """The spring refusal ``err`` with each of its changes of the disk's size checked with
-    the whole job (the design search probes the spring alone): a change under which a
-    hardware part no longer fits (a screw too short for the thicker rims' grip, pins too
-    weak on a larger rim's bolt circle) names the hardware change with which the job
-    designs too, or what stops it. Both kinds are checked: one key
-    (``err.key_changes``) and the whole disk scaled (``err.disk_changes``)."""
+    """The spring refusal ``err`` with its first :data:`CHECKED_CHANGES` changes checked
+    with the whole job (the design search probes the spring alone): a change under which a
+    hardware part does not fit (a screw too short for the thicker rims' grip, pins too weak
+    on a larger rim's bolt circle, or a drive pin no catalogue length fits the ring, which
+    the spring's refusal hid) names the hardware change with which the job designs too, or
+    what stops it. Both kinds are checked: one key (``err.key_changes``) and the whole disk
+    scaled (``err.disk_changes``)."""
     text = str(err)
     changes = [(key_clause(name, key, now, value), name,
                 with_key(job.springs[name], key, value))
-               for name, key, now, value in err.key_changes if key in HARDWARE_KEYS]
+               for name, key, now, value in err.key_changes]
     changes += [(clause, name, spec) for name, clause, spec in err.disk_changes]
+    changes = sorted(({c[0]: c for c in changes if c[0] in text}).values(),
+                     key=lambda c: text.find(c[0]))[:CHECKED_CHANGES]
     for clause, name, spec in changes:
-        if clause not in text:
-            continue
         report(f"spring {name}: checking {clause.split(' (')[0]} with the whole job")
         changed = replace(job, springs={**job.springs, name: spec})
         try:
