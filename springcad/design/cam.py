@@ -85,13 +85,19 @@ def tip_clearance_mm(contact_radius_mm: float, tip_radius_mm: float, gap_mm: flo
     contact FEA at +-theta_max (``fea.contact``) is the check; this is the design's estimate
     of it. The flank between contact and corner is about r_c ((f theta + psi*)^2 - theta^2)
     / 2 less the lift: small deflections and long flexures with a large r_c theta need long
-    flanks.
+    flanks. Negative when the ball would touch the flank beyond its end (minus the flank
+    length missing): it has run over the tooth tip (held-out g29, r_c theta 8.7 mm on 64 mm flexures: lifted 0.9 mm, the ball left
+    a flank of overtravel 1.0 and the contact FEA found no contact at -27 deg).
     """
     rc, rb, g = contact_radius_mm, tip_radius_mm, gap_mm
     psi0 = (rb + g) / rc
     lift = ball_lift_mm(rc, root_radius_mm, g, deflection_rad)
-    corner = flank_point(psi0 + overtravel * deflection_rad, rc, rb + g)
-    ball = flank_point(driven_psi(rc, g, deflection_rad, lift), rc, g)
+    psi_corner, psi_ball = psi0 + overtravel * deflection_rad, driven_psi(rc, g, deflection_rad,
+                                                                          lift)
+    corner = flank_point(psi_corner, rc, rb + g)
+    ball = flank_point(psi_ball, rc, g)
+    if psi_ball >= psi_corner:  # minus the flank it would need beyond its end (continuous)
+        return -0.5 * rc * ((psi_ball - psi0) ** 2 - (psi_corner - psi0) ** 2)
     return float(np.hypot(*(corner - ball))) - rb
 
 
@@ -281,12 +287,16 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
         warnings = (f"{OVERTRAVEL_REDUCED} to {f:g} x max deflection to fit the tooth",)
     tip_gap = gaps[f]
     if f not in clearing:
-        warnings += (f"{TIP_CLEARANCE_SHORT}: {UM_PER_MM * tip_gap:.0f} um at full deflection "
-                     f"(estimate), below the {UM_PER_MM * need:.0f} um needed ({TIP_CLEARANCE_FACTOR:g}"
-                     " x the profile tolerances t_spring_mm + t_shaft_mm, or what the contact FEA "
-                     "asked): the toleranced parts "
-                     "can touch there; fewer flexures or a larger contact radius give a longer "
-                     "flank, or tighten the tolerances",)
+        if tip_gap < 0:
+            what = ("the ball runs past the tooth's tip at full deflection (estimate: the "
+                    "flexure's foreshortening carries it beyond the flank's end)")
+        else:
+            what = (f"{UM_PER_MM * tip_gap:.0f} um at full deflection (estimate), below the "
+                    f"{UM_PER_MM * need:.0f} um needed ({TIP_CLEARANCE_FACTOR:g} x the profile "
+                    "tolerances t_spring_mm + t_shaft_mm, or what the contact FEA asked): the "
+                    "toleranced parts can touch there")
+        warnings += (f"{TIP_CLEARANCE_SHORT}: {what}; fewer flexures or a larger contact radius "
+                     "give a longer flank, or tighten the tolerances",)
     if short.get(f):
         warnings += (f"{FLEXURE_CLEARANCE_SHORT} at full deflection: " + ", ".join(
             f"{part} {UM_PER_MM * c.nominal_mm:.0f} um nominal, {UM_PER_MM * c.worst_case_mm:.0f}"
