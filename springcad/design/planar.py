@@ -360,11 +360,14 @@ def find_defect(profile: Profile, step_mm: float = 0.02,
             k = int(np.flatnonzero(touch)[0])
             return LoopDefect("touch", (int(loop_of[a[k]]), int(loop_of[b[k]])),
                               tuple(float(v) for v in p0[a[k]]))
-    for i, hole in enumerate(pts[1:], 1):
-        where = tuple(float(v) for v in hole[0])
-        if not points_in_polygon(pts[0], hole[:1])[0]:
+    # each hole's first sample against every loop at once (one pass per loop, not per pair)
+    firsts = np.array([p[0] for p in pts[1:]]).reshape(-1, 2)
+    inside = [points_in_polygon(p, firsts) for p in pts] if len(firsts) else []
+    for i in range(1, len(pts)):
+        where = tuple(float(v) for v in firsts[i - 1])
+        if not inside[0][i - 1]:
             return LoopDefect("outside", (i, 0), where)
-        for j, other in enumerate(pts[1:], 1):
-            if j != i and points_in_polygon(other, hole[:1])[0]:
+        for j in range(1, len(pts)):
+            if j != i and inside[j][i - 1]:
                 return LoopDefect("nested", (i, j), where)
     return None
