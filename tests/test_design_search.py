@@ -164,3 +164,18 @@ def test_default_duty_search_passes_over_probed_layouts_that_fall_short(monkeypa
     monkeypatch.setattr(search, "soft_shortfalls", lambda d: ["marked short"])
     d = search.design_spring(spec, job.material, *args, explain=False)
     assert "kept although it falls short (marked short)" in d.design_choice
+
+
+def test_the_choice_names_each_rejection_once_with_its_count():
+    """Layouts rejected for the same reason are named once, with how many gave it."""
+    from types import SimpleNamespace
+
+    from springcad.design.search import _choice_text
+    from springcad.errors import DesignError
+
+    d = SimpleNamespace(n_flexures=38, contact_radius_mm=11.0, tip_radius_mm=0.45,
+                        root_radius_mm=42.19, flexure="straight")
+    same, other = DesignError("tooth too close"), DesignError("fillets overlap")
+    text = _choice_text(d, [(None, same, []), (None, other, []), (None, same, [])])
+    assert "layout 4 of the ranked candidates" in text
+    assert text.endswith("tooth too close (2 layouts); fillets overlap")

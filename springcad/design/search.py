@@ -328,10 +328,11 @@ def _choice_text(d: SpringDesign, rejected) -> str:
             f"{d.tip_radius_mm:.3f} mm, R_r = {d.root_radius_mm:.3f} mm, {d.flexure}")
     if not rejected:
         return f"{what}: the layout with the longest straight reach that passes every rule"
+    reasons: dict[str, int] = {}
+    for _, e, _ in rejected:  # the same reason once, with how many layouts gave it
+        reasons[short_reason(e)] = reasons.get(short_reason(e), 0) + 1
     return (f"{what}: layout {len(rejected) + 1} of the ranked candidates; rejected before it: "
-            + "; ".join(short_reason(e) for _, e, _ in rejected))
-
-
+            + "; ".join(r if k == 1 else f"{r} ({k} layouts)" for r, k in reasons.items()))
 
 
 def _stress_text(spec, material, history, err) -> str:
