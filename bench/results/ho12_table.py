@@ -24,11 +24,18 @@ CHOICE_KEYS = ("n_flexures", "contact_radius_mm", "tip_radius_mm", "min_tip_radi
 
 def reason_kind(reason: str, declared_duty: bool) -> str:
     """"default duty" for a reason that is only springcad's default duty (flexure fatigue, tip-ball
-    contact fatigue over the duty) on a spec without [duty], "declared duty" with one, else
-    "manufacturing/geometry" (tolerances, clearances, interference, margins, EDM rules)."""
-    if re.search(r"\bduty\b|contact fatigue", reason):
+    contact fatigue over the duty) on a spec without [duty], "declared duty" with one;
+    manufacturing/geometry: "contact at full deflection" (clearances and the tip ball's Hertz
+    stress at +-theta_max), "tolerance interference" (the design's warning that the profile
+    tolerances exceed w_gap_mm), "design warning" (another note the design stage printed),
+    else "other"."""
+    if re.match(r"spring \S+: (duty|tip-ball contact fatigue)", reason):
         return "declared duty" if declared_duty else "default duty"
-    return "manufacturing/geometry"
+    if reason.startswith("contact at full deflection"):
+        return "contact at full deflection"
+    if "interference warning" in reason:
+        return "tolerance interference"
+    return "design warning" if reason.startswith("design warning") else "other"
 
 
 def short(text: str, n: int = 170) -> str:
