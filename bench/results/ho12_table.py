@@ -122,6 +122,25 @@ def _why(b: dict | None) -> str:
     return short(msg[0] if msg else b.get("message", ""), 200)
 
 
+def _asks(spec: dict) -> str:
+    """One line: joint, disks, material, envelope, the keys fixed beyond them, duty, tolerances."""
+    sp = next(iter(spec["springs"].values()))
+    joint = spec["description"].replace("held-out B: ", "").split(",")[0]
+    fixed = ", ".join(k.replace("_mm", "") for k in spec["fixed_spring_keys"])
+    hw = spec["hardware"]
+    bits = [joint, f"{spec['disks']} disk(s){' A/B' if len(spec['springs']) > 1 else ''}",
+            spec["material"], f"R_o {sp['outer_radius_mm']:g}",
+            f"z {sp['thickness_mm']:g}" if "thickness_mm" in sp else "z free",
+            f"{hw.get('fastener', 'dowel')} {hw.get('fastener_diameter_mm', '')}".strip()]
+    if fixed:
+        bits.append("fixed: " + fixed)
+    if spec["duty"]:
+        bits.append("duty " + spec["duty"])
+    if spec["manufacturing"]:
+        bits.append("Mfr2 tolerances")
+    return "; ".join(bits)
+
+
 def _refusal(msg: str) -> str:
     """The refusal's cause: what follows "Why" if written, else the message's start."""
     at = msg.find("Why")
@@ -129,17 +148,18 @@ def _refusal(msg: str) -> str:
 
 
 def table(rows: list[dict]) -> str:
-    out = ["| spec | label | design (s) | build (s) | reasons / message (shortened) |",
-           "|---|---|---|---|---|"]
+    out = ["| spec | what it asks | label | design (s) | build (s) | reasons / message (shortened) |",
+           "|---|---|---|---|---|---|"]
     for r in rows:
         design = f"{r['design']} ({r['design_s']:.0f})"
         why = _why(r.get("build")) if "build" in r else \
             _refusal(r.get("message", "")) if r["design"] != "DESIGNED" else ""
-        out.append(f"| {r['name']} | {r['label']} | {design} | {_cell(r.get('build'))} | {why} |")
+        out.append(f"| {r['name']} | {_asks(r['spec'])} | {r['label']} | {design} | "
+                   f"{_cell(r.get('build'))} | {why} |")
         if "fix" in r:
             fx = r["fix"]
             change = short(fx.get("change") or fx.get("parser") or "", 110)
-            out.append(f"| &nbsp;&nbsp;first change: `{change}` | | | {_cell(fx)} | "
+            out.append(f"| &nbsp;&nbsp;first change: `{change}` | | | | {_cell(fx)} | "
                        f"{_why(fx)} |")
     return "\n".join(out)
 
