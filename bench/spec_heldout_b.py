@@ -74,7 +74,11 @@ the first is applied to a copy and design re-run: `applied -> DESIGNED` or not);
 numbers); CRASH (exit 3, a traceback, a signal); TIMEOUT. With --build, `springcad build` on the
 designed specs (spread over labels): RELEASED, NOT FOR MANUFACTURE (reasons from build.json),
 LATE FAILURE (design accepted, build failed: the message), CRASH, TIMEOUT. DIR/results.json holds
-every row.
+every row. `--design-only` records a refusal's first change without designing it; `--fixes` then
+builds it (read by bench/heldout_fixes.py from DIR/design/<name>.log, applied to
+DIR/specs/<name>_fix.toml; a build refused in its own design stage is REFUSED AT DESIGN);
+`--stop-at HH:MM` starts no run that cannot end by then. Seed 2712 on main cb8e7e1 (design, build,
+first change of each refusal): docs/ho12_heldout_results.md.
 
 Measured
 --------
