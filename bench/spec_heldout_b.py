@@ -74,7 +74,11 @@ the first is applied to a copy and design re-run: `applied -> DESIGNED` or not);
 numbers); CRASH (exit 3, a traceback, a signal); TIMEOUT. With --build, `springcad build` on the
 designed specs (spread over labels): RELEASED, NOT FOR MANUFACTURE (reasons from build.json),
 LATE FAILURE (design accepted, build failed: the message), CRASH, TIMEOUT. DIR/results.json holds
-every row.
+every row. `--design-only` records a refusal's first change without designing it; `--fixes` then
+builds it (read by bench/heldout_fixes.py from DIR/design/<name>.log, applied to
+DIR/specs/<name>_fix.toml; a build refused in its own design stage is REFUSED AT DESIGN);
+`--stop-at HH:MM` starts no run that cannot end by then. Seed 2712 on main cb8e7e1 (design, build,
+first change of each refusal): docs/ho12_heldout_results.md.
 
 Measured
 --------
@@ -117,6 +121,7 @@ from __future__ import annotations
 
 import argparse
 import concurrent.futures as cf
+import datetime
 import json
 import math
 import os
@@ -125,9 +130,12 @@ import shutil
 import subprocess
 import sys
 import time
+import tomllib
 from pathlib import Path
 
 import numpy as np
+
+from heldout_fixes import apply_ops, describe, parse_fixes
 
 # Material table (springcad/data/materials.csv): E GPa, nu, yield MPa.
 MATERIALS = {
@@ -485,11 +493,16 @@ def _last_lines(text: str, n: int = 6) -> str:
     return "\n".join(lines[-n:])
 
 
-def design_case(job: dict, workdir: Path, code: Path, timeout_s: float) -> dict:
+def design_case(job: dict, workdir: Path, code: Path, timeout_s: float,
+                apply_first: bool = True) -> dict:
+    """Design one spec; a refusal's first change is applied and designed unless not
+    `apply_first` (then only recorded). The full output is kept in DIR/design/<name>.log."""
     name = job["job"]["name"]
     cfg = workdir / "specs" / f"{name}.toml"
     rc, text, dt = _run([sys.executable, "-m", "springcad", "design", str(cfg), "--out",
                          str(workdir / "design" / name), "--overwrite"], code, timeout_s)
+    (workdir / "design").mkdir(parents=True, exist_ok=True)
+    (workdir / "design" / f"{name}.log").write_text(text)
     row = {"name": name, "design_rc": rc, "design_s": round(dt, 1), "message": _last_lines(text)}
     if rc is None:
         row["outcome"] = "TIMEOUT"
@@ -505,6 +518,8 @@ def design_case(job: dict, workdir: Path, code: Path, timeout_s: float) -> dict:
         row["outcome"] = "REFUSED+NUMBERS"
         row["suggestion"] = " and ".join(f"{k} = {v}" if v is not None else f"{k} removed"
                                          for k, v in pairs)
+        if not apply_first:
+            return row
         fixed = apply_suggestion(job, pairs)
         fixed["job"]["name"] = name + "_fix"
         fcfg = workdir / "specs" / f"{name}_fix.toml"
@@ -518,16 +533,30 @@ def design_case(job: dict, workdir: Path, code: Path, timeout_s: float) -> dict:
     return row
 
 
+def _stage(text: str) -> str:
+    """The last stage a build printed it started ("[2/5] verify ..."), "design" if none."""
+    found = re.findall(r"\[\d/\d\] (\w+)", text)
+    return found[-1] if found else "design"
+
+
 def build_case(name: str, workdir: Path, code: Path, timeout_s: float) -> dict:
+    """`springcad build` of DIR/specs/<name>.toml, classified; the full output is kept in
+    DIR/build/<name>.log. A non-zero exit in the design stage is "REFUSED AT DESIGN" (an
+    applied change that does not design), after it "LATE FAILURE"."""
     cfg = workdir / "specs" / f"{name}.toml"
     out = workdir / "build" / name
     rc, text, dt = _run([sys.executable, "-m", "springcad", "build", str(cfg), "--out", str(out),
                          "--overwrite"], code, timeout_s)
-    row = {"build_rc": rc, "build_s": round(dt, 1), "build_message": _last_lines(text, 10)}
+    (workdir / "build").mkdir(parents=True, exist_ok=True)
+    (workdir / "build" / f"{name}.log").write_text(text)
+    row = {"build_rc": rc, "build_s": round(dt, 1), "build_message": _last_lines(text, 10),
+           "stage": _stage(text)}
     if rc is None:
         row["build_outcome"] = "TIMEOUT"
     elif _is_crash(rc, text):
         row["build_outcome"] = "CRASH"
+    elif rc != 0 and row["stage"] == "design":
+        row["build_outcome"] = "REFUSED AT DESIGN"
     elif rc != 0:
         row["build_outcome"] = "LATE FAILURE"
     else:
@@ -536,6 +565,56 @@ def build_case(name: str, workdir: Path, code: Path, timeout_s: float) -> dict:
         row["build_outcome"] = "RELEASED" if released else "NOT FOR MANUFACTURE"
         row["release"] = release
     return row
+
+
+def refusal_text(log: str) -> str:
+    """The message of a refused design: springcad's `springcad <cmd>: ...` lines and what
+    follows them (the progress lines before are left out)."""
+    lines = log.strip().splitlines()
+    first = next((i for i, ln in enumerate(lines) if re.match(r"springcad \w+: ", ln)), None)
+    return "\n".join(lines[first:] if first is not None else lines[-6:])
+
+
+def fix_loop(work: Path, code: Path, timeout_s: float, stop_at: float | None) -> None:
+    """Build the first change each refusal of the design run names, read from its full log
+    with bench/heldout_fixes.py (strict `key = value` form, disk-count changes), applied
+    exactly to a copy DIR/specs/<name>_fix.toml; rows in DIR/builds.json as `<name>_fix`."""
+    rows = json.loads((work / "results.json").read_text())
+    out = work / "builds.json"
+    for r in rows:
+        if not r["outcome"].startswith("REFUSED"):
+            continue
+        name = r["name"]
+        builds = json.loads(out.read_text()) if out.exists() else {}
+        if name + "_fix" in builds:
+            continue
+        cfg = tomllib.loads((work / "specs" / f"{name}.toml").read_text())
+        alts, note = parse_fixes(refusal_text((work / "design" / f"{name}.log").read_text()), cfg)
+        row: dict = {"parser": note}
+        if alts:
+            timeout = _capped(timeout_s, stop_at)
+            if timeout is None:
+                print(f"stop before {name}_fix: too close to --stop-at", flush=True)
+                return
+            fixed = apply_ops(cfg, alts[0], "_fix")
+            (work / "specs" / f"{name}_fix.toml").write_text(to_toml(fixed))
+            row["change"] = describe(alts[0])
+            row.update(build_case(name + "_fix", work, code, timeout))
+        else:
+            row["build_outcome"] = "NO CHANGE PARSED"
+        builds = json.loads(out.read_text()) if out.exists() else {}
+        builds[name + "_fix"] = row
+        out.write_text(json.dumps(builds, indent=1))
+        print(f"{name}_fix  {row.get('change', '-')}  {row['build_outcome']}"
+              f"  {row.get('build_s', '')} s", flush=True)
+
+
+def _capped(timeout_s: float, stop_at: float | None, least_s: float = 60.0) -> float | None:
+    """`timeout_s`, cut so the run ends by `stop_at` (epoch s); None if under `least_s` is left."""
+    if stop_at is None:
+        return timeout_s
+    left = stop_at - time.time()
+    return None if left < least_s else min(timeout_s, left)
 
 
 def _candidates(rows: list[dict]) -> dict:
@@ -561,7 +640,8 @@ def labels_of(rows: list[dict]) -> dict:
     return {**{r["name"]: r["label"] for r in rows}, **_candidates(rows)}
 
 
-def build_loop(work: Path, code: Path, n_specs: int, limit: int, timeout_s: float) -> None:
+def build_loop(work: Path, code: Path, n_specs: int, limit: int, timeout_s: float,
+               stop_at: float | None = None) -> None:
     """Build designed specs as the design run (possibly still going) reports them."""
     results, out = work / "results.json", work / "builds.json"
     builds = json.loads(out.read_text()) if out.exists() else {}
@@ -575,12 +655,16 @@ def build_loop(work: Path, code: Path, n_specs: int, limit: int, timeout_s: floa
                 return
             time.sleep(20)
             continue
+        timeout = _capped(timeout_s, stop_at)
+        if timeout is None:
+            print(f"stop before {name}: too close to --stop-at", flush=True)
+            return
         try:  # a claim, so that two build loops share the work
             os.close(os.open(work / "specs" / f"{name}.claim", os.O_CREAT | os.O_EXCL))
         except FileExistsError:
             builds[name] = {"build_outcome": "claimed"}
             continue
-        row = build_case(name, work, code, timeout_s)
+        row = build_case(name, work, code, timeout)
         builds = json.loads(out.read_text()) if out.exists() else {}
         builds[name] = row
         out.write_text(json.dumps(builds, indent=1))
@@ -599,6 +683,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--build", action="store_true", help="build the designed specs (reads results.json)")
     ap.add_argument("--max-build", type=int, default=16)
     ap.add_argument("--summary", action="store_true", help="only print the tables of DIR")
+    ap.add_argument("--fixes", action="store_true",
+                    help="build the first change each refusal names (bench/heldout_fixes.py)")
+    ap.add_argument("--stop-at", help="HH:MM UTC: start no run that cannot end by then")
+    ap.add_argument("--design-only", action="store_true",
+                    help="design every spec; record a refusal's first change, do not design it")
     args = ap.parse_args(argv)
     code, work = args.code.resolve(), args.out.resolve()
     (work / "specs").mkdir(parents=True, exist_ok=True)
@@ -606,8 +695,16 @@ def main(argv: list[str] | None = None) -> int:
     if args.summary:
         _print_counts(json.loads(results.read_text()), work)
         return 0
-    if args.build:
-        build_loop(work, code, args.n, args.max_build, args.timeout)
+    stop_at = None
+    if args.stop_at:
+        hh, mm = (int(x) for x in args.stop_at.split(":"))
+        now = datetime.datetime.now(datetime.timezone.utc)
+        stop_at = now.replace(hour=hh, minute=mm, second=0, microsecond=0).timestamp()
+    if args.build or args.fixes:
+        if args.build:
+            build_loop(work, code, args.n, args.max_build, args.timeout, stop_at)
+        if args.fixes:
+            fix_loop(work, code, args.timeout, stop_at)
         rows = json.loads(results.read_text())
     else:
         rng = np.random.default_rng(args.seed)
@@ -618,7 +715,8 @@ def main(argv: list[str] | None = None) -> int:
             (work / "specs" / f"{job['job']['name']}.toml").write_text(to_toml(job))
         jobs = [j for j in jobs if j["job"]["name"] not in done]
         with cf.ThreadPoolExecutor(args.jobs) as pool:
-            futs = {pool.submit(design_case, j, work, code, args.timeout): j for j in jobs}
+            futs = {pool.submit(design_case, j, work, code, args.timeout, not args.design_only): j
+                    for j in jobs}
             for fut in cf.as_completed(futs):
                 job = futs[fut]
                 row = fut.result()
