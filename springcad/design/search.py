@@ -180,7 +180,8 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
         larger_balls: when every layout falls short of a contact rule at full deflection
             and the tip ball is springcad's choice, search again with larger balls
             (:func:`_with_larger_ball`; off for feasibility probes, which only ask whether
-            some layout is drawable).
+            some layout is drawable, and for a search of the reference layout alone,
+            ``candidates`` 1).
 
     Raises:
         DesignError: no layout meets the spec in its envelope (the message names the
@@ -191,8 +192,8 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
         spec, material, manufacturing, hardware, max_root_radius_mm, candidates)
     if d is not None:
         return d
-    if fallback is not None and larger_balls and spec.tip_radius_mm is None \
-            and soft_shortfalls(fallback):
+    if fallback is not None and larger_balls and candidates > 1 \
+            and spec.tip_radius_mm is None and soft_shortfalls(fallback):
         larger = _with_larger_ball(spec, material, manufacturing, hardware, max_root_radius_mm,
                                    candidates, fallback, fallback_short)
         if larger is not None:
