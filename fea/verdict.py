@@ -402,7 +402,12 @@ class JobVerification:
         out = []
         for v in self.springs.values():
             out += v.stiffness_failures()
-        return out + self.stack.failures()
+        for line in self.stack.failures():  # with what the stress correction tried
+            name = line.split("(", 1)[1].split(")", 1)[0]
+            v = self.springs.get(name)
+            out.append(line + ("".join(f"; {n}" for n in v.notes if "correction stopped" in n)
+                               if v is not None else ""))
+        return out
 
     def notes(self) -> list[str]:
         """Spring-level stress failures that the stack load case does not reach."""

@@ -21,7 +21,7 @@ from dataclasses import replace as _replace
 from springcad.config import MaterialSpec
 from springcad.design import duty
 from springcad.design.ring import with_hole_circle
-from springcad.design.search import design_spring, short_reason
+from springcad.design.search import changes_for_margin, design_spring, short_reason
 from springcad.design.shortfalls import soft_shortfalls
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError
@@ -100,9 +100,12 @@ def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign
                              f"(FEA peak {model_bias:.3f} x the design prediction; {what} at "
                              f"{t:g} mm): beam stress {d.beam_stress_MPa:.0f} MPa"))
             return _on_holes_of(design, d)
+    changes = changes_for_margin(design.spec, mat, design.manufacturing, design.hardware,
+                                 design.max_root_radius_mm, max(model_bias, 1.0))
     raise DesignError(f"spring '{design.name}': no redesign keeps the yield margin "
                       f"{duty.required_margin(biased, design.max_deflection_rad):.3f} for a "
-                      f"peak {model_bias:.3f} x the prediction: " + "; ".join(tried))
+                      f"peak {model_bias:.3f} x the prediction ({'; '.join(tried)}); with that "
+                      f"peak the spring is {changes}")
 
 
 def redesign_for_stiffness(design: SpringDesign, k_ratio: float) -> SpringDesign:
