@@ -438,7 +438,7 @@ def _best_hinge(a: np.ndarray, y: np.ndarray, grid: int,
     ``β·(a - c)₊`` fitted to ``y`` over |θ| ``a``, the hinge position ``c`` over a grid from
     30 % to 98 % of ``max(a)``; and ``c``."""
     best = (math.inf, math.nan)
-    base = _power_basis(a, 3.0 if cubic else None)
+    base = _power_basis(a, 3.0) if cubic else a[:, None]
     for c in np.linspace(0.3, 0.98, grid) * float(a.max()):
         X = np.column_stack([base, np.maximum(a - c, 0.0)])
         coef, *_ = np.linalg.lstsq(X, y, rcond=None)
@@ -482,11 +482,14 @@ def structure_onset(r: np.ndarray, idx: np.ndarray, sig: Signals, sigma: float, 
     return out[0], out[1]
 
 
-def _power_basis(a: np.ndarray, q: float | None) -> np.ndarray:
-    """Columns ``a`` and, when ``q`` is given, ``(a/max a)^q`` (scaled for conditioning)."""
-    if q is None:
-        return a[:, None]
-    return np.column_stack([a, (a / max(float(a.max()), 1e-300)) ** q])
+def _power_basis(a: np.ndarray, q: float) -> np.ndarray:
+    """Columns ``1``, ``a`` and ``(a/max a)^q`` (scaled for conditioning)."""
+    return np.column_stack([np.ones_like(a), a, (a / max(float(a.max()), 1e-300)) ** q])
+
+
+#: share of the largest |deflection| from which a kink and a smooth power are weighed (where
+#: :func:`structure_onset` searches the onset)
+OUTER_SHARE = 0.3
 
 
 #: exponents of the smooth power laws ``|θ|^q`` a kink is weighed against (q = 2: a contact
@@ -496,29 +499,37 @@ SMOOTH_POWERS = np.linspace(1.5, 12.0, 43)
 
 
 def onset_is_kink(r: np.ndarray, idx: np.ndarray, sig: Signals, sigma: float, tau: float,
-                  onsets: tuple[float, float], grid: int = 60) -> bool:
+                  onsets: tuple[float, float], fit_ratio: float = 1.25, grid: int = 60) -> bool:
     """Whether the structure beyond the onsets engages there (a kink), not smoothly from zero.
 
     A hard stop and a clipping sensor act beyond a deflection and not inside it: the
-    residual beyond their onset is a hinge ``β·(|θ| - c)₊`` beside a slope. A stiffness
+    residual beyond their onset is a hinge ``β·(|θ| - c)₊`` beside a line. A stiffness
     that grows smoothly with the deflection (a contact whose area grows with the load,
     ``K·θ·(|θ|/θc)^p``) acts at every deflection, most at the largest: a band left out at
-    large deflection does not leave it out of the fit. On the sides with a finite onset
+    large deflection does not leave it out of the fit. On each side with a finite onset
     (``onsets`` as :func:`structure_onset` returns them) the hinge is weighed against a
     smooth power ``|θ|^q`` (q in :data:`SMOOTH_POWERS`), each with one free shape
-    parameter, both beside a slope and the library's cubic (the model the residual is of
+    parameter, both beside a line and the library's cubic (the model the residual is of
     may hold a cubic fitted over the structure: what is judged is the structure beyond
-    what the cubic describes). It is no kink when the power law lowers the chi-square
-    (noise ``σ``, correlation ``τ`` samples) below the hinge's by more than the
-    ``ONSET_CHI2`` an onset itself needs.
+    what the cubic describes), over |θ| from ``OUTER_SHARE`` of its largest, where the
+    onset is searched. It is no kink when the power law describes that side to within
+    ``fit_ratio`` of the noise (RMS; noise ``σ``, correlation ``τ`` samples: the
+    ``unexplained`` bar) and lowers the chi-square below the hinge's by more than the
+    ``ONSET_CHI2`` an onset itself needs. Where neither shape describes the side (a
+    friction the clipping cuts differently in each direction), the two are not told
+    apart and the onset is taken for a kink, as before this test.
     """
     theta = sig.theta_smooth[idx]
     var0 = max(sigma ** 2 * tau, 1e-300)
-    excess = 0.0
     for side, onset in zip((-1.0, 1.0), onsets):
         if not np.isfinite(onset):
             continue
         a, y = _side(theta, r, side)
+        # the range the onset is searched over: below it a crossover's or a take-up's own
+        # shape (left in the residual of a model without it) is no business of the stop's;
+        # beyond its transition a crossover is an offset of the line (the constant column)
+        outer = a >= OUTER_SHARE * float(a.max())
+        a, y = a[outer], y[outer]
         hinge = _best_hinge(a, y, grid, cubic=True)[0]
         base = _power_basis(a, 3.0)
         smooth = math.inf
@@ -527,5 +538,7 @@ def onset_is_kink(r: np.ndarray, idx: np.ndarray, sig: Signals, sigma: float, ta
             coef, *_ = np.linalg.lstsq(X, y, rcond=None)
             e = y - X @ coef
             smooth = min(smooth, float(e @ e))
-        excess += (hinge - smooth) / var0
-    return excess <= ONSET_CHI2
+        described = smooth / max(a.size, 1) <= fit_ratio ** 2 * sigma ** 2
+        if described and (hinge - smooth) / var0 > ONSET_CHI2:
+            return False
+    return True

@@ -75,7 +75,8 @@ def outside_structure(sig: Signals, settings: LoopSettings, first, run):
         r = model.residual(x, sig, idx)
         tau = first.structure["noise_correlation_samples"]
         lo, hi = structure_onset(r, idx, sig, first.noise_Nm, tau)
-        if not onset_is_kink(r, idx, sig, first.noise_Nm, tau, (lo, hi)):
+        if not onset_is_kink(r, idx, sig, first.noise_Nm, tau, (lo, hi),
+                             first.settings.excess_ratio):
             # a stiffness growing smoothly from zero acts inside any band too: no band is
             # free of it, and a fit inside one reads its curvature as other effects
             return None
