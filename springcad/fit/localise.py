@@ -426,6 +426,28 @@ def _slope(y: np.ndarray, x: np.ndarray) -> float:
 ONSET_CHI2 = 36.0
 
 
+def _side(theta: np.ndarray, r: np.ndarray, side: float) -> tuple[np.ndarray, np.ndarray]:
+    """|θ| and the residual on one side of zero (``side`` ±1)."""
+    sel = side * theta > 0
+    return side * theta[sel], r[sel]
+
+
+def _best_hinge(a: np.ndarray, y: np.ndarray, grid: int,
+                cubic: bool = False) -> tuple[float, float]:
+    """Least squared error of a slope (and a cubic ``a³`` when ``cubic``) and a hinge
+    ``β·(a - c)₊`` fitted to ``y`` over |θ| ``a``, the hinge position ``c`` over a grid from
+    30 % to 98 % of ``max(a)``; and ``c``."""
+    best = (math.inf, math.nan)
+    base = _power_basis(a, 3.0) if cubic else a[:, None]
+    for c in np.linspace(0.3, 0.98, grid) * float(a.max()):
+        X = np.column_stack([base, np.maximum(a - c, 0.0)])
+        coef, *_ = np.linalg.lstsq(X, y, rcond=None)
+        e = y - X @ coef
+        if float(e @ e) < best[0]:
+            best = (float(e @ e), float(c))
+    return best
+
+
 def structure_onset(r: np.ndarray, idx: np.ndarray, sig: Signals, sigma: float, tau: float,
                     grid: int = 60, margin: float = 0.05) -> tuple[float, float]:
     """Where a structure at large deflection begins, on each side of zero.
@@ -446,23 +468,77 @@ def structure_onset(r: np.ndarray, idx: np.ndarray, sig: Signals, sigma: float, 
     var0 = max(sigma ** 2 * tau, 1e-300)
     out = []
     for side in (-1.0, 1.0):
-        sel = side * theta > 0
-        a, y = side * theta[sel], r[sel]
+        a, y = _side(theta, r, side)
         if a.size < 100:
             out.append(side * math.inf)
             continue
         amax = float(a.max())
         base = float(y @ y) - float(a @ y) ** 2 / max(float(a @ a), 1e-300)
-        best = (0.0, math.inf)
-        for c in np.linspace(0.3, 0.98, grid) * amax:
-            X = np.column_stack([a, np.maximum(a - c, 0.0)])
-            coef, *_ = np.linalg.lstsq(X, y, rcond=None)
-            e = y - X @ coef
-            gain = (base - float(e @ e)) / var0
-            if gain > best[0]:
-                best = (gain, float(c))
-        if best[0] < ONSET_CHI2:
+        sse, c = _best_hinge(a, y, grid)
+        if (base - sse) / var0 < ONSET_CHI2:
             out.append(side * math.inf)
             continue
-        out.append(side * max(best[1] - margin * amax, 0.1 * amax))
+        out.append(side * max(c - margin * amax, 0.1 * amax))
     return out[0], out[1]
+
+
+def _power_basis(a: np.ndarray, q: float) -> np.ndarray:
+    """Columns ``1``, ``a`` and ``(a/max a)^q`` (scaled for conditioning)."""
+    return np.column_stack([np.ones_like(a), a, (a / max(float(a.max()), 1e-300)) ** q])
+
+
+#: share of the largest |deflection| from which a kink and a smooth power are weighed (where
+#: :func:`structure_onset` searches the onset)
+OUTER_SHARE = 0.3
+
+
+#: exponents of the smooth power laws ``|θ|^q`` a kink is weighed against (q = 2: a contact
+#: whose stiffness grows in proportion to the deflection; large q: a stiffening that
+#: gathers at the largest deflections, as close to a kink as a smooth law comes)
+SMOOTH_POWERS = np.linspace(1.5, 12.0, 43)
+
+
+def onset_is_kink(r: np.ndarray, idx: np.ndarray, sig: Signals, sigma: float, tau: float,
+                  onsets: tuple[float, float], fit_ratio: float = 1.25, grid: int = 60) -> bool:
+    """Whether the structure beyond the onsets engages there (a kink), not smoothly from zero.
+
+    A hard stop and a clipping sensor act beyond a deflection and not inside it: the
+    residual beyond their onset is a hinge ``β·(|θ| - c)₊`` beside a line. A stiffness
+    that grows smoothly with the deflection (a contact whose area grows with the load,
+    ``K·θ·(|θ|/θc)^p``) acts at every deflection, most at the largest: a band left out at
+    large deflection does not leave it out of the fit. On each side with a finite onset
+    (``onsets`` as :func:`structure_onset` returns them) the hinge is weighed against a
+    smooth power ``|θ|^q`` (q in :data:`SMOOTH_POWERS`), each with one free shape
+    parameter, both beside a line and the library's cubic (the model the residual is of
+    may hold a cubic fitted over the structure: what is judged is the structure beyond
+    what the cubic describes), over |θ| from ``OUTER_SHARE`` of its largest, where the
+    onset is searched. It is no kink when the power law describes that side to within
+    ``fit_ratio`` of the noise (RMS; noise ``σ``, correlation ``τ`` samples: the
+    ``unexplained`` bar) and lowers the chi-square below the hinge's by more than the
+    ``ONSET_CHI2`` an onset itself needs. Where neither shape describes the side (a
+    friction the clipping cuts differently in each direction), the two are not told
+    apart and the onset is taken for a kink, as before this test.
+    """
+    theta = sig.theta_smooth[idx]
+    var0 = max(sigma ** 2 * tau, 1e-300)
+    for side, onset in zip((-1.0, 1.0), onsets):
+        if not np.isfinite(onset):
+            continue
+        a, y = _side(theta, r, side)
+        # the range the onset is searched over: below it a crossover's or a take-up's own
+        # shape (left in the residual of a model without it) is no business of the stop's;
+        # beyond its transition a crossover is an offset of the line (the constant column)
+        outer = a >= OUTER_SHARE * float(a.max())
+        a, y = a[outer], y[outer]
+        hinge = _best_hinge(a, y, grid, cubic=True)[0]
+        base = _power_basis(a, 3.0)
+        smooth = math.inf
+        for q in SMOOTH_POWERS:
+            X = np.column_stack([base, _power_basis(a, q)[:, -1]])
+            coef, *_ = np.linalg.lstsq(X, y, rcond=None)
+            e = y - X @ coef
+            smooth = min(smooth, float(e @ e))
+        described = smooth / max(a.size, 1) <= fit_ratio ** 2 * sigma ** 2
+        if described and (hinge - smooth) / var0 > ONSET_CHI2:
+            return False
+    return True

@@ -264,6 +264,10 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
                           {"meaning": get_effect(ev.effect).meaning, "reason": ev.reason(),
                            "audit": ev.to_dict()})
         if attempt < settings.max_audits:
+            # a law chosen beside a rejected effect may not do the family's job without it
+            # (a filter, which only delays, beside a friction; once the friction is gone
+            # the record asks the lag family for a damper): chosen again before the search
+            state, laws = choose_laws(state, lp, f_scale)
             state, score, f_scale = forward(state, lp, search, rounds, None, excluded)
             state, score = backward(state, score, f_scale, lp, search)
             state, laws = choose_laws(state, lp, f_scale)

@@ -116,8 +116,13 @@ def lag_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray
     (:func:`springcad.fit.residual.residual_structure` with the loop's ``bins``,
     ``min_rms``, ``p_level`` and ``excess_ratio``: the ``unexplained`` bar), a lag whose
     own term (RMS over the samples) is less than ``SHAPE_DOMINANCE`` times the largest
-    structure a test finds (its RMS) is not named. A record the model explains is
-    judged as before.
+    structure a test finds (its RMS) is not named. A line periodic in time that the
+    record holds in its holds as well (:func:`_stands_at_rest`: mains hum) is not locked
+    to the motion and does not count: the lag's term is zero at rest, it takes up none of
+    it (a stick-slip sawtooth slips only while the contact moves). Nor is a lag whose
+    structure left is its own size changing along the record (:func:`_own_change`: with
+    the lag free per whole-cycle window nothing is left; clock skew). A record the model
+    explains is judged as before.
 
     Returns:
         ``{effect: (ratio, reason)}`` (the smallest ratio first is the worst).
@@ -130,6 +135,13 @@ def lag_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray
                                                    p_level=p_level, excess_ratio=excess_ratio)
     found = {k: v["structure_rms_Nm"] for k, v in structure["tests"].items()
              if v.get("significant") and v.get("structure_rms_Nm", 0.0) > 0.0}
+    periodic = structure["tests"]["periodic_in_time"]
+    if "periodic_in_time" in found and _stands_at_rest(
+            r, idx, sig, periodic["peak_frequency_hz"], structure["noise_Nm"],
+            structure["noise_correlation_samples"], p_level):
+        # a line the record holds at rest too (mains hum) is not locked to the motion: a
+        # lag's term, zero at rest, takes up none of it
+        del found["periodic_in_time"]
     if not unexplained or not found:
         return {}
     test = max(found, key=found.get)
@@ -140,6 +152,9 @@ def lag_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray
         m0 = model.without(e.name)
         term = full - m0.predict(m0.transfer(model, x), sig, idx)
         ratio = math.sqrt(float(term @ term) / term.size) / left
+        if ratio < SHAPE_DOMINANCE and _own_change(model, x, sig, idx, e, bins, min_rms,
+                                                   p_level, excess_ratio):
+            continue
         if ratio < SHAPE_DOMINANCE:
             out[e.name] = (ratio, (
                 f"the residual holds structure no library effect describes ({left:.3g} N·m "
@@ -150,6 +165,56 @@ def lag_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray
     return out
 
 
+def _own_change(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, effect,
+                bins: int, min_rms: float, p_level: float, excess_ratio: float) -> bool:
+    """Whether the structure left beside ``effect`` (a lag) is its own size changing along
+    the record: with its size free per window of whole cycles (one Gauss-Newton step,
+    the rest of the model free), the residual holds no structure the ``unexplained``
+    tests find. The delay between two free-running clocks grows with the time (clock
+    skew), a filter's time constant follows its temperature: a lag of the record that
+    changes leaves structure one lag cannot describe, which is still the lag's."""
+    win = cycle_windows(sig, idx)[idx]
+    labels = np.unique(win[win >= 0])
+    if labels.size < MIN_WINDOWS:
+        return False
+    r = model.residual(x, sig, idx)
+    J = jacobian(model, x, sig, idx)
+    col = model.slice_of(effect.name).start + effect.primary
+    per_window = np.column_stack([J[:, col] * (win == w) for w in labels])
+    J2 = np.column_stack([per_window, np.delete(J, col, axis=1)])
+    r2 = r - J2 @ np.linalg.lstsq(J2, r, rcond=None)[0]
+    return not residual_structure(r2, idx, sig, bins=bins, min_rms=min_rms, p_level=p_level,
+                                  excess_ratio=excess_ratio)[1]
+
+
+def _stands_at_rest(r: np.ndarray, idx: np.ndarray, sig: Signals, freq_hz: float,
+                    sigma: float, tau: float, p_level: float) -> bool:
+    """Whether a sine at ``freq_hz`` stands in the residual ``r`` (samples ``idx``) in the
+    holds of the record, beyond noise (``σ``, correlation ``τ`` samples) at ``p_level``.
+
+    Each hold spanning at least two periods is fitted with its own mean and a sine of
+    its own phase (the phase need not carry over from hold to hold, a frequency read from
+    the spectrum's bin a little off would not); the chi-square of the sines' amplitudes
+    against noise sums over the holds (2 degrees of freedom each).
+    """
+    if freq_hz <= 0.0 or sigma <= 0.0:
+        return False
+    rest = sig.in_hold[idx]
+    t, y = sig.t[idx], r
+    cuts = np.flatnonzero(np.diff(rest.astype(int)) != 0) + 1
+    chi2, dof = 0.0, 0
+    for seg in np.split(np.arange(idx.size), cuts):
+        if not rest[seg[0]] or t[seg[-1]] - t[seg[0]] < 2.0 / freq_hz:
+            continue
+        w = 2.0 * np.pi * freq_hz * t[seg]
+        X = np.column_stack([np.ones(seg.size), np.sin(w), np.cos(w)])
+        coef, *_ = np.linalg.lstsq(X, y[seg], rcond=None)
+        # a sine's coefficients over n samples of noise vary as 2·σ²·τ/n each
+        chi2 += seg.size * float(coef[1] ** 2 + coef[2] ** 2) / (2.0 * sigma ** 2 * tau)
+        dof += 2
+    return dof > 0 and float(stats.chi2.sf(chi2, dof)) < p_level
+
+
 #: an effect must keep at least this share of its size with the stiffness (or a friction's
 #: level) free per whole cycle (when it does change between cycles)
 KEEPS_SIZE = 0.5
@@ -158,8 +223,9 @@ SIZE_CHANGE_Z = 3.0
 #: fewest whole-cycle windows for the stiffness to be freed per window
 MIN_WINDOWS = 3
 #: effect families whose size may change along the record for a physical reason (a
-#: friction's level follows the contact's temperature), freed per window like the stiffness
-CHANGING_SIZES = ("hysteresis",)
+#: friction's level follows the contact's temperature; a lag grows with the skew between two
+#: free-running clocks), freed per window like the stiffness
+CHANGING_SIZES = ("hysteresis", "time_lag")
 
 
 def stiffness_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,

@@ -8,6 +8,11 @@ judges what is left on every sample, so the structure stays flagged and
 localised. ``LoopResult.region`` (fit.json ``final.fitted_region``) says what
 was left out and why.
 
+Only a structure that engages at a deflection is left out so (a kink: the
+residual beyond its onset is a hinge, :func:`springcad.fit.localise.onset_is_kink`);
+a stiffness growing smoothly from zero (a contact whose area grows with the load)
+acts in every band, and fitted inside one its curvature reads as a crossover.
+
 Two patches hide such a band. A cubic fitted over a structure at large
 deflection spreads it over the whole range (a clipping sensor read as a
 softening spring): the structure is localised again on the model without the
@@ -25,7 +30,7 @@ import dataclasses
 
 import numpy as np
 
-from springcad.fit.localise import localise, structure_onset
+from springcad.fit.localise import localise, onset_is_kink, structure_onset
 from springcad.fit.search import LoopSettings
 from springcad.fit.signals import Signals
 
@@ -68,8 +73,13 @@ def outside_structure(sig: Signals, settings: LoopSettings, first, run):
         return None
     if top["kind"] == "large_deflection":
         r = model.residual(x, sig, idx)
-        lo, hi = structure_onset(r, idx, sig, first.noise_Nm,
-                                 first.structure["noise_correlation_samples"])
+        tau = first.structure["noise_correlation_samples"]
+        lo, hi = structure_onset(r, idx, sig, first.noise_Nm, tau)
+        if not onset_is_kink(r, idx, sig, first.noise_Nm, tau, (lo, hi),
+                             first.settings.excess_ratio):
+            # a stiffness growing smoothly from zero acts inside any band too: no band is
+            # free of it, and a fit inside one reads its curvature as other effects
+            return None
         keep = (theta > lo) & (theta < hi)
         sides = [f"deflection beyond {hi:.4g} rad" if np.isfinite(hi) else None,
                  f"deflection below {lo:.4g} rad" if np.isfinite(lo) else None]
