@@ -331,10 +331,14 @@ class StackVerification:
         return all(s["yield_margin"] >= self.required_safety_factor for s in self.springs)
 
     def failures(self) -> list[str]:
-        return [f"stack: spring #{i + 1} ({s['spring']}) at the stack limit "
-                f"{self.max_deflection_rad:.3f} rad carries {s['torque_Nm']:.2f} N*m, peak "
-                f"{s['peak_von_mises_MPa']:.0f} MPa, yield margin {s['yield_margin']:.3f} < "
-                f"{self.required_safety_factor:.3g}"
+        return [text for _, text in self.spring_failures()]
+
+    def spring_failures(self) -> list[tuple[str, str]]:
+        """(spring name, why) of every spring over its margin at the stack limit."""
+        return [(s["spring"], f"stack: spring #{i + 1} ({s['spring']}) at the stack limit "
+                 f"{self.max_deflection_rad:.3f} rad carries {s['torque_Nm']:.2f} N*m, peak "
+                 f"{s['peak_von_mises_MPa']:.0f} MPa, yield margin {s['yield_margin']:.3f} < "
+                 f"{self.required_safety_factor:.3g}")
                 for i, s in enumerate(self.springs)
                 if s["yield_margin"] < self.required_safety_factor]
 
@@ -402,8 +406,7 @@ class JobVerification:
         out = []
         for v in self.springs.values():
             out += v.stiffness_failures()
-        for line in self.stack.failures():  # with what the stress correction tried
-            name = line.split("(", 1)[1].split(")", 1)[0]
+        for name, line in self.stack.spring_failures():  # with what the correction tried
             v = self.springs.get(name)
             out.append(line + ("".join(f"; {n}" for n in v.notes if "correction stopped" in n)
                                if v is not None else ""))
