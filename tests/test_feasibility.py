@@ -12,7 +12,7 @@ from springcad.config.load import job_from_dict
 from springcad.config.schema import keys
 from springcad.design.feasibility import (as_material, describe, fewer_disks, in_series,
                                           larger_disk, material_changes, nearest_changes,
-                                          series_change)
+                                          reshaped_envelope, series_change)
 from springcad.design.redesign import redesign_for_contact
 from springcad.design.search import design_spring
 from springcad.errors import DesignError
@@ -96,6 +96,40 @@ def test_larger_disk_is_the_smallest_scale_that_designs_and_frees_fixed_layout_k
     assert "springs.A.contact_radius_mm removed (now 7 mm)" in text, text
     assert big.contact_radius_mm is None and free_only(big)
     assert larger_disk(_spec(), lambda s: False) == ("", None)
+
+
+def test_a_deflection_bound_spec_gets_a_larger_disk_where_no_scale_designs():
+    """Feasible exactly when R_o >= 79.2 mm (2.2 x, longer flexures) and z <= 6 mm (thicker
+    webs too stiff): no uniform scale designs (at s = 2.2 the plate is 11 mm) and no single
+    key's probe reaches 2.2 x; the reshaped search finds the radius alone, within 1/32 of
+    its bisected span (72 -> 108 mm) plus the 0.5 mm step, and says so as one key."""
+    def designs(s):
+        return s.outer_radius_mm >= 79.2 and s.thickness_mm <= 6.0
+
+    assert nearest_changes(_spec(), designs) == []
+    text, big = larger_disk(_spec(), designs)
+    assert designs(big) and big.thickness_mm == 5.0, text
+    assert 79.2 <= big.outer_radius_mm <= 79.2 + 36 / 32 + 0.5, text
+    assert text == f"a larger disk: springs.A.outer_radius_mm = {big.outer_radius_mm:g} (now 36)"
+
+
+def test_the_reshaped_disk_is_the_lightest_of_its_grid_and_bisected_in_thickness():
+    """Feasible exactly when z >= 9 mm, R_o >= 90 mm and z / R_o <= 0.12 (the user's
+    proportions, 5 / 36 = 0.139, never design): the lightest envelope of the grid that
+    designs is 2.5 x 5 mm at 3 x 36 mm; its thickness is bisected down towards the refused
+    1.5 x plate (7.5 -> 12.5 mm, 1/32 of the span) and rounded up to 0.1 mm. A probe that
+    nothing designs gets None."""
+    def designs(s):
+        return (s.thickness_mm >= 9.0 and s.outer_radius_mm >= 90.0
+                and s.thickness_mm / s.outer_radius_mm <= 0.12)
+
+    big = reshaped_envelope(_spec(), designs)
+    assert designs(big) and big.outer_radius_mm == 108.0
+    assert 9.0 <= big.thickness_mm <= 9.0 + 5.0 / 32 + 0.1
+    text, same = larger_disk(_spec(), designs)
+    assert same == big and text.startswith("a disk of other proportions: ") and \
+        text.endswith(", all together"), text
+    assert reshaped_envelope(_spec(), lambda s: False) is None
 
 
 def test_fewer_disks_merges_the_fewest_that_design_and_keeps_the_torque():

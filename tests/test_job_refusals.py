@@ -150,3 +150,24 @@ def test_a_change_of_any_key_is_checked_with_the_hardware():
     err = _refusal_naming(clause, (("S1", "max_deflection_deg", 15.0, 4.8),))
     text = str(job_module._checked_key_changes(job, err))
     assert f"{clause} (then drive pin" in text or f"{clause} and hardware." in text, text
+
+
+@pytest.mark.slow
+def test_a_deflection_bound_stack_names_a_reshaped_disk_that_designs():
+    """Held-out B 004 (five 17-4PH disks of 70 N*m/rad over 4.4 deg each, R_o 12, z 1.5):
+    no single key, no scale of the whole disk and no material designs it (a uniform scale
+    keeps the strain-limited angle); the refusal named no change at all. It now names a
+    disk of other proportions, and that disk, applied to the whole job, designs."""
+    job = job_from_dict({
+        "material": {"name": "17-4ph_h900", "safety_factor": 1.5},
+        "springs": {"S1": {"target_stiffness_Nm_per_rad": 70, "max_deflection_deg": 4.4,
+                           "outer_radius_mm": 12.0, "thickness_mm": 1.5}},
+        "stack": {"sequence": ["S1"] * 5, "input": "shaft"},
+        "hardware": {"fastener": "bolt", "fastener_diameter_mm": 2.5, "fastener_count": 4,
+                     "shaft_diameter_mm": 3.0}})
+    with pytest.raises(DesignError) as refused:
+        design_job(job)
+    (name, clause, spec), *_ = refused.value.disk_changes
+    assert name == "S1" and clause in str(refused.value), str(refused.value)
+    assert re.search(r"springs\.S1\.(thickness|outer_radius)_mm = [\d.]+ \(now", clause)
+    design_job(replace(job, springs={"S1": spec}), explain=False)

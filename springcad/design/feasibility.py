@@ -12,7 +12,9 @@ cannot write is no suggestion). Beyond the single keys, two changes of several k
 are probed the same way: another built-in material with a higher energy density
 sigma^2/E (its design stress scaled with the yield strength, both keys named), and the
 spring split into m = 2..4 disks in series (each m x the stiffness over 1/m of the
-deflection, the same torque and energy as the one it replaces).
+deflection, the same torque and energy as the one it replaces). When no single key
+works, the whole disk is scaled up, and when no scale works (a deflection-bound spec),
+reshaped: thicker or larger in radius than in proportion.
 
 The probe is any function ``designs(spec) -> bool`` (``designs_with(material)`` for the
 material); :func:`springcad.design.search` passes the design search itself with a small
@@ -75,6 +77,10 @@ FREE_CHOICES = (("n_flexures", ""), ("contact_radius_mm", " mm"), ("tip_radius_m
                 ("root_radius_mm", " mm"))
 #: the largest factor a whole disk (thickness and outer radius together) is scaled by
 MAX_SCALE = 2.5
+#: outer-radius and thickness factors of the reshaped disks probed when no disk of the same
+#: proportions designs (a uniform scale keeps the flexures' strain-limited angle)
+RESHAPE_RADIUS_FACTORS = (1.0, 1.5, 2.0, 3.0)
+RESHAPE_THICKNESS_FACTORS = (1.0, 1.5, 2.5, 5.0)
 
 
 @dataclass(frozen=True)
@@ -211,29 +217,88 @@ def scaled_envelope(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
     return _scaled(spec, span[1])
 
 
+def _envelope(spec: SpringSpec, thickness_mm: float, outer_radius_mm: float) -> SpringSpec:
+    """``spec`` with another envelope, each key rounded up to its step (0.1 mm, 0.5 mm)
+    and kept inside the schema's range."""
+    z, ro = _keys()[0], _keys()[1]
+    zb, rb = (schema_keys("springs.<name>")[k.key] for k in (z, ro))
+    return _replace(spec, thickness_mm=min(_rounded(thickness_mm, z.step, True), zb.hi),
+                    outer_radius_mm=min(_rounded(outer_radius_mm, ro.step, True), rb.hi))
+
+
+def reshaped_envelope(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
+                      deadline: float | None = None) -> SpringSpec | None:
+    """The lightest disk of other proportions that designs, when no scaled one does.
+
+    A uniform scale keeps the reachable angle (the flexures' strain-limited deflection
+    over the contact radius does not change with size), so a deflection-bound spec needs
+    a disk larger in radius (longer flexures) or thicker (a smaller contact radius for
+    the same tip-ball torque) than in proportion; and a thicker disk is not always
+    better (its minimum webs stiffen a soft spring). The grid of
+    :data:`RESHAPE_THICKNESS_FACTORS` x :data:`RESHAPE_RADIUS_FACTORS` is probed lightest
+    first (volume z R_o^2); at the first envelope that designs, the thickness is bisected
+    down towards the grid's next thinner plate of that radius (lighter, so already
+    refused) like :func:`nearest_changes`, or for the user's own plate the radius down to
+    the next smaller one. The printed values are the ones checked.
+
+    Returns:
+        The reshaped spec, or None when no envelope of the grid designs.
+    """
+    z0, r0 = spec.thickness_mm, spec.outer_radius_mm
+    grid = sorted(((fz, fr) for fr in RESHAPE_RADIUS_FACTORS for fz in RESHAPE_THICKNESS_FACTORS
+                   if (fz, fr) != (1.0, 1.0)), key=lambda g: g[0] * g[1] ** 2)
+    for fz, fr in grid:
+        if not designs(_envelope(spec, z0 * fz, r0 * fr)):
+            continue
+        # the lighter neighbour on the grid (refused): a thinner plate of this radius, or
+        # for the user's own plate, a smaller radius
+        if fz > 1.0:
+            lighter = max(f for f in RESHAPE_THICKNESS_FACTORS if f < fz)
+            envelope = lambda v: _envelope(spec, v, r0 * fr)  # noqa: E731
+            span = [z0 * lighter, z0 * fz]  # [fails, designs]
+        else:
+            lighter = max(f for f in RESHAPE_RADIUS_FACTORS if f < fr)
+            envelope = lambda v: _envelope(spec, z0, v)  # noqa: E731
+            span = [r0 * lighter, r0 * fr]
+        for step in range(STEPS):
+            if step >= MIN_STEPS and deadline is not None and probes_spent() > deadline:
+                break
+            mid = 0.5 * (span[0] + span[1])
+            span[designs(envelope(mid))] = mid
+        return envelope(span[1])
+    return None
+
+
 def larger_disk(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
                 deadline: float | None = None) -> tuple[str, SpringSpec | None]:
     """A change of several keys when none alone works: the whole disk scaled up
-    (:func:`scaled_envelope`), with the user's fixed layout keys left free when that is
-    what it takes.
+    (:func:`scaled_envelope`), else reshaped (:func:`reshaped_envelope`), with the user's
+    fixed layout keys left free when that is what it takes.
 
     Returns:
         (text, spec): "the disk scaled by 1.76: springs.A.thickness_mm = 7.9 (now 4.5) and
-        ..., all together" and the spec it names, or ("", None) when no disk up to
-        :data:`MAX_SCALE` x larger designs.
+        ..., all together" and the spec it names, or ("", None) when no probed disk
+        designs.
     """
     fixed = fixed_choices(spec)
     for trial in ([spec, freed(spec)] if fixed else [spec]):
         big = scaled_envelope(trial, designs, deadline=deadline)
+        how = f"the disk scaled by {big.thickness_mm / spec.thickness_mm:.2f}" if big else ""
+        if big is None:
+            big = reshaped_envelope(trial, designs, deadline=deadline)
+            changed = [k for k in ("thickness_mm", "outer_radius_mm")
+                       if big is not None and getattr(big, k) != getattr(spec, k)]
+            how = {("thickness_mm",): "a thicker disk", ("outer_radius_mm",): "a larger disk"
+                   }.get(tuple(changed), "a disk of other proportions")
         if big is None:
             continue
         name = f"springs.{spec.name}"
-        left = ("" if trial is spec else " and " + ", ".join(
-            f"{name}.{k} removed (now {getattr(spec, k):g}{u})" for k, u in fixed))
-        return (f"the disk scaled by {big.thickness_mm / spec.thickness_mm:.2f}: "
-                f"{name}.thickness_mm = {big.thickness_mm:g} (now {spec.thickness_mm:g}) and "
-                f"{name}.outer_radius_mm = {big.outer_radius_mm:g} (now "
-                f"{spec.outer_radius_mm:g}){left}, all together"), big
+        clauses = [f"{name}.{k} = {getattr(big, k):g} (now {getattr(spec, k):g})"
+                   for k in ("thickness_mm", "outer_radius_mm")
+                   if getattr(big, k) != getattr(spec, k)]
+        clauses += [f"{name}.{k} removed (now {getattr(spec, k):g}{u})"
+                    for k, u in fixed if trial is not spec]
+        return f"{how}: {' and '.join(clauses)}{', all together' * (len(clauses) > 1)}", big
     return "", None
 
 
@@ -329,5 +394,5 @@ def describe(spring_name: str, changes: list[tuple[str, float, float]],
         probed = [f"{kr.key} (to {kr.far_factor:g}x)" for kr in _keys(webs)]
         probed = ", ".join(probed[:-1]) + " or " + probed[-1]
         return (f"no change of {probed} alone, no stronger built-in material and no "
-                f"{SERIES_COUNTS[-1]} disks in series design: change several keys")
+                f"{SERIES_COUNTS[-1]} disks in series design: a larger change or several keys")
     return "feasible with " + " or ".join(clauses) + " (each alone, other keys unchanged)"
