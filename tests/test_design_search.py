@@ -12,10 +12,15 @@ import math
 import pytest
 
 from springcad.config import job_from_dict
+from springcad.design import duty, search
 from springcad.design.cam import tip_clearance_mm
+from springcad.design.contact_stress import tip_contact_von_mises_MPa
 from springcad.design.driven import ball_lift_mm, driven_psi
 from springcad.design.job import camshaft_groups, design_job
 from springcad.design.layout import candidate_layouts
+from springcad.design.search import _choice_text, _commonest
+from springcad.design.sizing import _NoMoreLayouts
+from springcad.errors import DesignError
 
 # the springs are designed with explain=False throughout: the same springs, without the
 # default duty's advice search (a refusal's wording; tens of seconds) no test here reads
@@ -115,7 +120,6 @@ def test_default_designs_with_a_clear_tooth_tip_and_contact_sized_ball(deg):
     """The default at 6, 10 and 14 deg: the tooth tip clears the ball by 1.25 x the profile
     tolerances (t_spring + t_shaft) at full deflection, and the ball's Hertz von Mises on the
     flank (radius r_c theta) keeps the yield margin."""
-    from springcad.design.contact_stress import tip_contact_von_mises_MPa
 
     job = job_from_dict({"material": {"design_stress_MPa": 780, "safety_factor": 1.2},
                          "springs": {"S1": {**S1, "max_deflection_deg": deg}},
@@ -135,8 +139,6 @@ def test_default_duty_search_passes_over_probed_layouts_that_fall_short(monkeypa
     layouts. When each of those falls short of a soft rule (here the first four ranked
     layouts are said to, whatever their geometry), the full search's clean layout is the
     design, not the probe's fallback; when every layout falls short, the design says so."""
-    from springcad.design import duty, search
-    from springcad.design.sizing import _NoMoreLayouts
 
     job = job_from_dict({"springs": {"S1": {**S1, "max_deflection_deg": 10,
                                             "thickness_mm": 12.0}}})
@@ -170,8 +172,6 @@ def test_the_choice_names_each_rejection_once_with_its_count():
     """Layouts rejected for the same reason are named once, with how many gave it."""
     from types import SimpleNamespace
 
-    from springcad.design.search import _choice_text
-    from springcad.errors import DesignError
 
     d = SimpleNamespace(n_flexures=38, contact_radius_mm=11.0, tip_radius_mm=0.45,
                         root_radius_mm=42.19, flexure="straight")
@@ -179,3 +179,19 @@ def test_the_choice_names_each_rejection_once_with_its_count():
     text = _choice_text(d, [(None, same, []), (None, other, []), (None, same, [])])
     assert "layout 4 of the ranked candidates" in text
     assert text.endswith("tooth too close (2 layouts); fillets overlap")
+
+
+def test_a_refusal_names_the_rule_most_layouts_fall_short_of():
+    """The "Why" of a refusal cites the best-ranked layout of the most common rule (rules
+    equal up to their numbers), with how many layouts it stopped, not the first layout's
+    rule alone; ties go to the best-ranked rule."""
+
+    def e(text):
+        return (None, DesignError(text), [])
+
+    rejected = [e("tooth 0.12 mm wide < 0.2 mm"), e("fillets overlap by 0.05 mm at N = 40"),
+                e("fillets overlap by 0.01 mm at N = 36"), e("tooth 0.15 mm wide < 0.2 mm"),
+                e("fillets overlap by 0.2 mm at N = 44")]
+    chosen, alike = _commonest(rejected)
+    assert chosen is rejected[1] and alike == 3
+    assert _commonest(rejected[:2]) == (rejected[0], 1)

@@ -23,6 +23,8 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import math
+import re
+from collections import Counter
 from dataclasses import replace as _replace
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
@@ -205,15 +207,34 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
             f"{len(rejected)} layouts tried falls short of a rule, and this is the first"))
     if not rejected:
         raise DesignError(f"spring '{spec.name}': no candidate layout")
-    _, first, history = rejected[0]
-    tried = "" if len(rejected) == 1 else f" ({len(rejected)} layouts tried; the first:)"
+    (_, first, history), alike = _commonest(rejected)
+    tried = ("" if len(rejected) == 1 else
+             f" ({len(rejected)} layouts tried, all short of this rule; the best:)"
+             if alike == len(rejected) else
+             f" ({len(rejected)} layouts tried, {alike} short of this rule, the most common; "
+             "the best of them:)")
     text = _stress_text(spec, material, history, first) if history else str(first)
     webs = any(isinstance(e, WebsHoldStiffness) for _, e, _ in rejected)
     if explain:
         raise _refusal(spec, material, manufacturing, hardware, max_root_radius_mm,
                        text, tried, webs) from first
     raise (WebsHoldStiffness if webs else DesignError)(
-        text + tried.replace(" the first:", "")) from first
+        text + tried.replace("; the best of them:", "").replace("; the best:", "")) from first
+
+
+def _commonest(rejected: list) -> tuple[tuple, int]:
+    """The best-ranked of the rejected layouts (``(layout, error, history)``, best first)
+    whose rule is the most common among them (ties: the best-ranked rule), and how many
+    fell short of that rule: a refusal's "Why" names what binds most layouts, not only
+    the reference one. Two errors are the same rule when their messages differ only in
+    numbers."""
+    def rule(entry) -> str:
+        return re.sub(r"[-+]?\d[\d.,e]*", "#", str(entry[1]))
+
+    counts = Counter(rule(e) for e in rejected)
+    top = max(counts.values())
+    chosen = next(e for e in rejected if counts[rule(e)] == top)
+    return chosen, top
 
 
 #: tip balls tried, as factors on the kept layout's, when every layout falls short of a
