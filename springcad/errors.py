@@ -81,8 +81,9 @@ class DesignError(SpringcadError, ValueError):
             ``(spring name, key, now, value)`` in the config's units
             (:func:`springcad.design.feasibility.nearest_changes`); empty otherwise.
         disk_changes: a spring refusal's changes of several keys at once, each
-            ``(spring name, clause, spec)``: the clause as the refusal prints it and the
-            spring spec it makes (:func:`springcad.design.feasibility.larger_disk`).
+            ``(spring name, clause, spec, surface)``: the clause as the refusal prints it,
+            the spring spec it makes (:func:`springcad.design.feasibility.larger_disk`)
+            and the ``manufacturing.surface`` it needs with it (None: the job's own).
     """
 
     key_changes: tuple = ()

@@ -121,7 +121,7 @@ def test_the_whole_disk_scaled_is_checked_with_the_hardware_as_well():
     clause = ("the disk scaled by 1.50: springs.S1.thickness_mm = 9 (now 6) and "
               "springs.S1.outer_radius_mm = 36 (now 36), all together")
     err = _refusal_naming(f"x; it designs with {clause}", ())
-    err.disk_changes = (("S1", clause, replace(job.springs["S1"], thickness_mm=9.0)),)
+    err.disk_changes = (("S1", clause, replace(job.springs["S1"], thickness_mm=9.0), None),)
     text = str(job_module._checked_key_changes(job, err))
     assert f"{clause} and hardware." in text, text
     hardware = dict(re.findall(r"hardware\.(\w+) = (\"\w+\"|[\d.]+) \(now ",
@@ -130,6 +130,31 @@ def test_the_whole_disk_scaled_is_checked_with_the_hardware_as_well():
     changed = {k: (v.strip('"') if v.startswith('"') else float(v)) for k, v in hardware.items()}
     design_job(replace(_bolted_job(9.0), hardware=replace(job.hardware, **changed)),
                explain=False)
+
+
+def test_a_duty_change_of_the_whole_disk_is_checked_with_its_surface(monkeypatch):
+    """A declared duty's own change (held-out B 013, 019: shot peening and a scaled disk,
+    applied, then refused for the user's bolts or spacer) is checked with the whole job
+    like the others, with the surface it needs set on the job's duty."""
+    job = _bolted_job(6.0)
+    clause = ("the disk scaled by 1.50: springs.S1.thickness_mm = 9 (now 6) and "
+              "springs.S1.outer_radius_mm = 54 (now 36), all together")
+    err = _refusal_naming(f'x; it is met with manufacturing.surface = "shot_peened" and '
+                          f"{clause}", ())
+    bigger = replace(job.springs["S1"], thickness_mm=9.0, outer_radius_mm=54.0)
+    err.disk_changes = (("S1", clause, bigger, "shot_peened"),)
+    seen = []
+
+    def design(changed, explain=True, progress=None):
+        seen.append(changed)
+        raise DesignError("rim screws: a stand-in")
+
+    monkeypatch.setattr(job_module, "design_job", design)
+    text = str(job_module._checked_key_changes(job, err))
+    assert f"{clause} (then rim screws: a stand-in)" in text, text
+    (changed,) = seen
+    assert changed.material.duty.surface == "shot_peened" != job.material.duty.surface
+    assert changed.springs["S1"] == bigger
 
 
 def test_a_change_of_any_key_is_checked_with_the_hardware():
@@ -167,7 +192,7 @@ def test_a_deflection_bound_stack_names_a_reshaped_disk_that_designs():
                      "shaft_diameter_mm": 3.0}})
     with pytest.raises(DesignError) as refused:
         design_job(job)
-    (name, clause, spec), *_ = refused.value.disk_changes
-    assert name == "S1" and clause in str(refused.value), str(refused.value)
+    (name, clause, spec, surface), *_ = refused.value.disk_changes
+    assert name == "S1" and surface is None and clause in str(refused.value), str(refused.value)
     assert re.search(r"springs\.S1\.(thickness|outer_radius)_mm = [\d.]+ \(now", clause)
     design_job(replace(job, springs={"S1": spec}), explain=False)

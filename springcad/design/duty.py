@@ -37,7 +37,7 @@ from dataclasses import dataclass, replace
 
 from springcad.config.specs import DutyBlock, DutySpec, MaterialSpec
 from springcad.design import fatigue
-from springcad.design.feasibility import MAX_SCALE, larger_disk, nearest_changes
+from springcad.design.feasibility import larger_disk, nearest_changes
 from springcad.design.feasibility import describe as feasibility_text
 from springcad.materials import material_table
 from springcad.units import NMM_PER_NM
@@ -424,7 +424,8 @@ def biased(material: MaterialSpec, bias: float) -> MaterialSpec:
 NOTHING_MEETS = ": relax the duty"
 
 
-def alternatives(spec, material: MaterialSpec, designs, deadline: float | None = None) -> str:
+def alternatives(spec, material: MaterialSpec, designs, deadline: float | None = None
+                 ) -> tuple[str, tuple]:
     """When a declared duty sets the allowed peak and the envelope cannot meet it: the
     changes beyond the spring's own keys that would, each checked with ``designs``.
 
@@ -436,15 +437,17 @@ def alternatives(spec, material: MaterialSpec, designs, deadline: float | None =
             (:func:`springcad.design.feasibility.probes_spent`; None: never).
 
     Returns:
-        "" or text to append to the refusal: a better surface finish, another material
-        with fatigue data, or the spring split into two disks in series (each twice the
-        stiffness at half the deflection; a stack of n such disks needs n+1); when none
-        alone: the best surface with the nearest thickness, outer radius or deflection,
-        else with the whole disk scaled up (thickness and outer radius together, the
-        user's fixed layout keys left free when that is what it takes).
+        (text, disk): "" or text to append to the refusal: a better surface finish,
+        another material with fatigue data, or the spring split into two disks in series
+        (each twice the stiffness at half the deflection; a stack of n such disks needs
+        n+1); when none alone: the best surface with the nearest thickness, outer radius
+        or deflection, else with the whole disk larger
+        (:func:`~springcad.design.feasibility.larger_disk`; the user's fixed layout keys
+        left free when that is what it takes). ``disk``: that last change as ``(clause,
+        spec, surface)`` for the job's check with its hardware, else ().
     """
     if not fatigue_limited(material, spec.max_deflection_rad):
-        return ""
+        return "", ()
     found = []
     surfaces = fatigue.surface_table()
     now = surfaces[material.duty.surface].factor
@@ -476,7 +479,7 @@ def alternatives(spec, material: MaterialSpec, designs, deadline: float | None =
     head = (f"; the duty ({describe(material.duty)}) allows a peak of {allowed:.0f} MPa at "
             f"theta_max")
     if found:
-        return head + "; it is also met with " + " or ".join(found)
+        return head + "; it is also met with " + " or ".join(found), ()
     # nothing alone: the best surface together with the nearest thickness, radius, deflection
     best = max(surfaces.values(), key=lambda x: x.factor)
     better = replace(material, duty=replace(material.duty, surface=best.name))
@@ -485,11 +488,13 @@ def alternatives(spec, material: MaterialSpec, designs, deadline: float | None =
     if changes:
         return (head + f'; no surface finish, material or extra disk alone meets it; with '
                 f'manufacturing.surface = "{best.name}" it is '
-                + feasibility_text(spec.name, changes))
+                + feasibility_text(spec.name, changes)), ()
     head += ("; no surface finish, material or extra disk alone meets it, nor the best surface "
              "with another thickness, outer radius or deflection")
     # several keys: the whole disk larger (the user's fixed layout keys left free too)
-    big, _ = larger_disk(spec, lambda s: designs(s, better), deadline=deadline)
+    big, bigger = larger_disk(spec, lambda s: designs(s, better), deadline=deadline)
     if big:
-        return head + f'; it is met with manufacturing.surface = "{best.name}" and {big}'
-    return head + f", nor a disk up to {MAX_SCALE:g}x larger with the best surface" + NOTHING_MEETS
+        return (head + f'; it is met with manufacturing.surface = "{best.name}" and {big}',
+                (big, bigger, best.name))
+    return (head + ", nor a larger or reshaped disk with the best surface" + NOTHING_MEETS,
+            ())

@@ -305,14 +305,18 @@ def _checked_key_changes(job: Job, err: DesignError) -> DesignError:
     scaled (``err.disk_changes``)."""
     text = str(err)
     changes = [(key_clause(name, key, now, value), name,
-                with_key(job.springs[name], key, value))
+                with_key(job.springs[name], key, value), None)
                for name, key, now, value in err.key_changes]
-    changes += [(clause, name, spec) for name, clause, spec in err.disk_changes]
+    changes += [(clause, name, spec, surface)
+                for name, clause, spec, surface in err.disk_changes]
     changes = sorted(({c[0]: c for c in changes if c[0] in text}).values(),
                      key=lambda c: text.find(c[0]))[:CHECKED_CHANGES]
-    for clause, name, spec in changes:
+    for clause, name, spec, surface in changes:
         report(f"spring {name}: checking {clause.split(' (')[0]} with the whole job")
         changed = replace(job, springs={**job.springs, name: spec})
+        if surface is not None:
+            finished = replace(job.material.duty, surface=surface)
+            changed = replace(changed, material=replace(job.material, duty=finished))
         try:
             design_job(changed, explain=False)
         except RemedyError as e:

@@ -89,7 +89,7 @@ def _for_default_duty(spec, material, manufacturing, hardware, explain, max_root
         if not explain:
             return d
         with probe_clock():
-            advice = duty.alternatives(spec, sized, lambda s, m: _designs(
+            advice, _ = duty.alternatives(spec, sized, lambda s, m: _designs(
                 s, m, manufacturing, hardware, max_root_radius_mm, base=spec),
                 deadline=ADVICE_PROBES)
         return _replace(d, duty_advice=advice.lstrip("; "))
@@ -445,7 +445,7 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
     freed = _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm)
     say("probing the nearest value of each of your keys that designs")
     nearest = nearest_changes(spec, designs, deadline=deadline(), webs=webs)
-    series, materials, alternatives = None, [], ""
+    series, materials, alternatives, duty_disk = None, [], "", ()
     if not duty.fatigue_limited(material, spec.max_deflection_rad):
         # (when the duty sets the allowed peak, its own alternatives, below, replace these)
         if probes_spent() < stop:
@@ -459,15 +459,16 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
         changes = freed + ("; or " + changes if not changes.startswith("no change") else "")
     if probes_spent() < stop and duty.fatigue_limited(material, spec.max_deflection_rad):
         say("probing surface finishes, materials and disks for the duty")
-        alternatives = duty.alternatives(spec, material, designs, deadline=deadline())
+        alternatives, duty_disk = duty.alternatives(spec, material, designs,
+                                                    deadline=deadline())
     found = bool(freed or nearest or materials or series is not None) or (
         bool(alternatives) and not alternatives.endswith(duty.NOTHING_MEETS))
     if not found and not alternatives:  # several keys: the whole disk larger
         say("probing the whole disk scaled up")
         big, scaled = larger_disk(spec, designs, deadline=deadline())
         if big:
-            return f"{changes}; it designs with {big}", True, nearest, ((big, scaled),)
-    return changes + alternatives, found, nearest, ()
+            return f"{changes}; it designs with {big}", True, nearest, ((big, scaled, None),)
+    return changes + alternatives, found, nearest, (duty_disk,) if duty_disk else ()
 
 
 def changes_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
