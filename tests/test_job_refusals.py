@@ -196,3 +196,25 @@ def test_a_deflection_bound_stack_names_a_reshaped_disk_that_designs():
     assert name == "S1" and surface is None and clause in str(refused.value), str(refused.value)
     assert re.search(r"springs\.S1\.(thickness|outer_radius)_mm = [\d.]+ \(now", clause)
     design_job(replace(job, springs={"S1": spec}), explain=False)
+
+
+def test_a_fixed_root_radius_the_rim_spacer_cannot_fit_is_refused_at_design_with_changes():
+    """Held-out B 012: four disks pinned rim to rim by Ø4 dowels with the user's root radius
+    20.2 mm (the config's own rim rule's suggestion) were refused at the build's rim-spacer
+    check with no number. The design refuses it first, in milliseconds, and each change
+    it names designs the whole job."""
+    job = job_from_dict({
+        "material": {"name": "420_ht", "safety_factor": 1.3},
+        "springs": {"S1": {"target_stiffness_Nm_per_rad": 164, "max_deflection_deg": 6.75,
+                           "outer_radius_mm": 25.0, "thickness_mm": 6.0,
+                           "root_radius_mm": 20.2, "flexure": "serpentine"}},
+        "stack": {"sequence": ["S1"] * 4, "input": "shaft"},
+        "hardware": {"fastener": "dowel", "fastener_diameter_mm": 4.0}})
+    with pytest.raises(DesignError, match=r"springs\.S1\.root_radius_mm = 20\.2 leaves") as e:
+        design_job(job)
+    named = re.findall(r"((?:springs\.S1|hardware)\.\w+) = ([\d.]+) \(now [\d.]+\)(?! \(then)",
+                       str(e.value))
+    assert {k for k, _ in named} == {"springs.S1.root_radius_mm", "springs.S1.outer_radius_mm",
+                                     "hardware.fastener_diameter_mm"}, str(e.value)
+    for key, value in named:
+        design_job(job_module.with_changes(job, {key: float(value)}), explain=False)

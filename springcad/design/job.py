@@ -8,7 +8,9 @@ from dataclasses import dataclass, replace
 from springcad.version import stamp
 from springcad.config import Job, ManufacturingSpec
 from springcad.config.consistency import check as check_config
-from springcad.config.consistency import min_rim_mm
+from springcad.config.consistency import ROOT_STEP_MM, min_rim_mm
+from springcad.config.schema import BOLT_DIAMETERS_MM
+from springcad.data import dowel_lengths
 from springcad.design import duty
 from springcad.design.connections import RIM, camshaft_indices, connection_sequence
 from springcad.design.feasibility import fewer_disks, key_clause, with_key
@@ -21,7 +23,7 @@ from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
 from springcad.design.tolerance import gap_range_mm
-from springcad.errors import ConfigError, DesignError, RemedyError, one_line
+from springcad.errors import ConfigError, DesignError, RemedyError, change_text, one_line
 from springcad.progress import Progress, report, reporting
 
 SCHEMA = "springcad.design/1"
@@ -260,6 +262,7 @@ def _design_job(job: Job, explain: bool = True, progress: Progress | None = None
         DesignError: a spring or a hardware part cannot be made as specified.
     """
     rr_max = shared_rim_limit_mm(job)
+    _check_fixed_roots(job, rr_max, explain)
     asked = job  # the remedies of a hardware refusal are changes to the job as given
     springs, refusals = {}, []
     with reporting(progress):
@@ -288,6 +291,63 @@ def _design_job(job: Job, explain: bool = True, progress: Progress | None = None
             raise
         raise _checked_pin_remedies(asked, err) from err
     return design
+
+
+#: how far, and on what step, an outer radius is searched past the user's for a fixed root
+#: radius to fit (mm; the refusals' outer-radius step)
+ROOT_ROOM_SEARCH_MM = 20.0
+OUTER_STEP_MM = 0.5
+
+
+def _check_fixed_roots(job: Job, rr_max: float, explain: bool) -> None:
+    """A root radius the user fixed must leave the rim the pinned rims' hardware needs
+    (:func:`shared_rim_limit_mm`: the rim spacer's clearance holes and webs, the bolts'
+    circle), which the config's own rim rule does not know: held-out B 012, given a root
+    radius of 20.2 mm by that rule, was refused at the build's spacer check with no number.
+    Checked here, in milliseconds, naming the root radius, outer radius or fastener under
+    which it fits, each checked with the whole job when ``explain``.
+
+    Raises:
+        DesignError: a fixed root radius past ``rr_max`` (mm).
+    """
+    for name in dict.fromkeys(job.stack.sequence):
+        rr = job.springs[name].root_radius_mm
+        if rr is None or rr <= rr_max + 1e-9:
+            continue
+        spec, hw = job.springs[name], job.hardware
+        p = f"springs.{name}"
+        changes = {}
+        fit = math.floor(rr_max / ROOT_STEP_MM + 1e-9) * ROOT_STEP_MM
+        if fit > 0:
+            changes[change_text(f"{p}.root_radius_mm", round(fit, 6), rr)] = {
+                f"{p}.root_radius_mm": round(fit, 6)}
+        steps = int(ROOT_ROOM_SEARCH_MM / OUTER_STEP_MM)
+        for ro in (spec.outer_radius_mm + OUTER_STEP_MM * k for k in range(1, steps + 1)):
+            if shared_rim_limit_mm(with_changes(job, {f"{p}.outer_radius_mm": ro})) >= rr - 1e-9:
+                changes[change_text(f"{p}.outer_radius_mm", ro, spec.outer_radius_mm)] = {
+                    f"{p}.outer_radius_mm": ro}
+                break
+        sizes = BOLT_DIAMETERS_MM if hw.fastener == "bolt" else sorted(dowel_lengths())
+        for d in sorted((d for d in sizes if d < hw.fastener_diameter_mm), reverse=True):
+            if shared_rim_limit_mm(replace(job, hardware=replace(hw, fastener_diameter_mm=d))) \
+                    >= rr - 1e-9:
+                changes[change_text("hardware.fastener_diameter_mm", d,
+                                    hw.fastener_diameter_mm)] = {"hardware.fastener_diameter_mm": d}
+                break
+        named = []
+        for clause, change in changes.items():
+            if explain:
+                report(f"spring {name}: checking {clause.split(' (')[0]} with the whole job")
+                try:
+                    design_job(with_changes(job, change), explain=False)
+                except (DesignError, ConfigError) as e:
+                    clause = f"{clause} (then {one_line(short_reason(e), 160)})"
+            named.append(clause)
+        raise DesignError(
+            f"{p}.root_radius_mm = {rr:g} leaves a rim of {spec.outer_radius_mm - rr:.3g} mm; "
+            f"the pinned rims' hardware (the rim spacer's clearance holes and webs, the "
+            f"fasteners' circle) needs the root radius at most {rr_max:.4g} mm: use "
+            + (" or ".join(named) if named else "a larger outer radius"))
 
 
 #: the changes of a spring refusal checked with the whole job, first named first: each costs
