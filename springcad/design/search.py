@@ -242,20 +242,26 @@ def _commonest(rejected: list) -> tuple[tuple, int]:
 #: drives it (fewer flexures then fit); held-out g26 (r_c fixed at 11 mm, 18 deg) kept a
 #: 1 um tooth-tip gap with its 0.3 mm balls and designs clean with 0.5 mm
 BALL_FACTORS = (1.25, 1.5, 1.75, 2.0)
+#: the best-ranked layouts searched again with each larger ball (of MAX_CANDIDATES): a
+#: larger ball mends the contact of the layouts that were nearly there (g26 passed with
+#: the first); the retry of a spring that no ball mends (held-out B 010 at 4.4 x 51 mm:
+#: four ball sizes x 12 layouts, 39 of its 75 s) then costs a third
+BALL_RETRY_CANDIDATES = 4
 
 
 def _with_larger_ball(spec, material, manufacturing, hardware, max_root_radius_mm, candidates,
                       fallback: SpringDesign, short: str) -> SpringDesign | None:
     """The first design that passes every rule with tip balls of at least
-    :data:`BALL_FACTORS` x the kept layout's (the tip ball is springcad's choice here), its
-    choice saying why; None when none does."""
+    :data:`BALL_FACTORS` x the kept layout's (the tip ball is springcad's choice here), among
+    the :data:`BALL_RETRY_CANDIDATES` best-ranked layouts, its choice saying why; None when
+    none does."""
     for factor in BALL_FACTORS:
         floor = round(factor * fallback.tip_radius_mm, 3)
         report(f"spring {spec.name}: every layout falls short ({short}); trying tip balls of "
                f"at least {floor:g} mm")
         bigger = _replace(spec, min_tip_radius_mm=max(spec.min_tip_radius_mm, floor))
         d, *_ = _first_passing(bigger, material, manufacturing, hardware, max_root_radius_mm,
-                               candidates)
+                               min(candidates, BALL_RETRY_CANDIDATES))
         if d is not None:
             return _replace(d, design_choice=(
                 f"{d.design_choice}; tip balls of at least {floor:g} mm: with "
