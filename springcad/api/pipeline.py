@@ -546,16 +546,18 @@ def _export_into(built: Build, out: Path, overwrite: bool, inputs: list, render:
     with atomic_output_dir(out, overwrite=overwrite, inputs=inputs) as tmp, \
             single_threaded_blas():
         tmp = Path(tmp)
-        with stage("exports", track.subject("exports")), \
-                _fea_and_render(ver if outputs is None else None, asm, tmp, render, store,
-                                track) as fea_and_render:
+        with stage("exports", track.subject("exports")):
             write_json(tmp / "design.json", d.to_dict())
             built.release = release_status(d.raw, ver.raw if ver is not None else None,
                                            ver is None, built.checks.checks)
             info = {"job": d.job.name, "revision": revision,
                     "date": build_date(), "drawn_by": _drawn_by(),
                     "release": built.release}
-            with _part_sheets(asm, tmp, info, template, store, track, dxf_version) as sheets:
+            # the drawings' process first, the longest of the exports: the render's
+            # tessellation (this process, before its own fork) then runs beside it
+            with _part_sheets(asm, tmp, info, template, store, track, dxf_version) as sheets, \
+                    _fea_and_render(ver if outputs is None else None, asm, tmp, render, store,
+                                    track) as fea_and_render:
                 cad = export_part_cad(asm, tmp, info["date"], progress=track, cache=store)
                 stack = export_assembly(asm, tmp, render=False, progress=track,
                                         date=info["date"], cache=store)
@@ -563,14 +565,15 @@ def _export_into(built: Build, out: Path, overwrite: bool, inputs: list, render:
                 # what the DXFs are held against, while the second process may still write them
                 references = None if isinstance(asm, LazyAssembly) else dxf_references(asm)
                 sheet_files = sheets.result()
-            parts = part_file_order(asm, cad + sheet_files)
-            stack += export_bundle(asm, tmp, parts, progress=track, release=built.release)
-            checks += roundtrip_checks(asm, tmp, sheet_files, progress=track, cache=store,
-                                       references=references)
-            if outputs is not None:  # before the render's result: progress in that order
-                fea_files = outputs.take(tmp / "fea", track)
-            fea_files, png = fea_and_render.result() if outputs is None else (
-                fea_files, fea_and_render.result()[1])
+                parts = part_file_order(asm, cad + sheet_files)
+                stack += export_bundle(asm, tmp, parts, progress=track,
+                                       release=built.release)
+                checks += roundtrip_checks(asm, tmp, sheet_files, progress=track, cache=store,
+                                           references=references)
+                if outputs is not None:  # before the render's result: progress in that order
+                    fea_files = outputs.take(tmp / "fea", track)
+                fea_files, png = fea_and_render.result() if outputs is None else (
+                    fea_files, fea_and_render.result()[1])
             files = parts + stack_file_order(stack + png)
             order = {f.path: k for k, f in enumerate(files)}
             built.roundtrip = sorted(checks, key=lambda c: order[c.subject])

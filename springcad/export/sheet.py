@@ -17,6 +17,7 @@ solid. Units: mm (model and sheet), points only for line widths and font sizes.
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
 from dataclasses import dataclass
 
@@ -132,7 +133,7 @@ class Sheet:
         self.bottom = bottom_mm  # sheet y of the figure's lower edge (< 0: pages below page 1)
         self.fig = Figure(figsize=(self.width / 25.4, self.height / 25.4))
         self._canvas = FigureCanvasAgg(self.fig)
-        self._renderer = self._canvas.get_renderer()
+        self._renderer = _measuring_renderer(self.fig.dpi)
         self.ax = self.fig.add_axes((0, 0, 1, 1))
         self.ax.set_xlim(0, self.width)
         self.ax.set_ylim(self.bottom, self.bottom + self.height)
@@ -533,6 +534,21 @@ class Sheet:
         except UnicodeEncodeError:
             return False
         return True
+
+
+@functools.lru_cache(maxsize=None)
+def _measuring_renderer(dpi: float):
+    """The Agg renderer every sheet of this process measures its texts with (at ``dpi``,
+    the figures' dots per inch).
+
+    A text's size is a function of the string, its font properties and the dpi only (Agg:
+    FreeType's advance widths), and matplotlib keeps the sizes it measured per renderer: one
+    renderer for every sheet lets a drawing's probe sheet, its real sheet and the next
+    drawings share them (the title block's labels, the notes), where a renderer per sheet
+    measured each again; and a sheet no longer allocates an A3 pixel buffer to measure."""
+    from matplotlib.backends.backend_agg import RendererAgg
+
+    return RendererAgg(1, 1, dpi)
 
 
 @contextlib.contextmanager

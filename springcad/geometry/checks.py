@@ -260,6 +260,7 @@ def clearance_checks(assembly) -> list[Check]:
     rings = [i for i in assembly.instances if i.component.kind == "flexure_ring"]
     cams = [i for i in assembly.instances if i.component.kind == "camshaft"]
     cache: dict = {}
+    samples: dict = {}  # the tip loops' samples, shared by rings (camshafts) of one part
     out = []
     for ring in rings:
         engaged = [c for c in cams if _shares_z(ring, c)]
@@ -272,7 +273,7 @@ def clearance_checks(assembly) -> list[Check]:
         key = (ring.part.part_number, cam.part.part_number, cam.placement.flipped,
                cam.placement.angle_rad - ring.placement.angle_rad)
         if key not in cache:
-            cache[key] = cam_clearance(ring, cam)
+            cache[key] = cam_clearance(ring, cam, samples=samples)
         res = cache[key]
         gap = res.design_gap_mm
         ok = (abs(res.kernel_min_mm - gap) <= CLEARANCE_TOL_MM

@@ -300,12 +300,25 @@ def _select(faces, box):
             if all(b[k] <= box[k + 3] and b[k + 3] >= box[k] for k in range(3))]
 
 
-def cam_clearance(ring_inst, cam_inst, sectors: int = 2) -> ClearanceResult:
+def _tip_samples(loop, samples: dict | None) -> np.ndarray:
+    """``loop`` sampled every :data:`TIP_STEP_MM` in its part's frame (mm), kept in
+    ``samples`` (by the loop's identity, the loop held) when given: two rings of one part,
+    or two camshafts, are sampled once (the ring's flexures: ~10^6 points)."""
+    if samples is None:
+        return loop.sample(TIP_STEP_MM)
+    if id(loop) not in samples:
+        samples[id(loop)] = (loop, loop.sample(TIP_STEP_MM))
+    return samples[id(loop)][1]
+
+
+def cam_clearance(ring_inst, cam_inst, sectors: int = 2,
+                  samples: dict | None = None) -> ClearanceResult:
     """Measure the gap between a placed flexure ring and its placed camshaft.
 
     The sampled profiles give the minimum over every flexure; the kernel distance
     is taken on ``sectors`` evenly spaced flexure tips, starting at the one where
-    the sampled minimum lies.
+    the sampled minimum lies. ``samples``: a dict the tip loops' samples are kept in
+    between calls on the same parts (:func:`_tip_samples`), or None.
     """
     import build123d as bd
     from scipy.spatial import cKDTree
@@ -313,10 +326,10 @@ def cam_clearance(ring_inst, cam_inst, sectors: int = 2) -> ClearanceResult:
     ring, cam = ring_inst.part, cam_inst.part
     n = ring.n_flexures
     r_lo, r_hi = ring.contact_radius - 2 * ring.tip_radius - 0.2, cam.tip_radius + 0.3
-    rp = _tip_zone(ring_inst.placement.map_xy(ring.spring.ring.loop("flexures").sample(TIP_STEP_MM)),
-                   r_lo, r_hi)
-    cp = _tip_zone(cam_inst.placement.map_xy(cam.info.cut_profile.loop("teeth").sample(TIP_STEP_MM)),
-                   r_lo, r_hi)
+    rp = _tip_zone(ring_inst.placement.map_xy(_tip_samples(ring.spring.ring.loop("flexures"),
+                                                           samples)), r_lo, r_hi)
+    cp = _tip_zone(cam_inst.placement.map_xy(_tip_samples(cam.info.cut_profile.loop("teeth"),
+                                                          samples)), r_lo, r_hi)
     d, _ = cKDTree(cp).query(rp)
     k = int(np.argmin(d))
     pitch = 2 * math.pi / n
