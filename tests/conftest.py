@@ -53,3 +53,32 @@ def paper_designs():
     names = ["paper_S1", "paper_S2", "paper_2xS1", "paper_2xS2", "paper_4xS1", "paper_S1_2xS2",
              "paper_S2_3xS1", "paper_4xS1_mfr1", "paper_4xS1_mfr2"]
     return {n: design_job(load_job(template(n)), explain=False) for n in names}
+
+
+#: the umask of the shared S1 build below: an unusual one, which every output must follow
+S1_BUILD_UMASK = 0o027
+
+
+@pytest.fixture(scope="session")
+def s1_cli_build(tmp_path_factory):
+    """One accepted ``springcad build`` of paper S1 without FEA (revision B, under
+    S1_BUILD_UMASK), made once per worker: (exit status, output folder), its console
+    output in ``out/../stdout``. For the tests that only read a build's files
+    (export/test_cli_build.py, report/test_html_build_report.py); tests that patch a stage,
+    interrupt a build or test the cache build their own."""
+    import contextlib
+    import io
+
+    from springcad.cli import main
+
+    out = tmp_path_factory.mktemp("s1_build") / "s1"
+    console = io.StringIO()
+    old_mask = os.umask(S1_BUILD_UMASK)
+    try:
+        with contextlib.redirect_stdout(console):
+            code = main(["build", str(template("paper_S1")), "--out", str(out),
+                         "--accept-violations", "--revision", "B", "--no-verify"])
+    finally:
+        os.umask(old_mask)
+    (out.parent / "stdout").write_text(console.getvalue())
+    return code, out

@@ -208,14 +208,23 @@ def test_verify_through_api_and_cli_gives_the_same_json(tmp_path):
     assert stable(cli) == stable(as_json(api.to_dict()))
 
 
+@pytest.fixture(scope="module")
+def s1_built():
+    """The paper S1 built through the API (no FEA), once for the module: both tests below
+    only read it and export it (``export_build`` leaves the Build it is given, which
+    test_export_build_leaves_the_build_it_was_given checks on this shared Build)."""
+    return sc.build(sc.design_job(template("paper_S1")))
+
+
 @pytest.mark.slow
-def test_build_through_api_and_cli_gives_the_same_json(tmp_path, monkeypatch):
+def test_build_through_api_and_cli_gives_the_same_json(tmp_path, monkeypatch, s1_built):
     monkeypatch.setenv("SOURCE_DATE_EPOCH", "1700000000")  # the same date on both drawings
     cfg = template("paper_S1")
     assert main(["build", str(cfg), "--out", str(tmp_path / "cli"), "--no-verify",
                  "--no-render"]) == 0
     cli = json.loads((tmp_path / "cli" / "build.json").read_text())
-    built = sc.export_build(sc.build(sc.design_job(cfg)), tmp_path / "api", render=False)
+    # the date is the export's (api/pipeline.py build_date): the shared Build takes it here
+    built = sc.export_build(s1_built, tmp_path / "api", render=False)
     # file sizes left out: a second build in one process can write a coordinate as -0. where
     # the first wrote 0. (the CAD kernel's signed zero), two bytes in a STEP file
     assert stable(cli, drop={"bytes"}) == stable(as_json(built.to_dict()), drop={"bytes"})
@@ -225,10 +234,16 @@ def test_build_through_api_and_cli_gives_the_same_json(tmp_path, monkeypatch):
     assert stable(design_cli) == stable(design_api)
 
 
-def test_paper_through_api_and_cli_gives_the_same_json(tmp_path):
+@pytest.fixture(scope="module")
+def paper_validation():
+    """The paper's validation without FEA through the API, once for the module (read only)."""
+    return sc.validate_paper(use_fea=False)
+
+
+def test_paper_through_api_and_cli_gives_the_same_json(tmp_path, paper_validation):
     assert main(["paper", "--out", str(tmp_path / "cli"), "--no-fea"]) == 0
     cli = json.loads((tmp_path / "cli" / "validation.json").read_text())
-    api = sc.validate_paper(use_fea=False)
+    api = paper_validation
     assert len(cli["configurations"]) == 7
     assert stable(cli) == stable(as_json(api.to_dict()))
 
@@ -281,10 +296,12 @@ def test_verification_files_through_api_and_cli_are_the_same(tmp_path):
     assert not (tmp_path / "other").exists()
 
 
-def test_export_build_leaves_the_build_it_was_given(tmp_path):
+def test_export_build_leaves_the_build_it_was_given(tmp_path, s1_built):
     """``export_build`` returns a new Build with the folder, files and release; the Build it
-    was given is left as it was (as build123d's ``export_step`` leaves its shape)."""
-    built = sc.build(sc.design_job(template("paper_S1")))
+    was given is left as it was (as build123d's ``export_step`` leaves its shape). The
+    module's shared Build may have been exported before: an export that changed it would
+    fail here either way (its folder, release and files must still be unset)."""
+    built = s1_built
     before = (built.out_dir, list(built.files), built.release, dict(built.timings_s),
               dict(built.options), list(built.roundtrip))
     exported = sc.export_build(built, tmp_path / "out", render=False)
@@ -298,7 +315,7 @@ def test_export_build_leaves_the_build_it_was_given(tmp_path):
     assert exported.release is not None and exported.roundtrip
 
 
-def test_every_result_document_is_stamped_by_the_one_writer():
+def test_every_result_document_is_stamped_by_the_one_writer(paper_validation):
     """Each document's head (schema, version) comes from ``springcad.version.stamp`` and
     from nowhere else in the package."""
     import re
@@ -308,7 +325,7 @@ def test_every_result_document_is_stamped_by_the_one_writer():
 
     docs = {"design": sc.design_job(template("paper_S1")).to_dict(),
             "fit": sc.fit_record(sc.simulate(40.0, seed=5)).to_dict(),
-            "validation": sc.validate_paper(use_fea=False).to_dict()}
+            "validation": paper_validation.to_dict()}
     for name, doc in docs.items():
         assert list(doc)[:2] == ["schema", "springcad_version"], name
         assert doc["schema"].startswith(f"springcad.{name}/") and \

@@ -20,7 +20,7 @@ import tempfile
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given, seed, settings
 from hypothesis import strategies as st
 
 from springcad.cli import main
@@ -63,9 +63,19 @@ def leftovers(folder: Path, expected: set[str]) -> list[str]:
 
 
 @pytest.mark.slow
+@seed(6)
 @settings(FUZZ, max_examples=60)
 @given(rng=st.randoms(use_true_random=False))
 def test_mutated_configs_design_or_refuse_cleanly(rng):
+    """Every mutated config designs or is refused cleanly.
+
+    The examples are pinned by ``@seed`` (derandomize alone seeds from the test's source, so
+    an edited docstring drew another set). Seed 6's 60 examples reach all 13 families of
+    ``mutate_config`` (6 designs, 54 refusals, 3 of them the design search's; ~30-60 s).
+    The source-seeded 60 used before reached 11 (no ``bounds``, no ``multi``) and spent
+    137 of ~140 s in four design-search refusals, one (paper S1 at safety_factor = 3) ~95 s
+    in the refusal's search. Measured (2026-11-27): a config reader that lets a non-UTF-8
+    file's decode error escape (exit 3) fails this test with seed 6, as it did before."""
     family, data = mutate_config(rng, FAST_TEMPLATES)
     with workdir() as w:
         cfg = w / "job.toml"

@@ -1,34 +1,22 @@
 """``springcad build`` in-process: atomic output, violations, build.json, read-backs."""
 
 import json
-import os
 
 import pytest
 
 from cad_fixtures import TEMPLATES, job_data, toml_text
 from springcad.cli import main
+from tests.conftest import S1_BUILD_UMASK as BUILD_UMASK
 
 S1 = TEMPLATES / "paper_S1.toml"
-BUILD_UMASK = 0o027
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    """One accepted S1 build shared by the tests below (its console output in out/../stdout)."""
-    import contextlib
-    import io
-
-    out = tmp_path_factory.mktemp("build") / "s1"
-    console = io.StringIO()
-    old_mask = os.umask(BUILD_UMASK)  # an unusual umask: every output must follow it
-    try:
-        with contextlib.redirect_stdout(console):
-            code = main(["build", str(S1), "--out", str(out), "--accept-violations",
-                         "--revision", "B", "--no-verify"])
-    finally:
-        os.umask(old_mask)
-    (out.parent / "stdout").write_text(console.getvalue())
-    return code, out
+def built(s1_cli_build):
+    """One accepted S1 build shared by the tests below (its console output in out/../stdout),
+    made under the unusual umask BUILD_UMASK (tests/conftest.py: shared with the report
+    tests, which read the same files)."""
+    return s1_cli_build
 
 
 def test_build_output_modes_follow_the_umask(built):

@@ -4,23 +4,19 @@ from __future__ import annotations
 
 import json
 import re
-from pathlib import Path
 
 import pytest
 
-from springcad.cli import main
 from springcad.report.html_build import SECTIONS, render_build_report, verdict
 from tests.browser import assert_rendered, assert_self_contained, needs_chromium, screenshot
 
-ROOT = Path(__file__).resolve().parents[2]
-S1 = ROOT / "templates" / "paper_S1.toml"
-
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    """An S1 build without FEA: the report must say it is not for manufacture."""
-    out = tmp_path_factory.mktemp("report") / "s1"
-    assert main(["build", str(S1), "--out", str(out), "--accept-violations", "--no-verify"]) == 0
+def built(s1_cli_build):
+    """An S1 build without FEA (the session's, tests/conftest.py): the report must say it is
+    not for manufacture."""
+    code, out = s1_cli_build
+    assert code == 0
     return out
 
 
