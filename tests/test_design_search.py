@@ -18,7 +18,7 @@ from springcad.design.contact_stress import tip_contact_von_mises_MPa
 from springcad.design.driven import ball_lift_mm, driven_psi
 from springcad.design.job import camshaft_groups, design_job
 from springcad.design.layout import candidate_layouts
-from springcad.design.search import _choice_text, _commonest
+from springcad.design.search import _alike, _choice_text
 from springcad.design.sizing import _NoMoreLayouts
 from springcad.errors import DesignError
 
@@ -181,17 +181,15 @@ def test_the_choice_names_each_rejection_once_with_its_count():
     assert text.endswith("tooth too close (2 layouts); fillets overlap")
 
 
-def test_a_refusal_names_the_rule_most_layouts_fall_short_of():
-    """The "Why" of a refusal cites the best-ranked layout of the most common rule (rules
-    equal up to their numbers), with how many layouts it stopped, not the first layout's
-    rule alone; ties go to the best-ranked rule."""
-
+def test_a_refusal_counts_the_layouts_short_of_the_best_ranked_rule():
+    """The "Why" of a refusal cites the best-ranked layout's rule and how many of the
+    layouts tried fell short of the same rule (rules equal up to their numbers)."""
     def e(text):
         return (None, DesignError(text), [])
 
-    rejected = [e("tooth 0.12 mm wide < 0.2 mm"), e("fillets overlap by 0.05 mm at N = 40"),
+    rejected = [e("fillets overlap by 0.05 mm at N = 40"), e("tooth 0.12 mm wide < 0.2 mm"),
                 e("fillets overlap by 0.01 mm at N = 36"), e("tooth 0.15 mm wide < 0.2 mm"),
                 e("fillets overlap by 0.2 mm at N = 44")]
-    chosen, alike = _commonest(rejected)
-    assert chosen is rejected[1] and alike == 3
-    assert _commonest(rejected[:2]) == (rejected[0], 1)
+    assert _alike(rejected) == 3
+    assert _alike(rejected[1:]) == 2
+    assert _alike(rejected[:1]) == 1

@@ -269,6 +269,25 @@ def reshaped_envelope(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
     return None
 
 
+def _disk_text(spec: SpringSpec, big: SpringSpec, how: str, freed_keys) -> str:
+    """The clause naming a whole-disk change (``how``: "scaled" or "reshaped"), e.g. "the
+    disk scaled by 1.76: springs.A.thickness_mm = 7.9 (now 4.5) and ..., all together"."""
+    name = f"springs.{spec.name}"
+    changed = [k for k in ("thickness_mm", "outer_radius_mm")
+               if getattr(big, k) != getattr(spec, k)]
+    if how == "scaled":
+        head = f"the disk scaled by {big.thickness_mm / spec.thickness_mm:.2f}"
+    else:
+        head = {("thickness_mm",): "a thicker disk", ("outer_radius_mm",): "a larger disk"
+                }.get(tuple(changed), "a disk of other proportions")
+    clauses = [f"{name}.{k} = {getattr(big, k):g} (now {getattr(spec, k):g})" for k in changed]
+    if freed_keys:
+        clauses.append(", ".join(f"{name}.{k} removed (now {getattr(spec, k):g}{u})"
+                                 for k, u in freed_keys))
+    together = ", all together" if len(changed) + len(freed_keys) > 1 else ""
+    return f"{head}: {' and '.join(clauses)}{together}"
+
+
 def larger_disk(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
                 deadline: float | None = None) -> tuple[str, SpringSpec | None]:
     """A change of several keys when none alone works: the whole disk scaled up
@@ -281,24 +300,15 @@ def larger_disk(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
         designs.
     """
     fixed = fixed_choices(spec)
-    for trial in ([spec, freed(spec)] if fixed else [spec]):
-        big = scaled_envelope(trial, designs, deadline=deadline)
-        how = f"the disk scaled by {big.thickness_mm / spec.thickness_mm:.2f}" if big else ""
-        if big is None:
-            big = reshaped_envelope(trial, designs, deadline=deadline)
-            changed = [k for k in ("thickness_mm", "outer_radius_mm")
-                       if big is not None and getattr(big, k) != getattr(spec, k)]
-            how = {("thickness_mm",): "a thicker disk", ("outer_radius_mm",): "a larger disk"
-                   }.get(tuple(changed), "a disk of other proportions")
-        if big is None:
-            continue
-        name = f"springs.{spec.name}"
-        clauses = [f"{name}.{k} = {getattr(big, k):g} (now {getattr(spec, k):g})"
-                   for k in ("thickness_mm", "outer_radius_mm")
-                   if getattr(big, k) != getattr(spec, k)]
-        clauses += [f"{name}.{k} removed (now {getattr(spec, k):g}{u})"
-                    for k, u in fixed if trial is not spec]
-        return f"{how}: {' and '.join(clauses)}{', all together' * (len(clauses) > 1)}", big
+    trials = [spec, freed(spec)] if fixed else [spec]
+    # a scaled disk (the user's layout kept, then freed) before any reshaped one: a scale
+    # freeing a fixed ball is a far lighter change than a plate 4 x thicker that keeps it
+    for search, how in ((scaled_envelope, "scaled"), (reshaped_envelope, "reshaped")):
+        for trial in trials:
+            big = search(trial, designs, deadline=deadline)
+            if big is not None:
+                freed_keys = fixed if trial is not spec else ()
+                return _disk_text(spec, big, how, freed_keys), big
     return "", None
 
 

@@ -24,7 +24,6 @@ import contextlib
 import contextvars
 import math
 import re
-from collections import Counter
 from dataclasses import replace as _replace
 
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
@@ -207,34 +206,33 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
             f"{len(rejected)} layouts tried falls short of a rule, and this is the first"))
     if not rejected:
         raise DesignError(f"spring '{spec.name}': no candidate layout")
-    (_, first, history), alike = _commonest(rejected)
+    _, first, history = rejected[0]
+    alike = _alike(rejected)
     tried = ("" if len(rejected) == 1 else
-             f" ({len(rejected)} layouts tried, all short of this rule; the best:)"
+             f" ({len(rejected)} layouts tried, all short of this rule; the best-ranked:)"
              if alike == len(rejected) else
-             f" ({len(rejected)} layouts tried, {alike} short of this rule, the most common; "
-             "the best of them:)")
+             f" ({len(rejected)} layouts tried, {alike} short of this rule; the best-ranked:)")
     text = _stress_text(spec, material, history, first) if history else str(first)
     webs = any(isinstance(e, WebsHoldStiffness) for _, e, _ in rejected)
     if explain:
         raise _refusal(spec, material, manufacturing, hardware, max_root_radius_mm,
                        text, tried, webs) from first
     raise (WebsHoldStiffness if webs else DesignError)(
-        text + tried.replace("; the best of them:", "").replace("; the best:", "")) from first
+        text + tried.replace("; the best-ranked:", "")) from first
 
 
-def _commonest(rejected: list) -> tuple[tuple, int]:
-    """The best-ranked of the rejected layouts (``(layout, error, history)``, best first)
-    whose rule is the most common among them (ties: the best-ranked rule), and how many
-    fell short of that rule: a refusal's "Why" names what binds most layouts, not only
-    the reference one. Two errors are the same rule when their messages differ only in
-    numbers."""
+def _alike(rejected: list) -> int:
+    """How many of the rejected layouts (``(layout, error, history)``, best first) fell short
+    of the best-ranked one's rule (two errors are the same rule when their messages differ
+    only in numbers). The refusal's "Why" names the best-ranked layout's rule, not the most
+    common one: a thick disk's best layout is held stiff by its webs (a thinner disk or a
+    higher stiffness helps) while most others fail the curved-flexure rule, whose advice
+    (a thicker disk) points the other way (tests/test_stiffness_reach.py)."""
     def rule(entry) -> str:
         return re.sub(r"[-+]?\d[\d.,e]*", "#", str(entry[1]))
 
-    counts = Counter(rule(e) for e in rejected)
-    top = max(counts.values())
-    chosen = next(e for e in rejected if counts[rule(e)] == top)
-    return chosen, top
+    first = rule(rejected[0])
+    return sum(rule(e) == first for e in rejected)
 
 
 #: tip balls tried, as factors on the kept layout's, when every layout falls short of a
