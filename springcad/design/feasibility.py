@@ -187,10 +187,8 @@ def freed(spec: SpringSpec) -> SpringSpec:
 
 def _scaled(spec: SpringSpec, s: float) -> SpringSpec:
     """The disk's envelope scaled by ``s``: thickness and outer radius, each rounded up to
-    its key's step (0.1 mm, 0.5 mm)."""
-    z, ro = _keys()[0], _keys()[1]
-    return _replace(spec, thickness_mm=_rounded(spec.thickness_mm * s, z.step, True),
-                    outer_radius_mm=_rounded(spec.outer_radius_mm * s, ro.step, True))
+    its key's step (0.1 mm, 0.5 mm; :func:`_envelope`)."""
+    return _envelope(spec, spec.thickness_mm * s, spec.outer_radius_mm * s)
 
 
 def scaled_envelope(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
