@@ -20,7 +20,7 @@ from springcad.design import duty, shapes, stress
 from springcad.design import flexure as fx
 from springcad.design.cam import tip_clearance_need_mm, tooth_can_clear
 from springcad.design.layout import ContactLimit, Layout, fits, layout_at, toleranced_layouts
-from springcad.design.resize import with_width
+from springcad.design.resize import onto_beam_stiffness, with_width
 from springcad.design.shapes.base import SizingContext
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError, SpecInfeasible
@@ -146,12 +146,9 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
         peak_stress_MPa=float("nan"), warnings=tuple(warnings), stress_derating=derating,
         cam_min_tip_clearance_mm=spec.cam_min_tip_clearance_mm)
     # beam prediction of the generated centreline (Castigliano). The web kept at the tip
-    # stiffens the ring by ~0.1-0.3 %: a width factor brings beam theory back onto the
-    # target (K ~ scale^3; two passes because the web itself does not scale)
-    for _ in range(2):
-        k_beam = design.beam_stiffness_Nmm_per_rad()
-        design = _replace(design, width_scale=design.width_scale * (K / k_beam) ** (1 / 3))
-    return design
+    # stiffens the ring (~0.1-0.3 % on the templates, far more on small soft disks): a
+    # width factor brings beam theory back onto the target
+    return onto_beam_stiffness(design, K)
 
 
 # --------------------------------------------------------------------- stress-aware root
@@ -209,9 +206,7 @@ def _with_flare(d: SpringDesign, flare: float) -> SpringDesign:
     """``d`` with a root flare, widths rescaled back onto its beam stiffness; no profiles."""
     target = d.beam_stiffness_Nmm_per_rad()
     c = _replace(d, root_flare=flare, root_flare_length_mm=2.0 * d.rim_thickness_mm if flare else 0.0)
-    for _ in range(3):
-        c = _replace(c, width_scale=c.width_scale * (target / c.beam_stiffness_Nmm_per_rad()) ** (1 / 3))
-    return _replace(c, stiffness_beam_Nmm_per_rad=target)
+    return _replace(onto_beam_stiffness(c, target), stiffness_beam_Nmm_per_rad=target)
 
 
 def _choose_root(d: SpringDesign) -> SpringDesign:
