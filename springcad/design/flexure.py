@@ -430,6 +430,7 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
     q = np.clip((rr - r) / root_zone_mm, 0.0, 1.0) if root_zone_mm > 0 else np.ones_like(r)
     taper = q * q * (3.0 - 2.0 * q)
     best, best_key, failures, start = None, None, [], 0
+    reach = 0.0  # the largest area ratio a shape short of its budget reaches at full tilt
     for k, a, balance in SERPENTINE_SHAPES:
         start += 1
         if balance not in balances:
@@ -445,6 +446,7 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
                 break
             lam = solve_lam(h, budget)
             if lam is None:
+                reach = max(reach, build(1.0, budget, h)[4])
                 result, why = None, "tilt budget too small"
                 break
             x, y, _, theta, _ = build(lam, budget, h)
@@ -468,7 +470,9 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
     if best is None:
         raise DesignError(
             f"no curved flexure between r_c = {rc:.3g} mm and R_r = {rr:.3g} mm with "
-            f"{n_flexures} flexures reaches the area ratio {target_area_ratio:.3f} while keeping "
+            f"{n_flexures} flexures reaches the area ratio {target_area_ratio:.3f}"
+            + (f" (the shapes reach {reach:.3f} at most)" if reach else "")
+            + " while keeping "
             f"{min_clearance_mm:g} mm to its neighbour and edge radii >= {min_inside_radius_mm:g} mm "
             f"({'; '.join(failures[:3])}); increase outer_radius_mm or thickness_mm, lower the "
             "deflection, or put springs in series")
