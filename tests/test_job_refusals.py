@@ -11,7 +11,7 @@ from springcad.config import job_from_dict
 from springcad.design import job as job_module
 from springcad.design.job import design_job
 from springcad.design.stock import design_spring
-from springcad.errors import DesignError, SpecInfeasible
+from springcad.errors import ConfigError, DesignError, SpecInfeasible
 
 PAPER_TOLERANCES = {"process": "wire_edm", "t_spring_mm": 0.05, "t_shaft_mm": 0.02,
                     "w_gap_mm": 0.025}
@@ -196,6 +196,25 @@ def test_a_deflection_bound_stack_names_a_reshaped_disk_that_designs():
     assert name == "S1" and surface is None and clause in str(refused.value), str(refused.value)
     assert re.search(r"springs\.S1\.(thickness|outer_radius)_mm = [\d.]+ \(now", clause)
     design_job(replace(job, springs={"S1": spec}), explain=False)
+
+
+def test_a_pinned_rims_root_radius_is_refused_once_with_the_spacers_rule():
+    """The config's own rim rule named 20.2 mm for held-out B 012's 21 mm, which the design
+    then refused for the rim spacer, naming 19.9 mm: a remedy that did not work. On a stack
+    whose rims are pinned the config leaves a fixed root radius to the design, which names
+    the spacer's 19.9 mm at once; a single spring's rim is still checked by the config."""
+    spring = {"target_stiffness_Nm_per_rad": 164, "max_deflection_deg": 6.75,
+              "outer_radius_mm": 25.0, "thickness_mm": 6.0, "root_radius_mm": 21.0,
+              "flexure": "serpentine"}
+    hardware = {"fastener": "dowel", "fastener_diameter_mm": 4.0}
+    job = job_from_dict({"material": {"name": "420_ht", "safety_factor": 1.3},
+                         "springs": {"S1": spring}, "hardware": hardware,
+                         "stack": {"sequence": ["S1"] * 4, "input": "shaft"}})
+    with pytest.raises(DesignError, match=r"root_radius_mm = 19\.9 \(now 21\)"):
+        design_job(job, explain=False)
+    with pytest.raises(ConfigError, match=r"root_radius_mm = 20\.2 \(now 21\)"):
+        job_from_dict({"material": {"name": "420_ht", "safety_factor": 1.3},
+                       "springs": {"S1": spring}, "hardware": hardware})
 
 
 def test_a_fixed_root_radius_the_rim_spacer_cannot_fit_is_refused_at_design_with_changes():

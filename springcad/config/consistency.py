@@ -73,7 +73,13 @@ def _rim_remedies(s: SpringSpec, mfg: ManufacturingSpec, hw: HardwareSpec) -> li
     return out
 
 
-def _spring(s: SpringSpec, mfg: ManufacturingSpec, hw: HardwareSpec, given: dict) -> list[str]:
+def _spring(s: SpringSpec, mfg: ManufacturingSpec, hw: HardwareSpec, given: dict,
+            rim_pinned: bool = False) -> list[str]:
+    """Checks of one spring's keys; warnings. ``rim_pinned``: the spring's rim is pinned to
+    another's (rim-to-rim joints with fasteners), whose hardware the design checks a fixed
+    root radius against (``springcad.design.job``: the rim spacer's holes and webs, the
+    fasteners' circle, a stricter rule than the rim's own), so the rim rule is left to it:
+    a remedy named here would be refused there."""
     p = f"springs.{s.name}"
     ro, rc, rr = s.outer_radius_mm, s.contact_radius_mm, s.root_radius_mm
     if rc is not None and rc >= ro:
@@ -105,7 +111,7 @@ def _spring(s: SpringSpec, mfg: ManufacturingSpec, hw: HardwareSpec, given: dict
                                         hw.fastener_count))
     # the rim and the bore are independent: a spec that breaks both hears of both
     problems: list[ConfigError] = []
-    if rr is not None:
+    if rr is not None and not rim_pinned:
         need = min_rim_mm(ro, mfg, hw)
         if ro - rr < need - 1e-9:  # the root radius this names is on a 0.1 mm step
             problems.append(ConfigError(
@@ -157,8 +163,10 @@ def check(job: Job, spring_values: dict[str, dict]) -> Job:
                           + " mm (or use fastener = \"dowel\")")
     warnings: list[str] = []
     springs = {}
+    rim_joints = rim_joint_count(len(job.stack.sequence), job.stack.input)
     for name, s in job.springs.items():
-        warnings += _spring(s, mfg, hw, spring_values.get(name, {}))
+        pinned = bool(rim_joints) and hw.fastener_count > 0 and name in job.stack.sequence
+        warnings += _spring(s, mfg, hw, spring_values.get(name, {}), pinned)
         wire = mfg.min_inside_radius_mm
         if s.min_tip_radius_mm < wire and "min_tip_radius_mm" not in spring_values.get(name, {}):
             # the default smallest ball is below what this wire can cut: the wire's smallest
@@ -185,7 +193,6 @@ def check(job: Job, spring_values: dict[str, dict]) -> Job:
                         "it but to a predicted peak of at most yield / safety factor = "
                         f"{mat.material.yield_strength_MPa / mat.safety_factor:.0f} MPa (the design "
                         "search lowers the beam stress until the yield margin holds)")
-    rim_joints = rim_joint_count(len(job.stack.sequence), job.stack.input)
     if hw.fastener_count == 0 and rim_joints:
         raise ConfigError("hardware.fastener_count", 0,
                           f"must be at least 1: this stack has {rim_joints} rim-to-rim joint(s), "
