@@ -183,10 +183,10 @@ def _surface_gaps(sc: SectorContact, groups: dict, st: State, part: str | None =
         gap = float(np.min(np.where(into, -d, d)))
         if gap > 0:  # also from the cam's side: convex against convex, sharp corners
             cam_pts = np.vstack([segs.A, segs.B[-1:]]) @ to_ring.T
-            gap = min(gap, float(bnd.project(cam_pts)[0].min()))
+            gap = bnd.min_distance(cam_pts, gap)
         out[name] = gap
     pitch = 2 * math.pi / sc.fm.geometry.n_flexures
-    out["neighbour_flexure"] = float(bnd.project(pts @ rot(pitch).T)[0].min())
+    out["neighbour_flexure"] = bnd.min_distance(pts @ rot(pitch).T)
     return out
 
 
