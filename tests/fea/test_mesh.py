@@ -173,3 +173,18 @@ def test_size_field_nearest_is_the_k_d_tree_answer(s1):
     for x, y in pts:
         d_tree, i_tree = field.tree.query((float(x), float(y)))
         assert field._nearest(float(x), float(y)) == (d_tree, i_tree)
+
+
+def test_mesh_volume_is_scikit_fems_functional_of_one(s1_faces):
+    """mesh_volume sums the default cell basis' quadrature weights itself: the very number
+    (==) scikit-fem's Functional of 1 gives on that basis, for 2D and extruded 3D meshes."""
+    from skfem import CellBasis, Functional
+
+    from fea.mesh import fea_mesh_2d, fea_mesh_3d
+    from fea.mesh_quality import mesh_volume
+
+    g, faces = s1_faces
+    for fm in (fea_mesh_2d(faces[1], g, 1), fea_mesh_3d(faces[0], g, 2, 0)):
+        basis = CellBasis(fm.mesh, fm.mesh.elem())
+        vol = Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(basis)
+        assert mesh_volume(fm) == float(vol * (fm.thickness_mm if fm.dim == 2 else 1.0))
