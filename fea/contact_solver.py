@@ -129,6 +129,8 @@ class _Segments:
         half the longest segment (+ :data:`BOX_SLACK_MM` for round-off) projects farther
         than ``below``. Without ``below`` the points of the nearest midpoints give it first."""
         q = np.atleast_2d(q)
+        if below < 0.0:  # a distance is never negative
+            return below
         half = 0.5 * float(self.len.max())
         if not math.isfinite(below):
             d_mid, _ = self.tree.query(q, k=1)

@@ -59,7 +59,7 @@ def test_min_distance_is_the_smallest_projection(seed):
         q[:50, 1] = np.interp(q[:50, 0], P[:, 0], P[:, 1]) + rng.uniform(-1e-3, 1e-3, 50)
         full = float(segs.project(q)[0].min())
         assert segs.min_distance(q) == full
-        for below in (0.5 * full, full, 2 * full, 0.3, math.inf):
+        for below in (0.5 * full, full, 2 * full, 0.3, math.inf, -0.2):
             assert segs.min_distance(q, below) == min(below, full)
         assert segs.min_distance(q[100:], full) == min(full, float(segs.project(q[100:])[0].min()))
 
