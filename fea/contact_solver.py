@@ -46,8 +46,6 @@ OFFSET_NORMAL_MM = 1e-4
 POINTS_PER_EDGE = 8
 #: candidates nearer than this to the cam enter each iteration's complementarity problem (mm)
 NEAR_MM = 0.01
-#: points of the nearest segment midpoints projected first by :meth:`_Segments.min_distance`
-NEAREST_FIRST = 32
 #: round-off allowance of :meth:`_Segments.min_distance`'s bound on a projected distance
 #: (mm): far above the ~1e-14 mm of a foot point's own rounding, far below any gap reported
 BOX_SLACK_MM = 1e-9
@@ -127,15 +125,13 @@ class _Segments:
         when most points are far (a cam surface against one flexure). A foot point lies on
         its segment, so a point whose nearest segment midpoint is farther than ``below`` +
         half the longest segment (+ :data:`BOX_SLACK_MM` for round-off) projects farther
-        than ``below``. Without ``below`` the points of the nearest midpoints give it first."""
+        than ``below``."""
         q = np.atleast_2d(q)
         if below < 0.0:  # a distance is never negative
             return below
+        if not math.isfinite(below):  # nothing to prune against
+            return float(self.project(q)[0].min())
         half = 0.5 * float(self.len.max())
-        if not math.isfinite(below):
-            d_mid, _ = self.tree.query(q, k=1)
-            first = np.argsort(d_mid, kind="stable")[:NEAREST_FIRST]
-            below = float(self.project(q[first])[0].min())
         reach = below + half + BOX_SLACK_MM
         d_mid, _ = self.tree.query(q, k=1, distance_upper_bound=reach)
         keep = d_mid <= reach
