@@ -176,17 +176,24 @@ def _surface_gaps(sc: SectorContact, groups: dict, st: State, part: str | None =
     g_all = sc.cam.project(q)[0] + sc.cam.offset_mm
     out = {}
     to_ring = rot(st.theta)
+    inside = g_all < 0
     for name, segs in groups.items():
-        d = segs.project(q)[0]
-        # a point inside the cam has a negative gap to the surface it is nearest to only
-        into = (g_all < 0) & (d <= -g_all + 1e-9)
-        gap = float(np.min(np.where(into, -d, d)))
+        # a point inside the cam has a negative gap to the surface it is nearest to only;
+        # the points outside count by their distance alone, and only the nearest of them
+        # matters (:meth:`_Segments.min_distance`)
+        gap = math.inf
+        if inside.any():
+            d = segs.project(q[inside])[0]
+            into = d <= -g_all[inside] + 1e-9
+            gap = float(np.min(np.where(into, -d, d)))
+        if not inside.all():
+            gap = segs.min_distance(q[~inside], gap)
         if gap > 0:  # also from the cam's side: convex against convex, sharp corners
             cam_pts = np.vstack([segs.A, segs.B[-1:]]) @ to_ring.T
-            gap = min(gap, float(bnd.project(cam_pts)[0].min()))
+            gap = bnd.min_distance(cam_pts, gap)
         out[name] = gap
     pitch = 2 * math.pi / sc.fm.geometry.n_flexures
-    out["neighbour_flexure"] = float(bnd.project(pts @ rot(pitch).T)[0].min())
+    out["neighbour_flexure"] = bnd.min_distance(pts @ rot(pitch).T)
     return out
 
 

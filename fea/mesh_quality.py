@@ -111,12 +111,18 @@ def _components(mesh) -> int:
 
 def mesh_volume(fm) -> float:
     """Volume (mm^3) of a :class:`~fea.mesh.FeaMesh` by quadrature on the (curved)
-    elements; 2D: area x thickness."""
-    from skfem import Functional, CellBasis
+    elements; 2D: area x thickness.
 
-    basis = CellBasis(fm.mesh, fm.mesh.elem())
-    vol = Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(basis)
-    return float(vol * (fm.thickness_mm if fm.dim == 2 else 1.0))
+    The sum of the quadrature weights |det DF| w of scikit-fem's default cell basis (order
+    2 x the element's degree), element by element, as its ``Functional`` of 1 sums them:
+    the same number bit for bit (tested) without the basis functions' values and gradients
+    (0.15 s of the check's 0.2 s on the 37k-DOF 3D mesh)."""
+    from skfem.quadrature import get_quadrature
+
+    mesh = fm.mesh
+    X, W = get_quadrature(mesh.refdom, 2 * mesh.elem().maxdeg)
+    dx = np.abs(mesh._mapping().detDF(X)) * np.broadcast_to(W, (mesh.nelements, W.shape[-1]))
+    return float(dx.sum(-1).sum() * (fm.thickness_mm if fm.dim == 2 else 1.0))
 
 
 def check_mesh(fm, geometry, volume_tolerance: float = VOLUME_TOLERANCE) -> MeshQuality:

@@ -197,7 +197,9 @@ def _excluded_mask(points, system, fm, case, support_exclusion_mm):
     held_nodes = np.unique(system.held // system.dim)
     held_xy = system.basis.doflocs[:2, held_nodes]
     tree = cKDTree(to_rows(held_xy))  # distance in the plane: held faces span the thickness
-    d, _ = tree.query(to_rows(points[:2]))
+    # only whether a held node is nearer than the exclusion: a bounded search (the same
+    # nearest distance where there is one within it, inf elsewhere) skips the far points
+    d, _ = tree.query(to_rows(points[:2]), distance_upper_bound=support_exclusion_mm)
     mask = d < support_exclusion_mm
     patch = 2.0 * case.patch_half_width_mm(g.tip_radius_mm)
     for c in g.contact_points_mm():

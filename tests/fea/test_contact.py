@@ -42,6 +42,28 @@ def test_hertz_line_contact_closed_form():
     assert hertz_line_contact(0.0, curv, E, nu)["p0_MPa"] == 0.0
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_min_distance_is_the_smallest_projection(seed):
+    """_Segments.min_distance prunes the points that cannot come nearer: it returns the very
+    number (==) of min(below, project(q)[0].min()) over all points, with and without a bound,
+    for a dense curved polyline (the cam's) and a coarse one (a flexure boundary), points near
+    and far."""
+    from fea.contact_solver import _Segments
+
+    rng = np.random.default_rng(seed)
+    for n, step in ((4000, 1e-3), (300, 0.05)):
+        s = np.cumsum(rng.uniform(0.5, 1.5, n + 1)) * step
+        P = np.column_stack([s, 0.3 * np.sin(3 * s) + 0.05 * rng.standard_normal(n + 1) * step])
+        segs = _Segments(P[:-1], P[1:], k=3 if n > 1000 else 8)
+        q = np.column_stack([rng.uniform(-0.5, s[-1] + 0.5, 600), rng.uniform(-1.5, 1.5, 600)])
+        q[:50, 1] = np.interp(q[:50, 0], P[:, 0], P[:, 1]) + rng.uniform(-1e-3, 1e-3, 50)
+        full = float(segs.project(q)[0].min())
+        assert segs.min_distance(q) == full
+        for below in (0.5 * full, full, 2 * full, 0.3, math.inf, -0.2):
+            assert segs.min_distance(q, below) == min(below, full)
+        assert segs.min_distance(q[100:], full) == min(full, float(segs.project(q[100:])[0].min()))
+
+
 def test_lcp_matches_enumeration_of_active_sets():
     from fea.contact_solver import lcp
 

@@ -154,3 +154,37 @@ def test_pytetwild_and_gmsh_solid_agree_with_the_extruded_mesh(s1, material):
         assert abs(fm.quality.volume_error) < (1e-4 if mesher == "gmsh" else 5e-3)
         k = solve_mesh(fm, material, case, theta).stiffness_Nmm_per_rad
         assert k / ref - 1 == pytest.approx(0.0, abs=tol), mesher
+
+
+def test_size_field_nearest_is_the_k_d_tree_answer(s1):
+    """SizeField._nearest (a vector sweep over the centreline, for gmsh's per-point size
+    callback) gives the k-d tree's distance and index bit for bit: at random points of the
+    face, on the centreline itself and a micrometre off it."""
+    from fea.geometry import sector_geometry
+    from fea.mesh_size import DEFAULT_SIZE, SizeField
+
+    g = sector_geometry(s1)
+    field = SizeField(g, DEFAULT_SIZE, 0.5 * g.tip_radius_mm)
+    rng = np.random.default_rng(3)
+    cl = np.asarray(g.centreline_mm)
+    r_out = float(np.max(np.hypot(cl[:, 0], cl[:, 1]))) + 2.0
+    pts = np.vstack([rng.uniform(-r_out, r_out, (3000, 2)), cl,
+                     cl + rng.normal(0.0, 1e-3, cl.shape)])
+    for x, y in pts:
+        d_tree, i_tree = field.tree.query((float(x), float(y)))
+        assert field._nearest(float(x), float(y)) == (d_tree, i_tree)
+
+
+def test_mesh_volume_is_scikit_fems_functional_of_one(s1_faces):
+    """mesh_volume sums the default cell basis' quadrature weights itself: the very number
+    (==) scikit-fem's Functional of 1 gives on that basis, for 2D and extruded 3D meshes."""
+    from skfem import CellBasis, Functional
+
+    from fea.mesh import fea_mesh_2d, fea_mesh_3d
+    from fea.mesh_quality import mesh_volume
+
+    g, faces = s1_faces
+    for fm in (fea_mesh_2d(faces[1], g, 1), fea_mesh_3d(faces[0], g, 2, 0)):
+        basis = CellBasis(fm.mesh, fm.mesh.elem())
+        vol = Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(basis)
+        assert mesh_volume(fm) == float(vol * (fm.thickness_mm if fm.dim == 2 else 1.0))

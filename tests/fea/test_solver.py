@@ -204,3 +204,29 @@ def test_solve_check_is_scaled_by_the_backward_error_not_the_size():
     floating.A[1001, 1001] -= 1e-4 * 10 ** (4 * 1000 / 1999)
     with pytest.raises(SolverError):
         solve(floating, "superlu")
+
+
+def test_exclusion_mask_is_the_unbounded_nearest_distance_test(s1_faces, material):
+    """The stress exclusion near the held rim uses a bounded nearest-node search: the same
+    mask as the full nearest distance below the exclusion radius, at the nodes and at points
+    spread over the face (brute force over every held node)."""
+    from fea.mesh import fea_mesh_2d
+    from fea.problem import LoadCase, assemble
+    from fea.results import _excluded_mask
+
+    g, faces = s1_faces
+    fm = fea_mesh_2d(faces[1], g, 1)
+    case = LoadCase()
+    system = assemble(fm, material, case)
+    held = system.basis.doflocs[:2, np.unique(system.held // system.dim)]
+    rng = np.random.default_rng(5)
+    x = system.basis.doflocs
+    pts = np.hstack([x, x[:, rng.integers(0, x.shape[1], 2000)]
+                     + rng.normal(0.0, 0.3, (2, 2000))])
+    for radius in (0.5 * g.rim_thickness_mm, 0.05, 3.0):
+        d = np.sqrt(((pts[:, :, None] - held[:, None, :]) ** 2).sum(axis=0)).min(axis=1)
+        expect = d < radius
+        for c in g.contact_points_mm():  # the load patch, as the function adds it
+            expect |= np.hypot(pts[0] - c[0], pts[1] - c[1]) < \
+                2.0 * case.patch_half_width_mm(g.tip_radius_mm)
+        assert np.array_equal(_excluded_mask(pts, system, fm, case, radius), expect)
