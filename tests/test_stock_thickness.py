@@ -121,3 +121,30 @@ def test_the_thinnest_plate_is_found_when_thick_plates_fail_too(first, last):
     if thinner is not None:
         assert stock.index(thinner) in probed
     assert len(probed) <= 2 * 5 + 1  # two bisections of 24 plates, not a scan
+
+
+@pytest.mark.parametrize("first, last", [(0, 23), (5, 5), (3, 9), (0, 0), (23, 23), (10, 17),
+                                         (None, None)])
+@pytest.mark.parametrize("start", [0, 2, 4, 5, 9, 10, 12, 17, 18, 23])
+def test_a_first_guess_finds_the_same_plate_and_probes_its_thinner_neighbour(first, last, start):
+    """The energy estimate's first guess (any plate, inside or outside the interval that
+    designs) changes which plates are probed, never the answer: the bisection's plate and
+    its next thinner one, which was probed and refused."""
+    stock = list(plate_thicknesses_mm())
+    probed = []
+
+    def designs(t):
+        i = stock.index(t)
+        probed.append(i)
+        inside = first is not None and first <= i <= last
+        return inside, first is not None and i > last
+
+    expected = _thinnest(stock, designs)
+    probed.clear()
+    t, thinner = _thinnest(stock, designs, start)
+    assert (t, thinner) == expected
+    assert probed[0] == start
+    if thinner is not None:
+        assert stock.index(thinner) in probed and designs(thinner)[0] is False
+    if first is not None and start >= first and start <= last:  # a guess that designs
+        assert len(set(probed)) == start - first + 1 + (first > 0)  # walked down, one each

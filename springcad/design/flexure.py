@@ -164,14 +164,29 @@ def edges(centreline: Centreline, y, width):
     return c + half * n, c - half * n, n
 
 
+@functools.lru_cache(maxsize=32)
+def stations(centreline: Centreline, start_mm: float, stop_mm: float, n: int):
+    """``np.linspace(start_mm, stop_mm, n)`` and the centreline's x, dx/dy and d2x/dy2 there
+    (:meth:`Centreline.evaluate`), as read-only arrays kept per centreline and grid: the
+    design search integrates one centreline at many widths (the width scale's secant, each
+    root flare, the stress prediction of each), and the spline is evaluated once for all."""
+    y = np.linspace(start_mm, stop_mm, n)
+    out = (y, *centreline.evaluate(y))
+    for a in out:
+        a.flags.writeable = False
+    return out
+
+
 def compliance_mm_per_N(centreline: Centreline, y, width, thickness_mm: float,
-                        youngs_modulus_MPa: float, contact_radius_mm: float) -> float:
+                        youngs_modulus_MPa: float, contact_radius_mm: float,
+                        slope=None) -> float:
     """Tangential tip compliance delta/F of one flexure by Castigliano (mm/N).
 
     delta/F = integral 12 (y - r_c)^2 / (E z w^3) ds along the centreline
-    (Euler-Bernoulli bending only).
+    (Euler-Bernoulli bending only). ``slope``: dx/dy at ``y`` when the caller has it
+    (:func:`stations`), else evaluated here.
     """
-    _, dx, _ = centreline.evaluate(y)
+    dx = centreline.evaluate(y)[1] if slope is None else slope
     ds = np.sqrt(1.0 + dx ** 2)
     w = np.maximum(np.asarray(width), 1e-12)
     integrand = 12.0 * (y - contact_radius_mm) ** 2 / (youngs_modulus_MPa * thickness_mm * w ** 3) * ds

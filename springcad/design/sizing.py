@@ -54,6 +54,29 @@ class _NoMoreLayouts(Exception):
 
 
 # --------------------------------------------------------------------- one layout
+def energy_bound(spec: SpringSpec, thickness_mm: float, sigma_MPa: float,
+                 youngs_modulus_MPa: float, manufacturing: ManufacturingSpec,
+                 hardware: HardwareSpec, max_root_radius_mm: float = math.inf
+                 ) -> tuple[float, float, float]:
+    """The energy no layout of ``spec`` at thickness ``thickness_mm`` (mm) can exceed at beam
+    stress ``sigma_MPa``: (largest root radius R_r mm, smallest contact radius r_c mm, bound J).
+
+    The flexures are bending beams between the contact circle and the root circle, and no
+    beam stores more than sigma^2/(6E) per unit volume at outer-fibre stress sigma, so the
+    annulus r_c..R_r bounds the energy of every layout: r_c no smaller than the tip balls'
+    torque cap allows (load-sized balls) or the user's, R_r no larger than the rim (and the
+    stack's hole circle, ``max_root_radius_mm``) allows.
+    """
+    rr_max = min(max_root_radius_mm,
+                 spec.outer_radius_mm - min_rim_mm(spec.outer_radius_mm, manufacturing, hardware))
+    peak_Nmm = spec.target_stiffness_Nmm_per_rad * spec.max_deflection_rad
+    rc_min = (spec.contact_radius_mm if spec.contact_radius_mm is not None else
+              fx.min_contact_radius_mm(peak_Nmm, thickness_mm, sigma_MPa)
+              if spec.tip_radius_mm is None else 0.0)
+    volume_mm3 = math.pi * max(rr_max ** 2 - rc_min ** 2, 0.0) * thickness_mm
+    return rr_max, rc_min, fx.energy_bound_J_per_mm3(sigma_MPa, youngs_modulus_MPa) * volume_mm3
+
+
 def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
                hardware: HardwareSpec, derating: float = 1.0,
                balances: tuple[str, ...] = fx.BALANCES, rank: int = 0,
@@ -76,18 +99,8 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
     z, K, theta_d = spec.thickness_mm, spec.target_stiffness_Nmm_per_rad, spec.max_deflection_rad
     warnings: list[str] = []
 
-    # energy bound: the flexures are bending beams between the contact circle and the root
-    # circle, and no beam stores more than sigma^2/(6E) per unit volume at outer-fibre
-    # stress sigma, so the annulus r_c..R_r bounds the energy of every layout: r_c no
-    # smaller than the tip balls' torque cap allows (load-sized balls) or the user's, R_r
-    # no larger than the rim (and the stack's hole circle) allows
-    rr_max = min(max_root_radius_mm,
-                 spec.outer_radius_mm - min_rim_mm(spec.outer_radius_mm, manufacturing, hardware))
-    rc_min = (spec.contact_radius_mm if spec.contact_radius_mm is not None else
-              fx.min_contact_radius_mm(K * theta_d, z, sigma) if spec.tip_radius_mm is None
-              else 0.0)
-    volume_mm3 = math.pi * max(rr_max ** 2 - rc_min ** 2, 0.0) * z
-    bound_J = fx.energy_bound_J_per_mm3(sigma, E) * volume_mm3
+    rr_max, rc_min, bound_J = energy_bound(spec, z, sigma, E, manufacturing, hardware,
+                                           max_root_radius_mm)
     need_J = 0.5 * K * theta_d ** 2 * J_PER_NMM
     if need_J > bound_J:
         raise SpecInfeasible(

@@ -269,11 +269,11 @@ class SpringDesign:
         """
         E = youngs_modulus_MPa or self.material.material.youngs_modulus_MPa
         rc, z = self.contact_radius_mm, self.thickness_mm
-        y = np.linspace(rc, self.root_station_mm, 4001)
+        y, _, slope, _ = fx.stations(self.centreline, rc, self.root_station_mm, 4001)
         w = self.width_mm(y)
 
         def compliance(width):
-            return fx.compliance_mm_per_N(self.centreline, y, width, z, E, rc)
+            return fx.compliance_mm_per_N(self.centreline, y, width, z, E, rc, slope)
 
         k = self.n_flexures * rc ** 2 / compliance(w)
         if width_offset_mm:

@@ -43,6 +43,7 @@ from importlib import resources
 
 import numpy as np
 
+from springcad.design import flexure as fx
 from springcad.design.ring import neck_tangent_stations_mm, root_tangent_stations_mm
 
 
@@ -154,8 +155,7 @@ def edge_stress_MPa(design, load_N: float, stations: int = 1500):
         (y (mm), nominal (MPa), right edge (MPa), left edge (MPa)), arrays of ``stations``.
     """
     rc = design.contact_radius_mm
-    y = np.linspace(rc, design.root_station_mm, stations)
-    _, dx, ddx = design.centreline.evaluate(y)
+    y, _, dx, ddx = fx.stations(design.centreline, rc, design.root_station_mm, stations)
     kappa = ddx / (1.0 + dx ** 2) ** 1.5
     w = np.asarray(design.width_mm(y))
     nominal = 6.0 * load_N * (y - rc) / (design.thickness_mm * w ** 2)
