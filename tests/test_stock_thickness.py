@@ -97,6 +97,18 @@ def test_stress_redesign_that_nothing_carries_says_what_it_tried(chosen):
     assert "the same layout at" in str(err.value) and "any layout at" in str(err.value)
 
 
+def _interval(stock, first, last, probed):
+    """A probe whose plates design from index ``first`` to ``last`` of ``stock`` (none when
+    None), thicker ones failing for the webs; each probed index is appended to ``probed``."""
+    def designs(t):
+        i = stock.index(t)
+        probed.append(i)
+        inside = first is not None and first <= i <= last
+        return inside, first is not None and i > last
+
+    return designs
+
+
 @pytest.mark.parametrize("first, last", [(0, 23), (5, 5), (3, 9), (0, 0), (23, 23), (10, 17),
                                          (None, None)])
 def test_the_thinnest_plate_is_found_when_thick_plates_fail_too(first, last):
@@ -105,13 +117,7 @@ def test_the_thinnest_plate_is_found_when_thick_plates_fail_too(first, last):
     the next thinner plate it probed."""
     stock = list(plate_thicknesses_mm())
     probed = []
-
-    def designs(t):
-        i = stock.index(t)
-        probed.append(i)
-        inside = first is not None and first <= i <= last
-        return inside, first is not None and i > last
-
+    designs = _interval(stock, first, last, probed)
     t, thinner = _thinnest(stock, designs)
     if first is None:
         assert (t, thinner) == (None, None)
@@ -132,13 +138,7 @@ def test_a_first_guess_finds_the_same_plate_and_probes_its_thinner_neighbour(fir
     its next thinner one, which was probed and refused."""
     stock = list(plate_thicknesses_mm())
     probed = []
-
-    def designs(t):
-        i = stock.index(t)
-        probed.append(i)
-        inside = first is not None and first <= i <= last
-        return inside, first is not None and i > last
-
+    designs = _interval(stock, first, last, probed)
     expected = _thinnest(stock, designs)
     probed.clear()
     t, thinner = _thinnest(stock, designs, start)
