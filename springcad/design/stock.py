@@ -259,7 +259,9 @@ def _thickest(spec, material, manufacturing, hardware, explain, max_root_radius_
     except DesignError as err:
         text = str(err).split("': ", 1)[-1]
         raise DesignError(f"spring '{spec.name}' cannot be made as specified; {change}no "
-                          f"stock plate up to {thickest:g} mm carries it; at {thickest:g} mm: "
+                          f"stock plate up to {thickest:g} mm carries it; at {thickest:g} mm "
+                          f"(the changes that follow are found on that plate; with thickness_mm left "
+                          f"free springcad then chooses the thinnest plate that carries them): "
                           f"{text}") from err
     return _replace(d, design_choice=f"thickness {thickest:g} mm chosen: the thickest stock "
                     f"plate allowed; {d.design_choice}")
