@@ -47,7 +47,8 @@ def onto_beam_stiffness(design: SpringDesign, target_Nmm_per_rad: float) -> Spri
     much of the stiffness the cube-root update alone stops short (a small disk kept 5.6 %
     stiff after two passes). A secant on log K against log scale converges in a few passes
     either way; when even flexures much narrower cannot reach the target (the web alone is
-    too stiff) the narrowest tried, at most 4 x narrower, is returned and the caller's stiffness rule refuses it.
+    too stiff) the narrowest tried, at most 4 x narrower, is returned and the caller's
+    stiffness rule refuses it.
     """
     d = design
     k = d.beam_stiffness_Nmm_per_rad()
