@@ -45,6 +45,7 @@ import time
 
 import numpy as np
 
+from fea.contact_path import AnglePath, Stuck, offset_path, onset_rad
 from fea.contact_result import ContactOptions, ContactStep, ContactSweep, direction_flags
 from fea.contact_solver import CamCurve, SectorContact, State, hertz_line_contact, rot
 from fea.contact_tolerance import RING_TO_RING, BallLayout, ContactMaterial, EndState, assess
@@ -275,89 +276,6 @@ def _end_state(sc: SectorContact, st: State, driving: str, sign: int, ball, mate
                     hertz=c["hertz"] if c else None, clearances_mm=clear)
 
 
-#: the cam dilation grows from 0 in steps of at most this (mm): a cam that interferes by
-#: tens of um pinches the ball between both flanks, which Newton's method does not reach
-#: from the undeformed ring in one step
-OFFSET_STEP_MM = 0.005
-#: halvings of a dilation step that fails before the continuation gives up
-OFFSET_HALVINGS = 4
-
-
-def _dilated_rest(sc: SectorContact, curve: CamCurve, offset_mm: float) -> State:
-    """The converged state at rest against the cam dilated by ``offset_mm``, the dilation
-    applied in steps of at most :data:`OFFSET_STEP_MM`. Leaves ``sc.cam`` dilated."""
-    st = sc.solve(0.0, sc.rest())
-    m = max(1, math.ceil(abs(offset_mm) / OFFSET_STEP_MM)) if offset_mm > 0 else 1
-    for k in range(1, m + 1):
-        sc.cam = curve.dilated(offset_mm * k / m)
-        st = sc.solve(0.0, st)
-    return st
-
-
-def _continued(sc: SectorContact, curve: CamCurve, offset_mm: float, theta: float,
-               end: State) -> State | None:
-    """The state at cam angle ``theta`` against the cam dilated by ``offset_mm``, continued
-    from ``end`` (the nominal state there) in dilation steps of at most
-    :data:`OFFSET_STEP_MM`, each Newton solve from the last state; None when a step fails
-    :data:`OFFSET_HALVINGS` halvings in a row. Leaves ``sc.cam`` dilated."""
-    st, done = end, 0.0
-    h = math.copysign(OFFSET_STEP_MM, offset_mm)
-    halvings = 0
-    while abs(offset_mm - done) > 1e-12:
-        step = math.copysign(min(abs(h), abs(offset_mm - done)), offset_mm)
-        sc.cam = curve.dilated(done + step)
-        try:
-            st = sc.solve(theta, st)
-        except SolverError:
-            halvings += 1
-            if halvings > OFFSET_HALVINGS:
-                return None
-            h *= 0.5
-            continue
-        done += step
-    return st
-
-
-def _offset_path(sc: SectorContact, curve: CamCurve, offset_mm: float, sign: int,
-                 theta_max: float, steps: int, end: State | None = None,
-                 rest: dict | None = None) -> State:
-    """The converged state at sign * theta_max against the cam dilated by ``offset_mm``.
-
-    From the nominal end state ``end`` the dilation is continued at theta_max
-    (:func:`_continued`), so the ball stays on the flank it is pushed by, as in a part
-    whose profiles deviate: the state a path from rest reaches when it does not lose its
-    way (default at 10 deg: from rest against the cam shrunk by 20 um, the ball was found
-    one tooth on, with every gap off by up to 1 mm). Without ``end``, or when the
-    continuation fails, the dilation is applied at rest (:func:`_dilated_rest`) and the
-    cam turned to the contact onset and on in ``steps`` steps, like the nominal sweep.
-    Leaves ``sc.cam`` dilated.
-
-    ``rest``: the states at rest by offset (or the SolverError their ramp raised) of the
-    paths solved before: the ramp does not depend on the direction, so the two directions
-    of one offset share it."""
-    if end is not None:
-        st = _continued(sc, curve, offset_mm, sign * theta_max, end)
-        if st is not None:
-            return st
-    if rest is None:
-        rest = {}
-    if offset_mm not in rest:
-        try:
-            rest[offset_mm] = _dilated_rest(sc, curve, offset_mm)
-        except SolverError as err:
-            rest[offset_mm] = err
-            raise
-    st = rest[offset_mm]
-    if isinstance(st, SolverError):
-        raise st
-    sc.cam = curve.dilated(offset_mm)
-    path = _Path(sc, sign, theta_max / steps, start=st)
-    on = _onset(sc, sign, theta_max)
-    if math.isfinite(on) and on != 0.0:
-        path.to(on)
-    return path.to(sign * theta_max)
-
-
 def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
             theta_max: float, steps: int, ball, seed: int, rest_clearance_mm: float):
     """The contact rules at +-theta_max (:mod:`fea.contact_tolerance`): the nominal end
@@ -376,7 +294,7 @@ def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
         states = [_end_state(sc, final[key], driving, sign, ball, material, groups)]
         for offset in ((-T, T) if T > 0 else ()):
             try:
-                st = _offset_path(sc, curve, offset, sign, theta_max, steps, end=final[key],
+                st = offset_path(sc, curve, offset, sign, theta_max, steps, end=final[key],
                                   rest=rest)
                 states.append(_end_state(sc, st, driving, sign, ball, material, groups))
             except SolverError as err:
@@ -418,58 +336,6 @@ def _mesh(design, run, level: int):
                                  LoadCase().patch_half_width_mm(g.tip_radius_mm))
     k = min(level, len(faces) - 1)
     return fea_mesh_2d(faces[k], g, k), None
-
-
-class _Stuck(SolverError):
-    """No converged contact state beyond some cam angle."""
-
-
-class _Path:
-    """Solves along increasing |theta| in one direction with a linear predictor, halving a
-    step that fails (a deep first penetration can push the ball out on the wrong side).
-    Past a limit point (the ball snapping over a tooth tip) the state jumps: a step that
-    fails down to 1/16 of a step is retried from the last state without predictor and
-    with more iterations; if that fails too the path is stuck (:class:`_Stuck`)."""
-
-    def __init__(self, sc: SectorContact, sign: int, max_step_rad: float,
-                 start: State | None = None):
-        self.sc, self.sign, self.max_step = sc, sign, max_step_rad
-        # not the rest state when the cam interferes
-        self.state = start if start is not None else sc.solve(0.0, sc.rest())
-        self.rate = None  # du / dtheta of the last increment
-        self.jumps: list[float] = []
-
-    def to(self, theta: float) -> State:
-        while abs(theta - self.state.theta) > 1e-15:
-            h = theta - self.state.theta
-            h = math.copysign(min(abs(h), self.max_step), h)
-            for _ in range(5):
-                try:
-                    st = self._try(self.state.theta + h, predict=True)
-                    break
-                except SolverError:
-                    h *= 0.5
-            else:
-                try:
-                    st = self._try(self.state.theta + h, predict=False, max_iter=80)
-                except SolverError as err:
-                    raise _Stuck(f"no converged contact state beyond "
-                                 f"{math.degrees(self.state.theta):+.3f} deg ({err})") from err
-                self.jumps.append(st.theta)
-                self.rate = None
-                self.state = st
-                continue
-            self.rate = (st.u - self.state.u) / (st.theta - self.state.theta)
-            self.state = st
-        return self.state
-
-    def _try(self, theta: float, predict: bool, max_iter: int = 40) -> State:
-        pred = self.rate * (theta - self.state.theta) if predict and self.rate is not None \
-            else None
-        st = self.sc.solve(theta, self.state, pred, max_iter=max_iter)
-        if self.sc.torque(st) * self.sign < -1e-3 * self.sc.stiffness_linear * abs(theta):
-            raise SolverError("the contact solution pushes the ball against the cam rotation")
-        return st
 
 
 def contact_sweep(design, material=None, run=None, options: ContactOptions = ContactOptions(),
@@ -532,7 +398,7 @@ def _contact_sweep(design, material=None, run=None, options: ContactOptions = Co
         driving = "flank_ccw" if sign > 0 else "flank_cw"
         groups = curve.groups(driving)
         progress(f"contact sweep {key}{math.degrees(theta_max):.1f} deg ({n} steps)", None)
-        th_on = _onset(sc, sign, theta_max)
+        th_on = onset_rad(sc, sign, theta_max)
         onset[key] = th_on
         targets = [sign * theta_max * i / n for i in range(n + 1)]
         h = sign * theta_max / (4 * n)  # tangent: slope over the last quarter step
@@ -540,12 +406,12 @@ def _contact_sweep(design, material=None, run=None, options: ContactOptions = Co
         extra = {th - h for th in targets[1:]}
         if math.isfinite(th_on):
             extra.add(th_on + a)
-        path = _Path(sc, sign, theta_max / n)
+        path = AnglePath(sc, sign, theta_max / n)
         out, torque = [], {}
         for th in sorted(set(targets) | extra, key=abs):
             try:
                 st = path.to(th)
-            except _Stuck as err:
+            except Stuck as err:
                 stuck[key] = str(err)
                 break
             torque[th] = sc.torque(st)
@@ -597,25 +463,3 @@ def _contact_sweep(design, material=None, run=None, options: ContactOptions = Co
         steps=steps, flags=flags, options=options, stopped=stuck, jumps_rad=jumps,
         timings_s={"setup": t1 - t0, "sweep": t2 - t1, "tolerances": t3 - t2, "total": t3 - t0},
         notes=notes, pictures=pictures, at_max=at_max)
-
-
-def _onset(sc: SectorContact, sign: int, theta_max: float) -> float:
-    """Cam angle (rad, signed) at which the undeformed flexure first touches the cam;
-    0 when it touches at rest, NaN when it never does within theta_max."""
-    u = np.zeros(2 * sc.basis.N)
-
-    def gmin(a):
-        return float(np.min(sc._gaps(u, a)[0]))
-
-    if gmin(0.0) <= 0.0:
-        return 0.0
-    prev = 0.0
-    for a in np.linspace(0.0, theta_max, 161)[1:]:
-        if gmin(sign * a) <= 0.0:
-            lo, hi = prev, a
-            for _ in range(50):
-                mid = 0.5 * (lo + hi)
-                lo, hi = (lo, mid) if gmin(sign * mid) <= 0.0 else (mid, hi)
-            return sign * hi
-        prev = a
-    return math.nan

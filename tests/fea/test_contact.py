@@ -93,7 +93,7 @@ def test_flat_pad_reproduces_the_linear_fea(which, request, material):
     cam, tilting its normal by theta; with S1's coupling (c_xy / c_xx = -0.31) that
     changes K by ~2 x 0.31 x theta, so the check is made within 0.3 % of a degree of
     contact. The design cams differ from it only by their contact normal."""
-    from fea.contact import _onset, _Path
+    from fea.contact_path import AnglePath, onset_rad
     from fea.contact_solver import CamCurve, SectorContact
     from springcad.design.curves import Line
 
@@ -107,10 +107,10 @@ def test_flat_pad_reproduces_the_linear_fea(which, request, material):
     results = {}
     for nonlinear in (True, False):
         sc = SectorContact(fm, material, curve, rc + 1.0, nonlinear=nonlinear)
-        on = _onset(sc, 1, design.max_deflection_rad)
+        on = onset_rad(sc, 1, design.max_deflection_rad)
         assert on == pytest.approx(gap / rc, rel=0.01)
         a = 0.002 * design.max_deflection_rad
-        st = _Path(sc, 1, design.max_deflection_rad / 8).to(on + a)
+        st = AnglePath(sc, 1, design.max_deflection_rad / 8).to(on + a)
         results[nonlinear] = sc.torque(st) / a
         if nonlinear:  # exact moment balance in the current configuration
             assert sc.reaction_torque(st) == pytest.approx(sc.torque(st), rel=1e-6)
@@ -121,7 +121,7 @@ def test_flat_pad_reproduces_the_linear_fea(which, request, material):
 def test_dilated_cam_moves_the_onset_by_the_offset(straight, material):
     """A flat pad w away from the ball, grown by E (the ball and cam profiles E larger
     together): contact starts at (w - E) / r_c; shrunk, at (w + |E|) / r_c."""
-    from fea.contact import _onset
+    from fea.contact_path import onset_rad
     from fea.contact_solver import CamCurve, SectorContact
     from springcad.design.curves import Line
 
@@ -132,7 +132,7 @@ def test_dilated_cam_moves_the_onset_by_the_offset(straight, material):
     sc = SectorContact(_sector(straight, material), material, curve, rc + 1.0)
     for E in (0.0, 0.012, -0.012):
         sc.cam = curve.dilated(E)
-        assert _onset(sc, 1, straight.max_deflection_rad) == pytest.approx((w - E) / rc,
+        assert onset_rad(sc, 1, straight.max_deflection_rad) == pytest.approx((w - E) / rc,
                                                                            rel=0.01)
 
 
@@ -242,12 +242,13 @@ def test_at_max_reads_the_sweeps_ends(straight):
 
 def test_offset_continuation_reaches_the_state_a_path_from_rest_does(straight, material):
     """The toleranced end states are continued from the nominal one in the cam dilation at
-    theta_max (fea.contact._offset_path with ``end``). Where the path from rest with the
+    theta_max (fea.contact_path.offset_path with ``end``). Where the path from rest with the
     dilated cam converges on the driving flank, the two routes reach the same equilibrium
     (frictionless elastic contact: one state): every clearance within 0.2 um, the same
     contact force within 0.1 %; and the gaps move smoothly with E (second difference over
     the +-20 um offsets under 2 um), as a part whose profiles deviate does."""
-    from fea.contact import _Path, _end_state, _offset_path
+    from fea.contact import _end_state
+    from fea.contact_path import AnglePath, offset_path
     from fea.contact_solver import CamCurve, SectorContact
     from fea.contact import _ball, _cam_features, _junction_mm
 
@@ -259,13 +260,13 @@ def test_offset_continuation_reaches_the_state_a_path_from_rest_does(straight, m
                        float(np.max(np.hypot(*curve.P.T))) + 2 * ball[1] + 0.5)
     th = d.max_deflection_rad
     groups = curve.groups("flank_ccw")
-    end = _Path(sc, 1, th / 8).to(th)
+    end = AnglePath(sc, 1, th / 8).to(th)
     gaps = {}
     for E in (-0.02, 0.02):
-        cont = _end_state(sc, _offset_path(sc, curve, E, 1, th, 8, end=end), "flank_ccw", 1,
+        cont = _end_state(sc, offset_path(sc, curve, E, 1, th, 8, end=end), "flank_ccw", 1,
                           ball, material, groups)
         sc.cam = curve
-        rest = _end_state(sc, _offset_path(sc, curve, E, 1, th, 8), "flank_ccw", 1, ball,
+        rest = _end_state(sc, offset_path(sc, curve, E, 1, th, 8), "flank_ccw", 1, ball,
                           material, groups)
         sc.cam = curve
         assert cont.offset_mm == pytest.approx(E) and rest.offset_mm == pytest.approx(E)

@@ -52,10 +52,10 @@ def test_sweep_numbers_as_before_the_speed_ups(template, spring, monkeypatch):
     new = contact.contact_sweep(design)
     assert new.at_max is not None and len(new.steps) == 2
 
-    each_once = contact._offset_path
+    each_once = contact.offset_path
     with monkeypatch.context() as m, threadpool_limits(limits=2, user_api="blas"):
         # the ramp solved for every path, as before
-        m.setattr(contact, "_offset_path",
+        m.setattr(contact, "offset_path",
                   lambda sc, curve, offset, sign, theta_max, steps, end=None, rest=None:
                   each_once(sc, curve, offset, sign, theta_max, steps, end=end))
         old = contact._contact_sweep(design)
