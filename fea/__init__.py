@@ -15,6 +15,7 @@ Rooms
     :mod:`fea.verdict`     verified spring, stack and job: pass/fail, reasons, ``fea.json``
     :mod:`fea.verify`      verification and the correction loop (``verify_job``)
     :mod:`fea.contact`     cam-flexure contact sweep to +-theta_max (torque-angle curve)
+    :mod:`fea.contact_path`    the sweep's continuation along the cam angle and the cam's dilation
     :mod:`fea.contact_result`  the sweep's options, steps and result, and its flags
     :mod:`fea.contact_solver`  rigid-cam contact: closest points, Newton + exact complementarity
     :mod:`fea.nonlinear`   total Lagrangian (large-rotation) elasticity for the contact sweep
