@@ -11,7 +11,7 @@ from springcad.design.fastener_room import fastener_clashes
 from springcad.design.job import JobDesign, design_job
 from springcad.design.ring import hole_centres_mm, shared_hole_angles_rad
 from springcad.design.stack import design_stack
-from springcad.errors import DesignError
+from springcad.errors import DesignError, RemedyError
 
 #: the washer and spacer sheet between two springs (hardware.rim_spacer_thickness_mm's
 #: default; the jobs here do not set it)
@@ -250,3 +250,46 @@ def test_rim_flanges_are_pinned_to_their_rings_by_hand():
     assert strengths["dowels_input_flange"].gap_mm == 0.0
     assert all(s.ok for s in strengths.values())
     assert fastener_clashes(lay, d.stack.springs) == []
+
+
+def test_side_by_side_fit_is_the_chord_between_neighbouring_holes():
+    """N = 12 flexures: 6 holes take every other gap (60 deg apart, chord = R), 8 holes
+    two neighbouring gaps (30 deg apart, chord 2 R sin 15 deg); pieces of radius r keep
+    apart exactly while 2 r <= the chord."""
+    from springcad.design.fastener_room import TOL_MM, _side_by_side_fit
+
+    R = 10.0
+    assert _side_by_side_fit(0.5 * R - 0.01, R, [12], 6)
+    assert not _side_by_side_fit(0.5 * R + 0.01, R, [12], 6)
+    chord = 2 * R * math.sin(math.radians(15))
+    assert _side_by_side_fit(0.5 * chord + 0.4 * TOL_MM, R, [12], 8)
+    assert not _side_by_side_fit(0.5 * chord + TOL_MM, R, [12], 8)
+
+
+def test_neighbouring_nuts_are_refused_with_changes_that_design():
+    """A small rim-driven spring with 8 M2.5 screws: on its hole circle the nuts (5.77 mm
+    across corners) of screws in neighbouring flexure gaps overlap. The refusal says so
+    (not that a turning spring has no room for them) and offers a screw count, a smaller
+    screw and dowels (the job design then names those that design); the count, applied,
+    designs."""
+    spec = {"job": {"name": "nuts", "description": "small rim-driven spring, 8 screws"},
+            "material": {"name": "420_ht", "safety_factor": 1.2},
+            "springs": {"S1": {"target_stiffness_Nm_per_rad": 9, "max_deflection_deg": 8,
+                               "outer_radius_mm": 12.5, "thickness_mm": 6.0,
+                               "tip_radius_mm": 0.3}},
+            "stack": {"sequence": ["S1"], "input": "rim"},
+            "manufacturing": {"process": "wire_edm"},
+            "hardware": {"fastener": "bolt", "fastener_diameter_mm": 2.5,
+                         "fastener_count": 8, "shaft_diameter_mm": 3.0}}
+    with pytest.raises(RemedyError) as err:  # the remedies before the job's check of each
+        design_job(job_from_dict(spec), explain=False)
+    text = str(err.value)
+    assert "clash(es) of neighbouring fasteners" in text and "no room" not in text
+    changes = dict(kv for c, _ in err.value.remedies for kv in c.items())
+    assert changes["hardware.fastener"] == "dowel"
+    assert changes["hardware.fastener_diameter_mm"] < 2.5
+    count = changes["hardware.fastener_count"]
+    assert 2 <= count < 8
+    spec["hardware"]["fastener_count"] = count
+    d = design_job(job_from_dict(spec), explain=False)
+    assert fastener_clashes(d.stack.layout, d.stack.springs) == []

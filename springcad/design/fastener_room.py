@@ -18,9 +18,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from springcad.config.schema import BOLT_DIAMETERS_MM
 from springcad.design import plans as pl
 from springcad.design.catalogue import bolt_set, rim_dowel_length
-from springcad.errors import DesignError
+from springcad.design.ring import shared_hole_angles_rad
+from springcad.errors import DesignError, RemedyError, change_text
 
 #: overlaps (axial, radial) up to this are contact, not a clash (mm): the solids' check
 #: tolerance (springcad.geometry.interference.CONTACT_TOL_MM)
@@ -100,6 +102,8 @@ class Clash:
     piece: Piece
     other: str
     axial_mm: float
+    fastener: bool = False
+    """``other`` is a piece of another fastener (two heads or nuts side by side)."""
 
     def text(self) -> str:
         p = self.piece
@@ -132,7 +136,48 @@ def fastener_clashes(layout, springs) -> list[Clash]:
             shared = _shared_z(p.z0_mm, p.z1_mm, q.z0_mm, q.z1_mm)
             reach = p.radius_mm + q.radius_mm - TOL_MM
             if shared > TOL_MM and math.dist(p.centre, q.centre) < reach:
-                out.append(Clash(p, f"{q.owner} {q.what}", shared))
+                out.append(Clash(p, f"{q.owner} {q.what}", shared, fastener=True))
+    return out
+
+
+def _side_by_side_fit(radius_mm: float, hole_circle_mm: float, n_flexures,
+                      count: int) -> bool:
+    """Whether ``count`` fasteners whose widest piece has radius ``radius_mm``, on the hole
+    circle at the angles the stack gives them (:func:`~springcad.design.ring.shared_hole_angles_rad`),
+    keep their pieces apart (mm)."""
+    a = shared_hole_angles_rad(n_flexures, count)
+    pts = [(hole_circle_mm * math.cos(t), hole_circle_mm * math.sin(t)) for t in a]
+    return all(math.dist(p, q) >= 2.0 * radius_mm - TOL_MM
+               for i, p in enumerate(pts) for q in pts[i + 1:])
+
+
+def _side_by_side_remedies(plan: pl.FastenerPlan, springs) -> list[tuple[dict, str]]:
+    """Changes under which the fasteners' heads and nuts no longer overlap each other: the
+    most fasteners that keep them apart on the same hole circle, the largest smaller ISO
+    screw whose head and nut do at this count, and flush dowels (each is then checked with
+    the whole job's design search)."""
+    count, d = len(plan.hole_centres_mm), plan.diameter_mm
+    r_hc = math.hypot(*plan.hole_centres_mm[0])
+    ns = [s.n_flexures for s in springs]
+
+    def widest_mm(diameter_mm: float) -> float:
+        b = bolt_set(diameter_mm)
+        return 0.5 * max(b.head_diameter_mm, b.nut_across_corners_mm)
+
+    out = []
+    fewer = [m for m in range(count - 1, 1, -1) if _side_by_side_fit(widest_mm(d), r_hc, ns, m)]
+    if fewer:
+        key = "hardware.fastener_count"
+        out.append(({key: fewer[0]}, change_text(key, fewer[0], count,
+                                                 "heads and nuts apart on the hole circle")))
+    smaller = [v for v in sorted(BOLT_DIAMETERS_MM, reverse=True) if v < d
+               and _side_by_side_fit(widest_mm(v), r_hc, ns, count)]
+    if smaller:
+        key = "hardware.fastener_diameter_mm"
+        out.append(({key: smaller[0]}, change_text(key, smaller[0], d,
+                                                   f"{bolt_set(smaller[0]).size} screws")))
+    key = "hardware.fastener"
+    out.append(({key: "dowel"}, change_text(key, "dowel", "bolt", "flush pins")))
     return out
 
 
@@ -151,6 +196,14 @@ def check_fastener_room(layout, springs) -> None:
     more = f" (and {len(clashes) - 4} more)" if len(clashes) > 4 else ""
     fasteners = [c for c in layout.components if isinstance(c.plan, pl.FastenerPlan)]
     plan = fasteners[0].plan
+    if plan.type == "bolt" and all(c.fastener for c in clashes):
+        b = bolt_set(plan.diameter_mm)
+        raise RemedyError(
+            f"rim fasteners: {len(clashes)} clash(es) of neighbouring fasteners: {shown}{more}; "
+            f"the {b.size} ISO 4762 heads (Ø{b.head_diameter_mm:g} mm) and ISO 4032 nuts "
+            f"({b.nut_across_corners_mm:.3g} mm across corners) of {len(plan.hole_centres_mm)} "
+            f"screws on the R{math.hypot(*plan.hole_centres_mm[0]):.4g} hole circle overlap "
+            "each other", _side_by_side_remedies(plan, springs))
     fix = "check the rim holes of the joined springs"
     if plan.type == "bolt" and any(c.piece.what in ("head", "nut") for c in clashes):
         b = bolt_set(plan.diameter_mm)
