@@ -406,3 +406,41 @@ def test_pruned_clearance_is_the_brute_force_minimum():
             pts = rng.uniform(-2, 12, (m, 2))
         assert _min_point_polyline_distance(pts, poly) == _point_polyline_distance(
             pts, poly).min()
+
+
+@pytest.mark.parametrize("fixed, inner", [({}, "the tip balls' torque cap"),
+                                          ({"tip_radius_mm": 0.4}, "the centre: a fixed tip_radius_mm"),
+                                          ({"contact_radius_mm": 9.0}, "your contact_radius_mm")])
+def test_the_energy_refusal_says_where_its_inner_radius_comes_from(fixed, inner):
+    """Over the energy bound: the annulus's inner radius is the load-sized balls' torque cap,
+    the user's contact radius, or the centre when a fixed tip ball sets no cap (it read
+    'r_c = 0 mm (the tip balls' torque cap)'); the bound is sigma^2/(6E) times that annulus."""
+    import math
+    import re
+
+    from springcad.design.sizing import _design_at
+    from springcad.errors import SpecInfeasible
+
+    base = {"target_stiffness_Nm_per_rad": 5000, "max_deflection_deg": 12, "outer_radius_mm": 32.5,
+            "thickness_mm": 10.0, **fixed}
+    j = job_from_dict({"material": {"name": "420_ht", "safety_factor": 1.2},
+                       "springs": {"A": base}})
+    with pytest.raises(SpecInfeasible) as exc:
+        _design_at(j.springs["A"], j.material, j.manufacturing, j.hardware)
+    text = str(exc.value)
+    assert f"({inner}" in text, text
+    rc, rr, bound = map(float, re.search(r"r_c = ([\d.]+) mm .* R_r = ([\d.]+) mm .* z = "
+                                         r"([\d.]+) J", text).groups())
+    if "contact_radius_mm" in fixed:
+        assert rc == 9.0
+    elif fixed:
+        assert rc == 0.0
+    else:  # sqrt(6 sqrt(3) T / (pi z sigma)), T = K theta
+        sigma = j.material.design_stress_MPa
+        T = 5000e3 * math.radians(12)
+        assert rc == pytest.approx(math.sqrt(6 * math.sqrt(3) * T / (math.pi * 10 * sigma)),
+                                   rel=2e-3)
+    E_MPa = j.material.material.youngs_modulus_MPa
+    want = j.material.design_stress_MPa ** 2 / (6 * E_MPa) * 1e-3 * math.pi * (
+        rr ** 2 - rc ** 2) * 10.0
+    assert bound == pytest.approx(want, rel=0.02)  # the message prints 3 digits

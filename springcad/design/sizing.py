@@ -77,6 +77,15 @@ def energy_bound(spec: SpringSpec, thickness_mm: float, sigma_MPa: float,
     return rr_max, rc_min, fx.energy_bound_J_per_mm3(sigma_MPa, youngs_modulus_MPa) * volume_mm3
 
 
+def _inner_bound_text(spec: SpringSpec) -> str:
+    """Where :func:`energy_bound`'s inner radius comes from, for a refusal."""
+    if spec.contact_radius_mm is not None:
+        return "your contact_radius_mm"
+    if spec.tip_radius_mm is None:
+        return "the tip balls' torque cap"
+    return "the centre: a fixed tip_radius_mm sets no torque cap"
+
+
 def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
                hardware: HardwareSpec, derating: float = 1.0,
                balances: tuple[str, ...] = fx.BALANCES, rank: int = 0,
@@ -106,7 +115,7 @@ def _design_at(spec: SpringSpec, material: MaterialSpec, manufacturing: Manufact
         raise SpecInfeasible(
             f"spring '{spec.name}': storing {need_J:.3g} J at {theta_d:.3g} rad needs more than "
             f"the flexures can hold at the design stress {sigma:.0f} MPa in the annulus between "
-            f"r_c = {rc_min:.3g} mm (the tip balls' torque cap) and R_r = {rr_max:.3g} mm (the "
+            f"r_c = {rc_min:.3g} mm ({_inner_bound_text(spec)}) and R_r = {rr_max:.3g} mm (the "
             f"rim): sigma^2/(6E) x pi (R_r^2 - r_c^2) z = {bound_J:.3g} J; no flexure geometry in "
             "this envelope reaches that deflection: lower the stiffness or deflection, enlarge "
             "or thicken the disk, or put springs in series")
