@@ -93,17 +93,25 @@ def test_a_thick_ring_gets_a_drive_pin_it_engages_in_part():
 
 def test_a_thin_ring_names_a_drive_pin_that_designs():
     """S1 at 20 N*m/rad on 1.5 mm plate: a Ø1.5 pin ends 0.3 short of the far face, so it
-    engages 1.2 mm < 1.5; the refusal names Ø1 (1.2 >= 1 in the ring; 5 stands 0.8 proud
-    of the 3 mm flange, 6 stands 1.8 >= 1: ISO 8734 1 x 6), checked: applied, the job
-    designs."""
-    data = _s1(thickness_mm=1.5, target_stiffness_Nm_per_rad=20.0)
+    engages 1.2 mm < 1.5; with Ø1.5 given in the config the refusal names Ø1 (1.2 >= 1 in
+    the ring; 5 stands 0.8 proud of the 3 mm flange, 6 stands 1.8 >= 1: ISO 8734 1 x 6),
+    checked: applied, the job designs. With the diameter left to springcad (the default
+    1.5), springcad chooses that Ø1 itself and says so."""
+    given = _s1(thickness_mm=1.5, target_stiffness_Nm_per_rad=20.0,
+                hardware={"fastener_diameter_mm": 1.5})
     with pytest.raises(RemedyError, match="drive pin Ø1.5"):
-        design_job(job_from_dict(data), explain=False)
-    changes = _every_change_designs(data)
+        design_job(job_from_dict(given), explain=False)
+    changes = _every_change_designs(given)
     assert changes[0] == ("hardware.fastener_diameter_mm", 1.0), changes
-    d = design_job(job_from_dict(_applied(data, *changes[0])), explain=False)
+    d = design_job(job_from_dict(_applied(given, *changes[0])), explain=False)
     pins = next(c for c in d.stack.components if c.name == "dowels_output_flange")
     assert pins.length_mm == 6
+    free = design_job(job_from_dict(_s1(thickness_mm=1.5, target_stiffness_Nm_per_rad=20.0)))
+    assert free.job.hardware.fastener_diameter_mm == 1.0
+    pins = next(c for c in free.stack.components if c.name == "dowels_output_flange")
+    assert pins.length_mm == 6
+    assert any(w.startswith("hardware chosen by springcad: hardware.fastener_diameter_mm = 1 "
+                            "(default 1.5") for w in free.warnings), free.warnings
 
 
 def test_rim_screws_too_short_for_the_grip_name_changes_that_design():

@@ -390,8 +390,8 @@ def job_from_dict(data, name: str = "job", source: str = "") -> Job:
     mfg = ManufacturingSpec(**mfg_v)
     base = Path(source).parent if source else Path.cwd()
     material = replace(material, duty=_duty(data.get("duty"), springs, surface, base))
-    hw = HardwareSpec(**_shaft_that_fits(
-        check_section(data.get("hardware", {}), "hardware", "hardware"), springs))
+    hw_v = check_section(data.get("hardware", {}), "hardware", "hardware")
+    hw = HardwareSpec(**_shaft_that_fits(hw_v, springs), given=tuple(sorted(hw_v)))
     an = AnalysisSpec(**check_section(data.get("analysis", {}), "analysis", "analysis"))
     job = Job(name=_job_name(job_v.get("name"), name),
               description=job_v.get("description", keys("job")["description"].default),

@@ -183,6 +183,10 @@ class HardwareSpec:
     camshaft_hub_length_mm: float = _d("hardware", "camshaft_hub_length_mm")
     rim_spacer_density_kg_per_m3: float = _d("hardware", "rim_spacer_density_kg_per_m3")
     plastic_density_kg_per_m3: float = _d("hardware", "plastic_density_kg_per_m3")
+    given: tuple[str, ...] = ()
+    """The keys the config's ``[hardware]`` table gives; springcad may choose the others
+    (:func:`springcad.design.job.design_job`: fewer or other rim fasteners than the
+    defaults when those cannot be made, and says so)."""
 
     @property
     def hole_diameter_mm(self) -> float:

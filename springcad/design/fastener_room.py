@@ -199,11 +199,12 @@ def check_fastener_room(layout, springs) -> None:
     if plan.type == "bolt" and all(c.fastener for c in clashes):
         b = bolt_set(plan.diameter_mm)
         raise RemedyError(
-            f"rim fasteners: {len(clashes)} clash(es) of neighbouring fasteners: {shown}{more}; "
-            f"the {b.size} ISO 4762 heads (Ø{b.head_diameter_mm:g} mm) and ISO 4032 nuts "
-            f"({b.nut_across_corners_mm:.3g} mm across corners) of {len(plan.hole_centres_mm)} "
-            f"screws on the R{math.hypot(*plan.hole_centres_mm[0]):.4g} hole circle overlap "
-            "each other", _side_by_side_remedies(plan, springs))
+            f"rim fasteners: the {b.size} ISO 4762 heads (Ø{b.head_diameter_mm:g} mm) and "
+            f"ISO 4032 nuts ({b.nut_across_corners_mm:.3g} mm across corners) of "
+            f"{len(plan.hole_centres_mm)} screws on the "
+            f"R{math.hypot(*plan.hole_centres_mm[0]):.4g} hole circle overlap each other, "
+            f"{len(clashes)} clash(es) of neighbouring fasteners: {shown}{more}",
+            _side_by_side_remedies(plan, springs))
     fix = "check the rim holes of the joined springs"
     if plan.type == "bolt" and any(c.piece.what in ("head", "nut") for c in clashes):
         b = bolt_set(plan.diameter_mm)

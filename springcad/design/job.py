@@ -242,6 +242,11 @@ def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> Sprin
         raise more from err
 
 
+#: hardware changes in a row :func:`_free_hardware` may make (a thinner screw that then
+#: needs more of them is two)
+HARDWARE_CHOICES = 2
+
+
 def design_job(job: Job, explain: bool = True, progress: Progress | None = None) -> JobDesign:
     """Design every spring named in the job and the stack (:func:`_design_job`); with
     ``explain`` (a user's job, not a yes or no) a spring only its profile tolerances keep
@@ -252,7 +257,8 @@ def design_job(job: Job, explain: bool = True, progress: Progress | None = None)
         return _design_job(job, explain, progress)
 
 
-def _design_job(job: Job, explain: bool = True, progress: Progress | None = None) -> JobDesign:
+def _design_job(job: Job, explain: bool = True, progress: Progress | None = None,
+                hardware_choices: int = HARDWARE_CHOICES) -> JobDesign:
     """Design every spring named in the job and the stack.
 
     Args:
@@ -260,6 +266,8 @@ def _design_job(job: Job, explain: bool = True, progress: Progress | None = None
             minute; False for searches that only need a yes or no, e.g. synthesis).
         progress: ``progress(message, fraction)`` for the springs, the stock plate choice
             and a refusal's search (:mod:`springcad.progress`).
+        hardware_choices: how many hardware changes in a row springcad may make on
+            ``[hardware]`` keys the config does not give (:func:`_free_hardware`).
 
     Raises:
         DesignError: a spring or a hardware part cannot be made as specified.
@@ -290,10 +298,38 @@ def _design_job(job: Job, explain: bool = True, progress: Progress | None = None
         design = JobDesign(job, springs, stack)
         check_hardware(design)
     except RemedyError as err:
+        chosen = _free_hardware(asked, err, hardware_choices) if hardware_choices else None
+        if chosen is not None:
+            return chosen
         if not explain:
             raise
         raise _checked_pin_remedies(asked, err) from err
     return design
+
+
+def _free_hardware(job: Job, err: RemedyError, choices: int) -> JobDesign | None:
+    """A designer's answer to a hardware refusal on its own defaults: the first of ``err``'s
+    changes that touches only ``[hardware]`` keys the config does not give
+    (:attr:`~springcad.config.specs.HardwareSpec.given`) and under which the whole job
+    designs, the job designed with it and the choice said among its warnings; None when no
+    such change designs (the refusal then names the changes, the user's keys included).
+    The default seven rim screws of a small disk whose nuts overlap, or default dowels too
+    weak for a stack's torque, become the count or size that holds."""
+    given = set(job.hardware.given)
+    for changes, text in err.remedies:
+        keys = [k.split(".", 1) for k in changes]
+        if not all(sec == "hardware" and key not in given for sec, key in keys):
+            continue
+        try:
+            d = _design_job(with_changes(job, changes), explain=False,
+                            hardware_choices=choices - 1)
+        except (DesignError, ConfigError):
+            continue
+        note = (f"hardware chosen by springcad: {text.replace('(now ', '(default ', 1)}, "
+                f"since with the default {one_line(err.head, 240)}; give the key in [hardware] "
+                "to fix it")
+        return replace(d, job=replace(d.job, warnings=(*d.job.warnings, note)))
+    return None
 
 
 #: how far, and on what step, an outer radius is searched past the user's for a fixed root
