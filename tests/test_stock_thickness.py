@@ -59,6 +59,9 @@ def test_a_bound_below_the_need_is_refused_with_the_bound_that_works(chosen):
     text = str(err.value)
     assert f"springs.A.max_thickness_mm = {need:g} (now {low:g}" in text
     assert f"no stock plate up to {low:g} mm carries it" in text
+    # the refusal found at that plate names the bound, not a thickness the config cannot
+    # give beside it (ConfigError: "delete one of the two")
+    assert "springs.A.thickness_mm =" not in text, text
     # the change, applied as written, designs at that plate
     assert design_job(_job(max_thickness_mm=need)).springs["A"].thickness_mm == need
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import functools
 import math
+import re
 import tomllib
 from dataclasses import replace as _replace
 
@@ -257,7 +258,7 @@ def _thickest(spec, material, manufacturing, hardware, explain, max_root_radius_
                                  manufacturing, hardware, explain=explain,
                                  max_root_radius_mm=max_root_radius_mm)
     except DesignError as err:
-        text = str(err).split("': ", 1)[-1]
+        text = _as_bound(str(err).split("': ", 1)[-1], spec)
         raise DesignError(f"spring '{spec.name}' cannot be made as specified; {change}no "
                           f"stock plate up to {thickest:g} mm carries it; at {thickest:g} mm "
                           f"(the changes that follow are found on that plate; with thickness_mm left "
@@ -265,3 +266,16 @@ def _thickest(spec, material, manufacturing, hardware, explain, max_root_radius_
                           f"{text}") from err
     return _replace(d, design_choice=f"thickness {thickest:g} mm chosen: the thickest stock "
                     f"plate allowed; {d.design_choice}")
+
+
+def _as_bound(text: str, spec: SpringSpec) -> str:
+    """A refusal found at the thickest plate ``spec.max_thickness_mm`` allows, with its
+    thickness changes named as that bound's (``springs.A.thickness_mm = 50 (now 20)`` ->
+    ``springs.A.max_thickness_mm = 50 (now 20)``): the spec leaves the thickness free, and a
+    config giving both keys is refused. Without a bound the text is kept (the plate list's
+    thickest is named as "now")."""
+    if spec.max_thickness_mm is None:
+        return text
+    return re.sub(rf"springs\.{re.escape(spec.name)}\.thickness_mm = ([\d.]+) \(now [\d.]+",
+                  rf"springs.{spec.name}.max_thickness_mm = \1 (now {spec.max_thickness_mm:g}",
+                  text)
