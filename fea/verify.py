@@ -92,6 +92,25 @@ TIP_GAP_AIM = 0.5
 CONTACT_BALL_MARGIN = 1.05
 
 
+#: a width rescale that moves the beam stiffness by less than this fraction of the change
+#: the FEA asks for (in log terms) is held by the minimum webs (:func:`_web_bound`)
+WEB_BOUND_SHARE = 0.5
+
+
+def _web_bound(design, scaled, asked: float) -> bool:
+    """Whether a softening width rescale barely moves the beam stiffness: the flexures are
+    at the wire's minimum web over much of their length, which the width scale does not
+    narrow (a 12.5 mm disk 6 mm thick: the FEA found K +32.5 % over beam theory, the short
+    flexures' root fillets stiffen them, and four rescales down to x0.65 left K there).
+    The correction then redesigns for the beam stiffness the FEA asks
+    (:func:`springcad.design.redesign.redesign_for_stiffness`), so the web rule picks a
+    layout whose webs leave room."""
+    if asked >= 1.0:
+        return False
+    achieved = scaled.stiffness_beam_Nmm_per_rad / design.stiffness_beam_Nmm_per_rad
+    return math.log(achieved) > WEB_BOUND_SHARE * math.log(asked)
+
+
 def _contact(design, material, run, progress, notes):
     """The cam contact sweep, or None with a note when it fails (never fatal)."""
     progress(f"spring {design.name}: cam contact sweep", None)
@@ -343,7 +362,15 @@ def _verify_spring(design, options: VerifyOptions, progress, material: Material 
         iterations.append(_iteration_record(
             k, design, run, target, f"rescale widths x{new_scale / design.width_scale:.5f}"))
         try:
-            design = with_width_scale(design, new_scale)
+            scaled = with_width_scale(design, new_scale)
+            if not redesigned_for_k and _web_bound(design, scaled, target / K):
+                # narrower flexures leave the webs, which do not scale: K would not follow
+                raise DesignError(
+                    f"the flexures' minimum webs hold the stiffness: widths x"
+                    f"{new_scale / design.width_scale:.4f} lower the beam stiffness only x"
+                    f"{scaled.stiffness_beam_Nmm_per_rad / design.stiffness_beam_Nmm_per_rad:.4f}"
+                    f" where the FEA asks x{target / K:.4f}")
+            design = scaled
         except DesignError as exc:
             # the wider flexures break a rule: a layout with room for them, from the search
             if redesigned_for_k:
