@@ -52,6 +52,18 @@ def test_a_design_with_room_passes_and_webs_that_carry_the_stiffness_do_not():
     webbed = replace(d, manufacturing=replace(d.manufacturing, min_web_mm=2.0 * mid))
     why = stiffness_out_of_reach(webbed)
     assert "minimum web" in why and "from the target" in why
+    # the FEA correction's test of a rescale: the default's widths x0.9 move K as asked
+    # (K ~ w^3), the webbed spring's barely (it is redesigned instead)
+    from fea.verify import _web_bound
+
+    def at(design, scale):  # the spring at a width scale, its beam stiffness recomputed
+        s = replace(design, width_scale=scale * d.width_scale)
+        return replace(s, stiffness_beam_Nmm_per_rad=s.beam_stiffness_Nmm_per_rad())
+
+    asked = 0.9 ** 3
+    assert not _web_bound(at(d, 1.0), at(d, 0.9), asked)
+    assert _web_bound(at(webbed, 1.0), at(webbed, 0.9), asked)
+    assert not _web_bound(at(webbed, 1.0), at(webbed, 1.0), 1.05)  # stiffening: never
 
 
 def test_the_search_passes_over_layouts_the_webs_hold_stiff():
