@@ -51,10 +51,12 @@ def dowel_length_tolerance_mm(length_mm: float) -> float:
 #: shaft m6 (lower, upper) and hole E7 (lower, upper)
 _M6_UM = ((3.0, 2, 8), (6.0, 4, 12), (10.0, 6, 15), (18.0, 7, 18))
 _E7_UM = ((3.0, 14, 24), (6.0, 20, 32), (10.0, 25, 40), (18.0, 32, 50))
-#: shaft g6 (lower, upper): fundamental deviation g (-2, -4, -5, -6, -7, -9 um) minus IT6
-#: (6, 8, 9, 11, 13, 16 um) below it
+#: shaft g6 (lower, upper): fundamental deviation g (-2, -4, -5, -6, -7, -9, -10, -12, -14,
+#: -15, -17, -18, -20 um) minus IT6 (6, 8, 9, 11, 13, 16, 19, 22, 25, 29, 32, 36, 40 um) below
+#: it, up to 500 mm (a stack's torque shaft grows with its torque: Ø51 for 470 N*m)
 _G6_UM = ((3.0, -8, -2), (6.0, -12, -4), (10.0, -14, -5), (18.0, -17, -6), (30.0, -20, -7),
-          (50.0, -25, -9))
+          (50.0, -25, -9), (80.0, -29, -10), (120.0, -34, -12), (180.0, -39, -14),
+          (250.0, -44, -15), (315.0, -49, -17), (400.0, -54, -18), (500.0, -60, -20))
 #: the ISO fit of a rim dowel's hole in every rim it passes (slip fit over an m6 pin)
 RIM_PIN_HOLE_FIT = "E7"
 

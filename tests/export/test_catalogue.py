@@ -153,11 +153,28 @@ def test_rim_pins_slip_and_cannot_jam():
 
 #: ISO 286-1 / -2 written in the standard's own form, not springcad's table: the fundamental
 #: deviation es of shafts g and the grade IT6 by nominal size range (um); g6 = (es - IT6, es)
-ISO286_G_ES_UM = {3: -2, 6: -4, 10: -5, 18: -6, 30: -7, 50: -9}
-ISO286_IT6_UM = {3: 6, 6: 8, 10: 9, 18: 11, 30: 13, 50: 16}
+ISO286_G_ES_UM = {3: -2, 6: -4, 10: -5, 18: -6, 30: -7, 50: -9, 80: -10, 120: -12, 180: -14,
+                  250: -15, 315: -17, 400: -18, 500: -20}
+ISO286_IT6_UM = {3: 6, 6: 8, 10: 9, 18: 11, 30: 13, 50: 16, 80: 19, 120: 22, 180: 25, 250: 29,
+                 315: 32, 400: 36, 500: 40}
 
 
-@pytest.mark.parametrize("d_mm", [1.5, 3.0, 4.0, 6.0, 8.0, 10.15, 14.15, 20.0, 40.0])
+def test_iso286_values_follow_the_standards_formulas():
+    """The values above against ISO 286-1's formulas, per range of geometric mean D (mm): the
+    tolerance unit i = 0.45 D^(1/3) + 0.001 D (um), IT6 = 10 i, and the g shafts' fundamental
+    deviation es = -2.5 D^0.34 (um), within the standard's rounding (es to 1 um; IT to its
+    series of preferred values, 38.9 -> 40 at 400-500 mm). The first range (up to 3 mm) is
+    set by the standard apart from the formulas."""
+    uppers = list(ISO286_G_ES_UM)
+    for lower, upper in zip(uppers, uppers[1:]):
+        D = (lower * upper) ** 0.5
+        i = 0.45 * D ** (1 / 3) + 0.001 * D
+        assert abs(ISO286_IT6_UM[upper] - 10 * i) <= 1.2, upper
+        assert abs(ISO286_G_ES_UM[upper] + 2.5 * D ** 0.34) <= 0.6, upper
+
+
+@pytest.mark.parametrize("d_mm", [1.5, 3.0, 4.0, 6.0, 8.0, 10.15, 14.15, 20.0, 40.0, 51.1184,
+                                  100.0, 200.0, 450.0])
 def test_g6_deviation_is_iso286(d_mm):
     from springcad.design.catalogue import g6_deviation_mm
 
