@@ -50,6 +50,8 @@ SHARED_WORK = {
     "tests/fea/test_verify.py": "fea_verify",
     # the full design of each screened case, made once for both tests (_DESIGNED)
     "tests/synthesis/test_synth_screening.py": "synth_screening",
+    # the spring B that designs, made once for both error types (_MADE)
+    "tests/test_job_refusals.py": "job_refusals",
     # module fixtures: builds, verifications and validations read by several tests
     "tests/test_front_door.py": "front_door",
     "tests/fea/test_cli.py": "fea_cli",
