@@ -39,6 +39,48 @@ def pytest_collection_modifyitems(config, items):
                                  not in heavy, order[id(item)]))
 
 
+#: test modules that share an expensive fixture or result (seconds to half a minute each),
+#: keyed to a group name: pytest-xdist runs a group's tests on one worker, so the shared
+#: work is done once instead of on each worker that receives one of its tests
+SHARED_WORK = {
+    # conftest.s1_cli_build: one CLI build of paper S1 (20-27 s setup)
+    "tests/export/test_cli_build.py": "s1_cli_build",
+    "tests/report/test_html_build_report.py": "s1_cli_build",
+    # s1_verified and s2_verified: the FEA verification of each paper spring (19-28 s each)
+    "tests/fea/test_verify.py": "fea_verify",
+    # the full design of each screened case, made once for both tests (_DESIGNED)
+    "tests/synthesis/test_synth_screening.py": "synth_screening",
+    # the spring B that designs, made once for both error types (_MADE)
+    "tests/test_job_refusals.py": "job_refusals",
+    # module fixtures: builds, verifications and validations read by several tests
+    "tests/test_front_door.py": "front_door",
+    "tests/fea/test_cli.py": "fea_cli",
+    "tests/export/test_drawing_layout.py": "drawing_layout",
+    "tests/export/test_outputs_ahead.py": "outputs_ahead",
+    "tests/synthesis/test_synth_cli.py": "synth_cli",
+    "tests/test_paper_validation.py": "paper_validation",
+}
+
+
+@pytest.hookimpl(optionalhook=True, tryfirst=True)
+def pytest_xdist_make_scheduler(config, log):
+    """``-n N`` (xdist's load scheduling): tests go out one at a time in collection order
+    (heavy modules first, above), as load scheduling does, but the modules of SHARED_WORK
+    go out as one unit per group. Load scheduling deals consecutive chunks of tests, so a
+    module fixture was built twice whenever a module straddled two chunks, and a session
+    fixture once on each worker that ran one of its tests."""
+    if config.getvalue("dist") != "load":
+        return None
+    from xdist.scheduler import LoadScopeScheduling
+
+    class SharedWorkScheduling(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            return SHARED_WORK.get(nodeid.split("::", 1)[0], nodeid)
+
+    config.option.loadscopereorder = False  # keep the order above, not the largest unit first
+    return SharedWorkScheduling(config, log)
+
+
 def template(name: str) -> Path:
     return TEMPLATES / f"{name}.toml"
 

@@ -18,6 +18,7 @@ def paper(name="paper_S2"):
     return tomllib.loads(template(name).read_text())
 
 
+@pytest.mark.slow  # the refusal's search over this 250 mm disk: 1-2 min on 2 loaded cores
 def test_flexure_no_longer_than_its_tip_ball_is_a_design_error():
     """Every length at the top of its range (fuzz family every_length, seed 21): 10 mm tip
     balls on 17.5 mm flexures left nothing above the ball to check, and numpy's

@@ -15,6 +15,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 #: files that time the run (and say when it started), not its results
 RUN_FILES = {"build.json", "report.html"}
@@ -35,6 +37,7 @@ def _files(root: Path) -> dict:
             if p.is_file() and p.name not in RUN_FILES}
 
 
+@pytest.mark.slow  # four builds of paper S1 in processes of their own: ~1 min
 def test_cached_build_files_equal_fresh_ones(tmp_path):
     env = {**os.environ, "SPRINGCAD_CACHE_DIR": str(tmp_path / "cache"),
            "SOURCE_DATE_EPOCH": "1700000000"}

@@ -45,24 +45,17 @@ def test_outputs_written_ahead_equal_those_written_in_the_export(verification, t
     assert not ahead.folder.exists()  # taken: moved into the build folder
     # what an export writes itself (export_build without outputs ahead: these calls, here)
     (tmp_path / "own" / "fea").mkdir(parents=True)
-    write_outputs(verification.raw, tmp_path / "own" / "fea", render=True)
+    own_order = [Path(p).name for p in write_outputs(verification.raw, tmp_path / "own" / "fea",
+                                                     render=True)]
     ahead_files, own_files = _fea(first.out_dir), _fea(tmp_path / "own")
     assert {"fea.json", "S1_von_mises.png", "S1_sector_2d.vtu"} <= set(ahead_files)
     assert ahead_files == own_files
     listed = [f["path"] for f in json.loads((first.out_dir / "build.json").read_text())["files"]]
-    assert [p for p in listed if p.startswith("fea/")] == [f"fea/{n}" for n in own_order(
-        verification, tmp_path / "order")]
+    # in the order write_outputs returns them
+    assert [p for p in listed if p.startswith("fea/")] == [f"fea/{n}" for n in own_order]
     # the same build again, without renders: the outputs were taken, it writes fea.json itself
     plain = sc.export_build(built, tmp_path / "plain", render=False, cache=False)
     assert _fea(plain.out_dir) == {"fea.json": ahead_files["fea.json"]}
-
-
-def own_order(verification, folder: Path) -> list:
-    """The names of the FEA outputs in the order write_outputs returns them."""
-    from springcad.report.fea_outputs import write_outputs
-
-    folder.mkdir()
-    return [Path(p).name for p in write_outputs(verification.raw, folder, render=True)]
 
 
 def test_outputs_not_taken_are_stopped_and_removed(verification, monkeypatch):
