@@ -23,13 +23,14 @@ import weakref
 from pathlib import Path
 
 from springcad.api import calls
+from springcad.api.exports_beside import fea_and_render, part_drawings, render_inputs
 from springcad.api.results import Design, Verification
 from springcad.cache import MISSING, open_cache
 from springcad.config import read_toml
 from springcad.errors import ConfigError
 from springcad.options import (DXF_VERSION, REVISION, api_door, check_dxf_version,
                                check_revision, written)
-from springcad.parallel import Pending, ahead, beside, enabled, single_threaded_blas, trim_heap
+from springcad.parallel import ahead, enabled, single_threaded_blas
 from springcad.progress import Tracker
 from springcad.report import notebook
 from springcad.report.fea_outputs import write_outputs
@@ -398,77 +399,6 @@ def _drawn_by() -> str:
     return f"springcad {__version__}"
 
 
-@contextlib.contextmanager
-def _fea_and_render(ver, assembly, tmp: Path, render: bool, store, track):
-    """The FEA files (``fea/``: fea.json, .vtu fields, PNG renders) of a verified build and the
-    assembly render, written by a second process beside the part exports
-    (:func:`springcad.parallel.beside`); the parts are tessellated here first (the CAD kernel
-    stays in this process), unless the render is cached. Yields a pending result whose
-    ``.result()`` is (FEA files, render files)."""
-    from springcad.export.bundle import cached_render
-    from springcad.export.render import part_triangles
-    from springcad.export.skeleton import with_solids
-
-    png, triangles = [], None
-    if render:
-        png = cached_render(assembly, tmp, store)
-        if png is not None:
-            track("assembly.png from the cache")
-        else:
-            triangles = part_triangles(with_solids(assembly))
-    if ver is not None:
-        (tmp / "fea").mkdir()
-    if ver is None and png is not None:
-        yield Pending(value=([], png))
-        return
-    if ver is not None and not render:
-        yield Pending(value=(write_outputs(ver.raw, tmp / "fea", render=False, progress=track,
-                                           cache=store), []))
-        return
-    if enabled():
-        track("writing the " + " and ".join(
-            (["FEA outputs (.vtu, renders)"] if ver is not None else [])
-            + (["assembly render"] if png is None else [])) + " in a second process")
-    with beside(_write_fea_and_render, None if ver is None else ver.raw, assembly, tmp, png,
-                triangles, cache=store, progress=track) as pending:
-        yield pending
-
-
-def _write_fea_and_render(ver_raw, assembly, tmp: Path, png, triangles, cache=None,
-                          progress=None) -> tuple[list, list]:
-    """The second process's share of the exports (:func:`_fea_and_render`): the FEA outputs
-    (when verified), then the assembly render from ``triangles`` (unless ``png`` holds the
-    cached one)."""
-    from springcad.export.bundle import export_render
-
-    fea = ([] if ver_raw is None else
-           write_outputs(ver_raw, tmp / "fea", render=True, cache=cache, progress=progress))
-    if png is None:
-        trim_heap()  # the FEA renders' freed buffers, before the assembly render's
-        png = export_render(assembly, tmp, progress=progress, cache=cache, triangles=triangles)
-    return fea, png
-
-
-@contextlib.contextmanager
-def _part_sheets(assembly, tmp: Path, info: dict, template, store, track, dxf_version: str):
-    """The parts' DXFs and drawings (:func:`springcad.export.bundle.export_part_sheets`: no
-    CAD kernel), written by a second process beside the STEP/STL exports, the assembly and
-    the read-backs when the solids are built (a cached, lazy assembly's are cached too, or
-    would be built in the child); yields a pending result whose ``.result()`` is the list of
-    files."""
-    from springcad.export.bundle import export_part_sheets
-    from springcad.export.skeleton import LazyAssembly
-
-    if not enabled() or isinstance(assembly, LazyAssembly):
-        yield Pending(value=export_part_sheets(assembly, tmp, info, template, progress=track,
-                                               cache=store, dxf_version=dxf_version))
-        return
-    track("writing the DXFs and drawings in a second process")
-    with beside(export_part_sheets, assembly, tmp, info, template, cache=store,
-                progress=track, dxf_version=dxf_version) as pending:
-        yield pending
-
-
 @api_door
 def export_build(built: Build, out, overwrite: bool = False, render: bool = True,
                  revision: str = REVISION,
@@ -532,8 +462,8 @@ def _export_into(built: Build, out: Path, overwrite: bool, inputs: list, render:
     """The files of :func:`export_build` (its arguments, checked), written into a temporary
     folder that becomes ``out``; sets ``built``'s files, checks and timings."""
     from springcad.export.bundle import (WrittenFile, dxf_references, export_assembly,
-                                         export_bundle, export_part_cad, part_file_order,
-                                         roundtrip_checks, stack_file_order)
+                                         export_bundle, export_part_cad, export_part_dxfs,
+                                         part_file_order, roundtrip_checks, stack_file_order)
     from springcad.export.skeleton import LazyAssembly
     from springcad.export.release import release_status
     from springcad.geometry.checks import CheckReport
@@ -553,27 +483,48 @@ def _export_into(built: Build, out: Path, overwrite: bool, inputs: list, render:
             info = {"job": d.job.name, "revision": revision,
                     "date": build_date(), "drawn_by": _drawn_by(),
                     "release": built.release}
-            # the drawings' process first, the longest of the exports: the render's
-            # tessellation (this process, before its own fork) then runs beside it
-            with _part_sheets(asm, tmp, info, template, store, track, dxf_version) as sheets, \
-                    _fea_and_render(ver if outputs is None else None, asm, tmp, render, store,
-                                    track) as fea_and_render:
-                cad = export_part_cad(asm, tmp, info["date"], progress=track, cache=store)
-                stack = export_assembly(asm, tmp, render=False, progress=track,
+            with part_drawings(asm, tmp, info, template, store, track) as drawings, \
+                    contextlib.ExitStack() as later:
+                # the drawings' process first, the longest of the exports; the render's
+                # tessellation (this process) runs beside it
+                png, triangles = render_inputs(asm, tmp, render, store, track)
+                # FEA files to write (not written ahead): their process starts now; the
+                # assembly render alone starts once the drawings' process has ended (VTK's
+                # frame buffers and matplotlib's sheets in two processes beside this one
+                # were the build's memory peak: default job 0.99 GB)
+                fea = ver if outputs is None else None
+                second = [None if fea is None else later.enter_context(
+                    fea_and_render(fea, asm, tmp, png, triangles, store, track))]
+
+                def render_when_drawn(wait: bool = False) -> None:
+                    if second[0] is None and (wait or drawings.ready()):
+                        drawings.result()  # its progress, in order
+                        second[0] = later.enter_context(
+                            fea_and_render(None, asm, tmp, png, triangles, store, track))
+
+                def step(message, fraction=None):  # this process's progress, per file
+                    track(message, fraction)
+                    render_when_drawn()
+
+                cad = export_part_cad(asm, tmp, info["date"], progress=step, cache=store)
+                # the DXFs here, the drawings there: the drawings' process, then the render's,
+                # take about as long as this one's share
+                dxfs = export_part_dxfs(asm, tmp, progress=step, cache=store,
+                                        dxf_version=dxf_version)
+                stack = export_assembly(asm, tmp, render=False, progress=step,
                                         date=info["date"], cache=store)
-                checks = roundtrip_checks(asm, tmp, cad, progress=track, cache=store)
-                # what the DXFs are held against, while the second process may still write them
+                checks = roundtrip_checks(asm, tmp, cad, progress=step, cache=store)
                 references = None if isinstance(asm, LazyAssembly) else dxf_references(asm)
-                sheet_files = sheets.result()
-                parts = part_file_order(asm, cad + sheet_files)
+                checks += roundtrip_checks(asm, tmp, dxfs, progress=step, cache=store,
+                                           references=references)
+                render_when_drawn(wait=True)
+                parts = part_file_order(asm, cad + dxfs + drawings.result())
                 stack += export_bundle(asm, tmp, parts, progress=track,
                                        release=built.release)
-                checks += roundtrip_checks(asm, tmp, sheet_files, progress=track, cache=store,
-                                           references=references)
                 if outputs is not None:  # before the render's result: progress in that order
                     fea_files = outputs.take(tmp / "fea", track)
-                fea_files, png = fea_and_render.result() if outputs is None else (
-                    fea_files, fea_and_render.result()[1])
+                fea_files, png = second[0].result() if outputs is None else (
+                    fea_files, second[0].result()[1])
             files = parts + stack_file_order(stack + png)
             order = {f.path: k for k, f in enumerate(files)}
             built.roundtrip = sorted(checks, key=lambda c: order[c.subject])

@@ -98,13 +98,15 @@ def part_file_order(assembly, written: list[WrittenFile]) -> list[WrittenFile]:
 
 
 def _each_part(assembly, out_dir: Path, kind: str, inputs, write, what: str,
-               progress: Progress, cache) -> list[WrittenFile]:
-    """Files of every distinct part, through the cache: ``write(pn)`` returns (paths,
-    [(kind, note)]) and ``inputs(pn)`` the cache key's inputs beside the part's fingerprint;
-    ``what`` (e.g. "STEP, STL") names them in the progress lines."""
+               progress: Progress, cache, numbers=None) -> list[WrittenFile]:
+    """Files of every distinct part (of those of ``numbers``, by part number, if given),
+    through the cache: ``write(pn)`` returns (paths, [(kind, note)]) and ``inputs(pn)`` the
+    cache key's inputs beside the part's fingerprint; ``what`` (e.g. "STEP, STL") names them
+    in the progress lines."""
     out = []
-    for k, (pn, part) in enumerate(assembly.parts.items()):
-        progress(f"exporting {pn} ({what})", k / len(assembly.parts))
+    parts = [(pn, part) for pn, part in assembly.parts.items() if numbers is None or pn in numbers]
+    for k, (pn, part) in enumerate(parts):
+        progress(f"exporting {pn} ({what})", k / len(parts))
         paths, meta = files(cache, kind, (part_fingerprint(part), *inputs(pn)), out_dir,
                             lambda: write(pn),
                             lambda: progress(f"{pn}: {what} files from the cache", None))
@@ -131,9 +133,9 @@ def export_part_cad(assembly, out_dir: Path, date: str = "", progress: Progress 
 def export_part_sheets(assembly, out_dir: Path, drawing_info: dict, template: dict | None = None,
                        progress: Progress = no_progress, cache=None,
                        dxf_version: str = DXF_VERSION) -> list[WrittenFile]:
-    """DXF (profile-cut parts) and drawings (made parts) of every distinct part: no CAD
-    kernel (the drawings' views and the DXF are drawn from the parts' profiles), so they
-    can be written by a forked process beside the STEP/STL exports.
+    """DXF (profile-cut parts) and drawings (made parts) of every distinct part
+    (:func:`export_part_dxfs`, then :func:`export_part_drawings`): no CAD kernel (the
+    drawings' views and the DXF are drawn from the parts' profiles).
 
     Args:
         drawing_info: ``job``, ``revision``, ``date``, ``drawn_by``, ``release`` for the
@@ -143,42 +145,52 @@ def export_part_sheets(assembly, out_dir: Path, drawing_info: dict, template: di
             default R2010 (AC1024) or R12 (AC1009) for CAM that reads nothing newer; both
             hold the same LINE/ARC/CIRCLE entities.
     """
+    return (export_part_dxfs(assembly, out_dir, progress, cache, dxf_version)
+            + export_part_drawings(assembly, out_dir, drawing_info, template, progress, cache))
+
+
+def export_part_dxfs(assembly, out_dir: Path, progress: Progress = no_progress, cache=None,
+                     dxf_version: str = DXF_VERSION) -> list[WrittenFile]:
+    """The DXF of every profile-cut part (see :func:`export_part_sheets`)."""
+    parts_dir = Path(out_dir) / "parts"
+    parts_dir.mkdir(parents=True, exist_ok=True)
+    cut = [pn for pn, part in assembly.parts.items() if part.info.cut_profile is not None]
+    return _each_part(assembly, out_dir, "part-dxf", lambda pn: (dxf_version,),
+                      lambda pn: _write_dxf(built_part(assembly, pn), parts_dir, dxf_version),
+                      "DXF", progress, cache, cut)
+
+
+def export_part_drawings(assembly, out_dir: Path, drawing_info: dict,
+                         template: dict | None = None, progress: Progress = no_progress,
+                         cache=None) -> list[WrittenFile]:
+    """The drawings of every made part (see :func:`export_part_sheets`): written by a forked
+    process beside the STEP/STL and DXF exports (the longest of the build's files)."""
     parts_dir = Path(out_dir) / "parts"
     parts_dir.mkdir(parents=True, exist_ok=True)
     qty = assembly.quantities()
+    made = [pn for pn, part in assembly.parts.items() if part.info.process != "purchased"]
 
     def info(pn):
         return {**drawing_info, "quantity": qty[pn]}
 
     def write(pn):
-        return _write_sheets(built_part(assembly, pn), parts_dir, info(pn), template,
-                             dxf_version)
+        paths = write_drawing(built_part(assembly, pn), DrawingInfo(**info(pn)), parts_dir,
+                              template)
+        return paths, [(path.suffix[1:], "") for path in paths]
 
-    return _each_part(assembly, out_dir, "part-sheets",
-                      lambda pn: (info(pn), template, dxf_version), write, "DXF, drawings",
-                      progress, cache)
+    return _each_part(assembly, out_dir, "part-drawings", lambda pn: (info(pn), template), write,
+                      "drawings", progress, cache, made)
 
 
-def _write_sheets(part, parts_dir: Path, info: dict, template,
-                  dxf_version: str = DXF_VERSION) -> tuple[list[Path], list]:
-    """Write a part's DXF (profile-cut parts) and drawings (made parts); returns their
-    paths and (kind, info) of each."""
+def _write_dxf(part, parts_dir: Path, dxf_version: str = DXF_VERSION) -> tuple[list[Path], list]:
+    """Write a profile-cut part's DXF; returns its path and ("dxf", note)."""
     pn = part.part_number
-    paths, meta = [], []
-    if part.info.cut_profile is not None:
-        cut = sum(sl.length_mm for sl in part.slabs if sl.region is part.info.cut_profile)
-        rep = write_dxf(part.info.cut_profile, parts_dir / f"{pn}.dxf", pn,
-                        part.info.thickness_mm, version=dxf_version,
-                        profile_length_mm=cut or None)
-        paths.append(rep.path)
-        meta.append(("dxf", f"{rep.n_loops} closed contours as {rep.n_entities} "
-                            f"{rep.entities} entities, {rep.n_biarcs} biarcs, "
-                            f"max deviation {UM_PER_MM * rep.max_deviation_mm:.3f} um"))
-    if part.info.process != "purchased":
-        for path in write_drawing(part, DrawingInfo(**info), parts_dir, template):
-            paths.append(path)
-            meta.append((path.suffix[1:], ""))
-    return paths, meta
+    cut = sum(sl.length_mm for sl in part.slabs if sl.region is part.info.cut_profile)
+    rep = write_dxf(part.info.cut_profile, parts_dir / f"{pn}.dxf", pn, part.info.thickness_mm,
+                    version=dxf_version, profile_length_mm=cut or None)
+    return [rep.path], [("dxf", f"{rep.n_loops} closed contours as {rep.n_entities} "
+                                f"{rep.entities} entities, {rep.n_biarcs} biarcs, "
+                                f"max deviation {UM_PER_MM * rep.max_deviation_mm:.3f} um")]
 
 
 def export_stack(assembly, out_dir: Path, part_files: list[WrittenFile], render: bool = True,

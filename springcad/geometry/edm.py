@@ -35,6 +35,8 @@ FACING_RATIO = 2.0
 #: sampling step of the pair search (mm): parallel-edge distances are overestimated by
 #: at most (step/2)^2 / (2 width) = 0.5 um at 0.4 mm
 PAIR_STEP_MM = 0.04
+#: pairs processed at once by the facing-pair search (bounds its arrays to a few MB)
+PAIR_BLOCK = 2 ** 16
 #: sampling step for curvature and hole distances (mm)
 CURVE_STEP_MM = 0.01
 #: a concave kink is a violation when the wire leaves more material in it than this
@@ -160,6 +162,16 @@ def _facing_pairs(profile: Profile, search_mm: float):
     pairs = cKDTree(pts).query_pairs(search_mm, output_type="ndarray")
     if not len(pairs):
         return np.empty(0), np.empty((0, 2)), np.empty(0, dtype=bool)
+    # in blocks of pairs: the default ring's 1.3 M pairs held a dozen arrays of that length
+    # at once (~120 MB, the build's peak while the FEA outputs are written beside it); every
+    # number is computed per pair, so the blocks give the same arrays
+    parts = [_facing_block(pairs[k:k + PAIR_BLOCK], pts, normals, loop, arc, length)
+             for k in range(0, len(pairs), PAIR_BLOCK)]
+    return tuple(np.concatenate(x) for x in zip(*parts))
+
+
+def _facing_block(pairs: np.ndarray, pts, normals, loop, arc, length):
+    """:func:`_facing_pairs` on one block of pairs (index arrays into the samples)."""
     a, b = pairs[:, 0], pairs[:, 1]
     d = pts[b] - pts[a]
     dist = np.linalg.norm(d, axis=1)
@@ -171,8 +183,8 @@ def _facing_pairs(profile: Profile, search_mm: float):
     material = facing & (into_a > 0) & (into_b > 0)
     void = facing & (into_a < 0) & (into_b < 0)
     keep = material | void
-    mid = 0.5 * (pts[a] + pts[b])
-    return dist[keep], mid[keep], material[keep]
+    a, b = a[keep], b[keep]
+    return dist[keep], 0.5 * (pts[a] + pts[b]), material[keep]
 
 
 def gap_rules(profile: Profile, min_web_mm: float, min_slot_mm: float, describe):

@@ -145,3 +145,21 @@ def test_hole_edge_per_hole_equals_the_brute_force_minimum():
     # hole 1 to hole 2: centres sqrt(2.5^2 + 0.4^2) apart; hole 3 to the plate's top edge
     assert got[0]["value_mm"] == pytest.approx(math.hypot(2.5, 0.4) - 2.2, abs=1e-3)
     assert got[2]["value_mm"] == pytest.approx(10.0 - 6.5 - 2.0, abs=1e-3)
+
+
+def test_facing_pairs_in_blocks_equal_one_block(ring_s1, monkeypatch):
+    """The pair search works in blocks of pairs (its arrays bounded to a few MB): blocks that
+    split the ring's pairs anywhere give the same distances, midpoints and sides, bit for
+    bit, as all pairs at once."""
+    import numpy as np
+
+    from springcad.geometry import edm
+
+    monkeypatch.setattr(edm, "PAIR_BLOCK", 10 ** 9)
+    whole = edm._facing_pairs(ring_s1.spring.ring, 0.8)
+    monkeypatch.setattr(edm, "PAIR_BLOCK", 997)
+    blocks = edm._facing_pairs(ring_s1.spring.ring, 0.8)
+    assert len(whole[0]) > 10 * 997
+    for a, b in zip(whole, blocks):
+        assert a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+    assert np.any(whole[2]) and not np.all(whole[2])  # both webs and slots among them
