@@ -250,17 +250,10 @@ def root_fillet_stiffening(design: SpringDesign) -> float:
     flexure, stiffens it by tens of % the narrower widths do not remove where the tips sit
     at the minimum web (a 12.5 mm disk 6 mm thick: x1.37 by this integral, FEA +48 %;
     the default template x1.025, the paper's S1 x1.009)."""
-    E = design.material.material.youngs_modulus_MPa
-    rc, rho = design.contact_radius_mm, design.root_fillet_radius_mm
-    y, _, slope, _ = fx.stations(design.centreline, rc, design.root_station_mm, 4001)
-    w = design.width_mm(y)
+    rho = design.root_fillet_radius_mm
+    y, w, compliance = design.beam_integral()
     d = y - (design.root_station_mm - rho)
     widening = np.where(d > 0.0, 2.0 * (rho - np.sqrt(np.maximum(rho ** 2 - d ** 2, 0.0))), 0.0)
-
-    def compliance(width):
-        return fx.compliance_mm_per_N(design.centreline, y, width, design.thickness_mm, E, rc,
-                                      slope)
-
     return compliance(w) / compliance(w + widening)
 
 

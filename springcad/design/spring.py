@@ -252,6 +252,20 @@ class SpringDesign:
         w = 0.5 * (w + web + np.sqrt((w - web) ** 2 + eps ** 2))
         return w + 2.0 * self.width_offset_mm
 
+    def beam_integral(self, youngs_modulus_MPa: float | None = None):
+        """The beam integral's stations from r_c to the root station (mm), the width law
+        there (mm), and ``compliance(width)``: one flexure's tip compliance (mm/N,
+        :func:`~springcad.design.flexure.compliance_mm_per_N`) for any widths at those
+        stations. ``youngs_modulus_MPa``: E instead of the material's (MPa)."""
+        E = youngs_modulus_MPa or self.material.material.youngs_modulus_MPa
+        rc, z = self.contact_radius_mm, self.thickness_mm
+        y, _, slope, _ = fx.stations(self.centreline, rc, self.root_station_mm, 4001)
+
+        def compliance(width):
+            return fx.compliance_mm_per_N(self.centreline, y, width, z, E, rc, slope)
+
+        return y, self.width_mm(y), compliance
+
     def beam_stiffness_Nmm_per_rad(self, width_offset_mm: float = 0.0,
                                    youngs_modulus_MPa: float | None = None) -> float:
         """Beam-theory stiffness of this geometry (N*mm/rad), optionally perturbed.
@@ -267,14 +281,8 @@ class SpringDesign:
                 K(offset) = K_law * C_real(0) / C_real(offset).
             youngs_modulus_MPa: E to use instead of the material's (MPa).
         """
-        E = youngs_modulus_MPa or self.material.material.youngs_modulus_MPa
-        rc, z = self.contact_radius_mm, self.thickness_mm
-        y, _, slope, _ = fx.stations(self.centreline, rc, self.root_station_mm, 4001)
-        w = self.width_mm(y)
-
-        def compliance(width):
-            return fx.compliance_mm_per_N(self.centreline, y, width, z, E, rc, slope)
-
+        rc = self.contact_radius_mm
+        y, w, compliance = self.beam_integral(youngs_modulus_MPa)
         k = self.n_flexures * rc ** 2 / compliance(w)
         if width_offset_mm:
             chord = 2 * np.sqrt(np.maximum(self.tip_radius_mm ** 2 - (y - rc) ** 2, 0.0))
