@@ -59,6 +59,16 @@ def test_springs_sharing_a_camshaft_are_designed_on_one_layout():
     d = design_job(job, explain=False).springs
     for name in ("n_flexures", "contact_radius_mm", "tip_radius_mm"):
         assert getattr(d["S1"], name) == pytest.approx(getattr(d["S2"], name))
+    # the shared layout is springcad's, not the config's: held on the members' specs (so
+    # the FEA corrections keep one tooth) but never a key a refusal asks the user to remove
+    # (held-out A 3001 g26: "springs.B.n_flexures removed (now 27...)", a key it never gave)
+    for spring in d.values():
+        assert spring.spec.n_flexures == spring.n_flexures
+        assert set(spring.spec.shared_camshaft) == {"n_flexures", "contact_radius_mm",
+                                                    "tip_radius_mm"}
+        assert search.fixed_choices(spring.spec) == []
+        assert search._freed_choices(spring.spec, job.material, job.manufacturing,
+                                     job.hardware, math.inf) == ""
 
 
 #: the contact FEA's nominal driving-tooth-tip-to-ball gap at +theta_max (fea.contact: the

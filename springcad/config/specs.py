@@ -109,6 +109,10 @@ class SpringSpec:
             must reach (mm; 0: the design rule alone). Not a config key: the contact FEA's
             cam correction sets it when no longer flank fits the tooth, so the search
             passes over layouts without room for one (:mod:`springcad.design.redesign`).
+        shared_camshaft: the layout keys (of n_flexures, contact_radius_mm, tip_radius_mm)
+            springcad fixed so that springs sharing a camshaft share one tooth profile
+            (:func:`springcad.design.job.camshaft_groups`). Not a config key: a refusal
+            never asks the user to remove them.
     """
 
     name: str
@@ -124,6 +128,7 @@ class SpringSpec:
     flexure: str = _d("springs.<name>", "flexure")
     max_thickness_mm: float | None = None
     cam_min_tip_clearance_mm: float = 0.0
+    shared_camshaft: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -176,8 +176,10 @@ def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
 
 
 def fixed_choices(spec: SpringSpec) -> list[tuple[str, str]]:
-    """The layout keys of :data:`FREE_CHOICES` the user fixed on ``spec`` (key, unit)."""
-    return [(k, u) for k, u in FREE_CHOICES if getattr(spec, k) is not None]
+    """The layout keys of :data:`FREE_CHOICES` the user fixed on ``spec`` (key, unit); not
+    those springcad fixed for a shared camshaft (``spec.shared_camshaft``)."""
+    return [(k, u) for k, u in FREE_CHOICES
+            if getattr(spec, k) is not None and k not in spec.shared_camshaft]
 
 
 def freed(spec: SpringSpec) -> SpringSpec:

@@ -6,7 +6,7 @@ import math
 from dataclasses import dataclass, replace
 
 from springcad.version import stamp
-from springcad.config import Job, ManufacturingSpec
+from springcad.config import Job, ManufacturingSpec, SpringSpec
 from springcad.config.consistency import check as check_config
 from springcad.config.consistency import ROOT_STEP_MM, min_rim_mm
 from springcad.config.schema import BOLT_DIAMETERS_MM
@@ -148,6 +148,17 @@ def shared_rim_limit_mm(job: Job) -> float:
                ro - max(min_rim_mm(ro, job.manufacturing, job.hardware), spacer_rim))
 
 
+#: the layout keys springs sharing a camshaft must share (one tooth profile)
+CAMSHAFT_KEYS = ("n_flexures", "contact_radius_mm", "tip_radius_mm")
+
+
+def _pinned(spec: SpringSpec, fixed: dict) -> SpringSpec:
+    """``spec`` with the shared camshaft's layout ``fixed``, the keys the user left free
+    marked as springcad's (``shared_camshaft``: a refusal never asks to remove them)."""
+    return replace(spec, **fixed, shared_camshaft=tuple(
+        k for k in CAMSHAFT_KEYS if getattr(spec, k) is None))
+
+
 def _share_camshafts(job: Job, springs: dict[str, SpringDesign],
                      max_root_radius_mm: float = math.inf) -> dict[str, SpringDesign]:
     """Springs sharing a camshaft redesigned on one layout (N, r_c, tip ball).
@@ -171,7 +182,7 @@ def _share_camshafts(job: Job, springs: dict[str, SpringDesign],
             fixed = dict(n_flexures=lead.n_flexures, contact_radius_mm=lead.contact_radius_mm,
                          tip_radius_mm=tip, min_tip_radius_mm=min(tip, lead.spec.min_tip_radius_mm))
             try:
-                redone = {n: design_spring(replace(job.springs[n], **fixed), job.material,
+                redone = {n: design_spring(_pinned(job.springs[n], fixed), job.material,
                                            job.manufacturing, job.hardware, explain=False,
                                            max_root_radius_mm=max_root_radius_mm)
                           for n in group}

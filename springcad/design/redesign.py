@@ -102,10 +102,13 @@ def redesign_for_margin(design: SpringDesign, model_bias: float) -> SpringDesign
             return _on_holes_of(design, d)
     changes = changes_for_margin(design.spec, mat, design.manufacturing, design.hardware,
                                  design.max_root_radius_mm, max(model_bias, 1.0))
+    shared = design.spec.shared_camshaft
+    held = (f"; {', '.join(shared)} held at the layout of the springs that share its camshaft"
+            if shared else "")
     raise DesignError(f"spring '{design.name}': no redesign keeps the yield margin "
                       f"{duty.required_margin(biased, design.max_deflection_rad):.3f} for a "
-                      f"peak {model_bias:.3f} x the prediction ({'; '.join(tried)}); with that "
-                      f"peak the spring is {changes}")
+                      f"peak {model_bias:.3f} x the prediction ({'; '.join(tried)}{held}); "
+                      f"with that peak the spring is {changes}")
 
 
 def redesign_for_stiffness(design: SpringDesign, k_ratio: float) -> SpringDesign:
