@@ -219,7 +219,10 @@ def main(argv=None) -> int:
             continue
         fits = root / "fits"
         if a.rescore:
-            runs = [{"rc": 0, "dir": str(fits / t["name"]), "wall_s": None} for t in truths]
+            walls = {}
+            for log in sorted(root.glob("runs*.json")):
+                walls.update({Path(r["dir"]).name: r["wall_s"] for r in json.loads(log.read_text())})
+            runs = [{"rc": 0, "dir": str(fits / t["name"]), "wall_s": walls.get(t["name"])} for t in truths]
         else:
             def go(t):
                 r = run_fit(t, code, fits)
@@ -227,7 +230,8 @@ def main(argv=None) -> int:
                 return r
             with ThreadPoolExecutor(a.jobs) as ex:
                 runs = list(ex.map(go, truths))
-            (root / "runs.json").write_text(json.dumps(runs, indent=1))
+            tag = "" if not a.only else "_" + str(zlib.crc32(" ".join(names).encode()))
+            (root / f"runs{tag}.json").write_text(json.dumps(runs, indent=1))
         scores = [score(t, r) for t, r in zip(truths, runs)]
         md = table(seed, truths, scores, code)
         print(md, flush=True)

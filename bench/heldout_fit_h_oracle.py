@@ -1,7 +1,7 @@
 """Held-out generator H: the `unexplained` label from physics (my own oracle).
 
 What the library's laws (as the README names them) can describe of a record's noise-free
-channels, at best: torque = K e + a_pos max(e, 0) + k3 e^3 + T0 + d t + c de/dt + F z(theta),
+channels, at best: torque = K e + a_pos max(e, 0) + k3 e^3 + T0 + d t + c de/dt + c' dtheta/dt + F z(theta),
 with e the deflection read `delay` s late through a dead band of half-width h centred at a with
 a smooth (softplus) take-up of width l, z a unit presliding friction (Dahl or elasto-plastic of
 width w, or none). The nonlinear parameters (h, a, l, delay, w) are fitted by least squares
@@ -36,7 +36,10 @@ def _columns(t, th, p, law):
     h, a, l, delay, w = p
     th_d = np.interp(t - delay, t, th)
     e = dead_band(th_d - a, h, l)
-    cols = [e, np.maximum(e, 0), e ** 3, np.ones_like(t), t - t.mean(), np.gradient(e, t)]
+    # a damper is the lag family's law: on the spring's own motion (what a negative lag is,
+    # zero inside a clearance) or on the whole deflection (a parallel dashpot, acting in the gap)
+    cols = [e, np.maximum(e, 0), e ** 3, np.ones_like(t), t - t.mean(), np.gradient(e, t),
+            np.gradient(th_d, t)]
     if law == "dahl":
         cols.append(sim.dahl(th_d, w))
     elif law == "elasto_plastic":
