@@ -301,11 +301,30 @@ def to_csv_text(record: BenchRecord) -> str:
     return buf.getvalue()
 
 
+#: field separators a bench CSV may use, in the order they are looked for in its header:
+#: a comma, a semicolon (spreadsheets in locales with a decimal comma), a tab
+SEPARATORS = (",", ";", "\t")
+
+
+def separator(text: str) -> str:
+    """The field separator of a bench CSV: the first of :data:`SEPARATORS` its header line
+    (the first line neither blank nor a ``#`` comment) holds, else a comma (one column)."""
+    for line in text.splitlines():
+        if line.strip() and not line.lstrip().startswith("#"):
+            return next((sep for sep in SEPARATORS if sep in line), ",")
+    return ","
+
+
 def _split_rows(text: str, source: str) -> tuple[list[str], np.ndarray, list[list[str]]]:
+    """Header, line numbers and fields of a bench CSV's data rows. A semicolon-separated
+    file may write its numbers with a decimal comma (``1,25``): they are read as ``1.25``."""
     header = None
     rows, line_numbers = [], []
-    reader = csv.reader(io.StringIO(text))
+    sep = separator(text)
+    reader = csv.reader(io.StringIO(text), delimiter=sep)
     for fields in reader:
+        if sep == ";" and header is not None:
+            fields = [f.replace(",", ".") for f in fields]
         line = reader.line_num
         if not fields or all(not f.strip() for f in fields) or fields[0].lstrip().startswith("#"):
             continue

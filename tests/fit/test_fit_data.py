@@ -42,6 +42,22 @@ def test_header_with_spaces_comments_and_blank_lines(sim, tmp_path):
     assert rec.n_samples == 500
 
 
+@pytest.mark.parametrize("sep,decimal", [(";", ","), (";", "."), ("\t", ".")])
+def test_semicolon_and_tab_separated_files_read_as_the_comma_file(sim, tmp_path, sep, decimal):
+    """A spreadsheet in a locale with a decimal comma writes ``time_s;torque_Nm;...`` and
+    ``0,002;1,25;...``; a tab-separated export is the other common form. Both give the
+    same record as the comma file (the header was read as one column name before)."""
+    lines = [ln.replace(",", sep).replace(".", decimal) for ln in _good_lines(sim, 400)]
+    path = _csv(tmp_path, "\n".join(["# exported", sep.join(["time_s", "torque_Nm",
+                                                            "deflection_rad"])] + lines))
+    rec = read_bench_csv(path)
+    ref = read_bench_csv(_csv(tmp_path, "\n".join(["time_s,torque_Nm,deflection_rad"]
+                                                  + _good_lines(sim, 400)), "ref.csv"))
+    np.testing.assert_array_equal(rec.time_s, ref.time_s)
+    np.testing.assert_array_equal(rec.torque_Nm, ref.torque_Nm)
+    np.testing.assert_array_equal(rec.deflection_rad, ref.deflection_rad)
+
+
 def test_other_names_degrees_and_newton_millimetres(sim, tmp_path):
     rec0 = sim.record
     lines = ["t,tau_Nmm,angle_deg,motor_in_deg,motor_out_deg"]
