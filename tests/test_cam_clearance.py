@@ -161,3 +161,32 @@ def test_a_layout_whose_tooth_cannot_clear_the_ball_moves_to_a_larger_contact_ra
     assert tip_clearance_mm(full.contact_radius_mm, full.tip_radius_mm, mfg.w_gap_mm,
                             full.max_deflection_rad, full.cam_overtravel,
                             full.root_radius_mm) >= need
+
+
+def test_the_pocket_gap_at_the_cusp_is_short_by_the_closed_form_and_within_the_resolution():
+    """The pocket arc passes through the flank's cusp, R(psi*) (0, r_c) with psi* = rho / r_c:
+    its radius about the ball centre is 2 r_c sin(psi* / 2), short of rho = r_b + w_gap by
+    rho psi*^2 / 24 to leading order. A 1 mm ball at r_c 8 mm (held-out B 5507 016, both
+    fixed by the user) leaves 0.73 um: within the 1 um the solids' B-rep check resolves
+    (GAP_RESOLUTION_MM), where the design's old 0.5 um refused every layout of the spec."""
+    from springcad.design.cam import GAP_RESOLUTION_MM, _unit
+    from springcad.geometry.checks import CLEARANCE_TOL_MM
+
+    rc, rb, g, n = 8.0, 1.0, 0.04, 20
+    rho = rb + g
+    psi0 = rho / rc
+    segs, feats, _ = _unit(rc, rho, 2 * math.pi / n, psi0 + 0.1)
+    pocket = next(s for s, f in zip(segs, feats) if f.kind == "pocket")
+    deficit = rho - pocket.radius
+    assert deficit == pytest.approx(rho - 2 * rc * math.sin(psi0 / 2), rel=1e-9)
+    assert deficit == pytest.approx(rho * psi0 ** 2 / 24, rel=0.01)
+    assert 0.5e-3 < deficit < GAP_RESOLUTION_MM == CLEARANCE_TOL_MM
+    job = job_from_dict({"material": {"name": "maraging_300", "safety_factor": 1.5},
+                         "duty": {"preset": "static"},
+                         "springs": {"A": {"target_stiffness_Nm_per_rad": 238,
+                                           "max_deflection_deg": 4.286, "outer_radius_mm": 60,
+                                           "thickness_mm": 6.0, "tip_radius_mm": rb,
+                                           "contact_radius_mm": rc}},
+                         "manufacturing": {"w_gap_mm": g}})
+    d = design_job(job, explain=False).springs["A"]
+    assert (d.tip_radius_mm, d.contact_radius_mm) == (rb, rc)

@@ -65,6 +65,12 @@ def flank_point(psi: float, contact_radius_mm: float, offset_mm: float) -> np.nd
     return _R(psi) @ np.array([contact_radius_mm * psi - offset_mm, contact_radius_mm])
 
 
+#: the resolution of the cam-to-resting-ring gap check (mm): the design's rule and the
+#: solids' measurement (:data:`springcad.geometry.checks.CLEARANCE_TOL_MM`, B-rep within
+#: ~1 um of the design curves) judge the same gap to the same 1 um. The pocket arc through
+#: the flank's cusp leaves the gap short by about rho psi*^2 / 24 (0.05 um at S1 sizes,
+#: 0.7 um for a 1 mm ball at r_c 8 mm: held-out B 5507 016, refused for it at 0.5 um)
+GAP_RESOLUTION_MM = 1e-3
 #: the start of the warning a too-close tooth tip gives (the design search reads it)
 TIP_CLEARANCE_SHORT = "driving tooth tip passes close to the ball"
 #: the start of the warning a tooth passing the driven flexure's neck or edges too close gives
@@ -252,7 +258,7 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
             near = ring_pts[np.hypot(*ring_pts.T) < tip.radius + 0.5]
             clearance = min_distance_mm(cam_pts, near)
         tried.append((f, tip_w, clearance))
-        if not (tip_w >= min_web and clearance >= g - 5e-4):  # 0.5 um: sampling at 0.01 mm + cusp
+        if not (tip_w >= min_web and clearance >= g - GAP_RESOLUTION_MM):
             continue
         drawable.append((f, unit, unit_features, tip, tip_w, clearance))
         if d.ring is None or f not in clearing:

@@ -22,6 +22,7 @@ from dataclasses import asdict, dataclass, field
 
 from springcad.cache import memo
 from springcad.connections import connection_sequence
+from springcad.design.cam import GAP_RESOLUTION_MM
 from springcad.errors import CheckFailed, GeometryError
 from springcad.geometry.edm import edm_rules
 from springcad.geometry.interference import InterferenceChecker, cam_clearance
@@ -33,8 +34,8 @@ from springcad.progress import Progress, Tracker, no_progress
 from springcad.stages import stage
 
 #: measured cam-to-tip clearance must equal the designed gap within this (mm): the
-#: kernel's spline edges match the design curves to ~1 um
-CLEARANCE_TOL_MM = 0.001
+#: kernel's spline edges match the design curves to ~1 um; the design's rule uses the same
+CLEARANCE_TOL_MM = GAP_RESOLUTION_MM
 #: solid volume against slab area x length (relative): the exact divergence volume
 #: agrees to ~1e-7; the sampled profile area to ~1e-5
 VOLUME_RTOL = 1e-4
