@@ -203,3 +203,28 @@ def test_a_refusal_counts_the_layouts_short_of_the_best_ranked_rule():
     assert _alike(rejected) == 3
     assert _alike(rejected[1:]) == 2
     assert _alike(rejected[:1]) == 1
+
+
+def test_a_contact_radius_at_a_fixed_root_radius_is_a_layout_without_flexures():
+    """The contact radii searched run up to a fixed root radius; at it the flexure has no
+    length, so no straight reach, and the serpentine's factor divided by zero (held-out B
+    5507 029, R_r fixed at 10.5 mm on a 15.5 mm disk: a traceback from a refusal's probe).
+    The layout is refused like a rim that leaves no room, and the spec is refused with the
+    change that designs."""
+    from springcad.design.layout import layout_at
+
+    job = job_from_dict({"material": {"name": "17-4ph_h900"},
+                         "springs": {"S1": {"target_stiffness_Nm_per_rad": 110,
+                                            "max_deflection_deg": 3.25, "outer_radius_mm": 15.5,
+                                            "thickness_mm": 5.0, "root_radius_mm": 10.5,
+                                            "flexure": "serpentine", "min_tip_radius_mm": 0.4}},
+                         "hardware": {"fastener": "bolt", "fastener_diameter_mm": 2.5,
+                                      "shaft_diameter_mm": 3.0}})
+    spec = job.springs["S1"]
+    with pytest.raises(DesignError, match="root_radius_mm = 10.5 leaves no room"):
+        layout_at(spec, 700.0, 2e5, 12, 10.5)
+    lay = layout_at(spec, 700.0, 2e5, 12, 6.0)
+    assert lay.rr == 10.5 and lay.theta_s > 0
+    with pytest.raises(DesignError, match=r"it designs with the disk scaled by [\d.]+: "
+                                          r"springs\.S1\.thickness_mm = "):
+        design_job(job)
