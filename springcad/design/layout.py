@@ -191,10 +191,9 @@ def _layout_with_ball(spec: SpringSpec, sigma, E, n, rc, ball, max_root_radius_m
                  rim_root_radius(spec.outer_radius_mm, n, rc,
                                  lambda L: math.sqrt(6 * load * L / (z * sigma))))
     if rr <= rc:  # a fixed root radius too (held-out B 5507 029: r_c reached it, L = 0)
-        raise DesignError(f"spring '{spec.name}': the "
-                          + (f"root_radius_mm = {rr:g}" if spec.root_radius_mm is not None
-                             else "rim") + f" leaves no room for flexures beyond r_c = "
-                          f"{rc:.3g} mm")
+        what = "rim" if spec.root_radius_mm is None else f"root_radius_mm = {rr:g}"
+        raise DesignError(f"spring '{spec.name}': the {what} leaves no room for flexures "
+                          f"beyond r_c = {rc:.3g} mm")
     theta_s = fx.straight_limit_rad(n, z, sigma, rr - rc, E, spec.target_stiffness_Nmm_per_rad, rc)
     return Layout(n, rc, rb, rb_req, rr, theta_s, load)
 

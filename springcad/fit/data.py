@@ -309,7 +309,7 @@ SEPARATORS = (",", ";", "\t")
 def separator(text: str) -> str:
     """The field separator of a bench CSV: the first of :data:`SEPARATORS` its header line
     (the first line neither blank nor a ``#`` comment) holds, else a comma (one column)."""
-    for line in text.splitlines():
+    for line in io.StringIO(text):  # lazily: the header is near the top of a large file
         if line.strip() and not line.lstrip().startswith("#"):
             return next((sep for sep in SEPARATORS if sep in line), ",")
     return ","
