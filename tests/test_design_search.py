@@ -8,6 +8,7 @@ spec's physics (a spec the search designs passes the rules it names).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import pytest
 
@@ -228,3 +229,22 @@ def test_a_contact_radius_at_a_fixed_root_radius_is_a_layout_without_flexures():
     with pytest.raises(DesignError, match=r"it designs with the disk scaled by [\d.]+: "
                                           r"springs\.S1\.thickness_mm = "):
         design_job(job)
+
+
+def test_a_larger_rim_is_probed_under_the_stacks_own_root_cap():
+    """A refusal's probe of a larger outer radius moves the stack's root radius cap with
+    the rim only as far as the stack's rule lets it (held-out A 6203 g04: spring B's rim
+    grown from 24.5 to 36.5 mm was named, while spring A's 24.5 mm rim kept the rim
+    holes' circle, and so the cap, where it was). S1's 5 mm disk needs a root radius
+    above 30 mm: grown to R_o 42 mm it designs when the cap moves with its rim, not when
+    another rim holds it at 30 mm."""
+    job = job_from_dict({"material": {"design_stress_MPa": 780, "safety_factor": 1.2},
+                         "springs": {"S1": S1}, "stack": {"sequence": ["S1"]}})
+    spec, args = job.springs["S1"], (job.material, job.manufacturing, job.hardware, 30.0)
+    larger = replace(spec, outer_radius_mm=42.0)
+    assert search.probe(spec, *args) is None
+    assert search._designs(larger, *args, base=spec)  # cap moved by the rim's growth
+    with search.rim_cap_rule(lambda outer_mm: 30.0 + (outer_mm - 36.0)):
+        assert search._designs(larger, *args, base=spec)
+    with search.rim_cap_rule(lambda outer_mm: 30.0):  # a smaller pinned rim holds it
+        assert not search._designs(larger, *args, base=spec)

@@ -17,7 +17,7 @@ from springcad.design.feasibility import fewer_disks, key_clause, with_key
 from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware, design_warnings
 from springcad.design.ring import pinned_hole_patterns
-from springcad.design.search import probe, short_reason
+from springcad.design.search import probe, rim_cap_rule, short_reason
 from springcad.design.sizing import for_a_user
 from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
@@ -230,9 +230,15 @@ def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> Sprin
     names the stack with fewer of them first (:func:`~springcad.design.feasibility.
     fewer_disks`), each checked with the design search."""
     spec = job.springs[name]
+
+    def cap_mm(outer_radius_mm: float) -> float:
+        return shared_rim_limit_mm(replace(job, springs={
+            **job.springs, name: replace(spec, outer_radius_mm=outer_radius_mm)}))
+
     try:
-        return design_spring(spec, job.material, job.manufacturing, job.hardware,
-                             explain=explain, max_root_radius_mm=rr_max)
+        with rim_cap_rule(cap_mm):
+            return design_spring(spec, job.material, job.manufacturing, job.hardware,
+                                 explain=explain, max_root_radius_mm=rr_max)
     except DesignError as err:
         copies = job.stack.sequence.count(name)
         if not explain or copies < 2 or spec.thickness_mm is None:

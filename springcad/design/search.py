@@ -140,16 +140,40 @@ def probe_thickness(spec, material, manufacturing, hardware, max_root_radius_mm
     return (d if ok and ball_ok else None), False
 
 
+#: the stack's root radius cap (mm) as a function of the designed spring's outer radius
+#: (mm), set by :func:`rim_cap_rule` while a job designs a spring pinned rim to rim
+_RIM_CAP: contextvars.ContextVar = contextvars.ContextVar("springcad_rim_cap", default=None)
+
+
+@contextlib.contextmanager
+def rim_cap_rule(cap_mm):
+    """Within it, a refusal's probe of an outer radius ``R_o`` (mm) caps the root radius at
+    ``cap_mm(R_o)`` (mm): the stack's own rule (:func:`springcad.design.job.
+    shared_rim_limit_mm`), under which the smallest pinned rim, not the refused spring's,
+    may hold the rim holes' circle (held-out A 6203 g04: spring B's R_o 24.5 -> 36.5 was
+    named, and A's 24.5 mm rim kept the cap where it was)."""
+    token = _RIM_CAP.set(cap_mm)
+    try:
+        yield
+    finally:
+        _RIM_CAP.reset(token)
+
+
 def _designs(spec, material, manufacturing, hardware, max_root_radius_mm, base=None) -> bool:
     """Whether :func:`probe` designs ``spec``; with ``base`` (the refused spec) a stack's
     root radius cap (the rim holes' circle, mm) moves with the rim when ``spec`` changes
-    the outer radius: by the change of R_o minus the change of the rim it needs."""
+    the outer radius: by the stack's rule (:func:`rim_cap_rule`) when a job set one, else
+    by the change of R_o minus the change of the rim it needs."""
     if base is not None and math.isfinite(max_root_radius_mm) and \
             spec.outer_radius_mm != base.outer_radius_mm:
-        def inner(ro: float) -> float:
-            return ro - min_rim_mm(ro, manufacturing, hardware)
+        rule = _RIM_CAP.get()
+        if rule is not None:
+            max_root_radius_mm = rule(spec.outer_radius_mm)
+        else:
+            def inner(ro: float) -> float:
+                return ro - min_rim_mm(ro, manufacturing, hardware)
 
-        max_root_radius_mm += inner(spec.outer_radius_mm) - inner(base.outer_radius_mm)
+            max_root_radius_mm += inner(spec.outer_radius_mm) - inner(base.outer_radius_mm)
     return probe(spec, material, manufacturing, hardware, max_root_radius_mm) is not None
 
 
