@@ -245,3 +245,27 @@ def test_a_fixed_root_radius_the_rim_spacer_cannot_fit_is_refused_at_design_with
                                      "hardware.fastener_diameter_mm"}, str(e.value)
     for key, value in named:
         design_job(job_module.with_changes(job, {key: float(value)}), explain=False)
+
+
+def test_two_springs_past_the_spacers_root_cap_are_named_in_one_change_that_designs():
+    """Held-out A 6203 g15: two springs with the same fixed root radius past the pinned
+    rims' cap were refused one at a time (A's change named, then B refused under it). Both
+    are named in one refusal, and each change (both roots, or both rims grown) designs."""
+    spring = {"target_stiffness_Nm_per_rad": 164, "max_deflection_deg": 6.75,
+              "outer_radius_mm": 25.0, "thickness_mm": 6.0, "root_radius_mm": 20.2,
+              "flexure": "serpentine"}
+    job = job_from_dict({
+        "material": {"name": "420_ht", "safety_factor": 1.3},
+        "springs": {"A": spring, "B": dict(spring, max_deflection_deg=6.0)},
+        "stack": {"sequence": ["A", "B", "A", "B"], "input": "shaft"},
+        "hardware": {"fastener": "dowel", "fastener_diameter_mm": 4.0}})
+    with pytest.raises(DesignError, match=r"springs\.A\.root_radius_mm = 20\.2 leaves .*"
+                       r"springs\.B\.root_radius_mm = 20\.2 leaves") as e:
+        design_job(job)
+    pairs = re.findall(r"springs\.A\.(\w+) = ([\d.]+) \(now [\d.]+\) and "
+                       r"springs\.B\.(\w+) = ([\d.]+) \(now [\d.]+\)(?! \(then)", str(e.value))
+    assert {p[0] for p in pairs} == {"root_radius_mm", "outer_radius_mm"}, str(e.value)
+    for key_a, value_a, key_b, value_b in pairs:
+        design_job(job_module.with_changes(job, {f"springs.A.{key_a}": float(value_a),
+                                                 f"springs.B.{key_b}": float(value_b)}),
+                   explain=False)
