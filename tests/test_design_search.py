@@ -248,3 +248,24 @@ def test_a_larger_rim_is_probed_under_the_stacks_own_root_cap():
         assert search._designs(larger, *args, base=spec)
     with search.rim_cap_rule(lambda outer_mm: 30.0):  # a smaller pinned rim holds it
         assert not search._designs(larger, *args, base=spec)
+
+
+def test_a_fixed_contact_radius_tries_the_fewer_flexures_when_the_most_are_too_close():
+    """Held-out A 7311 g14: r_c fixed at 17.5 mm on a 7 mm disk, N 69 to 91 fit the balls;
+    the candidates were 91 and 79 (spread) then 90 to 81 in rank order, all refused with
+    "flexures leave 0.021 mm to their neighbours: fewer flexures". The waiting layouts now
+    come farthest in N from those tried: the search reaches N near 70, which designs,
+    and the neighbour rule holds on the design."""
+    job = job_from_dict({
+        "material": {"design_stress_MPa": 790.0, "safety_factor": 1.1},
+        "springs": {"A": {"target_stiffness_Nm_per_rad": 3800, "max_deflection_deg": 5,
+                          "outer_radius_mm": 59.5, "thickness_mm": 7.0,
+                          "contact_radius_mm": 17.5}},
+        "stack": {"sequence": ["A"] * 5, "input": "rim"},
+        "hardware": {"fastener": "dowel", "fastener_diameter_mm": 2.0, "fastener_count": 8,
+                     "shaft_diameter_mm": 8.0}})
+    d = design_job(job, explain=False).springs["A"]
+    assert d.contact_radius_mm == 17.5 and d.n_flexures < 79
+    with pytest.raises(DesignError, match=r"to their neighbours \(min_slot_width_mm"):
+        search.design_for_margin(replace(job.springs["A"], n_flexures=84), job.material,
+                                 job.manufacturing, job.hardware, explain=False)
