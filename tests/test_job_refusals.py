@@ -11,7 +11,7 @@ from springcad.config import job_from_dict
 from springcad.design import job as job_module
 from springcad.design.job import design_job
 from springcad.design.stock import design_spring
-from springcad.errors import ConfigError, DesignError, SpecInfeasible
+from springcad.errors import ConfigError, DesignError, RemedyError, SpecInfeasible
 
 PAPER_TOLERANCES = {"process": "wire_edm", "t_spring_mm": 0.05, "t_shaft_mm": 0.02,
                     "w_gap_mm": 0.025}
@@ -269,3 +269,31 @@ def test_two_springs_past_the_spacers_root_cap_are_named_in_one_change_that_desi
         design_job(job_module.with_changes(job, {f"springs.A.{key_a}": float(value_a),
                                                  f"springs.B.{key_b}": float(value_b)}),
                    explain=False)
+
+
+def test_a_change_whose_hardware_change_needs_another_is_named_with_both(monkeypatch):
+    """Held-out A 7311 g29: the scaled disk's thicker rims need M2 rim screws, and five M2
+    screws are too weak, fifteen hold. The check follows the hardware rules two levels
+    deep (HARDWARE_CHOICES) and names the three changes together; a third level is not
+    searched (the clause then says what stops it)."""
+    job = _bolted_job(6.0)
+    clause = "springs.S1.thickness_mm = 9 (now 6)"
+    levels = {"screw": ({"hardware.fastener_diameter_mm": 2.0}, "d = 2"),
+              "count": ({"hardware.fastener_count": 15}, "count = 15"),
+              "third": ({"hardware.rim_spacer_thickness_mm": 1.0}, "spacer = 1")}
+
+    def design(changed, explain=True, progress=None, needs=("screw", "count")):
+        hw = changed.hardware
+        done = {"screw": hw.fastener_diameter_mm == 2.0, "count": hw.fastener_count == 15,
+                "third": hw.rim_spacer_thickness_mm == 1.0}
+        missing = [k for k in needs if not done[k]]
+        if missing:
+            raise RemedyError(f"stand-in {missing[0]}", [levels[missing[0]]])
+
+    monkeypatch.setattr(job_module, "design_job", design)
+    err = _refusal_naming(clause, (("S1", "thickness_mm", 6.0, 9.0),))
+    assert f"{clause} and d = 2 and count = 15" in str(
+        job_module._checked_key_changes(job, err))
+    monkeypatch.setattr(job_module, "design_job", lambda changed, explain=True, progress=None:
+                        design(changed, needs=("screw", "count", "third")))
+    assert f"{clause} (then stand-in screw)" in str(job_module._checked_key_changes(job, err))

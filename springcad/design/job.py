@@ -450,7 +450,7 @@ def _checked_key_changes(job: Job, err: DesignError) -> DesignError:
         try:
             design_job(changed, explain=False)
         except RemedyError as e:
-            works = _second_changes(changed, {}, clause, e)
+            works = _second_changes(changed, {}, clause, e, HARDWARE_CHOICES)
             text = text.replace(clause, works[0] if works else
                                 f"{clause} (then {short_reason(e).split('; use')[0]})", 1)
         except (DesignError, ConfigError) as e:
@@ -528,14 +528,24 @@ def _checked_pin_remedies(job: Job, err: RemedyError) -> DesignError:
                        f"tried; {why})" + (f": use {err.fallback}" if err.fallback else ""))
 
 
-def _second_changes(job: Job, changes: dict, text: str, err: RemedyError) -> list[str]:
+def _second_changes(job: Job, changes: dict, text: str, err: RemedyError,
+                    depth: int = 1) -> list[str]:
     """``changes`` with the first of ``err``'s remedies (on other keys) under which the
-    job designs, as text (an empty list when none does)."""
+    job designs, as text (an empty list when none does); with ``depth`` > 1 a remedy
+    that meets another hardware rule is tried with that rule's own remedies too, that
+    many levels deep (held-out A 7311 g29: the scaled disk's thicker rims need M2 screws,
+    whose five then need to be fifteen)."""
     for more, more_text in err.remedies:
         if set(more) & set(changes):
             continue
         try:
             design_job(with_changes(job, {**changes, **more}), explain=False)
+        except RemedyError as e:
+            deeper = _second_changes(job, {**changes, **more}, f"{text} and {more_text}", e,
+                                     depth - 1) if depth > 1 else []
+            if deeper:
+                return deeper
+            continue
         except (DesignError, ConfigError):
             continue
         return [f"{text} and {more_text}"]
