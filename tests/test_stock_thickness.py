@@ -4,6 +4,8 @@ a spring (springcad.design.stock), bounded by max_thickness_mm; the job carries 
 from __future__ import annotations
 
 import dataclasses
+import re
+from dataclasses import replace
 
 import pytest
 
@@ -11,7 +13,7 @@ from springcad.config import job_from_dict
 from springcad.config.schema import keys
 from springcad.design import redesign, search
 from springcad.design.job import design_job
-from springcad.design.stock import _thinnest, plate_thicknesses_mm
+from springcad.design.stock import _nearest_plate, _thinnest, plate_thicknesses_mm
 from springcad.errors import ConfigError, DesignError
 
 
@@ -151,3 +153,39 @@ def test_a_first_guess_finds_the_same_plate_and_probes_its_thinner_neighbour(fir
         assert stock.index(thinner) in probed and designs(thinner)[0] is False
     if first is not None and start >= first and start <= last:  # a guess that designs
         assert len(set(probed)) == start - first + 1 + (first > 0)  # walked down, one each
+
+
+def test_the_nearest_plate_is_the_thickest_too_thin_one_else_the_thinnest():
+    """From the probes' outcomes (plate -> (designs, too thick)): the thickest plate refused
+    as too thin, where the stress or reach rules bind; every probed plate held stiff by its
+    webs, the thinnest of the list."""
+    stock = [1.0, 2.0, 3.0, 5.0, 8.0, 100.0]
+    assert _nearest_plate(stock, {100.0: (False, True), 3.0: (False, False),
+                                  5.0: (False, True), 2.0: (False, False)}) == 3.0
+    assert _nearest_plate(stock, {100.0: (False, True), 8.0: (False, True)}) == 1.0
+    assert _nearest_plate(stock, {100.0: (False, False)}) == 100.0
+    assert _nearest_plate([], {}) is None
+
+
+@pytest.mark.slow
+def test_a_small_soft_disk_is_refused_at_the_plate_nearest_to_designing():
+    """Held-out B 9041 009 (R_o 12 mm, 15 N*m/rad over 5 deg, thickness free, M2 rim bolts):
+    no plate designs; the refusal was searched at the 100 mm plate, whose webs hold it
+    ~60 x too stiff, and named no change. It is searched at the plate between the too thin
+    and the too stiff ones, and its change (a larger disk) designs with the thickness
+    still free."""
+    job = job_from_dict({
+        "material": {"name": "420_ht"},
+        "springs": {"S1": {"target_stiffness_Nm_per_rad": 15, "max_deflection_deg": 5.0,
+                           "outer_radius_mm": 12.0}},
+        "stack": {"sequence": ["S1"], "input": "rim"},
+        "hardware": {"fastener": "bolt", "fastener_diameter_mm": 2.0},
+        "duty": {"preset": "static"}})
+    with pytest.raises(DesignError) as refused:
+        design_job(job)
+    text = str(refused.value)
+    at = float(re.search(r"carries it; at ([\d.]+) mm \(the plate nearest", text).group(1))
+    assert at < max(plate_thicknesses_mm())
+    ro = float(re.search(r"springs\.S1\.outer_radius_mm = ([\d.]+) \(now 12\)", text).group(1))
+    bigger = replace(job, springs={"S1": replace(job.springs["S1"], outer_radius_mm=ro)})
+    assert design_job(bigger).springs["S1"].thickness_mm is not None

@@ -154,8 +154,9 @@ def choose_thickness_mm(spec: SpringSpec, material: MaterialSpec,
     the yield margin alone, by bisection (:func:`_thinnest`).
 
     Returns:
-        (thickness or None when none designs, the next thinner stock value probed and
-        refused or None, what the thickness was sized for).
+        (thickness, the next thinner stock value probed and refused or None, what the
+        thickness was sized for); when no plate designs, (None, the plate nearest to
+        designing for the yield margin (:func:`_nearest_plate`) or None, "").
     """
     stock = _allowed_mm(spec)
     report(f"spring {spec.name}: choosing the stock plate (bisection over {len(stock)} "
@@ -164,15 +165,36 @@ def choose_thickness_mm(spec: SpringSpec, material: MaterialSpec,
     tries = [(sized, "its duty" if sized is material else "springcad's default duty")]
     if sized is not material:
         tries.append((material, "the yield margin"))
+    outcomes: dict[float, tuple[bool, bool]] = {}
     for mat, what in tries:
-        t, thinner = _thinnest(stock, _prober(spec, mat, manufacturing, hardware,
-                                              max_root_radius_mm),
+        probe = _prober(spec, mat, manufacturing, hardware, max_root_radius_mm)
+        outcomes.clear()
+
+        def designs(t: float, probe=probe) -> tuple[bool, bool]:
+            outcomes[t] = probe(t)
+            return outcomes[t]
+
+        t, thinner = _thinnest(stock, designs,
                                _first_guess(stock, spec, mat, manufacturing, hardware,
                                             max_root_radius_mm) if stock else None)
         if t is None:
             continue
         return t, thinner, what
-    return None, None, ""
+    return None, _nearest_plate(stock, outcomes), ""
+
+
+def _nearest_plate(stock: list[float], outcomes: dict[float, tuple[bool, bool]]
+                   ) -> float | None:
+    """The plate of ``stock`` nearest to designing, from the probes' ``outcomes`` (plate ->
+    (designs, too thick)) when none designs: the thickest refused as too thin, else (every
+    plate probed held stiff by its webs) the thinnest; None without plates. A refusal's
+    changes are searched there: at the thickest plate (the stock bound), a small soft
+    spring's webs hold it hundreds of times too stiff and no change of one key helps
+    (held-out B 9041 009, R_o 12 mm at 15 N*m/rad: refused at the 100 mm plate)."""
+    thin = [t for t, (_, too_thick) in outcomes.items() if not too_thick]
+    if thin:
+        return max(thin)
+    return stock[0] if stock else None
 
 
 def _prober(spec, material, manufacturing, hardware, max_root_radius_mm):
@@ -207,10 +229,12 @@ def design_spring(spec: SpringSpec, material: MaterialSpec, manufacturing: Manuf
 
 def _design_on_stock(spec, material, manufacturing, hardware, explain, max_root_radius_mm):
     """:func:`design_spring` with the thickness left free (mm)."""
-    t, thinner, what = choose_thickness_mm(spec, material, manufacturing, hardware,
+    t, nearest, what = choose_thickness_mm(spec, material, manufacturing, hardware,
                                            max_root_radius_mm)
-    if t is None:  # the full search (more layouts than the probe) at the thickest allowed
-        return _thickest(spec, material, manufacturing, hardware, explain, max_root_radius_mm)
+    if t is None:  # the full search (more layouts than the probe) at the nearest plate
+        return _thickest(spec, material, manufacturing, hardware, explain, max_root_radius_mm,
+                         nearest)
+    thinner = nearest
     d = search.design_spring(_replace(spec, thickness_mm=t), material, manufacturing,
                              hardware, explain=explain, max_root_radius_mm=max_root_radius_mm)
     why = (f"thickness {t:g} mm chosen: the thinnest stock plate that carries {what}"
@@ -235,16 +259,33 @@ def _design_on_stock(spec, material, manufacturing, hardware, explain, max_root_
                     thicker_plates_mm=tuple(u for u in _allowed_mm(spec) if u > d.thickness_mm))
 
 
-def _thickest(spec, material, manufacturing, hardware, explain, max_root_radius_mm
-              ) -> SpringDesign:
-    """No stock thickness up to the bound passed the probe: the full search at the thickest
-    allowed, or the refusal naming the ``max_thickness_mm`` that would design, and why not.
+def _thickest(spec, material, manufacturing, hardware, explain, max_root_radius_mm,
+              nearest_mm: float | None = None) -> SpringDesign:
+    """No stock thickness up to the bound passed the probe: the full search (more layouts
+    than the probe) at the plate nearest to designing (``nearest_mm``,
+    :func:`_nearest_plate`), then at the thickest allowed; or the refusal naming the
+    ``max_thickness_mm`` that would design, and the changes found at the nearest plate.
 
     Raises:
-        DesignError: the thickest allowed does not design either.
+        DesignError: neither plate designs.
     """
     ceiling, allowed = _ceiling_mm(spec), _allowed_mm(spec)
     thickest = allowed[-1] if allowed else ceiling
+    nearest = nearest_mm if nearest_mm is not None else thickest
+    refusal = None
+    for t in dict.fromkeys((nearest, thickest)):
+        try:
+            d = search.design_spring(_replace(spec, thickness_mm=t), material, manufacturing,
+                                     hardware, explain=explain and t == thickest,
+                                     max_root_radius_mm=max_root_radius_mm)
+        except DesignError as err:
+            refusal = refusal or err
+            continue
+        why = ("the thickest stock plate allowed" if t == thickest else
+               "the stock plate nearest to carrying it (the probe's layouts do not; the full "
+               "search's do)")
+        return _replace(d, design_choice=f"thickness {t:g} mm chosen: {why}; "
+                        f"{d.design_choice}")
     change = ""
     if explain and spec.max_thickness_mm is not None:  # the bound that would design
         above = [t for t in plate_thicknesses_mm() if t > ceiling + 1e-9]
@@ -253,19 +294,26 @@ def _thickest(spec, material, manufacturing, hardware, explain, max_root_radius_
         if t is not None:
             change = (f"feasible with springs.{spec.name}.max_thickness_mm = {t:g} (now "
                       f"{ceiling:g}; springcad then chooses {t:g} mm plate); or ")
-    try:
-        d = search.design_spring(_replace(spec, thickness_mm=thickest), material,
-                                 manufacturing, hardware, explain=explain,
+    if explain and nearest != thickest:  # the changes, searched at the nearest plate
+        try:
+            search.design_spring(_replace(spec, thickness_mm=nearest), material,
+                                 manufacturing, hardware, explain=True,
                                  max_root_radius_mm=max_root_radius_mm)
-    except DesignError as err:
-        text = _as_bound(str(err).split("': ", 1)[-1], spec)
-        raise DesignError(f"spring '{spec.name}' cannot be made as specified; {change}no "
-                          f"stock plate up to {thickest:g} mm carries it; at {thickest:g} mm "
-                          f"(the changes that follow are found on that plate; with thickness_mm left "
-                          f"free springcad then chooses the thinnest plate that carries them): "
-                          f"{text}") from err
-    return _replace(d, design_choice=f"thickness {thickest:g} mm chosen: the thickest stock "
-                    f"plate allowed; {d.design_choice}")
+        except DesignError as err:
+            refusal = err
+    text = str(refusal).split("': ", 1)[-1].removeprefix(
+        f"spring '{spec.name}' cannot be made as specified; ")
+    where = ""
+    if nearest == thickest:
+        text = _as_bound(text, spec)
+    else:
+        where = (" (the plate nearest to carrying it: thinner plates fall short of a rule, "
+                 "thicker ones are held too stiff by their minimum webs)")
+    raise DesignError(f"spring '{spec.name}' cannot be made as specified; {change}no stock "
+                      f"plate up to {thickest:g} mm carries it; at {nearest:g} mm{where} (the "
+                      f"changes that follow are found on that plate; with thickness_mm left "
+                      f"free springcad then chooses the thinnest plate that carries them): "
+                      f"{text}") from refusal
 
 
 def _as_bound(text: str, spec: SpringSpec) -> str:
