@@ -17,7 +17,8 @@ from springcad.design import duty, search
 from springcad.design.cam import tip_clearance_mm
 from springcad.design.contact_stress import tip_contact_von_mises_MPa
 from springcad.design.driven import ball_lift_mm, driven_psi
-from springcad.design.job import camshaft_groups, design_job
+from springcad.design.camshaft_share import camshaft_groups
+from springcad.design.job import design_job
 from springcad.design.layout import candidate_layouts
 from springcad.design.search import _alike, _choice_text
 from springcad.design.sizing import _NoMoreLayouts
@@ -269,3 +270,28 @@ def test_a_fixed_contact_radius_tries_the_fewer_flexures_when_the_most_are_too_c
     with pytest.raises(DesignError, match=r"to their neighbours \(min_slot_width_mm"):
         search.design_for_margin(replace(job.springs["A"], n_flexures=84), job.material,
                                  job.manufacturing, job.hardware, explain=False)
+
+
+def test_a_shared_camshaft_is_tried_on_a_members_design_with_the_groups_ball():
+    """Held-out B 9041 006: B (150 N*m/rad over 16 deg) and A (300 over 8 deg, the user's
+    0.75 mm tip ball) share a camshaft. B's own layout (N 15 at r_c 5.5 mm) has room for 11
+    balls of 0.75 mm and A's own layout fails B's yield margin: the job was refused with no
+    change. B designed with the group's ball fixed gives a layout both carry."""
+    job = job_from_dict({
+        "material": {"name": "maraging_300"},
+        "springs": {"A": {"target_stiffness_Nm_per_rad": 300.0, "max_deflection_deg": 8.0,
+                          "outer_radius_mm": 41.5, "thickness_mm": 10.0, "tip_radius_mm": 0.75},
+                    "B": {"target_stiffness_Nm_per_rad": 150.0, "max_deflection_deg": 16.0,
+                          "outer_radius_mm": 41.5, "thickness_mm": 10.0}},
+        "stack": {"sequence": ["B", "A"], "input": "rim"},
+        "hardware": {"fastener": "bolt", "fastener_diameter_mm": 2.5,
+                     "rim_spacer_thickness_mm": 1.0},
+        "manufacturing": {"t_spring_mm": 0.05, "t_shaft_mm": 0.02, "w_gap_mm": 0.025}})
+    assert camshaft_groups(job) == [("B", "A")]
+    springs = design_job(job).springs
+    a, b = springs["A"], springs["B"]
+    assert (a.n_flexures, a.contact_radius_mm, a.tip_radius_mm) == \
+        (b.n_flexures, b.contact_radius_mm, b.tip_radius_mm)
+    assert a.tip_radius_mm == 0.75
+    for d in (a, b):
+        assert d.yield_margin >= d.required_yield_margin * (1 - 1e-6)

@@ -111,7 +111,7 @@ class SpringSpec:
             passes over layouts without room for one (:mod:`springcad.design.redesign`).
         shared_camshaft: the layout keys (of n_flexures, contact_radius_mm, tip_radius_mm)
             springcad fixed so that springs sharing a camshaft share one tooth profile
-            (:func:`springcad.design.job.camshaft_groups`). Not a config key: a refusal
+            (:func:`springcad.design.camshaft_share.camshaft_groups`). Not a config key: a refusal
             never asks the user to remove them.
     """
 

@@ -6,13 +6,14 @@ import math
 from dataclasses import dataclass, replace
 
 from springcad.version import stamp
-from springcad.config import Job, ManufacturingSpec, SpringSpec
+from springcad.config import Job, ManufacturingSpec
 from springcad.config.consistency import check as check_config
 from springcad.config.consistency import ROOT_STEP_MM, min_rim_mm
 from springcad.config.schema import BOLT_DIAMETERS_MM
 from springcad.data import dowel_lengths
 from springcad.design import duty
-from springcad.design.connections import RIM, camshaft_indices, connection_sequence
+from springcad.design.camshaft_share import share_camshafts
+from springcad.design.connections import RIM, connection_sequence
 from springcad.design.feasibility import fewer_disks, key_clause, with_key
 from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware, design_warnings
@@ -108,25 +109,6 @@ def _bolt_circle_mm(job: Job) -> float:
     return bolt_circle_limit_mm(job.hardware, len(job.stack.sequence), ro)
 
 
-def camshaft_groups(job: Job) -> list[tuple[str, ...]]:
-    """Names of the distinct springs that share a camshaft (shaft-to-shaft joints), per shaft
-    with more than one distinct spring. A shared camshaft has one tooth profile, so its
-    springs must share N, r_c and the tip ball (the gap ``w_gap_mm`` is the job's)."""
-    seq = job.stack.sequence
-    joints, _ = connection_sequence(len(seq), job.stack.input)
-    cams = camshaft_indices(joints)
-    groups = {}
-    for name, cam in zip(seq, cams):
-        groups.setdefault(cam, [])
-        if name not in groups[cam]:
-            groups[cam].append(name)
-    return [tuple(g) for g in groups.values() if len(g) > 1]
-
-
-def _cam_key(d: SpringDesign) -> tuple:
-    return (d.n_flexures, round(d.contact_radius_mm, 9), round(d.tip_radius_mm, 9))
-
-
 def shared_rim_limit_mm(job: Job) -> float:
     """Largest root radius any spring of a stack with rim-to-rim joints may have (mm): the
     rim holes lie on one circle (:func:`common_hole_circle`) that must fit the rim of the
@@ -146,62 +128,6 @@ def shared_rim_limit_mm(job: Job) -> float:
                  0.5 * spacer_rim)
     return min(_bolt_circle_mm(job) - inside,
                ro - max(min_rim_mm(ro, job.manufacturing, job.hardware), spacer_rim))
-
-
-#: the layout keys springs sharing a camshaft must share (one tooth profile)
-CAMSHAFT_KEYS = ("n_flexures", "contact_radius_mm", "tip_radius_mm")
-
-
-def _pinned(spec: SpringSpec, fixed: dict) -> SpringSpec:
-    """``spec`` with the shared camshaft's layout ``fixed``, the keys the user left free
-    marked as springcad's (``shared_camshaft``: a refusal never asks to remove them)."""
-    return replace(spec, **fixed, shared_camshaft=tuple(
-        k for k in CAMSHAFT_KEYS if getattr(spec, k) is None))
-
-
-def _share_camshafts(job: Job, springs: dict[str, SpringDesign],
-                     max_root_radius_mm: float = math.inf) -> dict[str, SpringDesign]:
-    """Springs sharing a camshaft redesigned on one layout (N, r_c, tip ball).
-
-    Each member's own layout is tried as the shared one (the largest ball of the group,
-    so every member's tip load is carried), the other members redesigned with those three
-    fixed; the first that designs every member wins. Milliseconds to seconds, at design
-    time, instead of a conflict found by the solids' checks after the FEA.
-
-    Raises:
-        DesignError: no member's layout suits the others (names the springs and each try).
-    """
-    out = dict(springs)
-    for group in camshaft_groups(job):
-        if len({_cam_key(out[n]) for n in group}) == 1:
-            continue
-        tries = []
-        for leader in group:
-            lead = out[leader]
-            tip = max(out[n].tip_radius_mm for n in group)
-            fixed = dict(n_flexures=lead.n_flexures, contact_radius_mm=lead.contact_radius_mm,
-                         tip_radius_mm=tip, min_tip_radius_mm=min(tip, lead.spec.min_tip_radius_mm))
-            try:
-                redone = {n: design_spring(_pinned(job.springs[n], fixed), job.material,
-                                           job.manufacturing, job.hardware, explain=False,
-                                           max_root_radius_mm=max_root_radius_mm)
-                          for n in group}
-            except DesignError as err:
-                tries.append(f"{leader}'s N = {lead.n_flexures}, r_c = "
-                             f"{lead.contact_radius_mm:.3f} mm, tip {tip:.3f} mm: {err}")
-                continue
-            for n, d in redone.items():
-                out[n] = replace(d, design_choice=(
-                    f"{d.design_choice}; N, r_c and tip ball shared with "
-                    f"{', '.join(m for m in group if m != n)} (one camshaft)"))
-            break
-        else:
-            raise DesignError(
-                f"springs {', '.join(group)} share a camshaft, so they need one N, contact "
-                f"radius and tip ball, and no member's layout suits the others: "
-                + "; ".join(tries) + "; give them the same n_flexures, contact_radius_mm and "
-                "tip_radius_mm that one of them can carry, or similar stiffness and envelope")
-    return out
 
 
 #: how a refusal of a spring starts (``springcad.design.search``)
@@ -307,7 +233,7 @@ def _design_job(job: Job, explain: bool = True, progress: Progress | None = None
     # the thickness springcad chose (stock plate) is the job's from here on
     job = replace(job, springs={n: replace(s, thickness_mm=springs[n].thickness_mm)
                                 for n, s in job.springs.items()})
-    springs = _share_camshafts(job, springs, rr_max)
+    springs = share_camshafts(job, springs, rr_max, explain)
     springs = common_hole_circle(springs, job)
     try:  # the stack's hardware (pins, screws) and its strength
         stack = design_stack([springs[n] for n in job.stack.sequence], job.stack.input,
