@@ -297,3 +297,27 @@ def test_a_change_whose_hardware_change_needs_another_is_named_with_both(monkeyp
     monkeypatch.setattr(job_module, "design_job", lambda changed, explain=True, progress=None:
                         design(changed, needs=("screw", "count", "third")))
     assert f"{clause} (then stand-in screw)" in str(job_module._checked_key_changes(job, err))
+
+
+@pytest.mark.slow
+def test_a_larger_disk_in_a_rim_pinned_stack_grows_the_rims_it_is_pinned_to():
+    """Held-out B 9041 018: A (85 N*m/rad over 8.2 deg on a 17 mm disk) is pinned rim to rim
+    to B's 17 mm disk, whose rim holds the holes' circle: A's larger disk alone gains no
+    root radius. The refusal's probe grows the pinned rims with it, and the change names
+    both rims; applied, the whole job designs."""
+    spring = {"max_deflection_deg": 8.2, "outer_radius_mm": 17.0, "thickness_mm": 4.0}
+    job = job_from_dict({
+        "material": {"name": "420_ht"},
+        "springs": {"A": dict(spring, target_stiffness_Nm_per_rad=85.0),
+                    "B": dict(spring, target_stiffness_Nm_per_rad=20.0)},
+        "stack": {"sequence": ["B", "A"], "input": "shaft"},
+        "hardware": {"fastener": "dowel"}, "duty": {"preset": "static"}})
+    with pytest.raises(DesignError) as refused:
+        design_job(job)
+    found = re.search(r"springs\.A\.outer_radius_mm = ([\d.]+) \(now 17\) and "
+                      r"springs\.B\.outer_radius_mm = ([\d.]+) \(now 17\)(?! \(then)",
+                      str(refused.value))
+    assert found and found.group(1) == found.group(2), str(refused.value)
+    ro = float(found.group(1))
+    design_job(job_module.with_changes(job, {"springs.A.outer_radius_mm": ro,
+                                             "springs.B.outer_radius_mm": ro}))

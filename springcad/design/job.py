@@ -158,8 +158,9 @@ def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> Sprin
     spec = job.springs[name]
 
     def cap_mm(outer_radius_mm: float) -> float:
-        return shared_rim_limit_mm(replace(job, springs={
-            **job.springs, name: replace(spec, outer_radius_mm=outer_radius_mm)}))
+        grown = _rims_grown(replace(job, springs={
+            **job.springs, name: replace(spec, outer_radius_mm=outer_radius_mm)}), name)[0]
+        return shared_rim_limit_mm(grown)
 
     try:
         with rim_cap_rule(cap_mm):
@@ -369,7 +370,10 @@ def _checked_key_changes(job: Job, err: DesignError) -> DesignError:
                      key=lambda c: text.find(c[0]))[:CHECKED_CHANGES]
     for clause, name, spec, surface in changes:
         report(f"spring {name}: checking {clause.split(' (')[0]} with the whole job")
-        changed = replace(job, springs={**job.springs, name: spec})
+        changed, grown = _rims_grown(replace(job, springs={**job.springs, name: spec}), name)
+        if grown:
+            text = text.replace(clause, f"{clause} and {grown}", 1)
+            clause = f"{clause} and {grown}"
         if surface is not None:
             finished = replace(job.material.duty, surface=surface)
             changed = replace(changed, material=replace(job.material, duty=finished))
@@ -387,6 +391,26 @@ def _checked_key_changes(job: Job, err: DesignError) -> DesignError:
     checked.key_changes, checked.disk_changes = err.key_changes, err.disk_changes
     checked.__cause__ = err
     return checked
+
+
+def _rims_grown(job: Job, name: str) -> tuple[Job, str]:
+    """``job`` with every rim pinned to spring ``name``'s grown to at least its outer radius,
+    and the change as text ("springs.B.outer_radius_mm = 24 (now 17)", "" when none grows):
+    the smallest pinned rim holds the rim holes' circle (:func:`shared_rim_limit_mm`), so a
+    larger disk in a rim-pinned stack gains room only with the rims it is pinned to (held-out
+    B 9041 018: A refused on a 17 mm disk pinned to B's 17 mm rim; A's R_o 24 alone did not
+    move the circle)."""
+    if not math.isfinite(shared_rim_limit_mm(job)):
+        return job, ""
+    ro = job.springs[name].outer_radius_mm
+    smaller = [n for n in dict.fromkeys(job.stack.sequence)
+               if n != name and job.springs[n].outer_radius_mm < ro - 1e-9]
+    if not smaller:
+        return job, ""
+    text = " and ".join(change_text(f"springs.{n}.outer_radius_mm", ro,
+                                    job.springs[n].outer_radius_mm) for n in smaller)
+    return replace(job, springs={**job.springs, **{
+        n: replace(job.springs[n], outer_radius_mm=ro) for n in smaller}}), text
 
 
 def _all_refusals(refusals: list[DesignError], advice: str) -> DesignError:
