@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import functools
 import math
+import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -356,6 +357,53 @@ def concave_edge_radius_mm(centreline: Centreline, y, width) -> float:
     return float(np.min(1.0 / np.maximum(kappa, 1e-12) - 0.5 * np.asarray(width)))
 
 
+#: what a trial shape of :func:`design_serpentine` failed on, in the order a refusal lists
+#: them: (kind, how many fail so, how the closest one is quoted; None: not quoted)
+_FAILURE_TEXT = (
+    ("budget", "fall short of the tilt budget between neighbours at full tilt",
+     "reaches {v:.3f}"),
+    ("edge radius", "reach the area ratio with a concave edge radius below {e:g} mm",
+     "keeps {v:.3f} mm"),
+    ("clearance", "reach it leaving less than {c:g} mm to their neighbour", "keeps {v:.3f} mm"),
+    ("turns back", "turn back on themselves", None),
+    ("balance", "have no tilt budget where their lobes would balance", None),
+    ("spline", "miss the area ratio on their stored spline", None))
+
+
+def serpentine_failures(failures, min_clearance_mm: float, min_inside_radius_mm: float) -> str:
+    """Why the trial shapes of :func:`design_serpentine` failed, rule by rule: how many
+    failed on each and the closest (the largest area ratio, edge radius or clearance).
+
+    Args:
+        failures: (kind, value, shape name) of each shape tried, kind a key of
+            :data:`_FAILURE_TEXT`.
+        min_clearance_mm, min_inside_radius_mm: the rules, for the text (mm).
+    """
+    parts = []
+    for kind, text, closest in _FAILURE_TEXT:
+        these = [f for f in failures if f[0] == kind]
+        if not these:
+            continue
+        part = f"{len(these)} " + text.format(c=min_clearance_mm, e=min_inside_radius_mm)
+        if closest:
+            _, v, name = max(these, key=lambda f: f[1])
+            part += f" (closest {name}: " + closest.format(v=v) + ")"
+        parts.append(part)
+    return f"of {len(failures)} trial shapes, " + "; ".join(parts) if parts else "no trial shape"
+
+
+#: the trial shapes' detail in a refusal of :func:`design_serpentine`
+_SHAPE_DETAIL = re.compile(r" \(of \d+ trial shapes, .*?\)(?=; increase outer_radius_mm)")
+
+
+def without_shape_detail(message: str) -> str:
+    """``message`` without the trial shapes' detail of a :func:`design_serpentine` refusal
+    (:func:`serpentine_failures`): two layouts refused by the curved-flexure rule are refused
+    by the same rule whichever shapes came closest (the design search counts the layouts
+    refused alike, :func:`springcad.design.search._alike`)."""
+    return _SHAPE_DETAIL.sub("", message)
+
+
 def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
                       root_radius_mm: float, n_flexures: int, width_fn,
                       tip_radius_mm: float, min_clearance_mm: float,
@@ -415,7 +463,7 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
 
     def check(x, y, theta):
         if np.any(np.diff(y) <= 0):
-            return None, "flexure turns back on itself"
+            return None, ("turns back", 0.0)
         st = slice(None, None, 4)
         ys, xs = y[st], x[st]
         if ys[-1] != y[-1]:
@@ -426,14 +474,14 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
         w = width_fn(yy)
         edge_r = concave_edge_radius_mm(line, yy, w)
         if edge_r < min_inside_radius_mm:
-            return None, "edge radius"
+            return None, ("edge radius", edge_r)
         clear = neighbour_clearance_mm(line, yy, w, n_flexures, tip_radius_mm)
         ratio = area_mm2(line, yy, w) / straight_area
         _, dx, ddx = line.evaluate(yy)
         kappa = ddx / (1.0 + dx ** 2) ** 1.5
         ds = np.sqrt(1.0 + dx ** 2)
         measure = float(np.trapezoid((kappa * 0.5 * w) ** 2 * ds, yy)) / L
-        return (line, ratio, clear, edge_r, measure), ""
+        return (line, ratio, clear, edge_r, measure), None
 
     def solve_lam(h, budget):
         """Tilt factor giving the target area ratio (None: out of reach at full tilt)."""
@@ -445,7 +493,6 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
     q = np.clip((rr - r) / root_zone_mm, 0.0, 1.0) if root_zone_mm > 0 else np.ones_like(r)
     taper = q * q * (3.0 - 2.0 * q)
     best, best_key, failures, start = None, None, [], 0
-    reach = 0.0  # the largest area ratio a shape short of its budget reaches at full tilt
     for k, a, balance in SERPENTINE_SHAPES:
         start += 1
         if balance not in balances:
@@ -457,26 +504,25 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
             with np.errstate(divide="ignore", invalid="ignore"):
                 h = trial_tilt(k, a, balance, u, taper, budget, r, rc, w_r)
             if not np.all(np.isfinite(h)):  # no budget where the lobes would balance
-                result, why = None, "no tilt budget to balance its lobes"
+                result, why = None, ("balance", 0.0)
                 break
             lam = solve_lam(h, budget)
             if lam is None:
-                reach = max(reach, build(1.0, budget, h)[4])
-                result, why = None, "tilt budget too small"
+                result, why = None, ("budget", build(1.0, budget, h)[4])
                 break
             x, y, _, theta, _ = build(lam, budget, h)
             result, why = check(x, y, theta)
             if result is None or result[2] >= min_clearance_mm:
                 break
             margin += min_clearance_mm - result[2] + 0.01
-            why = f"clearance {result[2]:.3f} mm"
+            why = ("clearance", result[2])
             result = None
         if result is None:
-            failures.append(f"k={k}, a={a:g}, {balance}: {why}")
+            failures.append((*why, f"k={k}, a={a:g}, {balance}"))
             continue
         line, ratio, clear, edge_r, measure = result
         if abs(ratio - target_area_ratio) > 2e-3:
-            failures.append(f"k={k}, a={a:g}, {balance}: spline area ratio {ratio:.4f}")
+            failures.append(("spline", ratio, f"k={k}, a={a:g}, {balance}"))
             continue
         key = float(shape_rank(balance, measure))
         if best is None or key < best_key:
@@ -485,10 +531,9 @@ def design_serpentine(*, target_area_ratio: float, contact_radius_mm: float,
     if best is None:
         raise DesignError(
             f"no curved flexure between r_c = {rc:.3g} mm and R_r = {rr:.3g} mm with "
-            f"{n_flexures} flexures reaches the area ratio {target_area_ratio:.3f}"
-            + (f" (the shapes reach {reach:.3f} at most)" if reach else "")
-            + " while keeping "
+            f"{n_flexures} flexures reaches the area ratio {target_area_ratio:.3f} while keeping "
             f"{min_clearance_mm:g} mm to its neighbour and edge radii >= {min_inside_radius_mm:g} mm "
-            f"({'; '.join(failures[:3])}); increase outer_radius_mm or thickness_mm, lower the "
-            "deflection, or put springs in series")
+            f"({serpentine_failures(failures, min_clearance_mm, min_inside_radius_mm)}); "
+            "increase outer_radius_mm or thickness_mm, lower the deflection, or put springs in "
+            "series")
     return best

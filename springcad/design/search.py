@@ -32,6 +32,7 @@ from springcad.design import duty
 from springcad.design.feasibility import (count_probe, describe, fixed_choices, larger_disk,
                                           material_changes, nearest_changes, probe_clock,
                                           probes_spent, series_change)
+from springcad.design.flexure import without_shape_detail
 from springcad.design.layout import MAX_CANDIDATES, Layout
 from springcad.design.resize import WebsHoldStiffness, stiffness_out_of_reach, widening_room_short
 from springcad.design.shortfalls import margin_shortfall, profile_defect, soft_shortfalls
@@ -253,7 +254,7 @@ def _alike(rejected: list) -> int:
     higher stiffness helps) while most others fail the curved-flexure rule, whose advice
     (a thicker disk) points the other way (tests/test_stiffness_reach.py)."""
     def rule(entry) -> str:
-        return re.sub(r"[-+]?\d[\d.,e]*", "#", str(entry[1]))
+        return re.sub(r"[-+]?\d[\d.,e]*", "#", without_shape_detail(str(entry[1])))
 
     first = rule(rejected[0])
     return sum(rule(e) == first for e in rejected)

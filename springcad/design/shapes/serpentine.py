@@ -38,6 +38,11 @@ class Serpentine(FlexureShape):
         def width_fn(y):
             return fx.constant_stress_width_mm(y, lay.load, rc, z, sigma)
 
+        # the tilt fades out over two rim thicknesses before the root: both root fillets then
+        # sit on the rim on a nearly radial edge. Shorter, the last bend wedges the fillet on
+        # its inside far along the rim (measured 2026-11-28 with the zone x0.5: paper S1 and
+        # S2's fillets overlap their neighbours', and the predicted root peak rises, S1
+        # 1374 -> 1427 MPa at x0.75, S2 1230 -> 1263 at x0.75 and 1310 MPa at x0.5)
         try:
             res = fx.design_serpentine(
                 target_area_ratio=s_req, contact_radius_mm=rc, root_radius_mm=rr,
