@@ -370,7 +370,9 @@ def _checked_key_changes(job: Job, err: DesignError) -> DesignError:
                      key=lambda c: text.find(c[0]))[:CHECKED_CHANGES]
     for clause, name, spec, surface in changes:
         report(f"spring {name}: checking {clause.split(' (')[0]} with the whole job")
-        changed, grown = _rims_grown(replace(job, springs={**job.springs, name: spec}), name)
+        changed, grown = replace(job, springs={**job.springs, name: spec}), ""
+        if spec.outer_radius_mm > job.springs[name].outer_radius_mm + 1e-9:  # a larger disk
+            changed, grown = _rims_grown(changed, name)
         if grown:
             text = text.replace(clause, f"{clause} and {grown}", 1)
             clause = f"{clause} and {grown}"
