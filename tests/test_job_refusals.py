@@ -321,3 +321,22 @@ def test_a_larger_disk_in_a_rim_pinned_stack_grows_the_rims_it_is_pinned_to():
     ro = float(found.group(1))
     design_job(job_module.with_changes(job, {"springs.A.outer_radius_mm": ro,
                                              "springs.B.outer_radius_mm": ro}))
+
+
+def test_a_change_stopped_by_another_refused_spring_is_not_annotated_with_its_refusal(
+        monkeypatch):
+    """Held-out B 9041 010: A and B both refused, A's change checked with the whole job
+    stopped on B ("(then storing 29.9 J ...)", B's own refusal, printed after A's change as
+    if A's change failed). A failure of a spring refused on its own leaves the change as
+    it is; a failure of any other spring still annotates it."""
+    job = _bolted_job(6.0)
+    clause = "springs.S1.thickness_mm = 9 (now 6)"
+    err = _refusal_naming(clause, (("S1", "thickness_mm", 6.0, 9.0),))
+
+    def design(changed, explain=True, progress=None):
+        raise DesignError("spring 'B': storing 29.9 J needs more")
+
+    monkeypatch.setattr(job_module, "design_job", design)
+    assert job_module._checked_key_changes(job, err, {"B"}) is err
+    assert f"{clause} (then storing 29.9 J needs more)" in str(
+        job_module._checked_key_changes(job, err, {"C"}))

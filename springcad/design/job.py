@@ -228,9 +228,11 @@ def _design_job(job: Job, explain: bool = True, progress: Progress | None = None
             except DesignError as err:
                 if not explain:
                     raise
-                refusals.append(_checked_key_changes(job, err))
+                refusals.append((name, err))
     if refusals:
-        raise _all_refusals(refusals, jamming_tolerances(job.manufacturing))
+        refused = {name for name, _ in refusals}
+        raise _all_refusals([_checked_key_changes(job, err, refused - {name})
+                             for name, err in refusals], jamming_tolerances(job.manufacturing))
     # the thickness springcad chose (stock plate) is the job's from here on
     job = replace(job, springs={n: replace(s, thickness_mm=springs[n].thickness_mm)
                                 for n, s in job.springs.items()})
@@ -352,15 +354,23 @@ def _add_change(changes: dict, change: dict, job: Job) -> None:
 CHECKED_CHANGES = 4
 
 
-def _checked_key_changes(job: Job, err: DesignError) -> DesignError:
+def _checked_key_changes(job: Job, err: DesignError, refused: set[str] = frozenset()
+                         ) -> DesignError:
     """The spring refusal ``err`` with its first :data:`CHECKED_CHANGES` changes checked
     with the whole job (the design search probes the spring alone): a change under which a
     hardware part does not fit (a screw too short for the thicker rims' grip, pins too weak
     on a larger rim's bolt circle, or a drive pin no catalogue length fits the ring, which
     the spring's refusal hid) names the hardware change with which the job designs too, or
     what stops it. Both kinds are checked: one key (``err.key_changes``) and the whole disk
-    scaled (``err.disk_changes``)."""
+    scaled (``err.disk_changes``). A change whose check stops on another spring of
+    ``refused`` (refused on its own, with its own changes) is left as it is: that spring's
+    refusal, not this change, is what stops the job (held-out B 9041 010: A's thicker disk
+    was named "(then storing 29.9 J ...)", B's own refusal)."""
     text = str(err)
+
+    def another_refused(e: Exception) -> bool:
+        return any(str(e).startswith(f"spring '{n}'") for n in refused)
+
     changes = [(key_clause(name, key, now, value), name,
                 with_key(job.springs[name], key, value), None)
                for name, key, now, value in err.key_changes]
@@ -386,7 +396,9 @@ def _checked_key_changes(job: Job, err: DesignError) -> DesignError:
             text = text.replace(clause, works[0] if works else
                                 f"{clause} (then {short_reason(e).split('; use')[0]})", 1)
         except (DesignError, ConfigError) as e:
-            text = text.replace(clause, f"{clause} (then {one_line(short_reason(e), 160)})", 1)
+            if not another_refused(e):
+                text = text.replace(clause, f"{clause} (then {one_line(short_reason(e), 160)})",
+                                    1)
     if text == str(err):
         return err
     checked = type(err)(text)
