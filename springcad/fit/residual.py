@@ -342,8 +342,8 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     # with the residual's means by deflection and direction taken out (the bins of the
     # test above), or on a periodic motion (a sine) every shape in deflection would
     # count again as harmonics of the drive
-    excess = max(0.5 * spec["peak_amplitude"] ** 2 - sigma ** 2 / max(r.size, 1),
-                 periodogram(flat, rate_hz)["line_ms"])
+    plain_line_ms = periodogram(flat, rate_hz)["line_ms"]
+    excess = max(0.5 * spec["peak_amplitude"] ** 2 - sigma ** 2 / max(r.size, 1), plain_line_ms)
     p = spec["p_value"]
     struct_rms = math.sqrt(excess)
     significant = p < p_level and struct_rms > min_rms * sigma
@@ -356,10 +356,13 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     # a line whose sign follows the direction of motion: a channel sampled and held between
     # updates errs by its rate times the time since its last update, a sawtooth at the
     # update clock that flips with the motion and so cancels out of the plain spectrum over
-    # every cycle; the residual times the direction holds it as a line
+    # every cycle; the residual times the direction holds it as a line. A line that stands
+    # in the residual itself (mains hum) smears over the direction's sidebands there, and
+    # is counted only where the direction's line is the larger
     held = periodogram(flat * sig.direction[idx], rate_hz)
     struct_rms = math.sqrt(held["line_ms"])
-    significant = held["p_value"] < p_level and struct_rms > min_rms * sigma
+    significant = (held["p_value"] < p_level and struct_rms > min_rms * sigma
+                   and held["line_ms"] > plain_line_ms)
     tests["periodic_with_direction"] = {
         "p_value": held["p_value"], "structure_rms_Nm": struct_rms,
         "structure_rms_over_noise": struct_rms / sigma if sigma > 0 else math.inf,
