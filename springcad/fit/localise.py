@@ -17,7 +17,10 @@ without naming a cause:
 * **periodic in angle**: a peak in the spectrum of the common part against
   deflection, with its period;
 * **periodic in time**: a peak in the spectrum of the residual after the
-  deflection and direction pattern is removed, with its frequency.
+  deflection and direction pattern is removed, with its frequency;
+* **periodic in time with the direction of motion**: the same for the residual
+  times the direction (a channel held between updates: a sawtooth at its update
+  rate that flips with the motion).
 
 Each finding carries the share of the structure it accounts for and the kinds
 of physical cause that produce such a signature. The arrays behind each
@@ -63,6 +66,10 @@ CAUSES = {
     "periodic_time": "something that repeats in time: electrical pickup (mains or a switching "
                      "supply, or their aliases), a control-loop oscillation, a vibration of "
                      "the rig",
+    "periodic_with_direction": "a channel sampled and held between updates (a sensor, "
+                               "amplifier or bus slower than the logging): late by zero to "
+                               "one update, a sawtooth at the update rate that follows the "
+                               "speed; stick-slip at one speed",
 }
 
 def deflection_profile(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int) -> dict:
@@ -222,6 +229,11 @@ def _candidates(work: np.ndarray, sig: Signals, idx: np.ndarray, bins: int, sigm
         f, comp, amp = sinusoid(t, work, spec["peak_hz"], 1.0 / span, N)
         out.append(_Pattern("periodic_time", comp, 3, {
             "frequency_hz": f, "amplitude_Nm": amp, "spectrum_p_value": spec["p_value"]}))
+    spec = periodogram(work * d, rate_hz)
+    if spec["peak_hz"] > 0:
+        f, comp, amp = sinusoid(t, work * d, spec["peak_hz"], 1.0 / span, N)
+        out.append(_Pattern("periodic_with_direction", d * comp, 3, {
+            "frequency_hz": f, "amplitude_Nm": amp, "spectrum_p_value": spec["p_value"]}))
     return out
 
 
@@ -297,7 +309,8 @@ def localise(r: np.ndarray, idx: np.ndarray, sig: Signals, sigma: float, tau: fl
             rest = work - pat.component
             gain = (float(work @ work) - float(rest @ rest)) / var0
             score = gain - pat.n_params * math.log(n_eff)
-            if pat.kind == "periodic_time" and pat.info["spectrum_p_value"] >= p_level:
+            if (pat.kind in ("periodic_time", "periodic_with_direction")
+                    and pat.info["spectrum_p_value"] >= p_level):
                 continue
             if score <= 0 or stats.chi2.sf(gain, pat.n_params) >= p_level:
                 continue
@@ -337,7 +350,8 @@ def localise(r: np.ndarray, idx: np.ndarray, sig: Signals, sigma: float, tau: fl
     return {"findings": findings, "summary": summary, "data": data}
 
 
-TIME_KINDS = ("stiffness_step", "zero_step", "stiffness_trend", "zero_wander", "periodic_time")
+TIME_KINDS = ("stiffness_step", "zero_step", "stiffness_trend", "zero_wander", "periodic_time",
+              "periodic_with_direction")
 
 
 def _describe(pat: _Pattern, share: float, k_mean: float, p_level: float, sig: Signals,
@@ -381,6 +395,14 @@ def _describe(pat: _Pattern, share: float, k_mean: float, p_level: float, sig: S
                  "text": (f"periodic in time at {f:.4g} Hz (period {1 / f:.3g} s), amplitude "
                           f"{info['amplitude_Nm']:.2g} N·m"),
                  "causes": CAUSES["periodic_time"]}]
+    if pat.kind == "periodic_with_direction":
+        f = info["frequency_hz"]
+        return [{**base, "kind": "periodic_with_direction", "frequency_hz": f,
+                 "period_s": 1 / f, "amplitude_Nm": info["amplitude_Nm"],
+                 "text": (f"periodic in time at {f:.4g} Hz (period {1 / f:.3g} s), amplitude "
+                          f"{info['amplitude_Nm']:.2g} N·m, its sign following the direction "
+                          "of motion"),
+                 "causes": CAUSES["periodic_with_direction"]}]
     centre, g = info["centre_rad"], info["profile_Nm"]
     width = float(centre[1] - centre[0])
     if pat.kind == "by_direction":

@@ -44,6 +44,9 @@ from springcad.fit.torque_model import TorqueModel
 #: an effect shaped in deflection, named beside structure left in the deflection profile,
 #: must describe at least this many times (RMS over the profile) what is left there
 SHAPE_DOMINANCE = 3.0
+#: phase bins of a held channel's update clock over which its lag is freed (the lag grows
+#: from zero to one update along each; 16 leave a sawtooth of 1/16 of the update's)
+HELD_PHASES = 16
 
 
 def profile_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray,
@@ -120,9 +123,11 @@ def lag_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray
     record holds in its holds as well (:func:`_stands_at_rest`: mains hum) is not locked
     to the motion and does not count: the lag's term is zero at rest, it takes up none of
     it (a stick-slip sawtooth slips only while the contact moves). Nor is a lag whose
-    structure left is its own size changing along the record (:func:`_own_change`: with
-    the lag free per whole-cycle window nothing is left; clock skew). A record the model
-    explains is judged as before.
+    structure left is its own size changing along the record (:func:`_lag_free_per`: with
+    the lag free per whole-cycle window nothing is left; clock skew), or with the phase
+    of a clock (free per phase of the line whose sign follows the motion, nothing is left:
+    a channel sampled and held between updates). A record the model explains is judged as
+    before.
 
     Returns:
         ``{effect: (ratio, reason)}`` (the smallest ratio first is the worst).
@@ -152,8 +157,9 @@ def lag_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray
         m0 = model.without(e.name)
         term = full - m0.predict(m0.transfer(model, x), sig, idx)
         ratio = math.sqrt(float(term @ term) / term.size) / left
-        if ratio < SHAPE_DOMINANCE and _own_change(model, x, sig, idx, e, bins, min_rms,
-                                                   p_level, excess_ratio):
+        if ratio < SHAPE_DOMINANCE and any(
+                _lag_free_per(key, model, x, sig, idx, e, bins, min_rms, p_level, excess_ratio)
+                for key in (_cycle_key(sig, idx), _held_clock_key(r, idx, sig, structure))):
             continue
         if ratio < SHAPE_DOMINANCE:
             out[e.name] = (ratio, (
@@ -165,23 +171,50 @@ def lag_patches(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray
     return out
 
 
-def _own_change(model: TorqueModel, x: np.ndarray, sig: Signals, idx: np.ndarray, effect,
-                bins: int, min_rms: float, p_level: float, excess_ratio: float) -> bool:
-    """Whether the structure left beside ``effect`` (a lag) is its own size changing along
-    the record: with its size free per window of whole cycles (one Gauss-Newton step,
-    the rest of the model free), the residual holds no structure the ``unexplained``
-    tests find. The delay between two free-running clocks grows with the time (clock
-    skew), a filter's time constant follows its temperature: a lag of the record that
-    changes leaves structure one lag cannot describe, which is still the lag's."""
+def _cycle_key(sig: Signals, idx: np.ndarray) -> np.ndarray | None:
+    """Window of whole cycles of each sample (``None``: fewer than ``MIN_WINDOWS``): the
+    delay between two free-running clocks grows with the time (clock skew), a filter's
+    time constant follows its temperature."""
     win = cycle_windows(sig, idx)[idx]
-    labels = np.unique(win[win >= 0])
-    if labels.size < MIN_WINDOWS:
+    return win if np.unique(win[win >= 0]).size >= MIN_WINDOWS else None
+
+
+def _held_clock_key(r: np.ndarray, idx: np.ndarray, sig: Signals,
+                    structure: dict) -> np.ndarray | None:
+    """Phase bin (of ``HELD_PHASES``) of each sample on the clock of a line whose sign follows
+    the motion (``None``: no such line stands out). A channel sampled and held between
+    updates is late by the time since its last update: a lag that grows from zero to one
+    update along every period of its clock, the rest of the residual a sawtooth at that
+    clock (``periodic_with_direction``). The line's frequency is refined within one
+    Fourier bin so that the phase holds over the record."""
+    test = structure["tests"].get("periodic_with_direction", {})
+    if not test.get("significant"):
+        return None
+    t = sig.t[idx] - sig.t[idx[0]]
+    y = r * sig.direction[idx]
+    bin_hz = 1.0 / max(float(t[-1]), 1e-12)
+    grid = test["peak_frequency_hz"] + np.linspace(-bin_hz, bin_hz, 41)
+    power = [abs(np.exp(-2j * np.pi * f * t) @ y) for f in grid]
+    f = float(grid[int(np.argmax(power))])
+    return np.floor((t * f) % 1.0 * HELD_PHASES).astype(int)
+
+
+def _lag_free_per(key: np.ndarray | None, model: TorqueModel, x: np.ndarray, sig: Signals,
+                  idx: np.ndarray, effect, bins: int, min_rms: float, p_level: float,
+                  excess_ratio: float) -> bool:
+    """Whether the structure left beside ``effect`` (a lag) is its own size changing with
+    ``key`` (per sample of ``idx``; negative: no group): with its size free per value of
+    ``key`` (one Gauss-Newton step, the rest of the model free), the residual holds no
+    structure the ``unexplained`` tests find. A lag of the record that changes leaves
+    structure one lag cannot describe, which is still the lag's."""
+    if key is None:
         return False
+    labels = np.unique(key[key >= 0])
     r = model.residual(x, sig, idx)
     J = jacobian(model, x, sig, idx)
     col = model.slice_of(effect.name).start + effect.primary
-    per_window = np.column_stack([J[:, col] * (win == w) for w in labels])
-    J2 = np.column_stack([per_window, np.delete(J, col, axis=1)])
+    per_group = np.column_stack([J[:, col] * (key == w) for w in labels])
+    J2 = np.column_stack([per_group, np.delete(J, col, axis=1)])
     r2 = r - J2 @ np.linalg.lstsq(J2, r, rcond=None)[0]
     return not residual_structure(r2, idx, sig, bins=bins, min_rms=min_rms, p_level=p_level,
                                   excess_ratio=excess_ratio)[1]

@@ -237,7 +237,7 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
                        excess_ratio: float = 1.25) -> tuple[dict, bool, float]:
     """Test a residual for structure beyond noise.
 
-    Four tests, each against the noise level ``σ`` (from lagged differences of
+    Six tests, each against the noise level ``σ`` (from lagged differences of
     the residual at a lag where the noise no longer correlates), its
     correlation time ``τ`` and its 1/f part (:func:`flicker_noise`, carried
     down to the samples of each bin and run by :meth:`Flicker.group_variance`):
@@ -245,11 +245,16 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     * ``by_deflection_and_direction``: residual means in bins of deflection,
       separately for each direction of motion;
     * ``by_time``: residual means in bins of time;
+    * ``by_protocol_phase``: residual means by phase of the protocol
+      (:func:`phase_key`: what the bench does after every start, stop and turn);
     * ``by_run``: each run's residual mean and slope against deflection (a
       stiffness or zero that changes between cycles averages out of the two
       tests above);
     * ``periodic_in_time``: the largest peak of the residual's spectrum over
-      its local noise level (an electrical or mechanical ripple).
+      its local noise level (an electrical or mechanical ripple);
+    * ``periodic_with_direction``: the same for the residual times the direction of
+      motion (a channel sampled and held between updates: a sawtooth at its update
+      clock whose sign follows the motion).
 
     A test is significant when its p-value is below ``p_level`` and the
     structure it sees is at least ``min_rms``·σ (RMS over the samples).
@@ -337,8 +342,8 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
     # with the residual's means by deflection and direction taken out (the bins of the
     # test above), or on a periodic motion (a sine) every shape in deflection would
     # count again as harmonics of the drive
-    excess = max(0.5 * spec["peak_amplitude"] ** 2 - sigma ** 2 / max(r.size, 1),
-                 periodogram(flat, rate_hz)["line_ms"])
+    plain_line_ms = periodogram(flat, rate_hz)["line_ms"]
+    excess = max(0.5 * spec["peak_amplitude"] ** 2 - sigma ** 2 / max(r.size, 1), plain_line_ms)
     p = spec["p_value"]
     struct_rms = math.sqrt(excess)
     significant = p < p_level and struct_rms > min_rms * sigma
@@ -346,6 +351,22 @@ def residual_structure(r: np.ndarray, idx: np.ndarray, sig: Signals, bins: int =
         "p_value": p, "structure_rms_Nm": struct_rms,
         "structure_rms_over_noise": struct_rms / sigma if sigma > 0 else math.inf,
         "peak_frequency_hz": spec["peak_hz"], "peak_amplitude_Nm": spec["peak_amplitude"],
+        "significant": bool(significant)}
+    unexplained |= significant
+    # a line whose sign follows the direction of motion: a channel sampled and held between
+    # updates errs by its rate times the time since its last update, a sawtooth at the
+    # update clock that flips with the motion and so cancels out of the plain spectrum over
+    # every cycle; the residual times the direction holds it as a line. A line that stands
+    # in the residual itself (mains hum) smears over the direction's sidebands there, and
+    # is counted only where the direction's line is the larger
+    held = periodogram(flat * sig.direction[idx], rate_hz)
+    struct_rms = math.sqrt(held["line_ms"])
+    significant = (held["p_value"] < p_level and struct_rms > min_rms * sigma
+                   and held["line_ms"] > plain_line_ms)
+    tests["periodic_with_direction"] = {
+        "p_value": held["p_value"], "structure_rms_Nm": struct_rms,
+        "structure_rms_over_noise": struct_rms / sigma if sigma > 0 else math.inf,
+        "peak_frequency_hz": held["peak_hz"], "peak_amplitude_Nm": held["peak_amplitude"],
         "significant": bool(significant)}
     unexplained |= significant
     evidence = {"noise_Nm": sigma, "noise_decorrelation_lag_samples": noise.lag,

@@ -361,11 +361,8 @@ class Search:
             if (allowed is not None and effect.name not in allowed) or effect.name in excluded:
                 continue
             if effect.stage == "mask":
-                every = np.arange(sig.n)
-                full_r = state.model.residual(state.x, sig, every)
-                mask = find_glitches(full_r, self.s.glitch_threshold,
-                                     guard=turn_guard(state.model, state.x, sig),
-                                     model=direction_terms(state.model, state.x, sig))
+                mask = glitch_mask(state.model, state.x, sig, self.s.glitch_threshold,
+                                   self.s.agreement_p)
                 n_glitch = int(mask.sum())
                 if n_glitch == 0:
                     cands.append(Candidate(effect.name, 0.0, False))
@@ -556,6 +553,27 @@ def turn_guard(model: TorqueModel, x: np.ndarray, sig: Signals) -> np.ndarray:
     else:
         late[:k] = guard[-k:]
     return guard | late
+
+
+def glitch_mask(model: TorqueModel, x: np.ndarray, sig: Signals, threshold: float,
+                agreement_p: float) -> np.ndarray:
+    """Samples of the record (every sample) the residual of ``model`` holds as glitches.
+
+    :func:`springcad.fit.signals.find_glitches` with the model's turns guarded
+    (:func:`turn_guard`, :func:`direction_terms`). Where the residual's excursions beyond
+    ``threshold`` (guarded or not) gather at the motion's events
+    (:func:`springcad.fit.residual.motion_locked_p` below ``agreement_p``), the model errs
+    at its turns (a friction whose law switches sharper than the model's, within a sample
+    or two): a spike among those errors cannot be told from them, and no guarded sample is
+    a glitch; glitches elsewhere still are.
+    """
+    r = model.residual(x, sig, np.arange(sig.n))
+    guard = turn_guard(model, x, sig)
+    mask = find_glitches(r, threshold, guard=guard, model=direction_terms(model, x, sig))
+    if mask.any() and (mask & guard).any():
+        if motion_locked_p(find_glitches(r, threshold), sig) < agreement_p:
+            mask &= ~guard
+    return mask
 
 
 def direction_terms(model: TorqueModel, x: np.ndarray, sig: Signals) -> np.ndarray:

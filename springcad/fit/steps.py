@@ -19,8 +19,8 @@ import numpy as np
 from springcad.fit.effects import Effect, get_effect
 from springcad.fit.models import nrmse_pct
 from springcad.fit.nuisance import nuisance_views
-from springcad.fit.search import BESIDE_STRUCTURE, Search, State, direction_terms, turn_guard
-from springcad.fit.signals import Signals, find_glitches
+from springcad.fit.search import BESIDE_STRUCTURE, Search, State, glitch_mask
+from springcad.fit.signals import Signals
 
 
 @dataclass(frozen=True)
@@ -160,10 +160,7 @@ def drop(state: State, name: str, lp: Search, f_scale: float, steps: list[Step],
 
 def _refresh_mask(state: State, lp: Search, f_scale: float) -> State:
     """Re-detect glitches on the new residual and refit if they changed."""
-    r = state.model.residual(state.x, lp.sig, np.arange(lp.sig.n))
-    mask = find_glitches(r, lp.s.glitch_threshold,
-                         guard=turn_guard(state.model, state.x, lp.sig),
-                         model=direction_terms(state.model, state.x, lp.sig))
+    mask = glitch_mask(state.model, state.x, lp.sig, lp.s.glitch_threshold, lp.s.agreement_p)
     if np.array_equal(mask, state.mask):
         return state
     x = lp.refit(state.model, state.x, mask, f_scale)

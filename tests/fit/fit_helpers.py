@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from springcad.fit.bench import BenchSpring, Protocol, simulate
 from springcad.fit.loop import run_loop
 from springcad.fit.segment import segment
@@ -76,3 +78,18 @@ def loop_on_record(rec):
     """Run the residual loop on a record; returns ``(result, signals)``."""
     sig = make_signals(rec, segment(rec))
     return run_loop(sig), sig
+
+
+def triangles(time_s: np.ndarray, speeds_rad_per_s: tuple[float, ...],
+              amp_rad: float = 0.3) -> np.ndarray:
+    """Deflection (rad) at ``time_s`` (s): one triangle of ``amp_rad`` from zero per speed (in
+    order), sharp turns, zero after the last."""
+    out, t0 = np.zeros_like(time_s), 0.0
+    for speed in speeds_rad_per_s:
+        period_s = 4.0 * amp_rad / speed
+        on = (time_s >= t0) & (time_s < t0 + period_s)
+        phase = (time_s[on] - t0) / period_s
+        out[on] = amp_rad * np.where(phase < 0.25, 4 * phase,
+                                     np.where(phase < 0.75, 2 - 4 * phase, 4 * phase - 4))
+        t0 += period_s
+    return out
