@@ -352,8 +352,7 @@ class DeflectionTrace:
         there, taken for two glitches on cosine ramps). There each piece is
         differentiated on its own and the two samples beside the cut read the mean of
         the rates about them (a step there made a fading friction delayed by a lag a
-        step in the lag). So too at every corner the trace was cut at inside a motion
-        (:attr:`mend_cuts`), whose sides are fitted apart.
+        step in the lag).
         """
         trace = self.values
         out = np.gradient(trace, self.t)
@@ -378,12 +377,7 @@ class DeflectionTrace:
             # ramp leaving a hold, keeps its central differences)
             dt = self.t[c] - self.t[c - 1]
             near = np.max(np.abs(np.stack([own[c - 2], own[c - 1], own[c], own[c + 1]])), axis=0)
-            # a corner cut inside a moving block joins two cubics fitted apart, which meet
-            # off by a fraction of the noise: less than the step the speed makes over a
-            # sample, but read by a central difference as a speed step for two samples
-            # (0.2 rad/s on a manual jog at 0.45 rad/s: a damper's torque 8 noise levels
-            # off, taken for two glitches); its two sides keep their own rates always
-            c = c[(np.abs(trace[c] - trace[c - 1]) > 2.0 * near * dt) | np.isin(c, mended)]
+            c = c[np.abs(trace[c] - trace[c - 1]) > 2.0 * near * dt]
         if c.size:
             # the two samples either side read the mean of their neighbours' rates within
             # their own pieces (the central difference a continuous trace would give)
