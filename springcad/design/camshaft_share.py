@@ -85,7 +85,7 @@ def share_camshafts(job: Job, springs: dict[str, SpringDesign],
                     f"{', '.join(m for m in group if m != n)} (one camshaft)"))
             break
         else:
-            freed = _freed_camshaft_key(job, group, max_root_radius_mm) if explain else ""
+            freed = _freed_camshaft_key(job, group, out, max_root_radius_mm) if explain else ""
             raise DesignError(
                 f"springs {', '.join(group)} share a camshaft, so they need one N, contact "
                 f"radius and tip ball, and no member's layout suits the others: "
@@ -132,10 +132,12 @@ def _shared_layouts(job: Job, group: tuple[str, ...], designs: dict[str, SpringD
             yield leader, fixed_of(d)
 
 
-def _freed_camshaft_key(job: Job, group: tuple[str, ...], max_root_radius_mm: float) -> str:
+def _freed_camshaft_key(job: Job, group: tuple[str, ...], designs: dict[str, SpringDesign],
+                        max_root_radius_mm: float) -> str:
     """The first camshaft key a member's config fixes (:data:`CAMSHAFT_KEYS`) whose removal
     lets the group share a camshaft, as a refusal's change ("springs.A.tip_radius_mm removed
-    (now 0.75 mm)"), or ""."""
+    (now 0.75 mm)"), or "". Only the freed member is designed again; the others keep
+    their ``designs``."""
     for name in group:
         spec = job.springs[name]
         for key in CAMSHAFT_KEYS:
@@ -143,10 +145,9 @@ def _freed_camshaft_key(job: Job, group: tuple[str, ...], max_root_radius_mm: fl
                 continue
             freed = replace(job, springs={**job.springs, name: replace(spec, **{key: None})})
             try:
-                alone = {n: design_spring(freed.springs[n], job.material, job.manufacturing,
-                                          job.hardware, explain=False,
-                                          max_root_radius_mm=max_root_radius_mm)
-                         for n in group}
+                alone = {**designs, name: design_spring(
+                    freed.springs[name], job.material, job.manufacturing, job.hardware,
+                    explain=False, max_root_radius_mm=max_root_radius_mm)}
                 share_camshafts(freed, alone, max_root_radius_mm, explain=False)
             except DesignError:
                 continue
