@@ -1,9 +1,12 @@
-"""PNG renders of the von Mises field: pyvista draws the field, matplotlib frames it.
+"""PNG renders of the von Mises field in a top view on matplotlib axes in mm.
 
-The sector result is rendered off-screen in a top view with parallel
-projection, so the picture maps linearly onto the plane: it is placed on
-matplotlib axes in mm, with the title above the axes (never over the part), a
-colour bar beside them and the peak circled. The title carries one peak
+A plane (2D) result is drawn by matplotlib itself: each quadratic triangle split at its
+mid-side nodes into four linear ones, coloured by Gouraud shading of the nodal values (so
+the colour at every node is its own value), at the resolution the figure is shown at; no
+VTK. A solid (3D) result is rendered off-screen by pyvista in a top view with parallel
+projection, so the picture maps linearly onto the plane, and placed on the same axes. The
+title is above the axes (never over the part), a colour bar beside them and the peak
+circled. The title carries one peak
 value: the one ``fea.json`` and the console report (Richardson-extrapolated
 over the mesh levels, times the 3D factor of a "2d3d" run). The colours are
 the finest mesh's nodal field, whose own maximum differs from that value by
@@ -28,6 +31,47 @@ def peak_title(title: str, peak_MPa: float, region: str = "") -> str:
     """The figure title: the caller's text and the one reported peak (MPa, no decimals)."""
     where = f" at the {region}" if region else ""
     return f"{title}: peak von Mises {peak_MPa:.0f} MPa{where}".lstrip(": ")
+
+
+#: the four linear triangles of a quadratic one, in VTK's node order (corners 0, 1, 2; 3 on
+#: edge 0-1, 4 on edge 1-2, 5 on edge 2-0)
+_SUBTRIANGLES = ((0, 3, 5), (3, 1, 4), (5, 4, 2), (3, 4, 5))
+
+
+def view_extent_mm(points_mm, window, zoom_mm: float | None, peak) -> tuple:
+    """The shown rectangle ``(x0, x1, y0, y1)`` (mm) of a top view of ``window`` (px) aspect:
+    a square of half-size ``zoom_mm`` centred on ``peak``, else the part's own bounds framed
+    with :data:`_MARGIN` (no empty half)."""
+    aspect = window[0] / window[1]
+    if zoom_mm:
+        cx, cy, scale = float(peak[0]), float(peak[1]), float(zoom_mm)
+    else:
+        lo, hi = np.min(points_mm[:, :2], axis=0), np.max(points_mm[:, :2], axis=0)
+        cx, cy = 0.5 * (lo + hi)
+        scale = (1 + _MARGIN) * max(0.5 * (hi[1] - lo[1]), 0.5 * (hi[0] - lo[0]) / aspect)
+    half_w = scale * aspect
+    return (cx - half_w, cx + half_w, cy - scale, cy + scale)
+
+
+def plane_triangles(field, extent) -> np.ndarray:
+    """The linear triangles (node indices, shape (m, 3)) of a plane field's quadratic cells
+    split at their mid-side nodes, those whose bounding box meets ``extent`` (mm) only."""
+    sub = np.concatenate([field.cells[:, list(t)] for t in _SUBTRIANGLES])
+    xy = field.points_mm[:, :2][sub]  # (m, 3, 2)
+    lo, hi = xy.min(axis=1), xy.max(axis=1)
+    x0, x1, y0, y1 = extent
+    seen = (hi[:, 0] >= x0) & (lo[:, 0] <= x1) & (hi[:, 1] >= y0) & (lo[:, 1] <= y1)
+    return sub[seen]
+
+
+def draw_plane_field(ax, field, clim, extent) -> None:
+    """A plane field's nodal von Mises (MPa) on ``ax``: Gouraud-shaded linear triangles
+    (:func:`plane_triangles`), colour map "turbo" over ``clim``, rasterised at the figure's
+    resolution."""
+    tris = plane_triangles(field, extent)
+    x, y = field.points_mm[:, 0], field.points_mm[:, 1]
+    ax.tripcolor(x, y, tris, field.von_mises_MPa, shading="gouraud", cmap="turbo",
+                 vmin=clim[0], vmax=clim[1], rasterized=True)
 
 
 def _field_image(result, clim, window, zoom_mm, peak):
@@ -87,11 +131,15 @@ def render_von_mises(result, path: Path | str, title: str = "", zoom_mm: float |
     peak = np.asarray(result.peak_location_mm, dtype=float)
     mesh_peak = float(result.peak_von_mises_MPa)
     clim = clim or (0.0, mesh_peak)
-    img, extent = _field_image(result, clim, window, zoom_mm, peak)
     shown = mesh_peak if reported_peak_MPa is None else float(reported_peak_MPa)
     head = peak_title(title, shown, result.peak_region)
     fig, ax = plt.subplots(figsize=(7.2, 7.0), dpi=110)
-    ax.imshow(img, extent=extent, origin="upper", interpolation="antialiased")
+    if result.field.cells.shape[1] == 6:  # quadratic triangles: a plane result
+        extent = view_extent_mm(result.field.points_mm, window, zoom_mm, peak)
+        draw_plane_field(ax, result.field, clim, extent)
+    else:
+        img, extent = _field_image(result, clim, window, zoom_mm, peak)
+        ax.imshow(img, extent=extent, origin="upper", interpolation="antialiased")
     r = (extent[3] - extent[2]) * 0.025
     ax.add_patch(plt.Circle(peak[:2], r, fill=False, ec="magenta", lw=2.0, zorder=5))
     ax.set_xlim(extent[0], extent[1])
