@@ -44,8 +44,8 @@ import time
 from fea.contact import contact_sweep
 from fea.fatigue import region_peaks_MPa
 from fea.problem import Material, solver_material
-from fea.study import (ModelRun, VerifyOptions, _noop, apply_3d_factor, complete_run, run_model,
-                       support_study)
+from fea.study import (COARSE_K_ERROR, COARSE_STRESS_ERROR, ModelRun, VerifyOptions, _noop,
+                       apply_3d_factor, complete_run, run_model, support_study)
 from fea.verdict import JobVerification, SpringVerification, verify_stack
 from springcad.design import redesign
 from springcad.design.resize import with_cam_clearance, with_width_scale
@@ -290,17 +290,18 @@ def _verify_spring(design, options: VerifyOptions, progress, material: Material 
         # a step of the correction loop solves the coarse levels first: while K is clearly
         # off the target, it steps on from them; the geometry it may accept, and the last
         # it may report, have every level (K and stress as stated)
+        # the finest level is solved only where the coarse study states K or the peak less
+        # well than the limits of fea.study.coarse_suffices
         last = not options.correct or k >= options.max_iterations + stress_passes
         run = run_model(design, material, options, need_3d, progress,
                         ahead=ahead if with_3d and not need_3d else None,
-                        coarse=not last and options.model in ("2d3d", "2d")
-                        and options.mesher == "gmsh")
+                        coarse=options.model in ("2d3d", "2d") and options.mesher == "gmsh")
         if with_3d and not need_3d:
             run.carry_factor(previous)
-        if run.coarse and not _clearly_off(run, target, options.tolerance):
+        if not run.settled and (last or not _clearly_off(run, target, options.tolerance)):
             complete_run(run, design, material, options, progress)
         K = run.stiffness_Nmm_per_rad
-        done = not run.coarse and abs(K / target - 1.0) <= options.tolerance
+        done = run.settled and abs(K / target - 1.0) <= options.tolerance
         factor, run.factor_ahead = run.factor_ahead, None
         if done and with_3d and not need_3d:
             progress(f"spring {design.name}: 3D factor at the corrected geometry", None)
@@ -386,8 +387,14 @@ def _verify_spring(design, options: VerifyOptions, progress, material: Material 
                 break
             previous = None
         k += 1
-    if run.coarse:  # the loop stopped on a correction step: the last geometry, fully solved
+    if not run.settled:  # the loop stopped on a correction step: the last geometry, solved
         complete_run(run, design, material, options, progress)
+    if run.coarse:
+        notes.append(
+            f"2D levels 0..{options.levels - 1} state K within "
+            f"{100 * run.study.stiffness.error:.4f} % and the peak within "
+            f"{100 * run.study.peak_stress.error:.4f} % (limits {100 * COARSE_K_ERROR:g} % and "
+            f"{100 * COARSE_STRESS_ERROR:g} %): the finest level {options.levels} was not solved")
     if run.study.peak_stress.behaviour == "diverging" and not math.isfinite(
             run.study.peak_stress.error):
         notes.append(f"the peak stress at the {run.peak_result.peak_region} grows under mesh "
