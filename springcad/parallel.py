@@ -104,6 +104,33 @@ def return_freed_memory() -> None:
         libc.mallopt(_M_TRIM_THRESHOLD, RETURN_ABOVE_BYTES)
 
 
+#: modules a later step of this process will import, imported by the caller while it waits
+#: for a child (:func:`import_while_waiting`)
+_WAITING_IMPORTS: list[str] = []
+
+
+def import_while_waiting(*modules: str) -> None:
+    """Name modules a later step of this process imports: the caller imports them, one at a
+    time, whenever it would otherwise wait for a child's result (:meth:`Pending.result`)
+    that is not ready, instead of leaving its core idle. ``springcad build`` names the CAD
+    kernel's modules (build123d and OCP: about 2.5 s of CPU) while the verification waits
+    for its 3D factor, which is solved beside it, so the solids no longer start with their
+    import. A module that fails to import is left for its step to report."""
+    _WAITING_IMPORTS.extend(m for m in modules if m not in _WAITING_IMPORTS)
+
+
+def _import_while(not_ready) -> None:
+    """Import the modules :func:`import_while_waiting` named while ``not_ready()``."""
+    import importlib
+    import sys
+
+    while _WAITING_IMPORTS and not_ready():
+        name = _WAITING_IMPORTS.pop(0)
+        if name not in sys.modules:
+            with contextlib.suppress(Exception):
+                importlib.import_module(name)
+
+
 class Pending:
     """The result of a step run beside the caller (:func:`beside`)."""
 
@@ -125,6 +152,7 @@ class Pending:
         if self._deferred is not None:
             self._value, self._deferred, self._done = self._deferred(), None, True
             return self._value
+        _import_while(lambda: not self._conn.poll())
         try:
             status, payload, messages = self._conn.recv()
         except EOFError:

@@ -206,3 +206,24 @@ def test_objects_stay_frozen_while_a_child_shares_them(tmp_path):
     with beside(_sleep, tmp_path / "c") as slow:  # stopped on leaving the block
         assert not slow.ready() and gc.get_freeze_count() > 0  # a question, not a wait
     assert gc.get_freeze_count() == 0
+
+
+def _nap(seconds, progress):
+    time.sleep(seconds)
+    return seconds
+
+
+def test_modules_named_for_later_are_imported_while_the_caller_waits(monkeypatch):
+    """import_while_waiting: the caller imports the named modules while a child it waits
+    for still runs (not before, not when nothing waits), and each only once."""
+    from springcad import parallel
+
+    name = "tabnanny"  # a standard module nothing in springcad or its libraries imports
+    monkeypatch.delitem(sys.modules, name, raising=False)
+    monkeypatch.setattr(parallel, "_WAITING_IMPORTS", [])
+    parallel.import_while_waiting(name, name)
+    assert parallel._WAITING_IMPORTS == [name] and name not in sys.modules
+    with beside(_nap, 0.5) as pending:
+        assert name not in sys.modules  # nothing is imported until the caller waits
+        assert pending.result() == 0.5
+    assert name in sys.modules and parallel._WAITING_IMPORTS == []

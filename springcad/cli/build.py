@@ -23,7 +23,7 @@ from springcad.cli.common import add_cache_flag, cache_of, default_out, warn
 from springcad.cli.progress import console
 from springcad.errors import ConfigError
 from springcad.options import DXF_VERSION, DXF_VERSIONS, REVISION, check_revision
-from springcad.parallel import return_freed_memory, trim_heap
+from springcad.parallel import import_while_waiting, return_freed_memory, trim_heap
 from springcad.report.outdir import check_output_dir
 
 #: the stages, in order: the FEA verification (and correction) comes before any solid is
@@ -64,6 +64,11 @@ def _revision(text: str) -> str:
     return text
 
 
+#: the modules of the solids, checks and exports (the CAD kernel: build123d, OCP, ezdxf),
+#: imported while the verification waits (:func:`springcad.parallel.import_while_waiting`)
+CAD_MODULES = ("springcad.geometry.families", "springcad.geometry.checks",
+               "springcad.export.bundle")
+
 #: progress on stderr, indented under the stage it belongs to
 say = console(indent="  ")
 
@@ -93,6 +98,8 @@ def run(args) -> int:
     _done("design", t0, timings)
 
     t0 = _announce("verify")
+    # the solids' CAD kernel is imported while the verification waits for its 3D factor
+    import_while_waiting(*CAD_MODULES)
     verification = None
     if args.no_verify:
         say("skipped (--no-verify): the parts are beam-theory designs, not FEA-verified")
