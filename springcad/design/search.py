@@ -29,6 +29,7 @@ from dataclasses import replace as _replace
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty
+from springcad.design.cam import FLEXURE_CLEARANCE_SHORT, TIP_CLEARANCE_SHORT
 from springcad.design.feasibility import (count_probe, describe, fixed_choices, larger_disk,
                                           material_changes, nearest_changes, probe_clock,
                                           probes_spent, series_change)
@@ -270,25 +271,59 @@ BALL_FACTORS = (1.25, 1.5, 1.75, 2.0)
 #: the first); the retry of a spring that no ball mends (held-out B 010 at 4.4 x 51 mm:
 #: four ball sizes x 12 layouts, 39 of its 75 s) then costs a third
 BALL_RETRY_CANDIDATES = 4
+#: bisections of the tip ball between the largest ball tried whose driving tooth still
+#: passes the driven flexure too close and the smallest whose tooth tip passes the ball
+#: too close (a larger ball moves the neck away from the tooth and shortens the flank the
+#: tip keeps beyond the ball): the window of balls that clear both can be narrower than a
+#: step of :data:`BALL_FACTORS` (held-out A 7311 g04, N 41 and r_c 20.5 mm fixed, 25 deg:
+#: balls of 0.39 to 0.41 mm clear both; 0.375 and 0.45 mm, the factors' balls, do not)
+BALL_BISECTIONS = 4
 
 
 def _with_larger_ball(spec, material, manufacturing, hardware, max_root_radius_mm, candidates,
                       fallback: SpringDesign, short: str) -> SpringDesign | None:
     """The first design that passes every rule with tip balls of at least
     :data:`BALL_FACTORS` x the kept layout's (the tip ball is springcad's choice here), among
-    the :data:`BALL_RETRY_CANDIDATES` best-ranked layouts, its choice saying why; None when
-    none does."""
-    for factor in BALL_FACTORS:
+    the :data:`BALL_RETRY_CANDIDATES` best-ranked layouts, its choice saying why; then, when
+    one ball left the tooth too close to the driven flexure and a larger one the tooth tip
+    too close to the ball, :data:`BALL_BISECTIONS` bisections between them; None when none
+    does."""
+    def attempt(factor: float):
         floor = round(factor * fallback.tip_radius_mm, 3)
         report(f"spring {spec.name}: every layout falls short ({short}); trying tip balls of "
                f"at least {floor:g} mm")
         bigger = _replace(spec, min_tip_radius_mm=max(spec.min_tip_radius_mm, floor))
-        d, *_ = _first_passing(bigger, material, manufacturing, hardware, max_root_radius_mm,
-                               min(candidates, BALL_RETRY_CANDIDATES))
+        d, _, kept, kept_short = _first_passing(bigger, material, manufacturing, hardware,
+                                                max_root_radius_mm,
+                                                min(candidates, BALL_RETRY_CANDIDATES))
         if d is not None:
-            return _replace(d, design_choice=(
+            d = _replace(d, design_choice=(
                 f"{d.design_choice}; tip balls of at least {floor:g} mm: with "
                 f"{fallback.tip_radius_mm:g} mm every layout fell short ({short})"))
+        return d, (kept_short if kept is not None else "")
+
+    small, large = (1.0 if short.startswith(FLEXURE_CLEARANCE_SHORT) else None), None
+    for factor in BALL_FACTORS:
+        d, why = attempt(factor)
+        if d is not None:
+            return d
+        if why.startswith(FLEXURE_CLEARANCE_SHORT):
+            small = factor
+        elif why.startswith(TIP_CLEARANCE_SHORT) and small is not None and large is None:
+            large = factor
+    if small is None or large is None or large < small:
+        return None
+    for _ in range(BALL_BISECTIONS):  # the window of balls that clear both lies between
+        mid = 0.5 * (small + large)
+        d, why = attempt(mid)
+        if d is not None:
+            return d
+        if why.startswith(FLEXURE_CLEARANCE_SHORT):
+            small = mid
+        elif why.startswith(TIP_CLEARANCE_SHORT):
+            large = mid
+        else:
+            return None
     return None
 
 
