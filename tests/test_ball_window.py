@@ -18,6 +18,8 @@ from springcad.design import search
 from springcad.design.cam import FLEXURE_CLEARANCE_SHORT, TIP_CLEARANCE_SHORT
 from springcad.design.shortfalls import soft_shortfalls
 
+pytestmark = pytest.mark.slow  # five designs of a 41-flexure serpentine spring (20-30 s)
+
 G04 = {"material": {"name": "17-4ph_h900", "design_stress_MPa": 700.0, "safety_factor": 1.1},
        # the static duty sizes for yield alone, as the default duty's fallback does, without
        # the default duty's probe (seconds)
