@@ -59,6 +59,8 @@ SHARED_WORK = {
     "tests/export/test_outputs_ahead.py": "outputs_ahead",
     "tests/synthesis/test_synth_cli.py": "synth_cli",
     "tests/test_paper_validation.py": "paper_validation",
+    # the held-out g04 spring designed once for both tests (20-30 s)
+    "tests/test_ball_window.py": "ball_window",
 }
 
 

@@ -1,6 +1,7 @@
 """A job without ``[duty]`` is sized for springcad's default duty when its envelope can
 carry it, and for the yield margin alone (the duty then gating the release) when not."""
 
+import re
 from dataclasses import replace
 
 from springcad.config import job_from_dict
@@ -48,3 +49,19 @@ def test_an_envelope_that_cannot_is_sized_for_yield_and_fails_the_duty():
     assert plain.duty_advice == ""  # the advice is only searched with explain
     assert not plain.sized_for_default_duty
     assert plain.sizing_margin == plain.required_yield_margin  # yield alone
+
+
+def test_a_spring_sized_for_yield_names_what_keeps_the_duty_out_of_reach():
+    """The choice says why the default duty's search found no design: the best of its
+    layouts and its predicted peak against the peak the duty allows (the closed-form S-N,
+    Goodman and Miner bound of :func:`duty.allowed_peak_MPa`)."""
+    plain = design_job(_job(7.0), explain=False).springs["A"]
+    found = re.search(r"sized for the yield margin alone: .*predicted peak of (\d+) MPa at the "
+                      r"[a-z -]+, above the (\d+) MPa allowed", plain.design_choice)
+    assert found, plain.design_choice
+    peak, allowed = int(found.group(1)), int(found.group(2))
+    sized = replace(plain.material, duty=replace(plain.material.duty, declared=True))
+    assert allowed == round(duty.allowed_peak_MPa(sized, plain.max_deflection_rad))
+    assert peak > allowed
+    carried = design_job(_job(9.0), explain=False).springs["A"]
+    assert "sized for the yield margin alone" not in carried.design_choice

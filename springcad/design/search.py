@@ -29,6 +29,7 @@ from dataclasses import replace as _replace
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty
+from springcad.design.cam import FLEXURE_CLEARANCE_SHORT, TIP_CLEARANCE_SHORT
 from springcad.design.feasibility import (count_probe, describe, fixed_choices, larger_disk,
                                           material_changes, nearest_changes, probe_clock,
                                           probes_spent, series_change)
@@ -74,7 +75,7 @@ def _for_default_duty(spec, material, manufacturing, hardware, explain, max_root
     if duty.fatigue_limited(sized, spec.max_deflection_rad):
         # the probe's layouts come first in the full search too: its design is the one
         # the search would return
-        d = probe(spec, sized, manufacturing, hardware, max_root_radius_mm)
+        d, _, why = probe_why(spec, sized, manufacturing, hardware, max_root_radius_mm)
         if d is not None and soft_shortfalls(d):
             # every probed layout has a soft shortfall: the full search may find one
             # without (the kept layouts make the probe's share of it free)
@@ -86,13 +87,17 @@ def _for_default_duty(spec, material, manufacturing, hardware, explain, max_root
                 f"({duty.describe(material.duty)})"))
         d = design_for_margin(spec, material, manufacturing, hardware, explain,
                               max_root_radius_mm, candidates)
+        # the binding rule, so the user sees what keeps the duty out of reach
+        why = (f"none of the first {PROBE_CANDIDATES} layouts of the search for the duty within "
+               f"your keys designs: {why}")
+        d = _replace(d, design_choice=f"{d.design_choice}; sized for the yield margin alone: {why}")
         if not explain:
             return d
         with probe_clock():
             advice, _ = duty.alternatives(spec, sized, lambda s, m: _designs(
                 s, m, manufacturing, hardware, max_root_radius_mm, base=spec),
                 deadline=ADVICE_PROBES)
-        return _replace(d, duty_advice=advice.lstrip("; "))
+        return _replace(d, duty_advice=f"{advice.lstrip('; ')}; {why}")
     return design_for_margin(spec, material, manufacturing, hardware, explain,
                              max_root_radius_mm, candidates)
 
@@ -125,20 +130,35 @@ def probe_thickness(spec, material, manufacturing, hardware, max_root_radius_mm
     """:func:`probe`, and whether the disk is too thick when it does not design (a layout
     was passed over because its minimum webs hold the stiffness above the target:
     :class:`~springcad.design.resize.WebsHoldStiffness`)."""
+    return probe_why(spec, material, manufacturing, hardware, max_root_radius_mm)[:2]
+
+
+def probe_why(spec, material, manufacturing, hardware, max_root_radius_mm
+              ) -> tuple[SpringDesign | None, bool, str]:
+    """:func:`probe_thickness`, and why the probe finds no design (the binding rule of its
+    best-ranked layout, with numbers; "" when it designs)."""
     count_probe()
     try:
         d = design_for_margin(spec, material, manufacturing, hardware, explain=False,
                               max_root_radius_mm=max_root_radius_mm,
                               candidates=PROBE_CANDIDATES, larger_balls=False)
-    except WebsHoldStiffness:
-        return None, True
-    except DesignError:
-        return None, False
-    ok = _keeps_margin(d, material)
+    except WebsHoldStiffness as err:
+        return None, True, short_reason(err)
+    except DesignError as err:
+        return None, False, short_reason(err)
+    if not _keeps_margin(d, material):
+        allowed = material.material.yield_strength_MPa / duty.required_margin(
+            material, spec.max_deflection_rad)
+        return None, False, (
+            f"the best of them (N = {d.n_flexures}, r_c = {d.contact_radius_mm:.3g} mm, "
+            f"{d.flexure}) keeps a predicted peak of {d.predicted_peak_stress_MPa:.0f} MPa at "
+            f"the {d.stress.region}, above the {allowed:.0f} MPa allowed")
     # a fixed ball outside its contact window designs with a warning; a probe's suggestion
     # must give a spring whose ball carries the contact too
-    ball_ok = d.tip_radius_mm >= d.tip_radius_required_mm * (1.0 - 1e-6)
-    return (d if ok and ball_ok else None), False
+    if d.tip_radius_mm < d.tip_radius_required_mm * (1.0 - 1e-6):
+        return None, False, (f"the tip balls of the best of them ({d.tip_radius_mm:.3g} mm) are "
+                             f"below the {d.tip_radius_required_mm:.3g} mm their contact needs")
+    return d, False, ""
 
 
 #: the stack's root radius cap (mm) as a function of the designed spring's outer radius
@@ -270,25 +290,52 @@ BALL_FACTORS = (1.25, 1.5, 1.75, 2.0)
 #: the first); the retry of a spring that no ball mends (held-out B 010 at 4.4 x 51 mm:
 #: four ball sizes x 12 layouts, 39 of its 75 s) then costs a third
 BALL_RETRY_CANDIDATES = 4
+#: bisections of the tip ball between the largest ball tried whose driving tooth still
+#: passes the driven flexure too close and the smallest whose tooth tip passes the ball
+#: too close (a larger ball moves the neck away from the tooth and shortens the flank the
+#: tip keeps beyond the ball): the window of balls that clear both can be narrower than a
+#: step of :data:`BALL_FACTORS` (held-out A 7311 g04, N 41 and r_c 20.5 mm fixed, 25 deg:
+#: balls of 0.39 to 0.41 mm clear both; 0.375 and 0.45 mm, the factors' balls, do not)
+BALL_BISECTIONS = 4
 
 
 def _with_larger_ball(spec, material, manufacturing, hardware, max_root_radius_mm, candidates,
                       fallback: SpringDesign, short: str) -> SpringDesign | None:
     """The first design that passes every rule with tip balls of at least
     :data:`BALL_FACTORS` x the kept layout's (the tip ball is springcad's choice here), among
-    the :data:`BALL_RETRY_CANDIDATES` best-ranked layouts, its choice saying why; None when
-    none does."""
-    for factor in BALL_FACTORS:
+    the :data:`BALL_RETRY_CANDIDATES` best-ranked layouts, its choice saying why; then, when
+    one ball left the tooth too close to the driven flexure and a larger one the tooth tip
+    too close to the ball, :data:`BALL_BISECTIONS` bisections between them; None when none
+    does."""
+    def attempt(factor: float):
         floor = round(factor * fallback.tip_radius_mm, 3)
         report(f"spring {spec.name}: every layout falls short ({short}); trying tip balls of "
                f"at least {floor:g} mm")
         bigger = _replace(spec, min_tip_radius_mm=max(spec.min_tip_radius_mm, floor))
-        d, *_ = _first_passing(bigger, material, manufacturing, hardware, max_root_radius_mm,
-                               min(candidates, BALL_RETRY_CANDIDATES))
+        d, _, kept, kept_short = _first_passing(bigger, material, manufacturing, hardware,
+                                                max_root_radius_mm,
+                                                min(candidates, BALL_RETRY_CANDIDATES))
+        return (d and _replace(d, design_choice=(
+            f"{d.design_choice}; tip balls of at least {floor:g} mm: with "
+            f"{fallback.tip_radius_mm:g} mm every layout fell short ({short})"))), kept_short
+
+    small, large = (1.0 if short.startswith(FLEXURE_CLEARANCE_SHORT) else None), None
+    for factor in BALL_FACTORS:
+        d, why = attempt(factor)
         if d is not None:
-            return _replace(d, design_choice=(
-                f"{d.design_choice}; tip balls of at least {floor:g} mm: with "
-                f"{fallback.tip_radius_mm:g} mm every layout fell short ({short})"))
+            return d
+        if why.startswith(FLEXURE_CLEARANCE_SHORT):
+            small = factor
+        elif why.startswith(TIP_CLEARANCE_SHORT) and small is not None and large is None:
+            large = factor
+    if small is None or large is None or large < small:
+        return None
+    for _ in range(BALL_BISECTIONS):  # the window of balls that clear both lies between
+        mid = 0.5 * (small + large)
+        d, why = attempt(mid)
+        if d is not None or not why.startswith((FLEXURE_CLEARANCE_SHORT, TIP_CLEARANCE_SHORT)):
+            return d
+        small, large = (mid, large) if why.startswith(FLEXURE_CLEARANCE_SHORT) else (small, mid)
     return None
 
 
