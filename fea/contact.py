@@ -40,6 +40,7 @@ where they say so.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 
@@ -55,7 +56,7 @@ from fea.mesh_size import DEFAULT_SIZE
 from fea.problem import LoadCase, solver_material
 from fea.results import _region, evaluate
 from springcad.errors import SolverError
-from springcad.parallel import single_threaded_blas
+from springcad.parallel import ahead, single_threaded_blas
 from springcad.units import UM_PER_MM
 
 #: the small-angle stiffness is the secant T / (theta - theta_onset) this far past the onset
@@ -276,39 +277,42 @@ def _end_state(sc: SectorContact, st: State, driving: str, sign: int, ball, mate
                     hertz=c["hertz"] if c else None, clearances_mm=clear)
 
 
-def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
-            theta_max: float, steps: int, ball, seed: int, rest_clearance_mm: float):
-    """The contact rules at +-theta_max (:mod:`fea.contact_tolerance`): the nominal end
-    states, and the path to each end again against the cam dilated by -+T (T = t_spring
-    + t_shaft, the largest deviation of ball and flank together)."""
+def _ends(sc: SectorContact, curve: CamCurve, design, material, final, theta_max: float,
+          steps: int, ball, rest_clearance_mm: float, sign: int) -> tuple:
+    """The end states of one direction at theta_max (:mod:`fea.contact_tolerance`): the
+    nominal one, and the path to it again against the cam dilated by -+T (T = t_spring +
+    t_shaft, the largest deviation of ball and flank together); ``final`` is the sweep's
+    converged state there, or None when it stopped short."""
     m = design.manufacturing
     T = float(m.t_spring_mm + m.t_shaft_mm)
-    ends, rest = {}, {}
-    for sign, key in ((1, "+"), (-1, "-")):
-        driving = "flank_ccw" if sign > 0 else "flank_cw"
-        groups = curve.groups(driving)
-        if key not in final:
-            ends[key] = (sign * theta_max, [EndState(0.0, False, reason="the sweep stopped "
-                                                     "before theta_max")])
-            continue
-        states = [_end_state(sc, final[key], driving, sign, ball, material, groups)]
-        for offset in ((-T, T) if T > 0 else ()):
-            try:
-                st = offset_path(sc, curve, offset, sign, theta_max, steps, end=final[key],
-                                  rest=rest)
-                states.append(_end_state(sc, st, driving, sign, ball, material, groups))
-            except SolverError as err:
-                why = f"no converged contact ({err})"
-                if offset > rest_clearance_mm:
-                    why = (f"the cam grown by {UM_PER_MM * offset:.0f} um overlaps the ball at rest "
-                           f"by {UM_PER_MM * (offset - rest_clearance_mm):.0f} um (designed clearance "
-                           f"{UM_PER_MM * rest_clearance_mm:.0f} um < t_spring + t_shaft): the ball "
-                           f"is pinched between both flanks and no contact state converges "
-                           f"({err})")
-                states.append(EndState(offset, False, reason=why))
-            finally:
-                sc.cam = curve
-        ends[key] = (sign * theta_max, states)
+    driving = "flank_ccw" if sign > 0 else "flank_cw"
+    groups = curve.groups(driving)
+    if final is None:
+        return (sign * theta_max, [EndState(0.0, False, reason="the sweep stopped "
+                                            "before theta_max")])
+    rest: dict = {}
+    states = [_end_state(sc, final, driving, sign, ball, material, groups)]
+    for offset in ((-T, T) if T > 0 else ()):
+        try:
+            st = offset_path(sc, curve, offset, sign, theta_max, steps, end=final, rest=rest)
+            states.append(_end_state(sc, st, driving, sign, ball, material, groups))
+        except SolverError as err:
+            why = f"no converged contact ({err})"
+            if offset > rest_clearance_mm:
+                why = (f"the cam grown by {UM_PER_MM * offset:.0f} um overlaps the ball at rest "
+                       f"by {UM_PER_MM * (offset - rest_clearance_mm):.0f} um (designed clearance "
+                       f"{UM_PER_MM * rest_clearance_mm:.0f} um < t_spring + t_shaft): the ball "
+                       f"is pinched between both flanks and no contact state converges "
+                       f"({err})")
+            states.append(EndState(offset, False, reason=why))
+        finally:
+            sc.cam = curve
+    return (sign * theta_max, states)
+
+
+def _assess_ends(design, material, ends: dict, ball, seed: int):
+    """The contact rules at +-theta_max from both directions' end states (:func:`_ends`)."""
+    m = design.manufacturing
     props = ContactMaterial(material.youngs_modulus_MPa, material.poisson_ratio,
                             material.yield_strength_MPa, design.material.safety_factor)
     layout = BallLayout(float(design.contact_radius_mm), float(m.w_gap_mm),
@@ -317,6 +321,65 @@ def _at_max(sc: SectorContact, curve: CamCurve, design, material, final: dict,
     return assess(design.name, ends, ball[1], float(design.thickness_mm), props,
                   float(m.t_spring_mm), float(m.t_shaft_mm), m.tolerance_distribution, seed,
                   layout)
+
+
+def _direction(sc: SectorContact, curve: CamCurve, design, material, ball, exclusion: float,
+               stress_scale: float, options: ContactOptions, theta_max: float,
+               rest_clearance_mm: float, sign: int, progress=_noop) -> dict:
+    """The sweep of one direction (``sign`` +1 or -1) from rest to theta_max, and with
+    ``options.tolerances`` its end states (:func:`_ends`): a dict of the onset (rad), the
+    reported steps, the small-angle stiffness (or None), the picture at theta_max (or
+    None), the flags, why the path stopped (or None), the jumps (rad), the converged state
+    at theta_max (or None) and the end states (or None)."""
+    key = "+" if sign > 0 else "-"
+    n = options.steps
+    driving = "flank_ccw" if sign > 0 else "flank_cw"
+    groups = curve.groups(driving)
+    progress(f"contact sweep {key}{math.degrees(theta_max):.1f} deg ({n} steps)", None)
+    th_on = onset_rad(sc, sign, theta_max)
+    targets = [sign * theta_max * i / n for i in range(n + 1)]
+    h = sign * theta_max / (4 * n)  # tangent: slope over the last quarter step
+    a = sign * SMALL_ANGLE_FRACTION * theta_max
+    extra = {th - h for th in targets[1:]}
+    if math.isfinite(th_on):
+        extra.add(th_on + a)
+    path = AnglePath(sc, sign, theta_max / n)
+    out, torque = [], {}
+    picture = final = stuck = None
+    for th in sorted(set(targets) | extra, key=abs):
+        try:
+            st = path.to(th)
+        except Stuck as err:
+            stuck = str(err)
+            break
+        torque[th] = sc.torque(st)
+        if th not in targets:
+            continue
+        tangent = None
+        if th != 0 and not (abs(th - h) < abs(th_on) < abs(th)):  # not across the onset
+            tangent = (torque[th] - torque[th - h]) / h
+        step, pic = _report(sc, st, tangent, th_on if math.isfinite(th_on) else None,
+                            driving, sign, ball, groups, material, exclusion, stress_scale,
+                            keep=th == targets[-1])
+        out.append(step)
+        if th == targets[-1]:
+            final = st
+        if pic is not None:
+            picture = pic
+    small = None
+    if math.isfinite(th_on) and th_on + a in torque:  # T(theta_onset) = 0 exactly
+        small = torque[th_on + a] / a
+    jumps = list(path.jumps)
+    flags = direction_flags(key, out, th_on, small, sc.stiffness_linear, options, theta_max,
+                            stuck, jumps)
+    ends = None
+    if options.tolerances:
+        progress(f"contact at {key}{math.degrees(theta_max):.1f} deg with the profile "
+                 "tolerances", None)
+        ends = _ends(sc, curve, design, material, final, theta_max, n, ball,
+                     rest_clearance_mm, sign)
+    return {"onset": th_on, "steps": out, "small": small, "picture": picture, "flags": flags,
+            "stuck": stuck, "jumps": jumps, "final": final, "ends": ends}
 
 
 # ============================================================ the sweep
@@ -391,49 +454,24 @@ def _contact_sweep(design, material=None, run=None, options: ContactOptions = Co
     exclusion = 2.0 * LoadCase().patch_half_width_mm(ball[1])
     rest = sc.boundary(None)
     rest_clearance = float(curve.project(np.vstack([rest.A, rest.B[-1:]]))[0].min())
-    n = options.steps
     steps, onset, small, pictures, flags, stuck, jumps = {}, {}, {}, {}, [], {}, {}
-    final = {}  # direction -> converged state at +-theta_max
-    for sign, key in ((1, "+"), (-1, "-")):
-        driving = "flank_ccw" if sign > 0 else "flank_cw"
-        groups = curve.groups(driving)
-        progress(f"contact sweep {key}{math.degrees(theta_max):.1f} deg ({n} steps)", None)
-        th_on = onset_rad(sc, sign, theta_max)
-        onset[key] = th_on
-        targets = [sign * theta_max * i / n for i in range(n + 1)]
-        h = sign * theta_max / (4 * n)  # tangent: slope over the last quarter step
-        a = sign * SMALL_ANGLE_FRACTION * theta_max
-        extra = {th - h for th in targets[1:]}
-        if math.isfinite(th_on):
-            extra.add(th_on + a)
-        path = AnglePath(sc, sign, theta_max / n)
-        out, torque = [], {}
-        for th in sorted(set(targets) | extra, key=abs):
-            try:
-                st = path.to(th)
-            except Stuck as err:
-                stuck[key] = str(err)
-                break
-            torque[th] = sc.torque(st)
-            if th not in targets:
-                continue
-            tangent = None
-            if th != 0 and not (abs(th - h) < abs(th_on) < abs(th)):  # not across the onset
-                tangent = (torque[th] - torque[th - h]) / h
-            step, pic = _report(sc, st, tangent, th_on if math.isfinite(th_on) else None,
-                                driving, sign, ball, groups, material, exclusion, stress_scale,
-                                keep=th == targets[-1])
-            out.append(step)
-            if th == targets[-1]:
-                final[key] = st
-            if pic is not None:
-                pictures[key] = pic
-        if math.isfinite(th_on) and th_on + a in torque:  # T(theta_onset) = 0 exactly
-            small[key] = torque[th_on + a] / a
-        jumps[key] = list(path.jumps)
-        steps[key] = out
-        flags += direction_flags(key, out, th_on, small.get(key), sc.stiffness_linear, options,
-                                 theta_max, stuck.get(key), jumps[key])
+    final, ends = {}, {}  # direction -> converged state at +-theta_max; its end states
+    args = (sc, curve, design, material, ball, exclusion, stress_scale, options, theta_max,
+            rest_clearance)
+    with contextlib.ExitStack() as leaving:
+        # the two directions are independent (each from rest, on its own solver state):
+        # the "-" one in a second process beside the "+" one (serial: after it, on the
+        # solver state reset), the same numbers either way
+        minus = ahead(leaving, _direction, *args, -1, progress=progress)
+        plus = _direction(*args, 1, progress=progress)
+        sc.reset()
+        for key, d in (("+", plus), ("-", minus.result())):
+            onset[key], steps[key], jumps[key] = d["onset"], d["steps"], d["jumps"]
+            flags += d["flags"]
+            for into, name in ((small, "small"), (pictures, "picture"), (stuck, "stuck"),
+                               (final, "final"), (ends, "ends")):
+                if d[name] is not None:
+                    into[key] = d[name]
     w_gap = float(design.manufacturing.w_gap_mm)
     if rest_clearance < w_gap * (1 - options.gap_tolerance):
         what = ("the cam overlaps the flexure" if rest_clearance < 0 else
@@ -449,9 +487,7 @@ def _contact_sweep(design, material=None, run=None, options: ContactOptions = Co
     t2 = time.perf_counter()
     at_max = None
     if options.tolerances:
-        progress("contact at +-theta_max with the profile tolerances", None)
-        at_max = _at_max(sc, curve, design, material, final, theta_max, n, ball, options.seed,
-                         rest_clearance)
+        at_max = _assess_ends(design, material, ends, ball, options.seed)
     t3 = time.perf_counter()
     return ContactSweep(
         name=design.name, max_deflection_rad=theta_max, n_flexures=design.n_flexures,

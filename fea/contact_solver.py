@@ -362,7 +362,18 @@ class SectorContact:
         self.factorisations = 0
         self.log: list[tuple] = []  # (theta, iterations, active set sizes) per solve
 
+    def reset(self, cam: CamCurve | None = None) -> None:
+        """Forget the factorisations kept between solves (the tangent matrix reused by
+        Newton's method and the contact points' cached columns), and set the cam (default:
+        the one it has): the solves that follow give the numbers a new model gives, bit for
+        bit, whatever was solved before."""
+        self._lu, self._u_lu = None, None
+        self._cache_lu, self._cache = None, {}
+        if cam is not None:
+            self.cam = cam
+
     # ------------------------------------------------------------ mesh helpers
+
     def facet_nodes(self, facets) -> np.ndarray:
         """(3, m) vertex, vertex, mid-edge node of quadratic boundary facets."""
         mesh = self.basis.mesh
