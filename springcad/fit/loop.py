@@ -86,8 +86,7 @@ from springcad.fit.patches import (CHANGING_SIZES, lag_patches, offset_patches,
 from springcad.fit.region import outside_structure
 from springcad.fit.residual import residual_structure
 from springcad.fit.ripple import periodic_route
-from springcad.fit.search import (BESIDE_STRUCTURE, Candidate, LoopSettings, Search,  # noqa: F401
-                                  State, line_fit)
+from springcad.fit.search import Candidate, LoopSettings, Search, State, line_fit  # noqa: F401
 from springcad.fit.steps import Step, backward, drop, forward, nrmse_of
 from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel
