@@ -273,19 +273,37 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
     if rejected:
         # effects rejected one at a time may be the record's together (see fit.joint)
         score_now = lp.cv_score(state.model, state.x, state.mask, f_scale)[0]
-        found = joint_sets(state, [r["effect"] for r in rejected], lp, f_scale, score_now)
+        # and the baseline's strong candidates the greedy path never took: beside an effect
+        # that took up their structure first (a lag fitted before the friction) they lose
+        pool = [r["effect"] for r in rejected] + [
+            c.effect for c in (rounds[0] if rounds else ())
+            if c.gain is not None and c.gain > settings.gain_threshold
+            and c.effect not in state.effects and c.effect not in excluded]
+        found = joint_sets(state, pool, lp, f_scale, score_now, baseline)
         if found is not None:
-            before, (state, names, gain, laws) = state, found
+            before, (state, names, gain, laws, dropped) = state, found
             excluded -= set(names)
             evidence = audit(state.model, state.x, sig, state.inliers(lp.cv), f_scale,
                              settings.agreement_p, settings.support_z).effects
             rejected = [r for r in rejected if r["effect"] not in names]
+            for name in dropped:
+                reason = (f"it failed the evidence audit beside {', '.join(names)}, added as "
+                          f"a set: it stood in for them, and the set without it is supported")
+                rejected.append({"effect": name, "reason": reason,
+                                 "short_reason": "stood in for effects added as a set",
+                                 "audit": None})
+                excluded.add(name)
+                search.append(Step("reject", name, {"meaning": get_effect(name).meaning,
+                                                    "reason": reason}, before, state,
+                                   nrmse_of(before, sig, lp.half_range, lp.keep),
+                                   nrmse_of(state, sig, lp.half_range, lp.keep)))
             for name in names:
                 search.append(Step("add", name, {
                     "meaning": get_effect(name).meaning, "heldout_gain": gain,
                     "added_with": list(names), "reason": (
-                        "rejected one at a time, supported together: added as a set, every "
-                        "effect of the model passes the evidence audit")}, before, state,
+                        "rejected one at a time (or never added: an effect fitted before it "
+                        "had taken up its structure), supported together: added as a set, "
+                        "every effect of the model passes the evidence audit")}, before, state,
                     nrmse_of(before, sig, lp.half_range, lp.keep),
                     nrmse_of(state, sig, lp.half_range, lp.keep)))
     state = _drop_patches(state, lp, f_scale, search, rejected, excluded)
