@@ -31,8 +31,10 @@
    (crossover, cubic) must not leave the residual's deflection profile standing
    above noise where it acts (``evidence.shape_check``). The worst failing
    effect is rejected and the search resumes without it, until all pass.
-   Effects the audit rejected one at a time are tried together (:mod:`springcad.fit.joint`),
-   each with the law its family fits best, and audited so.
+   Effects the audit rejected one at a time, and the baseline's strong candidates the
+   greedy path never took, are tried together (:mod:`springcad.fit.joint`), on the model
+   and afresh from the linear model, each with the law its family fits best, and audited
+   so; an effect of the model that fails beside the set only stood in for it and goes.
    Then effects that patch structure the library cannot describe are not named
    (:mod:`springcad.fit.patches`): a shape in deflection that describes less than
    three times what the residual's deflection profile still holds (a crossover
