@@ -6,19 +6,12 @@ present and one of them is missing from the model, the others can fail their
 audit for its sake (a lag whose size differs between the slow and the fast
 third because the friction beside it is missing; a crossover whose width
 differs between loading and unloading for the same reason), and once rejected
-they are not proposed again; and an effect fitted first can take up enough of
-another's structure that the other, strong on the linear model, never clears the
-threshold beside it (a lag fitted before the friction on triangles at three
-speeds). Here every set of up to ``MAX_SET`` rejected (or never taken) effects is
-added to the final model together, both from the model's values and with every
-effect fitted afresh from the linear model, and scored with the loop's held-out
-criterion; the sets that beat the model by the gain threshold per
+they are not proposed again. Here every set of up to ``MAX_SET`` rejected
+effects is added to the final model together and scored with the loop's
+held-out criterion; the sets that beat the model by the gain threshold per
 effect are, best first, refitted on all samples, given the laws their families fit
 best (:func:`springcad.fit.laws.choose_laws`) and audited as they would be reported;
-the first whose effects all pass is taken. Where only effects the model held
-before fail beside a set, they stood in for it (a cubic fitted to what the missing
-friction and lag left): the set without them, fitted afresh, is scored and audited
-in their place. A set that passes with the library's laws
+the first whose effects all pass is taken. A set that passes with the library's laws
 and fails with the law the record prefers is not taken: its family would be named
 with a law whose size the record does not support (a lag that grows with time on
 sine blocks of rising frequency, patched by a friction fading with speed that is
@@ -91,39 +84,24 @@ def joint_sets(state: State, rejected: list[str], search: Search, f_scale: float
             if baseline is not None:
                 starts.append(_with(State(baseline.model, baseline.x, state.mask, state.series),
                                     state.model.names + names, search))
-            fits = []
+            best = None
             for trial in starts:
                 if trial is None:
                     continue
                 score, _ = search.cv_score(trial.model, trial.x, trial.mask, f_scale)
-                if score_now - score > s.gain_threshold * k:
-                    fits.append((score_now - score, State(trial.model, search.last_fit,
-                                                          trial.mask, trial.series)))
-            if fits:
-                fits.sort(key=lambda c: -c[0])
-                scored.append((fits[0][0], names, fits))
+                if best is None or score < best[0]:
+                    best = (score, State(trial.model, search.last_fit, trial.mask,
+                                         trial.series))
+            if best is None:
+                continue
+            gain = score_now - best[0]
+            if gain > s.gain_threshold * k:
+                scored.append((gain, names, best[1]))
     scored.sort(key=lambda c: -c[0])
-    fits_of = {names: fits for _, names, fits in scored}
-    queue = [names for _, names, _ in scored[:MAX_AUDITED]]
-    seen: set[tuple[str, ...]] = set()
-    while queue and len(seen) < 2 * MAX_AUDITED:
-        names = queue.pop(0)
-        if names in seen:
-            continue
-        seen.add(names)
-        fits = fits_of[names]
-        # each start that clears the threshold, best first: the two can land in different
-        # minima, and the better-scoring one need not be the one the audit supports
-        failed: list[str] = []
-        for gain, trial in fits:
-            found, failed_here = _audited(trial, search, f_scale)
-            if found is not None:
-                return found[0], names, gain, found[1], ()
-            failed = failed or failed_here
-        # members of the set that fail are not supported: the set without them is next
-        rest = tuple(n for n in names if n not in failed)
-        if rest != names and rest in fits_of:
-            queue.insert(0, rest)
+    for gain, names, trial in scored[:MAX_AUDITED]:
+        found, failed = _audited(trial, search, f_scale)
+        if found is not None:
+            return found[0], names, gain, found[1], ()
         # effects the model held before the set that fail beside it only stood in for the
         # set (a cubic fitted to the friction and lag a triangle's three speeds leave): the
         # set without them, fitted afresh, must still clear the threshold

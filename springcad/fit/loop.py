@@ -277,11 +277,16 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
         score_now = lp.cv_score(state.model, state.x, state.mask, f_scale)[0]
         # and the baseline's strong candidates the greedy path never took: beside an effect
         # that took up their structure first (a lag fitted before the friction) they lose
-        pool = [r["effect"] for r in rejected] + [
-            c.effect for c in (rounds[0] if rounds else ())
-            if c.gain is not None and c.gain > settings.gain_threshold
-            and c.effect not in state.effects and c.effect not in excluded]
+        # (tried only after the rejected effects alone: their sets, larger, would crowd out
+        # a smaller set of rejected effects the record supports)
+        pool = [r["effect"] for r in rejected]
+        strong = [c.effect for c in (rounds[0] if rounds else ())
+                  if c.gain is not None and c.gain > settings.gain_threshold
+                  and c.effect not in state.effects and c.effect not in excluded
+                  and c.effect not in pool]
         found = joint_sets(state, pool, lp, f_scale, score_now, baseline)
+        if found is None and strong:
+            found = joint_sets(state, pool + strong, lp, f_scale, score_now, baseline)
         if found is not None:
             before, (state, names, gain, laws, dropped) = state, found
             excluded -= set(names)
