@@ -22,7 +22,7 @@ import numpy as np
 
 from springcad.fit.data import BenchRecord, make_record
 from springcad.fit.models import spring_angle
-from springcad.fit.protocols import PAPER_AMPLITUDES_RAD, Protocol, SineSweep  # noqa: F401 (re-exported)
+from springcad.fit.protocols import Protocol
 
 
 @dataclass(frozen=True)

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from springcad.fit.residual import noise_model
+from springcad.fit.noise import noise_model
 from springcad.fit.signals import Signals
 from springcad.fit.torque_model import TorqueModel
 

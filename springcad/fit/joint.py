@@ -62,35 +62,82 @@ def _with(state: State, names: tuple[str, ...], search: Search) -> State | None:
 
 
 def joint_sets(state: State, rejected: list[str], search: Search, f_scale: float,
-               score_now: float) -> tuple[State, tuple[str, ...], float, dict] | None:
+               score_now: float, baseline: State | None = None
+               ) -> tuple[State, tuple[str, ...], float, dict, tuple[str, ...]] | None:
     """The best set of rejected effects that, added together with the laws the record
     prefers, is supported and passes the audit (see module docstring), as ``(state, names,
-    held-out gain, laws)`` (``laws`` as :func:`springcad.fit.laws.choose_laws` gives them),
-    or ``None``."""
+    held-out gain, laws, dropped)`` (``laws`` as :func:`springcad.fit.laws.choose_laws` gives
+    them; ``dropped``: effects of ``state`` that failed the audit beside the set and were
+    left out), or ``None``.
+
+    With ``baseline`` (the linear model) each set is also fitted afresh: the model's
+    effects and the set's, every one from its own starts on the baseline. An effect fitted
+    alone takes up what the missing ones leave (a lag fitted before the friction beside it
+    holds a third of its delay and the friction's step), and from there the set's fit can
+    stay in that compromise, where from the baseline it does not."""
     s = search.s
     pool = [n for n in dict.fromkeys(rejected) if n not in state.model.names][:MAX_POOL]
     scored = []
     for k in range(1, min(MAX_SET, len(pool)) + 1):
         for names in itertools.combinations(pool, k):
-            trial = _with(state, names, search)
-            if trial is None:
+            starts = [_with(state, names, search)]
+            if baseline is not None:
+                starts.append(_with(State(baseline.model, baseline.x, state.mask, state.series),
+                                    state.model.names + names, search))
+            best = None
+            for trial in starts:
+                if trial is None:
+                    continue
+                score, _ = search.cv_score(trial.model, trial.x, trial.mask, f_scale)
+                if best is None or score < best[0]:
+                    best = (score, State(trial.model, search.last_fit, trial.mask,
+                                         trial.series))
+            if best is None:
                 continue
-            score, _ = search.cv_score(trial.model, trial.x, trial.mask, f_scale)
-            gain = score_now - score
+            gain = score_now - best[0]
             if gain > s.gain_threshold * k:
-                scored.append((gain, names, State(trial.model, search.last_fit, trial.mask,
-                                                  trial.series)))
+                scored.append((gain, names, best[1]))
     scored.sort(key=lambda c: -c[0])
     for gain, names, trial in scored[:MAX_AUDITED]:
-        model = trial.model
-        x = search.refit(model, trial.x, trial.mask, f_scale)
-        problems = [e.physical_problem(x[model.slice_of(e.name)], float(x[0]), model.scales)
-                    for e in model.effects]
-        if any(p is not None for p in problems):
+        found, failed = _audited(trial, search, f_scale)
+        if found is not None:
+            return found[0], names, gain, found[1], ()
+        # effects the model held before the set that fail beside it only stood in for the
+        # set (a cubic fitted to the friction and lag a triangle's three speeds leave): the
+        # set without them, fitted afresh, must still clear the threshold
+        old = tuple(n for n in state.model.names if n not in failed)
+        if (baseline is None or not failed or any(n in names for n in failed)
+                or not set(failed) <= set(state.model.names)):
             continue
-        chosen, laws = choose_laws(State(model, x, trial.mask, trial.series), search, f_scale)
-        aud = audit(chosen.model, chosen.x, search.sig, chosen.inliers(search.cv), f_scale,
-                    s.agreement_p, s.support_z)
-        if not aud.failed():
-            return chosen, names, gain, laws
+        lean = _with(State(baseline.model, baseline.x, state.mask, state.series), old + names,
+                     search)
+        if lean is None:
+            continue
+        score, _ = search.cv_score(lean.model, lean.x, lean.mask, f_scale)
+        gain = score_now - score
+        if gain <= s.gain_threshold * len(names):
+            continue
+        found, _ = _audited(State(lean.model, search.last_fit, lean.mask, lean.series), search,
+                            f_scale)
+        if found is not None:
+            return found[0], names, gain, found[1], tuple(failed)
     return None
+
+
+def _audited(trial: State, search: Search, f_scale: float
+             ) -> tuple[tuple[State, dict] | None, list[str]]:
+    """``trial`` refitted on all samples with the laws its families fit best, as ``((state,
+    laws), [])`` when every effect passes the audit, else ``(None, names that failed)``
+    (every effect's name when a fitted value is physically impossible)."""
+    s = search.s
+    model = trial.model
+    x = search.refit(model, trial.x, trial.mask, f_scale)
+    problems = [e.physical_problem(x[model.slice_of(e.name)], float(x[0]), model.scales)
+                for e in model.effects]
+    if any(p is not None for p in problems):
+        return None, [e.name for e, p in zip(model.effects, problems) if p is not None]
+    chosen, laws = choose_laws(State(model, x, trial.mask, trial.series), search, f_scale)
+    aud = audit(chosen.model, chosen.x, search.sig, chosen.inliers(search.cv), f_scale,
+                s.agreement_p, s.support_z)
+    failed = [ev.effect for ev in aud.failed()]
+    return (None, failed) if failed else ((chosen, laws), [])

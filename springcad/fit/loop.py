@@ -31,8 +31,10 @@
    (crossover, cubic) must not leave the residual's deflection profile standing
    above noise where it acts (``evidence.shape_check``). The worst failing
    effect is rejected and the search resumes without it, until all pass.
-   Effects the audit rejected one at a time are tried together (:mod:`springcad.fit.joint`),
-   each with the law its family fits best, and audited so.
+   Effects the audit rejected one at a time, and the baseline's strong candidates the
+   greedy path never took, are tried together (:mod:`springcad.fit.joint`), on the model
+   and afresh from the linear model, each with the law its family fits best, and audited
+   so; an effect of the model that fails beside the set only stood in for it and goes.
    Then effects that patch structure the library cannot describe are not named
    (:mod:`springcad.fit.patches`): a shape in deflection that describes less than
    three times what the residual's deflection profile still holds (a crossover
@@ -86,8 +88,7 @@ from springcad.fit.patches import (CHANGING_SIZES, lag_patches, offset_patches,
 from springcad.fit.region import outside_structure
 from springcad.fit.residual import residual_structure
 from springcad.fit.ripple import periodic_route
-from springcad.fit.search import (BESIDE_STRUCTURE, Candidate, LoopSettings, Search,  # noqa: F401
-                                  State, line_fit)
+from springcad.fit.search import Candidate, LoopSettings, Search, State, line_fit  # noqa: F401
 from springcad.fit.steps import Step, backward, drop, forward, nrmse_of
 from springcad.fit.signals import Signals, find_glitches
 from springcad.fit.torque_model import TorqueModel
@@ -274,19 +275,42 @@ def _run_loop(sig: Signals, settings: LoopSettings, keep: np.ndarray | None = No
     if rejected:
         # effects rejected one at a time may be the record's together (see fit.joint)
         score_now = lp.cv_score(state.model, state.x, state.mask, f_scale)[0]
-        found = joint_sets(state, [r["effect"] for r in rejected], lp, f_scale, score_now)
+        # and the baseline's strong candidates the greedy path never took: beside an effect
+        # that took up their structure first (a lag fitted before the friction) they lose
+        # (tried only after the rejected effects alone: their sets, larger, would crowd out
+        # a smaller set of rejected effects the record supports)
+        pool = [r["effect"] for r in rejected]
+        strong = [c.effect for c in (rounds[0] if rounds else ())
+                  if c.gain is not None and c.gain > settings.gain_threshold
+                  and c.effect not in state.effects and c.effect not in excluded
+                  and c.effect not in pool]
+        found = joint_sets(state, pool, lp, f_scale, score_now, baseline)
+        if found is None and strong:
+            found = joint_sets(state, pool + strong, lp, f_scale, score_now, baseline)
         if found is not None:
-            before, (state, names, gain, laws) = state, found
+            before, (state, names, gain, laws, dropped) = state, found
             excluded -= set(names)
             evidence = audit(state.model, state.x, sig, state.inliers(lp.cv), f_scale,
                              settings.agreement_p, settings.support_z).effects
             rejected = [r for r in rejected if r["effect"] not in names]
+            for name in dropped:
+                reason = (f"it failed the evidence audit beside {', '.join(names)}, added as "
+                          f"a set: it stood in for them, and the set without it is supported")
+                rejected.append({"effect": name, "reason": reason,
+                                 "short_reason": "stood in for effects added as a set",
+                                 "audit": None})
+                excluded.add(name)
+                search.append(Step("reject", name, {"meaning": get_effect(name).meaning,
+                                                    "reason": reason}, before, state,
+                                   nrmse_of(before, sig, lp.half_range, lp.keep),
+                                   nrmse_of(state, sig, lp.half_range, lp.keep)))
             for name in names:
                 search.append(Step("add", name, {
                     "meaning": get_effect(name).meaning, "heldout_gain": gain,
                     "added_with": list(names), "reason": (
-                        "rejected one at a time, supported together: added as a set, every "
-                        "effect of the model passes the evidence audit")}, before, state,
+                        "rejected one at a time (or never added: an effect fitted before it "
+                        "had taken up its structure), supported together: added as a set, "
+                        "every effect of the model passes the evidence audit")}, before, state,
                     nrmse_of(before, sig, lp.half_range, lp.keep),
                     nrmse_of(state, sig, lp.half_range, lp.keep)))
     state = _drop_patches(state, lp, f_scale, search, rejected, excluded)

@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import stats
 
-from springcad.fit.residual import noise_model
+from springcad.fit.noise import noise_model
 from springcad.fit.signals import Signals
 
 #: effects that are torques of time: judged on the record as measured

@@ -37,7 +37,8 @@ from scipy import stats
 
 from springcad.fit.inference import jacobian
 from springcad.fit.nuisance import common_profile, cycle_windows, nuisance_parts
-from springcad.fit.residual import noise_model, residual_structure
+from springcad.fit.noise import noise_model
+from springcad.fit.residual import residual_structure
 from springcad.fit.signals import Signals
 from springcad.fit.torque_model import TorqueModel
 

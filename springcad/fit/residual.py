@@ -18,8 +18,7 @@ import numpy as np
 from scipy import ndimage, stats
 
 from springcad.fit.models import rmse
-from springcad.fit.noise import (NoiseModel, coloured_noise_model,  # noqa: F401 (re-exported)
-                                 flexible_remainder, noise_model)
+from springcad.fit.noise import coloured_noise_model
 from springcad.fit.signals import Signals
 
 

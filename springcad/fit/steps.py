@@ -19,7 +19,8 @@ import numpy as np
 from springcad.fit.effects import Effect, get_effect
 from springcad.fit.models import nrmse_pct
 from springcad.fit.nuisance import nuisance_views
-from springcad.fit.search import BESIDE_STRUCTURE, Search, State, glitch_mask
+from springcad.fit.glitches import glitch_mask
+from springcad.fit.search import BESIDE_STRUCTURE, Search, State
 from springcad.fit.signals import Signals
 
 

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from springcad.fit.bench import (PAPER_AMPLITUDES_RAD, BenchNoise, BenchSpring, Protocol,
-                                 dahl_friction, simulate)
+from springcad.fit.bench import BenchNoise, BenchSpring, Protocol, dahl_friction, simulate
+from springcad.fit.protocols import PAPER_AMPLITUDES_RAD
 from fit_helpers import FAST, INJECT, K, spring
 
 

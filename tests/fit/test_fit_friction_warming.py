@@ -9,10 +9,10 @@ a true 10 ms lag. References: the simulated truth of each record.
 
 import numpy as np
 
-from springcad.fit.bench import SineSweep
 from springcad.fit.data import make_record
 from springcad.fit.effects import get_effect
 from springcad.fit.patches import stiffness_patches
+from springcad.fit.protocols import SineSweep
 
 from tests.fit.fit_helpers import K, loop_on_record
 

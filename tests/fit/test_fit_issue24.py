@@ -69,9 +69,9 @@ def test_rejected_effects_are_tried_together_and_the_set_the_record_needs_is_fou
     f_scale = lp.f_scale(base)
     lp.update_noise(base)
     score = lp.cv_score(base.model, base.x, None, f_scale)[0]
-    state, names, gain, _ = joint_sets(base, ["backlash", "hysteresis", "time_lag", "stiffening"],
-                                       lp, f_scale, score)
-    assert set(names) == {"backlash", "hysteresis", "time_lag"} and gain > 0
+    state, names, gain, _, dropped = joint_sets(
+        base, ["backlash", "hysteresis", "time_lag", "stiffening"], lp, f_scale, score)
+    assert set(names) == {"backlash", "hysteresis", "time_lag"} and gain > 0 and dropped == ()
     p = state.params()
     assert p["stiffness_Nm_per_rad"] == pytest.approx(rec.K, rel=0.02)
     assert p["lag_s"] == pytest.approx(0.03, rel=0.1)

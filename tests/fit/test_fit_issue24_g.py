@@ -7,7 +7,8 @@ samples drawn at random (seeded) against samples placed at the protocol's events
 
 import numpy as np
 
-from springcad.fit.bench import BenchSpring, Protocol, SineSweep, simulate
+from springcad.fit.bench import BenchSpring, Protocol, simulate
+from springcad.fit.protocols import SineSweep
 from springcad.fit.data import make_record
 from springcad.fit.residual import motion_locked_p
 from springcad.fit.search import LoopSettings

@@ -14,7 +14,7 @@ import pytest
 from springcad.fit.bench import BenchNoise, BenchSpring, simulate
 from springcad.fit.data import make_record
 from springcad.fit.effects import EFFECT_NAMES
-from springcad.fit.residual import noise_model
+from springcad.fit.noise import noise_model
 from fit_helpers import FAST, INJECT, K, floor_pct, loop_on, simulate_fast
 
 #: effect -> (reported parameter, injected value, relative tolerance)

@@ -8,7 +8,8 @@ at the end of a one-sided window: about 16 σ²/w).
 import numpy as np
 import pytest
 
-from springcad.fit.bench import BenchSpring, Protocol, SineSweep, simulate
+from springcad.fit.bench import BenchSpring, Protocol, simulate
+from springcad.fit.protocols import SineSweep
 from springcad.fit.segment import _sharp_turn, segment
 from springcad.fit.signals import make_signals
 
