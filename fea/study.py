@@ -182,9 +182,10 @@ class ModelRun:
 #: a 2D study over levels 0..n-1 is final, the finest level n not solved, when it states K
 #: within this relative error and the peak stress within :data:`COARSE_STRESS_ERROR`, both
 #: sequences converging (monotone or converged). bench/convergence_levels.py: the default
-#: job states 0.0005 % and 0.0026 % on levels 0..2 and the finest level moves its K by
-#: < 0.0001 % and its peak by -0.006 %; paper S1 states 0.003 % and 0.92 % (the finest
-#: level moves its peak by -0.39 %), so S1 keeps its finest level
+#: job states 0.0005 % and 0.0026 % on levels 0..2, and its studies with and without the
+#: finest level differ by < 0.0001 % on K and 0.006 % on the peak; paper S1 states 0.003 %
+#: and 0.92 % (its levels 0..2 peak 0.39 % above the full study's), so S1 keeps its finest
+#: level
 COARSE_K_ERROR = 0.001
 COARSE_STRESS_ERROR = 0.005
 

@@ -289,9 +289,8 @@ def _verify_spring(design, options: VerifyOptions, progress, material: Material 
         need_3d = with_3d and previous is None
         # a step of the correction loop solves the coarse levels first: while K is clearly
         # off the target, it steps on from them; the geometry it may accept, and the last
-        # it may report, have every level (K and stress as stated)
-        # the finest level is solved only where the coarse study states K or the peak less
-        # well than the limits of fea.study.coarse_suffices
+        # it may report, add the finest level unless the coarse study already states K and
+        # the peak within the limits of fea.study.coarse_suffices
         last = not options.correct or k >= options.max_iterations + stress_passes
         run = run_model(design, material, options, need_3d, progress,
                         ahead=ahead if with_3d and not need_3d else None,

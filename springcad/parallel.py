@@ -20,8 +20,10 @@ from __future__ import annotations
 
 import contextlib
 import gc
+import importlib
 import os
 import signal
+import sys
 import traceback
 
 from springcad.options import PARALLEL
@@ -121,9 +123,6 @@ def import_while_waiting(*modules: str) -> None:
 
 def _import_while(not_ready) -> None:
     """Import the modules :func:`import_while_waiting` named while ``not_ready()``."""
-    import importlib
-    import sys
-
     while _WAITING_IMPORTS and not_ready():
         name = _WAITING_IMPORTS.pop(0)
         if name not in sys.modules:

@@ -88,23 +88,16 @@ def _field_image(result, clim, window, zoom_mm, peak):
                show_scalar_bar=False, lighting=False)
     p.view_xy()
     p.camera.parallel_projection = True
-    if zoom_mm:
-        cx, cy = peak[0], peak[1]
-        scale = zoom_mm
-    else:
-        b = surf.bounds  # frame the part itself: no empty half, a small margin
-        cx, cy = 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3])
-        aspect = window[0] / window[1]
-        scale = (1 + _MARGIN) * max(0.5 * (b[3] - b[2]), 0.5 * (b[1] - b[0]) / aspect)
+    extent = view_extent_mm(np.asarray(surf.points), window, zoom_mm, peak)
+    cx, cy = 0.5 * (extent[0] + extent[1]), 0.5 * (extent[2] + extent[3])
     z = float(surf.bounds[5]) + 100.0
     p.camera.focal_point = (cx, cy, 0.0)
     p.camera.position = (cx, cy, z)
     p.camera.up = (0.0, 1.0, 0.0)
-    p.camera.parallel_scale = scale  # half the view height (mm)
+    p.camera.parallel_scale = 0.5 * (extent[3] - extent[2])  # half the view height (mm)
     img = p.screenshot(None, return_img=True)
     p.close()
-    half_w = scale * window[0] / window[1]
-    return img[..., :3], (cx - half_w, cx + half_w, cy - scale, cy + scale)
+    return img[..., :3], extent
 
 
 def render_von_mises(result, path: Path | str, title: str = "", zoom_mm: float | None = None,
