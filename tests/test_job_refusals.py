@@ -9,6 +9,7 @@ import pytest
 
 from springcad.config import job_from_dict
 from springcad.design import job as job_module
+from springcad.design.feasibility import as_material, material_clause
 from springcad.design.job import design_job
 from springcad.design.stock import design_spring
 from springcad.errors import ConfigError, DesignError, RemedyError, SpecInfeasible
@@ -72,8 +73,9 @@ def test_a_yes_no_search_stops_at_the_first_refusal(monkeypatch):
     assert calls == ["A"]
 
 
-def _bolted_job(thickness_mm: float):
-    """Two 150 N*m/rad disks bolted rim to rim with M1.6 (ISO 4762 ends at 16 mm)."""
+def _bolted_job(thickness_mm: float, **hardware):
+    """Two 150 N*m/rad disks bolted rim to rim with M1.6 (ISO 4762 ends at 16 mm);
+    ``hardware``: more [hardware] keys."""
     return job_from_dict({
         "job": {"name": "bolted"}, "material": {"name": "420_ht"},
         "springs": {"S1": {"target_stiffness_Nm_per_rad": 150, "max_deflection_deg": 14,
@@ -81,7 +83,7 @@ def _bolted_job(thickness_mm: float):
                            "min_tip_radius_mm": 0.3}},
         "stack": {"sequence": ["S1", "S1"], "input": "shaft"},
         "manufacturing": {"process": "wire_edm"},
-        "hardware": {"fastener": "bolt", "fastener_diameter_mm": 1.6},
+        "hardware": {"fastener": "bolt", "fastener_diameter_mm": 1.6, **hardware},
         "duty": {"preset": "static"}})
 
 
@@ -137,6 +139,30 @@ def test_the_whole_disk_scaled_is_checked_with_the_hardware_as_well():
     assert hardware, text
     changed = {k: (v.strip('"') if v.startswith('"') else float(v)) for k, v in hardware.items()}
     design_job(replace(_bolted_job(9.0), hardware=replace(job.hardware, **changed)),
+               explain=False)
+
+
+def test_another_material_is_checked_with_the_hardware_as_well():
+    """A refusal's other material (held-out A 5821 g15: maraging 300 named for six 7075
+    disks; applied, the three Ø3 dowels the config gave were then too weak for the stack's
+    torque, which no material changes) is checked with the whole job like a change of
+    keys: three M1.6 rim screws are too weak for two 150 N*m/rad disks at 14 deg whatever
+    their material, so the clause names the hardware change too, and the two applied
+    together design."""
+    job = _bolted_job(6.0, fastener_count=3)
+    with pytest.raises(RemedyError, match="bolts_1"):
+        design_job(job, explain=False)
+    other = replace(as_material(job.material, "maraging_300"), design_stress_MPa=1200.0)
+    clause = material_clause(other)
+    err = _refusal_naming(clause, ())
+    err.material_changes = (("S1", clause, "maraging_300", 1200.0),)
+    text = str(job_module._checked_key_changes(job, err))
+    assert f"{clause} and hardware." in text, text
+    hardware = dict(re.findall(r"hardware\.(\w+) = (\"\w+\"|[\d.]+) \(now ",
+                               text.split(clause, 1)[1].split(" (each alone")[0]))
+    assert hardware, text
+    changed = {k: (v.strip('"') if v.startswith('"') else float(v)) for k, v in hardware.items()}
+    design_job(replace(job, material=other, hardware=replace(job.hardware, **changed)),
                explain=False)
 
 

@@ -14,7 +14,7 @@ from springcad.data import dowel_lengths
 from springcad.design import duty
 from springcad.design.camshaft_share import share_camshafts
 from springcad.design.connections import RIM, connection_sequence
-from springcad.design.feasibility import fewer_disks, key_clause, with_key
+from springcad.design.feasibility import as_material, fewer_disks, key_clause, with_key
 from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware, design_warnings
 from springcad.design.ring import pinned_hole_patterns
@@ -183,6 +183,7 @@ def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> Sprin
             else (f"spring '{name}' {REFUSAL_HEAD}", text)
         more = DesignError(f"{head}feasible with fewer disks: {fewer}; or {rest}")
         more.key_changes, more.disk_changes = err.key_changes, err.disk_changes
+        more.material_changes = err.material_changes
         raise more from err
 
 
@@ -361,8 +362,10 @@ def _checked_key_changes(job: Job, err: DesignError, refused: set[str] = frozens
     hardware part does not fit (a screw too short for the thicker rims' grip, pins too weak
     on a larger rim's bolt circle, or a drive pin no catalogue length fits the ring, which
     the spring's refusal hid) names the hardware change with which the job designs too, or
-    what stops it. Both kinds are checked: one key (``err.key_changes``) and the whole disk
-    scaled (``err.disk_changes``). A change whose check stops on another spring of
+    what stops it. Three kinds are checked: one key (``err.key_changes``), the whole disk
+    scaled (``err.disk_changes``) and another material (``err.material_changes``; held-out
+    A 5821 g15: maraging 300 designed its six disks, whose stack torque then broke the
+    three dowels the config gave). A change whose check stops on another spring of
     ``refused`` (refused on its own, with its own changes) is left as it is: that spring's
     refusal, not this change, is what stops the job (held-out B 9041 010: A's thicker disk
     was named "(then storing 29.9 J ...)", B's own refusal)."""
@@ -372,15 +375,18 @@ def _checked_key_changes(job: Job, err: DesignError, refused: set[str] = frozens
         return any(str(e).startswith(f"spring '{n}'") for n in refused)
 
     changes = [(key_clause(name, key, now, value), name,
-                with_key(job.springs[name], key, value), None)
+                with_key(job.springs[name], key, value), None, job.material)
                for name, key, now, value in err.key_changes]
-    changes += [(clause, name, spec, surface)
+    changes += [(clause, name, spec, surface, job.material)
                 for name, clause, spec, surface in err.disk_changes]
+    changes += [(clause, name, job.springs[name], None, replace(
+        as_material(job.material, material), design_stress_MPa=stress_MPa))
+                for name, clause, material, stress_MPa in err.material_changes]
     changes = sorted(({c[0]: c for c in changes if c[0] in text}).values(),
                      key=lambda c: text.find(c[0]))[:CHECKED_CHANGES]
-    for clause, name, spec, surface in changes:
+    for clause, name, spec, surface, material in changes:
         report(f"spring {name}: checking {clause.split(' (')[0]} with the whole job")
-        changed, grown = replace(job, springs={**job.springs, name: spec}), ""
+        changed, grown = replace(job, springs={**job.springs, name: spec}, material=material), ""
         if spec.outer_radius_mm > job.springs[name].outer_radius_mm + 1e-9:  # a larger disk
             changed, grown = _rims_grown(changed, name)
         if grown:
@@ -388,7 +394,7 @@ def _checked_key_changes(job: Job, err: DesignError, refused: set[str] = frozens
             clause = f"{clause} and {grown}"
         if surface is not None:
             finished = replace(job.material.duty, surface=surface)
-            changed = replace(changed, material=replace(job.material, duty=finished))
+            changed = replace(changed, material=replace(changed.material, duty=finished))
         try:
             design_job(changed, explain=False)
         except RemedyError as e:
@@ -403,6 +409,7 @@ def _checked_key_changes(job: Job, err: DesignError, refused: set[str] = frozens
         return err
     checked = type(err)(text)
     checked.key_changes, checked.disk_changes = err.key_changes, err.disk_changes
+    checked.material_changes = err.material_changes
     checked.__cause__ = err
     return checked
 
