@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 from dataclasses import dataclass, replace
 
@@ -19,7 +21,7 @@ from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware, design_warnings
 from springcad.design.ring import pinned_hole_patterns
 from springcad.design.search import probe, rim_cap_rule, short_reason
-from springcad.design.sizing import for_a_user
+from springcad.design.sizing import _FOR_A_USER, for_a_user
 from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
@@ -151,10 +153,51 @@ def jamming_tolerances(mfg: ManufacturingSpec) -> str:
             f"manufacturing.w_gap_mm = {ours.w_gap_mm:g} (wire EDM with skim cuts)")
 
 
+#: spring designs :func:`kept_springs` keeps at most (each with its profiles, ~1 MB)
+KEPT_SPRINGS = 32
+#: within :func:`kept_springs`: each yes-or-no spring design (or its refusal) by its arguments
+_KEPT_SPRINGS: contextvars.ContextVar[dict | None] = contextvars.ContextVar(
+    "springcad_kept_springs", default=None)
+
+
+@contextlib.contextmanager
+def kept_springs():
+    """Within it, a yes-or-no design of the whole job (``explain`` False) designs each spring
+    of given arguments once: checking a refusal's changes, or a hardware refusal's, designs
+    the job again and again with one spring or one [hardware] key changed, and the other
+    springs are the same (held-out A 5821 g27: spring A designed three times for the checks
+    of B's changes, 19 of its 152 s). Pure: the same arguments give the same design."""
+    token = _KEPT_SPRINGS.set(_KEPT_SPRINGS.get() if _KEPT_SPRINGS.get() is not None else {})
+    try:
+        yield
+    finally:
+        _KEPT_SPRINGS.reset(token)
+
+
 def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> SpringDesign:
     """The spring ``name`` of ``job``; a refusal of a disk the stack holds several times
     names the stack with fewer of them first (:func:`~springcad.design.feasibility.
-    fewer_disks`), each checked with the design search."""
+    fewer_disks`), each checked with the design search; a yes or no within
+    :func:`kept_springs` is designed once."""
+    kept = _KEPT_SPRINGS.get() if not explain else None
+    if kept is None:
+        return _design_or_fewer_now(job, name, explain, rr_max)
+    key = (job.springs[name], job.material, job.manufacturing, job.hardware, rr_max,
+           _FOR_A_USER.get())
+    if key not in kept:
+        if len(kept) >= KEPT_SPRINGS:
+            del kept[next(iter(kept))]
+        try:
+            kept[key] = _design_or_fewer_now(job, name, explain, rr_max)
+        except DesignError as err:
+            kept[key] = err
+    if isinstance(kept[key], DesignError):
+        raise kept[key]
+    return kept[key]
+
+
+def _design_or_fewer_now(job: Job, name: str, explain: bool, rr_max: float) -> SpringDesign:
+    """:func:`_design_or_fewer`, designed now."""
     spec = job.springs[name]
 
     def cap_mm(outer_radius_mm: float) -> float:
@@ -198,7 +241,7 @@ def design_job(job: Job, explain: bool = True, progress: Progress | None = None)
     from release is made for nominal parts (:func:`~springcad.design.sizing.for_a_user`)."""
     if not explain:
         return _design_job(job, explain, progress)
-    with for_a_user():
+    with for_a_user(), kept_springs():
         return _design_job(job, explain, progress)
 
 
