@@ -21,7 +21,7 @@ from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware, design_warnings
 from springcad.design.ring import pinned_hole_patterns
 from springcad.design.search import probe, rim_cap_rule, short_reason
-from springcad.design.sizing import _FOR_A_USER, for_a_user
+from springcad.design.sizing import designing_for_a_user, for_a_user
 from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
@@ -183,7 +183,7 @@ def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> Sprin
     if kept is None:
         return _design_or_fewer_now(job, name, explain, rr_max)
     key = (job.springs[name], job.material, job.manufacturing, job.hardware, rr_max,
-           _FOR_A_USER.get())
+           designing_for_a_user())
     if key not in kept:
         if len(kept) >= KEPT_SPRINGS:
             del kept[next(iter(kept))]
