@@ -2,6 +2,7 @@
 each with its own change (a held-out stack A + B + B was refused naming only A's change;
 applied, the job was then refused for B), and the job-wide advice once."""
 
+import math
 import re
 from dataclasses import replace
 
@@ -9,7 +10,7 @@ import pytest
 
 from springcad.config import job_from_dict
 from springcad.design import job as job_module
-from springcad.design.feasibility import as_material, material_clause
+from springcad.design.feasibility import as_material, key_clause, material_clause
 from springcad.design.job import design_job
 from springcad.design.stock import design_spring
 from springcad.errors import ConfigError, DesignError, RemedyError, SpecInfeasible
@@ -71,6 +72,33 @@ def test_a_yes_no_search_stops_at_the_first_refusal(monkeypatch):
     with pytest.raises(DesignError, match="^spring 'A' cannot be made as specified$"):
         design_job(_job(), explain=False)
     assert calls == ["A"]
+
+
+def test_the_checks_of_a_refusals_changes_design_each_unchanged_spring_once(monkeypatch):
+    """Checking a refusal's changes designs the whole job once per change (yes or no);
+    the springs a change leaves as they were are designed once for all of them
+    (job.kept_springs; held-out A 5821 g27 designed its spring A three times more). The
+    changes here (deflections) leave the pinned rims' hole circle where it was."""
+    calls = []
+
+    def design(spec, material, manufacturing, hardware, explain=True, **kwargs):
+        calls.append((spec.name, explain))
+        if spec.name == "A" or not explain:
+            raise DesignError(f"spring '{spec.name}': a stand-in")
+        now = round(math.degrees(spec.max_deflection_rad), 6)
+        changes = [(spec.name, "max_deflection_deg", now, now - d) for d in (2.0, 4.0)]
+        err = DesignError(f"spring '{spec.name}' cannot be made as specified; feasible with "
+                          + " or ".join(key_clause(*c) for c in changes))
+        err.key_changes = tuple(changes)
+        raise err
+
+    monkeypatch.setattr(job_module, "design_spring", design)
+    monkeypatch.setattr(job_module, "fewer_disks", lambda *a: None)
+    with pytest.raises(DesignError, match="3 springs cannot be made"):
+        design_job(_job())
+    checks = [c for c in calls if not c[1]]
+    assert checks.count(("A", False)) == 1, calls  # four checks (B's two, C's two)
+    assert calls.count(("A", True)) == 1
 
 
 def _bolted_job(thickness_mm: float, **hardware):
