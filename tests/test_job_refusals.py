@@ -94,6 +94,7 @@ def test_the_checks_of_a_refusals_changes_design_each_unchanged_spring_once(monk
 
     monkeypatch.setattr(job_module, "design_spring", design)
     monkeypatch.setattr(job_module, "fewer_disks", lambda *a: None)
+    monkeypatch.setenv("SPRINGCAD_PARALLEL", "0")  # the stand-in counts in this process
     with pytest.raises(DesignError, match="3 springs cannot be made"):
         design_job(_job())
     checks = [c for c in calls if not c[1]]
@@ -192,6 +193,22 @@ def test_another_material_is_checked_with_the_hardware_as_well():
     changed = {k: (v.strip('"') if v.startswith('"') else float(v)) for k, v in hardware.items()}
     design_job(replace(job, material=other, hardware=replace(job.hardware, **changed)),
                explain=False)
+
+
+def test_the_checks_on_two_cores_name_what_the_checks_on_one_do(monkeypatch):
+    """The changes of a refusal are checked half on each core (each designs the whole job):
+    the clauses are those of the checks run one after another, in the refusal's order."""
+    job = _bolted_job(6.0, fastener_count=3)
+    other = replace(as_material(job.material, "maraging_300"), design_stress_MPa=1200.0)
+    keys = (("S1", "thickness_mm", 6.0, 9.0), ("S1", "max_deflection_deg", 14.0, 9.0))
+    clauses = [key_clause(*k) for k in keys] + [material_clause(other)]
+    err = _refusal_naming(" or ".join(clauses), keys)
+    err.material_changes = (("S1", clauses[-1], "maraging_300", 1200.0),)
+    both = str(job_module._checked_key_changes(job, err))
+    monkeypatch.setenv("SPRINGCAD_PARALLEL", "0")
+    one = str(job_module._checked_key_changes(job, err))
+    assert both == one
+    assert all(f"{c} and hardware." in one or f"{c} (then" in one for c in clauses), one
 
 
 def test_a_duty_change_of_the_whole_disk_is_checked_with_its_surface(monkeypatch):

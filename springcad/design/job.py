@@ -27,7 +27,8 @@ from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
 from springcad.design.tolerance import gap_range_mm
 from springcad.errors import ConfigError, DesignError, RemedyError, change_text, one_line
-from springcad.progress import Progress, report, reporting
+from springcad.parallel import ahead
+from springcad.progress import Progress, ambient, report, reporting
 
 SCHEMA = "springcad.design/1"
 
@@ -413,10 +414,6 @@ def _checked_key_changes(job: Job, err: DesignError, refused: set[str] = frozens
     refusal, not this change, is what stops the job (held-out B 9041 010: A's thicker disk
     was named "(then storing 29.9 J ...)", B's own refusal)."""
     text = str(err)
-
-    def another_refused(e: Exception) -> bool:
-        return any(str(e).startswith(f"spring '{n}'") for n in refused)
-
     changes = [(key_clause(name, key, now, value), name,
                 with_key(job.springs[name], key, value), None, job.material)
                for name, key, now, value in err.key_changes]
@@ -427,27 +424,8 @@ def _checked_key_changes(job: Job, err: DesignError, refused: set[str] = frozens
                 for name, clause, material, stress_MPa in err.material_changes]
     changes = sorted(({c[0]: c for c in changes if c[0] in text}).values(),
                      key=lambda c: text.find(c[0]))[:CHECKED_CHANGES]
-    for clause, name, spec, surface, material in changes:
-        report(f"spring {name}: checking {clause.split(' (')[0]} with the whole job")
-        changed, grown = replace(job, springs={**job.springs, name: spec}, material=material), ""
-        if spec.outer_radius_mm > job.springs[name].outer_radius_mm + 1e-9:  # a larger disk
-            changed, grown = _rims_grown(changed, name)
-        if grown:
-            text = text.replace(clause, f"{clause} and {grown}", 1)
-            clause = f"{clause} and {grown}"
-        if surface is not None:
-            finished = replace(job.material.duty, surface=surface)
-            changed = replace(changed, material=replace(changed.material, duty=finished))
-        try:
-            design_job(changed, explain=False)
-        except RemedyError as e:
-            works = _second_changes(changed, {}, clause, e, HARDWARE_CHOICES)
-            text = text.replace(clause, works[0] if works else
-                                f"{clause} (then {short_reason(e).split('; use')[0]})", 1)
-        except (DesignError, ConfigError) as e:
-            if not another_refused(e):
-                text = text.replace(clause, f"{clause} (then {one_line(short_reason(e), 160)})",
-                                    1)
+    for (clause, *_), shown in zip(changes, _checked_clauses(job, changes, refused)):
+        text = text.replace(clause, shown, 1)
     if text == str(err):
         return err
     checked = type(err)(text)
@@ -455,6 +433,53 @@ def _checked_key_changes(job: Job, err: DesignError, refused: set[str] = frozens
     checked.material_changes = err.material_changes
     checked.__cause__ = err
     return checked
+
+
+def _checked_clauses(job: Job, changes: list, refused: set[str]) -> list[str]:
+    """:func:`_checked_clause` of each change, in order; the second, fourth, ... on the other
+    core (:func:`springcad.parallel.ahead`: each check designs the whole job, and none
+    depends on another; their progress lines are replayed after this core's)."""
+    if len(changes) < 2:
+        return [_checked_clause(job, c, refused) for c in changes]
+    with contextlib.ExitStack() as stack:
+        theirs = ahead(stack, _checked_clause_list, job, changes[1::2], refused,
+                       progress=ambient())
+        mine = [_checked_clause(job, c, refused) for c in changes[0::2]]
+        shown = [None] * len(changes)
+        shown[0::2], shown[1::2] = mine, theirs.result()
+    return shown
+
+
+def _checked_clause_list(job: Job, changes: list, refused: set[str], progress=None
+                         ) -> list[str]:
+    """:func:`_checked_clause` of each change, its progress sent to ``progress``."""
+    with reporting(progress):
+        return [_checked_clause(job, c, refused) for c in changes]
+
+
+def _checked_clause(job: Job, change: tuple, refused: set[str]) -> str:
+    """One change of a spring refusal, ``(clause, spring name, spec, surface, material)``,
+    checked with the whole job (:func:`_checked_key_changes`): the clause to print in its
+    place (the clause itself when the job designs with it)."""
+    clause, name, spec, surface, material = change
+    report(f"spring {name}: checking {clause.split(' (')[0]} with the whole job")
+    changed, grown = replace(job, springs={**job.springs, name: spec}, material=material), ""
+    if spec.outer_radius_mm > job.springs[name].outer_radius_mm + 1e-9:  # a larger disk
+        changed, grown = _rims_grown(changed, name)
+    if grown:
+        clause = f"{clause} and {grown}"
+    if surface is not None:
+        finished = replace(job.material.duty, surface=surface)
+        changed = replace(changed, material=replace(changed.material, duty=finished))
+    try:
+        design_job(changed, explain=False)
+    except RemedyError as e:
+        works = _second_changes(changed, {}, clause, e, HARDWARE_CHOICES)
+        return works[0] if works else f"{clause} (then {short_reason(e).split('; use')[0]})"
+    except (DesignError, ConfigError) as e:
+        if not any(str(e).startswith(f"spring '{n}'") for n in refused):
+            return f"{clause} (then {one_line(short_reason(e), 160)})"
+    return clause
 
 
 def _rims_grown(job: Job, name: str) -> tuple[Job, str]:
