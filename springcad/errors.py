@@ -84,10 +84,14 @@ class DesignError(SpringcadError, ValueError):
             ``(spring name, clause, spec, surface)``: the clause as the refusal prints it,
             the spring spec it makes (:func:`springcad.design.feasibility.larger_disk`)
             and the ``manufacturing.surface`` it needs with it (None: the job's own).
+        material_changes: a spring refusal's other materials, each ``(spring name,
+            clause, material name, design stress MPa)``
+            (:func:`springcad.design.feasibility.material_changes`).
     """
 
     key_changes: tuple = ()
     disk_changes: tuple = ()
+    material_changes: tuple = ()
 
 
 class RemedyError(DesignError):

@@ -36,11 +36,14 @@ _OFF = ("0", "off", "no", "false")
 
 
 def enabled() -> bool:
-    """Whether steps may run in a second process (fork available, not switched off)."""
+    """Whether steps may run in a second process (fork available, not switched off, and
+    this process no daemonic child, which multiprocessing allows no children of its own: a
+    step that forks, run in another's child or a process pool's worker, runs serially)."""
     import multiprocessing
 
     return (PARALLEL and os.environ.get(ENV_SWITCH, "").strip().lower() not in _OFF
-            and "fork" in multiprocessing.get_all_start_methods())
+            and "fork" in multiprocessing.get_all_start_methods()
+            and not multiprocessing.current_process().daemon)  # a daemon has no children
 
 
 def trim_heap() -> None:

@@ -43,6 +43,11 @@ def reporting(progress: Progress | None):
         _AMBIENT.reset(token)
 
 
+def ambient() -> Progress | None:
+    """The progress of the enclosing :func:`reporting` block (None outside one)."""
+    return _AMBIENT.get()
+
+
 def report(message: str, fraction: float | None = None) -> None:
     """Send ``message`` to the progress of the enclosing :func:`reporting` block, if any."""
     progress = _AMBIENT.get()

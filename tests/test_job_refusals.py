@@ -2,6 +2,7 @@
 each with its own change (a held-out stack A + B + B was refused naming only A's change;
 applied, the job was then refused for B), and the job-wide advice once."""
 
+import math
 import re
 from dataclasses import replace
 
@@ -9,6 +10,7 @@ import pytest
 
 from springcad.config import job_from_dict
 from springcad.design import job as job_module
+from springcad.design.feasibility import as_material, key_clause, material_clause
 from springcad.design.job import design_job
 from springcad.design.stock import design_spring
 from springcad.errors import ConfigError, DesignError, RemedyError, SpecInfeasible
@@ -72,8 +74,37 @@ def test_a_yes_no_search_stops_at_the_first_refusal(monkeypatch):
     assert calls == ["A"]
 
 
-def _bolted_job(thickness_mm: float):
-    """Two 150 N*m/rad disks bolted rim to rim with M1.6 (ISO 4762 ends at 16 mm)."""
+def test_the_checks_of_a_refusals_changes_design_each_unchanged_spring_once(monkeypatch):
+    """Checking a refusal's changes designs the whole job once per change (yes or no);
+    the springs a change leaves as they were are designed once for all of them
+    (job.kept_springs; held-out A 5821 g27 designed its spring A three times more). The
+    changes here (deflections) leave the pinned rims' hole circle where it was."""
+    calls = []
+
+    def design(spec, material, manufacturing, hardware, explain=True, **kwargs):
+        calls.append((spec.name, explain))
+        if spec.name == "A" or not explain:
+            raise DesignError(f"spring '{spec.name}': a stand-in")
+        now = round(math.degrees(spec.max_deflection_rad), 6)
+        changes = [(spec.name, "max_deflection_deg", now, now - d) for d in (2.0, 4.0)]
+        err = DesignError(f"spring '{spec.name}' cannot be made as specified; feasible with "
+                          + " or ".join(key_clause(*c) for c in changes))
+        err.key_changes = tuple(changes)
+        raise err
+
+    monkeypatch.setattr(job_module, "design_spring", design)
+    monkeypatch.setattr(job_module, "fewer_disks", lambda *a: None)
+    monkeypatch.setenv("SPRINGCAD_PARALLEL", "0")  # the stand-in counts in this process
+    with pytest.raises(DesignError, match="3 springs cannot be made"):
+        design_job(_job())
+    checks = [c for c in calls if not c[1]]
+    assert checks.count(("A", False)) == 1, calls  # four checks (B's two, C's two)
+    assert calls.count(("A", True)) == 1
+
+
+def _bolted_job(thickness_mm: float, **hardware):
+    """Two 150 N*m/rad disks bolted rim to rim with M1.6 (ISO 4762 ends at 16 mm);
+    ``hardware``: more [hardware] keys."""
     return job_from_dict({
         "job": {"name": "bolted"}, "material": {"name": "420_ht"},
         "springs": {"S1": {"target_stiffness_Nm_per_rad": 150, "max_deflection_deg": 14,
@@ -81,7 +112,7 @@ def _bolted_job(thickness_mm: float):
                            "min_tip_radius_mm": 0.3}},
         "stack": {"sequence": ["S1", "S1"], "input": "shaft"},
         "manufacturing": {"process": "wire_edm"},
-        "hardware": {"fastener": "bolt", "fastener_diameter_mm": 1.6},
+        "hardware": {"fastener": "bolt", "fastener_diameter_mm": 1.6, **hardware},
         "duty": {"preset": "static"}})
 
 
@@ -138,6 +169,46 @@ def test_the_whole_disk_scaled_is_checked_with_the_hardware_as_well():
     changed = {k: (v.strip('"') if v.startswith('"') else float(v)) for k, v in hardware.items()}
     design_job(replace(_bolted_job(9.0), hardware=replace(job.hardware, **changed)),
                explain=False)
+
+
+def test_another_material_is_checked_with_the_hardware_as_well():
+    """A refusal's other material (held-out A 5821 g15: maraging 300 named for six 7075
+    disks; applied, the three Ø3 dowels the config gave were then too weak for the stack's
+    torque, which no material changes) is checked with the whole job like a change of
+    keys: three M1.6 rim screws are too weak for two 150 N*m/rad disks at 14 deg whatever
+    their material, so the clause names the hardware change too, and the two applied
+    together design."""
+    job = _bolted_job(6.0, fastener_count=3)
+    with pytest.raises(RemedyError, match="bolts_1"):
+        design_job(job, explain=False)
+    other = replace(as_material(job.material, "maraging_300"), design_stress_MPa=1200.0)
+    clause = material_clause(other)
+    err = _refusal_naming(clause, ())
+    err.material_changes = (("S1", clause, "maraging_300", 1200.0),)
+    text = str(job_module._checked_key_changes(job, err))
+    assert f"{clause} and hardware." in text, text
+    hardware = dict(re.findall(r"hardware\.(\w+) = (\"\w+\"|[\d.]+) \(now ",
+                               text.split(clause, 1)[1].split(" (each alone")[0]))
+    assert hardware, text
+    changed = {k: (v.strip('"') if v.startswith('"') else float(v)) for k, v in hardware.items()}
+    design_job(replace(job, material=other, hardware=replace(job.hardware, **changed)),
+               explain=False)
+
+
+def test_the_checks_on_two_cores_name_what_the_checks_on_one_do(monkeypatch):
+    """The changes of a refusal are checked half on each core (each designs the whole job):
+    the clauses are those of the checks run one after another, in the refusal's order."""
+    job = _bolted_job(6.0, fastener_count=3)
+    other = replace(as_material(job.material, "maraging_300"), design_stress_MPa=1200.0)
+    keys = (("S1", "thickness_mm", 6.0, 9.0), ("S1", "max_deflection_deg", 14.0, 9.0))
+    clauses = [key_clause(*k) for k in keys] + [material_clause(other)]
+    err = _refusal_naming(" or ".join(clauses), keys)
+    err.material_changes = (("S1", clauses[-1], "maraging_300", 1200.0),)
+    both = str(job_module._checked_key_changes(job, err))
+    monkeypatch.setenv("SPRINGCAD_PARALLEL", "0")
+    one = str(job_module._checked_key_changes(job, err))
+    assert both == one
+    assert all(f"{c} and hardware." in one or f"{c} (then" in one for c in clauses), one
 
 
 def test_a_duty_change_of_the_whole_disk_is_checked_with_its_surface(monkeypatch):

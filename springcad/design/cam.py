@@ -205,6 +205,17 @@ def d_bore(radius_mm: float, flat_ratio: float = 0.8, corner_radius_mm: float = 
                  Feature("corner", 0, "right")))
 
 
+def _ring_gap_mm(unit, tip, pitch: float, ring_pts) -> float:
+    """Smallest gap between one tooth with its two pockets (``unit`` and its copy one pitch
+    back, sampled every 0.01 mm) and the resting ring's points near the ball (mm; inf when
+    there is no ring): N-fold symmetric, so one tooth and its pockets suffice."""
+    if ring_pts is None:
+        return float("inf")
+    cam_pts = np.vstack([s.sample(0.01) for s in (*unit, *(s.rotated(-pitch) for s in unit))])
+    near = ring_pts[np.hypot(*ring_pts.T) < tip.radius + 0.5]
+    return min_distance_mm(cam_pts, near)
+
+
 def cam_profile(d) -> tuple[Profile, CamInfo]:
     """Cam profile for a :class:`~springcad.design.spring.SpringDesign`.
 
@@ -252,12 +263,10 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
         psi_end = rho / rc + f * theta
         unit, unit_features, tip = _unit(rc, rho, pitch, psi_end)
         tip_w = _tip_width_mm(tip)
-        clearance = float("inf")
-        if ring_pts is not None:  # N-fold symmetric: one tooth and its pockets suffice
-            cam_pts = np.vstack([s.sample(0.01) for s in (*unit, *(s.rotated(-pitch) for s in unit))])
-            near = ring_pts[np.hypot(*ring_pts.T) < tip.radius + 0.5]
-            clearance = min_distance_mm(cam_pts, near)
-        tried.append((f, tip_w, clearance))
+        # the gap to the ring only where the tooth tip is wide enough (most flanks tried
+        # fail that first; the refusal below measures the gaps it names)
+        clearance = _ring_gap_mm(unit, tip, pitch, ring_pts) if tip_w >= min_web else None
+        tried.append((f, tip_w, clearance, unit, tip))
         if not (tip_w >= min_web and clearance >= g - GAP_RESOLUTION_MM):
             continue
         drawable.append((f, unit, unit_features, tip, tip_w, clearance))
@@ -273,8 +282,9 @@ def cam_profile(d) -> tuple[Profile, CamInfo]:
             f"spring '{d.name}': no cam tooth covers the full deflection {theta:.3g} rad: "
             + "; ".join(f"overtravel {f:g}: " + (f"tooth tip {w:.3f} mm wide" if w >= 0 else
                                                   f"the flanks cross by {-w:.3f} mm")
-                        + f" (min_web_mm {min_web:g}), clearance {c:.4f} mm (w_gap_mm {g:g})"
-                        for f, w, c in tried[:4])
+                        + f" (min_web_mm {min_web:g}), clearance "
+                        f"{_ring_gap_mm(u, t, pitch, ring_pts) if c is None else c:.4f} mm "
+                        f"(w_gap_mm {g:g})" for f, w, c, u, t in tried[:4])
             + "; use fewer flexures, a larger contact radius or a smaller tip radius")
     # the first flank that passes every rule, else the first drawable one (warned below)
     f, unit, unit_features, tip, tip_w, clearance = next(

@@ -370,6 +370,13 @@ def material_changes(material: MaterialSpec,
     return [m for m in others if density(m) > density(material) and designs_with(m)]
 
 
+def material_clause(material: MaterialSpec) -> str:
+    """The clause naming a change of material, e.g. ``material.name = "maraging_300" with
+    material.design_stress_MPa = 1320``."""
+    return (f'material.name = "{material.material.name}" with material.design_stress_MPa = '
+            f"{material.design_stress_MPa:g}")
+
+
 def key_clause(spring_name: str, key: str, now: float, value: float) -> str:
     """The clause naming one key's change, e.g. "springs.A.thickness_mm = 6.3 (now 5)"."""
     return f"springs.{spring_name}.{key} = {value:g} (now {now:.4g})"
@@ -379,6 +386,10 @@ def with_key(spec: SpringSpec, key: str, value: float) -> SpringSpec:
     """``spec`` with the user key ``key`` (a :func:`nearest_changes` key, in the config's
     unit) set to ``value``."""
     return next(kr for kr in _keys() if kr.key == key).set(spec, value)
+
+
+#: other materials a refusal names at most (the best first)
+MATERIALS_NAMED = 2
 
 
 def describe(spring_name: str, changes: list[tuple[str, float, float]],
@@ -391,8 +402,7 @@ def describe(spring_name: str, changes: list[tuple[str, float, float]],
     :func:`_keys` does for layouts held stiff by their webs (said when none designs).
     """
     clauses = [key_clause(spring_name, k, v0, v) for k, v0, v in changes]
-    clauses += [f'material.name = "{m.material.name}" with material.design_stress_MPa = '
-                f"{m.design_stress_MPa:g}" for m in materials[:2]]
+    clauses += [material_clause(m) for m in materials[:MATERIALS_NAMED]]
     if series is not None and spec is not None:
         one = in_series(spec, series)
         clauses.append(

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 from dataclasses import dataclass, replace
 
@@ -14,18 +16,19 @@ from springcad.data import dowel_lengths
 from springcad.design import duty
 from springcad.design.camshaft_share import share_camshafts
 from springcad.design.connections import RIM, connection_sequence
-from springcad.design.feasibility import fewer_disks, key_clause, with_key
+from springcad.design.feasibility import as_material, fewer_disks, key_clause, with_key
 from springcad.design.hardware import bolt_circle_limit_mm, rim_spacer_rim_mm
 from springcad.design.plausibility import check_hardware, design_warnings
 from springcad.design.ring import pinned_hole_patterns
 from springcad.design.search import probe, rim_cap_rule, short_reason
-from springcad.design.sizing import for_a_user
+from springcad.design.sizing import designing_for_a_user, for_a_user
 from springcad.design.stock import design_spring
 from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
 from springcad.design.tolerance import gap_range_mm
 from springcad.errors import ConfigError, DesignError, RemedyError, change_text, one_line
-from springcad.progress import Progress, report, reporting
+from springcad.parallel import ahead
+from springcad.progress import Progress, ambient, report, reporting
 
 SCHEMA = "springcad.design/1"
 
@@ -151,10 +154,51 @@ def jamming_tolerances(mfg: ManufacturingSpec) -> str:
             f"manufacturing.w_gap_mm = {ours.w_gap_mm:g} (wire EDM with skim cuts)")
 
 
+#: spring designs :func:`kept_springs` keeps at most (each with its profiles, ~1 MB)
+KEPT_SPRINGS = 32
+#: within :func:`kept_springs`: each yes-or-no spring design (or its refusal) by its arguments
+_KEPT_SPRINGS: contextvars.ContextVar[dict | None] = contextvars.ContextVar(
+    "springcad_kept_springs", default=None)
+
+
+@contextlib.contextmanager
+def kept_springs():
+    """Within it, a yes-or-no design of the whole job (``explain`` False) designs each spring
+    of given arguments once: checking a refusal's changes, or a hardware refusal's, designs
+    the job again and again with one spring or one [hardware] key changed, and the other
+    springs are the same (held-out A 5821 g27: spring A designed three times for the checks
+    of B's changes, 19 of its 152 s). Pure: the same arguments give the same design."""
+    token = _KEPT_SPRINGS.set(_KEPT_SPRINGS.get() if _KEPT_SPRINGS.get() is not None else {})
+    try:
+        yield
+    finally:
+        _KEPT_SPRINGS.reset(token)
+
+
 def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> SpringDesign:
     """The spring ``name`` of ``job``; a refusal of a disk the stack holds several times
     names the stack with fewer of them first (:func:`~springcad.design.feasibility.
-    fewer_disks`), each checked with the design search."""
+    fewer_disks`), each checked with the design search; a yes or no within
+    :func:`kept_springs` is designed once."""
+    kept = _KEPT_SPRINGS.get() if not explain else None
+    if kept is None:
+        return _design_or_fewer_now(job, name, explain, rr_max)
+    key = (job.springs[name], job.material, job.manufacturing, job.hardware, rr_max,
+           designing_for_a_user())
+    if key not in kept:
+        if len(kept) >= KEPT_SPRINGS:
+            del kept[next(iter(kept))]
+        try:
+            kept[key] = _design_or_fewer_now(job, name, explain, rr_max)
+        except DesignError as err:
+            kept[key] = err
+    if isinstance(kept[key], DesignError):
+        raise kept[key]
+    return kept[key]
+
+
+def _design_or_fewer_now(job: Job, name: str, explain: bool, rr_max: float) -> SpringDesign:
+    """:func:`_design_or_fewer`, designed now."""
     spec = job.springs[name]
 
     def cap_mm(outer_radius_mm: float) -> float:
@@ -183,6 +227,7 @@ def _design_or_fewer(job: Job, name: str, explain: bool, rr_max: float) -> Sprin
             else (f"spring '{name}' {REFUSAL_HEAD}", text)
         more = DesignError(f"{head}feasible with fewer disks: {fewer}; or {rest}")
         more.key_changes, more.disk_changes = err.key_changes, err.disk_changes
+        more.material_changes = err.material_changes
         raise more from err
 
 
@@ -197,7 +242,7 @@ def design_job(job: Job, explain: bool = True, progress: Progress | None = None)
     from release is made for nominal parts (:func:`~springcad.design.sizing.for_a_user`)."""
     if not explain:
         return _design_job(job, explain, progress)
-    with for_a_user():
+    with for_a_user(), kept_springs():
         return _design_job(job, explain, progress)
 
 
@@ -361,50 +406,80 @@ def _checked_key_changes(job: Job, err: DesignError, refused: set[str] = frozens
     hardware part does not fit (a screw too short for the thicker rims' grip, pins too weak
     on a larger rim's bolt circle, or a drive pin no catalogue length fits the ring, which
     the spring's refusal hid) names the hardware change with which the job designs too, or
-    what stops it. Both kinds are checked: one key (``err.key_changes``) and the whole disk
-    scaled (``err.disk_changes``). A change whose check stops on another spring of
+    what stops it. Three kinds are checked: one key (``err.key_changes``), the whole disk
+    scaled (``err.disk_changes``) and another material (``err.material_changes``; held-out
+    A 5821 g15: maraging 300 designed its six disks, whose stack torque then broke the
+    three dowels the config gave). A change whose check stops on another spring of
     ``refused`` (refused on its own, with its own changes) is left as it is: that spring's
     refusal, not this change, is what stops the job (held-out B 9041 010: A's thicker disk
     was named "(then storing 29.9 J ...)", B's own refusal)."""
     text = str(err)
-
-    def another_refused(e: Exception) -> bool:
-        return any(str(e).startswith(f"spring '{n}'") for n in refused)
-
     changes = [(key_clause(name, key, now, value), name,
-                with_key(job.springs[name], key, value), None)
+                with_key(job.springs[name], key, value), None, job.material)
                for name, key, now, value in err.key_changes]
-    changes += [(clause, name, spec, surface)
+    changes += [(clause, name, spec, surface, job.material)
                 for name, clause, spec, surface in err.disk_changes]
+    changes += [(clause, name, job.springs[name], None, replace(
+        as_material(job.material, material), design_stress_MPa=stress_MPa))
+                for name, clause, material, stress_MPa in err.material_changes]
     changes = sorted(({c[0]: c for c in changes if c[0] in text}).values(),
                      key=lambda c: text.find(c[0]))[:CHECKED_CHANGES]
-    for clause, name, spec, surface in changes:
-        report(f"spring {name}: checking {clause.split(' (')[0]} with the whole job")
-        changed, grown = replace(job, springs={**job.springs, name: spec}), ""
-        if spec.outer_radius_mm > job.springs[name].outer_radius_mm + 1e-9:  # a larger disk
-            changed, grown = _rims_grown(changed, name)
-        if grown:
-            text = text.replace(clause, f"{clause} and {grown}", 1)
-            clause = f"{clause} and {grown}"
-        if surface is not None:
-            finished = replace(job.material.duty, surface=surface)
-            changed = replace(changed, material=replace(job.material, duty=finished))
-        try:
-            design_job(changed, explain=False)
-        except RemedyError as e:
-            works = _second_changes(changed, {}, clause, e, HARDWARE_CHOICES)
-            text = text.replace(clause, works[0] if works else
-                                f"{clause} (then {short_reason(e).split('; use')[0]})", 1)
-        except (DesignError, ConfigError) as e:
-            if not another_refused(e):
-                text = text.replace(clause, f"{clause} (then {one_line(short_reason(e), 160)})",
-                                    1)
+    for (clause, *_), shown in zip(changes, _checked_clauses(job, changes, refused)):
+        text = text.replace(clause, shown, 1)
     if text == str(err):
         return err
     checked = type(err)(text)
     checked.key_changes, checked.disk_changes = err.key_changes, err.disk_changes
+    checked.material_changes = err.material_changes
     checked.__cause__ = err
     return checked
+
+
+def _checked_clauses(job: Job, changes: list, refused: set[str]) -> list[str]:
+    """:func:`_checked_clause` of each change, in order; the second, fourth, ... on the other
+    core (:func:`springcad.parallel.ahead`: each check designs the whole job, and none
+    depends on another; their progress lines are replayed after this core's)."""
+    if len(changes) < 2:
+        return [_checked_clause(job, c, refused) for c in changes]
+    with contextlib.ExitStack() as stack:
+        theirs = ahead(stack, _checked_clause_list, job, changes[1::2], refused,
+                       progress=ambient())
+        mine = [_checked_clause(job, c, refused) for c in changes[0::2]]
+        shown = [None] * len(changes)
+        shown[0::2], shown[1::2] = mine, theirs.result()
+    return shown
+
+
+def _checked_clause_list(job: Job, changes: list, refused: set[str], progress=None
+                         ) -> list[str]:
+    """:func:`_checked_clause` of each change, its progress sent to ``progress``."""
+    with reporting(progress):
+        return [_checked_clause(job, c, refused) for c in changes]
+
+
+def _checked_clause(job: Job, change: tuple, refused: set[str]) -> str:
+    """One change of a spring refusal, ``(clause, spring name, spec, surface, material)``,
+    checked with the whole job (:func:`_checked_key_changes`): the clause to print in its
+    place (the clause itself when the job designs with it)."""
+    clause, name, spec, surface, material = change
+    report(f"spring {name}: checking {clause.split(' (')[0]} with the whole job")
+    changed, grown = replace(job, springs={**job.springs, name: spec}, material=material), ""
+    if spec.outer_radius_mm > job.springs[name].outer_radius_mm + 1e-9:  # a larger disk
+        changed, grown = _rims_grown(changed, name)
+    if grown:
+        clause = f"{clause} and {grown}"
+    if surface is not None:
+        finished = replace(job.material.duty, surface=surface)
+        changed = replace(changed, material=replace(changed.material, duty=finished))
+    try:
+        design_job(changed, explain=False)
+    except RemedyError as e:
+        works = _second_changes(changed, {}, clause, e, HARDWARE_CHOICES)
+        return works[0] if works else f"{clause} (then {short_reason(e).split('; use')[0]})"
+    except (DesignError, ConfigError) as e:
+        if not any(str(e).startswith(f"spring '{n}'") for n in refused):
+            return f"{clause} (then {one_line(short_reason(e), 160)})"
+    return clause
 
 
 def _rims_grown(job: Job, name: str) -> tuple[Job, str]:

@@ -30,9 +30,10 @@ from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, Spri
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty
 from springcad.design.cam import FLEXURE_CLEARANCE_SHORT, TIP_CLEARANCE_SHORT
-from springcad.design.feasibility import (count_probe, describe, fixed_choices, larger_disk,
-                                          material_changes, nearest_changes, probe_clock,
-                                          probes_spent, series_change)
+from springcad.design.feasibility import (MATERIALS_NAMED, count_probe, describe, fixed_choices,
+                                          larger_disk, material_changes, material_clause,
+                                          nearest_changes, probe_clock, probes_spent,
+                                          series_change)
 from springcad.design.flexure import without_shape_detail
 from springcad.design.layout import MAX_CANDIDATES, Layout
 from springcad.design.resize import WebsHoldStiffness, stiffness_out_of_reach, widening_room_short
@@ -489,7 +490,7 @@ def _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm) 
 
 def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
              stop: float = math.inf, webs: bool = False
-             ) -> tuple[str, bool, list[tuple[str, float, float]], tuple]:
+             ) -> tuple[str, bool, list[tuple[str, float, float]], tuple, list]:
     """The changes that design ``spec`` with ``material``'s yield margin and duty (with
     :data:`SUGGESTION_HEADROOM`): the user's fixed layout keys left free, the nearest values
     of the user's own keys, a stronger material or disks in series, and a declared duty's
@@ -501,10 +502,11 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
     (the thickness and stiffness are then probed downward and upward).
 
     Returns:
-        (text, found, keys, disks): the clause, whether it names a change that designs, the
-        user keys' changes it names (:func:`~springcad.design.feasibility.nearest_changes`)
-        and its change of the whole disk as ``(clause, spec)`` pairs
-        (:func:`~springcad.design.feasibility.larger_disk`; empty when it names none).
+        (text, found, keys, disks, materials): the clause, whether it names a change that
+        designs, the user keys' changes it names
+        (:func:`~springcad.design.feasibility.nearest_changes`), its change of the whole disk
+        as ``(clause, spec)`` pairs (:func:`~springcad.design.feasibility.larger_disk`; empty
+        when it names none) and the other materials it names.
     """
     def designs(s, m=material) -> bool:
         return _designs(s, duty.biased(m, SUGGESTION_HEADROOM), manufacturing, hardware,
@@ -543,8 +545,10 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
         say("probing the whole disk scaled up")
         big, scaled = larger_disk(spec, designs, deadline=deadline())
         if big:
-            return f"{changes}; it designs with {big}", True, nearest, ((big, scaled, None),)
-    return changes + alternatives, found, nearest, (duty_disk,) if duty_disk else ()
+            return (f"{changes}; it designs with {big}", True, nearest, ((big, scaled, None),),
+                    materials)
+    return (changes + alternatives, found, nearest, (duty_disk,) if duty_disk else (),
+            materials)
 
 
 def changes_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: ManufacturingSpec,
@@ -581,14 +585,16 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
     report(f"spring {spec.name}: no layout passes; searching the changes that would design "
            f"it (up to {REFUSAL_TOTAL_PROBES} design probes)")
     with probe_clock():
-        changes, _, keys, disks = _changes(spec, material, *args, stop=stop, webs=webs)
+        changes, _, keys, disks, materials = _changes(spec, material, *args, stop=stop,
+                                                      webs=webs)
         sized = duty.sized_for(material)
         if not material.duty.declared and duty.fatigue_limited(sized, spec.max_deflection_rad):
             if probes_spent() < stop:
                 report(f"spring {spec.name}: the same for springcad's default duty")
-                for_duty, found, duty_keys, duty_disks = _changes(spec, sized, *args,
-                                                                  stop=stop, webs=webs)
+                for_duty, found, duty_keys, duty_disks, duty_materials = _changes(
+                    spec, sized, *args, stop=stop, webs=webs)
                 keys, disks = keys + duty_keys, disks + duty_disks
+                materials = materials + duty_materials
                 for_duty = (for_duty if found else "no change springcad probes meets it: "
                             "declare the duty the spring will see in [duty]")
             else:
@@ -601,4 +607,7 @@ def _refusal(spec, material, manufacturing, hardware, max_root_radius_mm, text,
                           f"Why{tried}: {short_reason(text)}")
     refusal.key_changes = tuple((spec.name, *k) for k in keys)
     refusal.disk_changes = tuple((spec.name, *d) for d in disks)
+    refusal.material_changes = tuple(
+        (spec.name, material_clause(m), m.material.name, m.design_stress_MPa)
+        for m in materials[:MATERIALS_NAMED])
     return refusal

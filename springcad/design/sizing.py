@@ -49,6 +49,11 @@ def for_a_user():
         _FOR_A_USER.reset(token)
 
 
+def designing_for_a_user() -> bool:
+    """Whether the search runs within :func:`for_a_user`."""
+    return _FOR_A_USER.get()
+
+
 class _NoMoreLayouts(Exception):
     """The layout rank asked for is past the last candidate layout."""
 
