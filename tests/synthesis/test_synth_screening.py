@@ -89,7 +89,6 @@ CASES = np.vstack([_cases(0, 60)[[10, 16, 18, 19, 22, 1, 4, 5, 7]],
                     [150e3, math.radians(14), 33.5, 6.0, 7.5]]])
 
 
-@pytest.mark.slow  # twelve full designs: 1-2 min on 2 loaded cores
 def test_screening_matches_full_design():
     res = _screen(CASES)
     seen = set()
