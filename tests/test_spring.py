@@ -269,11 +269,15 @@ def test_a_refusal_names_changes_in_numbers_and_each_change_designs():
             "thickness_mm": 4.5}  # S1's envelope, its layout left to the search
     mat = {"design_stress_MPa": 912, "safety_factor": 1.6}
     headroom = {**mat, "safety_factor": 1.6 * SUGGESTION_HEADROOM}
-    j = job_from_dict({"material": mat, "springs": {"A": base}})
+    # refused under the static duty: the yield margin's changes are the text a job without
+    # [duty] gets before "; for springcad's default duty" (the same, measured), without that
+    # second pass of the search (24 of 44 s CPU), which this test does not read
+    j = job_from_dict({"material": mat, "duty": {"preset": "static"}, "springs": {"A": base}})
     with pytest.raises(DesignError, match=r"cannot be made as specified; feasible with") as exc:
         design_spring(j.springs["A"], j.material, j.manufacturing, j.hardware)
     text = str(exc.value)
-    yield_part = text.split("; for springcad's default duty")[0]
+    assert "default duty" not in text, text
+    yield_part = text.split(". Why")[0]
     changes = re.findall(r"springs\.A\.(\w+) = ([\d.]+) \(now ([\d.]+)\)", yield_part)
     assert len({k for k, _, _ in changes}) >= 2, text
     for key, value, now in changes:
