@@ -164,7 +164,7 @@ def test_verify_options_are_checked_once_with_the_public_names(tmp_path):
     assert math.isclose(core.tolerance, VERIFY.tolerance_pct / 100)
 
 
-def test_output_refusals_name_the_option_as_the_door_spells_it(tmp_path, capsys):
+def test_output_refusals_name_the_option_as_the_door_spells_it(tmp_path, capsys, s1_built):
     """The output-folder checks live below the API: from Python they name the parameters
     (out, overwrite=True), from the command line the flags (--out, --overwrite)."""
     taken = tmp_path / "taken"
@@ -172,9 +172,10 @@ def test_output_refusals_name_the_option_as_the_door_spells_it(tmp_path, capsys)
     (taken / "x.txt").write_text("kept")
     from springcad.errors import OutputExistsError
 
-    built = sc.build(sc.design_job(template("paper_S1")))
+    # the module's shared build (refused before any file is written; the export that
+    # follows in test_build_through_api_and_cli_gives_the_same_json reads it whole)
     with pytest.raises(OutputExistsError, match=r"choose another out or pass overwrite=True$"):
-        sc.export_build(built, taken, render=False)
+        sc.export_build(s1_built, taken, render=False)
     assert (taken / "x.txt").read_text() == "kept"
     assert main(["design", str(template("paper_S1")), "--out", str(taken)]) == 2
     err = capsys.readouterr().err
@@ -210,9 +211,10 @@ def test_verify_through_api_and_cli_gives_the_same_json(tmp_path):
 
 @pytest.fixture(scope="module")
 def s1_built():
-    """The paper S1 built through the API (no FEA), once for the module: both tests below
-    only read it and export it (``export_build`` leaves the Build it is given, which
-    test_export_build_leaves_the_build_it_was_given checks on this shared Build)."""
+    """The paper S1 built through the API (no FEA), once for the module: the tests only
+    read it and export it (``export_build`` leaves the Build it is given, which
+    test_export_build_leaves_the_build_it_was_given checks on this shared Build), or are
+    refused exporting it (test_output_refusals_name_the_option_as_the_door_spells_it)."""
     return sc.build(sc.design_job(template("paper_S1")))
 
 
