@@ -27,7 +27,7 @@ import sys
 import traceback
 
 from springcad.options import PARALLEL
-from springcad.progress import no_progress
+from springcad.progress import ambient, no_progress, reporting
 
 ENV_SWITCH = "SPRINGCAD_PARALLEL"
 #: the signals that stop a build (Ctrl-C, SIGTERM)
@@ -310,3 +310,29 @@ def ahead(stack: contextlib.ExitStack, func, *args, progress=None, **kwargs) -> 
     pending = _fork(func, args, kwargs, progress)
     stack.callback(pending.stop)
     return pending
+
+
+def each_on_two_cores(func, items: list) -> tuple[list, int]:
+    """``[func(x) for x in items]``, in order, the second, fourth, ... in a forked child
+    (:func:`ahead`) while this process runs the others: for independent pieces of work
+    that each take a second or more (a refusal's design probes, its changes checked with
+    the whole job). The child's progress lines are replayed after this process's.
+
+    Returns:
+        (the results, how many of them the child computed: 0 when steps do not run in a
+        second process, or for fewer than two items).
+    """
+    if len(items) < 2 or not enabled():
+        return [func(x) for x in items], 0
+    with contextlib.ExitStack() as stack:
+        theirs = ahead(stack, _each, func, items[1::2], progress=ambient())
+        mine = [func(x) for x in items[0::2]]
+        results = [None] * len(items)
+        results[0::2], results[1::2] = mine, theirs.result()
+    return results, len(items[1::2])
+
+
+def _each(func, items: list, progress=None) -> list:
+    """``[func(x) for x in items]`` with their progress sent to ``progress``."""
+    with reporting(progress):
+        return [func(x) for x in items]

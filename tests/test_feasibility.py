@@ -16,6 +16,7 @@ from springcad.design.feasibility import (as_material, describe, fewer_disks, in
 from springcad.design.redesign import redesign_for_contact
 from springcad.design.search import design_spring
 from springcad.errors import DesignError
+from springcad.parallel import each_on_two_cores
 
 BASE = {"stiffness_Nm_per_rad": 150, "max_deflection_deg": 14, "outer_radius_mm": 36,
         "thickness_mm": 5.0}
@@ -222,3 +223,29 @@ def test_stiff_webs_probe_a_thinner_disk_and_a_higher_stiffness_inside_their_win
     assert designs(_spec(stiffness_Nm_per_rad=changes["target_stiffness_Nm_per_rad"]))
     assert nearest_changes(_spec(), designs) == []
     assert "thickness_mm (to 0.4x)" in describe("A", [], webs=True)
+
+
+@pytest.mark.parametrize("webs", [False, True])
+def test_the_probes_of_a_round_on_two_cores_find_what_one_core_finds(webs):
+    """The keys' probes of one round (far ends, a bisection step, the rounding) do not
+    depend on each other: run on two cores (parallel.each_on_two_cores, a forked child for
+    every other probe) they give the same changes as one after another, from as many
+    probes (the refusal's deadline counts them). Feasible set known exactly: a thicker or
+    larger disk, or less deflection."""
+    def designs(s):
+        return (s.thickness_mm >= 6.23 or s.outer_radius_mm >= 41.3
+                or s.max_deflection_rad <= math.radians(11.1))
+
+    counted = []
+
+    def each(specs):
+        answers, beside = each_on_two_cores(designs, specs)
+        counted.append((len(specs), beside))
+        return answers
+
+    serial = []
+    one = nearest_changes(_spec(), lambda s: serial.append(s) or designs(s), webs=webs)
+    two = nearest_changes(_spec(), designs, webs=webs, designs_each=each)
+    assert one == two and len(one) == (2 if webs else 3)  # webs: the thickness probed down
+    assert sum(n for n, _ in counted) == len(serial)
+    assert sum(b for _, b in counted) > 0  # the child ran some (fork is there on Linux)

@@ -126,7 +126,8 @@ def _rounded(value: float, step: float, up: bool) -> float:
 
 def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
                     keys: tuple[str, ...] | None = None,
-                    deadline: float | None = None, webs: bool = False
+                    deadline: float | None = None, webs: bool = False,
+                    designs_each: Callable[[list], list] | None = None
                     ) -> list[tuple[str, float, float]]:
     """The nearest value of each user key at which the spec designs, other keys unchanged.
 
@@ -143,34 +144,46 @@ def nearest_changes(spec: SpringSpec, designs: Callable[[SpringSpec], bool],
         deadline: the probe count after which refining stops (None: never).
         webs: the refusal's layouts were held stiff by their minimum webs: the thickness
             and stiffness are probed the other way (:func:`_keys`).
+        designs_each: ``designs`` of a list of specs, in order (default one after another;
+            the keys' probes of one round do not depend on each other, so a caller may run
+            them on both cores: the same answers, so the same changes).
 
     Returns:
         (key, user value, suggested value) for every key whose change designs, in the
         order probed; the suggestion was itself checked by ``designs``.
     """
-    open_keys = []
-    for kr in _keys(webs):
-        if keys is not None and kr.key not in keys:
-            continue
-        v0 = kr.get(spec)
-        bound = schema_keys("springs.<name>")[kr.key]
-        for factor in (*kr.nearer, kr.far_factor):
-            far = min(max(v0 * factor, bound.lo), bound.hi)
-            if far != v0 and designs(kr.set(spec, far)):
-                open_keys.append((kr, v0, far, bound))
-                break
+    each = designs_each or (lambda specs: [designs(s) for s in specs])
+    ranges = [(kr, kr.get(spec), schema_keys("springs.<name>")[kr.key]) for kr in _keys(webs)
+              if keys is None or kr.key in keys]
+    # each key's nearer stops, then its far end, until one designs: round by round
+    ends: dict[int, float] = {}
+    trials = {i: [f for f in (min(max(v0 * factor, bound.lo), bound.hi)
+                              for factor in (*kr.nearer, kr.far_factor)) if f != v0]
+              for i, (kr, v0, bound) in enumerate(ranges)}
+    while trials := {i: t for i, t in trials.items() if t and i not in ends}:
+        answers = each([ranges[i][0].set(spec, t[0]) for i, t in trials.items()])
+        for (i, t), yes in zip(trials.items(), answers):
+            if yes:
+                ends[i] = t[0]
+            t.pop(0)
+    open_keys = [(kr, v0, ends[i], bound) for i, (kr, v0, bound) in enumerate(ranges)
+                 if i in ends]
     spans = [[v0, far] for _, v0, far, _ in open_keys]  # [fails, designs]
     for step in range(STEPS):  # every key one step at a time, so a deadline leaves all refined
         if step >= MIN_STEPS and deadline is not None and probes_spent() > deadline:
             break
-        for (kr, _, _, _), span in zip(open_keys, spans):
-            mid = 0.5 * (span[0] + span[1])
-            span[designs(kr.set(spec, mid))] = mid
+        mids = [0.5 * (span[0] + span[1]) for span in spans]
+        answers = each([kr.set(spec, mid) for (kr, *_), mid in zip(open_keys, mids)])
+        for span, mid, yes in zip(spans, mids, answers):
+            span[yes] = mid
     # the proven value rounded outward to the key's step (one probe each, also after the
     # deadline: a user buys 7.7 mm plate, not 7.6875), kept when it designs too
-    for (kr, _, _, bound), span in zip(open_keys, spans):
-        value = min(max(_rounded(span[1], kr.step, kr.far_factor > 1), bound.lo), bound.hi)
-        if value != span[1] and designs(kr.set(spec, value)):
+    rounded = [(span, min(max(_rounded(span[1], kr.step, kr.far_factor > 1), bound.lo),
+                          bound.hi)) for (kr, _, _, bound), span in zip(open_keys, spans)]
+    moved = [(span, value, kr) for (span, value), (kr, *_) in zip(rounded, open_keys)
+             if value != span[1]]
+    for (span, value, _), yes in zip(moved, each([kr.set(spec, v) for _, v, kr in moved])):
+        if yes:
             span[1] = value
     return [(kr.key, v0, span[1]) for (kr, v0, _, _), span in zip(open_keys, spans)]
 

@@ -27,8 +27,8 @@ from springcad.design.spring import SpringDesign
 from springcad.design.stack import StackDesign, design_stack
 from springcad.design.tolerance import gap_range_mm
 from springcad.errors import ConfigError, DesignError, RemedyError, change_text, one_line
-from springcad.parallel import ahead
-from springcad.progress import Progress, ambient, report, reporting
+from springcad.parallel import each_on_two_cores
+from springcad.progress import Progress, report, reporting
 
 SCHEMA = "springcad.design/1"
 
@@ -436,25 +436,10 @@ def _checked_key_changes(job: Job, err: DesignError, refused: set[str] = frozens
 
 
 def _checked_clauses(job: Job, changes: list, refused: set[str]) -> list[str]:
-    """:func:`_checked_clause` of each change, in order; the second, fourth, ... on the other
-    core (:func:`springcad.parallel.ahead`: each check designs the whole job, and none
-    depends on another; their progress lines are replayed after this core's)."""
-    if len(changes) < 2:
-        return [_checked_clause(job, c, refused) for c in changes]
-    with contextlib.ExitStack() as stack:
-        theirs = ahead(stack, _checked_clause_list, job, changes[1::2], refused,
-                       progress=ambient())
-        mine = [_checked_clause(job, c, refused) for c in changes[0::2]]
-        shown = [None] * len(changes)
-        shown[0::2], shown[1::2] = mine, theirs.result()
-    return shown
-
-
-def _checked_clause_list(job: Job, changes: list, refused: set[str], progress=None
-                         ) -> list[str]:
-    """:func:`_checked_clause` of each change, its progress sent to ``progress``."""
-    with reporting(progress):
-        return [_checked_clause(job, c, refused) for c in changes]
+    """:func:`_checked_clause` of each change, in order, half of them on the other core
+    (:func:`springcad.parallel.each_on_two_cores`: each check designs the whole job, and
+    none depends on another)."""
+    return each_on_two_cores(lambda c: _checked_clause(job, c, refused), changes)[0]
 
 
 def _checked_clause(job: Job, change: tuple, refused: set[str]) -> str:

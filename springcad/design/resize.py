@@ -20,7 +20,7 @@ import numpy as np
 from springcad.design import flexure as fx
 from springcad.design import stress
 from springcad.design.cam import OVERTRAVEL_REDUCED, TIP_CLEARANCE_SHORT, cam_profile
-from springcad.design.ring import ring_profile
+from springcad.design.ring import RootFilletsOverlap, ring_profile
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError
 
@@ -104,7 +104,34 @@ def with_width(design: SpringDesign, scale: float = 1.0, offset_mm: float = 0.0)
             raise DesignError(
                 f"spring '{d.name}': flexures {scale:.4f} x wider have a concave edge radius "
                 f"{edge:.3f} mm < wire radius + spark gap {mfg.min_inside_radius_mm:g} mm")
-    return _predictions_and_profiles(_replace(d, min_neighbour_clearance_mm=clearance))
+    return _with_fitting_root_fillet(_replace(d, min_neighbour_clearance_mm=clearance))
+
+
+#: a root fillet that meets its neighbour's is lowered by this factor at a time, down to the
+#: wire's inside radius
+ROOT_FILLET_STEP = 0.7
+
+
+def _with_fitting_root_fillet(d: SpringDesign) -> SpringDesign:
+    """:func:`_predictions_and_profiles` of ``d``, its root fillet lowered by
+    :data:`ROOT_FILLET_STEP` while the fillets of neighbouring flexures overlap on the rim
+    (a swept or flared root reaches further round than its width), down to the wire's
+    inside radius: the root fillet is springcad's choice, not the user's (held-out A 4242
+    g18, N = 30 fixed: every layout was refused for overlapping fillets). The stress
+    prediction and the FEA then see the smaller fillet's peak.
+
+    Raises:
+        RootFilletsOverlap: they overlap even at the wire's inside radius.
+    """
+    floor = d.manufacturing.min_inside_radius_mm
+    while True:
+        try:
+            return _predictions_and_profiles(d)
+        except RootFilletsOverlap:
+            if d.root_fillet_radius_mm <= floor * (1.0 + 1e-9):
+                raise
+            d = _replace(d, root_fillet_radius_mm=max(floor, ROOT_FILLET_STEP
+                                                      * d.root_fillet_radius_mm))
 
 
 #: a root fillet takes at most this share of the rim arc between two flexure roots, so

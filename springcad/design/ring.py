@@ -323,6 +323,10 @@ def _hole_loops(centres, radius_mm: float) -> tuple[Loop, ...]:
     return tuple(Loop((Circle(c, radius_mm),), (Feature("hole", j),)) for j, c in enumerate(centres))
 
 
+class RootFilletsOverlap(DesignError):
+    """The root fillets of neighbouring flexures meet on the rim arc between them."""
+
+
 def ring_profile(d) -> tuple[Profile, tuple, float]:
     """Build the flexure-ring profile of a :class:`~springcad.design.spring.SpringDesign`.
 
@@ -340,8 +344,10 @@ def ring_profile(d) -> tuple[Profile, tuple, float]:
     a_left = math.atan2(t_left[1], t_left[0])
     a_right_next = math.atan2(t_right[1], t_right[0]) + pitch
     if a_right_next <= a_left:
-        raise DesignError(f"spring '{d.name}': root fillets of neighbouring flexures overlap at "
-                          f"R_r = {d.root_radius_mm:.3g} mm; use fewer flexures or a smaller root fillet")
+        raise RootFilletsOverlap(
+            f"spring '{d.name}': root fillets of neighbouring flexures overlap at R_r = "
+            f"{d.root_radius_mm:.3g} mm (R{d.root_fillet_radius_mm:.3g} mm fillets); use fewer "
+            "flexures")
     rim_arc = Arc((0.0, 0.0), d.root_radius_mm, a_left, a_right_next)
     segs, feats = [], []
     for i in range(n):

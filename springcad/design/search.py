@@ -41,6 +41,7 @@ from springcad.design.shortfalls import margin_shortfall, profile_defect, soft_s
 from springcad.design.sizing import _design_with_margin, _NoMoreLayouts
 from springcad.design.spring import SpringDesign
 from springcad.errors import DesignError, SpecInfeasible
+from springcad.parallel import each_on_two_cores
 from springcad.progress import report
 
 def short_reason(err: Exception) -> str:
@@ -515,6 +516,12 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
     def deadline() -> float:
         return min(probes_spent() + REFUSAL_BUDGET_PROBES, stop)
 
+    def designs_each(specs: list) -> list[bool]:  # half on the other core, all counted here
+        answers, beside = each_on_two_cores(designs, specs)
+        for _ in range(beside):
+            count_probe()
+        return answers
+
     def say(what: str) -> None:
         report(f"spring {spec.name}: {what}")
 
@@ -522,7 +529,8 @@ def _changes(spec, material, manufacturing, hardware, max_root_radius_mm,
         say("probing the layout keys you fixed, left free")
     freed = _freed_choices(spec, material, manufacturing, hardware, max_root_radius_mm)
     say("probing the nearest value of each of your keys that designs")
-    nearest = nearest_changes(spec, designs, deadline=deadline(), webs=webs)
+    nearest = nearest_changes(spec, designs, deadline=deadline(), webs=webs,
+                              designs_each=designs_each)
     series, materials, alternatives, duty_disk = None, [], "", ()
     if not duty.fatigue_limited(material, spec.max_deflection_rad):
         # (when the duty sets the allowed peak, its own alternatives, below, replace these)
