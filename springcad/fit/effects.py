@@ -260,7 +260,27 @@ class Hysteresis(Effect):
             w = fraction - i0
             inter = (1.0 - w) * sig.from_reversal[i0] + w * sig.from_reversal[i0 + 1]
             away = np.where(same, inter, away)
-        return p[0] * sig.direction[idx] * self.take_up(away, sig.swing[idx], p[1])
+        return p[0] * sig.direction[idx] * self.take_up(away, self.swings(p, sig)[idx], p[1])
+
+    def swings(self, p: np.ndarray, sig: Signals) -> np.ndarray:
+        """Per-sample swing of the friction over H after the last turn: 1 from rest, and
+        after a reversal one plus the friction (over H) the run before it ended at.
+
+        The friction remembers where it stood: after a run long enough for it to settle
+        it ends at H and swings by 2H (the swing of every long run), after a run shorter
+        than a few presliding angles (a fade-in's or a jog's small reversal) it had not
+        settled and swings by less. Each run's end is read from the law's own take-up
+        (:meth:`take_up`) at the run's travel (:attr:`Signals.run_travel`), so Dahl's law
+        and a linear presliding law keep their own memory.
+        """
+        travel = sig.run_travel
+        per_run = np.full(travel.size, 2.0)
+        per_run[0] = 1.0
+        short = np.flatnonzero(travel[:-1] < SETTLED * p[1])
+        for k in short:
+            end = self.take_up(travel[k:k + 1], per_run[k:k + 1], p[1])
+            per_run[k + 1] = 1.0 + float(end[0])
+        return per_run[sig.runs]
 
     @staticmethod
     def take_up(away, swing, presliding):

@@ -85,7 +85,7 @@ from springcad.fit.inference import CONFIDENCE, report_intervals, sandwich, unce
 from springcad.fit.localise import localise
 from springcad.fit.patches import (CHANGING_SIZES, lag_patches, offset_patches,
                                    profile_patches, stiffness_patches)
-from springcad.fit.region import outside_structure
+from springcad.fit.region import outside_structure, saturated
 from springcad.fit.residual import residual_structure
 from springcad.fit.ripple import periodic_route
 from springcad.fit.search import Candidate, LoopSettings, Search, State, line_fit  # noqa: F401
@@ -200,6 +200,10 @@ def run_loop(sig: Signals, settings: LoopSettings = LoopSettings()) -> LoopResul
         and the structure left over with its localisation.
     """
     with single_threaded_blas():
+        # a torque sensor on its rails reads them, not the spring: fitted off them
+        clipped = saturated(sig, settings, _run_loop)
+        if clipped is not None:
+            return clipped
         first = _run_loop(sig, settings)
         # a ripple first: over a range of two or three of its periods it reads as structure
         # at large deflection, and a band left out of the fit there leaves it patched

@@ -32,6 +32,7 @@ import numpy as np
 
 from springcad.fit.localise import localise, onset_is_kink, structure_onset
 from springcad.fit.search import LoopSettings
+from springcad.fit.segment import noise_std
 from springcad.fit.signals import Signals
 
 
@@ -40,6 +41,11 @@ from springcad.fit.signals import Signals
 REGION_SHARE = 0.5
 #: and the band left out may hold at most this share of the samples
 REGION_MAX_SAMPLES = 0.4
+#: a torque rail holds at least this many samples, and this share of them, and this many
+#: times as many as lie within a noise level below it (:func:`at_rails`)
+RAIL_MIN_SAMPLES = 10
+RAIL_MIN_SHARE = 0.002
+RAIL_PILE = 2.0
 
 
 def outside_structure(sig: Signals, settings: LoopSettings, first, run):
@@ -109,6 +115,57 @@ def outside_structure(sig: Signals, settings: LoopSettings, first, run):
                          f"({100 * top['share']:.0f} % of it): the model is fitted where that "
                          "structure is not, and the structure is judged on every sample"),
               "first_pass_model": first.final.label}
+    return dataclasses.replace(out, region=region)
+
+
+def at_rails(torque: np.ndarray) -> np.ndarray:
+    """Per-sample flag: the torque sits on a rail of its sensor (an ADC or amplifier that
+    saturates), where it reads the rail's value whatever the spring's torque beyond it.
+
+    A saturated channel repeats its extreme value exactly, sample after sample: a rail
+    is the record's largest (or smallest) torque held by at least ``RAIL_MIN_SHARE`` of
+    the samples, and by at least ``RAIL_PILE`` times as many as lie within one noise
+    level below it. Noise on an unclipped signal never repeats a float; a quantised one
+    repeats its top level only as the tail of the levels below it (fewer there than
+    below), while at a rail every sample the noise or the load would carry beyond piles
+    up on it."""
+    n = torque.size
+    out = np.zeros(n, dtype=bool)
+    noise = noise_std(torque)
+    for sign in (1.0, -1.0):
+        edge = float(np.max(sign * torque))
+        on = sign * torque == edge
+        below = np.count_nonzero((sign * torque < edge) & (sign * torque >= edge - noise))
+        if on.sum() >= max(RAIL_MIN_SAMPLES, RAIL_MIN_SHARE * n) and on.sum() >= RAIL_PILE * below:
+            out |= on
+    return out
+
+
+def saturated(sig: Signals, settings: LoopSettings, run):
+    """The loop on the samples off the torque sensor's rails (:func:`at_rails`), or ``None``
+    when the torque never saturates.
+
+    At a rail the measured torque is no longer the spring's: fitted there, a clipped
+    top reads as a softening spring or a lost crossover, and the stiffness follows it.
+    The model is fitted on the other samples and judged on every sample, so the clipping
+    stays flagged and localised; ``LoopResult.region`` says what was left out."""
+    rails = at_rails(sig.torque)
+    if not rails.any() or rails.mean() > REGION_MAX_SAMPLES:
+        return None
+    out = run(sig, settings, ~rails)
+    if out.no_spring:
+        return None
+    levels = sorted({float(v) for v in np.unique(sig.torque[rails])})
+    region = {"left_out": "torque at the sensor's rails ("
+                          + ", ".join(f"{v:.6g} N·m" for v in levels) + ")",
+              "low_rad": None, "high_rad": None, "torque_rails_Nm": levels,
+              "samples_left_out": int(rails.sum()),
+              "fraction_left_out": float(rails.mean()),
+              "reason": ("the torque repeats its extreme value exactly on "
+                         f"{100 * rails.mean():.1f} % of the samples: the sensor saturates "
+                         "there and reads its rail, not the spring's torque; the model is "
+                         "fitted on the other samples, and the record is judged on every one"),
+              "first_pass_model": None}
     return dataclasses.replace(out, region=region)
 
 

@@ -107,6 +107,11 @@ class Segmentation:
         return [e.amplitude_rad for e in self.excursions]
 
 
+#: a reversal before the first cycle turn or after the last is a turn of the motion (friction
+#: reverses there) when it moves the smoothed deflection by this many deflection noise levels,
+#: or this share of its range if more (``_end_turns``)
+END_TURN_NOISE = 5.0
+END_TURN_RANGE = 1e-3
 #: half window (s) over which a turn is judged sharp or smooth and a sharp one's vertex fitted
 SHARP_TURN_WINDOW_S = 0.06
 
@@ -155,7 +160,9 @@ def segment(record: BenchRecord) -> Segmentation:
     ts = smooth(theta, record.sample_rate_hz)
     sigma = noise_std(theta)
     threshold = max(10.0 * sigma, 0.02 * float(np.ptp(ts)))
-    tps = _refine_sharp_turns(theta, _turning_points(ts, threshold),
+    tps = _end_turns(ts, _turning_points(ts, threshold),
+                     max(END_TURN_NOISE * sigma, END_TURN_RANGE * float(np.ptp(ts))))
+    tps = _refine_sharp_turns(theta, tps,
                               max(8, int(round(SHARP_TURN_WINDOW_S * record.sample_rate_hz))))
     bounds = np.concatenate([[0], tps, [n - 1]])
     direction = np.ones(n, dtype=np.int8)
@@ -213,6 +220,26 @@ def _turning_points(x: np.ndarray, threshold: float) -> np.ndarray:
                 tps.append(ext_i)
                 mode, ext_i = 1, i
     return np.asarray(tps, dtype=int)
+
+
+def _end_turns(ts: np.ndarray, tps: np.ndarray, small: float) -> np.ndarray:
+    """Turning points ``tps`` with the reversals smaller than the cycle threshold but
+    larger than ``small`` (rad) added before the first and after the last of them.
+
+    A cycle's turn must move the deflection by the cycle threshold, but friction
+    reverses at every reversal it sees: a fade-in (a multisine or a jog starting with a
+    few mrad of motion either way) that was read as one run from rest gave the friction
+    the direction of the motion that followed, the wrong sign over the whole fade-in
+    (0.8 N·m, ten noise levels, on a 5 mrad wiggle before a multisine's first cycle).
+    Inside the record the runs between cycle turns stay as they are (a run there goes
+    from one extreme to the next)."""
+    if tps.size == 0:
+        return tps
+    head = _turning_points(ts[:tps[0] + 1], small)
+    head = head[(head > 0) & (head < tps[0])]
+    tail = _turning_points(ts[tps[-1]:], small) + tps[-1]
+    tail = tail[(tail > tps[-1]) & (tail < ts.size - 1)]
+    return np.concatenate([head, tps, tail]).astype(int)
 
 
 def _sharp_turn(theta: np.ndarray, i: int, half: int) -> bool:

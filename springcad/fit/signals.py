@@ -173,6 +173,17 @@ class Signals:
         return self.t - self.t[first]
 
     @functools.cached_property
+    def run_travel(self) -> np.ndarray:
+        """Per run (:attr:`runs`), the travel since its turn at its last sample (rad,
+        :attr:`from_reversal` there): how far the friction was carried along before the
+        next turn."""
+        runs = self.runs
+        last = np.flatnonzero(np.diff(runs, append=runs[-1] + 1) != 0)
+        out = np.full(int(runs[-1]) + 1, np.inf)
+        out[runs[last]] = self.from_reversal[last]
+        return out
+
+    @functools.cached_property
     def swing(self) -> np.ndarray:
         """Per-sample friction swing after the last turn: 1 from rest, 2 after a reversal."""
         return np.where(self.virgin, 1.0, 2.0)
@@ -210,7 +221,7 @@ class Signals:
 #: the signals derived from the measured deflection (cached), shared by the views of
 #: :class:`Signals` (:attr:`Signals.on_trace`, :meth:`Signals.with_torque`, :meth:`Signals.shifted`)
 _DERIVED = ("_trace", "theta_trace", "rate_trace", "in_hold", "from_reversal", "since_turn_s",
-            "swing", "near_turn")
+            "swing", "near_turn", "run_travel")
 #: a residual may swing for this long (s) either side of a reversal for the model's reasons
 TURN_GUARD_S = 0.025
 #: ...and while the deflection is this close to the turn's, as a fraction of the largest

@@ -34,6 +34,9 @@ SMOOTH_WINDOW_S = 0.02
 #: the motion has left a turn's angle where the smoothed deflection is this many
 #: deflection noise levels away from it (see ``DeflectionTrace._pieces``)
 HOLD_BAND_NOISE = 5.0
+#: a cut is a jump of the trace where its step departs from the range of the two pieces'
+#: rates over the sample by more than this share of the larger rate (``DeflectionTrace.rate``)
+RATE_JUMP_SLACK = 0.25
 #: sampling is irregular where an interval departs from the median by this share of it (the
 #: round-off of timestamps written to a CSV is far below, a jitter or a dropped sample above)
 IRREGULAR_SHARE = 0.01
@@ -372,12 +375,22 @@ class DeflectionTrace:
                     own[a:b] = np.gradient(trace[a:b], self.t[a:b])
         c = np.array(sorted(k for k in cuts if 2 <= k <= self.n - 2), dtype=int)
         if c.size:
-            # a cut the trace jumps across: it moves there by more than twice what the
-            # rates about it carry over a sample (a continuous trace, a V turn, a linear
-            # ramp leaving a hold, keeps its central differences)
+            # a cut the trace jumps across: its step over the cut's sample lies outside what
+            # the two pieces' own rates carry over it (between the one and the other) by more
+            # than ``RATE_JUMP_SLACK`` of the larger rate about it. A continuous trace, a V
+            # turn (-v then +v) and a ramp leaving a hold (0 then v) step within that range
+            # and keep their central differences; a cut inside a moving block (a corner the
+            # cubic missed, :meth:`_fit_block`) leaves a step of a fraction of a mrad along or
+            # against the motion, which the central differences read as two samples of a
+            # speed neither piece has (0.2 rad/s at 0.45 rad/s on a manual jog: a damper's
+            # torque put 5 noise levels there, taken for two glitches)
             dt = self.t[c] - self.t[c - 1]
             near = np.max(np.abs(np.stack([own[c - 2], own[c - 1], own[c], own[c + 1]])), axis=0)
-            c = c[np.abs(trace[c] - trace[c - 1]) > 2.0 * near * dt]
+            step = trace[c] - trace[c - 1]
+            low = np.minimum(own[c - 1], own[c]) * dt
+            high = np.maximum(own[c - 1], own[c]) * dt
+            outside = np.maximum(low - step, step - high)
+            c = c[outside > RATE_JUMP_SLACK * near * dt]
         if c.size:
             # the two samples either side read the mean of their neighbours' rates within
             # their own pieces (the central difference a continuous trace would give)
