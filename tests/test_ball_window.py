@@ -1,6 +1,6 @@
 """The tip ball of a layout the user fixed (N and r_c) is searched between the ball that
 leaves the driving tooth too close to the driven flexure's neck and the one whose tooth
-tip passes the ball too close (:data:`springcad.design.search.BALL_BISECTIONS`).
+tip passes the ball too close (:data:`springcad.design.balls.BALL_BISECTIONS`).
 
 Held-out A 7311 g04 (17-4PH, 92 N*m/rad, 25 deg, R_o 85, 7.5 mm, N 41 and r_c 20.5 mm
 fixed): balls of about 0.39 to 0.41 mm clear both at full deflection, the retry's factors
@@ -14,7 +14,7 @@ from dataclasses import replace
 import pytest
 
 from springcad.config import job_from_dict
-from springcad.design import search
+from springcad.design import balls as tip_balls, search
 from springcad.design.cam import FLEXURE_CLEARANCE_SHORT, TIP_CLEARANCE_SHORT
 from springcad.design.shortfalls import soft_shortfalls
 
@@ -61,7 +61,7 @@ def test_the_window_lies_between_the_retry_factors(g04):
     small = search.design_for_margin(spec, *args, explain=False, candidates=1)
     base = small.tip_radius_mm
     assert soft_shortfalls(small)[0].startswith(FLEXURE_CLEARANCE_SHORT)
-    balls = [round(f * base, 3) for f in search.BALL_FACTORS]
+    balls = [round(f * base, 3) for f in tip_balls.BALL_FACTORS]
     assert min(balls) < d.tip_radius_mm < max(balls)  # the chosen ball is none of them
     below = max(b for b in balls if b < d.tip_radius_mm)
     above = min(b for b in balls if b > d.tip_radius_mm)

@@ -29,7 +29,7 @@ from dataclasses import replace as _replace
 from springcad.config import HardwareSpec, ManufacturingSpec, MaterialSpec, SpringSpec
 from springcad.config.consistency import min_rim_mm
 from springcad.design import duty
-from springcad.design.cam import FLEXURE_CLEARANCE_SHORT, TIP_CLEARANCE_SHORT
+from springcad.design.balls import with_larger_ball
 from springcad.design.feasibility import (MATERIALS_NAMED, count_probe, describe, fixed_choices,
                                           larger_disk, material_changes, material_clause,
                                           nearest_changes, probe_clock, probes_spent,
@@ -227,7 +227,7 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
         candidates: how many ranked layouts to try.
         larger_balls: when every layout falls short of a contact rule at full deflection
             and the tip ball is springcad's choice, search again with larger balls
-            (:func:`_with_larger_ball`; off for feasibility probes, which only ask whether
+            (:func:`~springcad.design.balls.with_larger_ball`; off for feasibility probes, which only ask whether
             some layout is drawable, and for a search of the reference layout alone,
             ``candidates`` 1).
 
@@ -242,8 +242,8 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
         return d
     if fallback is not None and larger_balls and candidates > 1 \
             and spec.tip_radius_mm is None and soft_shortfalls(fallback):
-        larger = _with_larger_ball(spec, material, manufacturing, hardware, max_root_radius_mm,
-                                   candidates, fallback, fallback_short)
+        larger = with_larger_ball(_first_passing, spec, material, manufacturing, hardware,
+                                  max_root_radius_mm, candidates, fallback, fallback_short)
         if larger is not None:
             return larger
     if fallback is not None:  # every layout tried has a soft shortfall: the best one, warned
@@ -280,65 +280,6 @@ def _alike(rejected: list) -> int:
 
     first = rule(rejected[0])
     return sum(rule(e) == first for e in rejected)
-
-
-#: tip balls tried, as factors on the kept layout's, when every layout falls short of a
-#: contact rule at full deflection: a larger ball moves its neck away from the tooth that
-#: drives it (fewer flexures then fit); held-out g26 (r_c fixed at 11 mm, 18 deg) kept a
-#: 1 um tooth-tip gap with its 0.3 mm balls and designs clean with 0.5 mm
-BALL_FACTORS = (1.25, 1.5, 1.75, 2.0)
-#: the best-ranked layouts searched again with each larger ball (of MAX_CANDIDATES): a
-#: larger ball mends the contact of the layouts that were nearly there (g26 passed with
-#: the first); the retry of a spring that no ball mends (held-out B 010 at 4.4 x 51 mm:
-#: four ball sizes x 12 layouts, 39 of its 75 s) then costs a third
-BALL_RETRY_CANDIDATES = 4
-#: bisections of the tip ball between the largest ball tried whose driving tooth still
-#: passes the driven flexure too close and the smallest whose tooth tip passes the ball
-#: too close (a larger ball moves the neck away from the tooth and shortens the flank the
-#: tip keeps beyond the ball): the window of balls that clear both can be narrower than a
-#: step of :data:`BALL_FACTORS` (held-out A 7311 g04, N 41 and r_c 20.5 mm fixed, 25 deg:
-#: balls of 0.39 to 0.41 mm clear both; 0.375 and 0.45 mm, the factors' balls, do not)
-BALL_BISECTIONS = 4
-
-
-def _with_larger_ball(spec, material, manufacturing, hardware, max_root_radius_mm, candidates,
-                      fallback: SpringDesign, short: str) -> SpringDesign | None:
-    """The first design that passes every rule with tip balls of at least
-    :data:`BALL_FACTORS` x the kept layout's (the tip ball is springcad's choice here), among
-    the :data:`BALL_RETRY_CANDIDATES` best-ranked layouts, its choice saying why; then, when
-    one ball left the tooth too close to the driven flexure and a larger one the tooth tip
-    too close to the ball, :data:`BALL_BISECTIONS` bisections between them; None when none
-    does."""
-    def attempt(factor: float):
-        floor = round(factor * fallback.tip_radius_mm, 3)
-        report(f"spring {spec.name}: every layout falls short ({short}); trying tip balls of "
-               f"at least {floor:g} mm")
-        bigger = _replace(spec, min_tip_radius_mm=max(spec.min_tip_radius_mm, floor))
-        d, _, kept, kept_short = _first_passing(bigger, material, manufacturing, hardware,
-                                                max_root_radius_mm,
-                                                min(candidates, BALL_RETRY_CANDIDATES))
-        return (d and _replace(d, design_choice=(
-            f"{d.design_choice}; tip balls of at least {floor:g} mm: with "
-            f"{fallback.tip_radius_mm:g} mm every layout fell short ({short})"))), kept_short
-
-    small, large = (1.0 if short.startswith(FLEXURE_CLEARANCE_SHORT) else None), None
-    for factor in BALL_FACTORS:
-        d, why = attempt(factor)
-        if d is not None:
-            return d
-        if why.startswith(FLEXURE_CLEARANCE_SHORT):
-            small = factor
-        elif why.startswith(TIP_CLEARANCE_SHORT) and small is not None and large is None:
-            large = factor
-    if small is None or large is None or large < small:
-        return None
-    for _ in range(BALL_BISECTIONS):  # the window of balls that clear both lies between
-        mid = 0.5 * (small + large)
-        d, why = attempt(mid)
-        if d is not None or not why.startswith((FLEXURE_CLEARANCE_SHORT, TIP_CLEARANCE_SHORT)):
-            return d
-        small, large = (mid, large) if why.startswith(FLEXURE_CLEARANCE_SHORT) else (small, mid)
-    return None
 
 
 def _first_passing(spec, material, manufacturing, hardware, max_root_radius_mm, candidates):
