@@ -411,3 +411,32 @@ def test_a_change_stopped_by_another_refused_spring_is_not_annotated_with_its_re
     assert job_module._checked_key_changes(job, err, {"B"}) is err
     assert f"{clause} (then storing 29.9 J needs more)" in str(
         job_module._checked_key_changes(job, err, {"C"}))
+
+
+def test_springs_refused_together_get_one_change_of_all_of_them_that_designs(monkeypatch):
+    """Two refused springs, each with its own changes: the first change of each applied
+    together is checked with the whole job, then the second of each; the first pair under
+    which the job designs leads the refusal (held-out A 4242 g23: A's change alone met B's
+    refusal). Here the stand-in job designs only with both deflections at most 8 deg."""
+    job = _job()
+
+    def refusal(name, *values):
+        now = round(math.degrees(job.springs[name].max_deflection_rad), 6)
+        err = DesignError(f"spring '{name}' cannot be made as specified")
+        err.key_changes = tuple((name, "max_deflection_deg", now, v) for v in values)
+        return err
+
+    def design(changed, explain=True, progress=None):
+        if all(changed.springs[n].max_deflection_rad <= math.radians(8.0) + 1e-12
+               for n in ("A", "B")):
+            return None
+        raise DesignError("a stand-in")
+
+    monkeypatch.setattr(job_module, "design_job", design)
+    refusals = [refusal("A", 9.0, 8.0), refusal("B", 8.5, 7.5)]
+    text = job_module._together(job, refusals)
+    assert text == ("feasible with springs.A.max_deflection_deg = 8 (now 10) and "
+                    "springs.B.max_deflection_deg = 7.5 (now 10), together"), text
+    error = job_module._all_refusals(refusals, "", text)
+    assert str(error).startswith(f"2 springs cannot be made as specified: {text}; or each")
+    assert job_module._together(job, [refusal("A", 9.0), refusal("B", 8.5)]) == ""

@@ -276,8 +276,9 @@ def _design_job(job: Job, explain: bool = True, progress: Progress | None = None
                 refusals.append((name, err))
     if refusals:
         refused = {name for name, _ in refusals}
-        raise _all_refusals([_checked_key_changes(job, err, refused - {name})
-                             for name, err in refusals], jamming_tolerances(job.manufacturing))
+        checked = [_checked_key_changes(job, err, refused - {name}) for name, err in refusals]
+        raise _all_refusals(checked, jamming_tolerances(job.manufacturing),
+                            _together(job, checked) if len(checked) > 1 else "")
     # the thickness springcad chose (stock plate) is the job's from here on
     job = replace(job, springs={n: replace(s, thickness_mm=springs[n].thickness_mm)
                                 for n, s in job.springs.items()})
@@ -487,14 +488,49 @@ def _rims_grown(job: Job, name: str) -> tuple[Job, str]:
         n: replace(job.springs[n], outer_radius_mm=ro) for n in smaller}}), text
 
 
-def _all_refusals(refusals: list[DesignError], advice: str) -> DesignError:
+#: the refused springs' key changes tried together (the i-th of each, i below this)
+TOGETHER_TRIES = 2
+
+
+def _together(job: Job, refusals: list[DesignError]) -> str:
+    """A change of every refused spring at once under which the whole job designs: each
+    spring's first named key change (then its second), applied together, rims grown with a
+    larger disk as a single change's check does; "feasible with A and B, together" or "".
+    A refusal of several springs names each one's changes, and one of them applied alone
+    meets the next spring's refusal only then (held-out A 5821 g01, g23 and A 4242 g23)."""
+    if any(not e.key_changes for e in refusals):
+        return ""
+    for i in range(TOGETHER_TRIES):
+        picks = [e.key_changes[min(i, len(e.key_changes) - 1)] for e in refusals]
+        if len({name for name, *_ in picks}) < len(picks):
+            return ""  # two refusals of one spring: not a change of each
+        changed, clauses = job, []
+        for name, key, now, value in picks:
+            changed = replace(changed, springs={**changed.springs,
+                                                name: with_key(changed.springs[name], key, value)})
+            clauses.append(key_clause(name, key, now, value))
+            if key == "outer_radius_mm":
+                changed, grown = _rims_grown(changed, name)
+                clauses[-1] += f" and {grown}" if grown else ""
+        try:
+            design_job(changed, explain=False)
+        except (DesignError, ConfigError):
+            continue
+        return "feasible with " + " and ".join(clauses) + ", together"
+    return ""
+
+
+def _all_refusals(refusals: list[DesignError], advice: str, together: str = "") -> DesignError:
     """One refusal naming every spring that cannot be made, each with its own changes (a
     change applied to the first spring alone would meet the next one's refusal only then),
-    followed once by the job's ``advice`` (:func:`jamming_tolerances`); the first refusal's
-    type (e.g. :class:`~springcad.errors.SpecInfeasible`) is kept."""
+    first the change of all of them at once that designs the job (``together``,
+    :func:`_together`) when there is one, followed once by the job's ``advice``
+    (:func:`jamming_tolerances`); the first refusal's type (e.g.
+    :class:`~springcad.errors.SpecInfeasible`) is kept."""
     text = "; and ".join(str(e) for e in refusals)
     if len(refusals) > 1:
-        text = f"{len(refusals)} springs cannot be made as specified: {text}"
+        text = (f"{len(refusals)} springs cannot be made as specified: "
+                + (f"{together}; or each one's own: " if together else "") + text)
     if not advice and len(refusals) == 1:
         return refusals[0]
     error = type(refusals[0])(f"{text}{advice}")
