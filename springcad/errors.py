@@ -93,6 +93,12 @@ class DesignError(SpringcadError, ValueError):
     disk_changes: tuple = ()
     material_changes: tuple = ()
 
+    def carrying_changes_to(self, other: "DesignError") -> "DesignError":
+        """``other`` (this refusal reworded) with this refusal's changes, returned."""
+        other.key_changes, other.disk_changes = self.key_changes, self.disk_changes
+        other.material_changes = self.material_changes
+        return other
+
 
 class RemedyError(DesignError):
     """A hardware part cannot be made as the job sets it, with the config changes that

@@ -225,10 +225,8 @@ def _design_or_fewer_now(job: Job, name: str, explain: bool, rr_max: float) -> S
         at = text.find(REFUSAL_HEAD)
         head, rest = (text[:at + len(REFUSAL_HEAD)], text[at + len(REFUSAL_HEAD):]) if at >= 0 \
             else (f"spring '{name}' {REFUSAL_HEAD}", text)
-        more = DesignError(f"{head}feasible with fewer disks: {fewer}; or {rest}")
-        more.key_changes, more.disk_changes = err.key_changes, err.disk_changes
-        more.material_changes = err.material_changes
-        raise more from err
+        raise err.carrying_changes_to(
+            DesignError(f"{head}feasible with fewer disks: {fewer}; or {rest}")) from err
 
 
 #: hardware changes in a row :func:`_free_hardware` may make (a thinner screw that then
@@ -429,9 +427,7 @@ def _checked_key_changes(job: Job, err: DesignError, refused: set[str] = frozens
         text = text.replace(clause, shown, 1)
     if text == str(err):
         return err
-    checked = type(err)(text)
-    checked.key_changes, checked.disk_changes = err.key_changes, err.disk_changes
-    checked.material_changes = err.material_changes
+    checked = err.carrying_changes_to(type(err)(text))
     checked.__cause__ = err
     return checked
 
@@ -449,9 +445,7 @@ def _checked_clause(job: Job, change: tuple, refused: set[str]) -> str:
     place (the clause itself when the job designs with it)."""
     clause, name, spec, surface, material = change
     report(f"spring {name}: checking {clause.split(' (')[0]} with the whole job")
-    changed, grown = replace(job, springs={**job.springs, name: spec}, material=material), ""
-    if spec.outer_radius_mm > job.springs[name].outer_radius_mm + 1e-9:  # a larger disk
-        changed, grown = _rims_grown(changed, name)
+    changed, grown = _with_spring(replace(job, material=material), name, spec)
     if grown:
         clause = f"{clause} and {grown}"
     if surface is not None:
@@ -466,6 +460,15 @@ def _checked_clause(job: Job, change: tuple, refused: set[str]) -> str:
         if not any(str(e).startswith(f"spring '{n}'") for n in refused):
             return f"{clause} (then {one_line(short_reason(e), 160)})"
     return clause
+
+
+def _with_spring(job: Job, name: str, spec) -> tuple[Job, str]:
+    """``job`` with spring ``name``'s spec changed to ``spec``, and with a larger disk the
+    rims pinned to it grown (:func:`_rims_grown`; the change as text, "" when none grows)."""
+    changed = replace(job, springs={**job.springs, name: spec})
+    if spec.outer_radius_mm > job.springs[name].outer_radius_mm + 1e-9:  # a larger disk
+        return _rims_grown(changed, name)
+    return changed, ""
 
 
 def _rims_grown(job: Job, name: str) -> tuple[Job, str]:
@@ -506,12 +509,9 @@ def _together(job: Job, refusals: list[DesignError]) -> str:
             return ""  # two refusals of one spring: not a change of each
         changed, clauses = job, []
         for name, key, now, value in picks:
-            changed = replace(changed, springs={**changed.springs,
-                                                name: with_key(changed.springs[name], key, value)})
-            clauses.append(key_clause(name, key, now, value))
-            if key == "outer_radius_mm":
-                changed, grown = _rims_grown(changed, name)
-                clauses[-1] += f" and {grown}" if grown else ""
+            changed, grown = _with_spring(changed, name, with_key(changed.springs[name], key,
+                                                                  value))
+            clauses.append(key_clause(name, key, now, value) + (f" and {grown}" if grown else ""))
         try:
             design_job(changed, explain=False)
         except (DesignError, ConfigError):

@@ -117,7 +117,7 @@ def _with_fitting_root_fillet(d: SpringDesign) -> SpringDesign:
     :data:`ROOT_FILLET_STEP` while the fillets of neighbouring flexures overlap on the rim
     (a swept or flared root reaches further round than its width), down to the wire's
     inside radius: the root fillet is springcad's choice, not the user's (held-out A 4242
-    g18, N = 30 fixed: every layout was refused for overlapping fillets). The stress
+    g18, N = 24 fixed: every layout was refused for overlapping fillets). The stress
     prediction and the FEA then see the smaller fillet's peak.
 
     Raises:

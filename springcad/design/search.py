@@ -227,9 +227,9 @@ def design_for_margin(spec: SpringSpec, material: MaterialSpec, manufacturing: M
         candidates: how many ranked layouts to try.
         larger_balls: when every layout falls short of a contact rule at full deflection
             and the tip ball is springcad's choice, search again with larger balls
-            (:func:`~springcad.design.balls.with_larger_ball`; off for feasibility probes, which only ask whether
-            some layout is drawable, and for a search of the reference layout alone,
-            ``candidates`` 1).
+            (:func:`~springcad.design.balls.with_larger_ball`; off for feasibility probes,
+            which only ask whether some layout is drawable, and for a search of the
+            reference layout alone, ``candidates`` 1).
 
     Raises:
         DesignError: no layout meets the spec in its envelope (the message names the
